@@ -1,0 +1,134 @@
+# DB-DTC PMSM drive firmware for the TMS320F28335: host build, tests,
+# portability gates, SIL and the target build. See README.md.
+#
+#   make test       all unit and SIL tests, then again under ASan/UBSan
+#   make sil        the paper's scenarios in SIL: CSV, plots, metrics report
+#   make check      portability and static gates (float-only, 16-bit int, cppcheck)
+#   make bench      speed and cost figures (printed, never asserted)
+#   make firmware   the F28335 image (needs CG_TOOL_ROOT and C2000WARE_ROOT)
+
+SHELL := /bin/bash
+.DEFAULT_GOAL := all
+.DELETE_ON_ERROR:
+
+BUILD   ?= build
+VARIANT ?= host
+OUT     := $(BUILD)/$(VARIANT)
+
+CC ?= gcc
+ifeq ($(origin CC),default)
+CC := gcc
+endif
+AR ?= ar
+
+ifeq ($(VARIANT),san)
+OPT    := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+LDOPT  := -fsanitize=address,undefined
+else
+OPT    := -O2 -g
+LDOPT  :=
+endif
+
+# Warning sets. Portable sources (control/, firmware/, hal/f28335/) are
+# float-only and must not use 8-bit types (forced include poisons them);
+# the plant model under hal/sim/ and the tests may use double.
+WARN_BASE     := -std=c99 -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes
+FLOAT_ONLY    := -Wdouble-promotion -Wfloat-conversion -Wunsuffixed-float-constants
+PORTABLE_INC  := -include control/c28x_portable.h
+INC           := -Icontrol -Ihal -Ifirmware -Ihal/sim -Ihal/f28335 -Itests -Itests/c2000_fake/include
+
+CF_CONTROL  := $(WARN_BASE) $(FLOAT_ONLY) -Wconversion $(PORTABLE_INC)
+CF_PORTABLE := $(WARN_BASE) $(FLOAT_ONLY) $(PORTABLE_INC)
+CF_SIM      := $(WARN_BASE) -Wfloat-conversion -D_POSIX_C_SOURCE=200809L
+CF_TEST     := $(WARN_BASE) -Wno-missing-prototypes -D_POSIX_C_SOURCE=200809L
+
+cflags_for = $(if $(filter control/%,$1),$(CF_CONTROL),$(if $(filter firmware/% hal/f28335/%,$1),$(CF_PORTABLE),$(if $(filter hal/sim/%,$1),$(CF_SIM),$(CF_TEST))))
+
+# Source groups, each archived into one static library, so a runner links
+# only what it references. Fragments below add programs and test wiring.
+CONTROL_SRCS  := $(wildcard control/*.c)
+FIRMWARE_SRCS := $(filter-out firmware/main.c,$(wildcard firmware/*.c))
+SIM_SRCS      := $(filter-out hal/sim/drive_sil.c,$(wildcard hal/sim/*.c))
+F28335_SRCS   := $(wildcard hal/f28335/*.c) $(wildcard tests/c2000_fake/*.c)
+
+objs = $(patsubst %.c,$(OUT)/obj/%.o,$1)
+
+LIB_control  := $(OUT)/lib/libcontrol.a
+LIB_firmware := $(OUT)/lib/libfirmware.a
+LIB_sim      := $(OUT)/lib/libsim.a
+LIB_f28335   := $(OUT)/lib/libf28335.a
+
+$(LIB_control):  $(call objs,$(CONTROL_SRCS))
+$(LIB_firmware): $(call objs,$(FIRMWARE_SRCS))
+$(LIB_sim):      $(call objs,$(SIM_SRCS))
+$(LIB_f28335):   $(call objs,$(F28335_SRCS))
+
+$(OUT)/lib/%.a:
+	@mkdir -p $(@D)
+	@rm -f $@
+	$(AR) rcs $@ $^
+
+$(OUT)/obj/%.o: %.c | host-deps
+	@mkdir -p $(@D)
+	$(CC) $(OPT) $(call cflags_for,$<) $(INC) -MMD -MP -c $< -o $@
+
+# ---- tests ---------------------------------------------------------------
+# Ceedling's convention: tests/test_<module>.c, one runner per file. A test
+# links libcontrol by default; a fragment sets TEST_LIBS_test_<name> (in link
+# order, e.g. "firmware sim control") and TEST_SRCS_test_<name> (extra
+# sources such as mocks) when it needs more.
+TEST_SRCS  := $(wildcard tests/test_*.c)
+TEST_NAMES := $(basename $(notdir $(TEST_SRCS)))
+TEST_BINS  := $(addprefix $(OUT)/tests/,$(TEST_NAMES))
+LDLIBS     := -lcmocka -linih -lm
+
+test_libs = $(foreach l,$(or $(TEST_LIBS_$1),control),$(LIB_$l))
+
+define TEST_RULE
+$(OUT)/tests/$1: $(call objs,tests/$1.c $(TEST_SRCS_$1)) $(call test_libs,$1)
+	@mkdir -p $$(@D)
+	$$(CC) $$(OPT) $$(LDOPT) -o $$@ $$(filter %.o,$$^) $$(filter %.a,$$^) $$(LDLIBS)
+endef
+
+# ---- fragments -------------------------------------------------------------
+-include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk hal/f28335/module.mk tests/module.mk tools/module.mk)
+
+$(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
+
+.PHONY: all test test-host test-san run-tests check firmware host-deps check-deps help
+
+all: $(TEST_BINS) $(HOST_PROGRAMS)
+
+help:
+	@sed -n '1,9p' Makefile
+
+# Debian packages the host build needs; installed when running as root.
+host-deps:
+	@tools/ensure_pkgs.sh gcc libcmocka-dev libinih-dev
+
+run-tests: $(TEST_BINS)
+	@tools/run_tests.sh $(TEST_BINS)
+
+test-host:
+	@$(MAKE) --no-print-directory VARIANT=host run-tests
+
+test-san:
+	@$(MAKE) --no-print-directory VARIANT=san run-tests
+
+test: test-host test-san $(EXTRA_TESTS)
+
+# ---- portability and static gates ----------------------------------------
+PORTABLE_DIRS := control firmware hal/f28335
+
+check-deps:
+	@tools/ensure_pkgs.sh gcc-arm-none-eabi libnewlib-arm-none-eabi gcc-avr avr-libc cppcheck
+
+check: check-deps
+	@tools/check/portability.sh $(BUILD)/check
+
+# ---- target build --------------------------------------------------------
+firmware:
+	@tools/check/ti_tools.sh
+	@$(MAKE) --no-print-directory -f firmware/target.mk BUILD=$(BUILD)
+
+-include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

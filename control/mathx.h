@@ -1,0 +1,83 @@
+/*
+ * mathx.h - the one math shim of the control core.
+ *
+ * On the F28335 (TI cl2000, FPU32) these map to C2000Ware's FPU fast
+ * run-time-support library (FPUfastRTS); on every other target to the
+ * single-precision libm functions. Only float in, float out: no double
+ * ever appears in the ISR path.
+ */
+#ifndef MATHX_H
+#define MATHX_H
+
+#include <math.h>
+#include <stdbool.h>
+
+#if defined(__TMS320C28XX__)
+#include "C28x_FPU_FastRTS.h"
+#endif
+
+/* Square root; x < 0 returns 0 rather than NaN. Any context. */
+static inline float mathx_sqrtf(float x)
+{
+    return (x > 0.0f) ? sqrtf(x) : 0.0f;
+}
+
+/* sin and cos of one angle [rad], for Park and inverse Park. Any context. */
+static inline void mathx_sincosf(float angle_rad, float *sin_out, float *cos_out)
+{
+#if defined(__TMS320C28XX__)
+    sincos(angle_rad, sin_out, cos_out);
+#else
+    *sin_out = sinf(angle_rad);
+    *cos_out = cosf(angle_rad);
+#endif
+}
+
+/* Four-quadrant arctangent [rad], in (-pi, pi]. Any context. */
+static inline float mathx_atan2f(float y, float x)
+{
+    return atan2f(y, x);
+}
+
+/* Absolute value. Any context. */
+static inline float mathx_fabsf(float x)
+{
+    return (x < 0.0f) ? -x : x;
+}
+
+/* Non-zero when x is neither NaN nor infinite. Any context. */
+static inline bool mathx_isfinitef(float x)
+{
+    return isfinite(x) != 0;
+}
+
+/* x limited to [lo, hi]; NaN maps to lo. Any context. */
+static inline float mathx_clampf(float x, float lo, float hi)
+{
+    if (x > hi) {
+        return hi;
+    }
+    if (x >= lo) {
+        return x;
+    }
+    return lo;
+}
+
+#define MATHX_PI_F        3.14159265358979f
+#define MATHX_TWO_PI_F    6.28318530717959f
+#define MATHX_SQRT3_F     1.73205080756888f
+#define MATHX_INV_SQRT3_F 0.577350269189626f
+
+/* Angle wrapped into [0, 2*pi) for |x| < a few turns. Any context. */
+static inline float mathx_wrap_2pi(float x_rad)
+{
+    while (x_rad >= MATHX_TWO_PI_F) {
+        x_rad -= MATHX_TWO_PI_F;
+    }
+    while (x_rad < 0.0f) {
+        x_rad += MATHX_TWO_PI_F;
+    }
+    return x_rad;
+}
+
+#endif /* MATHX_H */

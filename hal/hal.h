@@ -1,0 +1,58 @@
+/*
+ * hal.h - the thin hardware abstraction, at the granularity of one control
+ * period. One implementation per target, chosen at link time:
+ *   hal/f28335/  the TMS320F28335 board (registers)
+ *   hal/sim/     the simulated board (plant, inverter, sensors)
+ * No function-pointer table: the build links exactly one of them.
+ *
+ * Timing contract (both targets): hal_sample_read() returns what was
+ * sampled at the start of the current period; duties written with
+ * hal_pwm_write() take effect at the start of the next period (shadowed
+ * compare registers loaded at counter zero). This is the one-period
+ * computation delay the controller compensates.
+ */
+#ifndef HAL_H
+#define HAL_H
+
+#include <stdint.h>
+#include <stdbool.h>
+
+/* One period's sampled inputs, in SI units after the board's scaling. */
+typedef struct {
+    float ia_A;          /* phase-a current, positive into the motor */
+    float ib_A;          /* phase-b current, positive into the motor */
+    float vdc_V;         /* DC-bus voltage */
+    uint32_t enc_count;  /* encoder position count, 0 .. lines*4 - 1 */
+} hal_sample_t;
+
+/* Bring up clocks, PWM (outputs off), ADC, encoder, fault input. Start-up, before interrupts. */
+void hal_init(void);
+
+/* Read this period's samples into *out. ISR context, first HAL call of the ISR. */
+void hal_sample_read(hal_sample_t *out);
+
+/* Set the three duty cycles in [0, 1] (clamped), applied from the next period. ISR context. */
+void hal_pwm_write(const float duty[3]);
+
+/* Enable the six gate outputs. ISR or background context, only with no trip active. */
+void hal_pwm_enable(void);
+
+/* Force all six gate outputs off at once. Any context; safe to call repeatedly. */
+void hal_pwm_disable(void);
+
+/* True while the hardware fault input (trip zone) has latched a trip. Any context. */
+bool hal_trip_active(void);
+
+/* Clear a latched hardware trip (outputs stay disabled). Background context. */
+void hal_trip_clear(void);
+
+/* Acknowledge the control interrupt so the next one can be taken. ISR context, last HAL call. */
+void hal_isr_ack(void);
+
+/* Free-running CPU cycle counter, for measuring the ISR. Any context. */
+uint32_t hal_cycles(void);
+
+/* Service the watchdog. Background loop only. */
+void hal_watchdog_kick(void);
+
+#endif /* HAL_H */

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# portability.sh OUTDIR - the gates of `make check`. Each failure names the
+# file and the problem; the script exits 1 if any gate failed.
+#   1. float-only: control/, firmware/, hal/f28335/ built for a Cortex-M4F
+#      (single-precision FPU); no object may reference a double-precision
+#      helper or a double libm function.
+#   2. 16-bit int: the same sources built with avr-gcc (int is 16 bits, as
+#      on the C28x); control/ additionally with -Wconversion.
+#   3. cppcheck with the C28x data model (tools/check/c28x.xml).
+set -uo pipefail
+out=${1:-build/check}
+cd "$(dirname "$0")/../.."
+mkdir -p "$out/arm" "$out/avr"
+
+inc=(-Icontrol -Ihal -Ifirmware -Ihal/f28335 -Itests/c2000_fake/include)
+common=(-std=c99 -Wall -Wextra -Werror -Wshadow -Wdouble-promotion -Wfloat-conversion
+        -Wunsuffixed-float-constants -include control/c28x_portable.h "${inc[@]}")
+srcs=$(ls control/*.c firmware/*.c hal/f28335/*.c 2>/dev/null)
+fail=0
+
+# Double-precision soft-float helpers (ARM RTABI and libgcc names) and the
+# double versions of libm functions.
+forbidden='^(__aeabi_d[a-z0-9]*|__aeabi_f2d|__aeabi_[ul]*i2d|__aeabi_[ul]2d|__[a-z]*df[0-9]*|__extendsfdf2|__truncdfsf2|sqrt|sin|cos|tan|asin|acos|atan|atan2|exp|log|log10|pow|fabs|floor|ceil|fmod|round|trunc|hypot|sincos)$'
+
+echo "check 1/3: float-only build (arm-none-eabi-gcc, Cortex-M4F single-precision FPU)"
+for f in $srcs; do
+    o="$out/arm/$(echo "$f" | tr / _).o"
+    if ! arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -O2 \
+            "${common[@]}" -c "$f" -o "$o" 2> "$o.log"; then
+        echo "FAIL $f: does not compile float-only for Cortex-M4F:"; sed 's/^/    /' "$o.log"
+        fail=1; continue
+    fi
+    bad=$(arm-none-eabi-nm -u "$o" | awk '{print $NF}' | grep -E "$forbidden" | tr '\n' ' ')
+    if [ -n "$bad" ]; then
+        echo "FAIL $f: uses double precision (references: $bad)"
+        fail=1
+    fi
+done
+
+echo "check 2/3: 16-bit int build (avr-gcc, atmega2560)"
+for f in $srcs; do
+    o="$out/avr/$(echo "$f" | tr / _).o"
+    extra=()
+    case "$f" in control/*) extra=(-Wconversion) ;; esac
+    if ! avr-gcc -mmcu=atmega2560 -Os "${common[@]}" "${extra[@]}" -c "$f" -o "$o" 2> "$o.log"; then
+        echo "FAIL $f: does not compile with 16-bit int (avr-gcc):"; sed 's/^/    /' "$o.log"
+        fail=1
+    fi
+done
+
+echo "check 3/3: cppcheck (warning, portability) with the C28x data model"
+if ! cppcheck --quiet --enable=warning,portability --platform=tools/check/c28x.xml \
+        --error-exitcode=1 --inline-suppr --std=c99 -D__GNUC__ "${inc[@]}" \
+        --template='FAIL {file}:{line}: cppcheck {severity} ({id}): {message}' \
+        control firmware hal/f28335 2>&1; then
+    fail=1
+fi
+
+if [ $fail -ne 0 ]; then
+    echo "make check: FAILED"
+    exit 1
+fi
+echo "make check: all gates passed ($(echo "$srcs" | wc -w) portable sources)"
