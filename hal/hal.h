@@ -25,8 +25,21 @@ typedef struct {
     uint32_t enc_count;  /* encoder position count, 0 .. lines*4 - 1 */
 } hal_sample_t;
 
+/* The control ISR: called once per PWM period after the current samples are taken. */
+typedef void (*hal_isr_fn)(void);
+
+/* Interrupt-function qualifier for the control ISR (TI: __interrupt; host: none). */
+#if defined(__TMS320C28XX__)
+#define HAL_INTERRUPT __interrupt
+#else
+#define HAL_INTERRUPT
+#endif
+
 /* Bring up clocks, PWM (outputs off), ADC, encoder, fault input. Start-up, before interrupts. */
 void hal_init(void);
+
+/* Install the control ISR and enable its interrupt (10 kHz). Start-up context, after hal_init(). */
+void hal_isr_attach(hal_isr_fn isr);
 
 /* Read this period's samples into *out. ISR context, first HAL call of the ISR. */
 void hal_sample_read(hal_sample_t *out);
