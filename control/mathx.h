@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdint.h>
 
 #if defined(__TMS320C28XX__)
 #include "C28x_FPU_FastRTS.h"
@@ -68,16 +69,27 @@ static inline float mathx_clampf(float x, float lo, float hi)
 #define MATHX_SQRT3_F     1.73205080756888f
 #define MATHX_INV_SQRT3_F 0.577350269189626f
 
-/* Angle wrapped into [0, 2*pi) for |x| < a few turns. Any context. */
+/* Beyond this |angle| [rad] a float has no useful fraction of a turn left
+ * (spacing 0.06 rad); mathx_wrap_2pi() gives 0 there. */
+#define MATHX_WRAP_MAX_RAD 1.0e6f
+
+/* Angle [rad] wrapped into [0, 2*pi); NaN, Inf and |x| >= MATHX_WRAP_MAX_RAD
+ * give 0. Bounded time, no loop. Any context. */
 static inline float mathx_wrap_2pi(float x_rad)
 {
-    while (x_rad >= MATHX_TWO_PI_F) {
-        x_rad -= MATHX_TWO_PI_F;
+    if (!(mathx_fabsf(x_rad) < MATHX_WRAP_MAX_RAD)) {
+        return 0.0f;
     }
-    while (x_rad < 0.0f) {
+    const int32_t turns = (int32_t)(x_rad * (1.0f / MATHX_TWO_PI_F));
+    x_rad -= (float)turns * MATHX_TWO_PI_F;
+    if (x_rad < 0.0f) {
         x_rad += MATHX_TWO_PI_F;
     }
-    return x_rad;
+    /* Rounding can land exactly on 2*pi (e.g. -1e-9 + 2*pi); that is angle 0. */
+    if ((x_rad >= 0.0f) && (x_rad < MATHX_TWO_PI_F)) {
+        return x_rad;
+    }
+    return 0.0f;
 }
 
 #endif /* MATHX_H */
