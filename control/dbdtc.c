@@ -1,0 +1,194 @@
+/* dbdtc.c - conventional deadbeat direct torque control; see dbdtc.h. */
+#include "dbdtc.h"
+
+#include <float.h>
+
+#include "mathx.h"
+
+/* Parameters handed to dbdtc_set_params() are kept within these factors of
+ * the configured ones, so an estimator gone astray cannot divide by ~0. */
+#define PARAM_FACTOR_MIN 0.1f
+#define PARAM_FACTOR_MAX 10.0f
+
+#define ONE_AND_HALF 1.5f      /* 3/2 of the amplitude-invariant torque, eq. (3) */
+#define TWO_THIRDS   0.666666667f /* hexagon vertex = 2/3 Vdc */
+#define HALF_SQRT3   0.866025404f /* cos 30 deg */
+
+/* Below this |e_d . n| a hexagon side is parallel to the d axis: its
+ * constraint does not depend on u_d (avoids dividing by ~0). */
+#define SIDE_PARALLEL_EPS 1.0e-6f
+
+void dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg)
+{
+    db->cfg = *cfg;
+    db->inv_Ts_1_s = 1.0f / cfg->Ts_s;
+    dbdtc_reset(db);
+}
+
+void dbdtc_reset(dbdtc_t *db)
+{
+    dbdtc_set_params(db, db->cfg.Rs_Ohm, db->cfg.Ls_H, db->cfg.psi_f_Wb);
+}
+
+void dbdtc_set_params(dbdtc_t *db, float Rs_Ohm, float Ls_H, float psi_f_Wb)
+{
+    const dbdtc_cfg_t *cfg = &db->cfg;
+    dbdtc_par_t *p = &db->par;
+
+    p->Rs_Ohm = mathx_clampf(Rs_Ohm, PARAM_FACTOR_MIN * cfg->Rs_Ohm, PARAM_FACTOR_MAX * cfg->Rs_Ohm);
+    p->Ls_H = mathx_clampf(Ls_H, PARAM_FACTOR_MIN * cfg->Ls_H, PARAM_FACTOR_MAX * cfg->Ls_H);
+    p->psi_f_Wb = mathx_clampf(psi_f_Wb, PARAM_FACTOR_MIN * cfg->psi_f_Wb,
+                               PARAM_FACTOR_MAX * cfg->psi_f_Wb);
+
+    p->Ts_over_L = cfg->Ts_s / p->Ls_H;                                  /* division 1 */
+    p->a = p->Rs_Ohm * p->Ts_over_L;
+    p->one_minus_a = 1.0f - p->a;
+    p->kt_Nm_per_A = ONE_AND_HALF * (float)cfg->pole_pairs * p->psi_f_Wb;
+    p->psiq_per_Nm = p->Ls_H / p->kt_Nm_per_A;                           /* division 2 */
+}
+
+dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A)
+{
+    const dbdtc_par_t *p = &db->par;
+    const float i_max = db->cfg.i_max_A;
+    dbdtc_state_t x;
+
+    x.i_dq_A.d = mathx_clampf(i_dq_A.d, -i_max, i_max);
+    x.i_dq_A.q = mathx_clampf(i_dq_A.q, -i_max, i_max);
+    x.psi_dq_Wb.d = p->Ls_H * x.i_dq_A.d + p->psi_f_Wb;   /* eq. (11) */
+    x.psi_dq_Wb.q = p->Ls_H * x.i_dq_A.q;                 /* eq. (11) */
+    x.te_Nm = p->kt_Nm_per_A * x.i_dq_A.q;                /* eq. (12) */
+    return x;
+}
+
+dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V, float omega_el_rad_s)
+{
+    const dbdtc_cfg_t *cfg = &db->cfg;
+    const dbdtc_par_t *p = &db->par;
+    const float id = mathx_clampf(i_dq_A.d, -cfg->i_max_A, cfg->i_max_A);
+    const float iq = mathx_clampf(i_dq_A.q, -cfg->i_max_A, cfg->i_max_A);
+    const float ud = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
+    const float uq = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
+    const float w = mathx_clampf(omega_el_rad_s, -cfg->omega_max_rad_s, cfg->omega_max_rad_s);
+    const float w_Ts = w * cfg->Ts_s;
+    dq_t i1;
+
+    /* eq. (10), Ld = Lq = L: i + Ts/L (u - R i -+ w L i -+ w psi_f) */
+    i1.d = p->one_minus_a * id + w_Ts * iq + p->Ts_over_L * ud;
+    i1.q = p->one_minus_a * iq - w_Ts * id + p->Ts_over_L * (uq - w * p->psi_f_Wb);
+    return dbdtc_state_from_currents(db, i1);
+}
+
+uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
+                     float psi_ref_Wb, float omega_el_rad_s, dq_t *u_dq_V)
+{
+    const dbdtc_cfg_t *cfg = &db->cfg;
+    const dbdtc_par_t *p = &db->par;
+    /* The state is bounded as dbdtc_state_from_currents() makes it. */
+    const float psi_bound = p->Ls_H * cfg->i_max_A + p->psi_f_Wb;
+    const float psi_d = mathx_clampf(x->psi_dq_Wb.d, -psi_bound, psi_bound);
+    const float psi_q = mathx_clampf(x->psi_dq_Wb.q, -psi_bound, psi_bound);
+    const float te_ref = mathx_clampf(te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
+    const float psi_ref = mathx_clampf(psi_ref_Wb, 0.0f, cfg->psi_max_Wb);
+    const float w = mathx_clampf(omega_el_rad_s, -cfg->omega_max_rad_s, cfg->omega_max_rad_s);
+    const float w_Ts = w * cfg->Ts_s;
+    uint16_t flags = 0u;
+
+    /* eq. (4) from k+1 to k+2 without the voltage term */
+    const float X1 = p->one_minus_a * psi_d + w_Ts * psi_q + p->a * p->psi_f_Wb;
+    const float Y = p->one_minus_a * psi_q - w_Ts * psi_d;
+
+    /* eq. (5): the q flux that makes Te(k+2) = Te*; Ts*uq = B' (eq. 17) */
+    const float psiq_tgt = p->psiq_per_Nm * te_ref;
+    const float Bp = psiq_tgt - Y;
+
+    /* eq. (17): X1'^2 - X2' = psi_s*^2 - psi_q*^2 */
+    const float disc = psi_ref * psi_ref - psiq_tgt * psiq_tgt;
+    float psid_tgt = 0.0f; /* vertex when the flux target is out of reach */
+    if (disc >= 0.0f) {
+        psid_tgt = mathx_sqrtf(disc);
+    } else {
+        flags |= DBDTC_FLAG_FLUX_UNREACHABLE;
+    }
+
+    u_dq_V->d = mathx_clampf((psid_tgt - X1) * db->inv_Ts_1_s, -cfg->u_max_V, cfg->u_max_V);
+    u_dq_V->q = mathx_clampf(Bp * db->inv_Ts_1_s, -cfg->u_max_V, cfg->u_max_V);
+    return flags;
+}
+
+uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_in, float cos_in, float vdc_V)
+{
+    const float sin_th = mathx_clampf(sin_in, -1.0f, 1.0f);
+    const float cos_th = mathx_clampf(cos_in, -1.0f, 1.0f);
+    /* Hexagon sides: |u . n_j| <= Vdc/sqrt(3), n_j at 30, 90, 150 deg.
+     * g_j = e_d . n_j and h_j = e_q . n_j with e_d = (c, s), e_q = (-s, c). */
+    const float vdc = (vdc_V > 0.0f) ? vdc_V : 0.0f; /* NaN too */
+    const float r = vdc * MATHX_INV_SQRT3_F;
+    const float g[3] = { HALF_SQRT3 * cos_th + 0.5f * sin_th, sin_th,
+                         -HALF_SQRT3 * cos_th + 0.5f * sin_th };
+    const float h[3] = { -HALF_SQRT3 * sin_th + 0.5f * cos_th, cos_th,
+                         HALF_SQRT3 * sin_th + 0.5f * cos_th };
+    const float ud = u_dq_V->d;
+    const float uq = u_dq_V->q;
+    bool inside = true;
+    bool chord = true;
+    float lo = -FLT_MAX; /* two sides at least bound the interval: max |g_j| >= cos 30 deg */
+    float hi = FLT_MAX;
+    int16_t j;
+
+    for (j = 0; j < 3; j++) {
+        const float pj = ud * g[j] + uq * h[j];
+        if (!(mathx_fabsf(pj) <= r)) {
+            inside = false;
+        }
+    }
+    if (inside) {
+        return 0u;
+    }
+
+    /* Torque first: keep uq, the u_d interval where the line meets the hexagon. */
+    for (j = 0; j < 3; j++) {
+        const float c = uq * h[j];
+        if (mathx_fabsf(g[j]) > SIDE_PARALLEL_EPS) {
+            const float inv_g = 1.0f / g[j];
+            float t1 = (-r - c) * inv_g;
+            float t2 = (r - c) * inv_g;
+            if (g[j] < 0.0f) {
+                const float t = t1;
+                t1 = t2;
+                t2 = t;
+            }
+            lo = (t1 > lo) ? t1 : lo;
+            hi = (t2 < hi) ? t2 : hi;
+        } else if (mathx_fabsf(c) > r) {
+            chord = false;
+        }
+    }
+
+    if (chord && (lo <= hi)) {
+        u_dq_V->d = mathx_clampf(ud, lo, hi);
+    } else {
+        /* uq alone is out of reach: the vertex (2/3 Vdc on a phase axis at
+         * 0, 60 or 120 deg, either sign) with the largest q component along uq. */
+        const float ax_c[3] = { 1.0f, 0.5f, -0.5f };
+        const float ax_s[3] = { 0.0f, HALF_SQRT3, HALF_SQRT3 };
+        const float vmag = TWO_THIRDS * vdc;
+        const float sgn = (uq >= 0.0f) ? 1.0f : -1.0f;
+        float best = -1.0f;
+        float vd = 0.0f;
+        float vq = 0.0f;
+        for (j = 0; j < 3; j++) {
+            const float q = -sin_th * ax_c[j] + cos_th * ax_s[j];
+            const float d = cos_th * ax_c[j] + sin_th * ax_s[j];
+            if (mathx_fabsf(q) > best) {
+                const float s = (q * sgn >= 0.0f) ? 1.0f : -1.0f; /* the vertex on uq's side */
+                best = mathx_fabsf(q);
+                vd = s * d;
+                vq = s * q;
+            }
+        }
+        u_dq_V->d = vmag * vd;
+        u_dq_V->q = vmag * vq;
+    }
+    return DBDTC_FLAG_VOLTAGE_LIMIT;
+}

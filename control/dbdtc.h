@@ -1,0 +1,120 @@
+/*
+ * dbdtc.h - deadbeat direct torque control of a surface PMSM (Ld = Lq = L),
+ * conventional form: Euler one-step delay compensation (eq. 10-12) and the
+ * deadbeat voltage (eq. 17), plus the inverter voltage-limit policy.
+ *
+ * Timing (index k = the sample just taken):
+ *   u(k)   was computed in the previous step and is being applied now;
+ *   dbdtc_predict() gives the state at k+1 from i(k), u(k) (eq. 10-12);
+ *   dbdtc_solve() gives u(k+1), applied over [k+1, k+2], that puts
+ *   Te(k+2) = Te* and |psi_s(k+2)| = psi_s* in the discrete model (eq. 4).
+ *
+ * The model parameters (R, L, psi_f) live in one place, dbdtc_t.par, set by
+ * dbdtc_set_params(): the observer-based method replaces both the
+ * prediction (its own i(k+1)) and the parameters (its estimates) through
+ * dbdtc_set_params() and dbdtc_state_from_currents().
+ *
+ * Derivation of the deadbeat solution (eq. 4 written from k+1 to k+2, with
+ * a = Ts*R/L and w = omega*Ts):
+ *   psi_d(k+2) = Ts*u_d + X1,   X1 = (1 - a)*psi_d + w*psi_q + a*psi_f
+ *   psi_q(k+2) = Ts*u_q + Y,    Y  = (1 - a)*psi_q - w*psi_d
+ * Torque (eq. 5) fixes the q flux:  psi_q* = 2*L*Te* / (3*p*psi_f),
+ *   so Ts*u_q = psi_q* - Y = B'                              (eq. 17, u_q)
+ * and the flux magnitude fixes the d flux on the magnet side (> 0):
+ *   psi_d* = sqrt(psi_s*^2 - psi_q*^2),  Ts*u_d = psi_d* - X1  (eq. 17, u_d)
+ * which equals the paper's (-X1' + sqrt(X1'^2 - X2')) / Ts, because
+ * X1'^2 - X2' = psi_s*^2 - (B' + Y)^2 = psi_s*^2 - psi_q*^2; the printed
+ * X2' expands X1'^2 + Y^2 term by term. This form needs no division and
+ * one square root per step; 1/Ts, 2L/(3p psi_f), 1.5 p psi_f, Ts*R/L and
+ * Ts/L are precomputed in dbdtc_set_params().
+ *
+ * Negative discriminant (psi_q*^2 > psi_s*^2: the torque asks for more
+ * q flux than the whole flux target): psi_d(k+2) = 0, i.e. u_d = -X1/Ts,
+ * the vertex of the parabola, which gives the |psi_s(k+2)| closest to the
+ * target while keeping the torque; DBDTC_FLAG_FLUX_UNREACHABLE is set.
+ *
+ * Voltage limit (dbdtc_limit): torque first. u_q is kept and u_d is moved
+ * to the nearest point of the hexagon chord at that u_q (the flux error is
+ * what gives, not the torque); when u_q alone is outside the hexagon, the
+ * hexagon vertex with the largest q component in the direction of u_q is
+ * taken (the most torque the inverter can make). Torque first because the
+ * torque is what the speed loop and the load see; a flux shortfall of one
+ * period costs a little extra current, a torque shortfall costs speed.
+ */
+#ifndef DBDTC_H
+#define DBDTC_H
+
+#include <stdint.h>
+
+#include "clarke_park.h"
+
+/* Flags returned by dbdtc_solve() and dbdtc_limit(), a bit set. */
+#define DBDTC_FLAG_VOLTAGE_LIMIT    0x0001u /* moved onto the inverter hexagon */
+#define DBDTC_FLAG_FLUX_UNREACHABLE 0x0002u /* negative discriminant */
+
+typedef struct {
+    float Ts_s;            /* control period [s] */
+    uint16_t pole_pairs;   /* p */
+    float Rs_Ohm;          /* initial model resistance */
+    float Ls_H;            /* initial model inductance, Ld = Lq */
+    float psi_f_Wb;        /* initial model PM flux linkage */
+    float i_max_A;         /* bound on |id|, |iq| used by the model */
+    float omega_max_rad_s; /* bound on |omega_el| used by the model */
+    float u_max_V;         /* bound on |ud|, |uq| in and out */
+    float te_max_Nm;       /* bound on |Te*| */
+    float psi_max_Wb;      /* bound on psi_s* */
+} dbdtc_cfg_t;
+
+typedef struct {           /* model parameters in use and what follows from them */
+    float Rs_Ohm;
+    float Ls_H;
+    float psi_f_Wb;
+    float a;               /* Ts*R/L, eq. (4) */
+    float one_minus_a;     /* 1 - Ts*R/L */
+    float Ts_over_L;       /* Ts/L [s/H], eq. (10) */
+    float kt_Nm_per_A;     /* 1.5*p*psi_f, eq. (12) */
+    float psiq_per_Nm;     /* 2L/(3p psi_f) [Wb/(N m)], eq. (5) inverted */
+} dbdtc_par_t;
+
+typedef struct {           /* predicted state at k+1, eq. (10)-(12) */
+    dq_t i_dq_A;
+    dq_t psi_dq_Wb;
+    float te_Nm;
+} dbdtc_state_t;
+
+typedef struct {
+    dbdtc_cfg_t cfg;
+    float inv_Ts_1_s;      /* 1/Ts */
+    dbdtc_par_t par;
+} dbdtc_t;
+
+/* Start-up: copy *cfg and set the model parameters from it. */
+void dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg);
+
+/* Back to the configured parameters. Background, before PWM is enabled. */
+void dbdtc_reset(dbdtc_t *db);
+
+/* Model parameters [Ohm, H, Wb], bounded to 0.1..10 x the configured value;
+ * recomputes the derived constants (2 divisions). ISR or background. */
+void dbdtc_set_params(dbdtc_t *db, float Rs_Ohm, float Ls_H, float psi_f_Wb);
+
+/* Flux and torque (eq. 11, 12) from the currents i_dq_A [A]. ISR context. */
+dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A);
+
+/* Delay compensation: state at k+1 from the sampled i_dq_A(k) [A], the
+ * voltage u_dq_V(k) [V] being applied now and omega_el_rad_s (eq. 10-12). ISR. */
+dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V, float omega_el_rad_s);
+
+/* Deadbeat voltage u(k+1) [V] (eq. 17) that gives Te(k+2) = te_ref_Nm and
+ * |psi_s(k+2)| = psi_ref_Wb from the predicted state *x; bounded to
+ * +-u_max_V; returns DBDTC_FLAG_*. 0 divisions, 1 square root. ISR context. */
+uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
+                     float psi_ref_Wb, float omega_el_rad_s, dq_t *u_dq_V);
+
+/* Torque-first limit of *u_dq_V [V] (in/out) to the inverter hexagon at
+ * vdc_V [V], for a rotor frame at the angle whose sin/cos are given;
+ * returns DBDTC_FLAG_VOLTAGE_LIMIT when it moved the vector. No division
+ * when inside; 3 when limiting. ISR context. */
+uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_th, float cos_th, float vdc_V);
+
+#endif /* DBDTC_H */

@@ -1,0 +1,285 @@
+/* Unit tests for control/dbdtc: the deadbeat solution against a plant model
+ * written here in double (Euler flux model, eq. 4), hand values, the
+ * negative-discriminant and voltage-limit policies, and finiteness. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <float.h>
+#include <math.h>
+
+#include "dbdtc.h"
+
+/* Table I of the paper; Ts = 1/(10 kHz). */
+#define TS   1e-4
+#define RS   3.0
+#define LS   0.011
+#define PSIF 0.24
+#define PP   3
+#define PI_D 3.14159265358979323846
+
+static dbdtc_t make(void)
+{
+    dbdtc_cfg_t cfg = {
+        .Ts_s = (float)TS, .pole_pairs = PP, .Rs_Ohm = (float)RS, .Ls_H = (float)LS,
+        .psi_f_Wb = (float)PSIF, .i_max_A = 60.0f, .omega_max_rad_s = 3000.0f,
+        .u_max_V = 5000.0f, .te_max_Nm = 24.0f, .psi_max_Wb = 1.0f,
+    };
+    dbdtc_t db;
+    dbdtc_init(&db, &cfg);
+    return db;
+}
+
+/* Plant: the discrete flux model eq. (4), in double, one period of u. */
+static void plant_step(double *psi_d, double *psi_q, double ud, double uq, double w)
+{
+    const double a = TS * RS / LS;
+    const double d = *psi_d;
+    const double q = *psi_q;
+    *psi_d = TS * ud + d + TS * w * q - a * (d - PSIF);
+    *psi_q = TS * uq + q - TS * w * d - a * q;
+}
+
+static double te_of(double psi_q) { return 1.5 * PP * PSIF * psi_q / LS; } /* eq. (5) */
+
+static double mtpa_psi(double te)
+{
+    const double iq = te / (1.5 * PP * PSIF);
+    return sqrt(PSIF * PSIF + LS * LS * iq * iq);
+}
+
+/* One deadbeat step puts Te and |psi_s| on target over a grid of states. */
+static void deadbeat_hits_torque_and_flux_exactly(void **state)
+{
+    (void)state;
+    dbdtc_t db = make();
+    int n = 0;
+    for (int iw = -2; iw <= 2; iw++) {
+        for (int id_k = -2; id_k <= 2; id_k++) {
+            for (int iq_k = -2; iq_k <= 2; iq_k++) {
+                for (int it = -2; it <= 2; it++) {
+                    const double w = 300.0 * iw;
+                    const double id = 1.5 * id_k;
+                    const double iq = 2.5 * iq_k;
+                    const double te_ref = 3.0 * it + 0.5;
+                    const double psi_ref = mtpa_psi(te_ref) * (1.0 + 0.02 * id_k);
+                    dq_t i = { (float)id, (float)iq };
+                    dbdtc_state_t x = dbdtc_state_from_currents(&db, i);
+                    dq_t u;
+                    uint16_t fl = dbdtc_solve(&db, &x, (float)te_ref, (float)psi_ref, (float)w, &u);
+                    assert_int_equal(fl, 0u);
+                    double pd = LS * (double)(float)id + PSIF;
+                    double pq = LS * (double)(float)iq;
+                    plant_step(&pd, &pq, u.d, u.q, (double)(float)w);
+                    assert_float_equal(te_of(pq), te_ref, 1e-5 * fabs(te_ref));
+                    assert_float_equal(sqrt(pd * pd + pq * pq), psi_ref, 1e-5 * psi_ref);
+                    n++;
+                }
+            }
+        }
+    }
+    assert_int_equal(n, 625);
+}
+
+/* Hand-derived: at standstill from rest, Te* = 1.5*3*0.24*1 A = 1.08 N m
+ * needs psi_q = L*1 A = 0.011 Wb in one period: uq = 0.011/1e-4 = 110 V;
+ * the MTPA flux keeps psi_d = psi_f: ud = 0. At w = 100 rad/s the q axis
+ * also needs the back-EMF w*psi_f = 24 V: uq = 134 V. In steady state at
+ * iq = 1 A only the drop R*iq = 3 V remains. */
+static void hand_values(void **state)
+{
+    (void)state;
+    dbdtc_t db = make();
+    const float psi_ref = (float)sqrt(0.24 * 0.24 + 0.011 * 0.011);
+    dq_t u;
+    dq_t i0 = { 0.0f, 0.0f };
+    dq_t i1 = { 0.0f, 1.0f };
+    dbdtc_state_t x = dbdtc_state_from_currents(&db, i0);
+    assert_float_equal(x.te_Nm, 0.0, 1e-7);
+    assert_int_equal(dbdtc_solve(&db, &x, 1.08f, psi_ref, 0.0f, &u), 0u);
+    assert_float_equal(u.q, 110.0, 1e-3);
+    assert_float_equal(u.d, 0.0, 1e-2);
+    dbdtc_solve(&db, &x, 1.08f, psi_ref, 100.0f, &u);
+    assert_float_equal(u.q, 134.0, 1e-3);
+    assert_float_equal(u.d, 0.0, 1e-2);
+    x = dbdtc_state_from_currents(&db, i1);
+    assert_float_equal(x.te_Nm, 1.08, 1e-6);
+    dbdtc_solve(&db, &x, 1.08f, psi_ref, 0.0f, &u);
+    assert_float_equal(u.q, 3.0, 1e-3);
+    assert_float_equal(u.d, 0.0, 1e-2);
+}
+
+/* eq. (10) written out here: i(k+1) = i + Ts/L (u - R i +- w L i - w psi_f). */
+static void prediction_matches_eq10(void **state)
+{
+    (void)state;
+    dbdtc_t db = make();
+    const double id = -1.2, iq = 3.7, ud = 40.0, uq = 95.0, w = 157.0;
+    dq_t i = { (float)id, (float)iq };
+    dq_t u = { (float)ud, (float)uq };
+    dbdtc_state_t x = dbdtc_predict(&db, i, u, (float)w);
+    const double id1 = id + TS / LS * (ud - RS * id + w * LS * iq);
+    const double iq1 = iq + TS / LS * (uq - RS * iq - w * LS * id - w * PSIF);
+    assert_float_equal(x.i_dq_A.d, id1, 1e-5);
+    assert_float_equal(x.i_dq_A.q, iq1, 1e-5);
+    assert_float_equal(x.psi_dq_Wb.d, LS * id1 + PSIF, 1e-7);
+    assert_float_equal(x.psi_dq_Wb.q, LS * iq1, 1e-7);
+    assert_float_equal(x.te_Nm, 1.5 * PP * PSIF * iq1, 1e-5);
+}
+
+/* psi_s* below |psi_q*|: flagged; psi_d(k+2) = 0 (the vertex -X1/Ts) and
+ * the torque is still met. */
+static void negative_discriminant_takes_vertex(void **state)
+{
+    (void)state;
+    dbdtc_t db = make();
+    dq_t i = { 0.5f, 2.0f };
+    dbdtc_state_t x = dbdtc_state_from_currents(&db, i);
+    const double te_ref = 10.0; /* psi_q* = 0.011 * 10/1.08 = 0.102 Wb */
+    dq_t u;
+    uint16_t fl = dbdtc_solve(&db, &x, (float)te_ref, 0.05f, 200.0f, &u);
+    assert_int_equal(fl, DBDTC_FLAG_FLUX_UNREACHABLE);
+    double pd = LS * 0.5 + PSIF;
+    double pq = LS * 2.0;
+    plant_step(&pd, &pq, u.d, u.q, 200.0);
+    assert_float_equal(pd, 0.0, 1e-6);
+    assert_float_equal(te_of(pq), te_ref, 1e-5 * te_ref);
+    /* any other ud gives a flux magnitude farther from 0.05 Wb */
+    for (int s = -1; s <= 1; s += 2) {
+        double pd2 = LS * 0.5 + PSIF;
+        double pq2 = LS * 2.0;
+        plant_step(&pd2, &pq2, u.d + s * 1.0, u.q, 200.0);
+        assert_true(sqrt(pd2 * pd2 + pq2 * pq2) > sqrt(pd * pd + pq * pq));
+    }
+}
+
+/* Independent hexagon test: the phase voltages' spread fits in Vdc. */
+static double phase_spread(double ua, double ub)
+{
+    const double va = ua;
+    const double vb = -0.5 * ua + 0.5 * sqrt(3.0) * ub;
+    const double vc = -0.5 * ua - 0.5 * sqrt(3.0) * ub;
+    const double mx = fmax(va, fmax(vb, vc));
+    const double mn = fmin(va, fmin(vb, vc));
+    return mx - mn;
+}
+
+static double spread_dq(dq_t u, double th)
+{
+    return phase_spread(u.d * cos(th) - u.q * sin(th), u.d * sin(th) + u.q * cos(th));
+}
+
+/* Inside: untouched. Outside with a reachable uq: uq kept, on the boundary,
+ * ud the nearest feasible one. Unreachable uq: the vertex with most uq. */
+static void voltage_limit_torque_first(void **state)
+{
+    (void)state;
+    const double vdc = 300.0;
+    for (int k = 0; k < 360; k++) {
+        const double th = k * (2.0 * PI_D / 360.0);
+        const float s = (float)sin(th);
+        const float c = (float)cos(th);
+
+        dq_t u = { 30.0f, 150.0f }; /* |u| < Vdc/sqrt(3) = 173 V */
+        assert_int_equal(dbdtc_limit(&u, s, c, (float)vdc), 0u);
+        assert_float_equal(u.d, 30.0, 0.0);
+        assert_float_equal(u.q, 150.0, 0.0);
+
+        dq_t v = { -400.0f, 120.0f }; /* uq reachable, ud too large */
+        assert_int_equal(dbdtc_limit(&v, s, c, (float)vdc), DBDTC_FLAG_VOLTAGE_LIMIT);
+        assert_float_equal(v.q, 120.0, 0.0);
+        assert_float_equal(spread_dq(v, th), vdc, 1e-3);
+        dq_t v2 = { v.d + 0.01f, v.q }; /* inward: still inside; toward -400 V: outside */
+        dq_t v3 = { v.d - 0.01f, v.q };
+        assert_true(spread_dq(v2, th) < vdc + 1e-2 && spread_dq(v3, th) > vdc);
+
+        for (int sg = -1; sg <= 1; sg += 2) {
+            dq_t w = { 50.0f, (float)(sg * 260.0) }; /* beyond 2/3 Vdc = 200 V */
+            assert_int_equal(dbdtc_limit(&w, s, c, (float)vdc), DBDTC_FLAG_VOLTAGE_LIMIT);
+            assert_float_equal(sqrt(w.d * w.d + w.q * w.q), 2.0 / 3.0 * vdc, 1e-3);
+            /* the most q the hexagon has: max over its six vertices */
+            double qmax = 0.0;
+            for (int m = 0; m < 6; m++) {
+                const double q = 2.0 / 3.0 * vdc * sin(m * PI_D / 3.0 - th);
+                qmax = fmax(qmax, sg * q);
+            }
+            assert_float_equal(sg * w.q, qmax, 1e-3);
+        }
+    }
+}
+
+/* Vdc of 0 or NaN: zero voltage, flagged. */
+static void voltage_limit_without_bus(void **state)
+{
+    (void)state;
+    dq_t u = { 10.0f, -20.0f };
+    assert_int_equal(dbdtc_limit(&u, 0.3f, 0.95f, 0.0f), DBDTC_FLAG_VOLTAGE_LIMIT);
+    assert_float_equal(u.d, 0.0, 1e-6);
+    assert_float_equal(u.q, 0.0, 1e-6);
+    u.d = 10.0f;
+    u.q = -20.0f;
+    assert_int_equal(dbdtc_limit(&u, 0.3f, 0.95f, NAN), DBDTC_FLAG_VOLTAGE_LIMIT);
+    assert_true(isfinite(u.d) && isfinite(u.q));
+}
+
+/* Any finite input, extremes included, gives finite, bounded outputs. */
+static void finite_for_any_finite_input(void **state)
+{
+    (void)state;
+    dbdtc_t db = make();
+    const float v[] = { -FLT_MAX, -1e20f, -3.0f, -FLT_MIN, 0.0f, FLT_MIN, 1e-30f, 2.0f, 1e20f, FLT_MAX };
+    const int n = (int)(sizeof v / sizeof v[0]);
+    for (int a = 0; a < n; a++) {
+        for (int b = 0; b < n; b++) {
+            for (int c = 0; c < n; c++) {
+                dq_t i = { v[a], v[b] };
+                dq_t u0 = { v[c], v[b] };
+                dbdtc_state_t x = dbdtc_predict(&db, i, u0, v[c]);
+                assert_true(isfinite(x.i_dq_A.d) && isfinite(x.i_dq_A.q) && isfinite(x.te_Nm));
+                assert_true(isfinite(x.psi_dq_Wb.d) && isfinite(x.psi_dq_Wb.q));
+                dq_t u;
+                dbdtc_solve(&db, &x, v[a], v[b], v[c], &u);
+                assert_true(isfinite(u.d) && isfinite(u.q));
+                assert_true(fabsf(u.d) <= 5000.0f && fabsf(u.q) <= 5000.0f);
+                dbdtc_limit(&u, v[a], v[b], v[c]);
+                assert_true(isfinite(u.d) && isfinite(u.q));
+                dbdtc_set_params(&db, v[a], v[b], v[c]);
+                assert_true(isfinite(db.par.psiq_per_Nm) && isfinite(db.par.Ts_over_L));
+            }
+        }
+    }
+}
+
+/* Parameters follow dbdtc_set_params() within 0.1..10 x configured; reset restores. */
+static void parameters_bounded_and_reset(void **state)
+{
+    (void)state;
+    dbdtc_t db = make();
+    dbdtc_set_params(&db, 2.0f * (float)RS, 0.5f * (float)LS, 1.5f * (float)PSIF);
+    assert_float_equal(db.par.Rs_Ohm, 2.0 * RS, 1e-6);
+    assert_float_equal(db.par.a, TS * 2.0 * RS / (0.5 * LS), 1e-7);
+    assert_float_equal(db.par.psiq_per_Nm, 0.5 * LS / (1.5 * PP * 1.5 * PSIF), 1e-7);
+    dbdtc_set_params(&db, -1.0f, 0.0f, 100.0f);
+    assert_float_equal(db.par.Rs_Ohm, 0.1 * RS, 1e-6);
+    assert_float_equal(db.par.Ls_H, 0.1 * LS, 1e-8);
+    assert_float_equal(db.par.psi_f_Wb, 10.0 * PSIF, 1e-6);
+    dbdtc_reset(&db);
+    assert_float_equal(db.par.Ls_H, LS, 1e-9);
+    assert_float_equal(db.par.psi_f_Wb, PSIF, 1e-9);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(deadbeat_hits_torque_and_flux_exactly),
+        cmocka_unit_test(hand_values),
+        cmocka_unit_test(prediction_matches_eq10),
+        cmocka_unit_test(negative_discriminant_takes_vertex),
+        cmocka_unit_test(voltage_limit_torque_first),
+        cmocka_unit_test(voltage_limit_without_bus),
+        cmocka_unit_test(finite_for_any_finite_input),
+        cmocka_unit_test(parameters_bounded_and_reset),
+    };
+    return cmocka_run_group_tests_name("dbdtc", tests, NULL, NULL);
+}
