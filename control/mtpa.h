@@ -1,0 +1,44 @@
+/*
+ * mtpa.h - stator-flux reference for a surface-mounted PMSM (paper sec. III):
+ *
+ *   psi_s* = sqrt(psi_f^2 + (L*Te* / (1.5*p*psi_f))^2)
+ *
+ * i.e. id = 0 (MTPA for Ld = Lq) and iq = Te_ref / (1.5*p*psi_f). L and psi_f
+ * are arguments because the proposed method feeds online estimates.
+ */
+#ifndef MTPA_H
+#define MTPA_H
+
+#include <stdint.h>
+
+#include "mathx.h"
+
+/* An estimated magnet flux below this [Wb] (or non-finite) is replaced by
+ * it: the torque term then stays finite instead of dividing by ~0. */
+#define MTPA_PSI_F_MIN_WB 1.0e-3f
+/* Ceiling of both flux terms and of the result [Wb]: far above any machine
+ * this drive runs (Table I: 0.24 Wb); only keeps the reference finite. */
+#define MTPA_PSI_MAX_WB 100.0f
+/* Te = 1.5 * p * psi_f * iq (amplitude-invariant dq). */
+#define MTPA_TORQUE_FACTOR 1.5f
+
+/*
+ * Stator-flux reference [Wb] for torque reference Te_ref_Nm [N*m], with
+ * inductance L_H [H], magnet flux psi_f_Wb [Wb] and pole_pairs (0 counts
+ * as 1). Non-finite L or Te drop the torque term (result psi_f). Result in
+ * [MTPA_PSI_F_MIN_WB, MTPA_PSI_MAX_WB]. Any context.
+ */
+static inline float mtpa_psi_s_ref(float L_H, float psi_f_Wb, uint16_t pole_pairs, float Te_ref_Nm)
+{
+    const float psi_f = (mathx_isfinitef(psi_f_Wb) && (psi_f_Wb > MTPA_PSI_F_MIN_WB))
+                            ? mathx_clampf(psi_f_Wb, MTPA_PSI_F_MIN_WB, MTPA_PSI_MAX_WB)
+                            : MTPA_PSI_F_MIN_WB;
+    const float p = (pole_pairs > 0u) ? (float)pole_pairs : 1.0f;
+    /* psi_q = L*iq; NaN (from NaN inputs) clamps to 0, Inf to the ceiling. */
+    const float psi_q = mathx_clampf(mathx_fabsf(L_H * Te_ref_Nm / (MTPA_TORQUE_FACTOR * p * psi_f)),
+                                     0.0f, MTPA_PSI_MAX_WB);
+    return mathx_clampf(mathx_sqrtf(psi_f * psi_f + psi_q * psi_q), MTPA_PSI_F_MIN_WB,
+                        MTPA_PSI_MAX_WB);
+}
+
+#endif /* MTPA_H */
