@@ -1,0 +1,139 @@
+/*
+ * encoder.c - count to electrical angle, PLL speed estimate.
+ *
+ * PLL per period:  pos += Ts*vel;  e = count - pos (shortest way round);
+ *                  pos += 2*bw*Ts*e;  vel += bw^2*Ts*e.
+ * Working on the shortest-way error makes the wrap 9999 -> 0 (and back)
+ * invisible; pos is kept in [0, cpr) so its float resolution stays fine.
+ */
+#include "encoder.h"
+
+#include "mathx.h"
+
+/* Half a turn [1 / turn]: the shortest-way error lies in [-cpr/2, cpr/2). */
+#define ENCODER_HALF 0.5f
+/* Proportional PLL gain per bandwidth: kp = 2*bw (critical damping). */
+#define ENCODER_KP_PER_BW 2.0f
+
+/* Position [counts] into [0, cpr); inputs lie within one turn of it. */
+static float encoder_wrap_counts(float x, float cpr)
+{
+    if (x >= cpr) {
+        x -= cpr;
+    } else if (x < 0.0f) {
+        x += cpr;
+    }
+    /* -tiny + cpr rounds to cpr. */
+    return (x < cpr) ? x : 0.0f;
+}
+
+static void encoder_outputs_zero(encoder_t *enc)
+{
+    enc->theta_e_rad = 0.0f;
+    enc->omega_m_rad_s = 0.0f;
+    enc->omega_e_rad_s = 0.0f;
+}
+
+/* Electrical angle of a count before the offset [rad], in [0, 2*pi). */
+static float encoder_elec_angle(const encoder_t *enc, uint32_t count)
+{
+    /* Integer product mod cpr: exact, and init checked it cannot overflow. */
+    const uint32_t elec = (count * (uint32_t)enc->cfg.pole_pairs) % enc->cfg.counts_per_rev;
+    return (float)elec * enc->rad_per_count;
+}
+
+static bool encoder_cfg_valid(const encoder_cfg_t *cfg)
+{
+    if ((cfg->counts_per_rev == 0u) || (cfg->counts_per_rev > ENCODER_CPR_MAX)
+        || (cfg->pole_pairs == 0u)) {
+        return false;
+    }
+    if (cfg->counts_per_rev > (UINT32_MAX / (uint32_t)cfg->pole_pairs)) {
+        return false;
+    }
+    if (!mathx_isfinitef(cfg->offset_elec_rad) || !mathx_isfinitef(cfg->Ts_s)
+        || !mathx_isfinitef(cfg->pll_bw_rad_s) || !(cfg->Ts_s > 0.0f)
+        || !(cfg->pll_bw_rad_s > 0.0f)) {
+        return false;
+    }
+    return (cfg->pll_bw_rad_s * cfg->Ts_s) <= ENCODER_PLL_BW_TS_MAX;
+}
+
+bool encoder_init(encoder_t *enc, const encoder_cfg_t *cfg)
+{
+    enc->valid = encoder_cfg_valid(cfg);
+    enc->cfg = *cfg;
+    if (enc->valid) {
+        const float bw = cfg->pll_bw_rad_s;
+        enc->cpr = (float)cfg->counts_per_rev;
+        enc->rad_per_count = MATHX_TWO_PI_F / enc->cpr;
+        enc->kp_Ts = ENCODER_KP_PER_BW * bw * cfg->Ts_s;
+        enc->ki_Ts = bw * bw * cfg->Ts_s;
+        enc->vel_max = ENCODER_HALF * enc->cpr / cfg->Ts_s;
+        enc->offset_rad = mathx_wrap_2pi(cfg->offset_elec_rad);
+    } else {
+        enc->cpr = 0.0f;
+        enc->rad_per_count = 0.0f;
+        enc->kp_Ts = 0.0f;
+        enc->ki_Ts = 0.0f;
+        enc->vel_max = 0.0f;
+        enc->offset_rad = 0.0f;
+    }
+    encoder_reset(enc);
+    return enc->valid;
+}
+
+void encoder_reset(encoder_t *enc)
+{
+    enc->seeded = false;
+    enc->pos = 0.0f;
+    enc->vel = 0.0f;
+    encoder_outputs_zero(enc);
+}
+
+void encoder_step(encoder_t *enc, uint32_t count)
+{
+    if (!enc->valid) {
+        encoder_outputs_zero(enc);
+        return;
+    }
+    const uint32_t c = count % enc->cfg.counts_per_rev;
+    const float cf = (float)c;
+    enc->theta_e_rad = mathx_wrap_2pi(encoder_elec_angle(enc, c) + enc->offset_rad);
+
+    if (!enc->seeded) {
+        /* Start where the rotor is, at rest: no step in position, no spike. */
+        enc->pos = cf;
+        enc->vel = 0.0f;
+        enc->seeded = true;
+    } else {
+        const float half = ENCODER_HALF * enc->cpr;
+        enc->pos = encoder_wrap_counts(enc->pos + enc->cfg.Ts_s * enc->vel, enc->cpr);
+        float e = cf - enc->pos;
+        if (e >= half) {
+            e -= enc->cpr;
+        } else if (e < -half) {
+            e += enc->cpr;
+        }
+        enc->pos = encoder_wrap_counts(enc->pos + enc->kp_Ts * e, enc->cpr);
+        enc->vel = mathx_clampf(enc->vel + enc->ki_Ts * e, -enc->vel_max, enc->vel_max);
+    }
+    enc->omega_m_rad_s = enc->vel * enc->rad_per_count;
+    enc->omega_e_rad_s = enc->omega_m_rad_s * (float)enc->cfg.pole_pairs;
+}
+
+void encoder_set_offset(encoder_t *enc, float offset_elec_rad)
+{
+    if (mathx_isfinitef(offset_elec_rad)) {
+        enc->offset_rad = mathx_wrap_2pi(offset_elec_rad);
+    }
+}
+
+void encoder_align(encoder_t *enc, uint32_t count)
+{
+    if (!enc->valid) {
+        return;
+    }
+    const float theta = encoder_elec_angle(enc, count % enc->cfg.counts_per_rev);
+    enc->offset_rad = mathx_wrap_2pi(-theta);
+}
