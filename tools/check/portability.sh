@@ -16,6 +16,10 @@ inc=(-Icontrol -Ihal -Ifirmware -Ihal/f28335 -Itests/c2000_fake/include)
 common=(-std=c99 -Wall -Wextra -Werror -Wshadow -Wdouble-promotion -Wfloat-conversion
         -Wunsuffixed-float-constants -include control/c28x_portable.h "${inc[@]}")
 srcs=$(ls control/*.c firmware/*.c hal/f28335/*.c 2>/dev/null)
+# Header-only modules (static inline transforms) are gated as their own
+# translation units, with their unused inline functions still emitted.
+hdrs=$(ls control/*.h 2>/dev/null)
+keep=(-fkeep-inline-functions -fkeep-static-functions)
 fail=0
 
 # Double-precision soft-float helpers (ARM RTABI and libgcc names) and the
@@ -36,6 +40,19 @@ for f in $srcs; do
         fail=1
     fi
 done
+for h in $hdrs; do
+    o="$out/arm/$(echo "$h" | tr / _).o"
+    if ! arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -O2 \
+            "${common[@]}" "${keep[@]}" -x c -c "$h" -o "$o" 2> "$o.log"; then
+        echo "FAIL $h: does not compile float-only for Cortex-M4F:"; sed 's/^/    /' "$o.log"
+        fail=1; continue
+    fi
+    bad=$(arm-none-eabi-nm -u "$o" | awk '{print $NF}' | grep -E "$forbidden" | tr '\n' ' ')
+    if [ -n "$bad" ]; then
+        echo "FAIL $h: uses double precision (references: $bad)"
+        fail=1
+    fi
+done
 
 echo "check 2/3: 16-bit int build (avr-gcc, atmega2560)"
 for f in $srcs; do
@@ -44,6 +61,13 @@ for f in $srcs; do
     case "$f" in control/*) extra=(-Wconversion) ;; esac
     if ! avr-gcc -mmcu=atmega2560 -Os "${common[@]}" "${extra[@]}" -c "$f" -o "$o" 2> "$o.log"; then
         echo "FAIL $f: does not compile with 16-bit int (avr-gcc):"; sed 's/^/    /' "$o.log"
+        fail=1
+    fi
+done
+for h in $hdrs; do
+    o="$out/avr/$(echo "$h" | tr / _).o"
+    if ! avr-gcc -mmcu=atmega2560 -Os "${common[@]}" -Wconversion -x c -c "$h" -o "$o" 2> "$o.log"; then
+        echo "FAIL $h: does not compile with 16-bit int (avr-gcc):"; sed 's/^/    /' "$o.log"
         fail=1
     fi
 done
@@ -60,4 +84,4 @@ if [ $fail -ne 0 ]; then
     echo "make check: FAILED"
     exit 1
 fi
-echo "make check: all gates passed ($(echo "$srcs" | wc -w) portable sources)"
+echo "make check: all gates passed ($(echo "$srcs" | wc -w) portable sources, $(echo "$hdrs" | wc -w) control headers)"
