@@ -40,10 +40,12 @@ void dbdtc_set_params(dbdtc_t *db, float Rs_Ohm, float Ls_H, float psi_f_Wb)
     p->psi_f_Wb = mathx_clampf(psi_f_Wb, PARAM_FACTOR_MIN * cfg->psi_f_Wb,
                                PARAM_FACTOR_MAX * cfg->psi_f_Wb);
 
-    p->Ts_over_L = cfg->Ts_s / p->Ls_H;                                  /* division 1 */
+    const float inv_L = 1.0f / p->Ls_H;                                  /* division 1 */
+    p->Ts_over_L = cfg->Ts_s * inv_L;
     p->a = p->Rs_Ohm * p->Ts_over_L;
     p->one_minus_a = 1.0f - p->a;
     p->kt_Nm_per_A = ONE_AND_HALF * (float)cfg->pole_pairs * p->psi_f_Wb;
+    p->te_per_Wb = p->kt_Nm_per_A * inv_L;
     p->psiq_per_Nm = p->Ls_H / p->kt_Nm_per_A;                           /* division 2 */
 }
 
@@ -77,6 +79,21 @@ dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V, float o
     i1.d = p->one_minus_a * id + w_Ts * iq + p->Ts_over_L * ud;
     i1.q = p->one_minus_a * iq - w_Ts * id + p->Ts_over_L * (uq - w * p->psi_f_Wb);
     return dbdtc_state_from_currents(db, i1);
+}
+
+float dbdtc_torque_after(const dbdtc_t *db, const dbdtc_state_t *x, float u_q_V,
+                         float omega_el_rad_s)
+{
+    const dbdtc_cfg_t *cfg = &db->cfg;
+    const dbdtc_par_t *p = &db->par;
+    const float psi_bound = p->Ls_H * cfg->i_max_A + p->psi_f_Wb;
+    const float psi_d = mathx_clampf(x->psi_dq_Wb.d, -psi_bound, psi_bound);
+    const float psi_q = mathx_clampf(x->psi_dq_Wb.q, -psi_bound, psi_bound);
+    const float uq = mathx_clampf(u_q_V, -cfg->u_max_V, cfg->u_max_V);
+    const float w_Ts = mathx_clampf(omega_el_rad_s, -cfg->omega_max_rad_s, cfg->omega_max_rad_s) * cfg->Ts_s;
+
+    /* eq. (4), q axis, then eq. (5) */
+    return p->te_per_Wb * (cfg->Ts_s * uq + p->one_minus_a * psi_q - w_Ts * psi_d);
 }
 
 uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,

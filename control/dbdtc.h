@@ -72,6 +72,7 @@ typedef struct {           /* model parameters in use and what follows from them
     float a;               /* Ts*R/L, eq. (4) */
     float one_minus_a;     /* 1 - Ts*R/L */
     float Ts_over_L;       /* Ts/L [s/H], eq. (10) */
+    float te_per_Wb;       /* 1.5*p*psi_f/L [N m/Wb], eq. (5) */
     float kt_Nm_per_A;     /* 1.5*p*psi_f, eq. (12) */
     float psiq_per_Nm;     /* 2L/(3p psi_f) [Wb/(N m)], eq. (5) inverted */
 } dbdtc_par_t;
@@ -97,6 +98,12 @@ void dbdtc_reset(dbdtc_t *db);
 /* Model parameters [Ohm, H, Wb], bounded to 0.1..10 x the configured value;
  * recomputes the derived constants (2 divisions). ISR or background. */
 void dbdtc_set_params(dbdtc_t *db, float Rs_Ohm, float Ls_H, float psi_f_Wb);
+
+/* Torque Te(k+2) [N m] the model expects from the state *x at k+1 when
+ * u_q_V [V] is applied over [k+1, k+2] (eq. 4, 5): what a voltage-limited
+ * step really asks of the motor, for the speed loop's anti-windup. ISR. */
+float dbdtc_torque_after(const dbdtc_t *db, const dbdtc_state_t *x, float u_q_V,
+                         float omega_el_rad_s);
 
 /* Flux and torque (eq. 11, 12) from the currents i_dq_A [A]. ISR context. */
 dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A);

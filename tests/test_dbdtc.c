@@ -74,6 +74,11 @@ static void deadbeat_hits_torque_and_flux_exactly(void **state)
                     plant_step(&pd, &pq, u.d, u.q, (double)(float)w);
                     assert_float_equal(te_of(pq), te_ref, 1e-5 * fabs(te_ref));
                     assert_float_equal(sqrt(pd * pd + pq * pq), psi_ref, 1e-5 * psi_ref);
+                    /* the anti-windup's torque of the same voltage is the target */
+                    assert_float_equal(dbdtc_torque_after(&db, &x, u.q, (float)w), te_ref,
+                                       1e-5 * fabs(te_ref));
+                    assert_float_equal(dbdtc_torque_after(&db, &x, u.q - 10.0f, (float)w),
+                                       te_ref - 1.5 * PP * PSIF / LS * TS * 10.0, 1e-4);
                     n++;
                 }
             }

@@ -1,0 +1,251 @@
+/*
+ * ctrl.c - the drive controller; see ctrl.h.
+ *
+ * Cost per ctrl_step() in speed/torque mode (conventional method):
+ *   sin/cos: 1 (mathx_sincosf at theta; the advanced angle is a rotation
+ *            by a short series), divisions: 1 (MTPA) plus 3 only while the
+ *            voltage limit is active, square roots: 3 (MTPA, eq. 17, the
+ *            monitor's |psi_s|), plus what svpwm_duty() spends.
+ */
+#include "ctrl.h"
+
+#include "mathx.h"
+#include "mtpa.h"
+#include "svpwm.h"
+
+/* The voltage computed now is applied over [k+1, k+2]: its middle lies
+ * 1.5 periods after the sample instant. */
+#define ANGLE_ADVANCE_PERIODS 1.5f
+/* Bound on that advance [rad]: the series below is exact to float within it
+ * (error < delta^7/5040 = 1.5e-6 at the bound). */
+#define ANGLE_ADVANCE_MAX_RAD 0.5f
+#define SERIES_INV_2   0.5f
+#define SERIES_INV_6   0.166666667f
+#define SERIES_INV_24  0.0416666667f
+#define SERIES_INV_120 0.00833333333f
+#define SERIES_INV_720 0.00138888889f
+#define DUTY_ZERO_VOLTAGE 0.5f
+
+static uint16_t map_dbdtc_flags(uint16_t f)
+{
+    uint16_t out = 0u;
+    if ((f & DBDTC_FLAG_VOLTAGE_LIMIT) != 0u) {
+        out |= CTRL_FLAG_VOLTAGE_LIMIT;
+    }
+    if ((f & DBDTC_FLAG_FLUX_UNREACHABLE) != 0u) {
+        out |= CTRL_FLAG_FLUX_UNREACHABLE;
+    }
+    return out;
+}
+
+void ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
+{
+    encoder_cfg_t ec;
+    dbdtc_cfg_t dc;
+    pi_cfg_t pc;
+
+    c->cfg = *cfg;
+
+    ec.counts_per_rev = 4u * cfg->enc_lines;
+    ec.pole_pairs = cfg->pole_pairs;
+    ec.offset_elec_rad = cfg->enc_offset_el_rad;
+    ec.Ts_s = cfg->Ts_s;
+    ec.pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
+    (void)encoder_init(&c->enc, &ec); /* an invalid cfg reads angle 0, speed 0 */
+
+    dc.Ts_s = cfg->Ts_s;
+    dc.pole_pairs = cfg->pole_pairs;
+    dc.Rs_Ohm = cfg->Rs_Ohm;
+    dc.Ls_H = cfg->Ls_H;
+    dc.psi_f_Wb = cfg->psi_f_Wb;
+    dc.i_max_A = cfg->i_max_A;
+    dc.omega_max_rad_s = cfg->omega_max_el_rad_s;
+    dc.u_max_V = cfg->u_max_V;
+    dc.te_max_Nm = cfg->te_max_Nm;
+    dc.psi_max_Wb = cfg->psi_max_Wb;
+    dbdtc_init(&c->db, &dc);
+
+    pc.Kp = cfg->speed_kp_Nms_rad;
+    pc.Ki = cfg->speed_ki_Nm_rad;
+    pc.Ts_s = cfg->Ts_s;
+    pc.u_min = -cfg->te_max_Nm;
+    pc.u_max = cfg->te_max_Nm;
+    (void)pi_init(&c->speed_pi, &pc); /* an invalid cfg gives Te* = 0 */
+
+    c->mode = CTRL_MODE_TORQUE;
+    c->mode_req = CTRL_MODE_TORQUE;
+    c->method = CTRL_METHOD_CONVENTIONAL;
+    c->ref.speed_ref_rad_s = 0.0f;
+    c->ref.te_ref_Nm = 0.0f;
+    c->ref.ud_ref_V = 0.0f;
+    c->ref.uq_ref_V = 0.0f;
+    ctrl_reset(c);
+}
+
+void ctrl_reset(ctrl_t *c)
+{
+    encoder_reset(&c->enc);
+    dbdtc_reset(&c->db);
+    pi_reset(&c->speed_pi, 0.0f);
+    c->mode = c->mode_req;
+    c->u_applied_V.d = 0.0f;
+    c->u_applied_V.q = 0.0f;
+    c->mon.theta_el_rad = 0.0f;
+    c->mon.omega_el_rad_s = 0.0f;
+    c->mon.speed_mech_rad_s = 0.0f;
+    c->mon.id_A = 0.0f;
+    c->mon.iq_A = 0.0f;
+    c->mon.ud_V = 0.0f;
+    c->mon.uq_V = 0.0f;
+    c->mon.te_ref_Nm = 0.0f;
+    c->mon.te_est_Nm = 0.0f;
+    c->mon.psi_ref_Wb = 0.0f;
+    c->mon.psi_est_Wb = 0.0f;
+    c->mon.R_est_Ohm = c->db.par.Rs_Ohm;
+    c->mon.L_est_H = c->db.par.Ls_H;
+    c->mon.psi_f_est_Wb = c->db.par.psi_f_Wb;
+    c->mon.fd_est = 0.0f;
+    c->mon.fq_est = 0.0f;
+}
+
+void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
+{
+    c->mode_req = mode;
+}
+
+void ctrl_set_method(ctrl_t *c, ctrl_method_t method)
+{
+    c->method = method;
+}
+
+void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
+{
+    c->ref = *ref;
+}
+
+/*
+ * The model: parameters in use (in c->db.par) and the state at k+1 that
+ * compensates the one-period delay. This is the one place the methods
+ * differ; the proposed method's observer will set the parameters with
+ * dbdtc_set_params() and return dbdtc_state_from_currents(its i(k+1)).
+ */
+static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
+{
+    switch (c->method) {
+    case CTRL_METHOD_PROPOSED: /* observer not there yet: runs as conventional */
+    case CTRL_METHOD_CONVENTIONAL:
+    default:
+        return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s); /* eq. (10)-(12) */
+    }
+}
+
+/* sin/cos of theta + delta from those of theta: rotation by a series in
+ * delta (|delta| <= ANGLE_ADVANCE_MAX_RAD), saving a second sincos. */
+static void rotate_sincos(float s, float c, float delta_rad, float *s_out, float *c_out)
+{
+    const float d = mathx_clampf(delta_rad, -ANGLE_ADVANCE_MAX_RAD, ANGLE_ADVANCE_MAX_RAD);
+    const float d2 = d * d;
+    const float sd = d * (1.0f - d2 * SERIES_INV_6 * (1.0f - d2 * (SERIES_INV_120 / SERIES_INV_6)));
+    const float cd = 1.0f - d2 * SERIES_INV_2 * (1.0f - d2 * (SERIES_INV_24 / SERIES_INV_2) *
+                                                          (1.0f - d2 * (SERIES_INV_720 / SERIES_INV_24)));
+    *s_out = s * cd + c * sd;
+    *c_out = c * cd - s * sd;
+}
+
+void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+{
+    const ctrl_cfg_t *cfg = &c->cfg;
+    float s;
+    float co;
+    float sa;
+    float ca;
+    float te_ref = 0.0f;
+    float psi_ref = 0.0f;
+    uint16_t flags = 0u;
+    dq_t u;
+    ab_t u_real;
+    svpwm_duty_t duty;
+    uint16_t pwm_flags;
+    float chk;
+
+    if (c->mode_req != c->mode) {
+        if (c->mode_req == CTRL_MODE_SPEED) {
+            pi_reset(&c->speed_pi, c->mon.te_est_Nm); /* bumpless: start from the torque there is */
+        }
+        c->mode = c->mode_req;
+    }
+
+    /* angle and speed, current in the rotor frame */
+    encoder_step(&c->enc, in->enc_count);
+    const float theta = c->enc.theta_e_rad;
+    const float omega = c->enc.omega_e_rad_s;
+    mathx_sincosf(theta, &s, &co);
+    const dq_t i_dq = park(clarke_2ph(in->ia_A, in->ib_A), s, co);
+
+    /* delay compensation and the parameters in use */
+    const dbdtc_state_t x = ctrl_model_step(c, i_dq, omega);
+    const dbdtc_par_t *par = &c->db.par;
+
+    if (c->mode == CTRL_MODE_OPEN_LOOP) {
+        u.d = mathx_clampf(c->ref.ud_ref_V, -cfg->u_max_V, cfg->u_max_V);
+        u.q = mathx_clampf(c->ref.uq_ref_V, -cfg->u_max_V, cfg->u_max_V);
+    } else {
+        if (c->mode == CTRL_MODE_SPEED) {
+            te_ref = pi_step(&c->speed_pi, c->ref.speed_ref_rad_s - c->enc.omega_m_rad_s);
+        } else {
+            te_ref = mathx_clampf(c->ref.te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
+        }
+        psi_ref = mtpa_psi_s_ref(par->Ls_H, par->psi_f_Wb, cfg->pole_pairs, te_ref); /* sec. III */
+        flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
+    }
+
+    /* applied over [k+1, k+2]: rotor angle of its middle */
+    rotate_sincos(s, co, ANGLE_ADVANCE_PERIODS * omega * cfg->Ts_s, &sa, &ca);
+    flags |= map_dbdtc_flags(dbdtc_limit(&u, sa, ca, in->vdc_V));
+    pwm_flags = svpwm_duty(park_inv(u, sa, ca), in->vdc_V, &duty, &u_real);
+    if ((pwm_flags & SVPWM_SATURATED) != 0u) {
+        flags |= CTRL_FLAG_VOLTAGE_LIMIT;
+    }
+    /* what the inverter will realise is what the next prediction uses */
+    c->u_applied_V = park(u_real, sa, ca);
+
+    if (c->mode == CTRL_MODE_SPEED) {
+        /* anti-windup on the torque the applied voltage achieves */
+        pi_apply(&c->speed_pi, dbdtc_torque_after(&c->db, &x, c->u_applied_V.q, omega));
+    }
+
+    c->mon.theta_el_rad = theta;
+    c->mon.omega_el_rad_s = omega;
+    c->mon.speed_mech_rad_s = c->enc.omega_m_rad_s;
+    c->mon.id_A = i_dq.d;
+    c->mon.iq_A = i_dq.q;
+    c->mon.ud_V = c->u_applied_V.d;
+    c->mon.uq_V = c->u_applied_V.q;
+    c->mon.te_ref_Nm = te_ref;
+    c->mon.te_est_Nm = x.te_Nm;
+    c->mon.psi_ref_Wb = psi_ref;
+    c->mon.psi_est_Wb = mathx_sqrtf(x.psi_dq_Wb.d * x.psi_dq_Wb.d + x.psi_dq_Wb.q * x.psi_dq_Wb.q);
+    c->mon.R_est_Ohm = par->Rs_Ohm;
+    c->mon.L_est_H = par->Ls_H;
+    c->mon.psi_f_est_Wb = par->psi_f_Wb;
+    c->mon.fd_est = 0.0f;
+    c->mon.fq_est = 0.0f;
+
+    /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
+     * are in it because the blocks clamp (a NaN would become a bound). */
+    chk = in->ia_A + in->ib_A + in->vdc_V + c->ref.speed_ref_rad_s + c->ref.te_ref_Nm +
+          c->ref.ud_ref_V + c->ref.uq_ref_V + omega + x.te_Nm + u.d + u.q + duty.a + duty.b +
+          duty.c + c->u_applied_V.d + c->u_applied_V.q;
+    if (!mathx_isfinitef(chk)) {
+        duty.a = DUTY_ZERO_VOLTAGE;
+        duty.b = DUTY_ZERO_VOLTAGE;
+        duty.c = DUTY_ZERO_VOLTAGE;
+        c->u_applied_V.d = 0.0f;
+        c->u_applied_V.q = 0.0f;
+        flags |= CTRL_FLAG_NONFINITE;
+    }
+    out->duty[0] = duty.a;
+    out->duty[1] = duty.b;
+    out->duty[2] = duty.c;
+    out->flags = flags;
+}
