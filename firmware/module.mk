@@ -1,0 +1,4 @@
+# firmware/: the app (ISR glue, state machine). Its unit test runs against
+# the cmocka mock of the HAL.
+TEST_LIBS_test_app := firmware control
+TEST_SRCS_test_app := tests/mock_hal.c
