@@ -1,0 +1,48 @@
+/* c2000_fake_regs.c - the register objects of the host fake. On the target
+ * C2000Ware's DSP2833x_GlobalVariableDefs.c defines them and the header
+ * linker command file places them at the peripheral addresses. */
+#include <string.h>
+
+#include "DSP2833x_Device.h"
+#include "c2000_fake.h"
+
+volatile Uint16 c2000_fake_eallow;
+volatile Uint16 c2000_fake_intm = 1U;
+volatile Uint16 IER;
+volatile Uint16 IFR;
+
+volatile struct ADC_REGS AdcRegs;
+volatile struct CPUTIMER_REGS CpuTimer2Regs;
+volatile struct EPWM_REGS EPwm1Regs;
+volatile struct EPWM_REGS EPwm2Regs;
+volatile struct EPWM_REGS EPwm3Regs;
+volatile struct EQEP_REGS EQep1Regs;
+volatile struct GPIO_CTRL_REGS GpioCtrlRegs;
+volatile struct PIE_CTRL_REGS PieCtrlRegs;
+struct PIE_VECT_TABLE PieVectTable;
+volatile struct SCI_REGS SciaRegs;
+volatile struct SYS_CTRL_REGS SysCtrlRegs;
+volatile struct FLASH_REGS FlashRegs;
+
+/* The fake objects are plain host memory, so dropping volatile for the reset is safe. */
+#define ZERO(obj) memset((void *)&(obj), 0, sizeof(obj))
+
+void c2000_fake_reset(void)
+{
+    ZERO(AdcRegs);
+    ZERO(CpuTimer2Regs);
+    ZERO(EPwm1Regs);
+    ZERO(EPwm2Regs);
+    ZERO(EPwm3Regs);
+    ZERO(EQep1Regs);
+    ZERO(GpioCtrlRegs);
+    ZERO(PieCtrlRegs);
+    ZERO(PieVectTable);
+    ZERO(SciaRegs);
+    ZERO(SysCtrlRegs);
+    ZERO(FlashRegs);
+    c2000_fake_eallow = 0U;
+    c2000_fake_intm = 1U;
+    IER = 0U;
+    IFR = 0U;
+}
