@@ -1,0 +1,50 @@
+/*
+ * board_cfg.h - the board and motor configuration of the F28335 drive:
+ * clocks, PWM, sensor scaling, encoder, protection limits and motor
+ * defaults. Named constants with units; the HAL (hal/f28335/) derives its
+ * register values from them, the application uses the limits and motor
+ * parameters. Change a board here, nowhere else.
+ */
+#ifndef BOARD_CFG_H
+#define BOARD_CFG_H
+
+/* ---- clocks ----------------------------------------------------------- */
+#define BOARD_XTAL_HZ            30000000UL   /* crystal on X1/X2 [Hz] */
+#define BOARD_PLL_MULT           10U          /* PLLCR.DIV: VCOCLK = 300 MHz */
+#define BOARD_SYSCLK_HZ          150000000UL  /* 30 MHz * 10 / 2 (PLLSTS.DIVSEL = /2) [Hz] */
+
+/* ---- PWM -------------------------------------------------------------- */
+#define BOARD_PWM_FREQ_HZ        10000UL      /* switching = control frequency [Hz] */
+#define BOARD_DEADTIME_NS        1000UL       /* gate-driver dead time, both edges [ns] */
+
+/* ---- ADC front end (F28335 ADC: 0..3 V, 12 bit) ----------------------- */
+#define BOARD_ADC_FULL_SCALE_V   3.0f         /* ADC input range [V] */
+#define BOARD_ADC_COUNTS         4096.0f      /* 12-bit full scale [counts] */
+/* Phase current: i = (v_pin - offset) * gain; the sign of the gain makes
+ * positive current flow into the motor. 10 A/V around 1.5 V: +/-15 A. */
+#define BOARD_I_GAIN_A_PER_V     10.0f        /* current sensor + conditioning [A/V] */
+#define BOARD_I_OFFSET_V         1.5f         /* pin voltage at zero current [V] */
+/* DC bus: resistive divider, 200 V per volt at the pin: 0..600 V. */
+#define BOARD_VDC_GAIN_V_PER_V   200.0f       /* [V bus / V pin] */
+#define BOARD_VDC_OFFSET_V       0.0f         /* pin voltage at 0 V bus [V] */
+
+/* ---- encoder ---------------------------------------------------------- */
+#define BOARD_ENC_LINES          2500UL       /* lines per revolution; x4 counts */
+
+/* ---- protection limits (used by the application) ---------------------- */
+#define BOARD_VDC_NOMINAL_V      311.0f       /* rectified 220 V AC [V] (assumed; paper gives none) */
+#define BOARD_OVERCURRENT_A      12.0f        /* software trip on any phase current [A] */
+#define BOARD_VDC_MIN_V          200.0f       /* undervoltage trip [V] */
+#define BOARD_VDC_MAX_V          400.0f       /* overvoltage trip [V] */
+#define BOARD_OVERSPEED_RPM      2400.0f      /* 1.2 x rated speed [r/min] */
+
+/* ---- motor defaults: paper Table I ------------------------------------ */
+#define MOTOR_R_OHM              3.0f         /* stator phase resistance [Ohm] */
+#define MOTOR_L_H                0.011f       /* Ld = Lq [H] */
+#define MOTOR_PSI_F_WB           0.24f        /* permanent-magnet flux linkage [Wb] */
+#define MOTOR_POLE_PAIRS         3U           /* pole pairs [-] */
+#define MOTOR_J_KGM2             0.00129f     /* rotor inertia [kg m^2] */
+#define MOTOR_RATED_SPEED_RPM    2000.0f      /* [r/min] */
+#define MOTOR_RATED_TORQUE_NM    6.0f         /* [N m]; iq = 6 / (1.5 * 3 * 0.24) = 5.56 A */
+
+#endif /* BOARD_CFG_H */

@@ -1,0 +1,47 @@
+/*
+ * hal_f28335.c - hal.h on the TMS320F28335: start-up order and the
+ * control interrupt (ADC SEQ1, PIE INT1.1, 10 kHz). Reference: SPRUFB0
+ * "PIE" (vector table, PIEIER/PIEACK, CPU IER) and SPRU812 (SEQ1 interrupt).
+ */
+#include "DSP2833x_Device.h"
+#include "hal.h"
+#include "hal_f28335.h"
+#include "hal_f28335_internal.h"
+
+void hal_init(void)
+{
+    f28335_sysctrl_init();
+    f28335_pie_init();
+    f28335_pwm_init();
+    f28335_adc_init();
+    f28335_qep_init();
+    f28335_timer_init();
+    f28335_sci_init();
+    PieCtrlRegs.PIECTRL.bit.ENPIE = 1U;
+}
+
+void hal_isr_attach(hal_isr_fn isr)
+{
+    DINT;
+    EALLOW;
+    PieVectTable.SEQ1INT = (PINT)isr;  /* isr is declared HAL_INTERRUPT by the caller */
+    EDIS;
+    /* Drop a sequence finished before the ISR existed, so the first interrupt is a fresh one. */
+    AdcRegs.ADCTRL2.bit.RST_SEQ1 = 1U;
+    AdcRegs.ADCST.bit.INT_SEQ1_CLR = 1U;
+    PieCtrlRegs.PIEIER1.bit.INTx1 = 1U;
+    IER |= M_INT1;
+    f28335_watchdog_enable();
+    EINT;
+    ERTM;
+}
+
+#if defined(__TMS320C28XX__)
+#pragma CODE_SECTION(hal_isr_ack, "ramfuncs")
+#endif
+void hal_isr_ack(void)
+{
+    AdcRegs.ADCTRL2.bit.RST_SEQ1 = 1U;     /* next SOCA starts again at CONV00 */
+    AdcRegs.ADCST.bit.INT_SEQ1_CLR = 1U;   /* clear the SEQ1 interrupt flag */
+    PieCtrlRegs.PIEACK.all = PIEACK_GROUP1; /* write-1-to-clear: re-open PIE group 1 */
+}

@@ -1,0 +1,48 @@
+/*
+ * hal_f28335.h - what the F28335 HAL offers beyond hal/hal.h: the ISR
+ * timing record (for CCS watch windows), the SCI-A telemetry transmit
+ * queue, and start-up diagnostics. Target firmware only; portable code
+ * uses hal.h.
+ */
+#ifndef HAL_F28335_H
+#define HAL_F28335_H
+
+#include <stdint.h>
+#include <stdbool.h>
+
+/* Control ISR duration in SYSCLKOUT cycles (6.67 ns each), from CPU timer 2. */
+typedef struct {
+    uint32_t last_cycles;   /* latest measured ISR */
+    uint32_t min_cycles;    /* shortest since reset (0xFFFFFFFF before the first) */
+    uint32_t max_cycles;    /* longest since reset */
+    uint32_t count;         /* ISRs measured since reset */
+} hal_f28335_isr_timing_t;
+
+/* Readable from CCS (Expressions window); written only by the two calls below. */
+extern volatile hal_f28335_isr_timing_t hal_f28335_isr_timing;
+
+/* Start timing the control ISR. ISR context, first statement of the ISR. */
+void hal_f28335_isr_timing_begin(void);
+
+/* Stop timing and update last/min/max/count. ISR context, last statement. */
+void hal_f28335_isr_timing_end(void);
+
+/* Forget min/max/count (e.g. after start-up transients). Background context. */
+void hal_f28335_isr_timing_reset(void);
+
+/* Queue up to len characters for SCI-A (115200 8N1); returns how many were
+ * queued (the rest did not fit). One producer context only (ISR or background). */
+uint16_t hal_f28335_sci_write(const char *data, uint16_t len);
+
+/* Move queued characters into the SCI-A transmit FIFO, never waiting. Background loop. */
+void hal_f28335_sci_pump(void);
+
+/* False when the PLL did not lock or the oscillator is missing; the HAL
+ * then reports a trip that hal_trip_clear() cannot clear. Any context. */
+bool hal_f28335_clock_ok(void);
+
+/* Number of hal_pwm_write() calls that got a NaN or infinite duty (each
+ * disabled the outputs). Any context. */
+uint32_t hal_f28335_nonfinite_duty_count(void);
+
+#endif /* HAL_F28335_H */

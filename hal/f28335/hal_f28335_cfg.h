@@ -1,0 +1,70 @@
+/*
+ * hal_f28335_cfg.h - register values of the F28335 HAL, derived from
+ * firmware/board_cfg.h. Kept apart so the unit tests can check them.
+ * Document references: SPRUG04 (ePWM), SPRU812 (ADC), SPRUG05 (eQEP),
+ * SPRUFB0 (system control, PIE), SPRUG03 (SCI), SPRS439 (data sheet).
+ */
+#ifndef HAL_F28335_CFG_H
+#define HAL_F28335_CFG_H
+
+#include <stdint.h>
+
+#include "board_cfg.h"
+
+/* ---- clocks (SPRUFB0 "Clocking") -------------------------------------- */
+#define F28335_PLL_DIVSEL_2      2U   /* PLLSTS.DIVSEL: CLKIN = VCOCLK / 2 */
+#define F28335_HISPCP            3U   /* HSPCLK = SYSCLKOUT / (2 * 3) = 25 MHz */
+#define F28335_HSPCLK_HZ         (BOARD_SYSCLK_HZ / (2UL * F28335_HISPCP))
+#define F28335_LOSPCP            2U   /* LSPCLK = SYSCLKOUT / (2 * 2) = 37.5 MHz */
+#define F28335_LSPCLK_HZ         (BOARD_SYSCLK_HZ / (2UL * F28335_LOSPCP))
+/* PLL lock takes 131072 OSCCLK cycles (SPRUFB0); the poll loop runs at
+ * most at OSCCLK and each pass takes at least one cycle, so twice that many
+ * passes bound the wait without hanging (host fake, dead PLL). */
+#define F28335_PLL_LOCK_POLLS    262144UL
+
+/* ---- flash wait states at 150 MHz (SPRS439 flash timing table) -------- */
+/* wait = ceil(t_access / t_SYSCLKOUT) - 1 with t = 6.67 ns:
+ * paged and random 37 ns -> 5, OTP 60 ns -> 8. */
+#define F28335_FLASH_PAGEWAIT    5U
+#define F28335_FLASH_RANDWAIT    5U
+#define F28335_FLASH_OTPWAIT     8U
+#define F28335_FLASH_FALLBACK_WAIT 0x01FFU  /* STDBYWAIT / ACTIVEWAIT: reset value, the maximum */
+
+/* ---- watchdog (SPRUFB0 "Watchdog Block") ------------------------------ */
+/* WDCR: WDCHK (bits 5:3) must be written as 101b; WDDIS is bit 6; WDPS bits 2:0. */
+#define F28335_WDCR_DISABLE      0x0068U   /* WDDIS = 1, WDCHK = 101b */
+#define F28335_WDCR_ENABLE_DIV8  0x002CU   /* WDDIS = 0, WDCHK = 101b, WDPS = 100b (/8) */
+/* Timeout = 256 * 8 * 512 / 30 MHz = 35 ms without a hal_watchdog_kick(). */
+#define F28335_WDKEY_1           0x0055U
+#define F28335_WDKEY_2           0x00AAU
+
+/* ---- ePWM (SPRUG04 "Time-Base", "Dead-Band") -------------------------- */
+#define F28335_TBCLK_HZ          BOARD_SYSCLK_HZ   /* HSPCLKDIV = CLKDIV = /1 */
+/* Up-down count: f_pwm = TBCLK / (2 * TBPRD) -> 150 MHz / (2 * 10 kHz) = 7500. */
+#define F28335_TBPRD             ((uint16_t)(F28335_TBCLK_HZ / (2UL * BOARD_PWM_FREQ_HZ)))
+/* Dead band in TBCLK counts, rounded up: 1000 ns * 150 MHz = 150. */
+#define F28335_DB_COUNTS         ((uint16_t)((BOARD_DEADTIME_NS * (F28335_TBCLK_HZ / 1000000UL) + 999UL) / 1000UL))
+#define F28335_DB_MAX_COUNTS     1023U             /* DBRED/DBFED are 10 bits */
+
+/* ---- ADC (SPRU812) ----------------------------------------------------- */
+#define F28335_ADC_CLKPS         1U   /* FCLK = HSPCLK / (2 * 1) = 12.5 MHz, CPS = 0 */
+#define F28335_ADC_ACQ_PS        7U   /* S/H window = 8 ADCCLK = 640 ns */
+#define F28335_ADC_POWERUP_US    5000UL /* after powering bandgap, reference, core */
+#define F28335_ADC_RESULT_SHIFT  4U   /* ADCRESULTn holds the 12-bit value left-justified */
+#define F28335_ADC_V_PER_COUNT   (BOARD_ADC_FULL_SCALE_V / BOARD_ADC_COUNTS)
+#define F28335_I_A_PER_COUNT     (F28335_ADC_V_PER_COUNT * BOARD_I_GAIN_A_PER_V)
+#define F28335_I_OFFSET_A        (BOARD_I_OFFSET_V * BOARD_I_GAIN_A_PER_V)
+#define F28335_VDC_V_PER_COUNT   (F28335_ADC_V_PER_COUNT * BOARD_VDC_GAIN_V_PER_V)
+#define F28335_VDC_OFFSET_V      (BOARD_VDC_OFFSET_V * BOARD_VDC_GAIN_V_PER_V)
+
+/* ---- eQEP (SPRUG05) ----------------------------------------------------- */
+#define F28335_QPOSMAX           (4UL * BOARD_ENC_LINES - 1UL)   /* 9999 for 2500 lines */
+
+/* ---- SCI-A (SPRUG03 "Baud rate") ---------------------------------------- */
+#define F28335_SCI_BAUD          115200UL
+/* BRR = LSPCLK / (baud * 8) - 1 = 37.5 MHz / 921600 - 1 = 39.69 -> 40
+ * (rounded); actual 37.5 MHz / (41 * 8) = 114329 baud, -0.76 %. */
+#define F28335_SCI_BRR           ((uint16_t)((F28335_LSPCLK_HZ + 4UL * F28335_SCI_BAUD) / (8UL * F28335_SCI_BAUD) - 1UL))
+#define F28335_SCI_FIFO_DEPTH    16U
+
+#endif /* HAL_F28335_CFG_H */

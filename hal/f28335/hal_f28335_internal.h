@@ -1,0 +1,31 @@
+/* hal_f28335_internal.h - start-up steps shared between the F28335 HAL
+ * files; not for use outside hal/f28335/. */
+#ifndef HAL_F28335_INTERNAL_H
+#define HAL_F28335_INTERNAL_H
+
+#include <stdint.h>
+
+/* Compile-time check usable in C99 (negative array size on failure). */
+#define F28335_STATIC_ASSERT(name, cond) typedef char f28335_assert_##name[(cond) ? 1 : -1]
+
+/* Watchdog off, RAM functions copied, PLL to 150 MHz, flash wait states,
+ * peripheral clocks. Start-up, first step of hal_init(). */
+void f28335_sysctrl_init(void);
+
+/* PIE off and cleared, CPU interrupts masked. Start-up, before any vector is set. */
+void f28335_pie_init(void);
+
+/* Watchdog on (35 ms). Start-up, last step before the background loop. */
+void f28335_watchdog_enable(void);
+
+/* Busy-wait at least us microseconds (bounded loop). Start-up only. */
+void f28335_delay_us(uint32_t us);
+
+/* Peripheral set-ups, each including its pins. Start-up, in hal_init(). */
+void f28335_pwm_init(void);
+void f28335_adc_init(void);
+void f28335_qep_init(void);
+void f28335_timer_init(void);
+void f28335_sci_init(void);
+
+#endif /* HAL_F28335_INTERNAL_H */

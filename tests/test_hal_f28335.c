@@ -1,0 +1,495 @@
+/*
+ * Unit tests for hal/f28335/ against the host register fake: the register
+ * values after hal_init(), the duty -> CMPA mapping, sample scaling, the
+ * trip-zone latch, the interrupt acknowledge, the cycle counter and the
+ * SCI queue. Every expected number is derived by hand in the comments.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+#include <string.h>
+
+#include "DSP2833x_Device.h"
+#include "c2000_fake.h"
+#include "hal.h"
+#include "hal_f28335.h"
+#include "hal_f28335_cfg.h"
+
+#define TOL 1e-4
+
+static volatile struct EPWM_REGS *const pwm[3] = { &EPwm1Regs, &EPwm2Regs, &EPwm3Regs };
+
+static int isr_calls;
+static void fake_ctrl_isr(void) { isr_calls++; }
+
+/* Power-on fake; the PLL "locks" at once (the fake cannot count cycles). */
+static int setup(void **state)
+{
+    (void)state;
+    c2000_fake_reset();
+    SysCtrlRegs.PLLSTS.bit.PLLLOCKS = 1U;
+    hal_init();
+    return 0;
+}
+
+/* ---- derived constants ---------------------------------------------------- */
+
+static void derived_register_values(void **state)
+{
+    (void)state;
+    /* 150 MHz / (2 * 10 kHz) = 7500 counts. */
+    assert_int_equal(F28335_TBPRD, 7500);
+    /* 1000 ns * 150 counts/us = 150 counts. */
+    assert_int_equal(F28335_DB_COUNTS, 150);
+    /* 37.5 MHz / (115200 * 8) - 1 = 39.69 -> 40. */
+    assert_int_equal(F28335_SCI_BRR, 40);
+    /* 4 * 2500 - 1. */
+    assert_int_equal(F28335_QPOSMAX, 9999);
+}
+
+/* ---- hal_init: clocks, flash, watchdog ------------------------------------ */
+
+static void init_sets_clocks_flash_watchdog(void **state)
+{
+    (void)state;
+    assert_int_equal(SysCtrlRegs.PLLCR.bit.DIV, 10);     /* 30 MHz x 10 = 300 MHz VCO */
+    assert_int_equal(SysCtrlRegs.PLLSTS.bit.DIVSEL, 2);  /* /2 -> 150 MHz */
+    assert_int_equal(SysCtrlRegs.PLLSTS.bit.MCLKOFF, 0); /* missing-clock detect back on */
+    assert_true(hal_f28335_clock_ok());
+    assert_int_equal(SysCtrlRegs.HISPCP.all, 3);         /* 25 MHz HSPCLK */
+    assert_int_equal(SysCtrlRegs.LOSPCP.all, 2);         /* 37.5 MHz LSPCLK */
+    assert_int_equal(SysCtrlRegs.PCLKCR0.bit.TBCLKSYNC, 1);
+    assert_int_equal(SysCtrlRegs.PCLKCR0.bit.ADCENCLK, 1);
+    assert_int_equal(SysCtrlRegs.PCLKCR0.bit.SCIAENCLK, 1);
+    assert_int_equal(SysCtrlRegs.PCLKCR1.all, 0x4007);   /* EPWM1..3, EQEP1 */
+    assert_int_equal(SysCtrlRegs.PCLKCR3.bit.CPUTIMER2ENCLK, 1);
+    assert_int_equal(FlashRegs.FOPT.bit.ENPIPE, 1);
+    assert_int_equal(FlashRegs.FBANKWAIT.all, 0x0505);   /* PAGEWAIT 5, RANDWAIT 5 */
+    assert_int_equal(FlashRegs.FOTPWAIT.bit.OTPWAIT, 8);
+    assert_int_equal(SysCtrlRegs.WDCR, 0x0068);          /* off until hal_isr_attach */
+    assert_int_equal(c2000_fake_eallow, 0);              /* every EALLOW closed */
+    assert_int_equal(c2000_fake_intm, 1);                /* interrupts still masked */
+}
+
+static void pll_that_never_locks_is_a_permanent_trip(void **state)
+{
+    (void)state;
+    c2000_fake_reset();  /* PLLLOCKS stays 0: the bounded wait gives up */
+    hal_init();
+    assert_false(hal_f28335_clock_ok());
+    assert_int_equal(SysCtrlRegs.PLLSTS.bit.DIVSEL, 0);  /* stays /4 */
+    assert_true(hal_trip_active());
+    hal_trip_clear();
+    assert_true(hal_trip_active());
+    EPwm1Regs.TZCLR.all = 0U;
+    hal_pwm_enable();
+    assert_int_equal(EPwm1Regs.TZCLR.bit.OST, 0);        /* refused */
+}
+
+static void limp_mode_leaves_pllcr_alone(void **state)
+{
+    (void)state;
+    c2000_fake_reset();
+    SysCtrlRegs.PLLSTS.bit.MCLKSTS = 1U;
+    hal_init();
+    assert_int_equal(SysCtrlRegs.PLLCR.all, 0);
+    assert_false(hal_f28335_clock_ok());
+    assert_true(hal_trip_active());
+}
+
+/* ---- hal_init: ePWM, trip zone, pins -------------------------------------- */
+
+static void init_sets_epwm(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 3; k++) {
+        volatile struct EPWM_REGS *p = pwm[k];
+        const int master = (k == 0);
+        assert_int_equal(p->TBPRD, 7500);
+        assert_int_equal(p->TBCTL.bit.CTRMODE, 2);        /* up-down */
+        assert_int_equal(p->TBCTL.bit.PRDLD, 0);          /* TBPRD shadowed */
+        assert_int_equal(p->TBCTL.bit.HSPCLKDIV, 0);      /* TBCLK = SYSCLKOUT */
+        assert_int_equal(p->TBCTL.bit.CLKDIV, 0);
+        assert_int_equal(p->TBCTL.bit.PHSEN, master ? 0 : 1);
+        assert_int_equal(p->TBCTL.bit.SYNCOSEL, master ? 1 : 0); /* ePWM1 syncs 2, 3 at zero */
+        assert_int_equal(p->TBCTL.bit.PHSDIR, 1);
+        assert_int_equal(p->TBPHS.half.TBPHS, 0);
+        assert_int_equal(p->CMPCTL.bit.SHDWAMODE, 0);     /* CMPA shadowed ... */
+        assert_int_equal(p->CMPCTL.bit.LOADAMODE, 0);     /* ... loaded at TBCTR = 0 */
+        assert_int_equal(p->CMPA.half.CMPA, 3750);        /* duty 0.5 */
+        /* CAU = set (2 << 4 = 0x20), CAD = clear (1 << 6 = 0x40). */
+        assert_int_equal(p->AQCTLA.all, 0x0060);
+        /* OUT_MODE 3 | POLSEL 2 << 2 | IN_MODE 0 = 0x000B: active-high complementary. */
+        assert_int_equal(p->DBCTL.all, 0x000B);
+        assert_int_equal(p->DBRED, 150);
+        assert_int_equal(p->DBFED, 150);
+        assert_int_equal(p->TZSEL.all, 0x0100);           /* OSHT1 */
+        assert_int_equal(p->TZCTL.all, 0x000A);           /* TZA = TZB = 2: force low */
+        assert_int_equal(p->TZFRC.bit.OST, 1);            /* outputs start off */
+        assert_int_equal(p->TZEINT.bit.OST, master ? 1 : 0);
+    }
+    /* SOCA at TBCTR = 0 (SOCASEL 1 << 8), enabled (1 << 11), every event. */
+    assert_int_equal(EPwm1Regs.ETSEL.all, 0x0900);
+    assert_int_equal(EPwm1Regs.ETPS.bit.SOCAPRD, 1);
+}
+
+static void init_sets_pin_mux(void **state)
+{
+    (void)state;
+    /* GPAMUX1: GPIO0..5 = 1 (ePWM, bits 11:0 = 0x555), GPIO12 = 1 (TZ1, bits 25:24). */
+    assert_int_equal(GpioCtrlRegs.GPAMUX1.all, 0x01000555UL);
+    /* GPAMUX2: GPIO20..23 = 1 (eQEP1, bits 15:8), GPIO28, 29 = 1 (SCI-A, bits 27:24). */
+    assert_int_equal(GpioCtrlRegs.GPAMUX2.all, 0x05005500UL);
+    assert_int_equal(GpioCtrlRegs.GPAPUD.all, 0x0000003FUL);   /* pull-ups off on gates only */
+    assert_int_equal(GpioCtrlRegs.GPAQSEL1.bit.GPIO12, 3);    /* TZ1 asynchronous */
+}
+
+/* ---- hal_init: ADC, eQEP, SCI, timer, PIE --------------------------------- */
+
+static void init_sets_adc(void **state)
+{
+    (void)state;
+    /* SMODE_SEL 1 | ADCCLKPS 1 << 1 | ADCPWDN 1 << 5 | ADCBGRFDN 3 << 6 = 0x00E3. */
+    assert_int_equal(AdcRegs.ADCTRL3.all, 0x00E3);
+    /* ACQ_PS 7 << 8, start-stop, dual sequencer, CPS 0. */
+    assert_int_equal(AdcRegs.ADCTRL1.all, 0x0700);
+    assert_int_equal(AdcRegs.ADCMAXCONV.bit.MAX_CONV1, 1);    /* two simultaneous pairs */
+    assert_int_equal(AdcRegs.ADCCHSELSEQ1.all, 0x0010);       /* CONV00 = A0/B0, CONV01 = A1/B1 */
+    assert_int_equal(AdcRegs.ADCTRL2.bit.EPWM_SOCA_SEQ1, 1);
+    assert_int_equal(AdcRegs.ADCTRL2.bit.INT_ENA_SEQ1, 1);
+    assert_int_equal(AdcRegs.ADCTRL2.bit.INT_MOD_SEQ1, 0);
+}
+
+static void init_sets_eqep(void **state)
+{
+    (void)state;
+    assert_int_equal(EQep1Regs.QPOSMAX, 9999);
+    assert_int_equal(EQep1Regs.QDECCTL.all, 0);               /* quadrature, x4 */
+    /* FREE_SOFT 2 << 14 | PCRM 1 << 12 | IEL 1 << 4 | QPEN 1 << 3 = 0x9018. */
+    assert_int_equal(EQep1Regs.QEPCTL.all, 0x9018);
+}
+
+static void init_sets_sci_and_timer(void **state)
+{
+    (void)state;
+    assert_int_equal(SciaRegs.SCIHBAUD, 0);
+    assert_int_equal(SciaRegs.SCILBAUD, 40);
+    assert_int_equal(SciaRegs.SCICCR.all, 0x0007);            /* 8N1 */
+    assert_int_equal(SciaRegs.SCICTL1.all, 0x0022);           /* TX on, out of reset */
+    assert_int_equal(SciaRegs.SCIFFTX.all, 0xE040);
+    assert_int_equal(CpuTimer2Regs.PRD.all, 0xFFFFFFFFUL);
+    assert_int_equal(CpuTimer2Regs.TPR.all, 0);
+    assert_int_equal(CpuTimer2Regs.TCR.bit.TSS, 0);           /* running */
+}
+
+static void init_enables_only_the_trip_interrupt(void **state)
+{
+    (void)state;
+    assert_int_equal(PieCtrlRegs.PIECTRL.bit.ENPIE, 1);
+    assert_int_equal(PieCtrlRegs.PIEIER1.all, 0);
+    assert_int_equal(PieCtrlRegs.PIEIER2.all, 0x0001);        /* INT2.1 EPWM1_TZINT */
+    assert_int_equal(IER, M_INT2);
+    assert_non_null(PieVectTable.EPWM1_TZINT);
+    assert_null(PieVectTable.SEQ1INT);
+}
+
+static void isr_attach_installs_and_enables(void **state)
+{
+    (void)state;
+    hal_isr_attach(fake_ctrl_isr);
+    assert_ptr_equal(PieVectTable.SEQ1INT, fake_ctrl_isr);
+    assert_int_equal(PieCtrlRegs.PIEIER1.bit.INTx1, 1);       /* INT1.1 ADC SEQ1 */
+    assert_int_equal(IER, M_INT1 | M_INT2);
+    assert_int_equal(c2000_fake_intm, 0);                     /* EINT */
+    assert_int_equal(SysCtrlRegs.WDCR, 0x002C);               /* watchdog on, /8 */
+    assert_int_equal(SysCtrlRegs.WDKEY, 0xAA);                /* kicked before enabling */
+    isr_calls = 0;
+    PieVectTable.SEQ1INT();
+    assert_int_equal(isr_calls, 1);
+}
+
+static void isr_ack_clears_adc_flag_and_acks_group1(void **state)
+{
+    (void)state;
+    AdcRegs.ADCTRL2.bit.RST_SEQ1 = 0U;
+    AdcRegs.ADCST.all = 0U;
+    PieCtrlRegs.PIEACK.all = 0U;
+    hal_isr_ack();
+    assert_int_equal(PieCtrlRegs.PIEACK.all, PIEACK_GROUP1);
+    assert_int_equal(AdcRegs.ADCST.bit.INT_SEQ1_CLR, 1);
+    assert_int_equal(AdcRegs.ADCTRL2.bit.RST_SEQ1, 1);
+}
+
+static void watchdog_kick_writes_key_sequence_last_0xaa(void **state)
+{
+    (void)state;
+    SysCtrlRegs.WDKEY = 0U;
+    hal_watchdog_kick();
+    assert_int_equal(SysCtrlRegs.WDKEY, 0xAA);
+}
+
+/* ---- duties --------------------------------------------------------------- */
+
+static void duty_maps_to_cmpa(void **state)
+{
+    (void)state;
+    /* CMPA = TBPRD * (1 - d): 7500 * 0.75 = 5625, 7500 * 0.5 = 3750, 7500 * 0.25 = 1875. */
+    const float d[3] = { 0.25f, 0.5f, 0.75f };
+    hal_pwm_write(d);
+    assert_int_equal(EPwm1Regs.CMPA.half.CMPA, 5625);
+    assert_int_equal(EPwm2Regs.CMPA.half.CMPA, 3750);
+    assert_int_equal(EPwm3Regs.CMPA.half.CMPA, 1875);
+    /* Rounded, not truncated: 7500 * (1 - 1/3) = 4999.9999 in float -> 5000. */
+    const float e[3] = { 1.0f / 3.0f, 0.0f, 1.0f };
+    hal_pwm_write(e);
+    assert_int_equal(EPwm1Regs.CMPA.half.CMPA, 5000);
+    assert_int_equal(EPwm2Regs.CMPA.half.CMPA, 7500);         /* duty 0: high side never on */
+    assert_int_equal(EPwm3Regs.CMPA.half.CMPA, 0);            /* duty 1: high side always on */
+}
+
+static void duty_out_of_range_is_clamped(void **state)
+{
+    (void)state;
+    const float d[3] = { 1.5f, -0.2f, 1e30f };
+    hal_pwm_write(d);
+    assert_int_equal(EPwm1Regs.CMPA.half.CMPA, 0);
+    assert_int_equal(EPwm2Regs.CMPA.half.CMPA, 7500);
+    assert_int_equal(EPwm3Regs.CMPA.half.CMPA, 0);
+    assert_int_equal(hal_f28335_nonfinite_duty_count(), 0);
+}
+
+static void nonfinite_duty_disables_outputs(void **state)
+{
+    (void)state;
+    hal_pwm_enable();
+    for (int k = 0; k < 3; k++) {
+        pwm[k]->TZFRC.all = 0U;
+    }
+    const float d[3] = { 0.3f, NAN, 0.6f };
+    hal_pwm_write(d);
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(pwm[k]->TZFRC.bit.OST, 1);           /* all six outputs forced low */
+        assert_int_equal(pwm[k]->CMPA.half.CMPA, 3750);       /* untouched */
+    }
+    const float e[3] = { INFINITY, 0.5f, 0.5f };
+    hal_pwm_write(e);
+    assert_int_equal(hal_f28335_nonfinite_duty_count(), 2);
+    assert_false(hal_trip_active());                          /* not a hardware trip */
+}
+
+/* ---- enable, disable, trip ------------------------------------------------ */
+
+static void enable_and_disable_use_trip_zone_one_shot(void **state)
+{
+    (void)state;
+    hal_pwm_enable();
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(pwm[k]->TZCLR.bit.OST, 1);
+        pwm[k]->TZFRC.all = 0U;
+    }
+    assert_false(hal_trip_active());
+    hal_pwm_disable();
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(pwm[k]->TZFRC.bit.OST, 1);
+    }
+    assert_int_equal(c2000_fake_eallow, 0);
+}
+
+static void hardware_trip_is_latched_by_its_interrupt(void **state)
+{
+    (void)state;
+    hal_pwm_enable();
+    EPwm1Regs.TZFLG.bit.OST = 1U;  /* TZ1 pulled low: hardware sets OST */
+    PieCtrlRegs.PIEACK.all = 0U;
+    PieVectTable.EPWM1_TZINT();
+    assert_true(hal_trip_active());
+    assert_int_equal(PieCtrlRegs.PIEACK.all, PIEACK_GROUP2);
+    assert_int_equal(EPwm1Regs.TZCLR.bit.INT, 1);
+    /* No enable while tripped. */
+    EPwm1Regs.TZCLR.all = 0U;
+    hal_pwm_enable();
+    assert_int_equal(EPwm1Regs.TZCLR.bit.OST, 0);
+    /* Clearing keeps the outputs off (software force) and ends the trip. */
+    EPwm1Regs.TZFRC.all = 0U;
+    hal_trip_clear();
+    assert_false(hal_trip_active());
+    assert_int_equal(EPwm1Regs.TZFRC.bit.OST, 1);
+}
+
+static void trip_still_present_at_enable_trips_again(void **state)
+{
+    (void)state;
+    hal_pwm_enable();
+    EPwm1Regs.TZFLG.bit.OST = 1U;
+    PieVectTable.EPWM1_TZINT();
+    hal_trip_clear();
+    /* TZ1 still low: the hardware sets OST again right after TZCLR (the fake keeps it set). */
+    hal_pwm_enable();
+    assert_true(hal_trip_active());
+}
+
+static void software_force_is_not_a_trip(void **state)
+{
+    (void)state;
+    /* After hal_init the outputs are held by TZFRC, which also sets OST and raises the interrupt. */
+    EPwm1Regs.TZFLG.bit.OST = 1U;
+    PieVectTable.EPWM1_TZINT();
+    assert_false(hal_trip_active());
+    /* Same after an explicit disable. */
+    hal_pwm_enable();
+    EPwm1Regs.TZFLG.bit.OST = 0U;
+    hal_pwm_disable();
+    EPwm1Regs.TZFLG.bit.OST = 1U;
+    PieVectTable.EPWM1_TZINT();
+    assert_false(hal_trip_active());
+}
+
+static void trip_seen_before_disable_is_not_lost(void **state)
+{
+    (void)state;
+    hal_pwm_enable();
+    EPwm1Regs.TZFLG.bit.OST = 1U;  /* tripped, interrupt not yet taken */
+    hal_pwm_disable();
+    PieVectTable.EPWM1_TZINT();
+    assert_true(hal_trip_active());
+}
+
+/* ---- samples -------------------------------------------------------------- */
+
+static void samples_are_scaled_from_left_justified_results(void **state)
+{
+    (void)state;
+    hal_sample_t s;
+    /* 2048 counts = 1.5 V = the offset: 0 A. */
+    AdcRegs.ADCRESULT0 = (Uint16)(2048U << 4);
+    /* 3000 counts = 2.197265625 V: (2.197265625 - 1.5) * 10 = 6.97265625 A; low nibble ignored. */
+    AdcRegs.ADCRESULT1 = (Uint16)((3000U << 4) | 0xFU);
+    /* 1500 counts = 1.0986328125 V * 200 = 219.7265625 V. */
+    AdcRegs.ADCRESULT2 = (Uint16)(1500U << 4);
+    EQep1Regs.QPOSCNT = 1234UL;
+    hal_sample_read(&s);
+    assert_float_equal(s.ia_A, 0.0, TOL);
+    assert_float_equal(s.ib_A, 6.97265625, TOL);
+    assert_float_equal(s.vdc_V, 219.7265625, 1e-3);
+    assert_int_equal(s.enc_count, 1234);
+    /* 1000 counts = 0.732421875 V: (0.732421875 - 1.5) * 10 = -7.67578125 A. Full scale
+     * 4095 counts = 2.999267578 V: 14.99267578 A. */
+    AdcRegs.ADCRESULT0 = (Uint16)(1000U << 4);
+    AdcRegs.ADCRESULT1 = (Uint16)(4095U << 4);
+    hal_sample_read(&s);
+    assert_float_equal(s.ia_A, -7.67578125, TOL);
+    assert_float_equal(s.ib_A, 14.99267578125, TOL);
+}
+
+/* ---- cycles and ISR timing ------------------------------------------------ */
+
+static void cycles_count_up_from_the_down_counter(void **state)
+{
+    (void)state;
+    CpuTimer2Regs.TIM.all = 0xFFFFFFFFUL - 1000UL;
+    assert_int_equal(hal_cycles(), 1000);
+    CpuTimer2Regs.TIM.all = 0UL;
+    assert_int_equal(hal_cycles(), 0xFFFFFFFFUL);
+}
+
+static void isr_timing_records_last_min_max(void **state)
+{
+    (void)state;
+    assert_int_equal(hal_f28335_isr_timing.count, 0);
+    CpuTimer2Regs.TIM.all = 100000UL;
+    hal_f28335_isr_timing_begin();
+    CpuTimer2Regs.TIM.all = 100000UL - 500UL;   /* 500 cycles later */
+    hal_f28335_isr_timing_end();
+    CpuTimer2Regs.TIM.all = 50000UL;
+    hal_f28335_isr_timing_begin();
+    CpuTimer2Regs.TIM.all = 50000UL - 300UL;
+    hal_f28335_isr_timing_end();
+    assert_int_equal(hal_f28335_isr_timing.last_cycles, 300);
+    assert_int_equal(hal_f28335_isr_timing.min_cycles, 300);
+    assert_int_equal(hal_f28335_isr_timing.max_cycles, 500);
+    assert_int_equal(hal_f28335_isr_timing.count, 2);
+    /* Across the reload: TIM 10 -> 0 -> 0xFFFFFFFF -> 0xFFFFFFFF - 20 is 11 + 20 = 31 cycles. */
+    CpuTimer2Regs.TIM.all = 10UL;
+    hal_f28335_isr_timing_begin();
+    CpuTimer2Regs.TIM.all = 0xFFFFFFFFUL - 20UL;
+    hal_f28335_isr_timing_end();
+    assert_int_equal(hal_f28335_isr_timing.last_cycles, 31);
+    hal_f28335_isr_timing_reset();
+    assert_int_equal(hal_f28335_isr_timing.count, 0);
+    assert_int_equal(hal_f28335_isr_timing.min_cycles, 0xFFFFFFFFUL);
+}
+
+/* ---- SCI ------------------------------------------------------------------ */
+
+static void sci_queue_feeds_fifo_without_waiting(void **state)
+{
+    (void)state;
+    assert_int_equal(hal_f28335_sci_write("hi!", 3), 3);
+    hal_f28335_sci_pump();                       /* FIFO empty (TXFFST 0): all three go */
+    assert_int_equal(SciaRegs.SCITXBUF, '!');
+    SciaRegs.SCITXBUF = 0U;
+    hal_f28335_sci_pump();                       /* nothing left */
+    assert_int_equal(SciaRegs.SCITXBUF, 0);
+
+    assert_int_equal(hal_f28335_sci_write("ab", 2), 2);
+    SciaRegs.SCIFFTX.bit.TXFFST = 16U;           /* FIFO full: nothing moves */
+    hal_f28335_sci_pump();
+    assert_int_equal(SciaRegs.SCITXBUF, 0);
+    SciaRegs.SCIFFTX.bit.TXFFST = 15U;           /* one free word: only 'a' */
+    hal_f28335_sci_pump();
+    assert_int_equal(SciaRegs.SCITXBUF, 'a');
+    SciaRegs.SCIFFTX.bit.TXFFST = 0U;
+    hal_f28335_sci_pump();
+    assert_int_equal(SciaRegs.SCITXBUF, 'b');
+}
+
+static void sci_queue_reports_what_fits(void **state)
+{
+    (void)state;
+    char big[300];
+    memset(big, 'x', sizeof big);
+    /* 256 slots, one kept empty to tell full from empty: 255 fit. */
+    assert_int_equal(hal_f28335_sci_write(big, 300), 255);
+    assert_int_equal(hal_f28335_sci_write(big, 1), 0);
+    SciaRegs.SCIFFTX.bit.TXFFST = 0U;
+    hal_f28335_sci_pump();                       /* 16 leave for the FIFO */
+    assert_int_equal(hal_f28335_sci_write(big, 300), 16);
+}
+
+#define T(fn) cmocka_unit_test_setup(fn, setup)
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(derived_register_values),
+        T(init_sets_clocks_flash_watchdog),
+        T(pll_that_never_locks_is_a_permanent_trip),
+        T(limp_mode_leaves_pllcr_alone),
+        T(init_sets_epwm),
+        T(init_sets_pin_mux),
+        T(init_sets_adc),
+        T(init_sets_eqep),
+        T(init_sets_sci_and_timer),
+        T(init_enables_only_the_trip_interrupt),
+        T(isr_attach_installs_and_enables),
+        T(isr_ack_clears_adc_flag_and_acks_group1),
+        T(watchdog_kick_writes_key_sequence_last_0xaa),
+        T(duty_maps_to_cmpa),
+        T(duty_out_of_range_is_clamped),
+        T(nonfinite_duty_disables_outputs),
+        T(enable_and_disable_use_trip_zone_one_shot),
+        T(hardware_trip_is_latched_by_its_interrupt),
+        T(trip_still_present_at_enable_trips_again),
+        T(software_force_is_not_a_trip),
+        T(trip_seen_before_disable_is_not_lost),
+        T(samples_are_scaled_from_left_justified_results),
+        T(cycles_count_up_from_the_down_counter),
+        T(isr_timing_records_last_min_max),
+        T(sci_queue_feeds_fifo_without_waiting),
+        T(sci_queue_reports_what_fits),
+    };
+    return cmocka_run_group_tests_name("hal_f28335", tests, NULL, NULL);
+}
