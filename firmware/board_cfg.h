@@ -30,6 +30,7 @@
 
 /* ---- encoder ---------------------------------------------------------- */
 #define BOARD_ENC_LINES          2500UL       /* lines per revolution; x4 counts */
+#define BOARD_ENC_OFFSET_EL_RAD  0.0f         /* electrical angle at count 0: measure by d-axis alignment [rad] */
 
 /* ---- protection limits (used by the application) ---------------------- */
 #define BOARD_VDC_NOMINAL_V      311.0f       /* rectified 220 V AC [V] (assumed; paper gives none) */

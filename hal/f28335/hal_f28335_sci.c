@@ -46,7 +46,7 @@ void f28335_sci_init(void)
     SciaRegs.SCIHBAUD = (Uint16)(F28335_SCI_BRR >> 8);
     SciaRegs.SCILBAUD = (Uint16)(F28335_SCI_BRR & 0x00FFU);
     SciaRegs.SCIFFTX.all = SCIFFTX_FIFO_ON;
-    SciaRegs.SCIFFCT = 0U;      /* no delay between FIFO words */
+    SciaRegs.SCIFFCT.all = 0U;  /* no delay between FIFO words */
     SciaRegs.SCICTL1.all = SCICTL1_TX_RUN;
 }
 

@@ -48,6 +48,15 @@ struct SCIFFTX_BITS {
 };
 union SCIFFTX_REG { Uint16 all; struct SCIFFTX_BITS bit; };
 
+struct SCIFFCT_BITS {
+    Uint16 FFTXDLY:8;          /* 7:0 delay between FIFO words, in baud clocks */
+    Uint16 rsvd:5;             /* 12:8 */
+    Uint16 CDC:1;              /* 13 */
+    Uint16 ABDCLR:1;           /* 14 */
+    Uint16 ABD:1;              /* 15 */
+};
+union SCIFFCT_REG { Uint16 all; struct SCIFFCT_BITS bit; };
+
 struct SCI_REGS {                      /* word offset */
     union SCICCR_REG   SCICCR;         /* 0x0 */
     union SCICTL1_REG  SCICTL1;        /* 0x1 */
@@ -61,7 +70,7 @@ struct SCI_REGS {                      /* word offset */
     Uint16             SCITXBUF;       /* 0x9 */
     union SCIFFTX_REG  SCIFFTX;        /* 0xA */
     Uint16             SCIFFRX;        /* 0xB (unused here) */
-    Uint16             SCIFFCT;        /* 0xC */
+    union SCIFFCT_REG  SCIFFCT;        /* 0xC */
     Uint16             rsvd2;          /* 0xD */
     Uint16             rsvd3;          /* 0xE */
     Uint16             SCIPRI;         /* 0xF (unused here) */

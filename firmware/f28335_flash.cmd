@@ -1,0 +1,76 @@
+/*
+ * f28335_flash.cmd - memory map and section placement of the drive image
+ * for the TMS320F28335, running from flash (boot mode "jump to flash").
+ * Linked together with C2000Ware's DSP2833x_Headers_nonBIOS.cmd, which
+ * places the peripheral register structures. COFF ABI (C symbols carry a
+ * leading underscore here). Addresses: SPRS439 "Memory Maps" (F28335),
+ * boot ROM layout: SPRU963 / the F2833x boot ROM map.
+ *
+ * PAGE 0 = program space, PAGE 1 = data space. On the F28335 the SARAM
+ * blocks are unified (one physical memory seen on both pages), so a block
+ * is listed on one page only.
+ */
+
+MEMORY
+{
+PAGE 0 :
+   RAML0L3    : origin = 0x008000, length = 0x004000   /* L0-L3 SARAM (16K words): run address of ramfuncs */
+   FLASHHB    : origin = 0x300000, length = 0x038000   /* flash sectors H..B, 32K words each */
+   FLASHA     : origin = 0x338000, length = 0x007F80   /* flash sector A, up to the CSM reserved words */
+   CSM_RSVD   : origin = 0x33FF80, length = 0x000076   /* must be 0x0000 when the CSM is used */
+   BEGIN      : origin = 0x33FFF6, length = 0x000002   /* boot ROM "jump to flash" entry */
+   CSM_PWL    : origin = 0x33FFF8, length = 0x000008   /* code security passwords */
+   FPUTABLES  : origin = 0x3FEBDC, length = 0x0006A0   /* boot ROM FPU math tables (FPUfastRTS) */
+   RESET      : origin = 0x3FFFC0, length = 0x000002   /* reset vector, in boot ROM */
+
+PAGE 1 :
+   BOOT_RSVD  : origin = 0x000000, length = 0x000050   /* M0 part used by the boot ROM stack */
+   RAMM0      : origin = 0x000050, length = 0x0003B0   /* M0 SARAM */
+   RAMM1      : origin = 0x000400, length = 0x000400   /* M1 SARAM: the stack */
+   RAML4L7    : origin = 0x00C000, length = 0x004000   /* L4-L7 SARAM (16K words) */
+}
+
+SECTIONS
+{
+   /* Boot: the boot ROM jumps to BEGIN, where DSP2833x_CodeStartBranch.asm branches to _c_int00. */
+   codestart     : > BEGIN,     PAGE = 0
+
+   /* Code and constants in flash. */
+   .text         : > FLASHHB,   PAGE = 0
+   .cinit        : > FLASHA,    PAGE = 0
+   .pinit        : > FLASHA,    PAGE = 0
+   .econst       : > FLASHHB,   PAGE = 0
+   .switch       : > FLASHA,    PAGE = 0
+
+   /* Code that runs from RAM: the control ISR path (CODE_SECTION "ramfuncs",
+    * --ramfunc=on files, FPUfastRTS members) and the flash wait-state set-up.
+    * Stored in flash, copied to L0-L3 by hal_init() (hal_f28335_sysctrl.c). */
+   ramfuncs      : {
+                      *(ramfuncs)
+                      *(.TI.ramfunc)
+                      rts2800_fpu32_fast_supplement.lib<sincos_f32.obj>(.text)
+                      rts2800_fpu32_fast_supplement.lib<atan2_f32.obj>(.text)
+                      rts2800_fpu32_fast_supplement.lib<sqrt_f32.obj>(.text)
+                      rts2800_fpu32_fast_supplement.lib<div_f32.obj>(.text)
+                   }
+                   LOAD = FLASHHB,
+                   RUN = RAML0L3,
+                   LOAD_START(_RamfuncsLoadStart),
+                   LOAD_SIZE(_RamfuncsLoadSize),
+                   RUN_START(_RamfuncsRunStart),
+                   PAGE = 0
+
+   csmpasswds    : > CSM_PWL,   PAGE = 0
+   csm_rsvd      : > CSM_RSVD,  PAGE = 0
+
+   /* Data. */
+   .stack        : > RAMM1,     PAGE = 1
+   .ebss         : > RAML4L7,   PAGE = 1
+   .esysmem      : > RAMM0,     PAGE = 1
+
+   /* Tables already in boot ROM: referenced, never loaded. */
+   FPUmathTables : > FPUTABLES, PAGE = 0, TYPE = NOLOAD
+
+   /* The reset vector lives in boot ROM; keep the RTS one out of the image. */
+   .reset        : > RESET,     PAGE = 0, TYPE = DSECT
+}

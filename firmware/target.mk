@@ -1,0 +1,115 @@
+# firmware/target.mk - the TMS320F28335 image, built with TI's cl2000.
+#
+#   make firmware CG_TOOL_ROOT=<ti-cgt-c2000> C2000WARE_ROOT=<C2000Ware>
+#       -> $(BUILD)/f28335/drive.out (+ drive.map)
+#   make -f firmware/target.mk flash CCXML=<target config> [UNIFLASH_ROOT=<uniflash>]
+#
+# Run through the top-level Makefile's `firmware` target, which first checks
+# the tools (tools/check/ti_tools.sh). Sources: control/*.c, firmware/*.c,
+# hal/f28335/*.c, plus from C2000Ware the peripheral register definitions
+# (DSP2833x_GlobalVariableDefs.c), the flash entry branch
+# (DSP2833x_CodeStartBranch.asm) and the header linker command file.
+# The host register fake (tests/c2000_fake) is never on this include path.
+
+SHELL := /bin/bash
+.DELETE_ON_ERROR:
+
+BUILD ?= build
+OUT   := $(BUILD)/f28335
+
+CG_TOOL_ROOT   ?=
+C2000WARE_ROOT ?=
+CL := $(CG_TOOL_ROOT)/bin/cl2000
+
+F2833X_HEADERS := $(C2000WARE_ROOT)/device_support/f2833x/headers
+F2833X_COMMON  := $(C2000WARE_ROOT)/device_support/f2833x/common
+FASTRTS        := $(C2000WARE_ROOT)/libraries/math/FPUfastRTS/c28
+
+# C28x + FPU32, COFF ABI (32-bit double, matching tools/check/c28x.xml),
+# large memory model and unified memory as C2000Ware's f2833x headers expect.
+CPU_FLAGS := -v28 -ml -mt --float_support=fpu32 --abi=coffabi
+CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
+          --diag_warning=225 --display_error_number --issue_remarks=off \
+          --preinclude=control/c28x_portable.h \
+          --include_path=$(CG_TOOL_ROOT)/include \
+          --include_path=control --include_path=hal --include_path=firmware \
+          --include_path=hal/f28335 \
+          --include_path=$(F2833X_HEADERS)/include \
+          --include_path=$(F2833X_COMMON)/include \
+          --include_path=$(FASTRTS)/include
+
+# The ISR path runs from RAM: the control core and the application are
+# compiled with every function in .TI.ramfunc; the HAL marks its ISR-path
+# functions with CODE_SECTION "ramfuncs" itself (hal_init must run from flash).
+RAMFUNC_SRCS := $(wildcard control/*.c) firmware/app.c
+
+APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*.c) $(wildcard hal/f28335/*.c)
+TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c
+TI_ASM_SRCS := $(F2833X_COMMON)/source/DSP2833x_CodeStartBranch.asm
+
+obj_of = $(OUT)/obj/$(basename $(notdir $1)).obj
+APP_OBJS := $(foreach s,$(APP_SRCS),$(call obj_of,$s))
+TI_OBJS  := $(foreach s,$(TI_C_SRCS) $(TI_ASM_SRCS),$(call obj_of,$s))
+
+# Linker: our memory map, then C2000Ware's peripheral-register placement.
+# The FPU fast RTS supplement comes before the standard FPU32 RTS so that
+# sin/cos/atan2/sqrt/division resolve to it.
+LINK_CMDS := firmware/f28335_flash.cmd $(F2833X_HEADERS)/cmd/DSP2833x_Headers_nonBIOS.cmd
+LFLAGS := -z --rom_model --stack_size=0x400 --heap_size=0 --warn_sections --reread_libs \
+          --search_path=$(CG_TOOL_ROOT)/lib --search_path=$(FASTRTS)/lib \
+          --map_file=$(OUT)/drive.map
+LIBS := --library=rts2800_fpu32_fast_supplement.lib --library=rts2800_fpu32.lib
+
+.PHONY: all flash flash-tools clean-target
+all: $(OUT)/drive.out
+
+$(OUT)/drive.out: $(APP_OBJS) $(TI_OBJS) $(LINK_CMDS)
+	$(CL) $(CPU_FLAGS) $(LFLAGS) --output_file=$@ $(APP_OBJS) $(TI_OBJS) $(LINK_CMDS) $(LIBS)
+	@echo "built $@ (map: $(OUT)/drive.map)"
+
+# One object rule per source, so that files with equal names in different
+# directories would collide loudly rather than silently.
+define C_RULE
+$(call obj_of,$1): $1 firmware/target.mk
+	@mkdir -p $$(@D)
+	$$(CL) $$(CFLAGS) $(if $(filter $1,$(RAMFUNC_SRCS)),--ramfunc=on) \
+	    --preproc_with_compile --preproc_dependency=$$(@:.obj=.d) \
+	    --output_file=$$@ --compile_only $1
+endef
+define ASM_RULE
+$(call obj_of,$1): $1 firmware/target.mk
+	@mkdir -p $$(@D)
+	$$(CL) $$(CPU_FLAGS) --output_file=$$@ --compile_only $1
+endef
+$(foreach s,$(APP_SRCS) $(TI_C_SRCS),$(eval $(call C_RULE,$s)))
+$(foreach s,$(TI_ASM_SRCS),$(eval $(call ASM_RULE,$s)))
+
+-include $(wildcard $(OUT)/obj/*.d)
+
+# ---- flashing with TI UniFlash (command-line dslite) -----------------------
+# CCXML: a target configuration for your debug probe + TMS320F28335
+# (create it in CCS or UniFlash: File > New > Target Configuration).
+UNIFLASH_ROOT ?=
+DSLITE := $(or $(wildcard $(UNIFLASH_ROOT)/dslite.sh),$(shell command -v dslite.sh 2>/dev/null))
+CCXML  ?=
+
+# Tools are checked before anything is built (prerequisites run in order).
+flash: flash-tools $(OUT)/drive.out
+	"$(DSLITE)" --mode flash --config="$(CCXML)" -f -v "$(OUT)/drive.out"
+
+flash-tools:
+	@if [ -z "$(DSLITE)" ]; then \
+	    echo "error: TI UniFlash's dslite.sh not found." >&2; \
+	    echo "  Install UniFlash (ti.com/tool/UNIFLASH) and pass UNIFLASH_ROOT=<install dir>," >&2; \
+	    echo "  or put dslite.sh on PATH, or flash $(OUT)/drive.out from CCS." >&2; \
+	    exit 2; \
+	fi
+	@if [ -z "$(CCXML)" ] || [ ! -f "$(CCXML)" ]; then \
+	    echo "error: CCXML='$(CCXML)' is not a target configuration file." >&2; \
+	    echo "  Create one for your probe and the TMS320F28335 in CCS or UniFlash, then" >&2; \
+	    echo "  make -f firmware/target.mk flash CCXML=path/to/f28335.ccxml" >&2; \
+	    exit 2; \
+	fi
+
+clean-target:
+	rm -rf $(OUT)
