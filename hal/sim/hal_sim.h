@@ -1,0 +1,82 @@
+/*
+ * hal_sim.h - configuration, stepping and ground truth of the simulated
+ * board that implements hal/hal.h on the host (plant.h, inverter.h,
+ * sensors.h behind it). Host-only; one board per process (the HAL is a
+ * set of free functions, as on the DSP).
+ *
+ * Timing (the DSP's, see hal.h): hal_sim_period() simulates period k:
+ *   1. t_k: the duties written during period k-1 become active (shadow
+ *      load at counter zero); currents, DC bus and encoder are sampled;
+ *      the hardware overcurrent comparator is checked;
+ *   2. the attached ISR runs once (it reads those samples and writes the
+ *      duties for period k+1);
+ *   3. the plant is integrated over [t_k, t_k + Ts] with the active
+ *      duties, or with the stator open while the outputs are off.
+ * An ISR that returns without hal_isr_ack() is not called again, as the
+ * PIE would not take the interrupt again.
+ */
+#ifndef HAL_SIM_H
+#define HAL_SIM_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hal.h"
+#include "inverter.h"
+#include "plant.h"
+#include "sensors.h"
+
+typedef struct {
+    plant_cfg_t plant;           /* the TRUE motor and shaft */
+    double theta_offset_el_rad;  /* electrical angle of the d axis at encoder count 0 */
+    inv_cfg_t inv;               /* inverter model, bus, period, dead time */
+    sensors_cfg_t sens;          /* encoder, ADC */
+    double trip_current_A;       /* hardware overcurrent comparator on |ia|, |ib|, |ic| */
+} hal_sim_cfg_t;
+
+/* Ground truth of the last simulated period. */
+typedef struct {
+    double t_s;                  /* t_k, the period's start and sample instant */
+    /* at t_k */
+    double id_A, iq_A;           /* true rotor frame */
+    double ia_A, ib_A, ic_A;
+    double speed_m_rad_s;        /* mechanical */
+    double theta_el_rad;
+    double te_Nm;
+    double psi_s_Wb;
+    /* over [t_k, t_k + Ts] */
+    double ud_mean_V, uq_mean_V; /* applied voltage in the true rotor frame (0 with outputs off) */
+    double id_mean_A, iq_mean_A;
+    double load_Nm;
+    double duty[3];              /* duties active in this period */
+    bool pwm_enabled;            /* gates on during this period */
+    bool trip;                   /* hardware trip latched */
+    bool isr_stalled;            /* an ISR returned without hal_isr_ack() */
+    uint32_t isr_calls;
+} hal_sim_truth_t;
+
+/* Defaults: Table I motor at rest, averaged inverter at 311 V, 10 kHz, no dead time, one RK4 step
+ * per constant-voltage piece,
+ * 2500-line encoder aligned (offset 0), ideal 12-bit ADC over +-15 A, trip at 15 A. */
+void hal_sim_default_cfg(hal_sim_cfg_t *cfg);
+
+/* Power-on state of the board with *cfg: plant at omega0 and angle 0, t = 0, outputs off,
+ * duties 0.5, no trip, no ISR attached, PRNG seeded. Call before hal_init(). */
+void hal_sim_configure(const hal_sim_cfg_t *cfg);
+
+/* Load torque [N m] opposing positive speed, from the next period on. */
+void hal_sim_set_load(double TL_Nm);
+
+/* Simulate one PWM period (see the timing above). */
+void hal_sim_period(void);
+
+/* Ground truth of the last simulated period into *out. */
+void hal_sim_truth(hal_sim_truth_t *out);
+
+/* Latch a hardware trip now, as the trip-zone input would (fault-injection for tests). */
+void hal_sim_force_trip(void);
+
+/* Number of hal_watchdog_kick() calls since hal_sim_configure(). */
+uint32_t hal_sim_watchdog_kicks(void);
+
+#endif /* HAL_SIM_H */

@@ -1,0 +1,87 @@
+/*
+ * plant.h - the TRUE surface-mounted PMSM (Ld = Lq) and its shaft, for the
+ * simulated board. Host-only, double precision.
+ *
+ * Model (paper eqs. (1)-(3), amplitude-invariant dq, d on the magnet):
+ *   L did/dt = ud - R id + w_el L iq
+ *   L diq/dt = uq - R iq - w_el (L id + psi_f)
+ *   J dw_m/dt = Te - TL - B w_m,   Te = 1.5 p psi_f iq,   w_el = p w_m
+ * The stator voltage is given in the stator frame (alpha-beta), held
+ * constant over a step, as an inverter applies it; the step is one
+ * classical RK4 step, so callers split a period at every switching instant.
+ */
+#ifndef PLANT_H
+#define PLANT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+typedef struct {
+    double R_ohm;          /* stator phase resistance */
+    double L_H;            /* stator inductance, Ld = Lq */
+    double psif_Wb;        /* permanent-magnet flux linkage */
+    uint32_t pole_pairs;
+    double J_kgm2;         /* rotor + load inertia */
+    double B_Nms;          /* viscous friction */
+    bool speed_held;       /* true: the shaft keeps omega0 whatever the torque (locked rotor: omega0 = 0) */
+    double omega0_m_rad_s; /* initial mechanical speed */
+} plant_cfg_t;
+
+typedef struct {
+    double id_A;
+    double iq_A;
+    double omega_m_rad_s;  /* mechanical speed */
+    double theta_m_rad;    /* mechanical angle in [0, 2 pi), 0 at encoder count 0 */
+} plant_state_t;
+
+/* Integrals over the steps since plant_acc_clear(), for period means. */
+typedef struct {
+    double time_s;
+    double id_As;
+    double iq_As;
+    double ud_Vs;          /* applied voltage in the true rotor frame */
+    double uq_Vs;
+} plant_acc_t;
+
+typedef struct {
+    plant_cfg_t cfg;
+    plant_state_t x;
+    double theta_offset_el_rad;  /* electrical angle of the d axis at theta_m = 0 */
+    double inv_L_per_H;          /* 1/L and 1/J: the step multiplies, divisions are slow */
+    double inv_J_per_kgm2;
+    plant_acc_t acc;
+    /* sin/cos anchor: stage angles are rotated from it by a short series (see plant.c) */
+    double anchor_el_rad;
+    double anchor_sin;
+    double anchor_cos;
+} plant_t;
+
+/* Table I of the paper: R 3 ohm, L 11 mH, psi_f 0.24 Wb, p 3, J 0.00129 kg m^2, B 0. Any context. */
+void plant_default_cfg(plant_cfg_t *cfg);
+
+/* Plant with zero currents and angle at speed omega0, d axis at theta_offset_el_rad for theta_m = 0. */
+void plant_init(plant_t *p, const plant_cfg_t *cfg, double theta_offset_el_rad);
+
+/* One RK4 step of h_s with the stator-frame voltage (u_alpha_V, u_beta_V) and load TL_Nm held. */
+void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s);
+
+/* One RK4 step of h_s with the stator open (outputs off): currents forced to zero, only the shaft moves.
+ * Valid while the back-EMF stays below the bus, so no freewheeling diode conducts. */
+void plant_step_open(plant_t *p, double TL_Nm, double h_s);
+
+/* Electrical angle of the d axis [rad], in [0, 2 pi). */
+double plant_theta_el_rad(const plant_t *p);
+
+/* Electromagnetic torque [N m] of the present state. */
+double plant_te_Nm(const plant_t *p);
+
+/* Stator flux-linkage magnitude [Wb] of the present state. */
+double plant_psi_s_Wb(const plant_t *p);
+
+/* Phase currents [A], positive into the motor, of the present state. */
+void plant_iabc_A(const plant_t *p, double i_abc_A[3]);
+
+/* Zero the integrals of plant_acc_t. */
+void plant_acc_clear(plant_t *p);
+
+#endif /* PLANT_H */

@@ -1,0 +1,389 @@
+/* scenario.c - the scenario key table, INI loading (libinih) and overrides; see scenario.h. */
+#include "scenario.h"
+
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum { K_REAL, K_UINT, K_ENUM, K_PROFILE } key_kind_t;
+
+typedef struct {
+    const char *section;
+    const char *name;
+    key_kind_t kind;
+    size_t offset;             /* of the field in scenario_t */
+    const char *def;           /* default as text; NULL: unset (NaN, resolved in scenario_finish) */
+    double lo, hi;             /* K_REAL, K_UINT: allowed range */
+    bool lo_open;              /* K_REAL: lo itself excluded */
+    const char *const *names;  /* K_ENUM: value k is names[k] */
+    const char *help;
+} sc_key_t;
+
+static const char *const MODEL_NAMES[] = { "averaged", "switching", NULL };
+static const char *const METHOD_NAMES[] = { "conventional", "proposed", NULL };
+static const char *const MODE_NAMES[] = { "speed", "torque", "open_loop", NULL };
+
+#define UINT32_MAX_D 4294967295.0
+#define F(field) offsetof(scenario_t, field)
+/* One line per key. POS: > 0, NN: >= 0, ANY: finite, OPT: like POS, default unset. */
+#define POS(s, k, f, d, h) { s, k, K_REAL, F(f), d, 0.0, HUGE_VAL, true, NULL, h }
+#define NN(s, k, f, d, h) { s, k, K_REAL, F(f), d, 0.0, HUGE_VAL, false, NULL, h }
+#define ANY(s, k, f, d, h) { s, k, K_REAL, F(f), d, -HUGE_VAL, HUGE_VAL, false, NULL, h }
+#define OPT(s, k, f, h) { s, k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, true, NULL, h }
+#define UINT(s, k, f, d, lo, hi, h) { s, k, K_UINT, F(f), d, lo, hi, false, NULL, h }
+#define ENUM(s, k, f, d, n, h) { s, k, K_ENUM, F(f), d, 0.0, 0.0, false, n, h }
+#define PROF(s, k, f, h) { s, k, K_PROFILE, F(f), "", 0.0, 0.0, false, NULL, h }
+
+static const sc_key_t KEYS[] = {
+    POS("plant", "R_ohm", plant.R_ohm, "3", "true stator resistance R0 [ohm]"),
+    POS("plant", "L_H", plant.L_H, "0.011", "true inductance L0 = Ld = Lq [H]"),
+    POS("plant", "psif_Wb", plant.psif_Wb, "0.24", "true PM flux linkage psi_f0 [Wb]"),
+    UINT("plant", "pole_pairs", plant.pole_pairs, "3", 1.0, 64.0, "pole pairs"),
+    POS("plant", "J_kgm2", plant.J_kgm2, "0.00129", "inertia [kg m^2]"),
+    NN("plant", "B_Nms", plant.B_Nms, "0", "viscous friction [N m s/rad]"),
+    UINT("plant", "speed_held", plant.speed_held, "0", 0.0, 1.0, "1: shaft held at speed0_rpm (0: free)"),
+    ANY("plant", "speed0_rpm", plant.speed0_rpm, "0", "initial (or held) speed [r/min]"),
+    POS("plant", "vdc_V", plant.vdc_V, "311", "DC-bus voltage [V]"),
+    ENUM("plant", "model", plant.model, "averaged", MODEL_NAMES, "inverter model: averaged | switching"),
+    NN("plant", "deadtime_s", plant.deadtime_s, "0", "inverter dead time [s]"),
+    POS("plant", "substep_s", plant.substep_s, "1e-4", "longest RK4 step inside a constant-voltage piece [s]"),
+    UINT("plant", "encoder_lines", plant.encoder_lines, "2500", 1.0, 1.0e6, "encoder lines (x4 counts)"),
+    ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, "0",
+        "electrical angle of the d axis at count 0 [rad]; the controller is told the same"),
+    POS("plant", "adc_full_scale_A", plant.adc_full_scale_A, "15", "current ADC range +-[A] (12 bit)"),
+    ANY("plant", "adc_offset_a_A", plant.adc_offset_a_A, "0", "phase-a ADC offset [A]"),
+    ANY("plant", "adc_offset_b_A", plant.adc_offset_b_A, "0", "phase-b ADC offset [A]"),
+    NN("plant", "adc_noise_A", plant.adc_noise_A, "0", "current ADC Gaussian noise, std dev [A]"),
+    UINT("plant", "seed", plant.seed, "1", 0.0, UINT32_MAX_D, "noise seed"),
+    POS("plant", "trip_A", plant.trip_A, "15", "hardware overcurrent trip level [A]"),
+
+    OPT("controller", "R_ohm", controller.R_ohm, "controller's R [ohm] (default R_factor x plant)"),
+    OPT("controller", "L_H", controller.L_H, "controller's L [H] (default L_factor x plant)"),
+    OPT("controller", "psif_Wb", controller.psif_Wb, "controller's psi_f [Wb] (default psif_factor x plant)"),
+    OPT("controller", "R_factor", controller.R_factor, "controller's R / plant R (default 1)"),
+    OPT("controller", "L_factor", controller.L_factor, "controller's L / plant L (default 1)"),
+    OPT("controller", "psif_factor", controller.psif_factor, "controller's psi_f / plant psi_f (default 1)"),
+    ENUM("controller", "method", controller.method, "conventional", METHOD_NAMES, "conventional | proposed"),
+    ENUM("controller", "mode", controller.mode, "speed", MODE_NAMES, "speed | torque | open_loop"),
+    POS("controller", "speed_kp_Nms_rad", controller.speed_kp_Nms_rad, "0.5", "speed PI proportional gain"),
+    POS("controller", "speed_ki_Nm_rad", controller.speed_ki_Nm_rad, "20", "speed PI integral gain"),
+    POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, "500", "speed estimator bandwidth [rad/s]"),
+    POS("controller", "te_max_Nm", controller.te_max_Nm, "12", "torque reference limit [N m]"),
+    POS("controller", "i_max_A", controller.i_max_A, "12", "software overcurrent threshold [A]"),
+
+    PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
+    PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),
+    PROF("reference", "ud_V", reference.ud_V, "d voltage [V] (open_loop mode)"),
+    PROF("reference", "uq_V", reference.uq_V, "q voltage [V] (open_loop mode)"),
+
+    PROF("load", "torque_Nm", load.torque_Nm, "load torque [N m], opposing positive speed"),
+
+    POS("run", "duration_s", run.duration_s, "1.2", "simulated time [s]"),
+    UINT("run", "log_every", run.log_every, "10", 1.0, UINT32_MAX_D, "periods between CSV rows"),
+};
+
+#define N_KEYS ((int)(sizeof KEYS / sizeof KEYS[0]))
+
+typedef char sc_key_table_fits[(N_KEYS <= SCENARIO_MAX_KEYS) ? 1 : -1];
+
+static void *field(scenario_t *sc, const sc_key_t *k)
+{
+    return (char *)sc + k->offset;
+}
+
+static int find_key(const char *section, const char *name, int *section_known)
+{
+    *section_known = 0;
+    for (int i = 0; i < N_KEYS; i++) {
+        if (strcmp(KEYS[i].section, section) == 0) {
+            *section_known = 1;
+            if (strcmp(KEYS[i].name, name) == 0) {
+                return i;
+            }
+        }
+    }
+    return -1;
+}
+
+static int parse_real(const sc_key_t *k, const char *v, double *out, char *err, size_t errlen)
+{
+    char *end;
+    errno = 0;
+    double x = strtod(v, &end);
+    while (*end == ' ' || *end == '\t') {
+        end++;
+    }
+    if (end == v || *end != '\0' || errno == ERANGE || !isfinite(x)) {
+        snprintf(err, errlen, "\"%s\" is not a number", v);
+        return -1;
+    }
+    if (x < k->lo || (k->lo_open && x <= k->lo) || x > k->hi) {
+        snprintf(err, errlen, "%g is out of range (must be %s %g)", x, k->lo_open ? ">" : ">=", k->lo);
+        return -1;
+    }
+    *out = x;
+    return 0;
+}
+
+static int parse_uint(const sc_key_t *k, const char *v, uint32_t *out, char *err, size_t errlen)
+{
+    const char *p = v;
+    while (*p >= '0' && *p <= '9') {
+        p++;
+    }
+    if (p == v || *p != '\0') {
+        snprintf(err, errlen, "\"%s\" is not a whole number", v);
+        return -1;
+    }
+    errno = 0;
+    double x = strtod(v, NULL);
+    if (x < k->lo || x > k->hi) {
+        snprintf(err, errlen, "%s is out of range (%g .. %g)", v, k->lo, k->hi);
+        return -1;
+    }
+    *out = (uint32_t)x;
+    return 0;
+}
+
+static int parse_enum(const sc_key_t *k, const char *v, uint32_t *out, char *err, size_t errlen)
+{
+    for (uint32_t i = 0; k->names[i] != NULL; i++) {
+        if (strcmp(k->names[i], v) == 0) {
+            *out = i;
+            return 0;
+        }
+    }
+    int n = snprintf(err, errlen, "unknown value \"%s\" (one of:", v);
+    for (uint32_t i = 0; k->names[i] != NULL && n > 0 && (size_t)n < errlen; i++) {
+        n += snprintf(err + n, errlen - (size_t)n, " %s", k->names[i]);
+    }
+    if (n > 0 && (size_t)n < errlen) {
+        snprintf(err + n, errlen - (size_t)n, ")");
+    }
+    return -1;
+}
+
+/* Set key i from text v; append: extend a profile instead of replacing it. */
+static int set_value(scenario_t *sc, int i, const char *v, bool append, char *err, size_t errlen)
+{
+    const sc_key_t *k = &KEYS[i];
+    switch (k->kind) {
+    case K_REAL:
+        return parse_real(k, v, (double *)field(sc, k), err, errlen);
+    case K_UINT:
+        return parse_uint(k, v, (uint32_t *)field(sc, k), err, errlen);
+    case K_ENUM:
+        return parse_enum(k, v, (uint32_t *)field(sc, k), err, errlen);
+    case K_PROFILE: {
+        profile_t *p = (profile_t *)field(sc, k);
+        if (!append) {
+            p->n = 0u;
+        }
+        return profile_parse_append(p, v, err, errlen);
+    }
+    }
+    return -1;
+}
+
+void scenario_defaults(scenario_t *sc)
+{
+    memset(sc, 0, sizeof *sc);
+    char err[SCENARIO_ERR_LEN];
+    for (int i = 0; i < N_KEYS; i++) {
+        if (KEYS[i].def == NULL) {
+            *(double *)field(sc, &KEYS[i]) = NAN;
+        } else {
+            (void)set_value(sc, i, KEYS[i].def, false, err, sizeof err);   /* the table's own defaults parse */
+        }
+    }
+}
+
+/* Apply one key; on failure write "WHERE: [section] key: problem" to err. */
+static int apply(scenario_t *sc, const char *where, const char *section, const char *name,
+                 const char *value, bool append, char *err, size_t errlen)
+{
+    int known = 0;
+    int i = find_key(section, name, &known);
+    char why[SCENARIO_ERR_LEN];
+    if (i < 0) {
+        snprintf(err, errlen, "%s: [%s] %s: %s", where, section, name,
+                 known ? "unknown key" : "unknown section");
+        return -1;
+    }
+    if (set_value(sc, i, value, append, why, sizeof why) != 0) {
+        snprintf(err, errlen, "%s: [%s] %s: %s", where, section, name, why);
+        return -1;
+    }
+    snprintf(sc->origin[i], SCENARIO_ORIGIN_LEN, "%s", where);
+    return 0;
+}
+
+/* ---- INI files ------------------------------------------------------------- */
+
+typedef struct {
+    scenario_t *sc;
+    const char *path;
+    FILE *f;
+    int lineno;                      /* of the line inih is handling */
+    bool seen[SCENARIO_MAX_KEYS];    /* set earlier in this file */
+    char err[SCENARIO_ERR_LEN];      /* first error, "" if none */
+} load_ctx_t;
+
+/* inih's line reader, counting lines so every message can name one, and
+ * refusing lines longer than inih's buffer instead of splitting them. */
+static char *read_line(char *buf, int num, void *stream)
+{
+    load_ctx_t *ctx = stream;
+    int n = 0;
+    int ch = EOF;
+    bool too_long = false;
+    while ((ch = fgetc(ctx->f)) != EOF) {
+        if (n < num - 1) {
+            buf[n++] = (char)ch;
+        } else {
+            too_long = true;
+        }
+        if (ch == '\n') {
+            break;
+        }
+    }
+    if (n == 0 && ch == EOF) {
+        return NULL;
+    }
+    buf[n] = '\0';
+    ctx->lineno++;
+    if (too_long && ctx->err[0] == '\0') {
+        snprintf(ctx->err, sizeof ctx->err, "%s:%d: line longer than %d characters (continue a profile on an indented line)",
+                 ctx->path, ctx->lineno, num - 2);
+        buf[0] = '\0';
+    }
+    return buf;
+}
+
+static int on_key(void *user, const char *section, const char *name, const char *value)
+{
+    load_ctx_t *ctx = user;
+    char where[SCENARIO_ORIGIN_LEN];
+    snprintf(where, sizeof where, "%s:%d", ctx->path, ctx->lineno);
+    int known = 0;
+    int i = find_key(section, name, &known);
+    bool append = false;
+    if (i >= 0 && ctx->seen[i]) {
+        if (KEYS[i].kind != K_PROFILE) {
+            if (ctx->err[0] == '\0') {
+                snprintf(ctx->err, sizeof ctx->err, "%s: [%s] %s: given twice (first at %s)",
+                         where, section, name, ctx->sc->origin[i]);
+            }
+            return 0;
+        }
+        append = true;   /* continuation line of a profile */
+    }
+    char err[SCENARIO_ERR_LEN];
+    if (apply(ctx->sc, where, section, name, value, append, err, sizeof err) != 0) {
+        if (ctx->err[0] == '\0') {
+            snprintf(ctx->err, sizeof ctx->err, "%s", err);
+        }
+        return 0;
+    }
+    if (append) {
+        snprintf(ctx->sc->origin[i], SCENARIO_ORIGIN_LEN, "%s", ctx->path);
+    }
+    ctx->seen[i] = true;
+    return 1;
+}
+
+int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen)
+{
+    load_ctx_t ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.sc = sc;
+    ctx.path = path;
+    ctx.f = fopen(path, "r");
+    if (ctx.f == NULL) {
+        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    int rc = ini_parse_stream(read_line, &ctx, on_key, &ctx);
+    fclose(ctx.f);
+    if (ctx.err[0] != '\0') {
+        snprintf(err, errlen, "%s", ctx.err);
+        return -1;
+    }
+    if (rc != 0) {
+        snprintf(err, errlen, "%s:%d: syntax error (expected [section] or key = value)", path, rc);
+        return -1;
+    }
+    return 0;
+}
+
+int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen)
+{
+    char buf[SCENARIO_ERR_LEN];
+    char where[SCENARIO_ORIGIN_LEN];
+    snprintf(where, sizeof where, "--set %s", assignment);
+    if (strlen(assignment) >= sizeof buf) {
+        snprintf(err, errlen, "%s: too long", where);
+        return -1;
+    }
+    strcpy(buf, assignment);
+    char *eq = strchr(buf, '=');
+    char *dot = strchr(buf, '.');
+    if (eq == NULL || dot == NULL || dot > eq) {
+        snprintf(err, errlen, "%s: expected section.key=value", where);
+        return -1;
+    }
+    *eq = '\0';
+    *dot = '\0';
+    return apply(sc, where, buf, dot + 1, eq + 1, false, err, errlen);
+}
+
+/* ---- cross-key checks ------------------------------------------------------ */
+
+/* Controller value from absolute key abs_i or factor key fac_i (not both) times the plant value. */
+static int resolve(scenario_t *sc, const char *abs_name, const char *fac_name, double plant_value,
+                   double *abs_v, double fac_v, char *err, size_t errlen)
+{
+    int known = 0;
+    int ia = find_key("controller", abs_name, &known);
+    int iff = find_key("controller", fac_name, &known);
+    if (!isnan(*abs_v) && !isnan(fac_v)) {
+        snprintf(err, errlen, "%s: [controller] %s: conflicts with %s set at %s (give one of them)",
+                 sc->origin[ia], abs_name, fac_name, sc->origin[iff]);
+        return -1;
+    }
+    if (isnan(*abs_v)) {
+        *abs_v = (isnan(fac_v) ? 1.0 : fac_v) * plant_value;
+    }
+    return 0;
+}
+
+int scenario_finish(scenario_t *sc, char *err, size_t errlen)
+{
+    if (resolve(sc, "R_ohm", "R_factor", sc->plant.R_ohm, &sc->controller.R_ohm,
+                sc->controller.R_factor, err, errlen) != 0 ||
+        resolve(sc, "L_H", "L_factor", sc->plant.L_H, &sc->controller.L_H,
+                sc->controller.L_factor, err, errlen) != 0 ||
+        resolve(sc, "psif_Wb", "psif_factor", sc->plant.psif_Wb, &sc->controller.psif_Wb,
+                sc->controller.psif_factor, err, errlen) != 0) {
+        return -1;
+    }
+    return 0;
+}
+
+void scenario_print_keys(FILE *f)
+{
+    const char *section = "";
+    for (int i = 0; i < N_KEYS; i++) {
+        const sc_key_t *k = &KEYS[i];
+        if (strcmp(k->section, section) != 0) {
+            section = k->section;
+            fprintf(f, "  [%s]\n", section);
+        }
+        const char *def = (k->def == NULL) ? "-" : ((k->kind == K_PROFILE) ? "0" : k->def);
+        fprintf(f, "    %-22s %-13s %s\n", k->name, def, k->help);
+    }
+}

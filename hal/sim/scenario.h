@@ -1,0 +1,80 @@
+/*
+ * scenario.h - SIL scenarios: INI files (parsed with libinih) and
+ * "section.key=value" overrides into one scenario_t. Every key is
+ * optional; defaults are the paper's Table I. The keys are one table in
+ * scenario.c (a new key is one field here and one line there); the
+ * format is documented in hal/sim/README.md and by scenario_print_keys().
+ *
+ * Errors name the source and key: "FILE:LINE: [section] key: problem"
+ * (or "--set section.key=value: problem").
+ */
+#ifndef SCENARIO_H
+#define SCENARIO_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "profile.h"
+
+#define SCENARIO_ERR_LEN 512
+#define SCENARIO_MAX_KEYS 64
+#define SCENARIO_ORIGIN_LEN 96
+
+typedef enum { SC_MODEL_AVERAGED = 0, SC_MODEL_SWITCHING = 1 } sc_model_t;
+typedef enum { SC_METHOD_CONVENTIONAL = 0, SC_METHOD_PROPOSED = 1 } sc_method_t;
+typedef enum { SC_MODE_SPEED = 0, SC_MODE_TORQUE = 1, SC_MODE_OPEN_LOOP = 2 } sc_mode_t;
+
+typedef struct {
+    struct {                       /* [plant]: the TRUE motor, inverter and sensors */
+        double R_ohm, L_H, psif_Wb;
+        uint32_t pole_pairs;
+        double J_kgm2, B_Nms;
+        uint32_t speed_held;       /* 1: shaft held at speed0_rpm (locked rotor at 0) */
+        double speed0_rpm;
+        double vdc_V;
+        uint32_t model;            /* sc_model_t */
+        double deadtime_s, substep_s;
+        uint32_t encoder_lines;
+        double encoder_offset_el_rad;
+        double adc_full_scale_A, adc_offset_a_A, adc_offset_b_A, adc_noise_A;
+        uint32_t seed;
+        double trip_A;
+    } plant;
+    struct {                       /* [controller]: the controller's values */
+        double R_ohm, L_H, psif_Wb;            /* NaN: factor x plant value */
+        double R_factor, L_factor, psif_factor;
+        uint32_t method;           /* sc_method_t */
+        uint32_t mode;             /* sc_mode_t */
+        double speed_kp_Nms_rad, speed_ki_Nm_rad, pll_bw_rad_s, te_max_Nm, i_max_A;
+    } controller;
+    struct {
+        profile_t speed_rpm, torque_Nm, ud_V, uq_V;
+    } reference;
+    struct {
+        profile_t torque_Nm;
+    } load;
+    struct {
+        double duration_s;
+        uint32_t log_every;        /* periods between logged rows */
+    } run;
+    /* where each key was last set ("" = default), for messages */
+    char origin[SCENARIO_MAX_KEYS][SCENARIO_ORIGIN_LEN];
+} scenario_t;
+
+/* All keys at their defaults. */
+void scenario_defaults(scenario_t *sc);
+
+/* Apply the INI file at path on top of *sc. Returns 0, or -1 with err filled (first error). */
+int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen);
+
+/* Apply one "section.key=value" override. Returns 0, or -1 with err filled. */
+int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen);
+
+/* Cross-key checks (duration, absolute vs factor) and resolution of the controller's
+ * R, L, psi_f to absolute values. Call once after loading. Returns 0, or -1 with err. */
+int scenario_finish(scenario_t *sc, char *err, size_t errlen);
+
+/* The key table as help text: section, key, default, meaning. */
+void scenario_print_keys(FILE *f);
+
+#endif /* SCENARIO_H */

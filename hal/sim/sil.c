@@ -1,0 +1,201 @@
+/* sil.c - the SIL runner core: scenario -> board + app, period loop, rows; see sil.h. */
+#include "sil.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "app.h"
+#include "hal_sim.h"
+
+#define TWO_PI 6.283185307179586
+#define RPM_PER_RAD_S (60.0 / TWO_PI)
+/* Bounds the controller's model clamps to (ctrl_cfg_t): generous, never the active limit. */
+#define MODEL_I_BOUND_PER_TRIP 5.0       /* model current bound / software overcurrent threshold */
+#define MODEL_U_BOUND_PER_VDC 1.0        /* |ud|, |uq| bound / bus (the hexagon clamps at 2/3) */
+#define MODEL_SPEED_BOUND_RPM 6000.0     /* 3x rated speed */
+#define MODEL_PSI_BOUND_PER_PSIF 4.0     /* psi_s* bound / controller's psi_f */
+
+static app_t g_app;
+
+static void sil_isr(void)
+{
+    app_isr(&g_app);
+}
+
+static void board_cfg_from(const scenario_t *sc, hal_sim_cfg_t *hc)
+{
+    hal_sim_default_cfg(hc);
+    hc->plant.R_ohm = sc->plant.R_ohm;
+    hc->plant.L_H = sc->plant.L_H;
+    hc->plant.psif_Wb = sc->plant.psif_Wb;
+    hc->plant.pole_pairs = sc->plant.pole_pairs;
+    hc->plant.J_kgm2 = sc->plant.J_kgm2;
+    hc->plant.B_Nms = sc->plant.B_Nms;
+    hc->plant.speed_held = (sc->plant.speed_held != 0u);
+    hc->plant.omega0_m_rad_s = sc->plant.speed0_rpm / RPM_PER_RAD_S;
+    hc->theta_offset_el_rad = sc->plant.encoder_offset_el_rad;
+    hc->inv.model = (sc->plant.model == SC_MODEL_SWITCHING) ? INV_SWITCHING : INV_AVERAGED;
+    hc->inv.vdc_V = sc->plant.vdc_V;
+    hc->inv.deadtime_s = sc->plant.deadtime_s;
+    hc->inv.substep_max_s = sc->plant.substep_s;
+    hc->sens.enc_lines = sc->plant.encoder_lines;
+    hc->sens.adc_full_scale_A = sc->plant.adc_full_scale_A;
+    hc->sens.adc_offset_a_A = sc->plant.adc_offset_a_A;
+    hc->sens.adc_offset_b_A = sc->plant.adc_offset_b_A;
+    hc->sens.adc_noise_A = sc->plant.adc_noise_A;
+    hc->sens.seed = sc->plant.seed;
+    hc->trip_current_A = sc->plant.trip_A;
+}
+
+static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_t *ac)
+{
+    memset(ac, 0, sizeof *ac);
+    ctrl_cfg_t *c = &ac->ctrl;
+    c->Ts_s = (float)hc->inv.Ts_s;
+    c->Rs_Ohm = (float)sc->controller.R_ohm;
+    c->Ls_H = (float)sc->controller.L_H;
+    c->psi_f_Wb = (float)sc->controller.psif_Wb;
+    c->pole_pairs = (uint16_t)sc->plant.pole_pairs;
+    c->enc_lines = sc->plant.encoder_lines;
+    c->enc_offset_el_rad = (float)sc->plant.encoder_offset_el_rad;   /* as if calibrated */
+    c->enc_pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
+    c->speed_kp_Nms_rad = (float)sc->controller.speed_kp_Nms_rad;
+    c->speed_ki_Nm_rad = (float)sc->controller.speed_ki_Nm_rad;
+    c->te_max_Nm = (float)sc->controller.te_max_Nm;
+    c->i_max_A = (float)(MODEL_I_BOUND_PER_TRIP * sc->controller.i_max_A);
+    c->u_max_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
+    c->omega_max_el_rad_s = (float)(MODEL_SPEED_BOUND_RPM / RPM_PER_RAD_S * (double)sc->plant.pole_pairs);
+    c->psi_max_Wb = (float)(MODEL_PSI_BOUND_PER_PSIF * sc->controller.psif_Wb);
+    ac->i_max_A = (float)sc->controller.i_max_A;
+}
+
+static ctrl_mode_t ctrl_mode_of(uint32_t mode)
+{
+    if (mode == SC_MODE_OPEN_LOOP) {
+        return CTRL_MODE_OPEN_LOOP;
+    }
+    return (mode == SC_MODE_TORQUE) ? CTRL_MODE_TORQUE : CTRL_MODE_SPEED;
+}
+
+static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
+{
+    hal_sim_truth_t tr;
+    hal_sim_truth(&tr);
+    const ctrl_mon_t *m = &g_app.ctrl.mon;
+    const bool closed = (sc->controller.mode != SC_MODE_OPEN_LOOP);
+    r->t_s = tr.t_s;
+    r->state = (double)g_app.state;
+    r->fault = (double)g_app.fault;
+    r->flags = (double)g_app.out.flags;
+    r->speed_ref_rpm = (sc->controller.mode == SC_MODE_SPEED) ? speed_ref_rpm : NAN;
+    r->speed_rpm = tr.speed_m_rad_s * RPM_PER_RAD_S;
+    r->speed_est_rpm = (double)m->speed_mech_rad_s * RPM_PER_RAD_S;
+    r->te_ref_Nm = closed ? (double)m->te_ref_Nm : NAN;
+    r->te_Nm = tr.te_Nm;
+    r->te_est_Nm = (double)m->te_est_Nm;
+    r->psi_ref_Wb = closed ? (double)m->psi_ref_Wb : NAN;
+    r->psi_Wb = tr.psi_s_Wb;
+    r->psi_est_Wb = (double)m->psi_est_Wb;
+    r->id_A = tr.id_A;
+    r->iq_A = tr.iq_A;
+    r->ud_V = tr.ud_mean_V;
+    r->uq_V = tr.uq_mean_V;
+    r->ud_cmd_V = (double)m->ud_V;
+    r->uq_cmd_V = (double)m->uq_V;
+    r->load_Nm = tr.load_Nm;
+    r->R_est_ohm = (double)m->R_est_Ohm;
+    r->L_est_H = (double)m->L_est_H;
+    r->psif_est_Wb = (double)m->psi_f_est_Wb;
+    r->fd_est = (double)m->fd_est;
+    r->fq_est = (double)m->fq_est;
+}
+
+int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res)
+{
+    hal_sim_cfg_t hc;
+    app_cfg_t ac;
+    board_cfg_from(sc, &hc);
+    app_cfg_from(sc, &hc, &ac);
+    memset(res, 0, sizeof *res);
+
+    hal_sim_configure(&hc);
+    hal_init();
+    app_init(&g_app, &ac);
+    ctrl_set_mode(&g_app.ctrl, ctrl_mode_of(sc->controller.mode));
+    ctrl_set_method(&g_app.ctrl, (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED
+                                                                               : CTRL_METHOD_CONVENTIONAL);
+    hal_isr_attach(sil_isr);
+    app_request_start(&g_app);
+
+    const double Ts = hc.inv.Ts_s;
+    const uint32_t n = (uint32_t)llround(sc->run.duration_s / Ts);
+    int rc = 0;
+    for (uint32_t k = 0; k < n && rc == 0; k++) {
+        const double t = (double)k * Ts;
+        const double speed_ref_rpm = profile_eval(&sc->reference.speed_rpm, t);
+        ctrl_ref_t ref;
+        ref.speed_ref_rad_s = (float)(speed_ref_rpm / RPM_PER_RAD_S);
+        ref.te_ref_Nm = (float)profile_eval(&sc->reference.torque_Nm, t);
+        ref.ud_ref_V = (float)profile_eval(&sc->reference.ud_V, t);
+        ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
+        ctrl_set_ref(&g_app.ctrl, &ref);
+        hal_sim_set_load(profile_eval(&sc->load.torque_Nm, t));
+
+        hal_sim_period();
+        app_background(&g_app);
+
+        hal_sim_truth_t tr;
+        hal_sim_truth(&tr);
+        double i_max = fmax(fabs(tr.ia_A), fmax(fabs(tr.ib_A), fabs(tr.ic_A)));
+        res->max_abs_i_A = fmax(res->max_abs_i_A, i_max);
+        res->periods = k + 1u;
+        if (on_row != NULL && k % sc->run.log_every == 0u) {
+            sil_row_t row;
+            fill_row(sc, speed_ref_rpm, &row);
+            rc = on_row(&row, user);
+            res->rows++;
+        }
+    }
+    res->final_state = (int)g_app.state;
+    res->final_fault = (int)g_app.fault;
+    return rc;
+}
+
+/* ---- CSV ------------------------------------------------------------------- */
+
+typedef struct {
+    const char *name;
+    size_t offset;
+} sil_col_t;
+
+#define COL(f) { #f, offsetof(sil_row_t, f) }
+static const sil_col_t COLS[] = {
+    COL(t_s), COL(state), COL(fault), COL(flags),
+    COL(speed_ref_rpm), COL(speed_rpm), COL(speed_est_rpm),
+    COL(te_ref_Nm), COL(te_Nm), COL(te_est_Nm),
+    COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
+    COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
+    COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est),
+};
+#define N_COLS (sizeof COLS / sizeof COLS[0])
+
+void sil_csv_header(FILE *f)
+{
+    for (size_t i = 0; i < N_COLS; i++) {
+        fprintf(f, "%s%s", COLS[i].name, (i + 1u < N_COLS) ? "," : "\n");
+    }
+}
+
+void sil_csv_row(FILE *f, const sil_row_t *row)
+{
+    for (size_t i = 0; i < N_COLS; i++) {
+        double v = *(const double *)((const char *)row + COLS[i].offset);
+        if (isnan(v)) {
+            fputs("nan", f);   /* one spelling whatever the libc prints for -nan */
+        } else {
+            fprintf(f, "%.9g", v);
+        }
+        fputc((i + 1u < N_COLS) ? ',' : '\n', f);
+    }
+}

@@ -1,0 +1,55 @@
+/*
+ * sil.h - software-in-the-loop run of the firmware application
+ * (firmware/app.h) on the simulated board (hal_sim.h) for one scenario,
+ * without a process: drive_sil and the C tests both call sil_run().
+ * Link order: firmware sim control.
+ *
+ * One row per logged period k (every run.log_every periods, k = 0 first):
+ * true plant values at the sample instant t_k, the controller's monitor
+ * after its ISR at t_k, and the applied voltage averaged over
+ * [t_k, t_k + Ts]. Columns without a value in the mode are NaN
+ * (see hal/sim/README.md).
+ */
+#ifndef SIL_H
+#define SIL_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "scenario.h"
+
+typedef struct {
+    double t_s;
+    double state, fault, flags;             /* app_state_t, app_fault_t, ctrl_out_t.flags */
+    double speed_ref_rpm, speed_rpm, speed_est_rpm;
+    double te_ref_Nm, te_Nm, te_est_Nm;
+    double psi_ref_Wb, psi_Wb, psi_est_Wb;
+    double id_A, iq_A;                      /* true, at t_k */
+    double ud_V, uq_V;                      /* true applied, mean over the period */
+    double ud_cmd_V, uq_cmd_V;              /* commanded for the next period (monitor) */
+    double load_Nm;
+    double R_est_ohm, L_est_H, psif_est_Wb, fd_est, fq_est;
+} sil_row_t;
+
+typedef struct {
+    uint32_t periods;          /* simulated */
+    uint32_t rows;             /* passed to the callback */
+    int final_state;           /* app_state_t at the end */
+    int final_fault;           /* app_fault_t at the end */
+    double max_abs_i_A;        /* largest true phase current seen at a sample */
+} sil_result_t;
+
+/* Called for every logged row; a nonzero return stops the run. */
+typedef int (*sil_row_fn)(const sil_row_t *row, void *user);
+
+/* Run scenario *sc (after scenario_finish()) from power-on: configure the board, init the app,
+ * start it, simulate run.duration_s. on_row may be NULL. Returns 0, or the callback's nonzero value. */
+int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res);
+
+/* The CSV header line (with newline) to f. */
+void sil_csv_header(FILE *f);
+
+/* One row as a CSV line to f; NaN is written "nan". */
+void sil_csv_row(FILE *f, const sil_row_t *row);
+
+#endif /* SIL_H */

@@ -1,0 +1,219 @@
+/* Unit tests for hal/sim/scenario.c and profile.c: defaults from Table I,
+ * parsing of every key kind, profiles (steps, ramps, continuation lines),
+ * and every bad-input case, whose message must name file, line and key. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "scenario.h"
+
+#define TOL 1e-12
+
+static char g_path[64];
+
+/* Write text to a fresh temporary file; its name in g_path. */
+static const char *write_ini(const char *text)
+{
+    snprintf(g_path, sizeof g_path, "/tmp/test_scenario_XXXXXX");
+    int fd = mkstemp(g_path);
+    assert_true(fd >= 0);
+    FILE *f = fdopen(fd, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    return g_path;
+}
+
+static int load_text(scenario_t *sc, const char *text, char *err)
+{
+    scenario_defaults(sc);
+    const char *p = write_ini(text);
+    int rc = scenario_load(sc, p, err, SCENARIO_ERR_LEN);
+    if (rc == 0) {
+        rc = scenario_finish(sc, err, SCENARIO_ERR_LEN);
+    }
+    unlink(p);
+    return rc;
+}
+
+/* The error must be rejected and name "<file>:<line>" and the key. */
+static void expect_error(const char *text, int line, const char *key)
+{
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN] = "";
+    int rc = load_text(&sc, text, err);
+    char where[96];
+    snprintf(where, sizeof where, "%s:%d:", g_path, line);
+    print_message("  -> %s\n", err);
+    assert_int_equal(rc, -1);
+    assert_non_null(strstr(err, where));
+    assert_non_null(strstr(err, key));
+}
+
+static void defaults_are_table1(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN];
+    scenario_defaults(&sc);
+    assert_int_equal(scenario_finish(&sc, err, sizeof err), 0);
+    assert_float_equal(sc.plant.R_ohm, 3.0, TOL);
+    assert_float_equal(sc.plant.L_H, 0.011, TOL);
+    assert_float_equal(sc.plant.psif_Wb, 0.24, TOL);
+    assert_int_equal(sc.plant.pole_pairs, 3);
+    assert_float_equal(sc.plant.J_kgm2, 0.00129, TOL);
+    assert_float_equal(sc.plant.vdc_V, 311.0, TOL);
+    assert_int_equal(sc.plant.encoder_lines, 2500);
+    assert_int_equal(sc.plant.model, SC_MODEL_AVERAGED);
+    assert_float_equal(sc.controller.R_ohm, 3.0, TOL);
+    assert_float_equal(sc.controller.L_H, 0.011, TOL);
+    assert_float_equal(sc.controller.psif_Wb, 0.24, TOL);
+    assert_int_equal(sc.run.log_every, 10);
+    assert_float_equal(profile_eval(&sc.reference.speed_rpm, 0.5), 0.0, TOL);
+}
+
+static void parses_every_kind(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN] = "";
+    int rc = load_text(&sc,
+                       "; a comment\n"
+                       "[plant]\n"
+                       "R_ohm = 3.3\n"
+                       "model = switching\n"
+                       "encoder_lines = 1024\n"
+                       "deadtime_s = 2e-6\n"
+                       "[controller]\n"
+                       "L_factor = 1.5\n"
+                       "psif_Wb = 0.2\n"
+                       "method = proposed\n"
+                       "mode = torque\n"
+                       "[reference]\n"
+                       "torque_Nm = 0:0, 0.1:4, 0.3:6~\n"
+                       "  0.5:0\n"
+                       "[load]\n"
+                       "torque_Nm = 2\n"
+                       "[run]\n"
+                       "duration_s = 0.6\n"
+                       "log_every = 1\n",
+                       err);
+    assert_int_equal(rc, 0);
+    assert_float_equal(sc.plant.R_ohm, 3.3, TOL);
+    assert_int_equal(sc.plant.model, SC_MODEL_SWITCHING);
+    assert_int_equal(sc.plant.encoder_lines, 1024);
+    assert_float_equal(sc.plant.deadtime_s, 2e-6, TOL);
+    assert_float_equal(sc.controller.R_ohm, 3.3, TOL);         /* default factor 1 x plant */
+    assert_float_equal(sc.controller.L_H, 1.5 * 0.011, TOL);
+    assert_float_equal(sc.controller.psif_Wb, 0.2, TOL);
+    assert_int_equal(sc.controller.method, SC_METHOD_PROPOSED);
+    assert_int_equal(sc.controller.mode, SC_MODE_TORQUE);
+    const profile_t *p = &sc.reference.torque_Nm;
+    assert_int_equal(p->n, 4);
+    assert_float_equal(profile_eval(p, 0.05), 0.0, TOL);
+    assert_float_equal(profile_eval(p, 0.1), 4.0, TOL);
+    assert_float_equal(profile_eval(p, 0.2), 5.0, TOL);      /* halfway up the ramp */
+    assert_float_equal(profile_eval(p, 0.4), 6.0, TOL);
+    assert_float_equal(profile_eval(p, 0.5), 0.0, TOL);      /* continuation line */
+    assert_float_equal(profile_eval(&sc.load.torque_Nm, 0.0), 2.0, TOL);
+    assert_float_equal(sc.run.duration_s, 0.6, TOL);
+    assert_int_equal(sc.run.log_every, 1);
+}
+
+static void profile_rules(void **state)
+{
+    (void)state;
+    profile_t p = { 0 };
+    char err[SCENARIO_ERR_LEN];
+    assert_int_equal(profile_parse_append(&p, "0.2:10", err, sizeof err), 0);
+    assert_float_equal(profile_eval(&p, 0.1), 0.0, TOL);     /* 0 before the first point */
+    assert_float_equal(profile_eval(&p, 0.2), 10.0, TOL);
+    p.n = 0;
+    assert_int_equal(profile_parse_append(&p, "0.2:10~", err, sizeof err), 0);
+    assert_float_equal(profile_eval(&p, 0.1), 5.0, TOL);     /* ramp from 0 at t = 0 */
+    p.n = 0;
+    assert_int_equal(profile_parse_append(&p, "-7.5", err, sizeof err), 0);
+    assert_float_equal(profile_eval(&p, 3.0), -7.5, TOL);
+    p.n = 0;
+    assert_int_equal(profile_parse_append(&p, "0:1, 0.1:2", err, sizeof err), 0);
+    assert_int_equal(profile_parse_append(&p, "0.1:3", err, sizeof err), -1);   /* time not increasing */
+    assert_int_equal(p.n, 2);                                                     /* unchanged */
+    assert_int_equal(profile_parse_append(&p, "0.2:x", err, sizeof err), -1);
+    assert_int_equal(profile_parse_append(&p, "0.2 3", err, sizeof err), -1);
+    assert_int_equal(profile_parse_append(&p, "0.2:3,", err, sizeof err), -1);
+    assert_int_equal(profile_parse_append(&p, "0.2:3 0.3:4", err, sizeof err), -1);
+}
+
+static void set_overrides_and_replaces_profiles(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN] = "";
+    scenario_defaults(&sc);
+    assert_int_equal(scenario_set(&sc, "reference.speed_rpm=0:0, 0.1:500", err, sizeof err), 0);
+    assert_int_equal(scenario_set(&sc, "reference.speed_rpm=0:100", err, sizeof err), 0);
+    assert_int_equal(sc.reference.speed_rpm.n, 1);
+    assert_int_equal(scenario_set(&sc, "plant.J_kgm2=0.01", err, sizeof err), 0);
+    assert_float_equal(sc.plant.J_kgm2, 0.01, TOL);
+    assert_int_equal(scenario_set(&sc, "plant.J_kgm2", err, sizeof err), -1);
+    assert_non_null(strstr(err, "--set plant.J_kgm2"));
+    assert_int_equal(scenario_set(&sc, "plantJ=1", err, sizeof err), -1);
+    assert_int_equal(scenario_set(&sc, "plant.nokey=1", err, sizeof err), -1);
+    assert_non_null(strstr(err, "nokey"));
+    assert_int_equal(scenario_set(&sc, "controller.mode=fast", err, sizeof err), -1);
+    assert_non_null(strstr(err, "mode"));
+}
+
+static void bad_inputs_name_file_line_key(void **state)
+{
+    (void)state;
+    expect_error("[plant]\nR_ohm = 3\n[motor]\nR_ohm = 3\n", 4, "[motor]");
+    expect_error("[plant]\nR_ohm = 3\nRs = 3\n", 3, "Rs");
+    expect_error("[plant]\n\nL_H = 11mH\n", 3, "L_H");
+    expect_error("[plant]\nR_ohm = -1\n", 2, "R_ohm");
+    expect_error("[plant]\npole_pairs = 2.5\n", 2, "pole_pairs");
+    expect_error("[plant]\nmodel = pwm\n", 2, "model");
+    expect_error("[controller]\nmethod = better\n", 2, "method");
+    expect_error("[controller]\nmode = position\n", 2, "mode");
+    expect_error("[reference]\nspeed_rpm = 0:0, 0.1 500\n", 2, "speed_rpm");
+    expect_error("[reference]\nspeed_rpm = 0:0, 0.1:500, 0.05:0\n", 2, "speed_rpm");
+    expect_error("[load]\ntorque_Nm = 0:abc\n", 2, "torque_Nm");
+    expect_error("[run]\nduration_s = 0\n", 2, "duration_s");
+    expect_error("[run]\nduration_s = -1\n", 2, "duration_s");
+    expect_error("[run]\nlog_every = 0\n", 2, "log_every");
+    expect_error("[plant]\nR_ohm = 3\nR_ohm = 4\n", 3, "R_ohm");
+    expect_error("[controller]\nL_H = 0.01\nL_factor = 1.5\n", 2, "L_H");
+    expect_error("[plant]\nR_ohm 3\n", 2, "syntax");
+    char long_line[400];
+    int n = snprintf(long_line, sizeof long_line, "[reference]\nspeed_rpm = 0:0");
+    while (n < 300) {
+        n += snprintf(long_line + n, sizeof long_line - (size_t)n, ", %d:1", n);
+    }
+    snprintf(long_line + n, sizeof long_line - (size_t)n, "\n");
+    expect_error(long_line, 2, "longer than");
+
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN];
+    scenario_defaults(&sc);
+    assert_int_equal(scenario_load(&sc, "/nonexistent/x.ini", err, sizeof err), -1);
+    assert_non_null(strstr(err, "/nonexistent/x.ini"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(defaults_are_table1),
+        cmocka_unit_test(parses_every_kind),
+        cmocka_unit_test(profile_rules),
+        cmocka_unit_test(set_overrides_and_replaces_profiles),
+        cmocka_unit_test(bad_inputs_name_file_line_key),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

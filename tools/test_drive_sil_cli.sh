@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# test_drive_sil_cli.sh DRIVE_SIL - the runner's command line: every bad
+# input exits 2 and leaves no CSV; a good run exits 0 and writes one.
+set -uo pipefail
+bin=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail=0
+good="$dir/good.ini"
+printf '[controller]\nmode = open_loop\n[reference]\nuq_V = 20\n[run]\nduration_s = 0.01\n' > "$good"
+
+# expect_bad NAME ARGS...: exit 2, a message on stderr, no CSV at $dir/out.csv
+expect_bad() {
+    local name=$1; shift
+    rm -f "$dir"/out.csv*
+    "$bin" "$@" > /dev/null 2> "$dir/err"
+    local rc=$?
+    if [ $rc -ne 2 ]; then
+        echo "FAIL drive_sil CLI $name: exit $rc, expected 2"; fail=1
+    elif compgen -G "$dir/out.csv*" > /dev/null; then
+        echo "FAIL drive_sil CLI $name: a CSV was left behind"; fail=1
+    elif ! [ -s "$dir/err" ]; then
+        echo "FAIL drive_sil CLI $name: no message"; fail=1
+    else
+        echo "ok   drive_sil CLI $name: $(head -n 1 "$dir/err")"
+    fi
+}
+
+bad() { printf '%b' "$2" > "$dir/$1.ini"; echo "$dir/$1.ini"; }
+
+expect_bad "unknown flag" --scenario "$good" --out "$dir/out.csv" --fast
+expect_bad "missing --out" --scenario "$good"
+expect_bad "missing file" --scenario "$dir/none.ini" --out "$dir/out.csv"
+expect_bad "unknown section" --scenario "$(bad s '[motor]\nR_ohm = 3\n')" --out "$dir/out.csv"
+expect_bad "unknown key" --scenario "$(bad k '[plant]\nRs = 3\n')" --out "$dir/out.csv"
+expect_bad "malformed number" --scenario "$(bad n '[plant]\nL_H = 11mH\n')" --out "$dir/out.csv"
+expect_bad "malformed profile" --scenario "$(bad p '[reference]\nspeed_rpm = 0:0, 0.1 500\n')" --out "$dir/out.csv"
+expect_bad "unknown method" --scenario "$(bad m '[controller]\nmethod = better\n')" --out "$dir/out.csv"
+expect_bad "unknown mode" --scenario "$(bad o '[controller]\nmode = position\n')" --out "$dir/out.csv"
+expect_bad "unknown model" --scenario "$(bad i '[plant]\nmodel = pwm\n')" --out "$dir/out.csv"
+expect_bad "zero duration" --scenario "$(bad z '[run]\nduration_s = 0\n')" --out "$dir/out.csv"
+expect_bad "negative duration" --scenario "$good" --set run.duration_s=-1 --out "$dir/out.csv"
+expect_bad "bad --set" --scenario "$good" --set plant.nokey=1 --out "$dir/out.csv"
+expect_bad "unwritable output" --scenario "$good" --out "$dir/no/such/dir/out.csv"
+
+if "$bin" --help > /dev/null && "$bin" --scenario "$good" --out "$dir/out.csv" > /dev/null &&
+        head -n 1 "$dir/out.csv" | grep -q '^t_s,' && ! compgen -G "$dir/out.csv.tmp*" > /dev/null; then
+    echo "ok   drive_sil CLI good run: exit 0, CSV written"
+else
+    echo "FAIL drive_sil CLI good run"; fail=1
+fi
+[ $fail -eq 0 ] && echo "drive_sil CLI: all passed"
+exit $fail
