@@ -64,6 +64,7 @@ static void open_loop_locked_rotor_step(void **state)
     sil_result_t res;
     run(&sc, &res);
     assert_int_equal(res.final_state, APP_STATE_RUN);
+    assert_int_equal(hal_sim_watchdog_kicks(), res.periods);   /* one background pass per period */
     const double tau = sc.plant.L_H / sc.plant.R_ohm;
     double worst = 0.0;
     assert_true(fabs(g_rows[1].id_A) < 1e-12);   /* nothing applied during period 0 */
