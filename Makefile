@@ -6,6 +6,7 @@
 #   make check      portability and static gates (float-only, 16-bit int, cppcheck)
 #   make bench      speed and cost figures (printed, never asserted)
 #   make firmware   the F28335 image (needs CG_TOOL_ROOT and C2000WARE_ROOT)
+#   make flash      program it with TI UniFlash (dslite.sh)
 
 SHELL := /bin/bash
 .DEFAULT_GOAL := all
@@ -95,12 +96,12 @@ endef
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 
-.PHONY: all test test-host test-san run-tests check firmware host-deps check-deps help
+.PHONY: all test test-host test-san run-tests check firmware flash host-deps check-deps help
 
 all: $(TEST_BINS) $(HOST_PROGRAMS)
 
 help:
-	@sed -n '1,9p' Makefile
+	@sed -n '1,10p' Makefile
 
 # Debian packages the host build needs; installed when running as root.
 host-deps:
@@ -131,4 +132,8 @@ firmware:
 	@tools/check/ti_tools.sh
 	@$(MAKE) --no-print-directory -f firmware/target.mk BUILD=$(BUILD)
 
--include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
+flash:
+	@tools/check/ti_tools.sh
+	@$(MAKE) --no-print-directory -f firmware/target.mk flash BUILD=$(BUILD)
+
+-include $(shell find $(OUT)/obj -name '*.d' 2>/dev/null)
