@@ -2,3 +2,6 @@
 # the cmocka mock of the HAL.
 TEST_LIBS_test_app := firmware control
 TEST_SRCS_test_app := tests/mock_hal.c
+
+# Closed-loop acceptance of the conventional DB-DTC on the simulated board.
+TEST_LIBS_test_sil_conventional := firmware sim control
