@@ -1,7 +1,6 @@
 # tools: `make bench` (SIL speed figures) and `make sil` (every scenario in
 # tools/scenarios/*.ini through drive_sil, CSV and PNG into build/sil/).
-# To add a report step (e.g. tools/metrics.py), append a command to the
-# recipe of `sil` after the loop; it sees build/sil/*.csv.
+# After the runs, tools/sil_report.py writes build/sil/report.md.
 
 SIL_BENCH := $(OUT)/sil_bench
 HOST_PROGRAMS += $(SIL_BENCH)
@@ -15,6 +14,7 @@ $(SIL_BENCH): $(call objs,tools/sil_bench.c hal/sim/sil.c) $(LIB_firmware) $(LIB
 bench:
 	@$(MAKE) --no-print-directory VARIANT=host $(BUILD)/host/sil_bench
 	@$(BUILD)/host/sil_bench
+	@$(MAKE) --no-print-directory VARIANT=host bench-ctrl
 
 SIL_DIR    := $(BUILD)/sil
 VENV       := $(BUILD)/venv
@@ -35,3 +35,4 @@ sil: $(VENV_STAMP)
 	    $(BUILD)/host/drive_sil --scenario $$f --out $(SIL_DIR)/$$n.csv; \
 	    $(VENV)/bin/python tools/sil_plot.py $(SIL_DIR)/$$n.csv $(SIL_DIR)/$$n.png; \
 	done
+	@$(VENV)/bin/python tools/sil_report.py --dir $(SIL_DIR)
