@@ -1,0 +1,99 @@
+/* param_est.c - online L^ and psi_f^ by transfer laws; see param_est.h. */
+#include "param_est.h"
+
+#include "mathx.h"
+
+static bool cfg_valid(const param_est_cfg_t *c, const smo_t *smo)
+{
+    const float sum = c->Ts_s + c->gamma_L_1_s + c->gamma_psi_1_s + c->wiq_min_A_rad_s +
+                      c->w_min_rad_s + c->L_min_H + c->L_max_H + c->psi_min_Wb + c->psi_max_Wb;
+    if (!mathx_isfinitef(sum) || (smo->status != SMO_CFG_OK)) {
+        return false;
+    }
+    if (!(c->Ts_s > 0.0f) || !(c->gamma_L_1_s > 0.0f) || !(c->gamma_psi_1_s > 0.0f) ||
+        !(c->wiq_min_A_rad_s > 0.0f) || !(c->w_min_rad_s > 0.0f)) {
+        return false;
+    }
+    /* gamma Ts < 1: one update never moves more than the whole of f^ */
+    if (!(c->gamma_L_1_s * c->Ts_s < 1.0f) || !(c->gamma_psi_1_s * c->Ts_s < 1.0f)) {
+        return false;
+    }
+    /* clamps inside the observer's ranges, so smo_set_L/psi never clip
+     * differently from what this module reports */
+    return (c->L_min_H >= smo->cfg.L_min_H) && (c->L_min_H <= c->L_max_H) &&
+           (c->L_max_H <= smo->cfg.L_max_H) && (c->psi_min_Wb >= smo->cfg.psi_min_Wb) &&
+           (c->psi_min_Wb <= c->psi_max_Wb) && (c->psi_max_Wb <= smo->cfg.psi_max_Wb);
+}
+
+void param_est_cfg_defaults(param_est_cfg_t *cfg, float Ts_s, float L_H, float psi_f_Wb)
+{
+    cfg->Ts_s = Ts_s;
+    cfg->gamma_L_1_s = PARAM_EST_GAMMA_L_DEFAULT_1_S;
+    cfg->gamma_psi_1_s = PARAM_EST_GAMMA_PSI_DEFAULT_1_S;
+    cfg->wiq_min_A_rad_s = PARAM_EST_WIQ_MIN_DEFAULT;
+    cfg->w_min_rad_s = PARAM_EST_W_MIN_DEFAULT_RAD_S;
+    cfg->L_min_H = PARAM_EST_CLAMP_MIN_FACTOR * L_H;
+    cfg->L_max_H = PARAM_EST_CLAMP_MAX_FACTOR * L_H;
+    cfg->psi_min_Wb = PARAM_EST_CLAMP_MIN_FACTOR * psi_f_Wb;
+    cfg->psi_max_Wb = PARAM_EST_CLAMP_MAX_FACTOR * psi_f_Wb;
+}
+
+bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *smo)
+{
+    pe->cfg = *cfg;
+    pe->valid = cfg_valid(cfg, smo);
+    pe->kL = pe->valid ? cfg->gamma_L_1_s * cfg->Ts_s : 0.0f;
+    pe->kpsi = pe->valid ? cfg->gamma_psi_1_s * cfg->Ts_s : 0.0f;
+    param_est_reset(pe);
+    return pe->valid;
+}
+
+void param_est_reset(param_est_t *pe)
+{
+    pe->running = false;
+}
+
+void param_est_run(param_est_t *pe, bool run)
+{
+    pe->running = run && pe->valid;
+}
+
+uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A)
+{
+    const param_est_cfg_t *c = &pe->cfg;
+    uint16_t flags = 0u;
+
+    if (!pe->running || (smo->status != SMO_CFG_OK)) {
+        return 0u;
+    }
+    /* the observer's own input bounds, so the invariant smo_set_L/psi keep is this one */
+    const float w = mathx_clampf(omega_el_rad_s, -smo->cfg.omega_max_rad_s, smo->cfg.omega_max_rad_s);
+    const float iq = mathx_clampf(iq_A, -smo->cfg.i_max_A, smo->cfg.i_max_A);
+    const float wiq = w * iq;
+
+    /* Replaces (53)-(55): corrected steady state fd = dL w iq (design 1a, 1d),
+     * applied as a slow transfer of fd^ into L^ instead of L + fd/(w iq). */
+    if (mathx_fabsf(wiq) > c->wiq_min_A_rad_s) {
+        const float delta_V = pe->kL * smo->fd_V;
+        const float L_tgt = smo->L_H - delta_V / wiq;
+        const float L_new = mathx_clampf(L_tgt, c->L_min_H, c->L_max_H);
+        (void)smo_set_L(smo, L_new, w, iq); /* fd^ -= delta (less when clamped) */
+        flags |= PARAM_EST_L_MOVED;
+        if (!((L_tgt >= c->L_min_H) && (L_tgt <= c->L_max_H))) {
+            flags |= PARAM_EST_L_CLAMPED;
+        }
+    }
+    /* Replaces (43)-(50): fq = -dpsi w at equilibrium (design 1e); psi^
+     * takes fq^ at the speed-independent rate gamma_psi. */
+    if (mathx_fabsf(w) > c->w_min_rad_s) {
+        const float delta_V = pe->kpsi * smo->fq_V;
+        const float psi_tgt = smo->psi_f_Wb + delta_V / w;
+        const float psi_new = mathx_clampf(psi_tgt, c->psi_min_Wb, c->psi_max_Wb);
+        (void)smo_set_psi(smo, psi_new, w); /* fq^ -= delta (less when clamped) */
+        flags |= PARAM_EST_PSI_MOVED;
+        if (!((psi_tgt >= c->psi_min_Wb) && (psi_tgt <= c->psi_max_Wb))) {
+            flags |= PARAM_EST_PSI_CLAMPED;
+        }
+    }
+    return flags;
+}

@@ -1,0 +1,298 @@
+/* Unit tests for control/param_est: L^ and psi_f^ by the transfer laws,
+ * on the smo observer, against the exact test plant of obs_plant.h with the
+ * paper's mismatch factors at 200, 500 and 2000 r/min (R^ = R0: step 1
+ * done); freeze thresholds, run/freeze switch, clamps, bumpless updates. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "obs_plant.h"
+#include "param_est.h"
+
+typedef struct {
+    smo_t smo;
+    param_est_t pe;
+} rig_t;
+
+static void rig_init(rig_t *r, double Lh, double psih)
+{
+    smo_cfg_t c;
+    param_est_cfg_t pc;
+    /* the controller's nominal values are the mismatched ones */
+    smo_cfg_defaults(&c, (float)OP_TS, (float)OP_R0, (float)Lh, (float)psih);
+    c.f_max_V = 400.0f;
+    c.i_max_A = 60.0f;
+    c.u_max_V = 600.0f;
+    c.omega_max_rad_s = 3000.0f;
+    c.L_min_H = (float)(0.3 * OP_L0); /* stability checked at the true L's 0.3x */
+    c.L_max_H = (float)(3.0 * OP_L0);
+    c.psi_min_Wb = (float)(0.3 * OP_PSI0);
+    c.psi_max_Wb = (float)(3.0 * OP_PSI0);
+    assert_int_equal(smo_init(&r->smo, &c), SMO_CFG_OK);
+    param_est_cfg_defaults(&pc, (float)OP_TS, (float)OP_L0, (float)OP_PSI0);
+    pc.L_min_H = c.L_min_H; /* [0.3, 3] x true, the observer's own ranges */
+    pc.L_max_H = c.L_max_H;
+    pc.psi_min_Wb = c.psi_min_Wb;
+    pc.psi_max_Wb = c.psi_max_Wb;
+    assert_true(param_est_init(&r->pe, &pc, &r->smo));
+}
+
+static dq_t dq(double d, double q)
+{
+    dq_t x = { (float)d, (float)q };
+    return x;
+}
+
+typedef struct {
+    double t_L2, t_L1, t_psi2, t_psi1; /* last time outside 2 % / 1 % [s] */
+    double eL, epsi;                   /* final relative errors */
+    double eL_max_after, epsi_max_after; /* worst after 100 ms / 300 ms */
+} conv_t;
+
+/* Open-loop voltage holding id = 0, iq = iq_ref at w on the true plant;
+ * observer with nominal Lh, psih, estimator running from the start. */
+static conv_t run_case(double rpm, double Lf, double psif, double iq_ref, int n)
+{
+    rig_t r;
+    rig_init(&r, Lf * OP_L0, psif * OP_PSI0);
+    param_est_run(&r.pe, true);
+    op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, iq_ref };
+    const double w = op_w_el(rpm);
+    double ud, uq;
+    op_u_for(&p, 0.0, iq_ref, w, &ud, &uq);
+    conv_t cv = { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0 };
+    for (int k = 0; k < n; k++) {
+        const double t = (k + 1) * OP_TS;
+        (void)smo_step(&r.smo, dq(p.id, p.iq), (float)w, dq(ud, uq));
+        (void)param_est_step(&r.pe, &r.smo, (float)w, (float)p.iq);
+        op_step(&p, ud, uq, w);
+        const double eL = fabs(r.smo.L_H / OP_L0 - 1.0);
+        const double ep = fabs(r.smo.psi_f_Wb / OP_PSI0 - 1.0);
+        if (eL > 0.02) cv.t_L2 = t;
+        if (eL > 0.01) cv.t_L1 = t;
+        if (ep > 0.02) cv.t_psi2 = t;
+        if (ep > 0.01) cv.t_psi1 = t;
+        if (t > 0.1) cv.eL_max_after = fmax(cv.eL_max_after, eL);
+        if (t > 0.3) cv.epsi_max_after = fmax(cv.epsi_max_after, ep);
+        cv.eL = eL;
+        cv.epsi = ep;
+    }
+    return cv;
+}
+
+/* L^ within 2 % by 100 ms, psi^ within 2 % by 300 ms (and staying there),
+ * both within 1 % at the end (0.5 s), at 200, 500 and 2000 r/min with the
+ * paper's mismatch factors, 4 N m. */
+static void converges_paper_cases_three_speeds(void **state)
+{
+    (void)state;
+    const double rpm[] = { 500.0, 200.0, 2000.0 };
+    const double cases[][2] = { { 1.5, 1.0 }, { 0.66, 1.0 }, { 1.0, 2.0 }, { 1.0, 0.5 }, { 0.66, 1.5 } };
+    double worst_L = 0.0;
+    double worst_psi = 0.0;
+    for (size_t s = 0; s < 3; s++) {
+        for (size_t m = 0; m < sizeof cases / sizeof cases[0]; m++) {
+            const conv_t cv = run_case(rpm[s], cases[m][0], cases[m][1], op_iq_of_te(4.0), 5000);
+            printf("    %4.0f r/min L x%.2f psi x%.1f: t_L 2%%/1%% %5.1f/%5.1f ms, t_psi 2%%/1%% "
+                   "%5.1f/%5.1f ms, final eL %.1e epsi %.1e\n",
+                   rpm[s], cases[m][0], cases[m][1], 1e3 * cv.t_L2, 1e3 * cv.t_L1,
+                   1e3 * cv.t_psi2, 1e3 * cv.t_psi1, cv.eL, cv.epsi);
+            assert_true(cv.eL_max_after < 0.02);
+            assert_true(cv.epsi_max_after < 0.02);
+            assert_true(cv.eL < 0.01);
+            assert_true(cv.epsi < 0.01);
+            worst_L = fmax(worst_L, cv.eL);
+            worst_psi = fmax(worst_psi, cv.epsi);
+        }
+    }
+    printf("    worst final error: L %.2e, psi %.2e\n", worst_L, worst_psi);
+}
+
+/* Converged estimates hold through a load step 2 -> 4 N m (dL di/dt
+ * transient): L^ and psi^ stay within 1 %. */
+static void converged_estimates_hold_through_load_step(void **state)
+{
+    (void)state;
+    rig_t r;
+    rig_init(&r, 1.5 * OP_L0, 2.0 * OP_PSI0);
+    param_est_run(&r.pe, true);
+    op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, op_iq_of_te(2.0) };
+    const double w = op_w_el(500.0);
+    double worst_L = 0.0;
+    double worst_psi = 0.0;
+    for (int k = 0; k < 8000; k++) {
+        double ud, uq;
+        op_u_for(&p, 0.0, op_iq_of_te(k < 5000 ? 2.0 : 4.0), w, &ud, &uq);
+        (void)smo_step(&r.smo, dq(p.id, p.iq), (float)w, dq(ud, uq));
+        (void)param_est_step(&r.pe, &r.smo, (float)w, (float)p.iq);
+        op_step(&p, ud, uq, w);
+        if (k >= 4900) {
+            worst_L = fmax(worst_L, fabs(r.smo.L_H / OP_L0 - 1.0));
+            worst_psi = fmax(worst_psi, fabs(r.smo.psi_f_Wb / OP_PSI0 - 1.0));
+        }
+    }
+    printf("    load step 2 -> 4 N m after convergence: max |eL| %.2e, |epsi| %.2e\n", worst_L,
+           worst_psi);
+    assert_true(worst_L < 0.01);
+    assert_true(worst_psi < 0.01);
+}
+
+/* Below the thresholds (|w iq| <= 30 A rad/s, |w| <= 30 rad/s) and when
+ * not running the estimates do not move at all. */
+static void freezes_below_thresholds_and_when_stopped(void **state)
+{
+    (void)state;
+    const double ops[][3] = {
+        /* w [rad/s el], iq [A], running */
+        { 25.0, 1.0, 1.0 },   /* both below */
+        { 157.0, 0.15, 1.0 }, /* w iq = 23.6: L frozen, psi moves */
+        { 157.0, 3.7, 0.0 },  /* stopped */
+    };
+    for (size_t m = 0; m < 3; m++) {
+        rig_t r;
+        rig_init(&r, 1.5 * OP_L0, 2.0 * OP_PSI0);
+        param_est_run(&r.pe, ops[m][2] > 0.5);
+        const float L0h = r.smo.L_H;
+        const float psi0h = r.smo.psi_f_Wb;
+        op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, ops[m][1] };
+        double ud, uq;
+        op_u_for(&p, 0.0, ops[m][1], ops[m][0], &ud, &uq);
+        uint16_t any = 0u;
+        for (int k = 0; k < 2000; k++) {
+            (void)smo_step(&r.smo, dq(p.id, p.iq), (float)ops[m][0], dq(ud, uq));
+            any |= param_est_step(&r.pe, &r.smo, (float)ops[m][0], (float)p.iq);
+            op_step(&p, ud, uq, ops[m][0]);
+        }
+        assert_float_equal(r.smo.L_H, L0h, 0.0);
+        assert_true((any & PARAM_EST_L_MOVED) == 0u);
+        if (m == 1) {
+            assert_true((any & PARAM_EST_PSI_MOVED) != 0u);
+            assert_true(fabs(r.smo.psi_f_Wb / OP_PSI0 - 1.0) < 0.05);
+        } else {
+            assert_float_equal(r.smo.psi_f_Wb, psi0h, 0.0);
+            assert_int_equal(any, 0u);
+        }
+    }
+}
+
+/* Clamps: with the true L and psi_f outside the configured clamps the
+ * estimates stop at the clamp, flagged, and the observer stays finite. */
+static void clamps_hold(void **state)
+{
+    (void)state;
+    rig_t r;
+    rig_init(&r, OP_L0, OP_PSI0);
+    param_est_cfg_t pc = r.pe.cfg;
+    pc.L_min_H = (float)(0.5 * OP_L0);
+    pc.L_max_H = (float)(0.8 * OP_L0);   /* true L0 above */
+    pc.psi_min_Wb = (float)(1.2 * OP_PSI0); /* true psi0 below */
+    pc.psi_max_Wb = (float)(1.5 * OP_PSI0);
+    assert_true(param_est_init(&r.pe, &pc, &r.smo));
+    param_est_run(&r.pe, true);
+    op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, op_iq_of_te(4.0) };
+    const double w = op_w_el(500.0);
+    double ud, uq;
+    op_u_for(&p, 0.0, p.iq, w, &ud, &uq);
+    uint16_t last = 0u;
+    for (int k = 0; k < 5000; k++) {
+        (void)smo_step(&r.smo, dq(p.id, p.iq), (float)w, dq(ud, uq));
+        last = param_est_step(&r.pe, &r.smo, (float)w, (float)p.iq);
+        op_step(&p, ud, uq, w);
+        assert_true(r.smo.L_H >= pc.L_min_H && r.smo.L_H <= pc.L_max_H);
+        assert_true(r.smo.psi_f_Wb >= pc.psi_min_Wb && r.smo.psi_f_Wb <= pc.psi_max_Wb);
+        assert_true(isfinite(r.smo.fd_V) && isfinite(r.smo.fq_V));
+    }
+    assert_float_equal(r.smo.L_H, pc.L_max_H, 0.0);
+    assert_float_equal(r.smo.psi_f_Wb, pc.psi_min_Wb, 0.0);
+    assert_true((last & PARAM_EST_L_CLAMPED) != 0u);
+    assert_true((last & PARAM_EST_PSI_CLAMPED) != 0u);
+}
+
+/* Each update keeps w L^ iq - fd^ and w psi^ + fq^ (the observer's view)
+ * unchanged, to float rounding of the terms. */
+static void transfer_laws_are_bumpless(void **state)
+{
+    (void)state;
+    rig_t r;
+    rig_init(&r, 0.66 * OP_L0, 1.5 * OP_PSI0);
+    param_est_run(&r.pe, true);
+    op_plant_t p = { OP_R0, OP_L0, OP_PSI0, -1.0, op_iq_of_te(4.0) };
+    const double w = op_w_el(500.0);
+    double ud, uq;
+    op_u_for(&p, -1.0, p.iq, w, &ud, &uq);
+    double worst_d = 0.0;
+    double worst_q = 0.0;
+    for (int k = 0; k < 3000; k++) {
+        const float iq = (float)p.iq;
+        (void)smo_step(&r.smo, dq(p.id, p.iq), (float)w, dq(ud, uq));
+        const double inv_d = w * (double)r.smo.L_H * iq - r.smo.fd_V;
+        const double inv_q = w * (double)r.smo.psi_f_Wb + r.smo.fq_V;
+        const float L_before = r.smo.L_H;
+        const float psi_before = r.smo.psi_f_Wb;
+        (void)param_est_step(&r.pe, &r.smo, (float)w, iq);
+        if (k >= 1 && k < 100) { /* early on (after the seeding step) the updates are large */
+            assert_true(fabs(r.smo.L_H - L_before) > 0.0 && fabs(r.smo.psi_f_Wb - psi_before) > 0.0);
+        }
+        /* a few float ulps of terms of ~60 V */
+        const double dd = fabs(w * (double)r.smo.L_H * iq - r.smo.fd_V - inv_d);
+        const double dqv = fabs(w * (double)r.smo.psi_f_Wb + r.smo.fq_V - inv_q);
+        worst_d = fmax(worst_d, dd);
+        worst_q = fmax(worst_q, dqv);
+        op_step(&p, ud, uq, w);
+    }
+    printf("    bumpless: max change of w L^ iq - fd^ %.1e V, of w psi^ + fq^ %.1e V\n", worst_d,
+           worst_q);
+    assert_true(worst_d < 2e-5);
+    assert_true(worst_q < 2e-5);
+}
+
+/* Init refuses gamma Ts >= 1, non-positive thresholds, clamps outside the
+ * observer's ranges and an observer that failed its own init; a refused
+ * estimator never runs. */
+static void init_validates(void **state)
+{
+    (void)state;
+    rig_t r;
+    rig_init(&r, OP_L0, OP_PSI0);
+    const param_est_cfg_t good = r.pe.cfg;
+    param_est_cfg_t c = good;
+    c.gamma_L_1_s = 1.0e4f;
+    assert_false(param_est_init(&r.pe, &c, &r.smo));
+    param_est_run(&r.pe, true);
+    assert_false(r.pe.running);
+    c = good;
+    c.w_min_rad_s = 0.0f;
+    assert_false(param_est_init(&r.pe, &c, &r.smo));
+    c = good;
+    c.L_max_H = 4.0f * (float)OP_L0; /* beyond the observer's 3x */
+    assert_false(param_est_init(&r.pe, &c, &r.smo));
+    c = good;
+    c.psi_min_Wb = NAN;
+    assert_false(param_est_init(&r.pe, &c, &r.smo));
+    smo_t bad = r.smo;
+    bad.status = SMO_CFG_UNSTABLE;
+    assert_false(param_est_init(&r.pe, &good, &bad));
+    assert_true(param_est_init(&r.pe, &good, &r.smo));
+    assert_false(r.pe.running);
+    param_est_run(&r.pe, true);
+    assert_true(r.pe.running);
+    param_est_reset(&r.pe);
+    assert_false(r.pe.running);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(converges_paper_cases_three_speeds),
+        cmocka_unit_test(converged_estimates_hold_through_load_step),
+        cmocka_unit_test(freezes_below_thresholds_and_when_stopped),
+        cmocka_unit_test(clamps_hold),
+        cmocka_unit_test(transfer_laws_are_bumpless),
+        cmocka_unit_test(init_validates),
+    };
+    return cmocka_run_group_tests_name("param_est", tests, NULL, NULL);
+}
