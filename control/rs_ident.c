@@ -1,0 +1,202 @@
+/* rs_ident.c - step 1, offline stator resistance; see rs_ident.h. */
+#include "rs_ident.h"
+
+#include "mathx.h"
+
+/* Fixed iteration count of the dR/dpsi/dL solve (design sec. 1c): dL
+ * enters fq only through dL w id, a small correction, so the error shrinks
+ * by a factor ~ |id/iq| per pass; four passes reach float resolution. */
+#define SOLVE_ITERATIONS 4
+/* Counts stay exact in a float up to 2^24; a window stops growing there. */
+#define WIN_N_MAX 16777216u
+/* Absolute floor of |iq2 w1 - iq1 w2| [A rad/s] below which (41) is not
+ * solved even when the relative test passes (both points near standstill). */
+#define DEN_MIN_A_RAD_S 1.0f
+/* |w iq| [A rad/s] below which a point gives no dL, and |w| [rad/s] below
+ * which it gives no dpsi (ill-conditioned divisions). */
+#define WIQ_MIN_A_RAD_S 30.0f
+#define W_MIN_RAD_S 30.0f
+
+void rs_ident_cfg_defaults(rs_ident_cfg_t *cfg, float R_nom_Ohm)
+{
+    cfg->R_nom_Ohm = R_nom_Ohm;
+    cfg->R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * R_nom_Ohm;
+    cfg->R_max_Ohm = RS_IDENT_BAND_MAX_FACTOR * R_nom_Ohm;
+    cfg->iq_std_max_A = RS_IDENT_IQ_STD_MAX_DEFAULT_A;
+    cfg->den_ratio_min = RS_IDENT_DEN_RATIO_DEFAULT;
+    cfg->n_min = RS_IDENT_N_MIN_DEFAULT;
+}
+
+bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg)
+{
+    const float sum = cfg->R_nom_Ohm + cfg->R_min_Ohm + cfg->R_max_Ohm + cfg->iq_std_max_A +
+                      cfg->den_ratio_min;
+    ri->cfg = *cfg;
+    ri->valid = mathx_isfinitef(sum) && (cfg->R_nom_Ohm > 0.0f) && (cfg->R_min_Ohm >= 0.0f) &&
+                (cfg->R_min_Ohm <= cfg->R_nom_Ohm) && (cfg->R_nom_Ohm <= cfg->R_max_Ohm) &&
+                (cfg->iq_std_max_A > 0.0f) && (cfg->den_ratio_min > 0.0f) &&
+                (cfg->den_ratio_min < 1.0f) && (cfg->n_min >= 2u) && (cfg->n_min <= WIN_N_MAX);
+    rs_ident_reset(ri);
+    return ri->valid;
+}
+
+void rs_ident_reset(rs_ident_t *ri)
+{
+    int16_t j;
+    int16_t ch;
+    for (j = 0; j < 2; j++) {
+        ri->win[j].n = 0u;
+        ri->win[j].s2_iq = 0.0f;
+        for (ch = 0; ch < (int16_t)RS_CH_COUNT; ch++) {
+            ri->win[j].x0[ch] = 0.0f;
+            ri->win[j].s1[ch] = 0.0f;
+        }
+    }
+}
+
+void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A,
+                   float iq_A, float omega_el_rad_s)
+{
+    const float x[RS_CH_COUNT] = { fd_V, fq_V, id_A, iq_A, omega_el_rad_s };
+    rs_ident_win_t *w;
+    int16_t ch;
+
+    if ((win != RS_IDENT_WINDOW_1) && (win != RS_IDENT_WINDOW_2)) {
+        return;
+    }
+    w = &ri->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1];
+    if (w->n >= WIN_N_MAX) {
+        return;
+    }
+    if (w->n == 0u) {
+        for (ch = 0; ch < (int16_t)RS_CH_COUNT; ch++) {
+            w->x0[ch] = x[ch];
+        }
+    }
+    /* shifted sums: the first sample is close to the mean in a steady
+     * window, so s2 - s1^2/n does not cancel in float */
+    for (ch = 0; ch < (int16_t)RS_CH_COUNT; ch++) {
+        w->s1[ch] += x[ch] - w->x0[ch];
+    }
+    const float diq = x[RS_CH_IQ] - w->x0[RS_CH_IQ];
+    w->s2_iq += diq * diq;
+    w->n++;
+}
+
+static void zero_out(rs_ident_out_t *out, float R_nom)
+{
+    int16_t j;
+    out->R_est_Ohm = R_nom;
+    out->dR_Ohm = 0.0f;
+    out->dL_H = 0.0f;
+    out->dpsi_Wb = 0.0f;
+    for (j = 0; j < 2; j++) {
+        out->iq_std_A[j] = 0.0f;
+        out->mean_fd_V[j] = 0.0f;
+        out->mean_fq_V[j] = 0.0f;
+        out->mean_id_A[j] = 0.0f;
+        out->mean_iq_A[j] = 0.0f;
+        out->mean_w_rad_s[j] = 0.0f;
+    }
+}
+
+rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
+{
+    const rs_ident_cfg_t *c = &ri->cfg;
+    float fd[2];
+    float fq[2];
+    float id[2];
+    float iq[2];
+    float w[2];
+    float inv_wiq[2];
+    bool use_wiq[2];
+    int16_t j;
+    int16_t it;
+
+    zero_out(out, c->R_nom_Ohm);
+    if (!ri->valid) {
+        return RS_IDENT_INVALID_CFG;
+    }
+    for (j = 0; j < 2; j++) {
+        const rs_ident_win_t *wn = &ri->win[j];
+        if (wn->n < c->n_min) {
+            return RS_IDENT_TOO_FEW;
+        }
+        const float inv_n = 1.0f / (float)wn->n; /* n >= n_min >= 2 */
+        fd[j] = wn->x0[RS_CH_FD] + wn->s1[RS_CH_FD] * inv_n;
+        fq[j] = wn->x0[RS_CH_FQ] + wn->s1[RS_CH_FQ] * inv_n;
+        id[j] = wn->x0[RS_CH_ID] + wn->s1[RS_CH_ID] * inv_n;
+        iq[j] = wn->x0[RS_CH_IQ] + wn->s1[RS_CH_IQ] * inv_n;
+        w[j] = wn->x0[RS_CH_W] + wn->s1[RS_CH_W] * inv_n;
+        const float m1 = wn->s1[RS_CH_IQ] * inv_n;
+        const float var = wn->s2_iq * inv_n - m1 * m1; /* >= 0 up to rounding */
+        out->iq_std_A[j] = mathx_sqrtf(var);
+        out->mean_fd_V[j] = fd[j];
+        out->mean_fq_V[j] = fq[j];
+        out->mean_id_A[j] = id[j];
+        out->mean_iq_A[j] = iq[j];
+        out->mean_w_rad_s[j] = w[j];
+        if (!mathx_isfinitef(fd[j] + fq[j] + id[j] + iq[j] + w[j] + wn->s2_iq)) {
+            return RS_IDENT_NON_FINITE;
+        }
+    }
+    for (j = 0; j < 2; j++) {
+        if (!(out->iq_std_A[j] <= c->iq_std_max_A)) {
+            return RS_IDENT_NOT_STEADY;
+        }
+    }
+
+    /* (41)'s denominator: equal speeds need iq1 != iq2, equal loads w1 != w2 */
+    const float den = iq[1] * w[0] - iq[0] * w[1];
+    const float a1 = mathx_fabsf(iq[1] * w[0]);
+    const float a2 = mathx_fabsf(iq[0] * w[1]);
+    const float scale = (a1 > a2) ? a1 : a2;
+    if (!(mathx_fabsf(den) >= c->den_ratio_min * scale) || !(mathx_fabsf(den) > DEN_MIN_A_RAD_S)) {
+        return RS_IDENT_DEGENERATE;
+    }
+    const float inv_den = 1.0f / den;
+    /* dpsi from the faster point: the better-conditioned division */
+    const int16_t jf = (mathx_fabsf(w[0]) >= mathx_fabsf(w[1])) ? 0 : 1;
+    const bool use_w = mathx_fabsf(w[jf]) > W_MIN_RAD_S;
+    const float inv_wf = use_w ? 1.0f / w[jf] : 0.0f;
+    int16_t n_wiq = 0;
+    for (j = 0; j < 2; j++) {
+        const float wiq = w[j] * iq[j];
+        use_wiq[j] = mathx_fabsf(wiq) > WIQ_MIN_A_RAD_S;
+        inv_wiq[j] = use_wiq[j] ? 1.0f / wiq : 0.0f;
+        n_wiq = (int16_t)(n_wiq + (use_wiq[j] ? 1 : 0));
+    }
+    const float inv_n_wiq = (n_wiq == 2) ? 0.5f : 1.0f;
+
+    float dR = 0.0f;
+    float dL = 0.0f;
+    float dpsi = 0.0f;
+    for (it = 0; it < SOLVE_ITERATIONS; it++) {
+        /* design 1c: g_j = fq_j + dL w_j id_j = -dR iq_j - dpsi w_j */
+        const float g0 = fq[0] + dL * w[0] * id[0];
+        const float g1 = fq[1] + dL * w[1] * id[1];
+        /* (41) with the corrected sign of (27) */
+        dR = -(w[0] * g1 - w[1] * g0) * inv_den;
+        dpsi = -(((jf == 0) ? g0 : g1) + dR * iq[jf]) * inv_wf;
+        /* (54) corrected: fd_j + dR id_j = dL w_j iq_j */
+        float sum = 0.0f;
+        for (j = 0; j < 2; j++) {
+            sum += (fd[j] + dR * id[j]) * inv_wiq[j];
+        }
+        dL = (n_wiq > 0) ? sum * inv_n_wiq : 0.0f;
+    }
+
+    /* (42) with the opposite sign: R^ = R - dR */
+    const float R_est = c->R_nom_Ohm - dR;
+    if (!mathx_isfinitef(R_est + dL + dpsi)) {
+        return RS_IDENT_NON_FINITE;
+    }
+    out->dR_Ohm = dR;
+    out->dL_H = dL;
+    out->dpsi_Wb = dpsi;
+    if (!((R_est >= c->R_min_Ohm) && (R_est <= c->R_max_Ohm))) {
+        return RS_IDENT_OUT_OF_BAND;
+    }
+    out->R_est_Ohm = R_est;
+    return RS_IDENT_OK;
+}

@@ -1,0 +1,294 @@
+/* Unit tests for control/rs_ident: step-1 resistance from two steady
+ * operating points, on analytic steady-state disturbances (design 1a, in
+ * double) and on the smo observer running against the exact test plant of
+ * obs_plant.h (the paper's R = 4.3 R0 case); acceptance checks. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+
+#include "obs_plant.h"
+#include "rs_ident.h"
+#include "smo.h"
+
+#define R_NOM (4.3 * OP_R0) /* the controller's resistance in step 1 */
+
+static rs_ident_t make(double R_nom)
+{
+    rs_ident_cfg_t c;
+    rs_ident_t ri;
+    rs_ident_cfg_defaults(&c, (float)R_nom);
+    assert_true(rs_ident_init(&ri, &c));
+    return ri;
+}
+
+/* n constant samples of the analytic steady state at (id, iq, w) into win,
+ * the observer holding Rh, Lh, psih against the true Table I motor. */
+static void feed_analytic(rs_ident_t *ri, rs_ident_window_t win, double Rh, double Lh,
+                          double psih, double id, double iq, double w, int n)
+{
+    op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, 0.0 };
+    double fd, fq;
+    op_f_ss(&p, Rh, Lh, psih, id, iq, w, &fd, &fq);
+    for (int k = 0; k < n; k++) {
+        rs_ident_step(ri, win, (float)fd, (float)fq, (float)id, (float)iq, (float)w);
+    }
+}
+
+/* Literal (42): R - (w1 fq2 - w2 fq1)/(iq2 w1 - iq1 w2), on the same means. */
+static double literal_42(const rs_ident_out_t *o, double R)
+{
+    const double w1 = o->mean_w_rad_s[0], w2 = o->mean_w_rad_s[1];
+    const double den = o->mean_iq_A[1] * w1 - o->mean_iq_A[0] * w2;
+    return R - (w1 * o->mean_fq_V[1] - w2 * o->mean_fq_V[0]) / den;
+}
+
+/* R = 4.3 R0, 500 r/min, 2 and 4 N m: R^ within 1 % of R0 (here exact to
+ * float); the literal (42) gives 2R - R0 = 7.6 R0, which is not it. */
+static void analytic_paper_case(void **state)
+{
+    (void)state;
+    rs_ident_t ri = make(R_NOM);
+    rs_ident_out_t o;
+    const double w = op_w_el(500.0);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, op_iq_of_te(2.0), w, 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, OP_L0, OP_PSI0, 0.0, op_iq_of_te(4.0), w, 500);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
+    printf("    analytic: R^ = %.5f Ohm (R0 = 3), literal (42) = %.4f Ohm\n", o.R_est_Ohm,
+           literal_42(&o, R_NOM));
+    assert_float_equal(o.R_est_Ohm, OP_R0, 0.01 * OP_R0);
+    assert_float_equal(o.dR_Ohm, R_NOM - OP_R0, 1e-3);
+    assert_float_equal(literal_42(&o, R_NOM), 2.0 * R_NOM - OP_R0, 1e-3); /* 7.6 R0 */
+    assert_true(fabs(o.R_est_Ohm - literal_42(&o, R_NOM)) > 5.0 * OP_R0); /* 7.6 R0 vs R0 */
+}
+
+/* All three wrong and id != 0 at both points: the iteration's d-axis
+ * correction (dL w id in fq) recovers R0, dL and dpsi; equal-load points at
+ * two speeds work too (dpsi w cancels). */
+static void analytic_all_mismatched_and_two_speeds(void **state)
+{
+    (void)state;
+    const double Lh = 0.66 * OP_L0, psih = 1.5 * OP_PSI0;
+    rs_ident_out_t o;
+    rs_ident_t ri = make(R_NOM);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, Lh, psih, -1.0, op_iq_of_te(2.0), op_w_el(500.0), 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, Lh, psih, -1.0, op_iq_of_te(4.0), op_w_el(500.0), 500);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
+    printf("    analytic, L x0.66 psi x1.5 id = -1 A: R^ %.5f, dL %.3e (exp %.3e), dpsi %.4f (exp %.4f)\n",
+           o.R_est_Ohm, o.dL_H, Lh - OP_L0, o.dpsi_Wb, psih - OP_PSI0);
+    assert_float_equal(o.R_est_Ohm, OP_R0, 0.001 * OP_R0);
+    assert_float_equal(o.dL_H, Lh - OP_L0, 0.001 * OP_L0);
+    assert_float_equal(o.dpsi_Wb, psih - OP_PSI0, 0.001 * OP_PSI0);
+
+    rs_ident_reset(&ri);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, Lh, psih, 0.0, op_iq_of_te(4.0), op_w_el(500.0), 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, Lh, psih, 0.0, op_iq_of_te(4.0), op_w_el(1000.0), 500);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
+    printf("    analytic, 500/1000 r/min at 4 N m: R^ %.5f Ohm\n", o.R_est_Ohm);
+    assert_float_equal(o.R_est_Ohm, OP_R0, 0.01 * OP_R0);
+}
+
+/* Step 1 as the firmware runs it: observer with R^ = 4.3 R0 (and the given
+ * L^, psi^) on the true plant; open-loop voltages for (id, iq1) over
+ * 0-0.10 s at w1 and (id, iq2) from 0.10 s at w2; windows 0.05-0.10 s and
+ * 0.15-0.20 s; solve at 0.20 s, then the bumpless smo_set_R(). */
+static rs_ident_result_t step1_with_plant(double Lh, double psih, double id, double iq1, double iq2,
+                                          double w1, double w2, rs_ident_out_t *o)
+{
+    smo_cfg_t c;
+    smo_t smo;
+    smo_cfg_defaults(&c, (float)OP_TS, (float)R_NOM, (float)Lh, (float)psih);
+    c.R_min_Ohm = 0.5f; /* must hold R0 and 4.3 R0 */
+    c.R_max_Ohm = 15.0f;
+    c.L_min_H = (float)(0.3 * OP_L0);
+    c.L_max_H = (float)(3.0 * OP_L0);
+    c.psi_min_Wb = (float)(0.3 * OP_PSI0);
+    c.psi_max_Wb = (float)(3.0 * OP_PSI0);
+    c.f_max_V = 400.0f;
+    c.i_max_A = 60.0f;
+    c.u_max_V = 600.0f;
+    c.omega_max_rad_s = 3000.0f;
+    assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
+
+    rs_ident_cfg_t rc;
+    rs_ident_t ri;
+    rs_ident_cfg_defaults(&rc, (float)R_NOM);
+    rc.R_min_Ohm = c.R_min_Ohm; /* an accepted R^ is one smo_set_R() takes */
+    rc.R_max_Ohm = c.R_max_Ohm;
+    assert_true(rs_ident_init(&ri, &rc));
+
+    op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, 0.0 };
+    for (int k = 0; k < 2000; k++) {
+        const bool second = k >= 1000;
+        const double w = second ? w2 : w1;
+        double ud, uq;
+        op_u_for(&p, id, second ? iq2 : iq1, w, &ud, &uq);
+        dq_t i = { (float)p.id, (float)p.iq };
+        dq_t u = { (float)ud, (float)uq };
+        (void)smo_step(&smo, i, (float)w, u);
+        rs_ident_window_t win = RS_IDENT_WINDOW_NONE;
+        if (k >= 500 && k < 1000) {
+            win = RS_IDENT_WINDOW_1;
+        } else if (k >= 1500) {
+            win = RS_IDENT_WINDOW_2;
+        }
+        rs_ident_step(&ri, win, smo.fd_V, smo.fq_V, i.d, i.q, (float)w);
+        op_step(&p, ud, uq, w);
+    }
+    const rs_ident_result_t res = rs_ident_solve(&ri, o);
+    if (res == RS_IDENT_OK) {
+        const float fq_before = smo.fq_V;
+        assert_true(smo_set_R(&smo, o->R_est_Ohm));
+        /* bumpless: fq^ += dR iq^ */
+        assert_float_equal(smo.fq_V, fq_before + o->dR_Ohm * smo.i_hat_A.q, 1e-4);
+    }
+    return res;
+}
+
+static void plant_and_observer_paper_case(void **state)
+{
+    (void)state;
+    rs_ident_out_t o;
+    const double w = op_w_el(500.0);
+    assert_int_equal(step1_with_plant(OP_L0, OP_PSI0, 0.0, op_iq_of_te(2.0), op_iq_of_te(4.0), w, w, &o),
+                     RS_IDENT_OK);
+    printf("    plant+smo, R = 4.3 R0, 2/4 N m: R^ %.5f Ohm (err %+.4f %%), iq std %.1e/%.1e A\n",
+           o.R_est_Ohm, 100.0 * (o.R_est_Ohm / OP_R0 - 1.0), o.iq_std_A[0], o.iq_std_A[1]);
+    assert_float_equal(o.R_est_Ohm, OP_R0, 0.01 * OP_R0);
+    assert_true(fabs(o.R_est_Ohm - literal_42(&o, R_NOM)) > 5.0 * OP_R0); /* 7.6 R0 vs R0 */
+
+    assert_int_equal(step1_with_plant(0.66 * OP_L0, 1.5 * OP_PSI0, -1.0, op_iq_of_te(2.0),
+                                      op_iq_of_te(4.0), w, w, &o),
+                     RS_IDENT_OK);
+    printf("    plant+smo, also L x0.66 psi x1.5, id = -1 A: R^ %.5f Ohm (err %+.4f %%)\n",
+           o.R_est_Ohm, 100.0 * (o.R_est_Ohm / OP_R0 - 1.0));
+    assert_float_equal(o.R_est_Ohm, OP_R0, 0.01 * OP_R0);
+
+    assert_int_equal(step1_with_plant(OP_L0, 1.5 * OP_PSI0, 0.0, op_iq_of_te(4.0), op_iq_of_te(4.0),
+                                      op_w_el(500.0), op_w_el(1000.0), &o),
+                     RS_IDENT_OK);
+    printf("    plant+smo, 500/1000 r/min at 4 N m: R^ %.5f Ohm (err %+.4f %%)\n", o.R_est_Ohm,
+           100.0 * (o.R_est_Ohm / OP_R0 - 1.0));
+    assert_float_equal(o.R_est_Ohm, OP_R0, 0.01 * OP_R0);
+}
+
+/* Equal (or too similar) operating points: degenerate; R^ stays nominal. */
+static void equal_operating_points_are_degenerate(void **state)
+{
+    (void)state;
+    rs_ident_out_t o;
+    const double w = op_w_el(500.0);
+    rs_ident_t ri = make(R_NOM);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, 3.7, w, 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, OP_L0, OP_PSI0, 0.0, 3.7, w, 500);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_DEGENERATE);
+    assert_float_equal(o.R_est_Ohm, R_NOM, 1e-5);
+    rs_ident_reset(&ri);
+    /* |den| = 0.5 w < 0.3 * 3.7 w */
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, 3.2, w, 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, OP_L0, OP_PSI0, 0.0, 3.7, w, 500);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_DEGENERATE);
+    rs_ident_reset(&ri);
+    /* both at standstill */
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, 1.0, 0.0, 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, OP_L0, OP_PSI0, 0.0, 3.7, 0.0, 500);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_DEGENERATE);
+}
+
+/* iq not steady in a window (std 0.1 A > 0.05 A): refused. The std comes
+ * from sums relative to the first sample: exact at a large offset, where
+ * float sum(x^2) - n mean^2 would be all rounding. */
+static void non_steady_window_is_refused(void **state)
+{
+    (void)state;
+    rs_ident_out_t o;
+    const double w = op_w_el(500.0);
+    rs_ident_t ri = make(R_NOM);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
+    for (int k = 0; k < 500; k++) {
+        const double iq = 3.7 + ((k & 1) ? 0.1 : -0.1);
+        rs_ident_step(&ri, RS_IDENT_WINDOW_2, 0.0f, (float)(-(R_NOM - OP_R0) * iq), 0.0f,
+                      (float)iq, (float)w);
+    }
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_NOT_STEADY);
+    assert_float_equal(o.iq_std_A[1], 0.1, 1e-4);
+    assert_float_equal(o.R_est_Ohm, R_NOM, 1e-5);
+
+    rs_ident_reset(&ri);
+    for (int k = 0; k < 1000; k++) {
+        const double iq = 1000.0 + ((k & 1) ? 0.01 : -0.01);
+        rs_ident_step(&ri, RS_IDENT_WINDOW_1, 0.0f, 0.0f, 0.0f, (float)iq, (float)w);
+    }
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, OP_L0, OP_PSI0, 0.0, 3.7, w, 500);
+    (void)rs_ident_solve(&ri, &o);
+    assert_float_equal(o.iq_std_A[0], 0.01, 0.001); /* float spacing at 1000 A is 6e-5 */
+    assert_float_equal(o.iq_std_A[1], 0.0, 1e-6);
+}
+
+/* R^ outside the band [0.2, 2] x R_nom: refused with the value in dR. */
+static void out_of_band_is_refused(void **state)
+{
+    (void)state;
+    rs_ident_out_t o;
+    const double w = op_w_el(500.0);
+    /* true R0 = 3, observer nominal 20x: R^ = 0.05 R_nom */
+    rs_ident_t ri = make(20.0 * OP_R0);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, 20.0 * OP_R0, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, 20.0 * OP_R0, OP_L0, OP_PSI0, 0.0, 3.7, w, 500);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OUT_OF_BAND);
+    assert_float_equal(o.R_est_Ohm, 20.0 * OP_R0, 1e-4);
+    assert_float_equal(o.dR_Ohm, 19.0 * OP_R0, 1e-3);
+    /* observer nominal 0.3 R0: R^ = 3.3 R_nom */
+    ri = make(0.3 * OP_R0);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, 0.3 * OP_R0, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, 0.3 * OP_R0, OP_L0, OP_PSI0, 0.0, 3.7, w, 500);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OUT_OF_BAND);
+}
+
+/* Too few samples, NaN in a window, an invalid cfg, samples outside a
+ * window ignored. */
+static void other_refusals(void **state)
+{
+    (void)state;
+    rs_ident_out_t o;
+    const double w = op_w_el(500.0);
+    rs_ident_t ri = make(R_NOM);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, OP_L0, OP_PSI0, 0.0, 3.7, w, 50);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_TOO_FEW);
+    feed_analytic(&ri, RS_IDENT_WINDOW_NONE, R_NOM, OP_L0, OP_PSI0, 0.0, 100.0, w, 500);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_TOO_FEW);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, OP_L0, OP_PSI0, 0.0, 3.7, w, 450);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
+    rs_ident_step(&ri, RS_IDENT_WINDOW_2, NAN, 0.0f, 0.0f, 3.7f, (float)w);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_NON_FINITE);
+    assert_float_equal(o.R_est_Ohm, R_NOM, 1e-5);
+
+    rs_ident_cfg_t c;
+    rs_ident_cfg_defaults(&c, (float)R_NOM);
+    c.den_ratio_min = 1.5f;
+    assert_false(rs_ident_init(&ri, &c));
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_INVALID_CFG);
+    rs_ident_cfg_defaults(&c, (float)R_NOM);
+    c.R_max_Ohm = (float)(0.5 * R_NOM);
+    assert_false(rs_ident_init(&ri, &c));
+    rs_ident_cfg_defaults(&c, NAN);
+    assert_false(rs_ident_init(&ri, &c));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(analytic_paper_case),
+        cmocka_unit_test(analytic_all_mismatched_and_two_speeds),
+        cmocka_unit_test(plant_and_observer_paper_case),
+        cmocka_unit_test(equal_operating_points_are_degenerate),
+        cmocka_unit_test(non_steady_window_is_refused),
+        cmocka_unit_test(out_of_band_is_refused),
+        cmocka_unit_test(other_refusals),
+    };
+    return cmocka_run_group_tests_name("rs_ident", tests, NULL, NULL);
+}
