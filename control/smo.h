@@ -3,29 +3,27 @@
  * method (paper sec. V-A, eq. 28-32, discrete 51b and 55), with the
  * corrections of the design (observer_design.md sec. 1).
  *
- * Design note.
- *  - Signs: the observer model is L^ di/dt = u - R^ i +- w L^ i - w psi^ - f,
- *    so with d = x^ - x0 the disturbances are fd = -dL did/dt - dR id +
- *    dL w iq and fq = -dL diq/dt - dR iq - dL w id - dpsi w: every sign is
- *    opposite to the printed (26)-(27), which is what breaks (41)-(42),
- *    (50) and (54). The error dynamics L^ de/dt = -R^ e - (f^ - f) - U
- *    need U = +Ks sat(e/phi) and f^' = mu U (mu > 0, as (37)-(38)); the
- *    A11 e term of (32) is dimensionally wrong and dropped.
+ * Design note (replaces (25)-(28), (32), (43)-(55); figures: design doc
+ * sec. 4 and tests/test_smo.c, test_param_est.c).
+ *  - Signs: with d = x^ - x0 and the model L^ di/dt = u - R^ i +- w L^ i -
+ *    w psi^ - f: fd = -dL did/dt - dR id + dL w iq, fq = -dL diq/dt - dR iq
+ *    - dL w id - dpsi w, all opposite to (26)-(27) (root of the errors in
+ *    (41)-(42), (50), (54)). L^ de/dt = -R^ e - (f^ - f) - U needs
+ *    U = +Ks sat(e/phi), f^' = +mu U; (32)'s A11 e term is dropped.
  *  - psi_f: in (46)-(50) fq^ and w psi^ both integrate U, so only their sum
- *    is pinned and psi^ keeps part of its error (50 % measured with
- *    b = 1/w^2; a fixed b is unstable at 2000 r/min). Replaced by transfer
- *    laws (param_est.h): a fraction gamma*Ts of fq^ (fd^) is moved into
- *    psi^ (L^) per period with w psi^ + fq^ (w L^ iq - fd^) unchanged, so
- *    the observer never sees the move; the only equilibrium is f^ = 0, i.e.
- *    the parameters explain the whole mismatch. 1/w and 1/(w iq) are the
- *    speed schedule, the slow rates gamma are speed independent.
- *  - Boundary layer: pure sign() chattered 0.9 A/step and let L^ diverge
- *    at Ks = 100 V (at 20 V: 0.1 N m rms ripple, L^ off 1.5 %); sat(e/phi)
- *    with Ks/phi = 100 V / 2.5 A is a linear observer inside the layer,
- *    double pole ~0.80, 3.5x below the discrete stability limit.
- *  - Discrete gain g = (Ts/L^)(1 - Ts R^/(2 L^)) (ZOH second-order term)
- *    instead of the Euler Ts/L of (51b), (55): removes a 0.6 % tail.
- *  Replaces (28), (32), (43), (51b), (52), (55).
+ *    is pinned: psi^ keeps up to half its error (b = 1/w^2), a fixed b is
+ *    unstable at 2000 r/min. Transfer laws instead (param_est.h): gamma*Ts
+ *    of fq^ (fd^) moves into psi^ (L^) per period with w psi^ + fq^
+ *    (w L^ iq - fd^) kept, so the observer never sees it; the only
+ *    equilibrium is f^ = 0 with U = 0, and the slow errors obey
+ *    dDL/dt = -gL DL, dDpsi/dt = -gpsi (Dpsi + DL id) -> 0. 1/w, 1/(w iq)
+ *    are the speed schedule: 2 % in 22 ms (L) and 66 ms (psi) at 200, 500
+ *    and 2000 r/min alike.
+ *  - Boundary layer Ks/phi = 100 V / 2.5 A: sign() chattered 0.9 A/step and
+ *    L^ diverged (Ks = 20 V: 0.1 N m rms, L^ off 1.5 %); inside the layer a
+ *    linear observer, double pole ~0.80, 3.5x below the stability limit.
+ *  - g = (Ts/L^)(1 - Ts R^/(2 L^)) (ZOH 2nd-order term) replaces Ts/L of
+ *    (51b), (55): removes a 0.6 % tail after torque steps.
  *
  * Timing (k = sample just taken): smo_step() gets i(k), w(k) and the
  * clamped voltage u(k) applied over [k, k+1], and gives i^(k+1).

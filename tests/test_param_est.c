@@ -12,6 +12,7 @@
 
 #include "obs_plant.h"
 #include "param_est.h"
+#include "rs_ident.h"
 
 typedef struct {
     smo_t smo;
@@ -284,6 +285,71 @@ static void init_validates(void **state)
     assert_false(r.pe.running);
 }
 
+/* The whole sequence on one observer: R = 4.3 R0, L = 1.5 L0, psi = 2 psi0
+ * in the controller; step 1 at 500 r/min, 2 N m then 4 N m (windows
+ * 0.05-0.10 s, 0.15-0.20 s), rs_ident, bumpless smo_set_R(), then step 2
+ * at 4 N m: all three estimates within 1 % at 0.6 s. */
+static void full_sequence_step1_then_step2(void **state)
+{
+    (void)state;
+    smo_cfg_t c;
+    smo_t smo;
+    smo_cfg_defaults(&c, (float)OP_TS, (float)(4.3 * OP_R0), (float)(1.5 * OP_L0),
+                     (float)(2.0 * OP_PSI0));
+    c.R_min_Ohm = 0.5f;
+    c.R_max_Ohm = 15.0f;
+    c.L_min_H = (float)(0.3 * OP_L0);
+    c.L_max_H = (float)(3.0 * OP_L0);
+    c.psi_min_Wb = (float)(0.3 * OP_PSI0);
+    c.psi_max_Wb = (float)(3.0 * OP_PSI0);
+    c.f_max_V = 400.0f;
+    c.i_max_A = 60.0f;
+    c.u_max_V = 600.0f;
+    c.omega_max_rad_s = 3000.0f;
+    assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
+    param_est_cfg_t pc;
+    param_est_t pe;
+    param_est_cfg_defaults(&pc, (float)OP_TS, (float)OP_L0, (float)OP_PSI0);
+    pc.L_min_H = c.L_min_H;
+    pc.L_max_H = c.L_max_H;
+    pc.psi_min_Wb = c.psi_min_Wb;
+    pc.psi_max_Wb = c.psi_max_Wb;
+    assert_true(param_est_init(&pe, &pc, &smo));
+    rs_ident_cfg_t rc;
+    rs_ident_t ri;
+    rs_ident_cfg_defaults(&rc, c.R_Ohm);
+    rc.R_min_Ohm = c.R_min_Ohm;
+    rc.R_max_Ohm = c.R_max_Ohm;
+    assert_true(rs_ident_init(&ri, &rc));
+
+    op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, 0.0 };
+    const double w = op_w_el(500.0);
+    for (int k = 0; k < 6000; k++) {
+        double ud, uq;
+        op_u_for(&p, 0.0, op_iq_of_te(k < 1000 ? 2.0 : 4.0), w, &ud, &uq);
+        (void)smo_step(&smo, dq(p.id, p.iq), (float)w, dq(ud, uq));
+        if (k < 2000) {
+            rs_ident_window_t win = (k >= 500 && k < 1000) ? RS_IDENT_WINDOW_1
+                                    : (k >= 1500)          ? RS_IDENT_WINDOW_2
+                                                           : RS_IDENT_WINDOW_NONE;
+            rs_ident_step(&ri, win, smo.fd_V, smo.fq_V, (float)p.id, (float)p.iq, (float)w);
+        } else if (k == 2000) {
+            rs_ident_out_t o;
+            assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
+            assert_true(smo_set_R(&smo, o.R_est_Ohm));
+            param_est_run(&pe, true);
+        }
+        (void)param_est_step(&pe, &smo, (float)w, (float)p.iq);
+        op_step(&p, ud, uq, w);
+    }
+    printf("    full sequence: R^ %+.4f %%, L^ %+.4f %%, psi^ %+.4f %%\n",
+           100.0 * (smo.R_Ohm / OP_R0 - 1.0), 100.0 * (smo.L_H / OP_L0 - 1.0),
+           100.0 * (smo.psi_f_Wb / OP_PSI0 - 1.0));
+    assert_float_equal(smo.R_Ohm, OP_R0, 0.01 * OP_R0);
+    assert_float_equal(smo.L_H, OP_L0, 0.01 * OP_L0);
+    assert_float_equal(smo.psi_f_Wb, OP_PSI0, 0.01 * OP_PSI0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -293,6 +359,7 @@ int main(void)
         cmocka_unit_test(clamps_hold),
         cmocka_unit_test(transfer_laws_are_bumpless),
         cmocka_unit_test(init_validates),
+        cmocka_unit_test(full_sequence_step1_then_step2),
     };
     return cmocka_run_group_tests_name("param_est", tests, NULL, NULL);
 }
