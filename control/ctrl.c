@@ -27,6 +27,16 @@
 #define SERIES_INV_120 0.00833333333f
 #define SERIES_INV_720 0.00138888889f
 #define DUTY_ZERO_VOLTAGE 0.5f
+/* Default floor of L^: this factor above the observer's stability bound
+ * L > (Ks/phi + R_max) Ts / 2 (smo_init), so an estimate near the floor
+ * still leaves the linear region a pole margin. */
+#define OBS_L_MIN_STABILITY_MARGIN 1.25f
+#define HALF 0.5f
+
+/* What db.par holds (ctrl_t.model_nominal). */
+#define MODEL_OBSERVER 0u      /* the observer's estimates, up to date */
+#define MODEL_NOMINAL  1u      /* the configured parameters */
+#define MODEL_STALE    2u      /* the observer's, but R^ changed since */
 
 static uint16_t map_dbdtc_flags(uint16_t f)
 {
@@ -40,17 +50,77 @@ static uint16_t map_dbdtc_flags(uint16_t f)
     return out;
 }
 
-void ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
+void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm)
+{
+    smo_cfg_t *sc = &cfg->smo;
+    param_est_cfg_t *ec = &cfg->est;
+
+    cfg->R_min_Ohm = R_min_Ohm;
+    cfg->R_max_Ohm = R_max_Ohm;
+    smo_cfg_defaults(sc, cfg->Ts_s, cfg->Rs_Ohm, cfg->Ls_H, cfg->psi_f_Wb);
+    const float L_stable_H = OBS_L_MIN_STABILITY_MARGIN * HALF * cfg->Ts_s *
+                             (sc->Ks_V / sc->phi_A + R_max_Ohm);
+    sc->L_min_H = mathx_clampf(sc->L_min_H, L_stable_H, sc->L_max_H);
+    sc->f_max_V = cfg->u_max_V; /* a disturbance beyond the voltage bound is no estimate */
+    param_est_cfg_defaults(ec, cfg->Ts_s, cfg->Ls_H, cfg->psi_f_Wb);
+    ec->L_min_H = sc->L_min_H;  /* clamps = the observer's ranges */
+    ec->L_max_H = sc->L_max_H;
+    ec->psi_min_Wb = sc->psi_min_Wb;
+    ec->psi_max_Wb = sc->psi_max_Wb;
+    rs_ident_cfg_defaults(&cfg->rsid, cfg->Rs_Ohm);
+}
+
+/* The proposed method's blocks, with the fields that repeat ctrl_cfg_t taken from it. */
+static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
+{
+    smo_cfg_t sc = cfg->smo;
+    param_est_cfg_t ec = cfg->est;
+    rs_ident_cfg_t rc = cfg->rsid;
+
+    sc.Ts_s = cfg->Ts_s;
+    sc.R_Ohm = cfg->Rs_Ohm;
+    sc.L_H = cfg->Ls_H;
+    sc.psi_f_Wb = cfg->psi_f_Wb;
+    sc.R_min_Ohm = cfg->R_min_Ohm;
+    sc.R_max_Ohm = cfg->R_max_Ohm;
+    sc.i_max_A = cfg->i_max_A;
+    sc.u_max_V = cfg->u_max_V;
+    sc.omega_max_rad_s = cfg->omega_max_el_rad_s;
+    ec.Ts_s = cfg->Ts_s;
+    rc.R_nom_Ohm = cfg->Rs_Ohm;
+    rc.R_min_Ohm = cfg->R_min_Ohm;
+    rc.R_max_Ohm = cfg->R_max_Ohm;
+
+    if (smo_init(&c->smo, &sc) != SMO_CFG_OK) {
+        (void)param_est_init(&c->pe, &ec, &c->smo); /* refused too: frozen for good */
+        (void)rs_ident_init(&c->ri, &rc);
+        return CTRL_CFG_OBSERVER;
+    }
+    if (!param_est_init(&c->pe, &ec, &c->smo)) {
+        (void)rs_ident_init(&c->ri, &rc);
+        return CTRL_CFG_ESTIMATOR;
+    }
+    return rs_ident_init(&c->ri, &rc) ? CTRL_CFG_OK : CTRL_CFG_RSID;
+}
+
+ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 {
     encoder_cfg_t ec;
     dbdtc_cfg_t dc;
     pi_cfg_t pc;
+    const rs_ident_out_t no_result = { 0 };
 
     c->cfg = *cfg;
 
     ec.counts_per_rev = 4u * cfg->enc_lines;
     ec.pole_pairs = cfg->pole_pairs;
+    /* the x4 count is the floor of the angle: the interval's centre is
+     * unbiased (half a count lag, 0.94 mrad el at 2500 lines, p = 3, put
+     * a 0.8 % bias into L^ through the back-EMF seen on d) */
     ec.offset_elec_rad = cfg->enc_offset_el_rad;
+    if (ec.counts_per_rev > 0u) { /* 0 is refused by encoder_init */
+        ec.offset_elec_rad += MATHX_PI_F * (float)cfg->pole_pairs / (float)ec.counts_per_rev;
+    }
     ec.Ts_s = cfg->Ts_s;
     ec.pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
     (void)encoder_init(&c->enc, &ec); /* an invalid cfg reads angle 0, speed 0 */
@@ -74,6 +144,9 @@ void ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     pc.u_max = cfg->te_max_Nm;
     (void)pi_init(&c->speed_pi, &pc); /* an invalid cfg gives Te* = 0 */
 
+    c->status = init_proposed(c, cfg);
+    c->rsid_out = no_result;
+    c->rsid_out.R_est_Ohm = cfg->Rs_Ohm;
     c->mode = CTRL_MODE_TORQUE;
     c->mode_req = CTRL_MODE_TORQUE;
     c->method = CTRL_METHOD_CONVENTIONAL;
@@ -82,12 +155,19 @@ void ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     c->ref.ud_ref_V = 0.0f;
     c->ref.uq_ref_V = 0.0f;
     ctrl_reset(c);
+    return c->status;
 }
 
 void ctrl_reset(ctrl_t *c)
 {
     encoder_reset(&c->enc);
     dbdtc_reset(&c->db);
+    c->model_nominal = MODEL_NOMINAL;
+    smo_reset(&c->smo);
+    param_est_reset(&c->pe);
+    rs_ident_reset(&c->ri);
+    c->rsid_win = RS_IDENT_WINDOW_NONE;
+    c->est = CTRL_EST_OFF;
     pi_reset(&c->speed_pi, 0.0f);
     c->mode = c->mode_req;
     c->u_applied_V.d = 0.0f;
@@ -108,6 +188,8 @@ void ctrl_reset(ctrl_t *c)
     c->mon.psi_f_est_Wb = c->db.par.psi_f_Wb;
     c->mon.fd_est = 0.0f;
     c->mon.fq_est = 0.0f;
+    c->mon.est = CTRL_EST_OFF;
+    c->mon.model_from_observer = 0u;
 }
 
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
@@ -115,9 +197,74 @@ void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
     c->mode_req = mode;
 }
 
-void ctrl_set_method(ctrl_t *c, ctrl_method_t method)
+bool ctrl_set_method(ctrl_t *c, ctrl_method_t method)
 {
-    c->method = method;
+    if ((method == CTRL_METHOD_PROPOSED) && (c->status != CTRL_CFG_OK)) {
+        return false;
+    }
+    c->method = method; /* one store: the ISR sees the old or the new method */
+    return true;
+}
+
+bool ctrl_rsid_begin(ctrl_t *c)
+{
+    if (c->status != CTRL_CFG_OK) {
+        return false;
+    }
+    smo_reset(&c->smo); /* nominal R, L, psi: rs_ident's dR is relative to them */
+    param_est_run(&c->pe, false);
+    rs_ident_reset(&c->ri);
+    c->rsid_win = RS_IDENT_WINDOW_NONE;
+    c->est = CTRL_EST_STEP1;
+    return true;
+}
+
+void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
+{
+    c->rsid_win = win;
+}
+
+rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
+{
+    rs_ident_result_t r = rs_ident_solve(&c->ri, &c->rsid_out);
+
+    rs_ident_reset(&c->ri); /* a second finish without a begin finds no data */
+    c->rsid_win = RS_IDENT_WINDOW_NONE;
+    if (c->est != CTRL_EST_STEP1) {
+        r = RS_IDENT_TOO_FEW; /* no step 1 under way */
+    } else if ((r == RS_IDENT_OK) && !smo_set_R(&c->smo, c->rsid_out.R_est_Ohm)) {
+        r = RS_IDENT_OUT_OF_BAND; /* same band as rs_ident's: not expected */
+    }
+    if (r == RS_IDENT_OK) {
+        param_est_run(&c->pe, true);
+        c->est = CTRL_EST_STEP2;
+        if (c->model_nominal == MODEL_OBSERVER) {
+            c->model_nominal = MODEL_STALE;
+        }
+    } else {
+        c->est = CTRL_EST_OFF;
+    }
+    return r;
+}
+
+bool ctrl_est_start(ctrl_t *c, float R_Ohm)
+{
+    /* ! (in band): NaN fails too */
+    if ((c->status != CTRL_CFG_OK) || !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
+        return false;
+    }
+    if (c->est == CTRL_EST_OFF) {
+        smo_reset(&c->smo); /* seeded with i(k) at the next step, f^ = 0 */
+    }
+    (void)smo_set_R(&c->smo, R_Ohm); /* in band: accepted */
+    rs_ident_reset(&c->ri);
+    c->rsid_win = RS_IDENT_WINDOW_NONE;
+    param_est_run(&c->pe, true);
+    c->est = CTRL_EST_STEP2;
+    if (c->model_nominal == MODEL_OBSERVER) {
+        c->model_nominal = MODEL_STALE;
+    }
+    return true;
 }
 
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
@@ -127,18 +274,34 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
 
 /*
  * The model: parameters in use (in c->db.par) and the state at k+1 that
- * compensates the one-period delay. This is the one place the methods
- * differ; the proposed method's observer will set the parameters with
- * dbdtc_set_params() and return dbdtc_state_from_currents(its i(k+1)).
+ * compensates the one-period delay; the one place the methods differ
+ * (steps 2-4 of the header's sequence).
  */
 static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
 {
-    switch (c->method) {
-    case CTRL_METHOD_PROPOSED: /* observer not there yet: runs as conventional */
-    case CTRL_METHOD_CONVENTIONAL:
-    default:
-        return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s); /* eq. (10)-(12) */
+    if (c->est != CTRL_EST_OFF) {
+        /* u(k) is the clamped voltage the last step realised, as the observer needs */
+        const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
+        if (c->est == CTRL_EST_STEP1) {
+            rs_ident_step(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
+                          omega_el_rad_s);
+        } else {
+            const uint16_t moved = param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
+            if (c->method == CTRL_METHOD_PROPOSED) {
+                /* 2 divisions, only when an estimate moved */
+                if ((moved != 0u) || (c->model_nominal != MODEL_OBSERVER)) {
+                    dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->smo.psi_f_Wb);
+                    c->model_nominal = MODEL_OBSERVER;
+                }
+                return dbdtc_state_from_currents(&c->db, i_hat); /* replaces eq. (10) */
+            }
+        }
     }
+    if (c->model_nominal != MODEL_NOMINAL) {
+        dbdtc_reset(&c->db); /* back from the proposed method: 2 divisions once */
+        c->model_nominal = MODEL_NOMINAL;
+    }
+    return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s); /* eq. (10)-(12) */
 }
 
 /* sin/cos of theta + delta from those of theta: rotation by a series in
@@ -227,17 +390,29 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     c->mon.te_est_Nm = x.te_Nm;
     c->mon.psi_ref_Wb = psi_ref;
     c->mon.psi_est_Wb = mathx_sqrtf(x.psi_dq_Wb.d * x.psi_dq_Wb.d + x.psi_dq_Wb.q * x.psi_dq_Wb.q);
-    c->mon.R_est_Ohm = par->Rs_Ohm;
-    c->mon.L_est_H = par->Ls_H;
-    c->mon.psi_f_est_Wb = par->psi_f_Wb;
-    c->mon.fd_est = 0.0f;
-    c->mon.fq_est = 0.0f;
+    if (c->est != CTRL_EST_OFF) { /* the observer's estimates, used or not */
+        c->mon.R_est_Ohm = c->smo.R_Ohm;
+        c->mon.L_est_H = c->smo.L_H;
+        c->mon.psi_f_est_Wb = c->smo.psi_f_Wb;
+        c->mon.fd_est = c->smo.fd_V;
+        c->mon.fq_est = c->smo.fq_V;
+    } else {
+        c->mon.R_est_Ohm = par->Rs_Ohm;
+        c->mon.L_est_H = par->Ls_H;
+        c->mon.psi_f_est_Wb = par->psi_f_Wb;
+        c->mon.fd_est = 0.0f;
+        c->mon.fq_est = 0.0f;
+    }
+    c->mon.est = c->est;
+    c->mon.model_from_observer = (c->model_nominal == MODEL_OBSERVER) ? 1u : 0u;
 
     /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
-     * are in it because the blocks clamp (a NaN would become a bound). */
+     * are in it because the blocks clamp (a NaN would become a bound); the
+     * observer state because it carries over to the next periods. */
     chk = in->ia_A + in->ib_A + in->vdc_V + c->ref.speed_ref_rad_s + c->ref.te_ref_Nm +
           c->ref.ud_ref_V + c->ref.uq_ref_V + omega + x.te_Nm + u.d + u.q + duty.a + duty.b +
-          duty.c + c->u_applied_V.d + c->u_applied_V.q;
+          duty.c + c->u_applied_V.d + c->u_applied_V.q + c->smo.fd_V + c->smo.fq_V +
+          c->smo.i_hat_A.d + c->smo.i_hat_A.q + c->smo.L_H + c->smo.psi_f_Wb;
     if (!mathx_isfinitef(chk)) {
         duty.a = DUTY_ZERO_VOLTAGE;
         duty.b = DUTY_ZERO_VOLTAGE;

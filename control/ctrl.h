@@ -15,17 +15,41 @@
  *   middle of the period the voltage is applied in: theta + 1.5*omega*Ts
  *   the realised voltage is kept for the next step's prediction.
  *
+ * Proposed method (paper sec. V; observer_design.md sec. 2), per period:
+ *   1. encoder + Park -> i(k), w(k)
+ *   2. when the observer runs: i^(k+1) = smo_step(i(k), w(k), u(k)), u(k)
+ *      the clamped voltage realised over [k, k+1] (kept by the last step)
+ *   3. step 1 (ctrl_rsid_begin .. ctrl_rsid_finish): conventional control
+ *      with the nominal parameters whatever the method; the observer's
+ *      fd^, fq^ and i(k), w(k) go into the window the caller selected
+ *   4. step 2 (after ctrl_rsid_finish OK or ctrl_est_start): param_est on
+ *      the observer state; with CTRL_METHOD_PROPOSED the model takes the
+ *      estimates R^, L^, psi^ and x(k+1) from i^(k+1) (eq. 11, 12) instead
+ *      of eq. (10); MTPA, eq. (17), limit, SVPWM as above
+ *   5. monitor: fd^, fq^ and R^, L^, psi^ while the observer runs
+ * Method switching policy (bumpless both ways): once step 2 has started,
+ * observer and estimator keep running whatever the method, so
+ * CONVENTIONAL -> PROPOSED takes a converged observer and PROPOSED ->
+ * CONVENTIONAL only swaps the model back to the nominal parameters and
+ * eq. (10). PROPOSED before step 2 has started (no R^ identified or
+ * trusted) controls exactly as CONVENTIONAL: the observer's psi^ would
+ * otherwise absorb the resistance error (design sec. 4, "skipping step 1").
+ *
  * Non-finite inputs or results give 50 % duties and CTRL_FLAG_NONFINITE.
  */
 #ifndef CTRL_H
 #define CTRL_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "clarke_park.h"
 #include "dbdtc.h"
 #include "encoder.h"
+#include "param_est.h"
 #include "pi.h"
+#include "rs_ident.h"
+#include "smo.h"
 
 typedef enum { CTRL_MODE_OPEN_LOOP = 0, CTRL_MODE_TORQUE = 1, CTRL_MODE_SPEED = 2 } ctrl_mode_t;
 typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_method_t;
@@ -51,7 +75,29 @@ typedef struct {
     float u_max_V;              /* bound on |ud|, |uq| before the hexagon */
     float omega_max_el_rad_s;   /* bound on |omega_el| the model uses */
     float psi_max_Wb;           /* bound on psi_s* */
+    /* Proposed method; ctrl_cfg_proposed_defaults() fills all of it. The
+     * fields of smo/est/rsid that repeat the ones above (Ts, nominal R, L,
+     * psi_f, the bounds, the R band) are taken from here by ctrl_init(). */
+    float R_min_Ohm;            /* accepted R^ band [Ohm], absolute: rs_ident's */
+    float R_max_Ohm;            /*   plausibility check and smo's setter range */
+    smo_cfg_t smo;              /* observer gains and ranges */
+    param_est_cfg_t est;        /* step-2 rates, thresholds, clamps */
+    rs_ident_cfg_t rsid;        /* step-1 checks */
 } ctrl_cfg_t;
+
+typedef enum {
+    CTRL_CFG_OK = 0,
+    CTRL_CFG_OBSERVER = 1,      /* smo_init refused: see ctrl_t.smo.status (stability, (36)) */
+    CTRL_CFG_ESTIMATOR = 2,     /* param_est_init refused */
+    CTRL_CFG_RSID = 3           /* rs_ident_init refused */
+} ctrl_status_t;
+
+/* Where the proposed method's steps stand (ctrl_t.est, monitor). */
+typedef enum {
+    CTRL_EST_OFF = 0,           /* observer stopped */
+    CTRL_EST_STEP1 = 1,         /* observer runs, R^ being identified, conventional control */
+    CTRL_EST_STEP2 = 2          /* observer and L^, psi^ estimator run */
+} ctrl_est_t;
 
 typedef struct { float ia_A; float ib_A; float vdc_V; uint32_t enc_count; } ctrl_in_t; /* one period's samples */
 
@@ -70,7 +116,9 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float te_ref_Nm, te_est_Nm;           /* torque reference and the controller's torque estimate (at k+1) */
     float psi_ref_Wb, psi_est_Wb;         /* stator-flux reference and estimate (at k+1) */
     float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* parameters in use (nominal for the conventional method) */
-    float fd_est, fq_est;                 /* observer disturbances (0 for the conventional method) */
+    float fd_est, fq_est;                 /* observer disturbances (0 while the observer is stopped) */
+    ctrl_est_t est;                       /* step of the proposed method */
+    uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
 } ctrl_mon_t;
 
 typedef struct {
@@ -83,21 +131,64 @@ typedef struct {
     dbdtc_t db;                 /* parameters in use live in db.par */
     pi_t speed_pi;
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
+    ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */
+    ctrl_est_t est;
+    smo_t smo;                  /* observer: R^, L^, psi^, f^, i^ */
+    param_est_t pe;             /* step 2 */
+    rs_ident_t ri;              /* step 1 windows */
+    rs_ident_window_t rsid_win; /* window the coming periods go into */
+    rs_ident_out_t rsid_out;    /* last ctrl_rsid_finish() result (R^, window means) */
+    uint16_t model_nominal;     /* 1: db.par holds the configured parameters */
     ctrl_mon_t mon;
 } ctrl_t;
 
-/* Start-up: copy *cfg, build the blocks, reset; mode torque, method conventional. */
-void ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg);
+/* Fills the proposed method's settings of *cfg from its other fields
+ * (set those first) with the modules' design defaults, the R^ band
+ * [R_min_Ohm, R_max_Ohm] (absolute: the nominal R may be far from the
+ * motor's) and L^ kept above the observer's stability bound at R_max.
+ * Background, before ctrl_init. */
+void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
 
-/* Clear states (integrator, speed estimate, applied voltage). Background, before PWM is enabled. */
+/* Start-up: copy *cfg, build the blocks, reset; mode torque, method
+ * conventional. Checks the proposed method's settings (observer stability
+ * bound and condition (36) in smo_init, estimator and step-1 limits);
+ * anything but CTRL_CFG_OK leaves the conventional method working and the
+ * proposed one unavailable: the app must refuse to start when it needs it. */
+ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg);
+
+/* Clear states (integrator, speed estimate, applied voltage); observer
+ * stopped, estimates back to nominal (step 1 is to be repeated). Background,
+ * or ISR before PWM is enabled. */
 void ctrl_reset(ctrl_t *c);
 
 /* Background; takes effect at the next step (bumpless into speed mode). */
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode);
 
-/* Background; switchable at run time. Until the observer exists the
- * proposed method runs as the conventional one. */
-void ctrl_set_method(ctrl_t *c, ctrl_method_t method);
+/* Background or ISR; switchable at run time, bumpless (policy in the
+ * header comment). Returns false (method unchanged) for PROPOSED when
+ * ctrl_init did not return CTRL_CFG_OK. */
+bool ctrl_set_method(ctrl_t *c, ctrl_method_t method);
+
+/* Step 1 begins: observer (re)started from the nominal parameters, step 2
+ * stopped, windows emptied; control conventional until ctrl_rsid_finish().
+ * Returns false when the proposed method is unavailable. ISR (the app's
+ * state machine) or background while stopped. */
+bool ctrl_rsid_begin(ctrl_t *c);
+
+/* Window the following periods are averaged into (RS_IDENT_WINDOW_NONE
+ * while settling). ISR or background. */
+void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win);
+
+/* Step 1 ends: solves (design sec. 1c) into c->rsid_out; on RS_IDENT_OK
+ * sets R^ bumplessly and starts step 2, otherwise stops the observer and
+ * returns the reason. ISR once (about 20 divisions) or background. */
+rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
+
+/* Step 2 without step 1, for an R the caller trusts (a recent
+ * identification at the same winding temperature): R^ = R_Ohm, observer
+ * started (seeded) if stopped, estimator running. False when R_Ohm is
+ * outside [R_min_Ohm, R_max_Ohm] or the method is unavailable. ISR or background. */
+bool ctrl_est_start(ctrl_t *c, float R_Ohm);
 
 /* References [rad/s mech, N m, V]. Background or ISR. */
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref);
