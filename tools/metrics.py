@@ -18,9 +18,16 @@ controller's references (te_ref_Nm, psi_ref_Wb, speed_ref_rpm):
     step_settle_periods periods until Te stays within 2 % of the step
   load step (--load-window A:B, speed mode):
     recovery_ms     time from A until the speed stays within 1 r/min
+    speed_dip_rpm   largest speed - speed* below zero in A..B, as a positive number
+  estimates (--truth R:L:psif, the plant's values; columns R_est_ohm,
+  L_est_H, psif_est_Wb, est):
+    R_err_pct, L_err_pct, psif_err_pct  mean of (x^ - x)/x over the steady window
+    t2_L_ms, t2_psif_ms  time from step 2's start (first row with est = 2)
+                    until the estimate stays within 2 % up to the window's end
+                    (None: no step 2, or never)
 
 Usage: metrics.py RUN.csv [--window 0.8:0.95] [--load-window 0.95:1.05]
-                  [--Ts 1e-4] [--json]
+                  [--truth 3:0.011:0.24] [--Ts 1e-4] [--json]
 """
 import argparse
 import csv
@@ -33,6 +40,9 @@ STEP_REACH = 0.95         # fraction of the torque step counted as reached
 SETTLE_BAND = 0.02        # settling band, fraction of the torque step
 STEP_MIN_NM = 1e-3        # a Te* jump smaller than this is no step
 MAX_STEPS = 4             # more jumps than this: Te* is not a step profile
+EST_BAND = 0.02           # convergence band of the estimates, fraction of the true value
+EST_STEP2 = 2             # ctrl_est_t CTRL_EST_STEP2 in the est column
+EST_COLS = (("R", "R_est_ohm"), ("L", "L_est_H"), ("psif", "psif_est_Wb"))
 
 
 def load_csv(path):
@@ -129,7 +139,49 @@ def load_recovery(col, t0, t1):
     return 1e3 * (col["t_s"][idx[out[-1] + 1]] - t0)
 
 
-def compute(path, window=(0.8, 0.95), load_window=None, Ts=1e-4):
+def speed_dip(col, t0, t1):
+    """Largest speed shortfall [r/min] below the reference in t0..t1 (0 if none)."""
+    idx = [i for i, t in enumerate(col["t_s"]) if t0 <= t < t1]
+    if not idx:
+        return None
+    return max(0.0, _max([col["speed_ref_rpm"][i] - col["speed_rpm"][i] for i in idx]))
+
+
+def step2_start(col):
+    """t of the first row with est = step 2 (None without one)."""
+    est = col.get("est")
+    if est is None:
+        return None
+    return next((t for t, e in zip(col["t_s"], est) if e == EST_STEP2), None)
+
+
+def estimates(col, truth, t0, t1):
+    """Relative errors of R^, L^, psi_f^ against truth = (R, L, psif), and
+    the time from step 2's start until L^ and psi_f^ stay within the band."""
+    out = {}
+    idx = [i for i, t in enumerate(col["t_s"]) if t0 <= t < t1]
+    ts2 = step2_start(col)
+    out["t_step2_s"] = ts2
+    for (name, c), x0 in zip(EST_COLS, truth):
+        if c not in col or not idx:
+            continue
+        out[f"{name}_err_pct"] = 100.0 * _mean([(col[c][i] - x0) / x0 for i in idx])
+        if name == "R":
+            continue
+        key = f"t2_{name}_ms"
+        out[key] = None
+        if ts2 is None:
+            continue
+        rows = [i for i, t in enumerate(col["t_s"]) if ts2 <= t < t1]
+        bad = [i for i in rows if not abs(col[c][i] - x0) <= EST_BAND * x0]
+        if not bad:
+            out[key] = 0.0
+        elif bad[-1] != rows[-1]:
+            out[key] = 1e3 * (col["t_s"][bad[-1] + 1] - ts2)
+    return out
+
+
+def compute(path, window=(0.8, 0.95), load_window=None, Ts=1e-4, truth=None):
     col = load_csv(path)
     for need in ("t_s", "te_Nm", "te_ref_Nm", "psi_Wb", "psi_ref_Wb", "speed_rpm", "speed_ref_rpm"):
         if need not in col:
@@ -141,6 +193,9 @@ def compute(path, window=(0.8, 0.95), load_window=None, Ts=1e-4):
         res.update(ts)
     if load_window is not None:
         res["recovery_ms"] = load_recovery(col, *load_window)
+        res["speed_dip_rpm"] = speed_dip(col, *load_window)
+    if truth is not None:
+        res.update(estimates(col, truth, *window))
     st = col.get("state")
     res["final_state"] = int(st[-1]) if st else None
     return res
@@ -158,11 +213,13 @@ def main(argv=None):
     ap.add_argument("--window", default="0.8:0.95", help="steady window t0:t1 [s]")
     ap.add_argument("--load-window", default=None, help="load step t0:t1 [s] for the speed recovery")
     ap.add_argument("--Ts", type=float, default=1e-4, help="control period [s]")
+    ap.add_argument("--truth", default=None, help="plant R:L:psif for the estimates' errors")
     ap.add_argument("--json", action="store_true", help="print JSON instead of text")
     a = ap.parse_args(argv)
     try:
+        truth = tuple(float(x) for x in a.truth.split(":")) if a.truth else None
         res = compute(a.csv, parse_window(a.window),
-                      parse_window(a.load_window) if a.load_window else None, a.Ts)
+                      parse_window(a.load_window) if a.load_window else None, a.Ts, truth)
     except (OSError, ValueError) as e:
         print(f"metrics.py: {e}", file=sys.stderr)
         return 1
@@ -179,7 +236,13 @@ def main(argv=None):
               f"95 % in {fmt(res['step_periods_95'], 'd')} periods, overshoot {res['step_overshoot_pct']:.2f} %, "
               f"settled (2 %) after {fmt(res['step_settle_periods'], 'd')} periods")
     if "recovery_ms" in res:
-        print(f"  speed back within {SPEED_BAND_RPM:g} r/min after {fmt(res['recovery_ms'], '.1f')} ms")
+        print(f"  speed back within {SPEED_BAND_RPM:g} r/min after {fmt(res['recovery_ms'], '.1f')} ms, "
+              f"dip {fmt(res['speed_dip_rpm'], '.2f')} r/min")
+    if "R_err_pct" in res:
+        print(f"  estimates: R {fmt(res['R_err_pct'], '+.3f')} %, L {fmt(res.get('L_err_pct'), '+.3f')} %, "
+              f"psi_f {fmt(res.get('psif_err_pct'), '+.3f')} %; within 2 % after step 2 "
+              f"(t = {fmt(res['t_step2_s'], '.3f')} s): L {fmt(res.get('t2_L_ms'), '.1f')} ms, "
+              f"psi_f {fmt(res.get('t2_psif_ms'), '.1f')} ms")
     return 0
 
 

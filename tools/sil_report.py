@@ -1,15 +1,28 @@
 #!/usr/bin/env python3
-"""sil_report.py - build/sil/report.md: one table row of tools/metrics.py
-figures for every scenario CSV in the SIL output directory, with links to
-the plots that sit beside it (<stem>*.png / *.svg).
+"""sil_report.py - build/sil/report.md from the CSVs of `make sil`:
 
-Windows: a run that reaches 0.95 s is measured over 0.8..0.95 s (steady,
-before the paper's load step) and its speed recovery over 0.95..1.05 s; a
-shorter run over its last quarter.
+  1. one row of tools/metrics.py figures per scenario CSV, with links to
+     the plot drawn for exactly that scenario (<stem>.png / <stem>.svg);
+  2. the table case x method: every case that has both conv_<case>.csv
+     and prop_<case>.csv (torque and flux error, ripple, speed dip at the
+     load step, R^/L^/psi_f^ error and time to 2 %);
+  3. figures in the paper's layout (needs matplotlib; skipped without):
+     <case>_compare.png  flux ref/response, torque ref/response, psi_f^, L^
+                         over time, conventional | proposed side by side;
+     prop_<case>_step1.png  i_q, f^_q and R^ during step 1 (like Fig. 3).
 
-Usage: sil_report.py [--dir build/sil] [--out build/sil/report.md]
+True parameters for the estimates' errors come from the scenario file
+(tools/scenarios/<stem>.ini, [plant] R_ohm, L_H, psif_Wb; the defaults of
+hal/sim when absent).
+
+Windows: a run that reaches 1.05 s is measured over 0.8..0.95 s (steady,
+before the paper's load step) and its speed recovery and dip over
+0.95..1.05 s; a shorter run over its last quarter.
+
+Usage: sil_report.py [--dir build/sil] [--scenarios tools/scenarios] [--out build/sil/report.md]
 """
 import argparse
+import configparser
 import glob
 import math
 import os
@@ -21,14 +34,32 @@ import metrics  # noqa: E402
 PAPER_WINDOW = (0.8, 0.95)
 LOAD_WINDOW = (0.95, 1.05)
 SHORT_RUN_TAIL = 0.25
+PLANT_DEFAULTS = {"R_ohm": 3.0, "L_H": 0.011, "psif_Wb": 0.24}   # hal/sim/scenario.c
+METHODS = (("conv", "conventional"), ("prop", "proposed"))
+STEP1_TAIL_S = 0.05       # the step-1 figure runs this far past step 2's start
+FIG_DPI = 110
 
 
-def windows(csv_path):
-    col = metrics.load_csv(csv_path)
+def windows(col):
     t_end = col["t_s"][-1]
     if t_end >= LOAD_WINDOW[1]:
         return PAPER_WINDOW, LOAD_WINDOW
     return ((1.0 - SHORT_RUN_TAIL) * t_end, t_end + 1e-9), None
+
+
+def truth_of(scen_dir, stem):
+    """(R, L, psif) of the plant in tools/scenarios/<stem>.ini."""
+    vals = dict(PLANT_DEFAULTS)
+    path = os.path.join(scen_dir, stem + ".ini")
+    if os.path.exists(path):
+        cp = configparser.ConfigParser(inline_comment_prefixes=(";",), comment_prefixes=(";", "#"),
+                                       strict=False)
+        cp.read(path)
+        if cp.has_section("plant"):
+            for k in vals:
+                if cp.has_option("plant", k):
+                    vals[k] = float(cp.get("plant", k))
+    return vals["R_ohm"], vals["L_H"], vals["psif_Wb"]
 
 
 def cell(v, spec):
@@ -37,9 +68,130 @@ def cell(v, spec):
     return format(v, spec)
 
 
+def plot_links(d, stem):
+    """Links to the plots of exactly this scenario (not of others sharing its prefix)."""
+    names = [stem + ".png", stem + ".svg", stem + "_step1.png"]
+    return " ".join(f"[{n}]({n})" for n in names if os.path.exists(os.path.join(d, n))) or "-"
+
+
+def scenario_table(runs, d):
+    lines = [
+        "| scenario | mean abs(Te-Te*) [N m] | Te ripple RMS [N m] | mean abs(psi-psi*) [mWb] | psi err [%] "
+        "| speed err [r/min] | max abs speed err [r/min] | id [A] | iq [A] | recovery [ms] | dip [r/min] "
+        "| step 95 % [periods] | overshoot [%] | settle 2 % [periods] | plots |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for stem, r in runs:
+        if "error" in r:
+            lines.append(f"| {stem} | error: {r['error']} |" + " |" * 13)
+            continue
+        psi_mwb = r["psi_err_Wb"] * 1e3 if math.isfinite(r["psi_err_Wb"]) else math.nan
+        lines.append(
+            f"| {stem} | {cell(r['te_err_Nm'], '.4f')} | {cell(r['te_ripple_Nm'], '.4f')} "
+            f"| {cell(psi_mwb, '.2f')} | {cell(r['psi_err_pct'], '.3f')} "
+            f"| {cell(r['speed_err_rpm'], '+.3f')} | {cell(r['speed_err_max_rpm'], '.3f')} "
+            f"| {cell(r['id_A'], '+.4f')} | {cell(r['iq_A'], '.4f')} | {cell(r.get('recovery_ms'), '.1f')} "
+            f"| {cell(r.get('speed_dip_rpm'), '.2f')} "
+            f"| {cell(r.get('step_periods_95'), 'd')} | {cell(r.get('step_overshoot_pct'), '.2f')} "
+            f"| {cell(r.get('step_settle_periods'), 'd')} | {plot_links(d, stem)} |")
+    return lines
+
+
+def case_table(cases, d):
+    lines = [
+        "| case | method | mean abs(Te-Te*) [N m] | psi err [%] | Te ripple RMS [N m] | speed dip [r/min] "
+        "| R^ err [%] | L^ err [%] | psi_f^ err [%] | L^ in 2 % [ms] | psi_f^ in 2 % [ms] | figure |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for case, by_method in cases:
+        fig = f"{case}_compare.png"
+        link = f"[{fig}]({fig})" if os.path.exists(os.path.join(d, fig)) else "-"
+        for tag, name in METHODS:
+            r = by_method.get(tag)
+            if r is None or "error" in r:
+                continue
+            lines.append(
+                f"| {case} | {name} | {cell(r['te_err_Nm'], '.4f')} | {cell(r['psi_err_pct'], '.3f')} "
+                f"| {cell(r['te_ripple_Nm'], '.4f')} | {cell(r.get('speed_dip_rpm'), '.2f')} "
+                f"| {cell(r.get('R_err_pct'), '+.3f')} | {cell(r.get('L_err_pct'), '+.3f')} "
+                f"| {cell(r.get('psif_err_pct'), '+.3f')} | {cell(r.get('t2_L_ms'), '.1f')} "
+                f"| {cell(r.get('t2_psif_ms'), '.1f')} | {link} |")
+    return lines
+
+
+# ---- figures (matplotlib optional) ----------------------------------------
+
+def compare_figure(plt, case, cols, truth, out):
+    """Paper layout: rows flux, torque, psi_f^, L^; columns conventional | proposed."""
+    rows = [("stator flux [Wb]", [("psi_ref_Wb", "ref", "--"), ("psi_Wb", "true", "-")], None),
+            ("torque [N m]", [("te_ref_Nm", "ref", "--"), ("te_Nm", "true", "-")], None),
+            ("psi_f^ [Wb]", [("psif_est_Wb", "estimate", "-")], 2),
+            ("L^ [mH]", [("L_est_H", "estimate", "-")], 1)]
+    fig, axes = plt.subplots(len(rows), 2, sharex=True, figsize=(12, 10))
+    for j, (tag, name) in enumerate(METHODS):
+        col = cols.get(tag)
+        for i, (ylabel, series, true_idx) in enumerate(rows):
+            ax = axes[i][j]
+            if col is None:
+                continue
+            k = 1e3 if ylabel.startswith("L^") else 1.0
+            for c, label, style in series:
+                if c in col:
+                    ax.plot(col["t_s"], [v * k for v in col[c]], style, label=label, linewidth=0.8)
+            if true_idx is not None and truth.get(tag) is not None:
+                ax.axhline(truth[tag][true_idx] * k, color="k", linestyle=":", linewidth=0.8, label="plant")
+            ax.set_ylabel(ylabel)
+            ax.grid(True, alpha=0.3)
+            ax.legend(loc="best", fontsize="small")
+            if i == 0:
+                ax.set_title(name)
+    for j in range(2):
+        axes[-1][j].set_xlabel("t [s]")
+    fig.suptitle(f"case {case}: conventional vs proposed")
+    fig.tight_layout()
+    fig.savefig(out, dpi=FIG_DPI)
+    plt.close(fig)
+
+
+def step1_figure(plt, stem, col, truth, out):
+    """i_q, f^_q and R^ during step 1 (Fig. 3 layout)."""
+    ts2 = metrics.step2_start(col)
+    if ts2 is None:
+        return False
+    idx = [i for i, t in enumerate(col["t_s"]) if t <= ts2 + STEP1_TAIL_S]
+    t = [col["t_s"][i] for i in idx]
+    panels = [("i_q [A]", "iq_A", None), ("f^_q [V]", "fq_est", None), ("R^ [ohm]", "R_est_ohm", truth[0])]
+    fig, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(8, 7))
+    for ax, (ylabel, c, ref) in zip(axes, panels):
+        ax.plot(t, [col[c][i] for i in idx], linewidth=0.8)
+        if ref is not None:
+            ax.axhline(ref, color="k", linestyle=":", linewidth=0.8, label="plant")
+            ax.legend(loc="best", fontsize="small")
+        ax.axvline(ts2, color="r", linestyle="--", linewidth=0.8)
+        ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("t [s] (dashed: step 2 starts)")
+    fig.suptitle(f"{stem}: step 1 (offline R identification)")
+    fig.tight_layout()
+    fig.savefig(out, dpi=FIG_DPI)
+    plt.close(fig)
+    return True
+
+
+def load_matplotlib():
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        return plt
+    except ImportError:
+        return None
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--dir", default="build/sil")
+    ap.add_argument("--scenarios", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenarios"))
     ap.add_argument("--out", default=None)
     a = ap.parse_args(argv)
     out = a.out or os.path.join(a.dir, "report.md")
@@ -48,44 +200,63 @@ def main(argv=None):
         print(f"sil_report.py: no CSV in {a.dir}", file=sys.stderr)
         return 1
 
+    plt = load_matplotlib()
+    runs, cols, truths = [], {}, {}
+    failed = 0
+    for path in csvs:
+        stem = os.path.splitext(os.path.basename(path))[0]
+        try:
+            col = metrics.load_csv(path)
+            win, load_win = windows(col)
+            truths[stem] = truth_of(a.scenarios, stem)
+            r = metrics.compute(path, win, load_win, truth=truths[stem])
+            cols[stem] = col
+        except (OSError, ValueError, KeyError) as e:
+            r = {"error": str(e)}
+            failed += 1
+        runs.append((stem, r))
+        if plt is not None and stem in cols and stem.startswith("prop_"):
+            step1_figure(plt, stem, cols[stem], truths[stem], os.path.join(a.dir, stem + "_step1.png"))
+
+    results = dict(runs)
+    case_names = sorted({s.split("_", 1)[1] for s in results if s.startswith(("conv_", "prop_"))})
+    cases = []
+    for case in case_names:
+        by_method = {tag: results.get(f"{tag}_{case}") for tag, _ in METHODS}
+        if all(r is not None and "error" not in r for r in by_method.values()):
+            cases.append((case, by_method))
+            if plt is not None:
+                compare_figure(plt, case, {tag: cols[f"{tag}_{case}"] for tag, _ in METHODS},
+                               {tag: truths[f"{tag}_{case}"] for tag, _ in METHODS},
+                               os.path.join(a.dir, f"{case}_compare.png"))
+
     lines = [
         "# SIL report",
         "",
         "True plant values against the controller's references (tools/metrics.py).",
         "Steady window 0.8-0.95 s for the 1.2 s runs (last quarter for shorter ones);",
-        "recovery: time after the 4 -> 6 N m step at 0.95 s until the speed stays within 1 r/min.",
+        "recovery and dip: after the 4 -> 6 N m step at 0.95 s, until the speed stays within 1 r/min,",
+        "and the largest shortfall below the reference until 1.05 s.",
         "Torque step: periods from the ISR that took the command to 95 % of the step.",
         "",
-        "| scenario | mean abs(Te-Te*) [N m] | Te ripple RMS [N m] | mean abs(psi-psi*) [mWb] | psi err [%] "
-        "| speed err [r/min] | max abs speed err [r/min] | id [A] | iq [A] | recovery [ms] "
-        "| step 95 % [periods] | overshoot [%] | settle 2 % [periods] | plots |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "## Case x method",
+        "",
+        "Estimates: mean relative error over the steady window against the plant's values (for the",
+        "conventional method the controller's fixed values, i.e. the mismatch); time from the start of",
+        "step 2 until the estimate stays within 2 % up to the window's end.",
+        "",
     ]
-    failed = 0
-    for path in csvs:
-        stem = os.path.splitext(os.path.basename(path))[0]
-        try:
-            win, load_win = windows(path)
-            r = metrics.compute(path, win, load_win)
-        except (OSError, ValueError, KeyError) as e:
-            lines.append(f"| {stem} | error: {e} |" + " |" * 12)
-            failed += 1
-            continue
-        plots = sorted(glob.glob(os.path.join(a.dir, stem + "*.png")) + glob.glob(os.path.join(a.dir, stem + "*.svg")))
-        links = " ".join(f"[{os.path.basename(p)}]({os.path.basename(p)})" for p in plots) or "-"
-        psi_mwb = r["psi_err_Wb"] * 1e3 if math.isfinite(r["psi_err_Wb"]) else math.nan
-        lines.append(
-            f"| {stem} | {cell(r['te_err_Nm'], '.4f')} | {cell(r['te_ripple_Nm'], '.4f')} "
-            f"| {cell(psi_mwb, '.2f')} | {cell(r['psi_err_pct'], '.3f')} "
-            f"| {cell(r['speed_err_rpm'], '+.3f')} | {cell(r['speed_err_max_rpm'], '.3f')} "
-            f"| {cell(r['id_A'], '+.4f')} | {cell(r['iq_A'], '.4f')} | {cell(r.get('recovery_ms'), '.1f')} "
-            f"| {cell(r.get('step_periods_95'), 'd')} | {cell(r.get('step_overshoot_pct'), '.2f')} "
-            f"| {cell(r.get('step_settle_periods'), 'd')} | {links} |")
+    lines += case_table(cases, a.dir) if cases else ["(no case with both conv_ and prop_ runs)"]
+    lines += ["", "## Every scenario", ""]
+    lines += scenario_table(runs, a.dir)
+    if plt is None:
+        lines += ["", "(matplotlib not available: comparison and step-1 figures not drawn)"]
     lines.append("")
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     with open(out, "w") as f:
         f.write("\n".join(lines))
-    print(f"sil_report.py: {out} ({len(csvs)} scenarios{', %d failed' % failed if failed else ''})")
+    print(f"sil_report.py: {out} ({len(csvs)} scenarios, {len(cases)} cases"
+          f"{', %d failed' % failed if failed else ''})")
     return 1 if failed else 0
 
 
