@@ -1,130 +1,448 @@
-/* app.c - ISR glue and drive state machine; see app.h. */
+/* app.c - ISR glue, start-up sequence and protection; see app.h. */
 #include "app.h"
 
+#include "board_cfg.h"
 #include "mathx.h"
+#include "svpwm.h"
 
 /* Duty that gives zero line-to-line voltage: written whenever PWM goes off. */
 #define DUTY_ZERO_VOLTAGE 0.5f
+#define RAD_S_PER_RPM (MATHX_TWO_PI_F / 60.0f)
+#define ENC_COUNTS_PER_LINE 4u      /* x4 quadrature decoding */
+/* Longest time converted to periods: keeps the float-to-integer cast defined (28 h at 10 kHz). */
+#define PERIODS_MAX 1.0e9f
 
-static void write_zero_voltage(void)
+/* ---- configuration ------------------------------------------------------ */
+
+void app_cfg_default(app_cfg_t *cfg)
 {
-    const float d[3] = { DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE };
-    hal_pwm_write(d);
+    static const app_cfg_t zero; /* a field added later reads 0, not garbage */
+    ctrl_cfg_t *c = &cfg->ctrl;
+
+    *cfg = zero;
+    c->Ts_s = 1.0f / (float)BOARD_PWM_FREQ_HZ;
+    c->Rs_Ohm = MOTOR_R_OHM;
+    c->Ls_H = MOTOR_L_H;
+    c->psi_f_Wb = MOTOR_PSI_F_WB;
+    c->pole_pairs = (uint16_t)MOTOR_POLE_PAIRS;
+    c->enc_lines = (uint32_t)BOARD_ENC_LINES;
+    c->enc_offset_el_rad = BOARD_ENC_OFFSET_EL_RAD;
+    c->enc_pll_bw_rad_s = TUNE_ENC_PLL_BW_RAD_S;
+    c->speed_kp_Nms_rad = TUNE_SPEED_KP_NMS_RAD;
+    c->speed_ki_Nm_rad = TUNE_SPEED_KI_NM_RAD;
+    c->te_max_Nm = TUNE_TE_MAX_PER_RATED * MOTOR_RATED_TORQUE_NM;
+    c->i_max_A = MODEL_I_BOUND_PER_TRIP * BOARD_OVERCURRENT_A;
+    c->u_max_V = BOARD_VDC_MAX_V;
+    c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * RAD_S_PER_RPM * (float)MOTOR_POLE_PAIRS;
+    c->psi_max_Wb = MODEL_PSI_BOUND_PER_PSIF * MOTOR_PSI_F_WB;
+
+    cfg->i_max_A = BOARD_OVERCURRENT_A;
+    cfg->vdc_max_V = BOARD_VDC_MAX_V;
+    cfg->vdc_min_V = BOARD_VDC_MIN_V;
+    cfg->speed_max_rad_s = BOARD_OVERSPEED_RPM * RAD_S_PER_RPM;
+    cfg->isr_period_cycles = (uint32_t)BOARD_ISR_PERIOD_CYCLES;
+    cfg->isr_budget_cycles = (uint32_t)BOARD_ISR_BUDGET_CYCLES;
+
+    cfg->calibrate = true;
+    cfg->cal_settle_s = BOARD_CAL_SETTLE_S;
+    cfg->cal_samples = (uint32_t)BOARD_CAL_SAMPLES;
+    cfg->offset_max_A = BOARD_I_OFFSET_MAX_A;
+    cfg->align = (BOARD_ENC_OFFSET_KNOWN == 0U);
+    cfg->align_u_V = BOARD_ALIGN_CURRENT_A * MOTOR_R_OHM;
+    cfg->align_ramp_s = BOARD_ALIGN_RAMP_S;
+    cfg->align_settle_s = BOARD_ALIGN_SETTLE_S;
 }
 
-/* PWM off first, then the bookkeeping: the outputs go off in this ISR call. */
-static void latch_fault(app_t *app, app_fault_t fault, const hal_sample_t *s)
+/* Whole periods of Ts_s in t_s, rounded; 0 for a non-positive time. */
+static uint32_t periods_of(float t_s, float Ts_s)
 {
-    hal_pwm_disable();
-    app->state = APP_STATE_FAULT;
-    app->fault = fault;
-    app->fault_snapshot = *s;
-}
-
-/* Protection on this period's samples; APP_FAULT_NONE when all is well. */
-static app_fault_t check_samples(const app_t *app, const hal_sample_t *s)
-{
-    const float i_max = app->cfg.i_max_A;
-    const float ic = -s->ia_A - s->ib_A;
-
-    if (hal_trip_active()) {
-        return APP_FAULT_HW_TRIP;
+    float n = t_s / Ts_s;
+    if (!(n > 0.0f)) {
+        return 0u;
     }
-    if (!mathx_isfinitef(s->ia_A + s->ib_A + s->vdc_V)) {
-        return APP_FAULT_NONFINITE;
+    if (!(n < PERIODS_MAX)) {
+        n = PERIODS_MAX;
     }
-    /* ! (x <= max): a NaN would also trip, though it is caught above */
-    if (!(mathx_fabsf(s->ia_A) <= i_max) || !(mathx_fabsf(s->ib_A) <= i_max) ||
-        !(mathx_fabsf(ic) <= i_max)) {
-        return APP_FAULT_OVERCURRENT;
-    }
-    return APP_FAULT_NONE;
+    return (uint32_t)(n + 0.5f);
 }
 
 void app_init(app_t *app, const app_cfg_t *cfg)
 {
+    const float Ts = cfg->ctrl.Ts_s;
+    const uint32_t cpr = ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines;
+
     hal_pwm_disable();
     app->cfg = *cfg;
-    app->state = APP_STATE_IDLE;
+    app->state = APP_STATE_INIT;
     app->fault = APP_FAULT_NONE;
-    app->fault_snapshot.ia_A = 0.0f;
-    app->fault_snapshot.ib_A = 0.0f;
-    app->fault_snapshot.vdc_V = 0.0f;
-    app->fault_snapshot.enc_count = 0u;
+    app->snapshot.sample.ia_A = 0.0f;
+    app->snapshot.sample.ib_A = 0.0f;
+    app->snapshot.sample.vdc_V = 0.0f;
+    app->snapshot.sample.enc_count = 0u;
+    app->snapshot.state = APP_STATE_INIT;
+    app->snapshot.value = 0.0f;
+    app->snapshot.limit = 0.0f;
     ctrl_init(&app->ctrl, &cfg->ctrl);
     app->out.duty[0] = DUTY_ZERO_VOLTAGE;
     app->out.duty[1] = DUTY_ZERO_VOLTAGE;
     app->out.duty[2] = DUTY_ZERO_VOLTAGE;
     app->out.flags = 0u;
     app->ticks = 0u;
+    app->state_ticks = 0u;
+    app->offset_ia_A = 0.0f;
+    app->offset_ib_A = 0.0f;
+    app->cal_sum_ia_A = 0.0f;
+    app->cal_sum_ib_A = 0.0f;
+    app->uv_armed = false;
+    app->aligned = false;
+    app->pwm_on = false;
+    app->enc_prev = 0u;
+    app->enc_delta = 0;
+    app->seeded = false;
+    app->isr_entry = 0u;
+    app->isr_interval_cycles = 0u;
+    app->isr_run_cycles = 0u;
+
+    app->enc_cpr = (cpr > 0u) ? cpr : 1u;
+    app->enc_jump_max = APP_ENC_JUMP_MARGIN * cfg->speed_max_rad_s * Ts * (float)app->enc_cpr / MATHX_TWO_PI_F
+                        + 1.0f; /* + one count of quantisation */
+    /* 1.5 periods: the entry jitter is a few cycles, a missed period adds a whole one */
+    app->isr_late_cycles = cfg->isr_period_cycles + cfg->isr_period_cycles / 2u;
+    app->cal_settle_ticks = periods_of(cfg->cal_settle_s, Ts);
+    app->align_ramp_ticks = periods_of(cfg->align_ramp_s, Ts);
+    app->align_settle_ticks = periods_of(cfg->align_settle_s, Ts);
+
     app->req_start = 0u;
     app->req_stop = 0u;
     app->req_fault_reset = 0u;
 }
 
-void app_isr(app_t *app)
+/* ---- outputs and faults ------------------------------------------------- */
+
+/* Duties for the next period; the outputs go on after the first ones are written. */
+static void write_duties(app_t *app, const float duty[3])
 {
-    hal_sample_t s;
+    hal_pwm_write(duty);
+    if (!app->pwm_on) {
+        hal_pwm_enable();
+        app->pwm_on = true;
+    }
+}
+
+/* PWM off first, then the bookkeeping: the outputs go off in this ISR call. */
+static void latch_fault(app_t *app, app_fault_t fault, const hal_sample_t *s, float value, float limit)
+{
+    hal_pwm_disable();
+    app->pwm_on = false;
+    app->snapshot.sample = *s;
+    app->snapshot.state = app->state;
+    app->snapshot.value = value;
+    app->snapshot.limit = limit;
+    app->state = APP_STATE_FAULT;
+    app->fault = fault;
+    if (fault == APP_FAULT_ENCODER) {
+        app->aligned = false; /* counts were lost: the aligned offset no longer holds */
+    }
+}
+
+/* Count change from prev to now (both < cpr), the shortest way round. */
+static int32_t count_delta(uint32_t now, uint32_t prev, uint32_t cpr)
+{
+    const uint32_t d = (now + cpr - prev) % cpr;
+    return (d > (cpr / 2u)) ? ((int32_t)d - (int32_t)cpr) : (int32_t)d;
+}
+
+/* Every call: count change and entry-to-entry time since the last call;
+ * the encoder's speed estimate outside RUN (ctrl_step steps it in RUN). */
+static void track(app_t *app, const hal_sample_t *s, uint32_t t_entry)
+{
+    const uint32_t count = s->enc_count % app->enc_cpr;
+
+    if (app->seeded) {
+        app->enc_delta = count_delta(count, app->enc_prev, app->enc_cpr);
+        app->isr_interval_cycles = t_entry - app->isr_entry; /* modulo 2^32, wrap-safe */
+    }
+    app->enc_prev = count;
+    app->isr_entry = t_entry;
+    app->seeded = true;
+    if (app->state != APP_STATE_RUN) {
+        encoder_step(&app->ctrl.enc, s->enc_count);
+    }
+}
+
+/* The checks of app.h on this call's samples, in order; the first that
+ * fails is returned with the quantity and its limit. */
+static app_fault_t protection(const app_t *app, const hal_sample_t *s, float *value, float *limit)
+{
+    const app_cfg_t *cfg = &app->cfg;
+    const float ia = s->ia_A - app->offset_ia_A;
+    const float ib = s->ib_A - app->offset_ib_A;
+    const float ic = -ia - ib;
+
+    *value = 0.0f;
+    *limit = 0.0f;
+    if (hal_trip_active()) {
+        return APP_FAULT_HW_TRIP;
+    }
+    if (!mathx_isfinitef(s->ia_A) || !mathx_isfinitef(s->ib_A) || !mathx_isfinitef(s->vdc_V)) {
+        return APP_FAULT_NONFINITE_SAMPLE;
+    }
+    *value = mathx_fabsf(ia);
+    *value = (mathx_fabsf(ib) > *value) ? mathx_fabsf(ib) : *value;
+    *value = (mathx_fabsf(ic) > *value) ? mathx_fabsf(ic) : *value;
+    *limit = cfg->i_max_A;
+    if (!(*value <= *limit)) { /* !(x <= max): a NaN limit trips too */
+        return APP_FAULT_OVERCURRENT;
+    }
+    *value = s->vdc_V;
+    *limit = cfg->vdc_max_V;
+    if (!(*value <= *limit)) {
+        return APP_FAULT_OVERVOLTAGE;
+    }
+    *limit = cfg->vdc_min_V;
+    if (app->uv_armed && (*value < *limit)) {
+        return APP_FAULT_UNDERVOLTAGE;
+    }
+    *value = mathx_fabsf((float)app->enc_delta);
+    *limit = app->enc_jump_max;
+    if (*value > *limit) {
+        return APP_FAULT_ENCODER;
+    }
+    *value = mathx_fabsf(app->ctrl.enc.omega_m_rad_s);
+    *limit = cfg->speed_max_rad_s;
+    if (!(*value <= *limit)) {
+        return APP_FAULT_OVERSPEED;
+    }
+    *value = (float)app->isr_interval_cycles;
+    *limit = (float)app->isr_late_cycles;
+    if (app->isr_interval_cycles > app->isr_late_cycles) {
+        return APP_FAULT_OVERRUN;
+    }
+    *value = (float)app->isr_run_cycles; /* the last call's: for a fault reset's check */
+    *limit = (float)cfg->isr_budget_cycles;
+    if (app->isr_run_cycles > cfg->isr_budget_cycles) {
+        return APP_FAULT_OVERRUN;
+    }
+    *value = 0.0f;
+    *limit = 0.0f;
+    return APP_FAULT_NONE;
+}
+
+/* ---- the start sequence ------------------------------------------------- */
+
+static void enter_run(app_t *app)
+{
+    ctrl_reset(&app->ctrl);
+    app->state = APP_STATE_RUN;
+}
+
+/* After ALIGN, done or skipped. IDENTIFY_R (offline R identification) goes here, before RUN. */
+static void leave_align(app_t *app)
+{
+    enter_run(app);
+}
+
+static void enter_align(app_t *app)
+{
+    app->state = APP_STATE_ALIGN;
+    app->state_ticks = 0u;
+}
+
+/* After CALIBRATE, done or skipped: the bus must be up from here on,
+ * checked on this call's samples before anything is energised. */
+static void leave_calibrate(app_t *app, const hal_sample_t *s)
+{
+    app->uv_armed = true;
+    if (s->vdc_V < app->cfg.vdc_min_V) {
+        latch_fault(app, APP_FAULT_UNDERVOLTAGE, s, s->vdc_V, app->cfg.vdc_min_V);
+    } else if (app->cfg.align && !app->aligned) {
+        enter_align(app);
+    } else {
+        leave_align(app);
+    }
+}
+
+static void enter_calibrate(app_t *app)
+{
+    app->state = APP_STATE_CALIBRATE;
+    app->state_ticks = 0u;
+    app->cal_sum_ia_A = 0.0f;
+    app->cal_sum_ib_A = 0.0f;
+}
+
+static void start_sequence(app_t *app, const hal_sample_t *s)
+{
+    if (app->cfg.calibrate) {
+        enter_calibrate(app);
+    } else {
+        leave_calibrate(app, s);
+    }
+}
+
+static void stop_to_idle(app_t *app)
+{
+    const float d[3] = { DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE };
+
+    hal_pwm_disable();
+    app->pwm_on = false;
+    hal_pwm_write(d);
+    app->state = APP_STATE_IDLE;
+}
+
+/* ---- state steps, one per ISR call -------------------------------------- */
+
+/* PWM off: settle, then average; the means become the offsets if in band. */
+static void calibrate_step(app_t *app, const hal_sample_t *s)
+{
+    const uint32_t n = (app->cfg.cal_samples > 0u) ? app->cfg.cal_samples : 1u;
+    float oa;
+    float ob;
+
+    app->state_ticks++;
+    if (app->state_ticks <= app->cal_settle_ticks) {
+        return;
+    }
+    app->cal_sum_ia_A += s->ia_A;
+    app->cal_sum_ib_A += s->ib_A;
+    if (app->state_ticks < app->cal_settle_ticks + n) {
+        return;
+    }
+    oa = app->cal_sum_ia_A / (float)n;
+    ob = app->cal_sum_ib_A / (float)n;
+    if (!(mathx_fabsf(oa) <= app->cfg.offset_max_A)) {
+        latch_fault(app, APP_FAULT_CURRENT_OFFSET, s, oa, app->cfg.offset_max_A);
+    } else if (!(mathx_fabsf(ob) <= app->cfg.offset_max_A)) {
+        latch_fault(app, APP_FAULT_CURRENT_OFFSET, s, ob, app->cfg.offset_max_A);
+    } else {
+        app->offset_ia_A = oa;
+        app->offset_ib_A = ob;
+        leave_calibrate(app, s);
+    }
+}
+
+/* Voltage vector on phase a, ramped then held; then the count reads 0 rad. */
+static void align_step(app_t *app, const hal_sample_t *s)
+{
+    const uint32_t k = app->state_ticks;
+    float frac = 1.0f;
+    ab_t u;
+    ab_t u_real;
+    svpwm_duty_t d;
+    float duty[3];
+
+    if (k < app->align_ramp_ticks) {
+        frac = (float)k / (float)app->align_ramp_ticks;
+    }
+    u.a = app->cfg.align_u_V * frac;
+    u.b = 0.0f;
+    /* invalid = non-finite or no bus; the undervoltage check, armed by now, leaves only the former */
+    if ((svpwm_duty(u, s->vdc_V, &d, &u_real) & SVPWM_INVALID_INPUT) != 0u) {
+        latch_fault(app, APP_FAULT_NONFINITE_OUTPUT, s, u.a, 0.0f);
+        return;
+    }
+    duty[0] = d.a;
+    duty[1] = d.b;
+    duty[2] = d.c;
+    write_duties(app, duty);
+    app->state_ticks++;
+    if (k >= app->align_ramp_ticks + app->align_settle_ticks) {
+        encoder_align(&app->ctrl.enc, s->enc_count);
+        app->aligned = true;
+        leave_align(app);
+    }
+}
+
+static void run_step(app_t *app, const hal_sample_t *s)
+{
     ctrl_in_t in;
-    app_fault_t f;
-    bool entering = false;
 
-    hal_sample_read(&s);
-    app->ticks++;
-
-    if (app->state == APP_STATE_FAULT) {
-        if (app->req_fault_reset != 0u) {
-            app->req_fault_reset = 0u;
-            if (check_samples(app, &s) == APP_FAULT_NONE) {
-                app->state = APP_STATE_IDLE;
-                app->fault = APP_FAULT_NONE;
-            }
-        }
-        app->req_start = 0u; /* a start asked for while faulted is not kept */
-        hal_isr_ack();
-        return;
+    in.ia_A = s->ia_A - app->offset_ia_A;
+    in.ib_A = s->ib_A - app->offset_ib_A;
+    in.vdc_V = s->vdc_V;
+    in.enc_count = s->enc_count;
+    ctrl_step(&app->ctrl, &in, &app->out);
+    if ((app->out.flags & CTRL_FLAG_NONFINITE) != 0u) {
+        latch_fault(app, APP_FAULT_NONFINITE_OUTPUT, s, 0.0f, 0.0f);
+    } else {
+        write_duties(app, app->out.duty);
     }
+}
 
-    f = check_samples(app, &s);
-    if (f != APP_FAULT_NONE) {
-        latch_fault(app, f, &s);
-        hal_isr_ack();
-        return;
-    }
-
+/* Background requests; stop wins over start. */
+static void take_requests(app_t *app, const hal_sample_t *s)
+{
     if (app->req_stop != 0u) {
         app->req_stop = 0u;
         app->req_start = 0u;
-        if (app->state == APP_STATE_RUN) {
-            hal_pwm_disable();
-            write_zero_voltage();
-            app->state = APP_STATE_IDLE;
+        if ((app->state == APP_STATE_CALIBRATE) || (app->state == APP_STATE_ALIGN) ||
+            (app->state == APP_STATE_RUN)) {
+            stop_to_idle(app);
         }
-        hal_isr_ack();
-        return;
+    } else if (app->req_start != 0u) {
+        app->req_start = 0u; /* ignored unless stopped */
+        if ((app->state == APP_STATE_INIT) || (app->state == APP_STATE_IDLE)) {
+            start_sequence(app, s);
+        }
     }
+}
 
-    if ((app->state == APP_STATE_IDLE) && (app->req_start != 0u)) {
-        app->req_start = 0u;
-        ctrl_reset(&app->ctrl);
-        app->state = APP_STATE_RUN;
-        entering = true;
+/* FAULT: outputs stay off; a reset is taken only if no check fails now. */
+static void fault_step(app_t *app, const hal_sample_t *s)
+{
+    float value;
+    float limit;
+
+    app->req_start = 0u; /* a start asked for while faulted is not kept */
+    app->req_stop = 0u;
+    if (app->req_fault_reset != 0u) {
+        app->req_fault_reset = 0u;
+        if (protection(app, s, &value, &limit) == APP_FAULT_NONE) {
+            app->state = APP_STATE_IDLE;
+            app->fault = APP_FAULT_NONE;
+        }
     }
+}
 
-    if (app->state == APP_STATE_RUN) {
-        in.ia_A = s.ia_A;
-        in.ib_A = s.ib_A;
-        in.vdc_V = s.vdc_V;
-        in.enc_count = s.enc_count;
-        ctrl_step(&app->ctrl, &in, &app->out);
-        if ((app->out.flags & CTRL_FLAG_NONFINITE) != 0u) {
-            latch_fault(app, APP_FAULT_NONFINITE, &s);
+void app_isr(app_t *app)
+{
+    hal_sample_t s;
+    uint32_t t_entry;
+    float value;
+    float limit;
+    app_fault_t f;
+
+    hal_sample_read(&s); /* first HAL call of the ISR (hal.h) */
+    t_entry = hal_cycles();
+    app->ticks++;
+    track(app, &s, t_entry);
+
+    if (app->state == APP_STATE_FAULT) {
+        fault_step(app, &s);
+    } else {
+        f = protection(app, &s, &value, &limit);
+        if (f != APP_FAULT_NONE) {
+            latch_fault(app, f, &s, value, limit);
         } else {
-            hal_pwm_write(app->out.duty);
-            if (entering) {
-                hal_pwm_enable(); /* after the first duties are written */
+            take_requests(app, &s);
+            switch (app->state) {
+            case APP_STATE_CALIBRATE:
+                calibrate_step(app, &s);
+                break;
+            case APP_STATE_ALIGN:
+                align_step(app, &s);
+                break;
+            case APP_STATE_RUN:
+                run_step(app, &s);
+                break;
+            default: /* INIT, IDLE: outputs off, nothing to do */
+                break;
             }
         }
+    }
+
+    app->isr_run_cycles = hal_cycles() - t_entry;
+    if ((app->state != APP_STATE_FAULT) && (app->isr_run_cycles > app->cfg.isr_budget_cycles)) {
+        latch_fault(app, APP_FAULT_OVERRUN, &s, (float)app->isr_run_cycles, (float)app->cfg.isr_budget_cycles);
     }
     hal_isr_ack();
 }

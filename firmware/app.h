@@ -1,44 +1,152 @@
 /*
  * app.h - the ISR glue and the drive state machine.
  *
- *   IDLE --start--> RUN --stop--> IDLE
- *   IDLE, RUN --hardware trip | overcurrent | non-finite--> FAULT
+ *   INIT --start--> CALIBRATE --offsets in band--> ALIGN --settled--> RUN
+ *   IDLE --start--> (the same sequence)
+ *   CALIBRATE, ALIGN, RUN --stop--> IDLE
+ *   INIT, IDLE, CALIBRATE, ALIGN, RUN --protection--> FAULT
  *   FAULT --fault reset, cause gone--> IDLE
  *
+ * INIT is the power-on state (nothing measured yet, bus may still be
+ * charging); IDLE the stopped state after a run or a fault. A start runs
+ * the sequence; a step that is off (cfg.calibrate, cfg.align) or already
+ * done (alignment, once per power-up) is skipped within the same ISR call,
+ * so with both off the start request's ISR call is already a RUN period.
+ *   CALIBRATE  PWM off: wait cal_settle_s, average cal_samples periods of
+ *              ia, ib; these means are the offsets subtracted from then on.
+ *              An offset beyond offset_max_A faults (CURRENT_OFFSET).
+ *              Runs at every start: sensor offsets drift with temperature.
+ *   ALIGN      PWM on: a stationary voltage vector on phase a (u_alpha
+ *              ramped to align_u_V over align_ramp_s, u_beta = 0, through
+ *              svpwm_duty), held align_settle_s; the rotor's d axis is then
+ *              on phase a and encoder_align() makes that count read 0 rad.
+ *              Open-loop voltage, not a current loop: only the direction
+ *              matters, and with u_beta = 0 it is exact whatever the current
+ *              sensors' offset and gain and the dead time (its error
+ *              vector is collinear with u_alpha); the magnitude follows R,
+ *              which the overcurrent check bounds. Once per power-up (the
+ *              incremental count stays valid while powered), again after an
+ *              ENCODER fault.
+ *   (IDENTIFY_R, offline resistance identification, goes between ALIGN
+ *   and RUN: see leave_align() in app.c and the gap in app_state_t.)
+ *   RUN        ctrl_step every period.
+ *
  * Background requests (start, stop, fault reset) only set a flag; the ISR
- * carries them out at the start of its next period, so the controller
- * state is only ever touched from the ISR. A fault turns the PWM off in
- * the same ISR call that detected it and keeps that period's samples.
+ * carries them out at the start of its next call, so the controller state
+ * is only ever touched from the ISR. A fault turns the PWM off in the same
+ * ISR call that detected it and keeps a snapshot (app_snapshot_t).
+ *
+ * Protection, in every state but FAULT (first match is the reason):
+ *   HW_TRIP           hal_trip_active() (trip-zone input latched)
+ *   NONFINITE_SAMPLE  ia, ib or vdc not finite
+ *   OVERCURRENT       |ia|, |ib| or |ic| (offset-corrected) > i_max_A
+ *   OVERVOLTAGE       vdc > vdc_max_V
+ *   UNDERVOLTAGE      vdc < vdc_min_V, armed once a start sequence has
+ *                     passed calibration (done or skipped) and kept armed:
+ *                     the bus may charge while in INIT; the motor is never
+ *                     energised on a low bus; a bus lost later is a fault
+ *   ENCODER           |count change| in one period > the change at
+ *                     speed_max_rad_s times APP_ENC_JUMP_MARGIN, plus one
+ *                     count: a jump no shaft can make (lost counts, noise)
+ *   OVERSPEED         |speed estimate (encoder PLL)| > speed_max_rad_s
+ *   OVERRUN           entry-to-entry interval > 1.5 periods (a period was
+ *                     missed), or app_isr's run time > isr_budget_cycles
+ *                     (checked at its exit, before the ack), hal_cycles()
+ * and from the state's own step: NONFINITE_OUTPUT (controller output, or
+ * the alignment's SVPWM refusing its input), CURRENT_OFFSET (CALIBRATE).
  */
 #ifndef APP_H
 #define APP_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "ctrl.h"
 #include "hal.h"
 
-typedef enum { APP_STATE_IDLE = 0, APP_STATE_RUN = 1, APP_STATE_FAULT = 2 } app_state_t;
+/* Values are logged (SIL CSV, telemetry); 4 is kept for IDENTIFY_R. */
+typedef enum {
+    APP_STATE_INIT = 0,
+    APP_STATE_IDLE = 1,
+    APP_STATE_CALIBRATE = 2,
+    APP_STATE_ALIGN = 3,
+    APP_STATE_RUN = 5,
+    APP_STATE_FAULT = 6
+} app_state_t;
+
 typedef enum {
     APP_FAULT_NONE = 0,
     APP_FAULT_HW_TRIP = 1,
     APP_FAULT_OVERCURRENT = 2,
-    APP_FAULT_NONFINITE = 3
+    APP_FAULT_NONFINITE_OUTPUT = 3,
+    APP_FAULT_NONFINITE_SAMPLE = 4,
+    APP_FAULT_OVERVOLTAGE = 5,
+    APP_FAULT_UNDERVOLTAGE = 6,
+    APP_FAULT_OVERSPEED = 7,
+    APP_FAULT_ENCODER = 8,
+    APP_FAULT_OVERRUN = 9,
+    APP_FAULT_CURRENT_OFFSET = 10
 } app_fault_t;
+
+/* Count change per period beyond the overspeed limit's that still counts
+ * as motion: the PLL-based overspeed check trips long before a real shaft
+ * gets there (12 N m / J adds 9 r/min per period). */
+#define APP_ENC_JUMP_MARGIN 1.5f
 
 typedef struct {
     ctrl_cfg_t ctrl;
-    float i_max_A;              /* software overcurrent threshold on |ia|, |ib|, |ic| */
+    /* protection */
+    float i_max_A;              /* software overcurrent on |ia|, |ib|, |ic| [A] */
+    float vdc_max_V;            /* overvoltage trip [V] */
+    float vdc_min_V;            /* undervoltage trip, armed after calibration [V] */
+    float speed_max_rad_s;      /* overspeed trip, mechanical [rad/s]; also sets the encoder jump limit */
+    uint32_t isr_period_cycles; /* control period in hal_cycles() counts [cycles] */
+    uint32_t isr_budget_cycles; /* longest allowed app_isr run [cycles] */
+    /* start-up sequence */
+    bool calibrate;             /* measure the current offsets at every start */
+    float cal_settle_s;         /* PWM off this long before averaging [s] */
+    uint32_t cal_samples;       /* periods averaged [-] */
+    float offset_max_A;         /* accepted |offset| of ia and ib [A] */
+    bool align;                 /* encoder offset unknown: align the rotor once per power-up */
+    float align_u_V;            /* alpha voltage the alignment ramps to [V] */
+    float align_ramp_s;         /* ramp time [s] */
+    float align_settle_s;       /* hold time after the ramp [s] */
 } app_cfg_t;
+
+/* What was known in the period a fault was detected. */
+typedef struct {
+    hal_sample_t sample;        /* raw samples of that period */
+    app_state_t state;          /* state the fault was detected in */
+    float value;                /* the quantity that tripped, in its unit (A, V, rad/s, counts, cycles); 0 for a trip or NaN */
+    float limit;                /* the threshold it crossed */
+} app_snapshot_t;
 
 typedef struct {
     app_cfg_t cfg;
     app_state_t state;
     app_fault_t fault;
-    hal_sample_t fault_snapshot;   /* samples of the period that faulted */
+    app_snapshot_t snapshot;
     ctrl_t ctrl;
     ctrl_out_t out;
     uint32_t ticks;                /* ISR calls since app_init */
+    uint32_t state_ticks;          /* ISR calls in CALIBRATE / ALIGN so far */
+    float offset_ia_A, offset_ib_A;  /* subtracted from ia, ib: 0 until a calibration is accepted [A] */
+    float cal_sum_ia_A, cal_sum_ib_A;  /* CALIBRATE: sums so far [A] */
+    bool uv_armed;                 /* undervoltage check active */
+    bool aligned;                  /* encoder offset set by an alignment since power-up */
+    bool pwm_on;                   /* outputs enabled by the app */
+    /* encoder and ISR timing, every call */
+    uint32_t enc_prev;             /* count of the previous call */
+    int32_t enc_delta;             /* count change since the previous call, shortest way */
+    bool seeded;                   /* enc_prev and isr_entry valid */
+    uint32_t isr_entry;            /* hal_cycles() at the previous entry */
+    uint32_t isr_interval_cycles;  /* entry to entry, this call */
+    uint32_t isr_run_cycles;       /* entry to exit, last call */
+    /* derived from cfg by app_init */
+    uint32_t enc_cpr;              /* counts per revolution */
+    float enc_jump_max;            /* largest plausible |enc_delta| [counts] */
+    uint32_t isr_late_cycles;      /* entry-to-entry interval that means a missed period */
+    uint32_t cal_settle_ticks, align_ramp_ticks, align_settle_ticks;
     /* Requests: one word each, so that setting (background) and clearing
      * (ISR) are single stores and cannot lose one another. */
     volatile uint16_t req_start;
@@ -46,24 +154,28 @@ typedef struct {
     volatile uint16_t req_fault_reset;
 } app_t;
 
-/* Start-up: copy *cfg, init the controller, PWM off, state IDLE. */
+/* Start-up: the board's configuration (firmware/board_cfg.h) into *cfg. */
+void app_cfg_default(app_cfg_t *cfg);
+
+/* Start-up: copy *cfg, init the controller, PWM off, state INIT. */
 void app_init(app_t *app, const app_cfg_t *cfg);
 
 /* ISR context, once per period: hal_sample_read -> protection -> requests
- * -> ctrl_step -> hal_pwm_write / enable / disable -> hal_isr_ack. */
+ * -> state step (ctrl_step in RUN) -> hal_pwm_write / enable / disable ->
+ * run-time check -> hal_isr_ack. */
 void app_isr(app_t *app);
 
 /* Background loop: services the watchdog. */
 void app_background(app_t *app);
 
-/* Background: IDLE -> RUN at the next ISR (controller reset, PWM on). */
+/* Background: INIT or IDLE -> the start sequence at the next ISR. */
 void app_request_start(app_t *app);
 
-/* Background: -> IDLE at the next ISR, PWM off. */
+/* Background: CALIBRATE, ALIGN, RUN -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);
 
 /* Background: clears a latched hardware trip; FAULT -> IDLE at the next
- * ISR when no trip is active and the currents are below the threshold. */
+ * ISR if no protection check fails on that ISR's samples. */
 void app_fault_reset(app_t *app);
 
 #endif /* APP_H */

@@ -38,6 +38,31 @@
 #define BOARD_VDC_MIN_V          200.0f       /* undervoltage trip [V] */
 #define BOARD_VDC_MAX_V          400.0f       /* overvoltage trip [V] */
 #define BOARD_OVERSPEED_RPM      2400.0f      /* 1.2 x rated speed [r/min] */
+/* Control ISR: 15000 CPU cycles per period; the rest is the background
+ * loop's (watchdog, telemetry) and the interrupt entry/exit. */
+#define BOARD_ISR_PERIOD_CYCLES  (BOARD_SYSCLK_HZ / BOARD_PWM_FREQ_HZ) /* [cycles] */
+#define BOARD_ISR_BUDGET_CYCLES  12000UL      /* 80 % of the period for app_isr [cycles] */
+
+/* ---- start-up sequence (used by the application) ---------------------- */
+/* Current-offset calibration, PWM off, at every start. */
+#define BOARD_CAL_SETTLE_S       0.01f        /* wait before averaging: a current decays through the diodes in L/R = 3.7 ms [s] */
+#define BOARD_CAL_SAMPLES        1024U        /* periods averaged (0.1 s): noise / 32 [-] */
+#define BOARD_I_OFFSET_MAX_A     0.75f        /* accepted |offset| of ia, ib: 75 mV at the pin, 5 % of the range (assumed) [A] */
+/* Rotor alignment (d axis onto phase a), once per power-up. */
+#define BOARD_ENC_OFFSET_KNOWN   0U           /* 1: BOARD_ENC_OFFSET_EL_RAD is measured, no alignment [-] */
+#define BOARD_ALIGN_CURRENT_A    3.0f         /* d-axis current aimed at, about half rated; voltage = this x MOTOR_R_OHM [A] */
+#define BOARD_ALIGN_RAMP_S       0.2f         /* voltage ramp from 0: no torque jerk [s] */
+#define BOARD_ALIGN_SETTLE_S     0.8f         /* hold: the rotor settles; SIL (Table I, 1 us dead time, no friction): within a count after 0.4 s [s] */
+
+/* ---- controller tuning: the SIL scenario defaults (hal/sim/scenario.c) - */
+#define TUNE_SPEED_KP_NMS_RAD    0.5f         /* speed PI [N m / (rad/s)] */
+#define TUNE_SPEED_KI_NM_RAD     20.0f        /* speed PI [N m / rad] */
+#define TUNE_ENC_PLL_BW_RAD_S    500.0f       /* speed estimator bandwidth [rad/s] */
+#define TUNE_TE_MAX_PER_RATED    2.0f         /* torque limit / rated torque: 12 N m [-] */
+/* Bounds on what the controller's model may see (as in hal/sim/sil.c). */
+#define MODEL_I_BOUND_PER_TRIP   5.0f         /* x software overcurrent threshold [-] */
+#define MODEL_SPEED_BOUND_RPM    6000.0f      /* 3x rated speed [r/min] */
+#define MODEL_PSI_BOUND_PER_PSIF 4.0f         /* x psi_f [-] */
 
 /* ---- motor defaults: paper Table I ------------------------------------ */
 #define MOTOR_R_OHM              3.0f         /* stator phase resistance [Ohm] */

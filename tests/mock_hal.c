@@ -1,9 +1,11 @@
 /* mock_hal.c - cmocka mock of hal/hal.h for the firmware tests.
- * Every call is recorded with function_called(), so a test states the
- * exact order with expect_function_call(); hal_sample_read() returns the
+ * Every call but hal_cycles() is recorded with function_called(), so a
+ * test states the exact order with expect_function_call();
+ * hal_sample_read() returns the
  * sample queued with will_return(hal_sample_read, &sample) and
  * hal_trip_active() the value queued with will_return(hal_trip_active, b).
- * The last duties written are kept in mock_hal_duty for inspection. */
+ * The last duties written are kept in mock_hal_duty for inspection;
+ * hal_cycles() follows mock_hal_cycles (see mock_hal.h). */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -14,6 +16,8 @@
 #include "mock_hal.h"
 
 float mock_hal_duty[3];
+uint32_t mock_hal_cycles;
+uint32_t mock_hal_cycles_step;
 
 void hal_init(void)
 {
@@ -68,7 +72,9 @@ void hal_isr_ack(void)
 
 uint32_t hal_cycles(void)
 {
-    return 0u;
+    uint32_t now = mock_hal_cycles;
+    mock_hal_cycles += mock_hal_cycles_step;
+    return now;
 }
 
 void hal_watchdog_kick(void)

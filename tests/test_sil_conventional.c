@@ -12,6 +12,7 @@
 #include <stdio.h>
 
 #include "app.h"
+#include "board_cfg.h"
 #include "hal_sim.h"
 
 #define PI_D     3.14159265358979323846
@@ -40,6 +41,7 @@ static void setup(inv_model_t model, double vdc_V, bool speed_held, mismatch_t m
     hal_sim_configure(&sc);
 
     app_cfg_t cfg;
+    app_cfg_default(&cfg); /* the board's protection and ISR timing */
     cfg.ctrl = (ctrl_cfg_t){
         .Ts_s = (float)TS, .Rs_Ohm = (float)(mm.R_factor * sc.plant.R_ohm),
         .Ls_H = (float)(mm.L_factor * sc.plant.L_H), .psi_f_Wb = (float)(mm.psif_factor * sc.plant.psif_Wb),
@@ -49,6 +51,11 @@ static void setup(inv_model_t model, double vdc_V, bool speed_held, mismatch_t m
         .omega_max_el_rad_s = 3000.0f, .psi_max_Wb = 1.0f,
     };
     cfg.i_max_A = 12.0f; /* the board's software trip (BOARD_OVERCURRENT_A) */
+    /* the board's bus limits scaled to this bus; running from t = 0, as in the paper */
+    cfg.vdc_max_V = (float)vdc_V * (BOARD_VDC_MAX_V / BOARD_VDC_NOMINAL_V);
+    cfg.vdc_min_V = (float)vdc_V * (BOARD_VDC_MIN_V / BOARD_VDC_NOMINAL_V);
+    cfg.calibrate = false;
+    cfg.align = false;
     app_init(&app, &cfg);
     hal_init();
     hal_isr_attach(sil_isr);

@@ -18,6 +18,9 @@ TEST_LIBS_test_sensors  := sim
 TEST_LIBS_test_scenario := sim
 TEST_LIBS_test_sil      := firmware sim control
 TEST_SRCS_test_sil      := hal/sim/sil.c
+# The app's start-up sequence (calibrate, align, run) in SIL.
+TEST_LIBS_test_sil_startup := firmware sim control
+TEST_SRCS_test_sil_startup := hal/sim/sil.c
 
 # The CLI: exit status 2 and no CSV on bad input (runs the built binary).
 .PHONY: test-drive-sil-cli

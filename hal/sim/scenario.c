@@ -26,6 +26,7 @@ typedef struct {
 static const char *const MODEL_NAMES[] = { "averaged", "switching", NULL };
 static const char *const METHOD_NAMES[] = { "conventional", "proposed", NULL };
 static const char *const MODE_NAMES[] = { "speed", "torque", "open_loop", NULL };
+static const char *const ONOFF_NAMES[] = { "off", "on", NULL };
 
 #define UINT32_MAX_D 4294967295.0
 #define F(field) offsetof(scenario_t, field)
@@ -84,6 +85,10 @@ static const sc_key_t KEYS[] = {
 
     POS("run", "duration_s", run.duration_s, "1.2", "simulated time [s]"),
     UINT("run", "log_every", run.log_every, "10", 1.0, UINT32_MAX_D, "periods between CSV rows"),
+    ENUM("run", "calibrate", run.calibrate, "off", ONOFF_NAMES,
+         "off | on: current-offset calibration at start (both off: RUN at t = 0)"),
+    ENUM("run", "align", run.align, "off", ONOFF_NAMES,
+         "off | on: rotor alignment identifies the encoder offset (off: the controller is told it)"),
 };
 
 #define N_KEYS ((int)(sizeof KEYS / sizeof KEYS[0]))

@@ -23,6 +23,7 @@
 typedef enum { SC_MODEL_AVERAGED = 0, SC_MODEL_SWITCHING = 1 } sc_model_t;
 typedef enum { SC_METHOD_CONVENTIONAL = 0, SC_METHOD_PROPOSED = 1 } sc_method_t;
 typedef enum { SC_MODE_SPEED = 0, SC_MODE_TORQUE = 1, SC_MODE_OPEN_LOOP = 2 } sc_mode_t;
+typedef enum { SC_OFF = 0, SC_ON = 1 } sc_onoff_t;
 
 typedef struct {
     struct {                       /* [plant]: the TRUE motor, inverter and sensors */
@@ -56,6 +57,8 @@ typedef struct {
     struct {
         double duration_s;
         uint32_t log_every;        /* periods between logged rows */
+        uint32_t calibrate;        /* 1: the app measures the current offsets at start (sc_onoff_t) */
+        uint32_t align;            /* 1: the app aligns the rotor; the controller is not told the encoder offset */
     } run;
     /* where each key was last set ("" = default), for messages */
     char origin[SCENARIO_MAX_KEYS][SCENARIO_ORIGIN_LEN];

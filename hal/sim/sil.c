@@ -6,15 +6,14 @@
 #include <string.h>
 
 #include "app.h"
+#include "board_cfg.h"
 #include "hal_sim.h"
 
 #define TWO_PI 6.283185307179586
 #define RPM_PER_RAD_S (60.0 / TWO_PI)
-/* Bounds the controller's model clamps to (ctrl_cfg_t): generous, never the active limit. */
-#define MODEL_I_BOUND_PER_TRIP 5.0       /* model current bound / software overcurrent threshold */
+/* Bounds the controller's model clamps to (ctrl_cfg_t): generous, never the active limit.
+ * The current, speed and flux bounds are the board's (board_cfg.h MODEL_*). */
 #define MODEL_U_BOUND_PER_VDC 1.0        /* |ud|, |uq| bound / bus (the hexagon clamps at 2/3) */
-#define MODEL_SPEED_BOUND_RPM 6000.0     /* 3x rated speed */
-#define MODEL_PSI_BOUND_PER_PSIF 4.0     /* psi_s* bound / controller's psi_f */
 
 static app_t g_app;
 
@@ -50,7 +49,7 @@ static void board_cfg_from(const scenario_t *sc, hal_sim_cfg_t *hc)
 
 static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_t *ac)
 {
-    memset(ac, 0, sizeof *ac);
+    app_cfg_default(ac);   /* the board's protection, ISR timing and start-up sequence */
     ctrl_cfg_t *c = &ac->ctrl;
     c->Ts_s = (float)hc->inv.Ts_s;
     c->Rs_Ohm = (float)sc->controller.R_ohm;
@@ -58,7 +57,8 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     c->psi_f_Wb = (float)sc->controller.psif_Wb;
     c->pole_pairs = (uint16_t)sc->plant.pole_pairs;
     c->enc_lines = sc->plant.encoder_lines;
-    c->enc_offset_el_rad = (float)sc->plant.encoder_offset_el_rad;   /* as if calibrated */
+    /* align off: told the plant's offset, as if measured; on: not told (0), the alignment finds it */
+    c->enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)sc->plant.encoder_offset_el_rad;
     c->enc_pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
     c->speed_kp_Nms_rad = (float)sc->controller.speed_kp_Nms_rad;
     c->speed_ki_Nm_rad = (float)sc->controller.speed_ki_Nm_rad;
@@ -68,6 +68,12 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     c->omega_max_el_rad_s = (float)(MODEL_SPEED_BOUND_RPM / RPM_PER_RAD_S * (double)sc->plant.pole_pairs);
     c->psi_max_Wb = (float)(MODEL_PSI_BOUND_PER_PSIF * sc->controller.psif_Wb);
     ac->i_max_A = (float)sc->controller.i_max_A;
+    /* the board's bus limits relative to its nominal bus, at the scenario's bus */
+    const float bus_scale = (float)sc->plant.vdc_V / BOARD_VDC_NOMINAL_V;
+    ac->vdc_max_V = BOARD_VDC_MAX_V * bus_scale;
+    ac->vdc_min_V = BOARD_VDC_MIN_V * bus_scale;
+    ac->calibrate = (sc->run.calibrate == SC_ON);
+    ac->align = (sc->run.align == SC_ON);
 }
 
 static ctrl_mode_t ctrl_mode_of(uint32_t mode)
@@ -118,6 +124,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     board_cfg_from(sc, &hc);
     app_cfg_from(sc, &hc, &ac);
     memset(res, 0, sizeof *res);
+    res->t_run_s = NAN;
 
     hal_sim_configure(&hc);
     hal_init();
@@ -147,6 +154,9 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
 
         hal_sim_truth_t tr;
         hal_sim_truth(&tr);
+        if (isnan(res->t_run_s) && g_app.state == APP_STATE_RUN) {
+            res->t_run_s = tr.t_s;
+        }
         double i_max = fmax(fabs(tr.ia_A), fmax(fabs(tr.ib_A), fabs(tr.ic_A)));
         res->max_abs_i_A = fmax(res->max_abs_i_A, i_max);
         res->periods = k + 1u;
@@ -159,6 +169,9 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     }
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
+    res->enc_offset_el_rad = (double)g_app.ctrl.enc.offset_rad;
+    res->i_offset_a_A = (double)g_app.offset_ia_A;
+    res->i_offset_b_A = (double)g_app.offset_ib_A;
     return rc;
 }
 
