@@ -54,7 +54,7 @@ static const sc_key_t KEYS[] = {
     POS("plant", "substep_s", plant.substep_s, "1e-4", "longest RK4 step inside a constant-voltage piece [s]"),
     UINT("plant", "encoder_lines", plant.encoder_lines, "2500", 1.0, 1.0e6, "encoder lines (x4 counts)"),
     ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, "0",
-        "electrical angle of the d axis at count 0 [rad]; the controller is told the same"),
+        "electrical angle of the d axis at count 0 [rad]; the controller is told the same unless run.align = on"),
     POS("plant", "adc_full_scale_A", plant.adc_full_scale_A, "15", "current ADC range +-[A] (12 bit)"),
     ANY("plant", "adc_offset_a_A", plant.adc_offset_a_A, "0", "phase-a ADC offset [A]"),
     ANY("plant", "adc_offset_b_A", plant.adc_offset_b_A, "0", "phase-b ADC offset [A]"),
