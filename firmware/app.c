@@ -51,6 +51,15 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->align_u_V = BOARD_ALIGN_CURRENT_A * MOTOR_R_OHM;
     cfg->align_ramp_s = BOARD_ALIGN_RAMP_S;
     cfg->align_settle_s = BOARD_ALIGN_SETTLE_S;
+
+    ctrl_cfg_proposed_defaults(c, BOARD_RSID_R_MIN_PER_R * MOTOR_R_OHM, BOARD_RSID_R_MAX_PER_R * MOTOR_R_OHM);
+    cfg->rsid_mode = (app_rsid_mode_t)BOARD_RSID_MODE;
+    cfg->rsid_settle_1_s = BOARD_RSID_SETTLE_1_S;
+    cfg->rsid_window_s = BOARD_RSID_WINDOW_S;
+    cfg->rsid_settle_2_s = BOARD_RSID_SETTLE_2_S;
+    cfg->rsid_speed_1_rad_s = BOARD_RSID_SPEED_1_RPM * RAD_S_PER_RPM;
+    cfg->rsid_speed_2_rad_s = BOARD_RSID_SPEED_2_RPM * RAD_S_PER_RPM;
+    cfg->rsid_accel_rad_s2 = BOARD_RSID_ACCEL_RPM_S * RAD_S_PER_RPM;
 }
 
 /* Whole periods of Ts_s in t_s, rounded; 0 for a non-positive time. */
@@ -82,7 +91,7 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->snapshot.state = APP_STATE_INIT;
     app->snapshot.value = 0.0f;
     app->snapshot.limit = 0.0f;
-    ctrl_init(&app->ctrl, &cfg->ctrl);
+    (void)ctrl_init(&app->ctrl, &cfg->ctrl); /* status kept in ctrl.status; a start checks it when needed */
     app->out.duty[0] = DUTY_ZERO_VOLTAGE;
     app->out.duty[1] = DUTY_ZERO_VOLTAGE;
     app->out.duty[2] = DUTY_ZERO_VOLTAGE;
@@ -111,6 +120,13 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->cal_settle_ticks = periods_of(cfg->cal_settle_s, Ts);
     app->align_ramp_ticks = periods_of(cfg->align_ramp_s, Ts);
     app->align_settle_ticks = periods_of(cfg->align_settle_s, Ts);
+    app->rsid_window_ticks = periods_of(cfg->rsid_window_s, Ts);
+    app->rsid_win1_tick = periods_of(cfg->rsid_settle_1_s, Ts);
+    app->rsid_win2_tick = app->rsid_win1_tick + app->rsid_window_ticks + periods_of(cfg->rsid_settle_2_s, Ts);
+    app->rsid_end_tick = app->rsid_win2_tick + app->rsid_window_ticks;
+    app->rsid_speed_ref_rad_s = 0.0f;
+    app->rsid_speed_step_rad_s = cfg->rsid_accel_rad_s2 * Ts;
+    app->rsid_result = RS_IDENT_OK;
 
     app->req_start = 0u;
     app->req_stop = 0u;
@@ -165,7 +181,7 @@ static void track(app_t *app, const hal_sample_t *s, uint32_t t_entry)
     app->enc_prev = count;
     app->isr_entry = t_entry;
     app->seeded = true;
-    if (app->state != APP_STATE_RUN) {
+    if ((app->state != APP_STATE_RUN) && (app->state != APP_STATE_IDENTIFY_R)) {
         encoder_step(&app->ctrl.enc, s->enc_count);
     }
 }
@@ -236,10 +252,28 @@ static void enter_run(app_t *app)
     app->state = APP_STATE_RUN;
 }
 
-/* After ALIGN, done or skipped. IDENTIFY_R (offline R identification) goes here, before RUN. */
-static void leave_align(app_t *app)
+static void enter_identify(app_t *app)
 {
-    enter_run(app);
+    ctrl_reset(&app->ctrl);
+    (void)ctrl_rsid_begin(&app->ctrl); /* status checked by leave_align */
+    app->state = APP_STATE_IDENTIFY_R;
+    app->state_ticks = 0u;
+    app->rsid_speed_ref_rad_s = app->ctrl.enc.omega_m_rad_s; /* SPEEDS ramps from here */
+}
+
+/* After ALIGN, done or skipped: step 1 of the proposed method, or RUN. */
+static void leave_align(app_t *app, const hal_sample_t *s)
+{
+    if (app->cfg.rsid_mode == APP_RSID_OFF) {
+        enter_run(app);
+    } else if (app->ctrl.status != CTRL_CFG_OK) {
+        latch_fault(app, APP_FAULT_CONFIG, s, (float)app->ctrl.status, 0.0f);
+    } else if (app->cfg.rsid_mode == APP_RSID_TRUSTED) {
+        enter_run(app);
+        (void)ctrl_est_start(&app->ctrl, app->cfg.ctrl.Rs_Ohm); /* nominal R is in its own band */
+    } else {
+        enter_identify(app);
+    }
 }
 
 static void enter_align(app_t *app)
@@ -258,7 +292,7 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
     } else if (app->cfg.align && !app->aligned) {
         enter_align(app);
     } else {
-        leave_align(app);
+        leave_align(app, s);
     }
 }
 
@@ -348,7 +382,7 @@ static void align_step(app_t *app, const hal_sample_t *s)
     if (k >= app->align_ramp_ticks + app->align_settle_ticks) {
         encoder_align(&app->ctrl.enc, s->enc_count);
         app->aligned = true;
-        leave_align(app);
+        leave_align(app, s);
     }
 }
 
@@ -368,6 +402,83 @@ static void run_step(app_t *app, const hal_sample_t *s)
     }
 }
 
+/* The fault naming why step 1 refused R^; the snapshot gets the quantity. */
+static app_fault_t rsid_fault(const app_t *app, rs_ident_result_t r, float *value, float *limit)
+{
+    const rs_ident_out_t *o = &app->ctrl.rsid_out;
+    const rs_ident_cfg_t *rc = &app->ctrl.ri.cfg;
+
+    *value = o->R_est_Ohm;
+    *limit = 0.0f;
+    switch (r) {
+    case RS_IDENT_NOT_STEADY:
+        *value = (o->iq_std_A[0] > o->iq_std_A[1]) ? o->iq_std_A[0] : o->iq_std_A[1];
+        *limit = rc->iq_std_max_A;
+        return APP_FAULT_RSID_NOT_STEADY;
+    case RS_IDENT_DEGENERATE:
+        return APP_FAULT_RSID_DEGENERATE;
+    case RS_IDENT_NON_FINITE:
+        return APP_FAULT_RSID_NON_FINITE;
+    case RS_IDENT_OUT_OF_BAND:
+        *limit = (o->R_est_Ohm > rc->R_max_Ohm) ? rc->R_max_Ohm : rc->R_min_Ohm;
+        return APP_FAULT_RSID_OUT_OF_BAND;
+    case RS_IDENT_INVALID_CFG:
+        return APP_FAULT_CONFIG;
+    case RS_IDENT_TOO_FEW:
+    case RS_IDENT_OK: /* not called with OK */
+    default:
+        return APP_FAULT_RSID_TOO_FEW;
+    }
+}
+
+/* Step 1: the controller runs every period; the app times the windows and,
+ * in SPEEDS mode, commands the two speeds. */
+static void identify_step(app_t *app, const hal_sample_t *s)
+{
+    const uint32_t k = app->state_ticks;
+    rs_ident_window_t win = RS_IDENT_WINDOW_NONE;
+    bool moving = false;
+    float value = 0.0f;
+    float limit = 0.0f;
+
+    if ((k >= app->rsid_win1_tick) && (k < app->rsid_win1_tick + app->rsid_window_ticks)) {
+        win = RS_IDENT_WINDOW_1;
+    } else if ((k >= app->rsid_win2_tick) && (k < app->rsid_end_tick)) {
+        win = RS_IDENT_WINDOW_2;
+    }
+    ctrl_rsid_window(&app->ctrl, win);
+    if (app->cfg.rsid_mode == APP_RSID_SPEEDS) {
+        /* point 1 until window 1 ends, then point 2; overrides the outside reference */
+        const float target = (k < app->rsid_win1_tick + app->rsid_window_ticks) ? app->cfg.rsid_speed_1_rad_s
+                                                                                  : app->cfg.rsid_speed_2_rad_s;
+        const float dmax = app->rsid_speed_step_rad_s; /* 0: no ramp, a step */
+        const float err = target - app->rsid_speed_ref_rad_s;
+        ctrl_ref_t ref = app->ctrl.ref;
+        app->rsid_speed_ref_rad_s += (dmax > 0.0f) ? mathx_clampf(err, -dmax, dmax) : err;
+        ref.speed_ref_rad_s = app->rsid_speed_ref_rad_s;
+        ctrl_set_ref(&app->ctrl, &ref);
+        /* the settle times count from the end of the ramp: a window in a
+         * ramp sees the speed estimate's lag as back-EMF in fq (biases R^) */
+        moving = (dmax > 0.0f) && (mathx_fabsf(err) > dmax) && (win == RS_IDENT_WINDOW_NONE);
+    }
+    run_step(app, s);
+    if (app->state != APP_STATE_IDENTIFY_R) {
+        return; /* run_step faulted */
+    }
+    if (moving) {
+        return;
+    }
+    app->state_ticks++;
+    if (app->state_ticks >= app->rsid_end_tick) {
+        app->rsid_result = ctrl_rsid_finish(&app->ctrl);
+        if (app->rsid_result == RS_IDENT_OK) {
+            app->state = APP_STATE_RUN; /* step 2 runs from the next period; no reset */
+        } else {
+            latch_fault(app, rsid_fault(app, app->rsid_result, &value, &limit), s, value, limit);
+        }
+    }
+}
+
 /* Background requests; stop wins over start. */
 static void take_requests(app_t *app, const hal_sample_t *s)
 {
@@ -375,7 +486,7 @@ static void take_requests(app_t *app, const hal_sample_t *s)
         app->req_stop = 0u;
         app->req_start = 0u;
         if ((app->state == APP_STATE_CALIBRATE) || (app->state == APP_STATE_ALIGN) ||
-            (app->state == APP_STATE_RUN)) {
+            (app->state == APP_STATE_IDENTIFY_R) || (app->state == APP_STATE_RUN)) {
             stop_to_idle(app);
         }
     } else if (app->req_start != 0u) {
@@ -430,6 +541,9 @@ void app_isr(app_t *app)
                 break;
             case APP_STATE_ALIGN:
                 align_step(app, &s);
+                break;
+            case APP_STATE_IDENTIFY_R:
+                identify_step(app, &s);
                 break;
             case APP_STATE_RUN:
                 run_step(app, &s);

@@ -1,10 +1,12 @@
 /*
  * app.h - the ISR glue and the drive state machine.
  *
- *   INIT --start--> CALIBRATE --offsets in band--> ALIGN --settled--> RUN
+ *   INIT --start--> CALIBRATE --offsets in band--> ALIGN --settled-->
+ *        IDENTIFY_R --R^ accepted--> RUN
  *   IDLE --start--> (the same sequence)
- *   CALIBRATE, ALIGN, RUN --stop--> IDLE
- *   INIT, IDLE, CALIBRATE, ALIGN, RUN --protection--> FAULT
+ *   CALIBRATE, ALIGN, IDENTIFY_R, RUN --stop--> IDLE
+ *   INIT, IDLE, CALIBRATE, ALIGN, IDENTIFY_R, RUN --protection--> FAULT
+ *   IDENTIFY_R --R^ refused--> FAULT (the reason in the code)
  *   FAULT --fault reset, cause gone--> IDLE
  *
  * INIT is the power-on state (nothing measured yet, bus may still be
@@ -27,8 +29,27 @@
  *              which the overcurrent check bounds. Once per power-up (the
  *              incremental count stays valid while powered), again after an
  *              ENCODER fault.
- *   (IDENTIFY_R, offline resistance identification, goes between ALIGN
- *   and RUN: see leave_align() in app.c and the gap in app_state_t.)
+ *   IDENTIFY_R step 1 of the proposed method (paper sec. V-B): ctrl_step
+ *              every period (conventional control, observer running) and
+ *              a timed sequence: rsid_settle_1_s, window 1 (rsid_window_s),
+ *              rsid_settle_2_s, window 2, then ctrl_rsid_finish(): R^ into
+ *              the observer, step 2 (L^, psi_f^) starts, RUN. The two
+ *              operating points (cfg.rsid_mode):
+ *                WINDOWS  set from outside (the load a dyno or the SIL
+ *                         scenario applies, the speed reference): the
+ *                         app only times the windows;
+ *                SPEEDS   the app commands rsid_speed_1/2 (speed mode;
+ *                         ramped at rsid_accel) at the load present,
+ *                         which must not be ~0 (equal loads need
+ *                         different speeds and a load: else DEGENERATE);
+ *                TRUSTED  no step 1: step 2 with the controller's R, for
+ *                         an R known at this winding temperature;
+ *                OFF      no step 1, no step 2 (the proposed method then
+ *                         controls as the conventional one, ctrl.h).
+ *              A refused R^ is a fault naming the reason (RSID_*). Runs
+ *              at every start: R follows the winding temperature. A
+ *              controller whose proposed-method settings ctrl_init
+ *              refused cannot identify: a start then faults CONFIG.
  *   RUN        ctrl_step every period.
  *
  * Background requests (start, stop, fault reset) only set a flag; the ISR
@@ -64,12 +85,13 @@
 #include "ctrl.h"
 #include "hal.h"
 
-/* Values are logged (SIL CSV, telemetry); 4 is kept for IDENTIFY_R. */
+/* Values are logged (SIL CSV, telemetry). */
 typedef enum {
     APP_STATE_INIT = 0,
     APP_STATE_IDLE = 1,
     APP_STATE_CALIBRATE = 2,
     APP_STATE_ALIGN = 3,
+    APP_STATE_IDENTIFY_R = 4,
     APP_STATE_RUN = 5,
     APP_STATE_FAULT = 6
 } app_state_t;
@@ -85,8 +107,22 @@ typedef enum {
     APP_FAULT_OVERSPEED = 7,
     APP_FAULT_ENCODER = 8,
     APP_FAULT_OVERRUN = 9,
-    APP_FAULT_CURRENT_OFFSET = 10
+    APP_FAULT_CURRENT_OFFSET = 10,
+    APP_FAULT_CONFIG = 11,           /* identification asked for, ctrl_init refused the observer's settings */
+    APP_FAULT_RSID_TOO_FEW = 12,     /* IDENTIFY_R: a window shorter than rs_ident's n_min */
+    APP_FAULT_RSID_NOT_STEADY = 13,  /* iq not steady in a window (snapshot: std of iq, its limit) */
+    APP_FAULT_RSID_DEGENERATE = 14,  /* the two operating points too alike for (41) */
+    APP_FAULT_RSID_NON_FINITE = 15,  /* NaN/Inf in the windows or the result */
+    APP_FAULT_RSID_OUT_OF_BAND = 16  /* R^ outside [R_min, R_max] (snapshot: R^, the bound crossed) */
 } app_fault_t;
+
+/* Step 1 of the proposed method in IDENTIFY_R (see above). */
+typedef enum {
+    APP_RSID_OFF = 0,
+    APP_RSID_WINDOWS = 1,
+    APP_RSID_SPEEDS = 2,
+    APP_RSID_TRUSTED = 3
+} app_rsid_mode_t;
 
 /* Count change per period beyond the overspeed limit's that still counts
  * as motion: the PLL-based overspeed check trips long before a real shaft
@@ -111,6 +147,13 @@ typedef struct {
     float align_u_V;            /* alpha voltage the alignment ramps to [V] */
     float align_ramp_s;         /* ramp time [s] */
     float align_settle_s;       /* hold time after the ramp [s] */
+    app_rsid_mode_t rsid_mode;  /* step 1 of the proposed method (IDENTIFY_R) */
+    float rsid_settle_1_s;      /* IDENTIFY_R entry to window 1 [s] */
+    float rsid_window_s;        /* each averaging window [s] */
+    float rsid_settle_2_s;      /* window 1's end to window 2: the operating point changes in it [s] */
+    float rsid_speed_1_rad_s;   /* SPEEDS: mechanical speed of point 1 [rad/s] */
+    float rsid_speed_2_rad_s;   /*   and of point 2 [rad/s] */
+    float rsid_accel_rad_s2;    /* SPEEDS: ramp rate of the commanded speed [rad/s^2] */
 } app_cfg_t;
 
 /* What was known in the period a fault was detected. */
@@ -129,7 +172,7 @@ typedef struct {
     ctrl_t ctrl;
     ctrl_out_t out;
     uint32_t ticks;                /* ISR calls since app_init */
-    uint32_t state_ticks;          /* ISR calls in CALIBRATE / ALIGN so far */
+    uint32_t state_ticks;          /* ISR calls in CALIBRATE / ALIGN / IDENTIFY_R so far */
     float offset_ia_A, offset_ib_A;  /* subtracted from ia, ib: 0 until a calibration is accepted [A] */
     float cal_sum_ia_A, cal_sum_ib_A;  /* CALIBRATE: sums so far [A] */
     bool uv_armed;                 /* undervoltage check active */
@@ -147,6 +190,11 @@ typedef struct {
     float enc_jump_max;            /* largest plausible |enc_delta| [counts] */
     uint32_t isr_late_cycles;      /* entry-to-entry interval that means a missed period */
     uint32_t cal_settle_ticks, align_ramp_ticks, align_settle_ticks;
+    uint32_t rsid_win1_tick, rsid_win2_tick, rsid_end_tick;  /* IDENTIFY_R: window starts, end */
+    uint32_t rsid_window_ticks;
+    float rsid_speed_ref_rad_s;    /* SPEEDS: the ramped reference */
+    float rsid_speed_step_rad_s;   /* SPEEDS: ramp step per period */
+    rs_ident_result_t rsid_result; /* last step 1 (R^ etc. in ctrl.rsid_out) */
     /* Requests: one word each, so that setting (background) and clearing
      * (ISR) are single stores and cannot lose one another. */
     volatile uint16_t req_start;
@@ -171,7 +219,7 @@ void app_background(app_t *app);
 /* Background: INIT or IDLE -> the start sequence at the next ISR. */
 void app_request_start(app_t *app);
 
-/* Background: CALIBRATE, ALIGN, RUN -> IDLE at the next ISR, PWM off. */
+/* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);
 
 /* Background: clears a latched hardware trip; FAULT -> IDLE at the next

@@ -59,6 +59,20 @@
 #define TUNE_SPEED_KI_NM_RAD     20.0f        /* speed PI [N m / rad] */
 #define TUNE_ENC_PLL_BW_RAD_S    500.0f       /* speed estimator bandwidth [rad/s] */
 #define TUNE_TE_MAX_PER_RATED    2.0f         /* torque limit / rated torque: 12 N m [-] */
+
+/* Step 1 of the proposed method (IDENTIFY_R, app.h). Off by default (the
+ * conventional method); with the proposed one, 2: the board commands two
+ * speeds at the load present (a dyno or the driven machine must load it). */
+#define BOARD_RSID_MODE          0U           /* app_rsid_mode_t: 0 off, 1 windows, 2 speeds, 3 trusted R [-] */
+#define BOARD_RSID_SPEED_1_RPM   500.0f       /* first point [r/min] */
+#define BOARD_RSID_SPEED_2_RPM   1000.0f      /* second point: (41) needs w1 iq2 != w2 iq1 [r/min] */
+#define BOARD_RSID_ACCEL_RPM_S   2500.0f      /* ramp of the commanded speed: 500 r/min in 0.2 s [r/min/s] */
+#define BOARD_RSID_SETTLE_1_S    0.28f        /* entry to window 1: ramp + speed loop settled (SIL, Table I) [s] */
+#define BOARD_RSID_WINDOW_S      0.06f        /* averaging window, 600 periods [s] */
+#define BOARD_RSID_SETTLE_2_S    0.14f        /* window 1 to window 2: the speed loop settles after the change [s] */
+#define BOARD_RSID_R_MIN_PER_R   0.2f         /* accepted R^ band, x MOTOR_R_OHM: cold winding, cable [-] */
+#define BOARD_RSID_R_MAX_PER_R   2.0f         /* hot copper (+130 K) and margin [-] */
+
 /* Bounds on what the controller's model may see (as in hal/sim/sil.c). */
 #define MODEL_I_BOUND_PER_TRIP   5.0f         /* x software overcurrent threshold [-] */
 #define MODEL_SPEED_BOUND_RPM    6000.0f      /* 3x rated speed [r/min] */
