@@ -27,3 +27,8 @@ TEST_SRCS_test_sil_startup := hal/sim/sil.c
 EXTRA_TESTS += test-drive-sil-cli
 test-drive-sil-cli: $(DRIVE_SIL)
 	@tools/test_drive_sil_cli.sh $(DRIVE_SIL)
+
+# Acceptance of the proposed method on the simulated board (scenario files
+# of tools/scenarios/, and the controller alone on hal_sim).
+TEST_LIBS_test_sil_proposed := firmware sim control
+TEST_SRCS_test_sil_proposed := hal/sim/sil.c

@@ -27,6 +27,7 @@ static const char *const MODEL_NAMES[] = { "averaged", "switching", NULL };
 static const char *const METHOD_NAMES[] = { "conventional", "proposed", NULL };
 static const char *const MODE_NAMES[] = { "speed", "torque", "open_loop", NULL };
 static const char *const ONOFF_NAMES[] = { "off", "on", NULL };
+static const char *const RSID_NAMES[] = { "off", "windows", "speeds", "trusted", NULL };
 
 #define UINT32_MAX_D 4294967295.0
 #define F(field) offsetof(scenario_t, field)
@@ -75,6 +76,16 @@ static const sc_key_t KEYS[] = {
     POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, "500", "speed estimator bandwidth [rad/s]"),
     POS("controller", "te_max_Nm", controller.te_max_Nm, "12", "torque reference limit [N m]"),
     POS("controller", "i_max_A", controller.i_max_A, "12", "software overcurrent threshold [A]"),
+    OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.2 x controller's R)"),
+    OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 2 x controller's R)"),
+
+    ENUM("identify", "mode", identify.mode, "off", RSID_NAMES, "step 1 of the proposed method: off | windows | speeds | trusted"),
+    NN("identify", "settle_1_s", identify.settle_1_s, "0.28", "start of IDENTIFY_R to window 1 [s]"),
+    POS("identify", "window_s", identify.window_s, "0.06", "each averaging window [s]"),
+    NN("identify", "settle_2_s", identify.settle_2_s, "0.14", "end of window 1 to window 2 [s]"),
+    ANY("identify", "speed_1_rpm", identify.speed_1_rpm, "500", "speeds mode: speed of point 1 [r/min]"),
+    ANY("identify", "speed_2_rpm", identify.speed_2_rpm, "1000", "speeds mode: speed of point 2 [r/min]"),
+    POS("identify", "accel_rpm_s", identify.accel_rpm_s, "2500", "speeds mode: ramp of the commanded speed [r/min/s]"),
 
     PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
     PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),

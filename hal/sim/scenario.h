@@ -24,6 +24,8 @@ typedef enum { SC_MODEL_AVERAGED = 0, SC_MODEL_SWITCHING = 1 } sc_model_t;
 typedef enum { SC_METHOD_CONVENTIONAL = 0, SC_METHOD_PROPOSED = 1 } sc_method_t;
 typedef enum { SC_MODE_SPEED = 0, SC_MODE_TORQUE = 1, SC_MODE_OPEN_LOOP = 2 } sc_mode_t;
 typedef enum { SC_OFF = 0, SC_ON = 1 } sc_onoff_t;
+/* [identify] mode: as app_rsid_mode_t */
+typedef enum { SC_RSID_OFF = 0, SC_RSID_WINDOWS = 1, SC_RSID_SPEEDS = 2, SC_RSID_TRUSTED = 3 } sc_rsid_mode_t;
 
 typedef struct {
     struct {                       /* [plant]: the TRUE motor, inverter and sensors */
@@ -47,7 +49,13 @@ typedef struct {
         uint32_t method;           /* sc_method_t */
         uint32_t mode;             /* sc_mode_t */
         double speed_kp_Nms_rad, speed_ki_Nm_rad, pll_bw_rad_s, te_max_Nm, i_max_A;
+        double R_min_ohm, R_max_ohm;           /* R^ band; NaN: the board's factors x R_ohm */
     } controller;
+    struct {                       /* [identify]: step 1 of the proposed method (app IDENTIFY_R) */
+        uint32_t mode;             /* sc_rsid_mode_t */
+        double settle_1_s, window_s, settle_2_s;
+        double speed_1_rpm, speed_2_rpm, accel_rpm_s;
+    } identify;
     struct {
         profile_t speed_rpm, torque_Nm, ud_V, uq_V;
     } reference;

@@ -74,6 +74,19 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->vdc_min_V = BOARD_VDC_MIN_V * bus_scale;
     ac->calibrate = (sc->run.calibrate == SC_ON);
     ac->align = (sc->run.align == SC_ON);
+    /* the proposed method's settings for the controller's values, R^ band in ohms */
+    const double R_min = isnan(sc->controller.R_min_ohm) ? BOARD_RSID_R_MIN_PER_R * sc->controller.R_ohm
+                                                         : sc->controller.R_min_ohm;
+    const double R_max = isnan(sc->controller.R_max_ohm) ? BOARD_RSID_R_MAX_PER_R * sc->controller.R_ohm
+                                                         : sc->controller.R_max_ohm;
+    ctrl_cfg_proposed_defaults(c, (float)R_min, (float)R_max);
+    ac->rsid_mode = (app_rsid_mode_t)sc->identify.mode;
+    ac->rsid_settle_1_s = (float)sc->identify.settle_1_s;
+    ac->rsid_window_s = (float)sc->identify.window_s;
+    ac->rsid_settle_2_s = (float)sc->identify.settle_2_s;
+    ac->rsid_speed_1_rad_s = (float)(sc->identify.speed_1_rpm / RPM_PER_RAD_S);
+    ac->rsid_speed_2_rad_s = (float)(sc->identify.speed_2_rpm / RPM_PER_RAD_S);
+    ac->rsid_accel_rad_s2 = (float)(sc->identify.accel_rpm_s / RPM_PER_RAD_S);
 }
 
 static ctrl_mode_t ctrl_mode_of(uint32_t mode)
@@ -115,6 +128,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->psif_est_Wb = (double)m->psi_f_est_Wb;
     r->fd_est = (double)m->fd_est;
     r->fq_est = (double)m->fq_est;
+    r->est = (double)m->est;
 }
 
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res)
@@ -130,8 +144,10 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     hal_init();
     app_init(&g_app, &ac);
     ctrl_set_mode(&g_app.ctrl, ctrl_mode_of(sc->controller.mode));
-    ctrl_set_method(&g_app.ctrl, (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED
-                                                                               : CTRL_METHOD_CONVENTIONAL);
+    /* refused when ctrl_init refused the observer's settings: the app then faults CONFIG at the
+     * start if [identify] asks for step 1, else the drive runs conventional */
+    (void)ctrl_set_method(&g_app.ctrl, (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED
+                                                                                     : CTRL_METHOD_CONVENTIONAL);
     hal_isr_attach(sil_isr);
     app_request_start(&g_app);
 
@@ -189,7 +205,7 @@ static const sil_col_t COLS[] = {
     COL(te_ref_Nm), COL(te_Nm), COL(te_est_Nm),
     COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
-    COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est),
+    COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 

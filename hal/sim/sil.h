@@ -29,6 +29,7 @@ typedef struct {
     double ud_cmd_V, uq_cmd_V;              /* commanded for the next period (monitor) */
     double load_Nm;
     double R_est_ohm, L_est_H, psif_est_Wb, fd_est, fq_est;
+    double est;                             /* ctrl_est_t: 0 observer off, 1 step 1, 2 step 2 */
 } sil_row_t;
 
 typedef struct {
