@@ -1,13 +1,18 @@
 /*
  * ctrl.c - the drive controller; see ctrl.h.
  *
- * Cost per ctrl_step() in speed/torque mode (conventional method), as
- * measured by `make bench-ctrl` (callgrind, x86-64 -O2, 963 instructions):
+ * Cost per ctrl_step() in speed/torque mode, as measured by `make
+ * bench-ctrl` (callgrind, x86-64 -O2):
+ *   conventional: 982 instructions; proposed (step 2 running): 1366 (+39 %)
  *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
- *            rotation by a short series);
- *   divisions: 2 (MTPA's torque term, svpwm_duty's 1/Vdc), plus 3 only
- *            in the periods the torque-first voltage limit acts;
- *   square roots: 3 (MTPA, eq. 17, the monitor's |psi_s|).
+ *            rotation by a short series), both methods;
+ *   divisions: conventional 2 (MTPA's torque term, svpwm_duty's 1/Vdc);
+ *            proposed 7: + 2 guarded ones in param_est's transfer laws,
+ *            1 in the observer's gain (L^ moved), 2 in dbdtc_set_params
+ *            (only in periods an estimate moved: in step 2 every period
+ *            with |w iq| above the freeze threshold); plus 3 only in the
+ *            periods the torque-first voltage limit acts;
+ *   square roots: 3 (MTPA, eq. 17, the monitor's |psi_s|), both methods.
  */
 #include "ctrl.h"
 
