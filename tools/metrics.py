@@ -11,7 +11,7 @@ controller's references (te_ref_Nm, psi_ref_Wb, speed_ref_rpm):
     psi_err_Wb      mean |psi_s - psi_s*|, psi_err_pct the same relative to psi_s*
     speed_err_rpm   mean of speed - speed*, speed_err_max_rpm max |.|
     id_A, iq_A      means of the true currents
-  torque step (the largest jump of Te* in the run, torque mode):
+  torque step (the largest jump of Te* in the run, the last of equal ones, torque mode):
     step_periods_95 periods from the row that first carries the new Te*
                     (the ISR that took the command) to Te within 95 % of the step
     step_overshoot_pct  max overshoot after it, in % of the step
@@ -104,7 +104,8 @@ def torque_step(col, Ts):
     d = [abs(b - a) for a, b in zip(ref, ref[1:])]
     if sum(1 for x in d if x >= STEP_MIN_NM) > MAX_STEPS:
         return None                     # a moving reference (speed mode)
-    j = max(range(len(d)), key=lambda i: d[i]) + 1   # first row with the new reference
+    # first row with the new reference; of equal jumps the last (a step after a set-up sequence)
+    j = max(range(len(d)), key=lambda i: (d[i], i)) + 1
     if d[j - 1] < STEP_MIN_NM:
         return None
     te0, te1 = ref[j - 1], ref[j]
