@@ -5,7 +5,7 @@
      the plot drawn for exactly that scenario (<stem>.png / <stem>.svg);
   2. the table case x method: every case that has both conv_<case>.csv
      and prop_<case>.csv (torque and flux error, ripple, speed dip at the
-     load step, R^/L^/psi_f^ error and time to 2 %);
+     load step, R^/L^/psi_f^ error and time to 2 %, torque-step response);
   3. figures in the paper's layout (needs matplotlib; skipped without):
      <case>_compare.png  flux ref/response, torque ref/response, psi_f^, L^
                          over time, conventional | proposed side by side;
@@ -100,8 +100,9 @@ def scenario_table(runs, d):
 def case_table(cases, d):
     lines = [
         "| case | method | mean abs(Te-Te*) [N m] | psi err [%] | Te ripple RMS [N m] | speed dip [r/min] "
-        "| R^ err [%] | L^ err [%] | psi_f^ err [%] | L^ in 2 % [ms] | psi_f^ in 2 % [ms] | figure |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| R^ err [%] | L^ err [%] | psi_f^ err [%] | L^ in 2 % [ms] | psi_f^ in 2 % [ms] "
+        "| step 95 % [periods] | overshoot [%] | figure |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for case, by_method in cases:
         fig = f"{case}_compare.png"
@@ -115,7 +116,8 @@ def case_table(cases, d):
                 f"| {cell(r['te_ripple_Nm'], '.4f')} | {cell(r.get('speed_dip_rpm'), '.2f')} "
                 f"| {cell(r.get('R_err_pct'), '+.3f')} | {cell(r.get('L_err_pct'), '+.3f')} "
                 f"| {cell(r.get('psif_err_pct'), '+.3f')} | {cell(r.get('t2_L_ms'), '.1f')} "
-                f"| {cell(r.get('t2_psif_ms'), '.1f')} | {link} |")
+                f"| {cell(r.get('t2_psif_ms'), '.1f')} | {cell(r.get('step_periods_95'), 'd')} "
+                f"| {cell(r.get('step_overshoot_pct'), '.2f')} | {link} |")
     return lines
 
 
