@@ -57,6 +57,7 @@ typedef struct {
     double te_err, te_abs, psi_err, psi_ref, psi_ref_mtpa;   /* sums over the window */
     long n;
     double state, fault;
+    double t_fault;                     /* first row in FAULT (NaN: none) */
     /* torque step */
     double step_t;                      /* t of the step row (0: no step analysis) */
     double te[64];
@@ -77,10 +78,13 @@ static int on_row(const sil_row_t *r, void *user)
     (void)user;
     fig.state = r->state;
     fig.fault = r->fault;
+    if (isnan(fig.t_fault) && (int)r->state == APP_STATE_FAULT) {
+        fig.t_fault = r->t_s;
+    }
     fig.R = r->R_est_ohm;
     fig.L = r->L_est_H;
     fig.psi = r->psif_est_Wb;
-    if (isnan(fig.t2) && r->est == (double)CTRL_EST_STEP2) {
+    if (isnan(fig.t2) && (int)r->est == CTRL_EST_STEP2) {
         fig.t2 = r->t_s;
     }
     if (r->t_s < WIN_T1) {
@@ -124,6 +128,7 @@ static void run_scenario(const char *name, const char *const *sets, double step_
 
     memset(&fig, 0, sizeof fig);
     fig.t2 = NAN;
+    fig.t_fault = NAN;
     fig.step_t = step_t;
     scenario_defaults(&sc);
     snprintf(path, sizeof path, "tools/scenarios/%s.ini", name);
@@ -306,6 +311,28 @@ static void identify_degenerate_faults(void **state)
     assert_int_equal((int)fig.fault, APP_FAULT_RSID_DEGENERATE);
 }
 
+/* R^ outside the band (true R = 3 ohm, band from 5 ohm): OUT_OF_BAND. */
+static void identify_out_of_band_faults(void **state)
+{
+    const char *const sets[] = { "controller.R_min_ohm=5", NULL };
+    (void)state;
+    run_scenario("prop_R430", sets, 0.0);
+    assert_int_equal((int)fig.state, APP_STATE_FAULT);
+    assert_int_equal((int)fig.fault, APP_FAULT_RSID_OUT_OF_BAND);
+}
+
+/* A band whose top breaks (36) (Ks > ef_max + R_max phi): ctrl_init refuses
+ * the observer, the app refuses to identify (CONFIG) before energising. */
+static void identify_refused_config_faults(void **state)
+{
+    const char *const sets[] = { "controller.R_max_ohm=25.8", NULL };
+    (void)state;
+    run_scenario("prop_R430", sets, 0.0);
+    assert_int_equal((int)fig.state, APP_STATE_FAULT);
+    assert_int_equal((int)fig.fault, APP_FAULT_CONFIG);
+    assert_true(fig.t_fault < TS / 2.0); /* at the start, before anything is energised */
+}
+
 /* ---- the controller alone on the simulated board ------------------------- */
 
 static ctrl_t c;
@@ -483,6 +510,8 @@ int main(void)
         cmocka_unit_test(speed_2000),
         cmocka_unit_test(identify_speeds_mode),
         cmocka_unit_test(identify_degenerate_faults),
+        cmocka_unit_test(identify_out_of_band_faults),
+        cmocka_unit_test(identify_refused_config_faults),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
