@@ -12,7 +12,8 @@
  *   MTPA -> psi_s*; DB-DTC (eq. 17) -> u_dq(k+1)
  *   (open-loop mode: u_dq(k+1) from the reference)
  *   torque-first hexagon limit, inverse Park and SVPWM at the angle of the
- *   middle of the period the voltage is applied in: theta + 1.5*omega*Ts
+ *   middle of the period the voltage is applied in: theta + 1.5*omega*Ts,
+ *   with the dead time's voltage error (cfg.deadtime_s) fed forward
  *   the realised voltage is kept for the next step's prediction.
  *
  * Proposed method (paper sec. V; observer_design.md sec. 2), per period:
@@ -75,6 +76,8 @@ typedef struct {
     float u_max_V;              /* bound on |ud|, |uq| before the hexagon */
     float omega_max_el_rad_s;   /* bound on |omega_el| the model uses */
     float psi_max_Wb;           /* bound on psi_s* */
+    float deadtime_s;           /* inverter dead time [s]: its voltage error is fed forward and
+                                 * counted in the realised voltage; 0: none */
     /* Proposed method; ctrl_cfg_proposed_defaults() fills all of it. The
      * fields of smo/est/rsid that repeat the ones above (Ts, nominal R, L,
      * psi_f, the bounds, the R band) are taken from here by ctrl_init(). */
@@ -131,6 +134,7 @@ typedef struct {
     dbdtc_t db;                 /* parameters in use live in db.par */
     pi_t speed_pi;
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
+    float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */
     ctrl_est_t est;
     smo_t smo;                  /* observer: R^, L^, psi^, f^, i^ */

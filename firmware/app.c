@@ -8,6 +8,7 @@
 /* Duty that gives zero line-to-line voltage: written whenever PWM goes off. */
 #define DUTY_ZERO_VOLTAGE 0.5f
 #define RAD_S_PER_RPM (MATHX_TWO_PI_F / 60.0f)
+#define S_PER_NS 1.0e-9f
 #define ENC_COUNTS_PER_LINE 4u      /* x4 quadrature decoding */
 /* Longest time converted to periods: keeps the float-to-integer cast defined (28 h at 10 kHz). */
 #define PERIODS_MAX 1.0e9f
@@ -35,6 +36,7 @@ void app_cfg_default(app_cfg_t *cfg)
     c->u_max_V = BOARD_VDC_MAX_V;
     c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * RAD_S_PER_RPM * (float)MOTOR_POLE_PAIRS;
     c->psi_max_Wb = MODEL_PSI_BOUND_PER_PSIF * MOTOR_PSI_F_WB;
+    c->deadtime_s = (float)BOARD_DEADTIME_NS * S_PER_NS;
 
     cfg->i_max_A = BOARD_OVERCURRENT_A;
     cfg->vdc_max_V = BOARD_VDC_MAX_V;

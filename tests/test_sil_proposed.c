@@ -10,7 +10,8 @@
  *  - the controller alone on the simulated board (ctrl_* API): method
  *    switching both ways at run time, step 2 without step 1, step-1
  *    failure codes, ctrl_init refusing an unstable observer.
- * Figures are printed (the report quotes them). */
+ * Figures are printed (the report quotes them). One case repeats with the
+ * board's 1 us dead time, which the controller compensates. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -282,6 +283,25 @@ static void speed_2000(void **state)
     speed_case("prop_L066_psif150", "reference.speed_rpm=0:0, 0.2:2000~");
 }
 
+/* 1 us dead time (the board's), compensated by the controller (told the
+ * plant's, ctrl_cfg_t.deadtime_s): the same acceptance as without. */
+static void deadtime_compensated(void **state)
+{
+    const char *const sets[] = { "plant.deadtime_s=1e-6", NULL };
+    double te_err;
+    double te_abs;
+    double psi_rel;
+    double ref_rel;
+    (void)state;
+    run_scenario("prop_L066_psif150", sets, 0.0);
+    window_figures(&te_err, &te_abs, &psi_rel, &ref_rel);
+    print_message("1 us dead time, compensated: Te-Te* %+.4f N m (mean abs %.4f), psi-psi* %+.3f %%\n", te_err, te_abs,
+                  100.0 * psi_rel);
+    check_estimates("prop_L066_psif150 (1 us dead time)");
+    assert_true(te_abs <= TE_ERR_MAX_NM);
+    assert_true(fabs(psi_rel) <= PSI_ERR_MAX);
+}
+
 /* SPEEDS mode: the app commands 1000 then 500 r/min at a constant 3 N m
  * load (equal loads, different speeds); the settle times count from the
  * end of each ramp, so step 2 starts later than in the windows timeline. */
@@ -508,6 +528,7 @@ int main(void)
         cmocka_unit_test(torque_step_L150),
         cmocka_unit_test(speed_200),
         cmocka_unit_test(speed_2000),
+        cmocka_unit_test(deadtime_compensated),
         cmocka_unit_test(identify_speeds_mode),
         cmocka_unit_test(identify_degenerate_faults),
         cmocka_unit_test(identify_out_of_band_faults),

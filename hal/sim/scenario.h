@@ -50,6 +50,7 @@ typedef struct {
         uint32_t mode;             /* sc_mode_t */
         double speed_kp_Nms_rad, speed_ki_Nm_rad, pll_bw_rad_s, te_max_Nm, i_max_A;
         double R_min_ohm, R_max_ohm;           /* R^ band; NaN: the board's factors x R_ohm */
+        double deadtime_s;                     /* dead time the controller compensates; NaN: the plant's */
     } controller;
     struct {                       /* [identify]: step 1 of the proposed method (app IDENTIFY_R) */
         uint32_t mode;             /* sc_rsid_mode_t */

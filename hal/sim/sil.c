@@ -67,6 +67,8 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     c->u_max_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
     c->omega_max_el_rad_s = (float)(MODEL_SPEED_BOUND_RPM / RPM_PER_RAD_S * (double)sc->plant.pole_pairs);
     c->psi_max_Wb = (float)(MODEL_PSI_BOUND_PER_PSIF * sc->controller.psif_Wb);
+    /* the dead time as if measured, unless the scenario gives the controller another */
+    c->deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
     ac->i_max_A = (float)sc->controller.i_max_A;
     /* the board's bus limits relative to its nominal bus, at the scenario's bus */
     const float bus_scale = (float)sc->plant.vdc_V / BOARD_VDC_NOMINAL_V;
