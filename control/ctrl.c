@@ -42,7 +42,7 @@
 /* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
 
-/* What db.par holds (ctrl_t.model_nominal). */
+/* What db.par holds (ctrl_t.model_src). */
 #define MODEL_OBSERVER 0u      /* the observer's estimates, up to date */
 #define MODEL_NOMINAL  1u      /* the configured parameters */
 #define MODEL_STALE    2u      /* the observer's, but R^ changed since */
@@ -176,7 +176,7 @@ void ctrl_reset(ctrl_t *c)
 {
     encoder_reset(&c->enc);
     dbdtc_reset(&c->db);
-    c->model_nominal = MODEL_NOMINAL;
+    c->model_src = MODEL_NOMINAL;
     smo_reset(&c->smo);
     param_est_reset(&c->pe);
     rs_ident_reset(&c->ri);
@@ -252,8 +252,8 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
     if (r == RS_IDENT_OK) {
         param_est_run(&c->pe, true);
         c->est = CTRL_EST_STEP2;
-        if (c->model_nominal == MODEL_OBSERVER) {
-            c->model_nominal = MODEL_STALE;
+        if (c->model_src == MODEL_OBSERVER) {
+            c->model_src = MODEL_STALE;
         }
     } else {
         c->est = CTRL_EST_OFF;
@@ -275,8 +275,8 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
     c->rsid_win = RS_IDENT_WINDOW_NONE;
     param_est_run(&c->pe, true);
     c->est = CTRL_EST_STEP2;
-    if (c->model_nominal == MODEL_OBSERVER) {
-        c->model_nominal = MODEL_STALE;
+    if (c->model_src == MODEL_OBSERVER) {
+        c->model_src = MODEL_STALE;
     }
     return true;
 }
@@ -303,17 +303,17 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
             const uint16_t moved = param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
             if (c->method == CTRL_METHOD_PROPOSED) {
                 /* 2 divisions, only when an estimate moved */
-                if ((moved != 0u) || (c->model_nominal != MODEL_OBSERVER)) {
+                if ((moved != 0u) || (c->model_src != MODEL_OBSERVER)) {
                     dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->smo.psi_f_Wb);
-                    c->model_nominal = MODEL_OBSERVER;
+                    c->model_src = MODEL_OBSERVER;
                 }
                 return dbdtc_state_from_currents(&c->db, i_hat); /* replaces eq. (10) */
             }
         }
     }
-    if (c->model_nominal != MODEL_NOMINAL) {
+    if (c->model_src != MODEL_NOMINAL) {
         dbdtc_reset(&c->db); /* back from the proposed method: 2 divisions once */
-        c->model_nominal = MODEL_NOMINAL;
+        c->model_src = MODEL_NOMINAL;
     }
     return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s); /* eq. (10)-(12) */
 }
@@ -447,7 +447,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         c->mon.fq_est = 0.0f;
     }
     c->mon.est = c->est;
-    c->mon.model_from_observer = (c->model_nominal == MODEL_OBSERVER) ? 1u : 0u;
+    c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
 
     /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
      * are in it because the blocks clamp (a NaN would become a bound); the

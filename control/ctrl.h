@@ -118,7 +118,7 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float ud_V, uq_V;                     /* rotor-frame voltage commanded for the next period, after the hexagon clamp */
     float te_ref_Nm, te_est_Nm;           /* torque reference and the controller's torque estimate (at k+1) */
     float psi_ref_Wb, psi_est_Wb;         /* stator-flux reference and estimate (at k+1) */
-    float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* parameters in use (nominal for the conventional method) */
+    float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* observer estimates while it runs, else the nominal parameters */
     float fd_est, fq_est;                 /* observer disturbances (0 while the observer is stopped) */
     ctrl_est_t est;                       /* step of the proposed method */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
@@ -142,7 +142,7 @@ typedef struct {
     rs_ident_t ri;              /* step 1 windows */
     rs_ident_window_t rsid_win; /* window the coming periods go into */
     rs_ident_out_t rsid_out;    /* last ctrl_rsid_finish() result (R^, window means) */
-    uint16_t model_nominal;     /* 1: db.par holds the configured parameters */
+    uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */
     ctrl_mon_t mon;
 } ctrl_t;
 
