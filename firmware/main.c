@@ -2,15 +2,24 @@
  * main.c - F28335 target entry: bring up the board, configure the drive
  * from board_cfg.h (app_cfg_default), run the control ISR (ADC SEQ1,
  * 10 kHz) from RAM and the background loop (watchdog via app_background,
- * telemetry pump).
+ * the operator's command block, telemetry pump).
+ *
+ * Operating the board: in CCS, add `g_cmd` to the expressions window and
+ * set its fields (see cmd.h): method 0/1 (conventional/proposed), mode
+ * 0/1/2 (open loop/torque/speed), the reference, then run = 1. `g_app`
+ * shows the state, the latched fault with its snapshot and the monitor
+ * (g_app.ctrl.mon); g_cmd.error names a refused command.
  * Not linked on the host (the Makefile filters it out); the make check
  * gates compile it.
  */
 #include "app.h"
+#include "board_cfg.h"
+#include "cmd.h"
 #include "hal.h"
 #include "hal_f28335.h"
 
-static app_t g_app;  /* the whole drive state; static so CCS can watch it */
+static app_t g_app;          /* the whole drive state; static so CCS can watch it */
+static volatile cmd_t g_cmd; /* written by the operator from CCS (or a telemetry link) */
 
 /* PIE INT1.1 (ADC SEQ1 end of sequence), once per PWM period; app_isr acknowledges. */
 #if defined(__TMS320C28XX__)
@@ -26,12 +35,18 @@ static HAL_INTERRUPT void ctrl_isr(void)
 int main(void)
 {
     app_cfg_t cfg;
+    cmd_limits_t lim;
 
     hal_init();
     app_cfg_default(&cfg);
     app_init(&g_app, &cfg);
+    cmd_init(&g_cmd);
+    lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
+    lim.te_max_Nm = cfg.ctrl.te_max_Nm;
+    lim.u_max_V = cfg.ctrl.u_max_V;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
     for (;;) {
+        cmd_apply(&g_cmd, &lim, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         hal_f28335_sci_pump();
     }

@@ -1,0 +1,53 @@
+/*
+ * cmd.h - the operator's command block on the target.
+ *
+ * As in TI's C2000 motor-control examples, the user drives the board from
+ * Code Composer Studio's expressions window: main.c owns one `volatile
+ * cmd_t`, the user edits its fields there (or a telemetry link writes
+ * them), and the background loop hands it to cmd_apply(). Every field is
+ * checked there; a bad value is refused, keeps the previous command and is
+ * named in `error`, so nothing unchecked reaches the ISR.
+ */
+#ifndef CMD_H
+#define CMD_H
+
+#include <stdint.h>
+
+#include "app.h"
+
+typedef enum {
+    CMD_OK = 0,
+    CMD_ERR_METHOD,      /* method is neither conventional nor proposed */
+    CMD_ERR_METHOD_CFG,  /* proposed method refused: its observer configuration failed at init */
+    CMD_ERR_MODE,        /* mode is not open loop, torque or speed */
+    CMD_ERR_SPEED,       /* speed reference not finite or beyond cmd_limits_t */
+    CMD_ERR_TORQUE,      /* torque reference not finite or beyond cmd_limits_t */
+    CMD_ERR_VOLTAGE      /* open-loop voltage not finite or beyond cmd_limits_t */
+} cmd_error_t;
+
+typedef struct {
+    uint16_t run;          /* 1: start (calibration, alignment, identification, run); 0: stop */
+    uint16_t fault_reset;  /* write 1 to clear a latched fault; cmd_apply() sets it back to 0 */
+    uint16_t method;       /* ctrl_method_t: 0 conventional, 1 proposed */
+    uint16_t mode;         /* ctrl_mode_t: 0 open loop, 1 torque, 2 speed */
+    float speed_ref_rpm;   /* mechanical speed reference (speed mode) [r/min] */
+    float te_ref_Nm;       /* torque reference (torque mode) [N m] */
+    float ud_ref_V;        /* rotor-frame voltage (open-loop mode) [V] */
+    float uq_ref_V;
+    uint16_t error;        /* cmd_error_t of the last refused field, CMD_OK when all were taken */
+    uint16_t run_taken;    /* last run value acted on: a start or stop is sent on a change only */
+} cmd_t;
+
+typedef struct {
+    float speed_max_rpm;   /* |speed_ref_rpm| accepted */
+    float te_max_Nm;       /* |te_ref_Nm| accepted */
+    float u_max_V;         /* |ud_ref_V|, |uq_ref_V| accepted */
+} cmd_limits_t;
+
+/* Power-on command: stopped, conventional method, speed mode, references 0. Start-up. */
+void cmd_init(volatile cmd_t *cmd);
+
+/* Check the command and pass it to the drive. Background loop only. */
+void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app);
+
+#endif /* CMD_H */

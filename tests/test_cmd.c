@@ -1,0 +1,158 @@
+/* Unit tests for firmware/cmd: the operator's command block is checked
+ * field by field, references reach the controller in SI units, a refused
+ * field keeps the previous command and is named, start/stop and fault
+ * reset are sent once per change. Runs against the cmocka HAL mock. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+
+#include "app.h"
+#include "cmd.h"
+#include "mock_hal.h"
+
+#define RPM_500_RAD_S 52.35987755982988  /* 500 * 2 pi / 60 */
+#define TOL 1e-5
+
+static const cmd_limits_t LIM = { 2000.0f, 12.0f, 300.0f };
+static app_t app;          /* large: not on the stack */
+static volatile cmd_t cmd;
+
+static int setup(void **state)
+{
+    app_cfg_t cfg;
+    (void)state;
+    app_cfg_default(&cfg);
+    expect_function_call(hal_pwm_disable);
+    app_init(&app, &cfg);
+    cmd_init(&cmd);
+    return 0;
+}
+
+static void run_change_sends_one_start_then_one_stop(void **state)
+{
+    (void)state;
+    cmd.run = 1u;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(app.req_start, 1u);
+    app.req_start = 0u;
+    cmd_apply(&cmd, &LIM, &app); /* unchanged: no second start */
+    assert_int_equal(app.req_start, 0u);
+    assert_int_equal(app.req_stop, 0u);
+    cmd.run = 0u;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(app.req_stop, 1u);
+    assert_int_equal(cmd.error, CMD_OK);
+}
+
+static void references_reach_the_controller_in_si_units(void **state)
+{
+    (void)state;
+    cmd.speed_ref_rpm = 500.0f;
+    cmd.te_ref_Nm = -4.0f;
+    cmd.ud_ref_V = 12.5f;
+    cmd.uq_ref_V = -60.0f;
+    cmd.mode = (uint16_t)CTRL_MODE_TORQUE;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_float_equal(app.ctrl.ref.speed_ref_rad_s, RPM_500_RAD_S, TOL);
+    assert_float_equal(app.ctrl.ref.te_ref_Nm, -4.0, TOL);
+    assert_float_equal(app.ctrl.ref.ud_ref_V, 12.5, TOL);
+    assert_float_equal(app.ctrl.ref.uq_ref_V, -60.0, TOL);
+    assert_int_equal(app.ctrl.mode_req, CTRL_MODE_TORQUE);
+    assert_int_equal(cmd.error, CMD_OK);
+}
+
+static void refused_reference_keeps_the_old_value_and_is_named(void **state)
+{
+    (void)state;
+    cmd.speed_ref_rpm = 500.0f;
+    cmd.te_ref_Nm = 4.0f;
+    cmd_apply(&cmd, &LIM, &app);
+
+    cmd.speed_ref_rpm = NAN;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_SPEED);
+    assert_float_equal(app.ctrl.ref.speed_ref_rad_s, RPM_500_RAD_S, TOL);
+
+    cmd.speed_ref_rpm = 2000.5f; /* just beyond the limit */
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_SPEED);
+    assert_float_equal(app.ctrl.ref.speed_ref_rad_s, RPM_500_RAD_S, TOL);
+
+    cmd.speed_ref_rpm = 500.0f;
+    cmd.te_ref_Nm = 12.01f;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_TORQUE);
+    assert_float_equal(app.ctrl.ref.te_ref_Nm, 4.0, TOL);
+
+    cmd.te_ref_Nm = 4.0f;
+    cmd.uq_ref_V = INFINITY;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_VOLTAGE);
+    assert_float_equal(app.ctrl.ref.uq_ref_V, 0.0, TOL);
+
+    cmd.uq_ref_V = 0.0f; /* all valid again: the error clears */
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_OK);
+}
+
+static void unknown_method_or_mode_is_refused(void **state)
+{
+    (void)state;
+    cmd.method = 7u;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_METHOD);
+    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+
+    cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
+    cmd.mode = 3u;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_MODE);
+    assert_int_equal(app.ctrl.mode_req, CTRL_MODE_SPEED);
+}
+
+static void proposed_method_is_taken_or_refused_by_its_configuration(void **state)
+{
+    (void)state;
+    cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(app.ctrl.status, CTRL_CFG_OK); /* board defaults pass (36) and the stability bound */
+    assert_int_equal(cmd.error, CMD_OK);
+    assert_int_equal(app.ctrl.method, CTRL_METHOD_PROPOSED);
+
+    cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
+    cmd_apply(&cmd, &LIM, &app);
+    app.ctrl.status = CTRL_CFG_OBSERVER; /* as if smo_init had refused the gains */
+    cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_METHOD_CFG);
+    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+}
+
+static void fault_reset_is_passed_once_and_cleared(void **state)
+{
+    (void)state;
+    cmd.fault_reset = 1u;
+    expect_function_call(hal_trip_clear);
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(app.req_fault_reset, 1u);
+    assert_int_equal(cmd.fault_reset, 0u);
+    app.req_fault_reset = 0u;
+    cmd_apply(&cmd, &LIM, &app); /* no second reset: hal_trip_clear not expected */
+    assert_int_equal(app.req_fault_reset, 0u);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(run_change_sends_one_start_then_one_stop, setup),
+        cmocka_unit_test_setup(references_reach_the_controller_in_si_units, setup),
+        cmocka_unit_test_setup(refused_reference_keeps_the_old_value_and_is_named, setup),
+        cmocka_unit_test_setup(unknown_method_or_mode_is_refused, setup),
+        cmocka_unit_test_setup(proposed_method_is_taken_or_refused_by_its_configuration, setup),
+        cmocka_unit_test_setup(fault_reset_is_passed_once_and_cleared, setup),
+    };
+    return cmocka_run_group_tests_name("cmd", tests, NULL, NULL);
+}
