@@ -34,7 +34,10 @@
 
 /* ---- protection limits (used by the application) ---------------------- */
 #define BOARD_VDC_NOMINAL_V      311.0f       /* rectified 220 V AC [V] (assumed; paper gives none) */
-#define BOARD_OVERCURRENT_A      12.0f        /* software trip on any phase current [A] */
+/* Software trip on any phase current: above the 11.1 A that the 12 N m
+ * torque limit asks for (12 / (1.5 p psi_f)), with room for one period of
+ * deadbeat overshoot, below the sensors' 15 A full scale and hardware trip. */
+#define BOARD_OVERCURRENT_A      14.0f        /* [A] */
 #define BOARD_VDC_MIN_V          200.0f       /* undervoltage trip [V] */
 #define BOARD_VDC_MAX_V          400.0f       /* overvoltage trip [V] */
 #define BOARD_OVERSPEED_RPM      2400.0f      /* 1.2 x rated speed [r/min] */

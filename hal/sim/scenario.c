@@ -75,7 +75,7 @@ static const sc_key_t KEYS[] = {
     POS("controller", "speed_ki_Nm_rad", controller.speed_ki_Nm_rad, "20", "speed PI integral gain"),
     POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, "500", "speed estimator bandwidth [rad/s]"),
     POS("controller", "te_max_Nm", controller.te_max_Nm, "12", "torque reference limit [N m]"),
-    POS("controller", "i_max_A", controller.i_max_A, "12", "software overcurrent threshold [A]"),
+    POS("controller", "i_max_A", controller.i_max_A, "14", "software overcurrent threshold [A] (BOARD_OVERCURRENT_A)"),
     { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)" },
     OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.2 x controller's R)"),
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 2 x controller's R)"),
