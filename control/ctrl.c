@@ -123,13 +123,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 
     ec.counts_per_rev = 4u * cfg->enc_lines;
     ec.pole_pairs = cfg->pole_pairs;
-    /* the x4 count is the floor of the angle: the interval's centre is
-     * unbiased (half a count lag, 0.94 mrad el at 2500 lines, p = 3, put
-     * a 0.8 % bias into L^ through the back-EMF seen on d) */
     ec.offset_elec_rad = cfg->enc_offset_el_rad;
-    if (ec.counts_per_rev > 0u) { /* 0 is refused by encoder_init */
-        ec.offset_elec_rad += MATHX_PI_F * (float)cfg->pole_pairs / (float)ec.counts_per_rev;
-    }
     ec.Ts_s = cfg->Ts_s;
     ec.pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
     (void)encoder_init(&c->enc, &ec); /* an invalid cfg reads angle 0, speed 0 */

@@ -2,7 +2,8 @@
  * encoder.h - incremental encoder: electrical angle and filtered speed.
  *
  * The HAL delivers the quadrature count in 0..cpr-1 (cpr = 4 * lines).
- * The angle comes straight from the count (exact to one count); the speed
+ * The angle comes straight from the count: the centre of the count's
+ * interval, which is unbiased (the count is the floor of the position). The speed
  * from a position-tracking PLL on the count (ODrive style, kp = 2*bw,
  * ki = bw^2, critically damped), because at low speed the count moves by
  * less than one step per period and a plain difference is mostly

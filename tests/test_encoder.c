@@ -18,6 +18,9 @@
 #define CPR 10000u
 #define TS 1.0e-4
 #define BW 200.0
+/* The angle is the centre of the count's interval: half a mechanical count,
+ * p/2 = 1.5 electrical counts, after the interval's start [rad]. */
+#define CENTRE_EL (1.5 * 2.0 * PI_D / CPR)
 
 static encoder_cfg_t cfg_default(float offset_rad)
 {
@@ -32,7 +35,8 @@ static double angle_dist(double x, double y)
 }
 
 /*
- * theta_e = 2*pi * (p*count mod cpr) / cpr + offset:
+ * theta_e = 2*pi * ((p*count mod cpr) + p/2) / cpr + offset, i.e. the hand
+ * values below plus CENTRE_EL (3333 -> 9999 + 1.5 wraps to 0.5 counts):
  * count 2500 -> 7500/10000 of a turn = 3*pi/2; 5000 -> 15000 mod 10000 = 5000 -> pi;
  * 3333 -> 9999 -> 2*pi*0.9999 = 6.2825575; 3334 -> 10002 mod 10000 = 2 -> 0.0012566.
  */
@@ -43,7 +47,9 @@ static void angle_hand_values(void **state)
     encoder_cfg_t c = cfg_default(0.0f);
     assert_true(encoder_init(&enc, &c));
     const uint32_t counts[] = { 0u, 2500u, 5000u, 3333u, 3334u, 9999u };
-    const double expect[] = { 0.0, 3.0 * PI_D / 2.0, PI_D, 6.282557, 0.0012566371, 6.2813059 };
+    const double expect[] = { CENTRE_EL, 3.0 * PI_D / 2.0 + CENTRE_EL, PI_D + CENTRE_EL,
+                              6.282557 + CENTRE_EL - 2.0 * PI_D, 0.0012566371 + CENTRE_EL,
+                              6.2813059 + CENTRE_EL };
     for (size_t i = 0; i < sizeof counts / sizeof counts[0]; i++) {
         encoder_step(&enc, counts[i]);
         assert_float_equal(enc.theta_e_rad, expect[i], TOL);
@@ -51,13 +57,14 @@ static void angle_hand_values(void **state)
     }
     /* A count at or beyond cpr (HAL fault) is reduced modulo cpr: 12500 -> 2500. */
     encoder_step(&enc, 12500u);
-    assert_float_equal(enc.theta_e_rad, 3.0 * PI_D / 2.0, TOL);
+    assert_float_equal(enc.theta_e_rad, 3.0 * PI_D / 2.0 + CENTRE_EL, TOL);
 }
 
 /*
- * Offset is the electrical angle at count 0: +1 rad at count 2500 gives
- * 3*pi/2 + 1 = 5.712389; +2 rad wraps to 3*pi/2 + 2 - 2*pi = 0.429204;
- * a cfg offset of -1 rad reads 2*pi - 1 = 5.283185 at count 0.
+ * Offset is the electrical angle at the start of count 0: +1 rad at count
+ * 2500 gives 3*pi/2 + 1 = 5.712389; +2 rad wraps to 3*pi/2 + 2 - 2*pi =
+ * 0.429204; a cfg offset of -1 rad reads 2*pi - 1 = 5.283185 at count 0;
+ * each plus CENTRE_EL.
  */
 static void offset_handling(void **state)
 {
@@ -66,18 +73,18 @@ static void offset_handling(void **state)
     encoder_cfg_t c = cfg_default(1.0f);
     assert_true(encoder_init(&enc, &c));
     encoder_step(&enc, 2500u);
-    assert_float_equal(enc.theta_e_rad, 5.712388980384690, TOL);
+    assert_float_equal(enc.theta_e_rad, 5.712388980384690 + CENTRE_EL, TOL);
     encoder_set_offset(&enc, 2.0f);
     encoder_step(&enc, 2500u);
-    assert_float_equal(enc.theta_e_rad, 0.429203673205103, TOL);
+    assert_float_equal(enc.theta_e_rad, 0.429203673205103 + CENTRE_EL, TOL);
     encoder_set_offset(&enc, NAN);
     encoder_step(&enc, 2500u);
-    assert_float_equal(enc.theta_e_rad, 0.429203673205103, TOL);
+    assert_float_equal(enc.theta_e_rad, 0.429203673205103 + CENTRE_EL, TOL);
 
     c = cfg_default(-1.0f);
     assert_true(encoder_init(&enc, &c));
     encoder_step(&enc, 0u);
-    assert_float_equal(enc.theta_e_rad, 5.283185307179586, TOL);
+    assert_float_equal(enc.theta_e_rad, 5.283185307179586 + CENTRE_EL, TOL);
 }
 
 /* Alignment at count 1234 makes 1234 read 0; 2500 counts on (3/4 of an
@@ -219,7 +226,7 @@ static void reset_gives_no_speed_spike(void **state)
     /* The count jumped by half a turn while the drive was off. */
     encoder_step(&enc, 100u);
     assert_true(enc.omega_m_rad_s == 0.0f);
-    assert_float_equal(enc.theta_e_rad, 2.0 * PI_D * 300.0 / CPR, TOL);
+    assert_float_equal(enc.theta_e_rad, 2.0 * PI_D * 300.0 / CPR + CENTRE_EL, TOL);
     encoder_step(&enc, 101u);
     assert_float_equal(enc.omega_m_rad_s, BW * BW * TS * 2.0 * PI_D / CPR, 1e-6);
 }
