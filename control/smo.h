@@ -3,7 +3,7 @@
  * method (paper sec. V-A, eq. 28-32, discrete 51b and 55), with the
  * corrections of the design (observer_design.md sec. 1).
  *
- * Design note (replaces (25)-(28), (32), (43)-(55); figures: design doc
+ * Design note (replaces (25)-(28), (32), (43)-(55); figures: observer_design.md
  * sec. 4 and tests/test_smo.c, test_param_est.c).
  *  - Signs: with d = x^ - x0 and the model L^ di/dt = u - R^ i +- w L^ i -
  *    w psi^ - f: fd = -dL did/dt - dR id + dL w iq, fq = -dL diq/dt - dR iq
