@@ -14,6 +14,8 @@
 
 #include <math.h>
 
+#include "smo.h"
+
 /* Table I of the paper; Ts = 1/(10 kHz). */
 #define OP_TS   1e-4
 #define OP_R0   3.0
@@ -21,6 +23,26 @@
 #define OP_PSI0 0.24
 #define OP_PP   3
 #define OP_PI   3.14159265358979323846
+
+/* Observer cfg of the tests: the design gains at the observer's nominal
+ * (R, L, psi), ranges that hold R^ 4.3x off (step 1) and [0.3, 3] x the
+ * true L and psi, with the stability bound and (36) still met. */
+static inline smo_cfg_t op_smo_cfg(double R, double L, double psi)
+{
+    smo_cfg_t c;
+    smo_cfg_defaults(&c, (float)OP_TS, (float)R, (float)L, (float)psi);
+    c.R_min_Ohm = 0.5f;
+    c.R_max_Ohm = 15.0f;
+    c.L_min_H = (float)(0.3 * OP_L0);
+    c.L_max_H = (float)(3.0 * OP_L0);
+    c.psi_min_Wb = (float)(0.3 * OP_PSI0);
+    c.psi_max_Wb = (float)(3.0 * OP_PSI0);
+    c.f_max_V = 400.0f;
+    c.i_max_A = 60.0f;
+    c.u_max_V = 600.0f;
+    c.omega_max_rad_s = 3000.0f;
+    return c;
+}
 
 typedef struct {
     double R, L, psi; /* true parameters */

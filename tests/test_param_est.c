@@ -21,18 +21,9 @@ typedef struct {
 
 static void rig_init(rig_t *r, double Lh, double psih)
 {
-    smo_cfg_t c;
-    param_est_cfg_t pc;
     /* the controller's nominal values are the mismatched ones */
-    smo_cfg_defaults(&c, (float)OP_TS, (float)OP_R0, (float)Lh, (float)psih);
-    c.f_max_V = 400.0f;
-    c.i_max_A = 60.0f;
-    c.u_max_V = 600.0f;
-    c.omega_max_rad_s = 3000.0f;
-    c.L_min_H = (float)(0.3 * OP_L0); /* stability checked at the true L's 0.3x */
-    c.L_max_H = (float)(3.0 * OP_L0);
-    c.psi_min_Wb = (float)(0.3 * OP_PSI0);
-    c.psi_max_Wb = (float)(3.0 * OP_PSI0);
+    const smo_cfg_t c = op_smo_cfg(OP_R0, Lh, psih);
+    param_est_cfg_t pc;
     assert_int_equal(smo_init(&r->smo, &c), SMO_CFG_OK);
     param_est_cfg_defaults(&pc, (float)OP_TS, (float)OP_L0, (float)OP_PSI0);
     pc.L_min_H = c.L_min_H; /* [0.3, 3] x true, the observer's own ranges */
@@ -292,20 +283,8 @@ static void init_validates(void **state)
 static void full_sequence_step1_then_step2(void **state)
 {
     (void)state;
-    smo_cfg_t c;
+    const smo_cfg_t c = op_smo_cfg(4.3 * OP_R0, 1.5 * OP_L0, 2.0 * OP_PSI0);
     smo_t smo;
-    smo_cfg_defaults(&c, (float)OP_TS, (float)(4.3 * OP_R0), (float)(1.5 * OP_L0),
-                     (float)(2.0 * OP_PSI0));
-    c.R_min_Ohm = 0.5f;
-    c.R_max_Ohm = 15.0f;
-    c.L_min_H = (float)(0.3 * OP_L0);
-    c.L_max_H = (float)(3.0 * OP_L0);
-    c.psi_min_Wb = (float)(0.3 * OP_PSI0);
-    c.psi_max_Wb = (float)(3.0 * OP_PSI0);
-    c.f_max_V = 400.0f;
-    c.i_max_A = 60.0f;
-    c.u_max_V = 600.0f;
-    c.omega_max_rad_s = 3000.0f;
     assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
     param_est_cfg_t pc;
     param_est_t pe;

@@ -98,19 +98,8 @@ static void analytic_all_mismatched_and_two_speeds(void **state)
 static rs_ident_result_t step1_with_plant(double Lh, double psih, double id, double iq1, double iq2,
                                           double w1, double w2, rs_ident_out_t *o)
 {
-    smo_cfg_t c;
+    const smo_cfg_t c = op_smo_cfg(R_NOM, Lh, psih); /* its R range holds R0 and 4.3 R0 */
     smo_t smo;
-    smo_cfg_defaults(&c, (float)OP_TS, (float)R_NOM, (float)Lh, (float)psih);
-    c.R_min_Ohm = 0.5f; /* must hold R0 and 4.3 R0 */
-    c.R_max_Ohm = 15.0f;
-    c.L_min_H = (float)(0.3 * OP_L0);
-    c.L_max_H = (float)(3.0 * OP_L0);
-    c.psi_min_Wb = (float)(0.3 * OP_PSI0);
-    c.psi_max_Wb = (float)(3.0 * OP_PSI0);
-    c.f_max_V = 400.0f;
-    c.i_max_A = 60.0f;
-    c.u_max_V = 600.0f;
-    c.omega_max_rad_s = 3000.0f;
     assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
 
     rs_ident_cfg_t rc;

@@ -14,24 +14,6 @@
 #include "obs_plant.h"
 #include "smo.h"
 
-static smo_cfg_t make_cfg(double R, double L, double psi)
-{
-    smo_cfg_t c;
-    smo_cfg_defaults(&c, (float)OP_TS, (float)R, (float)L, (float)psi);
-    /* R^ may start 4.3x off (step 1); keep the stability and (36) checks met */
-    c.R_min_Ohm = 0.5f;
-    c.R_max_Ohm = 15.0f;
-    c.L_min_H = (float)(0.3 * OP_L0);
-    c.L_max_H = (float)(3.0 * OP_L0);
-    c.psi_min_Wb = (float)(0.3 * OP_PSI0);
-    c.psi_max_Wb = (float)(3.0 * OP_PSI0);
-    c.f_max_V = 400.0f;
-    c.i_max_A = 60.0f;
-    c.u_max_V = 600.0f;
-    c.omega_max_rad_s = 3000.0f;
-    return c;
-}
-
 static dq_t dq(double d, double q)
 {
     dq_t x = { (float)d, (float)q };
@@ -45,7 +27,7 @@ static void exact_parameters_predict_next_sample(void **state)
 {
     (void)state;
     smo_t smo;
-    smo_cfg_t c = make_cfg(OP_R0, OP_L0, OP_PSI0);
+    smo_cfg_t c = op_smo_cfg(OP_R0, OP_L0, OP_PSI0);
     assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
     op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, 0.0 };
     const double w = op_w_el(500.0);
@@ -77,7 +59,7 @@ static void run_mismatch(double Rh, double Lh, double psih, double id, double iq
                          double *fd, double *fq, double *err)
 {
     smo_t smo;
-    smo_cfg_t c = make_cfg(Rh, Lh, psih);
+    smo_cfg_t c = op_smo_cfg(Rh, Lh, psih);
     assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
     op_plant_t p = { OP_R0, OP_L0, OP_PSI0, id, iq };
     double ud, uq;
@@ -138,7 +120,7 @@ static void boundary_layer_hand_values(void **state)
 {
     (void)state;
     smo_t smo;
-    smo_cfg_t c = make_cfg(OP_R0, OP_L0, OP_PSI0);
+    smo_cfg_t c = op_smo_cfg(OP_R0, OP_L0, OP_PSI0);
     assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
     const double g = (1e-4 / 0.011) * (1.0 - 1e-4 * 3.0 / (2.0 * 0.011));
     assert_float_equal(smo.g_A_per_V, g, 1e-9);
@@ -165,7 +147,7 @@ static void first_step_seeds_without_kick(void **state)
 {
     (void)state;
     smo_t smo;
-    smo_cfg_t c = make_cfg(OP_R0, OP_L0, OP_PSI0);
+    smo_cfg_t c = op_smo_cfg(OP_R0, OP_L0, OP_PSI0);
     assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
     (void)smo_step(&smo, dq(1.0, 3.0), 157.0f, dq(-10.0, 50.0));
     assert_float_equal(smo.U_V.d, 0.0, 0.0);
@@ -183,7 +165,7 @@ static void init_checks_stability_and_condition_36(void **state)
 {
     (void)state;
     smo_t smo;
-    smo_cfg_t c = make_cfg(OP_R0, OP_L0, OP_PSI0);
+    smo_cfg_t c = op_smo_cfg(OP_R0, OP_L0, OP_PSI0);
     assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
 
     smo_cfg_t u = c;
@@ -230,7 +212,7 @@ static void finite_for_any_finite_input(void **state)
     const float v[] = { -FLT_MAX, -1e20f, -3.0f, -FLT_MIN, 0.0f, FLT_MIN, 2.0f, 1e20f, FLT_MAX };
     const int n = (int)(sizeof v / sizeof v[0]);
     smo_t smo;
-    smo_cfg_t c = make_cfg(OP_R0, OP_L0, OP_PSI0);
+    smo_cfg_t c = op_smo_cfg(OP_R0, OP_L0, OP_PSI0);
     assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
     for (int a = 0; a < n; a++) {
         for (int b = 0; b < n; b++) {
@@ -261,7 +243,7 @@ static void bumpless_R_update(void **state)
 {
     (void)state;
     smo_t smo;
-    smo_cfg_t c = make_cfg(4.3 * OP_R0, OP_L0, OP_PSI0);
+    smo_cfg_t c = op_smo_cfg(4.3 * OP_R0, OP_L0, OP_PSI0);
     assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
     op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, 0.0 };
     const double w = op_w_el(500.0);
