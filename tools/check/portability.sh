@@ -26,51 +26,43 @@ fail=0
 # double versions of libm functions.
 forbidden='^(__aeabi_d[a-z0-9]*|__aeabi_f2d|__aeabi_[ul]*i2d|__aeabi_[ul]2d|__[a-z]*df[0-9]*|__extendsfdf2|__truncdfsf2|sqrt|sin|cos|tan|asin|acos|atan|atan2|exp|log|log10|pow|fabs|floor|ceil|fmod|round|trunc|hypot|sincos)$'
 
-echo "check 1/3: float-only build (arm-none-eabi-gcc, Cortex-M4F single-precision FPU)"
-for f in $srcs; do
-    o="$out/arm/$(echo "$f" | tr / _).o"
+# arm_gate FILE [FLAGS...]: compile for the Cortex-M4F single-precision FPU
+# and scan the object for double-precision references.
+arm_gate() {
+    local f=$1; shift
+    local o="$out/arm/$(echo "$f" | tr / _).o"
     if ! arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -O2 \
-            "${common[@]}" -c "$f" -o "$o" 2> "$o.log"; then
+            "${common[@]}" "$@" -c "$f" -o "$o" 2> "$o.log"; then
         echo "FAIL $f: does not compile float-only for Cortex-M4F:"; sed 's/^/    /' "$o.log"
-        fail=1; continue
+        fail=1; return
     fi
+    local bad
     bad=$(arm-none-eabi-nm -u "$o" | awk '{print $NF}' | grep -E "$forbidden" | tr '\n' ' ')
     if [ -n "$bad" ]; then
         echo "FAIL $f: uses double precision (references: $bad)"
         fail=1
     fi
-done
-for h in $hdrs; do
-    o="$out/arm/$(echo "$h" | tr / _).o"
-    if ! arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -O2 \
-            "${common[@]}" "${keep[@]}" -x c -c "$h" -o "$o" 2> "$o.log"; then
-        echo "FAIL $h: does not compile float-only for Cortex-M4F:"; sed 's/^/    /' "$o.log"
-        fail=1; continue
-    fi
-    bad=$(arm-none-eabi-nm -u "$o" | awk '{print $NF}' | grep -E "$forbidden" | tr '\n' ' ')
-    if [ -n "$bad" ]; then
-        echo "FAIL $h: uses double precision (references: $bad)"
-        fail=1
-    fi
-done
+}
 
-echo "check 2/3: 16-bit int build (avr-gcc, atmega2560)"
-for f in $srcs; do
-    o="$out/avr/$(echo "$f" | tr / _).o"
-    extra=()
-    case "$f" in control/*) extra=(-Wconversion) ;; esac
-    if ! avr-gcc -mmcu=atmega2560 -Os "${common[@]}" "${extra[@]}" -c "$f" -o "$o" 2> "$o.log"; then
+# avr_gate FILE [FLAGS...]: compile with avr-gcc, where int is 16 bits.
+avr_gate() {
+    local f=$1; shift
+    local o="$out/avr/$(echo "$f" | tr / _).o"
+    if ! avr-gcc -mmcu=atmega2560 -Os "${common[@]}" "$@" -c "$f" -o "$o" 2> "$o.log"; then
         echo "FAIL $f: does not compile with 16-bit int (avr-gcc):"; sed 's/^/    /' "$o.log"
         fail=1
     fi
+}
+
+echo "check 1/3: float-only build (arm-none-eabi-gcc, Cortex-M4F single-precision FPU)"
+for f in $srcs; do arm_gate "$f"; done
+for h in $hdrs; do arm_gate "$h" "${keep[@]}" -x c; done
+
+echo "check 2/3: 16-bit int build (avr-gcc, atmega2560; control/ with -Wconversion)"
+for f in $srcs; do
+    case "$f" in control/*) avr_gate "$f" -Wconversion ;; *) avr_gate "$f" ;; esac
 done
-for h in $hdrs; do
-    o="$out/avr/$(echo "$h" | tr / _).o"
-    if ! avr-gcc -mmcu=atmega2560 -Os "${common[@]}" -Wconversion -x c -c "$h" -o "$o" 2> "$o.log"; then
-        echo "FAIL $h: does not compile with 16-bit int (avr-gcc):"; sed 's/^/    /' "$o.log"
-        fail=1
-    fi
-done
+for h in $hdrs; do avr_gate "$h" -Wconversion -x c; done
 
 echo "check 3/3: cppcheck (warning, portability) with the C28x data model"
 if ! cppcheck --quiet --enable=warning,portability --platform=tools/check/c28x.xml \
