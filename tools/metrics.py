@@ -19,12 +19,19 @@ controller's references (te_ref_Nm, psi_ref_Wb, speed_ref_rpm):
   load step (--load-window A:B, speed mode):
     recovery_ms     time from A until the speed stays within 1 r/min
     speed_dip_rpm   largest speed - speed* below zero in A..B, as a positive number
+                    (both None when speed* is nan there: no speed reference)
   estimates (--truth R:L:psif, the plant's values; columns R_est_ohm,
   L_est_H, psif_est_Wb, est):
     R_err_pct, L_err_pct, psif_err_pct  mean of (x^ - x)/x over the steady window
     t2_L_ms, t2_psif_ms  time from step 2's start (first row with est = 2)
                     until the estimate stays within 2 % up to the window's end
                     (None: no step 2, or never)
+
+Bad input (missing file or column, a row with the wrong number of fields,
+a malformed number, a window holding no rows, a malformed --window or
+--truth) prints "metrics.py: FILE...: problem" and exits 1. Figures that
+have no value in the run's mode (a nan reference column) are None, "-" in
+the text and null in the JSON.
 
 Usage: metrics.py RUN.csv [--window 0.8:0.95] [--load-window 0.95:1.05]
                   [--truth 3:0.011:0.24] [--Ts 1e-4] [--json]
@@ -45,23 +52,53 @@ EST_STEP2 = 2             # ctrl_est_t CTRL_EST_STEP2 in the est column
 EST_COLS = (("R", "R_est_ohm"), ("L", "L_est_H"), ("psif", "psif_est_Wb"))
 
 
+REQUIRED_COLS = ("t_s", "te_Nm", "te_ref_Nm", "psi_Wb", "psi_ref_Wb", "speed_rpm", "speed_ref_rpm",
+                 "id_A", "iq_A")
+
+
 def load_csv(path):
-    """Columns of the CSV as lists of floats, by header name ("nan" allowed)."""
+    """Columns of the CSV as lists of floats, by header name ("nan" allowed).
+    ValueError naming the file and line for a short/long row or a malformed number."""
     with open(path, newline="") as f:
-        rows = [r for r in csv.reader(f) if r]
+        try:
+            rows = [(n, r) for n, r in enumerate(csv.reader(f), start=1) if r]
+        except (csv.Error, UnicodeDecodeError) as e:      # e.g. the PNG given for the CSV
+            raise ValueError(f"{path}: not a CSV ({e})") from None
     if len(rows) < 2:
         raise ValueError(f"{path}: no data rows")
-    head = rows[0]
+    head = rows[0][1]
     cols = {name: [] for name in head}
-    for r in rows[1:]:
+    for n, r in rows[1:]:
+        if len(r) != len(head):
+            raise ValueError(f"{path}:{n}: {len(r)} fields, the header has {len(head)}")
         for name, x in zip(head, r):
-            cols[name].append(float(x))
+            try:
+                cols[name].append(float(x))
+            except ValueError:
+                raise ValueError(f"{path}:{n}: column {name}: malformed number {x!r}") from None
     return cols
 
 
 def parse_window(text):
-    a, b = text.split(":")
-    return float(a), float(b)
+    """'t0:t1' in seconds, t0 < t1."""
+    try:
+        a, b = (float(x) for x in text.split(":"))
+    except ValueError:
+        raise ValueError(f"window {text!r}: expected T0:T1 in seconds") from None
+    if not a < b:
+        raise ValueError(f"window {text!r}: T0 must be below T1")
+    return a, b
+
+
+def parse_truth(text):
+    """'R:L:psif', three positive numbers."""
+    try:
+        vals = tuple(float(x) for x in text.split(":"))
+    except ValueError:
+        vals = ()
+    if len(vals) != 3 or not all(math.isfinite(v) and v > 0 for v in vals):
+        raise ValueError(f"truth {text!r}: expected R:L:psif, three positive numbers")
+    return vals
 
 
 def _mean(xs):
@@ -74,10 +111,16 @@ def _max(xs):
     return max(xs) if xs else math.nan
 
 
-def steady(col, t0, t1):
+def _rows(col, t0, t1, what):
     idx = [i for i, t in enumerate(col["t_s"]) if t0 <= t < t1]
     if not idx:
-        raise ValueError(f"window {t0}:{t1} s holds no rows")
+        raise ValueError(f"{what} {t0:g}:{t1:g} s holds no rows "
+                         f"(the run has t = {col['t_s'][0]:g} .. {col['t_s'][-1]:g} s)")
+    return idx
+
+
+def steady(col, t0, t1):
+    idx = _rows(col, t0, t1, "window")
     g = lambda name: [col[name][i] for i in idx]
     e_te = [a - b for a, b in zip(g("te_Nm"), g("te_ref_Nm"))]
     e_psi = [a - b for a, b in zip(g("psi_Wb"), g("psi_ref_Wb"))]
@@ -86,7 +129,8 @@ def steady(col, t0, t1):
         "te_err_Nm": _mean([abs(e) for e in e_te]),
         "te_ripple_Nm": math.sqrt(_mean([e * e for e in e_te])),
         "psi_err_Wb": _mean([abs(e) for e in e_psi]),
-        "psi_err_pct": 100.0 * _mean([abs(e) / r for e, r in zip(e_psi, g("psi_ref_Wb"))]),
+        "psi_err_pct": 100.0 * _mean([abs(e) / r if r > 0 else math.nan
+                                       for e, r in zip(e_psi, g("psi_ref_Wb"))]),
         "speed_err_rpm": _mean(e_w),
         "speed_err_max_rpm": _max([abs(e) for e in e_w]),
         "id_A": _mean(g("id_A")),
@@ -127,12 +171,13 @@ def torque_step(col, Ts):
 
 
 def load_recovery(col, t0, t1):
-    """ms from t0 until |speed error| stays within the band up to t1 (None: never)."""
-    idx = [i for i, t in enumerate(col["t_s"]) if t0 <= t < t1]
-    if not idx:
-        return None
+    """ms from t0 until |speed error| stays within the band up to t1 (None: never,
+    or no speed reference in the window: speed_ref_rpm is nan outside speed mode)."""
+    idx = _rows(col, t0, t1, "load window")
     e = [abs(col["speed_rpm"][i] - col["speed_ref_rpm"][i]) for i in idx]
-    out = [k for k, x in enumerate(e) if x > SPEED_BAND_RPM]
+    if not any(math.isfinite(x) for x in e):
+        return None
+    out = [k for k, x in enumerate(e) if not x <= SPEED_BAND_RPM]    # nan counts as outside
     if not out:
         return 0.0
     if out[-1] + 1 >= len(e):
@@ -141,11 +186,11 @@ def load_recovery(col, t0, t1):
 
 
 def speed_dip(col, t0, t1):
-    """Largest speed shortfall [r/min] below the reference in t0..t1 (0 if none)."""
-    idx = [i for i, t in enumerate(col["t_s"]) if t0 <= t < t1]
-    if not idx:
-        return None
-    return max(0.0, _max([col["speed_ref_rpm"][i] - col["speed_rpm"][i] for i in idx]))
+    """Largest speed shortfall [r/min] below the reference in t0..t1 (0 if none;
+    None without a speed reference in the window)."""
+    idx = _rows(col, t0, t1, "load window")
+    m = _max([col["speed_ref_rpm"][i] - col["speed_rpm"][i] for i in idx])
+    return max(0.0, m) if math.isfinite(m) else None
 
 
 def step2_start(col):
@@ -174,6 +219,8 @@ def estimates(col, truth, t0, t1):
         if ts2 is None:
             continue
         rows = [i for i, t in enumerate(col["t_s"]) if ts2 <= t < t1]
+        if not rows:
+            continue                    # step 2 starts at or after the window's end
         bad = [i for i in rows if not abs(col[c][i] - x0) <= EST_BAND * x0]
         if not bad:
             out[key] = 0.0
@@ -183,23 +230,36 @@ def estimates(col, truth, t0, t1):
 
 
 def compute(path, window=(0.8, 0.95), load_window=None, Ts=1e-4, truth=None):
+    """Every figure of one run. ValueError (message names the file) on bad input."""
+    if not Ts > 0:
+        raise ValueError(f"Ts {Ts!r}: must be positive")
+    if truth is not None and (len(truth) != 3 or not all(math.isfinite(x) and x > 0 for x in truth)):
+        raise ValueError(f"truth {truth!r}: expected (R, L, psif), three positive numbers")
     col = load_csv(path)
-    for need in ("t_s", "te_Nm", "te_ref_Nm", "psi_Wb", "psi_ref_Wb", "speed_rpm", "speed_ref_rpm"):
-        if need not in col:
-            raise ValueError(f"{path}: column {need} missing")
+    missing = [need for need in REQUIRED_COLS if need not in col]
+    if missing:
+        raise ValueError(f"{path}: column{'s' if len(missing) > 1 else ''} {', '.join(missing)} missing")
     res = {"csv": path}
-    res.update(steady(col, *window))
-    ts = torque_step(col, Ts)
-    if ts is not None:
-        res.update(ts)
-    if load_window is not None:
-        res["recovery_ms"] = load_recovery(col, *load_window)
-        res["speed_dip_rpm"] = speed_dip(col, *load_window)
-    if truth is not None:
-        res.update(estimates(col, truth, *window))
+    try:
+        res.update(steady(col, *window))
+        ts = torque_step(col, Ts)
+        if ts is not None:
+            res.update(ts)
+        if load_window is not None:
+            res["recovery_ms"] = load_recovery(col, *load_window)
+            res["speed_dip_rpm"] = speed_dip(col, *load_window)
+        if truth is not None:
+            res.update(estimates(col, truth, *window))
+    except ValueError as e:
+        raise ValueError(f"{path}: {e}") from None
     st = col.get("state")
-    res["final_state"] = int(st[-1]) if st else None
+    res["final_state"] = int(st[-1]) if st and math.isfinite(st[-1]) else None
     return res
+
+
+def json_safe(res):
+    """nan/inf as null: JSON has no NaN (json.dumps would write the invalid token NaN)."""
+    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in res.items()}
 
 
 def fmt(v, spec):
@@ -218,14 +278,14 @@ def main(argv=None):
     ap.add_argument("--json", action="store_true", help="print JSON instead of text")
     a = ap.parse_args(argv)
     try:
-        truth = tuple(float(x) for x in a.truth.split(":")) if a.truth else None
+        truth = parse_truth(a.truth) if a.truth else None
         res = compute(a.csv, parse_window(a.window),
                       parse_window(a.load_window) if a.load_window else None, a.Ts, truth)
     except (OSError, ValueError) as e:
         print(f"metrics.py: {e}", file=sys.stderr)
         return 1
     if a.json:
-        print(json.dumps(res, indent=1))
+        print(json.dumps(json_safe(res), indent=1, allow_nan=False))
         return 0
     print(f"{a.csv}  window {a.window} s")
     print(f"  mean |Te - Te*|      {fmt(res['te_err_Nm'], '.4f')} N m   (ripple, RMS {fmt(res['te_ripple_Nm'], '.4f')} N m)")

@@ -2,7 +2,10 @@
 #   make sil-report   build/sil/report.md from the CSVs of `make sil`
 #   make bench-ctrl   instructions, divisions, square roots and sin/cos per
 #                     ctrl_step() (callgrind, x86-64 -O2); printed only
-.PHONY: sil-report bench-ctrl bench-ctrl-deps
+#   make test-tools   tests of the report's tools (tests/test_*.py: metrics.py
+#                     on hand-computed CSVs, sil_report.py's tables); part of
+#                     `make test`
+.PHONY: sil-report bench-ctrl bench-ctrl-deps test-tools
 
 sil-report:
 	@python3 tools/sil_report.py --dir $(BUILD)/sil
@@ -18,3 +21,11 @@ bench-ctrl-deps:
 # Figures are for the default VARIANT=host build (-O2).
 bench-ctrl: bench-ctrl-deps $(OUT)/bench_ctrl
 	@tools/bench_ctrl.sh $(OUT)/bench_ctrl 20000
+
+# Standard-library unittest under the system python3 (no venv, no
+# matplotlib: sil_report.py imports it only to draw). No bytecode is
+# written into the tree.
+EXTRA_TESTS += test-tools
+test-tools:
+	@command -v python3 > /dev/null || tools/ensure_pkgs.sh python3
+	@PYTHONDONTWRITEBYTECODE=1 python3 tools/run_py_tests.py tests

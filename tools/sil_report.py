@@ -74,6 +74,18 @@ def plot_links(d, stem):
     return " ".join(f"[{n}]({n})" for n in names if os.path.exists(os.path.join(d, n))) or "-"
 
 
+def pair_cases(results):
+    """[(case, {"conv": r, "prop": r})] for every case with both conv_<case> and
+    prop_<case> measured without error, sorted by case name."""
+    names = sorted({s.split("_", 1)[1] for s in results if s.startswith(tuple(t + "_" for t, _ in METHODS))})
+    cases = []
+    for case in names:
+        by_method = {tag: results.get(f"{tag}_{case}") for tag, _ in METHODS}
+        if all(r is not None and "error" not in r for r in by_method.values()):
+            cases.append((case, by_method))
+    return cases
+
+
 def scenario_table(runs, d):
     lines = [
         "| scenario | mean abs(Te-Te*) [N m] | Te ripple RMS [N m] | mean abs(psi-psi*) [mWb] | psi err [%] "
@@ -83,7 +95,8 @@ def scenario_table(runs, d):
     ]
     for stem, r in runs:
         if "error" in r:
-            lines.append(f"| {stem} | error: {r['error']} |" + " |" * 13)
+            msg = str(r["error"]).replace("|", "\\|").replace("\n", " ")
+            lines.append(f"| {stem} | error: {msg} |" + " |" * 13)
             continue
         psi_mwb = r["psi_err_Wb"] * 1e3 if math.isfinite(r["psi_err_Wb"]) else math.nan
         lines.append(
@@ -220,17 +233,12 @@ def main(argv=None):
         if plt is not None and stem in cols and stem.startswith("prop_"):
             step1_figure(plt, stem, cols[stem], truths[stem], os.path.join(a.dir, stem + "_step1.png"))
 
-    results = dict(runs)
-    case_names = sorted({s.split("_", 1)[1] for s in results if s.startswith(("conv_", "prop_"))})
-    cases = []
-    for case in case_names:
-        by_method = {tag: results.get(f"{tag}_{case}") for tag, _ in METHODS}
-        if all(r is not None and "error" not in r for r in by_method.values()):
-            cases.append((case, by_method))
-            if plt is not None:
-                compare_figure(plt, case, {tag: cols[f"{tag}_{case}"] for tag, _ in METHODS},
-                               {tag: truths[f"{tag}_{case}"] for tag, _ in METHODS},
-                               os.path.join(a.dir, f"{case}_compare.png"))
+    cases = pair_cases(dict(runs))
+    if plt is not None:
+        for case, _ in cases:
+            compare_figure(plt, case, {tag: cols[f"{tag}_{case}"] for tag, _ in METHODS},
+                           {tag: truths[f"{tag}_{case}"] for tag, _ in METHODS},
+                           os.path.join(a.dir, f"{case}_compare.png"))
 
     lines = [
         "# SIL report",

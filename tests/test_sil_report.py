@@ -1,0 +1,214 @@
+#!/usr/bin/env python3
+"""tests/test_sil_report.py - the table logic of tools/sil_report.py (no
+plotting): pairing conv_/prop_ runs into cases, the rows of both tables,
+exact plot links, windows and the plant's true values. Standard library
+only: sil_report imports matplotlib only inside load_matplotlib(), and the
+end-to-end run below replaces that with "not available"."""
+import contextlib
+import io
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+from unittest import mock
+
+TOOLS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tools")
+sys.path.insert(0, TOOLS)
+import sil_report  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_metrics import HEADER, DEFAULTS, cell, t_of  # noqa: E402
+
+
+def result(**kw):
+    """A metrics.compute() result with every figure the tables read."""
+    r = {"te_err_Nm": 0.0123, "te_ripple_Nm": 0.0234, "psi_err_Wb": 0.0025, "psi_err_pct": 1.0,
+         "speed_err_rpm": -0.5, "speed_err_max_rpm": 1.5, "id_A": -1.5, "iq_A": 3.5}
+    r.update(kw)
+    return r
+
+
+def cells(line):
+    """Cells of a markdown table row ('\\|' inside a cell is no separator)."""
+    parts = line.replace("\\|", "\0").split("|")
+    assert parts[0] == "" and parts[-1] == "", line
+    return [p.strip().replace("\0", "|") for p in parts[1:-1]]
+
+
+class Tmp(unittest.TestCase):
+    def setUp(self):
+        self._tmp = tempfile.TemporaryDirectory()
+        self.dir = self._tmp.name
+
+    def tearDown(self):
+        self._tmp.cleanup()
+
+    def touch(self, *names):
+        for n in names:
+            open(os.path.join(self.dir, n), "w").close()
+
+
+class Import(unittest.TestCase):
+    def test_no_matplotlib_at_import(self):
+        code = ("import sys; sys.path.insert(0, sys.argv[1]); import sil_report; "
+                "print('matplotlib' in sys.modules)")
+        p = subprocess.run([sys.executable, "-B", "-c", code, TOOLS], capture_output=True, text=True)
+        self.assertEqual((p.returncode, p.stdout.strip()), (0, "False"), p.stderr)
+
+
+class PairCases(unittest.TestCase):
+    def test_pairs(self):
+        r = {name: result() for name in ("conv_L066", "prop_L066", "conv_L066_psif150",
+                                         "prop_L066_psif150", "conv_R430", "prop_psif050",
+                                         "open_loop_steady", "conv_paper", "convL066")}
+        r["prop_paper"] = {"error": "x.csv: no data rows"}
+        cases = sil_report.pair_cases(r)
+        # R430 and psif050 lack a partner, paper's proposed run failed, open_loop_* and
+        # convL066 are no method's runs; L066 and L066_psif150 are distinct cases
+        self.assertEqual([c for c, _ in cases], ["L066", "L066_psif150"])
+        by = dict(cases)
+        self.assertIs(by["L066"]["conv"], r["conv_L066"])
+        self.assertIs(by["L066"]["prop"], r["prop_L066"])
+        self.assertIs(by["L066_psif150"]["conv"], r["conv_L066_psif150"])
+        self.assertIs(by["L066_psif150"]["prop"], r["prop_L066_psif150"])
+
+    def test_none(self):
+        self.assertEqual(sil_report.pair_cases({"conv_a": result(), "open_loop": result()}), [])
+
+
+class PlotLinks(Tmp):
+    def test_exact_stem(self):
+        self.touch("conv_L066.png", "conv_L066_psif150.png", "conv_L066_psif150.svg",
+                   "prop_L066_step1.png", "prop_L066_psif150.png", "prop_L066_psif150_step1.png")
+        d = self.dir
+        self.assertEqual(sil_report.plot_links(d, "conv_L066"), "[conv_L066.png](conv_L066.png)")
+        self.assertEqual(sil_report.plot_links(d, "conv_L066_psif150"),
+                         "[conv_L066_psif150.png](conv_L066_psif150.png) "
+                         "[conv_L066_psif150.svg](conv_L066_psif150.svg)")
+        self.assertEqual(sil_report.plot_links(d, "prop_L066"), "[prop_L066_step1.png](prop_L066_step1.png)")
+        self.assertEqual(sil_report.plot_links(d, "prop_L066_psif150"),
+                         "[prop_L066_psif150.png](prop_L066_psif150.png) "
+                         "[prop_L066_psif150_step1.png](prop_L066_psif150_step1.png)")
+        self.assertEqual(sil_report.plot_links(d, "conv_L06"), "-")
+
+
+class ScenarioTable(Tmp):
+    def test_rows(self):
+        self.touch("conv_L066.png", "conv_L066_psif150.png")
+        runs = [("conv_L066", result(recovery_ms=12.0, speed_dip_rpm=77.58)),
+                ("conv_torque_step", result(speed_err_rpm=float("nan"), speed_err_max_rpm=float("nan"),
+                                            step_periods_95=2, step_overshoot_pct=0.3564,
+                                            step_settle_periods=None)),
+                ("broken", {"error": "broken.csv:3: column te_Nm: malformed number 'a|b'"})]
+        lines = sil_report.scenario_table(runs, self.dir)
+        n = len(cells(lines[0]))
+        self.assertEqual(n, 15)
+        for line in lines[1:]:
+            self.assertEqual(len(cells(line)), n, line)     # every row as wide as the header
+        self.assertEqual(cells(lines[2]), [
+            "conv_L066", "0.0123", "0.0234", "2.50", "1.000", "-0.500", "1.500", "-1.5000", "3.5000",
+            "12.0", "77.58", "-", "-", "-", "[conv_L066.png](conv_L066.png)"])
+        self.assertEqual(cells(lines[3]), [
+            "conv_torque_step", "0.0123", "0.0234", "2.50", "1.000", "-", "-", "-1.5000", "3.5000",
+            "-", "-", "2", "0.36", "-", "-"])
+        self.assertEqual(cells(lines[4])[:2], ["broken", "error: broken.csv:3: column te_Nm: malformed number 'a|b'"])
+        self.assertEqual(cells(lines[4])[2:], [""] * 13)
+
+
+class CaseTable(Tmp):
+    def test_rows(self):
+        self.touch("L066_psif150_compare.png")
+        cases = [("L066", {"conv": result(), "prop": result(R_err_pct=0.013, L_err_pct=0.0, psif_err_pct=-0.01,
+                                                            t2_L_ms=19.0, t2_psif_ms=None, speed_dip_rpm=75.88)}),
+                 ("L066_psif150", {"conv": result(L_err_pct=-34.0, psif_err_pct=50.0, t2_L_ms=None),
+                                   "prop": result(step_periods_95=2, step_overshoot_pct=0.23)})]
+        lines = sil_report.case_table(cases, self.dir)
+        n = len(cells(lines[0]))
+        self.assertEqual(n, 14)
+        self.assertEqual(len(lines), 2 + 4)
+        for line in lines[1:]:
+            self.assertEqual(len(cells(line)), n, line)
+        rows = [cells(line) for line in lines[2:]]
+        self.assertEqual([r[:2] for r in rows], [["L066", "conventional"], ["L066", "proposed"],
+                                                 ["L066_psif150", "conventional"], ["L066_psif150", "proposed"]])
+        self.assertEqual(rows[1][2:], ["0.0123", "1.000", "0.0234", "75.88", "+0.013", "+0.000", "-0.010",
+                                       "19.0", "-", "-", "-", "-"])
+        self.assertEqual(rows[2][7:9], ["-34.000", "+50.000"])
+        self.assertEqual(rows[3][11:13], ["2", "0.23"])
+        # L066 has no comparison figure: no link, and not L066_psif150's
+        self.assertEqual([r[-1] for r in rows], ["-", "-", "[L066_psif150_compare.png](L066_psif150_compare.png)",
+                                                 "[L066_psif150_compare.png](L066_psif150_compare.png)"])
+
+
+class WindowsAndTruth(Tmp):
+    def test_windows(self):
+        self.assertEqual(sil_report.windows({"t_s": [0.0, 1.0, 1.05]}), ((0.8, 0.95), (0.95, 1.05)))
+        self.assertEqual(sil_report.windows({"t_s": [0.0, 1.1999]}), ((0.8, 0.95), (0.95, 1.05)))
+        (a, b), load = sil_report.windows({"t_s": [0.0, 0.2]})      # a short run: its last quarter
+        self.assertAlmostEqual(a, 0.15, places=12)
+        self.assertAlmostEqual(b, 0.2 + 1e-9, places=15)
+        self.assertIsNone(load)
+
+    def test_truth_of(self):
+        with open(os.path.join(self.dir, "x.ini"), "w") as f:
+            f.write("; comment\n[plant]\n# another\nR_ohm = 12.9\nL_H = 0.0165 ; 1.5 L0\n"
+                    "[controller]\npsif_Wb = 0.5\n")
+        self.assertEqual(sil_report.truth_of(self.dir, "x"), (12.9, 0.0165, 0.24))
+        self.assertEqual(sil_report.truth_of(self.dir, "none"), (3.0, 0.011, 0.24))
+
+
+class Main(Tmp):
+    """End to end without matplotlib: CSVs in, report.md out."""
+
+    def write_run(self, name, te_off, n=120, te_ref=4.0):
+        with open(os.path.join(self.dir, name + ".csv"), "w") as f:
+            f.write(",".join(HEADER) + "\n")
+            for k in range(n):
+                row = dict(DEFAULTS, t_s=t_of(k, 0.01), te_ref_Nm=te_ref, te_Nm=te_ref + te_off)
+                f.write(",".join(cell(row[h]) for h in HEADER) + "\n")
+
+    def run_main(self):
+        out, err = io.StringIO(), io.StringIO()
+        with mock.patch.object(sil_report, "load_matplotlib", return_value=None), \
+                contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            rc = sil_report.main(["--dir", self.dir, "--scenarios", self.dir])
+        with open(os.path.join(self.dir, "report.md")) as f:
+            return rc, out.getvalue(), f.read()
+
+    def test_report(self):
+        # t = 0 .. 1.19 s: paper windows; Te - Te* = 0.01 (conv) and 0.002 (prop)
+        self.write_run("conv_A", 0.01)
+        self.write_run("prop_A", 0.002)
+        self.write_run("conv_B", 0.01)
+        rc, out, rep = self.run_main()
+        self.assertEqual(rc, 0)
+        self.assertIn("(3 scenarios, 1 cases)", out)
+        lines = rep.splitlines()
+        case_rows = [cells(x) for x in lines if x.startswith("| A |")]
+        self.assertEqual([r[1:3] for r in case_rows], [["conventional", "0.0100"], ["proposed", "0.0020"]])
+        self.assertIn("(matplotlib not available: comparison and step-1 figures not drawn)", lines)
+        scen = [cells(x)[:2] for x in lines if x.startswith(("| conv_", "| prop_"))]
+        self.assertEqual(scen, [["conv_A", "0.0100"], ["conv_B", "0.0100"], ["prop_A", "0.0020"]])
+
+    def test_failed_run(self):
+        self.write_run("conv_A", 0.01)
+        with open(os.path.join(self.dir, "prop_A.csv"), "w") as f:
+            f.write(",".join(HEADER) + "\n")          # header only: the run died
+        rc, out, rep = self.run_main()
+        self.assertEqual(rc, 1)
+        self.assertIn("1 failed", out)
+        self.assertIn("(no case with both conv_ and prop_ runs)", rep)
+        row = [cells(x) for x in rep.splitlines() if x.startswith("| prop_A |")]
+        self.assertEqual(len(row), 1)
+        self.assertRegex(row[0][1], r"^error: .*prop_A\.csv: no data rows$")
+
+    def test_no_csv(self):
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err):
+            self.assertEqual(sil_report.main(["--dir", self.dir]), 1)
+        self.assertIn("no CSV in", err.getvalue())
+
+
+if __name__ == "__main__":
+    unittest.main()
