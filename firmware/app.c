@@ -8,6 +8,7 @@
 /* Duty that gives zero line-to-line voltage: written whenever PWM goes off. */
 #define DUTY_ZERO_VOLTAGE 0.5f
 #define RAD_S_PER_RPM (MATHX_TWO_PI_F / 60.0f)
+#define RAD_PER_DEG (MATHX_PI_F / 180.0f)
 #define S_PER_NS 1.0e-9f
 #define ENC_COUNTS_PER_LINE 4u      /* x4 quadrature decoding */
 /* Longest time converted to periods: keeps the float-to-integer cast defined (28 h at 10 kHz). */
@@ -51,7 +52,9 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->offset_max_A = BOARD_I_OFFSET_MAX_A;
     cfg->align = (BOARD_ENC_OFFSET_KNOWN == 0U);
     cfg->align_u_V = BOARD_ALIGN_CURRENT_A * MOTOR_R_OHM;
+    cfg->align_prepos_el_rad = BOARD_ALIGN_PREPOS_EL_DEG * RAD_PER_DEG;
     cfg->align_ramp_s = BOARD_ALIGN_RAMP_S;
+    cfg->align_prepos_s = BOARD_ALIGN_PREPOS_S;
     cfg->align_settle_s = BOARD_ALIGN_SETTLE_S;
 
     ctrl_cfg_proposed_defaults(c, BOARD_RSID_R_MIN_PER_R * MOTOR_R_OHM, BOARD_RSID_R_MAX_PER_R * MOTOR_R_OHM);
@@ -121,13 +124,16 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->isr_late_cycles = cfg->isr_period_cycles + cfg->isr_period_cycles / 2u;
     app->cal_settle_ticks = periods_of(cfg->cal_settle_s, Ts);
     app->align_ramp_ticks = periods_of(cfg->align_ramp_s, Ts);
+    app->align_prepos_ticks = periods_of(cfg->align_prepos_s, Ts);
     app->align_settle_ticks = periods_of(cfg->align_settle_s, Ts);
+    mathx_sincosf(cfg->align_prepos_el_rad, &app->align_prepos_sin, &app->align_prepos_cos);
     app->rsid_window_ticks = periods_of(cfg->rsid_window_s, Ts);
     app->rsid_win1_tick = periods_of(cfg->rsid_settle_1_s, Ts);
     app->rsid_win2_tick = app->rsid_win1_tick + app->rsid_window_ticks + periods_of(cfg->rsid_settle_2_s, Ts);
     app->rsid_end_tick = app->rsid_win2_tick + app->rsid_window_ticks;
     app->rsid_speed_ref_rad_s = 0.0f;
     app->rsid_speed_step_rad_s = cfg->rsid_accel_rad_s2 * Ts;
+    app->speed_handover = false;
     app->rsid_result = RS_IDENT_OK;
 
     app->req_start = 0u;
@@ -252,6 +258,7 @@ static void enter_run(app_t *app)
 {
     ctrl_reset(&app->ctrl);
     app->state = APP_STATE_RUN;
+    app->speed_handover = false;
 }
 
 static void enter_identify(app_t *app)
@@ -261,6 +268,7 @@ static void enter_identify(app_t *app)
     app->state = APP_STATE_IDENTIFY_R;
     app->state_ticks = 0u;
     app->rsid_speed_ref_rad_s = app->ctrl.enc.omega_m_rad_s; /* SPEEDS ramps from here */
+    app->speed_handover = false;
 }
 
 /* After ALIGN, done or skipped: step 1 of the proposed method, or RUN. */
@@ -356,21 +364,41 @@ static void calibrate_step(app_t *app, const hal_sample_t *s)
     }
 }
 
-/* Voltage vector on phase a, ramped then held; then the count reads 0 rad. */
+/* ALIGN's voltage vector in its period k (app.h): the pre-position vector
+ * ramped from 0 and held, then cross-faded onto phase a and held there. */
+static ab_t align_vector(const app_t *app, uint32_t k)
+{
+    const uint32_t turn = app->align_ramp_ticks + app->align_prepos_ticks; /* first period of the turn */
+    float w_pre = 0.0f; /* weights of the pre-position vector and of the one on phase a */
+    float w_a = 1.0f;
+    ab_t u;
+
+    if (k < app->align_ramp_ticks) {
+        w_pre = (float)k / (float)app->align_ramp_ticks;
+        w_a = 0.0f;
+    } else if (k < turn) {
+        w_pre = 1.0f;
+        w_a = 0.0f;
+    } else if (k < turn + app->align_ramp_ticks) {
+        w_a = (float)(k - turn) / (float)app->align_ramp_ticks;
+        w_pre = 1.0f - w_a;
+    }
+    /* in the final hold w_pre = 0: u_beta is exactly 0 (app.h: dead time, sensors) */
+    u.a = app->cfg.align_u_V * (w_pre * app->align_prepos_cos + w_a);
+    u.b = app->cfg.align_u_V * w_pre * app->align_prepos_sin;
+    return u;
+}
+
+/* Both alignment steps, then the count reads 0 rad. */
 static void align_step(app_t *app, const hal_sample_t *s)
 {
     const uint32_t k = app->state_ticks;
-    float frac = 1.0f;
-    ab_t u;
+    const uint32_t end = 2u * app->align_ramp_ticks + app->align_prepos_ticks + app->align_settle_ticks;
+    const ab_t u = align_vector(app, k);
     ab_t u_real;
     svpwm_duty_t d;
     float duty[3];
 
-    if (k < app->align_ramp_ticks) {
-        frac = (float)k / (float)app->align_ramp_ticks;
-    }
-    u.a = app->cfg.align_u_V * frac;
-    u.b = 0.0f;
     /* invalid = non-finite or no bus; the undervoltage check, armed by now, leaves only the former */
     if ((svpwm_duty(u, s->vdc_V, &d, &u_real) & SVPWM_INVALID_INPUT) != 0u) {
         latch_fault(app, APP_FAULT_NONFINITE_OUTPUT, s, u.a, 0.0f);
@@ -381,13 +409,14 @@ static void align_step(app_t *app, const hal_sample_t *s)
     duty[2] = d.c;
     write_duties(app, duty);
     app->state_ticks++;
-    if (k >= app->align_ramp_ticks + app->align_settle_ticks) {
+    if (k >= end) {
         encoder_align(&app->ctrl.enc, s->enc_count);
         app->aligned = true;
         leave_align(app, s);
     }
 }
 
+/* One ctrl_step on this period's samples; duties out, or a fault. */
 static void run_step(app_t *app, const hal_sample_t *s)
 {
     ctrl_in_t in;
@@ -401,6 +430,42 @@ static void run_step(app_t *app, const hal_sample_t *s)
         latch_fault(app, APP_FAULT_NONFINITE_OUTPUT, s, 0.0f, 0.0f);
     } else {
         write_duties(app, app->out.duty);
+    }
+}
+
+/* run_step at the app's speed reference (rsid_speed_ref_rad_s); ctrl.ref,
+ * the outside's, is put back after it. */
+static void run_step_app_speed(app_t *app, const hal_sample_t *s)
+{
+    const ctrl_ref_t outside = app->ctrl.ref;
+    ctrl_ref_t ref = outside;
+
+    ref.speed_ref_rad_s = app->rsid_speed_ref_rad_s;
+    ctrl_set_ref(&app->ctrl, &ref);
+    run_step(app, s);
+    ctrl_set_ref(&app->ctrl, &outside);
+}
+
+/* The app's speed reference one period on towards target at rsid_accel
+ * (a step when that is 0); true while target is not yet reached. */
+static bool ramp_speed(app_t *app, float target)
+{
+    const float dmax = app->rsid_speed_step_rad_s;
+    const float err = target - app->rsid_speed_ref_rad_s;
+
+    app->rsid_speed_ref_rad_s += (dmax > 0.0f) ? mathx_clampf(err, -dmax, dmax) : err;
+    return (dmax > 0.0f) && (mathx_fabsf(err) > dmax);
+}
+
+/* RUN: ctrl_step every period; after SPEEDS, at the handover ramp until
+ * the outside reference is reached. */
+static void run_state_step(app_t *app, const hal_sample_t *s)
+{
+    if (app->speed_handover) {
+        app->speed_handover = ramp_speed(app, app->ctrl.ref.speed_ref_rad_s);
+        run_step_app_speed(app, s);
+    } else {
+        run_step(app, s);
     }
 }
 
@@ -422,7 +487,8 @@ static app_fault_t rsid_fault(const app_t *app, rs_ident_result_t r, float *valu
     case RS_IDENT_NON_FINITE:
         return APP_FAULT_RSID_NON_FINITE;
     case RS_IDENT_OUT_OF_BAND:
-        *limit = (o->R_est_Ohm > rc->R_max_Ohm) ? rc->R_max_Ohm : rc->R_min_Ohm;
+        *value = rc->R_nom_Ohm - o->dR_Ohm; /* R^: rs_ident leaves R_est_Ohm at R_nom when refused */
+        *limit = (*value > rc->R_max_Ohm) ? rc->R_max_Ohm : rc->R_min_Ohm;
         return APP_FAULT_RSID_OUT_OF_BAND;
     case RS_IDENT_INVALID_CFG:
         return APP_FAULT_CONFIG;
@@ -450,20 +516,16 @@ static void identify_step(app_t *app, const hal_sample_t *s)
     }
     ctrl_rsid_window(&app->ctrl, win);
     if (app->cfg.rsid_mode == APP_RSID_SPEEDS) {
-        /* point 1 until window 1 ends, then point 2; overrides the outside reference */
+        /* point 1 until window 1 ends, then point 2, in place of the outside reference */
         const float target = (k < app->rsid_win1_tick + app->rsid_window_ticks) ? app->cfg.rsid_speed_1_rad_s
                                                                                   : app->cfg.rsid_speed_2_rad_s;
-        const float dmax = app->rsid_speed_step_rad_s; /* 0: no ramp, a step */
-        const float err = target - app->rsid_speed_ref_rad_s;
-        ctrl_ref_t ref = app->ctrl.ref;
-        app->rsid_speed_ref_rad_s += (dmax > 0.0f) ? mathx_clampf(err, -dmax, dmax) : err;
-        ref.speed_ref_rad_s = app->rsid_speed_ref_rad_s;
-        ctrl_set_ref(&app->ctrl, &ref);
         /* the settle times count from the end of the ramp: a window in a
          * ramp sees the speed estimate's lag as back-EMF in fq (biases R^) */
-        moving = (dmax > 0.0f) && (mathx_fabsf(err) > dmax) && (win == RS_IDENT_WINDOW_NONE);
+        moving = ramp_speed(app, target) && (win == RS_IDENT_WINDOW_NONE);
+        run_step_app_speed(app, s);
+    } else {
+        run_step(app, s);
     }
-    run_step(app, s);
     if (app->state != APP_STATE_IDENTIFY_R) {
         return; /* run_step faulted */
     }
@@ -475,8 +537,11 @@ static void identify_step(app_t *app, const hal_sample_t *s)
         app->rsid_result = ctrl_rsid_finish(&app->ctrl);
         if (app->rsid_result == RS_IDENT_OK) {
             app->state = APP_STATE_RUN; /* step 2 runs from the next period; no reset */
+            app->speed_handover = (app->cfg.rsid_mode == APP_RSID_SPEEDS);
         } else {
-            latch_fault(app, rsid_fault(app, app->rsid_result, &value, &limit), s, value, limit);
+            /* the fault first: value and limit are its outputs (argument order is unspecified) */
+            const app_fault_t f = rsid_fault(app, app->rsid_result, &value, &limit);
+            latch_fault(app, f, s, value, limit);
         }
     }
 }
@@ -548,7 +613,7 @@ void app_isr(app_t *app)
                 identify_step(app, &s);
                 break;
             case APP_STATE_RUN:
-                run_step(app, &s);
+                run_state_step(app, &s);
                 break;
             default: /* INIT, IDLE: outputs off, nothing to do */
                 break;

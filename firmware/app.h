@@ -18,17 +18,36 @@
  *              ia, ib; these means are the offsets subtracted from then on.
  *              An offset beyond offset_max_A faults (CURRENT_OFFSET).
  *              Runs at every start: sensor offsets drift with temperature.
- *   ALIGN      PWM on: a stationary voltage vector on phase a (u_alpha
- *              ramped to align_u_V over align_ramp_s, u_beta = 0, through
- *              svpwm_duty), held align_settle_s; the rotor's d axis is then
- *              on phase a and encoder_align() makes that count read 0 rad.
+ *   ALIGN      PWM on: stationary voltage vectors through svpwm_duty, in
+ *              two steps, so that no start position is a dead point:
+ *                1. the vector at align_prepos_el_rad (90 deg: u_beta, the
+ *                   b-c line), ramped from 0 to align_u_V over
+ *                   align_ramp_s, held align_prepos_s;
+ *                2. turned onto phase a over align_ramp_s (cross-fade:
+ *                   (1 - f) x the pre-position vector + f x align_u_V on
+ *                   alpha, f = 0..1), held align_settle_s;
+ *              the rotor's d axis is then on phase a and encoder_align()
+ *              makes that count read 0 rad.
+ *              Dead point: the vector at angle phi drives the current
+ *              there, and a rotor whose d axis is at theta gets
+ *              Te = 1.5 p psi_f I sin(phi - theta): zero at theta = phi
+ *              (stable) and at theta = phi + pi (unstable, but a rotor
+ *              resting exactly there stays: with the phase-a vector alone
+ *              the offset came out pi off). After step 1 the rotor is at
+ *              +90 deg, or still at -90 deg, step 1's own dead point. The
+ *              turn's vector angle psi goes from 90 to 0 deg: a rotor at
+ *              -90 deg gets sin(psi + 90 deg) = cos(psi) > 0 from the turn's
+ *              first period, one at +90 deg follows the vector, and the
+ *              phase-a vector gives either one full torque (sin(+/-90 deg)),
+ *              so no start angle leaves both steps without torque. Any phi
+ *              with sin(phi) != 0 would do; 90 deg gives the most torque.
  *              Open-loop voltage, not a current loop: only the direction
- *              matters, and with u_beta = 0 it is exact whatever the current
- *              sensors' offset and gain and the dead time (its error
- *              vector is collinear with u_alpha); the magnitude follows R,
- *              which the overcurrent check bounds. Once per power-up (the
- *              incremental count stays valid while powered), again after an
- *              ENCODER fault.
+ *              matters, and with u_beta = 0 in the final hold it is exact
+ *              whatever the current sensors' offset and gain and the dead
+ *              time (its error vector is collinear with u_alpha); the
+ *              magnitude follows R, which the overcurrent check bounds.
+ *              Once per power-up (the incremental count stays valid while
+ *              powered), again after an ENCODER fault.
  *   IDENTIFY_R step 1 of the proposed method (paper sec. V-B): ctrl_step
  *              every period (conventional control, observer running) and
  *              a timed sequence: rsid_settle_1_s, window 1 (rsid_window_s),
@@ -42,10 +61,17 @@
  *                         ramped at rsid_accel) at the load present,
  *                         which must not be ~0 (equal loads need
  *                         different speeds and a load: else DEGENERATE);
+ *                         in RUN it then ramps from rsid_speed_2 to the
+ *                         outside reference at rsid_accel (the handover:
+ *                         a step there asked the torque limit against the
+ *                         load) and follows the outside reference once
+ *                         it is reached;
  *                TRUSTED  no step 1: step 2 with the controller's R, for
  *                         an R known at this winding temperature;
  *                OFF      no step 1, no step 2 (the proposed method then
  *                         controls as the conventional one, ctrl.h).
+ *              The speed the app commands goes into its own ctrl_step
+ *              only: ctrl.ref keeps the outside reference throughout.
  *              A refused R^ is a fault naming the reason (RSID_*). Runs
  *              at every start: R follows the winding temperature. A
  *              controller whose proposed-method settings ctrl_init
@@ -144,16 +170,18 @@ typedef struct {
     uint32_t cal_samples;       /* periods averaged [-] */
     float offset_max_A;         /* accepted |offset| of ia and ib [A] */
     bool align;                 /* encoder offset unknown: align the rotor once per power-up */
-    float align_u_V;            /* alpha voltage the alignment ramps to [V] */
-    float align_ramp_s;         /* ramp time [s] */
-    float align_settle_s;       /* hold time after the ramp [s] */
+    float align_u_V;            /* magnitude of the alignment's voltage vectors [V] */
+    float align_prepos_el_rad;  /* step 1's vector, from phase a: sin != 0 (see ALIGN) [rad el] */
+    float align_ramp_s;         /* ramp from 0 at the pre-position, and the turn onto phase a [s] */
+    float align_prepos_s;       /* hold at the pre-position after its ramp [s] */
+    float align_settle_s;       /* hold on phase a after the turn [s] */
     app_rsid_mode_t rsid_mode;  /* step 1 of the proposed method (IDENTIFY_R) */
     float rsid_settle_1_s;      /* IDENTIFY_R entry to window 1 [s] */
     float rsid_window_s;        /* each averaging window [s] */
     float rsid_settle_2_s;      /* window 1's end to window 2: the operating point changes in it [s] */
     float rsid_speed_1_rad_s;   /* SPEEDS: mechanical speed of point 1 [rad/s] */
     float rsid_speed_2_rad_s;   /*   and of point 2 [rad/s] */
-    float rsid_accel_rad_s2;    /* SPEEDS: ramp rate of the commanded speed [rad/s^2] */
+    float rsid_accel_rad_s2;    /* SPEEDS: ramp rate of the commanded speed, handover included [rad/s^2] */
 } app_cfg_t;
 
 /* What was known in the period a fault was detected. */
@@ -189,10 +217,12 @@ typedef struct {
     uint32_t enc_cpr;              /* counts per revolution */
     float enc_jump_max;            /* largest plausible |enc_delta| [counts] */
     uint32_t isr_late_cycles;      /* entry-to-entry interval that means a missed period */
-    uint32_t cal_settle_ticks, align_ramp_ticks, align_settle_ticks;
+    uint32_t cal_settle_ticks, align_ramp_ticks, align_prepos_ticks, align_settle_ticks;
+    float align_prepos_cos, align_prepos_sin;  /* of align_prepos_el_rad */
     uint32_t rsid_win1_tick, rsid_win2_tick, rsid_end_tick;  /* IDENTIFY_R: window starts, end */
     uint32_t rsid_window_ticks;
-    float rsid_speed_ref_rad_s;    /* SPEEDS: the ramped reference */
+    float rsid_speed_ref_rad_s;    /* SPEEDS: the ramped reference (IDENTIFY_R, then the handover) */
+    bool speed_handover;           /* RUN after SPEEDS: still ramping to the outside reference */
     float rsid_speed_step_rad_s;   /* SPEEDS: ramp step per period */
     rs_ident_result_t rsid_result; /* last step 1 (R^ etc. in ctrl.rsid_out) */
     /* Requests: one word each, so that setting (background) and clearing

@@ -51,11 +51,19 @@
 #define BOARD_CAL_SETTLE_S       0.01f        /* wait before averaging: a current decays through the diodes in L/R = 3.7 ms [s] */
 #define BOARD_CAL_SAMPLES        1024U        /* periods averaged (0.1 s): noise / 32 [-] */
 #define BOARD_I_OFFSET_MAX_A     0.75f        /* accepted |offset| of ia, ib: 75 mV at the pin, 5 % of the range (assumed) [A] */
-/* Rotor alignment (d axis onto phase a), once per power-up. */
+/* Rotor alignment (d axis onto phase a), once per power-up, in two steps:
+ * a vector at the pre-position angle first, then the one on phase a (a
+ * rotor 180 deg from the last vector gets no torque; app.h derives why
+ * the two never both leave it there). */
 #define BOARD_ENC_OFFSET_KNOWN   0U           /* 1: BOARD_ENC_OFFSET_EL_RAD is measured, no alignment [-] */
 #define BOARD_ALIGN_CURRENT_A    3.0f         /* d-axis current aimed at, about half rated; voltage = this x MOTOR_R_OHM [A] */
-#define BOARD_ALIGN_RAMP_S       0.2f         /* voltage ramp from 0: no torque jerk [s] */
-#define BOARD_ALIGN_SETTLE_S     0.8f         /* hold: the rotor settles; SIL (Table I, 1 us dead time, no friction): within a count after 0.4 s [s] */
+#define BOARD_ALIGN_PREPOS_EL_DEG 90.0f       /* pre-position vector from phase a: 90 gives the most torque on the turn to phase a [deg el] */
+#define BOARD_ALIGN_RAMP_S       0.2f         /* voltage ramp from 0, and the turn onto phase a: no torque jerk [s] */
+/* The two holds: SIL (Table I, 1 us dead time, no friction; 36 start
+ * angles 10 deg apart and both dead points) within a count of the true
+ * offset from 0.1 s and 0.3 s on; twice that, for a load's inertia. */
+#define BOARD_ALIGN_PREPOS_S     0.2f         /* hold at the pre-position: the rotor is off phase a's dead point before the turn [s] */
+#define BOARD_ALIGN_SETTLE_S     0.6f         /* hold on phase a: the rotor settles [s] */
 
 /* ---- controller tuning: the SIL scenario defaults (hal/sim/scenario.c) - */
 #define TUNE_SPEED_KP_NMS_RAD    0.5f         /* speed PI [N m / (rad/s)] */

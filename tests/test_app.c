@@ -1,8 +1,11 @@
 /* Unit tests for firmware/app: the ISR's HAL call order, every state
  * transition, each protection fault (PWM off in the same ISR call,
- * snapshot kept), calibration and alignment with hand values, fault reset
- * refused while the cause persists; against the cmocka mock of the HAL
- * (tests/mock_hal.c). */
+ * snapshot kept), calibration and the two-step alignment with hand
+ * values, IDENTIFY_R's timing, outcomes and modes, fault reset refused
+ * while the cause persists; against the cmocka mock of the HAL
+ * (tests/mock_hal.c). IDENTIFY_R needs currents that answer the duties:
+ * a dyno turns the shaft at a fixed speed and tests/obs_plant.h gives the
+ * currents. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -13,6 +16,7 @@
 #include "app.h"
 #include "board_cfg.h"
 #include "mock_hal.h"
+#include "obs_plant.h"
 
 #define PI_F        3.14159265f
 #define I_MAX       12.0f
@@ -29,8 +33,11 @@
 /* start-up sequence of the test cfg, in periods */
 #define CAL_SETTLE  2
 #define CAL_N       4
-#define ALIGN_RAMP  4
-#define ALIGN_HOLD  3
+#define ALIGN_RAMP  4            /* ramp from 0, and the turn onto phase a */
+#define ALIGN_PREPOS 2           /* hold at the pre-position (+90 deg el) */
+#define ALIGN_HOLD  3            /* hold on phase a */
+/* the period that aligns: both ramps and both holds done */
+#define ALIGN_END   (2 * ALIGN_RAMP + ALIGN_PREPOS + ALIGN_HOLD)
 #define ALIGN_U_V   9.0f
 #define OFFSET_MAX  0.75f
 #define COUNT0      1234u
@@ -57,7 +64,9 @@ static app_cfg_t make_cfg(bool calibrate, bool align)
     cfg.offset_max_A = OFFSET_MAX;
     cfg.align = align;
     cfg.align_u_V = ALIGN_U_V;
+    cfg.align_prepos_el_rad = 0.5f * PI_F;
     cfg.align_ramp_s = ALIGN_RAMP * 1e-4f;
+    cfg.align_prepos_s = ALIGN_PREPOS * 1e-4f;
     cfg.align_settle_s = ALIGN_HOLD * 1e-4f;
     return cfg;
 }
@@ -184,6 +193,9 @@ static void cfg_default_is_the_board(void **state)
     assert_float_equal(cfg.offset_max_A, BOARD_I_OFFSET_MAX_A, 0.0);
     assert_true(cfg.align == (BOARD_ENC_OFFSET_KNOWN == 0u));
     assert_float_equal(cfg.align_u_V, BOARD_ALIGN_CURRENT_A * MOTOR_R_OHM, 1e-6); /* 9 V */
+    assert_float_equal(cfg.align_prepos_el_rad, BOARD_ALIGN_PREPOS_EL_DEG * PI_F / 180.0f, 1e-6);
+    assert_float_equal(cfg.align_prepos_s, BOARD_ALIGN_PREPOS_S, 0.0);
+    assert_float_equal(cfg.align_settle_s, BOARD_ALIGN_SETTLE_S, 0.0);
 }
 
 /* ---- transitions ---------------------------------------------------------- */
@@ -266,9 +278,42 @@ static float wrap_dist(float a, float b)
     return fabsf(d);
 }
 
+/* Duties of SVPWM with min-max injection, by hand: phase voltages by the
+ * inverse Clarke transform, their mid-range moved to duty 0.5. */
+static void minmax_duty(float ua, float ub, float vdc, float d[3])
+{
+    const float v[3] = { ua, -0.5f * ua + 0.8660254f * ub, -0.5f * ua - 0.8660254f * ub };
+    const float mid = 0.5f * (fmaxf(v[0], fmaxf(v[1], v[2])) + fminf(v[0], fminf(v[1], v[2])));
+    for (int j = 0; j < 3; j++) {
+        d[j] = 0.5f + (v[j] - mid) / vdc;
+    }
+}
+
+/* The alignment's vector in its period k, by hand: +90 deg (u_beta)
+ * ramped over ALIGN_RAMP, held ALIGN_PREPOS, cross-faded onto phase a over
+ * ALIGN_RAMP, held ALIGN_HOLD and the aligning period. */
+static void align_u(int k, float *ua, float *ub)
+{
+    const int turn = ALIGN_RAMP + ALIGN_PREPOS;
+    if (k < ALIGN_RAMP) {
+        *ua = 0.0f;
+        *ub = ALIGN_U_V * (float)k / ALIGN_RAMP;
+    } else if (k < turn) {
+        *ua = 0.0f;
+        *ub = ALIGN_U_V;
+    } else if (k < turn + ALIGN_RAMP) {
+        const float f = (float)(k - turn) / ALIGN_RAMP;
+        *ua = ALIGN_U_V * f;
+        *ub = ALIGN_U_V * (1.0f - f);
+    } else {
+        *ua = ALIGN_U_V;
+        *ub = 0.0f;
+    }
+}
+
 /* INIT -> CALIBRATE -> ALIGN -> RUN: offsets from the hand values, the
- * voltage vector along phase a ramped then held, then the aligned count
- * reads 0 rad and RUN uses the corrected currents. */
+ * alignment's two vectors period by period (hand duties), then the
+ * aligned count reads 0 rad and RUN uses the corrected currents. */
 static void sequence_calibrates_aligns_runs(void **state)
 {
     (void)state;
@@ -280,18 +325,21 @@ static void sequence_calibrates_aligns_runs(void **state)
     assert_true(app.uv_armed);
 
     hal_sample_t s = sample(0.5f, -0.25f, VDC);
-    for (int k = 0; k <= ALIGN_RAMP + ALIGN_HOLD; k++) {
+    for (int k = 0; k <= ALIGN_END; k++) {
         if (k == 0) {
             isr_first_write(&s);
         } else {
             isr_run(&s);
         }
-        const float u = ALIGN_U_V * ((k < ALIGN_RAMP) ? (float)k / ALIGN_RAMP : 1.0f);
-        /* u_alpha = u, u_beta = 0 with min-max injection: a = 0.5 + 0.75 u / Vdc, b = c */
-        assert_float_equal(mock_hal_duty[0], 0.5f + 0.75f * u / VDC, 1e-6);
-        assert_float_equal(mock_hal_duty[1], mock_hal_duty[2], 1e-7);
-        assert_float_equal(mock_hal_duty[1], 0.5f - 0.75f * u / VDC, 1e-6);
-        if (k < ALIGN_RAMP + ALIGN_HOLD) {
+        float ua;
+        float ub;
+        float d[3];
+        align_u(k, &ua, &ub);
+        minmax_duty(ua, ub, VDC, d);
+        for (int j = 0; j < 3; j++) {
+            assert_float_equal(mock_hal_duty[j], d[j], 1e-6);
+        }
+        if (k < ALIGN_END) {
             assert_int_equal(app.state, APP_STATE_ALIGN);
         }
     }
@@ -307,6 +355,41 @@ static void sequence_calibrates_aligns_runs(void **state)
     assert_int_equal(app.state, APP_STATE_RUN);
     assert_true(wrap_dist(app.ctrl.mon.theta_el_rad, 0.0f) < 1e-5f);
     assert_float_equal(app.ctrl.mon.id_A, 0.5, 1e-4); /* Park at 0 rad: id = ia */
+}
+
+/* The duties of each alignment phase as numbers (9 V at 311 V), which
+ * also pins minmax_duty: u_beta alone puts phase a at 0.5 and b, c at
+ * 0.5 +/- (sqrt(3)/2) u / Vdc; u_alpha alone gives a = 0.5 + 0.75 u / Vdc,
+ * b = c = 0.5 - 0.75 u / Vdc; half-way through the turn, u = (4.5, 4.5):
+ * v = (4.5, 1.647, -6.147) V, mid-range -0.824 V. */
+static void align_duties_by_phase(void **state)
+{
+    (void)state;
+    static const struct { int k; float d[3]; } want[] = {
+        { 2, { 0.5f, 0.5125309f, 0.4874691f } },                         /* ramp: u_beta 4.5 V */
+        { ALIGN_RAMP, { 0.5f, 0.5250618f, 0.4749382f } },                /* pre-position held: u_beta 9 V */
+        { ALIGN_RAMP + ALIGN_PREPOS + 2, { 0.5171175f, 0.5079443f, 0.4828825f } }, /* turn, f = 1/2 */
+        { ALIGN_END, { 0.5217042f, 0.4782958f, 0.4782958f } },            /* on phase a: u_alpha 9 V */
+    };
+    init_with(false, true);
+    hal_sample_t s = sample(0.0f, 0.0f, VDC);
+    app_request_start(&app);
+    size_t w = 0;
+    for (int k = 0; k <= ALIGN_END; k++) {
+        if (k == 0) {
+            isr_first_write(&s);
+        } else {
+            isr_run(&s);
+        }
+        if (w < sizeof want / sizeof want[0] && want[w].k == k) {
+            for (int j = 0; j < 3; j++) {
+                assert_float_equal(mock_hal_duty[j], want[w].d[j], 1e-6);
+            }
+            w++;
+        }
+    }
+    assert_int_equal(w, sizeof want / sizeof want[0]);
+    assert_int_equal(app.state, APP_STATE_RUN);
 }
 
 /* Calibration on, alignment off (offset configured as known): CALIBRATE -> RUN. */
@@ -331,7 +414,7 @@ static void align_once_until_encoder_fault(void **state)
     run_calibration(CAL_IA, CAL_IB, VDC);
     hal_sample_t s = sample(0.11f, -0.04f, VDC);
     isr_first_write(&s);
-    for (int k = 1; k <= ALIGN_RAMP + ALIGN_HOLD; k++) {
+    for (int k = 1; k <= ALIGN_END; k++) {
         isr_run(&s);
     }
     assert_int_equal(app.state, APP_STATE_RUN);
@@ -694,6 +777,303 @@ static void overrun_missed_period_latches(void **state)
     assert_float_equal(app.snapshot.limit, LATE_CYC, 0.0);
 }
 
+/* ---- IDENTIFY_R ------------------------------------------------------------ */
+
+/* Step 1's timeline of the test cfg, in periods: settle 1, window 1,
+ * settle 2, window 2; from IDENTIFY_R's first period (k = 0). */
+#define RSID_SETTLE_1 500
+#define RSID_WIN      200
+#define RSID_SETTLE_2 300
+#define RSID_WIN1     RSID_SETTLE_1                           /* 500 */
+#define RSID_WIN2     (RSID_WIN1 + RSID_WIN + RSID_SETTLE_2)  /* 1000 */
+#define RSID_END      (RSID_WIN2 + RSID_WIN)                  /* 1200: periods in IDENTIFY_R */
+#define R_BAND_MIN    0.6f        /* accepted R^ band [Ohm] */
+#define R_BAND_MAX    6.0f
+#define R_TRUE        3.6         /* the dyno's motor: 1.2 x the controller's 3 Ohm */
+/* the dyno: 5 counts per period = 300 r/min, 94.25 rad/s el */
+#define DYNO_COUNTS   5u
+#define DYNO_W_EL     ((double)DYNO_COUNTS * 3.0 * 2.0 * OP_PI / CPR / OP_TS)
+
+static app_cfg_t rsid_cfg(app_rsid_mode_t mode, bool align)
+{
+    app_cfg_t cfg = make_cfg(false, align);
+    ctrl_cfg_proposed_defaults(&cfg.ctrl, R_BAND_MIN, R_BAND_MAX);
+    cfg.rsid_mode = mode;
+    cfg.rsid_settle_1_s = RSID_SETTLE_1 * 1e-4f;
+    cfg.rsid_window_s = RSID_WIN * 1e-4f;
+    cfg.rsid_settle_2_s = RSID_SETTLE_2 * 1e-4f;
+    return cfg;
+}
+
+static void init_cfg(const app_cfg_t *cfg)
+{
+    mock_hal_cycles = 0u;
+    mock_hal_cycles_step = 0u;
+    count_now = COUNT0;
+    expect_function_call(hal_pwm_disable);
+    app_init(&app, cfg);
+}
+
+/* Start and the alignment (shaft still at COUNT0, no current): ALIGN_END + 1 calls. */
+static void start_and_align(void)
+{
+    hal_sample_t s = sample(0.0f, 0.0f, VDC);
+    app_request_start(&app);
+    isr_first_write(&s);
+    for (int k = 1; k <= ALIGN_END; k++) {
+        assert_int_equal(app.state, APP_STATE_ALIGN);
+        isr_run(&s);
+    }
+}
+
+/* The dyno: shaft at DYNO_COUNTS per period from COUNT0 (where the
+ * alignment put the d axis on phase a; the rotor at the count's centre,
+ * so the controller's angle is exact), currents of obs_plant's motor under
+ * the duties the app wrote the period before (the DSP's timing). */
+static op_plant_t dyno;
+static float dyno_duty[3];
+static hal_sample_t dyno_last;  /* the last call's sample, for the snapshot */
+
+static void dyno_start(double R_true)
+{
+    dyno = (op_plant_t){ R_true, OP_L0, OP_PSI0, 0.0, 0.0 };
+    for (int j = 0; j < 3; j++) {
+        dyno_duty[j] = mock_hal_duty[j]; /* the alignment's last, active in IDENTIFY_R's first period */
+    }
+}
+
+static double dyno_theta(void)
+{
+    return (double)((count_now - COUNT0) * 3u % CPR) * 2.0 * OP_PI / CPR;
+}
+
+/* One ISR call with the torque reference te_Nm from outside: read, poll,
+ * write (and PWM off when it faults), ack; then the motor over the period. */
+static void dyno_isr(float te_Nm, bool faults)
+{
+    const double th = dyno_theta();
+    const double ial = dyno.id * cos(th) - dyno.iq * sin(th);
+    const double ibe = dyno.id * sin(th) + dyno.iq * cos(th);
+    dyno_last = sample((float)ial, (float)(-0.5 * ial + 0.5 * sqrt(3.0) * ibe), VDC);
+    ctrl_ref_t r = app.ctrl.ref;
+    r.te_ref_Nm = te_Nm;
+    ctrl_set_ref(&app.ctrl, &r);
+    expect_read_poll(&dyno_last, 0);
+    expect_function_call(hal_pwm_write);
+    if (faults) {
+        expect_function_call(hal_pwm_disable);
+    }
+    expect_function_call(hal_isr_ack);
+    app_isr(&app);
+    /* the inverter's stator voltage, into the rotor frame at the period's middle */
+    const double ua = VDC * (2.0 / 3.0) * (dyno_duty[0] - 0.5 * (dyno_duty[1] + dyno_duty[2]));
+    const double ub = VDC * (dyno_duty[1] - dyno_duty[2]) / sqrt(3.0);
+    const double tm = th + 0.5 * DYNO_W_EL * OP_TS;
+    op_step(&dyno, ua * cos(tm) + ub * sin(tm), -ua * sin(tm) + ub * cos(tm), DYNO_W_EL);
+    for (int j = 0; j < 3; j++) {
+        dyno_duty[j] = mock_hal_duty[j];
+    }
+    count_now = (count_now + DYNO_COUNTS) % CPR;
+}
+
+typedef enum { TE_TWO_LOADS, TE_ONE_LOAD, TE_UNSTEADY_WIN2 } te_plan_t;
+
+/* The outside torque reference in IDENTIFY_R's period k: 2 N m, then 4 N m
+ * from window 1's end (WINDOWS mode: the operating points are the
+ * outside's); or 2 N m throughout; or 3 / 5 N m alternating in window 2. */
+static float te_plan(te_plan_t plan, int k)
+{
+    if (plan == TE_ONE_LOAD || k < RSID_WIN1 + RSID_WIN) {
+        return 2.0f;
+    }
+    if (plan == TE_UNSTEADY_WIN2 && k >= RSID_WIN2) {
+        return ((k % 2) == 0) ? 3.0f : 5.0f;
+    }
+    return 4.0f;
+}
+
+/* IDENTIFY_R's periods 0 .. RSID_END - 2 with the window each one goes into. */
+static void identify_until_last(te_plan_t plan)
+{
+    for (int k = 0; k < RSID_END - 1; k++) {
+        dyno_isr(te_plan(plan, k), false);
+        assert_int_equal(app.state, APP_STATE_IDENTIFY_R);
+        const rs_ident_window_t w = (k >= RSID_WIN1 && k < RSID_WIN1 + RSID_WIN) ? RS_IDENT_WINDOW_1
+                                  : ((k >= RSID_WIN2) ? RS_IDENT_WINDOW_2 : RS_IDENT_WINDOW_NONE);
+        assert_int_equal(app.ctrl.rsid_win, w);
+    }
+    assert_int_equal(app.ctrl.ri.win[0].n, RSID_WIN);
+    assert_int_equal(app.ctrl.ri.win[1].n, RSID_WIN - 1);
+}
+
+/* ALIGN -> IDENTIFY_R -> RUN (WINDOWS): the timeline in periods from the
+ * cfg, the windows at their periods, R^ into the observer and step 2
+ * running in the last IDENTIFY_R call, which already turns RUN. */
+static void identify_windows_aligns_identifies_runs(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, true);
+    init_cfg(&cfg);
+    assert_int_equal(app.ctrl.status, CTRL_CFG_OK);
+    assert_int_equal(app.rsid_win1_tick, RSID_WIN1);
+    assert_int_equal(app.rsid_win2_tick, RSID_WIN2);
+    assert_int_equal(app.rsid_end_tick, RSID_END);
+    start_and_align();
+    assert_int_equal(app.state, APP_STATE_IDENTIFY_R); /* in the aligning call */
+    assert_int_equal(app.ctrl.est, CTRL_EST_STEP1);
+    dyno_start(R_TRUE);
+    identify_until_last(TE_TWO_LOADS);
+    dyno_isr(te_plan(TE_TWO_LOADS, RSID_END - 1), false);
+    assert_int_equal(app.state, APP_STATE_RUN);
+    assert_int_equal(app.fault, APP_FAULT_NONE);
+    assert_int_equal(app.rsid_result, RS_IDENT_OK);
+    assert_int_equal(app.ctrl.est, CTRL_EST_STEP2);
+    /* the dyno's R within rs_ident's 1 % acceptance, and it is the observer's */
+    assert_float_equal(app.ctrl.rsid_out.R_est_Ohm, R_TRUE, 0.01 * R_TRUE);
+    assert_float_equal(app.ctrl.smo.R_Ohm, app.ctrl.rsid_out.R_est_Ohm, 0.0);
+    assert_false(app.speed_handover); /* WINDOWS: the outside's reference throughout */
+    dyno_isr(4.0f, false);
+    assert_int_equal(app.state, APP_STATE_RUN);
+    assert_int_equal(app.ctrl.mon.est, CTRL_EST_STEP2);
+}
+
+/* Each refusal of step 1: its fault in the last IDENTIFY_R call, the
+ * duties of that call written, then PWM off in the same call, the
+ * snapshot of that call's sample. */
+static void identify_fault_case(app_cfg_t *cfg, double R_true, te_plan_t plan, bool nan_window, app_fault_t fault)
+{
+    init_cfg(cfg);
+    assert_int_equal(app.ctrl.status, CTRL_CFG_OK);
+    start_and_align();
+    dyno_start(R_true);
+    identify_until_last(plan);
+    if (nan_window) {
+        app.ctrl.ri.win[1].s1[RS_CH_FQ] = NAN; /* what no finite sample can give: a corrupted sum */
+    }
+    dyno_isr(te_plan(plan, RSID_END - 1), true);
+    assert_int_equal(app.state, APP_STATE_FAULT);
+    assert_int_equal(app.fault, fault);
+    assert_false(app.pwm_on);
+    assert_snapshot(&dyno_last, APP_STATE_IDENTIFY_R);
+    assert_int_equal(app.ctrl.est, CTRL_EST_OFF); /* observer stopped */
+}
+
+static void identify_too_few_faults(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, true);
+    cfg.ctrl.rsid.n_min = RSID_WIN + 1u; /* one sample more than a window holds */
+    identify_fault_case(&cfg, R_TRUE, TE_TWO_LOADS, false, APP_FAULT_RSID_TOO_FEW);
+}
+
+/* iq alternating by 1.85 A in window 2 (3 and 5 N m): its std far above 0.05 A. */
+static void identify_not_steady_faults(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, true);
+    identify_fault_case(&cfg, R_TRUE, TE_UNSTEADY_WIN2, false, APP_FAULT_RSID_NOT_STEADY);
+    /* a square wave of +/-0.93 A has that std; iq's steps come a period late
+     * and smoothed (0.74 A measured): far above the limit either way */
+    assert_true(app.snapshot.value > 10.0f * RS_IDENT_IQ_STD_MAX_DEFAULT_A);
+    assert_float_equal(app.snapshot.limit, RS_IDENT_IQ_STD_MAX_DEFAULT_A, 0.0);
+}
+
+/* One load, one speed in both windows: (41) has no denominator. */
+static void identify_degenerate_faults(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, true);
+    identify_fault_case(&cfg, R_TRUE, TE_ONE_LOAD, false, APP_FAULT_RSID_DEGENERATE);
+}
+
+static void identify_non_finite_faults(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, true);
+    identify_fault_case(&cfg, R_TRUE, TE_TWO_LOADS, true, APP_FAULT_RSID_NON_FINITE);
+}
+
+/* The dyno's 3.6 Ohm above a band that ends at 3.3 Ohm. */
+static void identify_out_of_band_faults(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, true);
+    ctrl_cfg_proposed_defaults(&cfg.ctrl, R_BAND_MIN, 3.3f);
+    identify_fault_case(&cfg, R_TRUE, TE_TWO_LOADS, false, APP_FAULT_RSID_OUT_OF_BAND);
+    assert_float_equal(app.snapshot.value, R_TRUE, 0.01 * R_TRUE);
+    assert_float_equal(app.snapshot.limit, 3.3, 1e-6);
+}
+
+/* TRUSTED: no step 1; the aligning call goes to RUN with step 2 started
+ * from the controller's R. OFF: no step 1, no step 2. */
+static void identify_trusted_and_off_skip_step_1(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = rsid_cfg(APP_RSID_TRUSTED, true);
+    init_cfg(&cfg);
+    start_and_align();
+    assert_int_equal(app.state, APP_STATE_RUN);
+    assert_int_equal(app.ctrl.est, CTRL_EST_STEP2);
+    assert_float_equal(app.ctrl.smo.R_Ohm, 3.0, 0.0);
+    dyno_start(3.0);
+    dyno_isr(2.0f, false);
+    assert_int_equal(app.state, APP_STATE_RUN);
+    assert_int_equal(app.ctrl.mon.est, CTRL_EST_STEP2);
+
+    cfg = rsid_cfg(APP_RSID_OFF, true);
+    init_cfg(&cfg);
+    start_and_align();
+    assert_int_equal(app.state, APP_STATE_RUN);
+    assert_int_equal(app.ctrl.est, CTRL_EST_OFF);
+    dyno_start(3.0);
+    dyno_isr(2.0f, false);
+    assert_int_equal(app.ctrl.mon.est, CTRL_EST_OFF);
+}
+
+/* Observer settings ctrl_init refused (a band whose top breaks (36)):
+ * the start faults CONFIG in its own call, nothing energised. */
+static void identify_refused_config_faults_at_start(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, false);
+    ctrl_cfg_proposed_defaults(&cfg.ctrl, R_BAND_MIN, 1000.0f);
+    init_cfg(&cfg);
+    assert_int_not_equal(app.ctrl.status, CTRL_CFG_OK);
+    hal_sample_t s = sample(0.0f, 0.0f, VDC);
+    app_request_start(&app);
+    isr_fault(&s, 0);
+    assert_int_equal(app.fault, APP_FAULT_CONFIG);
+    assert_snapshot(&s, APP_STATE_INIT);
+}
+
+/* A stop in IDENTIFY_R: IDLE in the next call, PWM off, zero-voltage duties. */
+static void stop_during_identify(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, true);
+    init_cfg(&cfg);
+    start_and_align();
+    dyno_start(R_TRUE);
+    for (int k = 0; k < RSID_WIN1 + 10; k++) {
+        dyno_isr(2.0f, false);
+    }
+    assert_int_equal(app.state, APP_STATE_IDENTIFY_R);
+    app_request_stop(&app);
+    hal_sample_t s = sample(0.0f, 0.0f, VDC);
+    expect_read_poll(&s, 0);
+    expect_function_call(hal_pwm_disable);
+    expect_function_call(hal_pwm_write);
+    expect_function_call(hal_isr_ack);
+    app_isr(&app);
+    assert_int_equal(app.state, APP_STATE_IDLE);
+    assert_false(app.pwm_on);
+    for (int j = 0; j < 3; j++) {
+        assert_float_equal(mock_hal_duty[j], 0.5, 0.0);
+    }
+    isr_quiet(&s);
+    assert_int_equal(app.state, APP_STATE_IDLE);
+}
+
 /* ---- fault reset ------------------------------------------------------------ */
 
 /* FAULT holds: later ISRs read and ack only, keep the snapshot, ignore a
@@ -786,6 +1166,7 @@ int main(void)
         cmocka_unit_test(init_is_init_with_pwm_off),
         cmocka_unit_test(start_runs_and_stop_idles),
         cmocka_unit_test(sequence_calibrates_aligns_runs),
+        cmocka_unit_test(align_duties_by_phase),
         cmocka_unit_test(align_skipped_when_offset_known),
         cmocka_unit_test(align_once_until_encoder_fault),
         cmocka_unit_test(stop_during_calibrate_and_align),
@@ -802,6 +1183,15 @@ int main(void)
         cmocka_unit_test(overspeed_in_run),
         cmocka_unit_test(overrun_run_time_latches),
         cmocka_unit_test(overrun_missed_period_latches),
+        cmocka_unit_test(identify_windows_aligns_identifies_runs),
+        cmocka_unit_test(identify_too_few_faults),
+        cmocka_unit_test(identify_not_steady_faults),
+        cmocka_unit_test(identify_degenerate_faults),
+        cmocka_unit_test(identify_non_finite_faults),
+        cmocka_unit_test(identify_out_of_band_faults),
+        cmocka_unit_test(identify_trusted_and_off_skip_step_1),
+        cmocka_unit_test(identify_refused_config_faults_at_start),
+        cmocka_unit_test(stop_during_identify),
         cmocka_unit_test(fault_holds_until_reset_and_cause_gone),
         cmocka_unit_test(isr_call_order),
         cmocka_unit_test(background_kicks_watchdog),

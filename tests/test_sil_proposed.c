@@ -320,6 +320,74 @@ static void identify_speeds_mode(void **state)
     assert_true(fabs(fig.psi / PSI0 - 1.0) <= EST_TOL);
 }
 
+/* SPEEDS handover: step 1 at 500 then 1000 r/min under 3 N m, the outside
+ * reference 0 r/min. RUN ramps the app's reference from 1000 r/min down
+ * at the identification's 2500 r/min/s (0.4 s) instead of stepping (the
+ * step braked at the -12 N m limit and tripped overcurrent, 14.07 A > 14 A).
+ * By hand: during the ramp Te* = load - J a = 3 - 0.00129 * 261.8 =
+ * 2.66 N m, then the load; the speed PI's corners add a little. */
+#define HO_LOAD_NM     3.0
+#define HO_ACCEL_RPM_S 2500.0
+#define HO_FROM_RPM    1000.0
+#define HO_TE_TOL_NM   0.5      /* the PI's corner transients: a fifth of the load, far from the 12 N m limit */
+
+typedef struct {
+    double t2;                  /* first row in RUN */
+    double te_min, te_max;      /* Te* over RUN's first 0.5 s */
+    double speed_mid_rpm;       /* true speed half-way down the ramp */
+} handover_t;
+
+static int on_handover_row(const sil_row_t *r, void *user)
+{
+    handover_t *h = user;
+    if (isnan(h->t2) && (int)r->state == APP_STATE_RUN) {
+        h->t2 = r->t_s;
+    }
+    if (!isnan(h->t2) && r->t_s < h->t2 + 0.5) {
+        h->te_min = fmin(h->te_min, r->te_ref_Nm);
+        h->te_max = fmax(h->te_max, r->te_ref_Nm);
+        if (fabs(r->t_s - (h->t2 + 0.5 * HO_FROM_RPM / HO_ACCEL_RPM_S)) < 0.5 * TS) {
+            h->speed_mid_rpm = r->speed_rpm;
+        }
+    }
+    return 0;
+}
+
+static void identify_speeds_handover_ramps(void **state)
+{
+    const char *const sets[] = { "identify.mode=speeds", "identify.speed_1_rpm=500", "identify.speed_2_rpm=1000",
+                                 "load.torque_Nm=3", "reference.speed_rpm=0", "run.duration_s=1.8",
+                                 "run.log_every=1", NULL };
+    const double te_ramp = HO_LOAD_NM - 0.00129 * HO_ACCEL_RPM_S * RPM;
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN];
+    sil_result_t res;
+    handover_t h = { NAN, 1e9, -1e9, NAN };
+    (void)state;
+    scenario_defaults(&sc);
+    if (scenario_load(&sc, "tools/scenarios/prop_L150.ini", err, sizeof err) != 0) {
+        fail_msg("%s", err);
+    }
+    for (const char *const *s = sets; *s != NULL; s++) {
+        if (scenario_set(&sc, *s, err, sizeof err) != 0) {
+            fail_msg("%s", err);
+        }
+    }
+    assert_int_equal(scenario_finish(&sc, err, sizeof err), 0);
+    assert_int_equal(sil_run(&sc, on_handover_row, &h, &res), 0);
+    print_message("speeds handover 1000 -> 0 r/min at 3 N m: RUN from %.4f s, Te* %.3f .. %.3f N m in RUN's first "
+                  "0.5 s (hand: %.3f during the ramp, %.1f after), speed half-way %.1f r/min (ramp: %.0f), "
+                  "max |i| %.2f A\n", h.t2, h.te_min, h.te_max, te_ramp, HO_LOAD_NM, h.speed_mid_rpm,
+                  0.5 * HO_FROM_RPM, res.max_abs_i_A);
+    assert_int_equal(res.final_state, APP_STATE_RUN);
+    assert_int_equal(res.final_fault, APP_FAULT_NONE);
+    assert_false(isnan(h.t2));
+    assert_true(h.te_min >= te_ramp - HO_TE_TOL_NM);
+    assert_true(h.te_max <= HO_LOAD_NM + HO_TE_TOL_NM);
+    /* on the ramp, not at a step's end: a few r/min of the loop's lag */
+    assert_true(fabs(h.speed_mid_rpm - 0.5 * HO_FROM_RPM) < 25.0);
+}
+
 /* Step 1 at one operating point: the app faults with the reason. */
 static void identify_degenerate_faults(void **state)
 {
@@ -530,6 +598,7 @@ int main(void)
         cmocka_unit_test(speed_2000),
         cmocka_unit_test(deadtime_compensated),
         cmocka_unit_test(identify_speeds_mode),
+        cmocka_unit_test(identify_speeds_handover_ramps),
         cmocka_unit_test(identify_degenerate_faults),
         cmocka_unit_test(identify_out_of_band_faults),
         cmocka_unit_test(identify_refused_config_faults),

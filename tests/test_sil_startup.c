@@ -2,10 +2,20 @@
  * through sil_run() with [run] calibrate = on, align = on. The plant's
  * current ADC has offsets and noise and its encoder an offset the
  * controller is not told; the app calibrates (PWM off), aligns the rotor
- * (voltage vector on phase a) and then runs in speed mode to 500 r/min
- * with a load. Asserted: the calibrated offsets against the sim's, the
- * identified encoder offset against the plant's, and that the drive then
- * runs on the right angle (speed held, id = 0 as MTPA asks). */
+ * (a vector at +90 deg el, then turned onto phase a) and then runs in
+ * speed mode to 500 r/min with a load. Asserted: the calibrated offsets
+ * against the sim's, the identified encoder offset against the plant's,
+ * the start-up's timing, and that the drive then runs on the right angle
+ * (speed held, id = 0 as MTPA asks).
+ *
+ * Where the rotor starts: the plant starts at mechanical angle 0, which is
+ * encoder count 0, with its d axis at plant.encoder_offset_el_rad from
+ * phase a (hal_sim.h); so that offset is also the rotor's start angle, and
+ * pi puts it exactly 180 deg el from phase a: the dead point of the phase-a
+ * vector, where a one-step alignment left it (offset pi off, then an
+ * overspeed fault in RUN). -pi/2 is the pre-position vector's dead point.
+ * app.h derives that no start angle is a dead point of both steps; the
+ * sweep checks every 10 deg and both dead points. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -27,6 +37,10 @@
  * the hold, the ramp's and dead time's effect on where it rests (none with
  * u_beta = 0) - stated allowance, measured well inside it. */
 #define ALIGN_TOL_EL_RAD 0.5e-3
+#define PI_D         3.141592653589793
+#define TS_S         1e-4
+/* ALIGN lasts both ramps and both holds, plus the period that aligns */
+#define ALIGN_S      (2.0 * BOARD_ALIGN_RAMP_S + BOARD_ALIGN_PREPOS_S + BOARD_ALIGN_SETTLE_S + TS_S)
 #define OFFSET_A_A   0.30          /* sim ADC offsets [A] */
 #define OFFSET_B_A   -0.20
 #define NOISE_A      0.02          /* sim ADC noise, std dev [A] */
@@ -35,8 +49,9 @@
 #define CAL_TOL_A    (0.5 * ADC_LSB_A + 4.0 * NOISE_A / sqrt((double)BOARD_CAL_SAMPLES))
 #define SPEED_RPM    500.0
 #define LOAD_NM      2.0
-#define WIN_T0_S     2.0           /* steady window [s] */
-#define WIN_T1_S     2.2
+/* after RUN (1.31 s): speed ramp 1.4-1.6 s, load from 1.7 s */
+#define WIN_T0_S     2.1           /* steady window [s] */
+#define WIN_T1_S     2.3
 
 typedef struct {
     double t_first[7];             /* first t_s in each app_state_t value; NaN if never */
@@ -75,16 +90,16 @@ static void startup(double enc_offset_el_rad, const char *model)
     scenario_t sc;
     scenario_defaults(&sc);
     int n = 0;
-    snprintf(sets[n++], sizeof sets[0], "plant.encoder_offset_el_rad=%.6f", enc_offset_el_rad);
+    snprintf(sets[n++], sizeof sets[0], "plant.encoder_offset_el_rad=%.17g", enc_offset_el_rad);
     snprintf(sets[n++], sizeof sets[0], "plant.adc_offset_a_A=%.3f", OFFSET_A_A);
     snprintf(sets[n++], sizeof sets[0], "plant.adc_offset_b_A=%.3f", OFFSET_B_A);
     snprintf(sets[n++], sizeof sets[0], "plant.adc_noise_A=%.3f", NOISE_A);
     snprintf(sets[n++], sizeof sets[0], "plant.model=%s", model);
     snprintf(sets[n++], sizeof sets[0], "plant.deadtime_s=1e-6");
     snprintf(sets[n++], sizeof sets[0], "controller.mode=speed");
-    /* start-up takes ~1.1 s (0.11 s calibration, 1 s alignment); then ramp and load */
-    snprintf(sets[n++], sizeof sets[0], "reference.speed_rpm=0:0, 1.3:0, 1.5:%.0f~", SPEED_RPM);
-    snprintf(sets[n++], sizeof sets[0], "load.torque_Nm=0:0, 1.6:%.1f", LOAD_NM);
+    /* start-up takes 1.31 s (0.11 s calibration, 1.2 s alignment); then ramp and load */
+    snprintf(sets[n++], sizeof sets[0], "reference.speed_rpm=0:0, 1.4:0, 1.6:%.0f~", SPEED_RPM);
+    snprintf(sets[n++], sizeof sets[0], "load.torque_Nm=0:0, 1.7:%.1f", LOAD_NM);
     snprintf(sets[n++], sizeof sets[0], "run.duration_s=%.2f", WIN_T1_S);
     snprintf(sets[n++], sizeof sets[0], "run.calibrate=on");
     snprintf(sets[n++], sizeof sets[0], "run.align=on");
@@ -123,7 +138,8 @@ static void startup(double enc_offset_el_rad, const char *model)
     assert_true(f.t_first[APP_STATE_CALIBRATE] == 0.0);
     assert_true(f.t_first[APP_STATE_ALIGN] > f.t_first[APP_STATE_CALIBRATE]);
     assert_true(f.t_first[APP_STATE_RUN] > f.t_first[APP_STATE_ALIGN]);
-    assert_true(f.t_first[APP_STATE_RUN] < 1.3);
+    assert_true(fabs(f.t_first[APP_STATE_RUN] - f.t_first[APP_STATE_ALIGN] - ALIGN_S) < 0.5 * TS_S);
+    assert_true(f.t_first[APP_STATE_RUN] < 1.4);
 
     assert_true(fabs(cal_err_a) <= CAL_TOL_A);
     assert_true(fabs(cal_err_b) <= CAL_TOL_A);
@@ -155,12 +171,82 @@ static void startup_offset_2rad_switching(void **state)
     startup(2.0, "switching");
 }
 
+/* The rotor exactly 180 deg el from phase a: the phase-a vector's dead point. */
+static void startup_rotor_180deg_from_phase_a_averaged(void **state)
+{
+    (void)state;
+    startup(PI_D, "averaged");
+}
+
+static void startup_rotor_180deg_from_phase_a_switching(void **state)
+{
+    (void)state;
+    startup(PI_D, "switching");
+}
+
+/* The rotor exactly on the pre-position vector's dead point (-90 deg el):
+ * step 1 leaves it there, the turn onto phase a moves it. */
+static void startup_rotor_on_prepos_dead_point(void **state)
+{
+    (void)state;
+    startup(-0.5 * PI_D, "averaged");
+}
+
+/* Alignment only, from every 10 deg and both dead points: the offset
+ * found within the tolerance each time (1 us dead time, ADC offsets and
+ * noise, no friction). */
+static void alignment_from_every_start_angle(void **state)
+{
+    (void)state;
+    double worst = 0.0;
+    double worst_at = 0.0;
+    for (int i = 0; i < 38; i++) {
+        const double start = (i < 36) ? -PI_D + (double)i * PI_D / 18.0 : ((i == 36) ? PI_D : -0.5 * PI_D);
+        char sets[9][96];
+        char err[SCENARIO_ERR_LEN];
+        scenario_t sc;
+        scenario_defaults(&sc);
+        int n = 0;
+        snprintf(sets[n++], sizeof sets[0], "plant.encoder_offset_el_rad=%.17g", start);
+        snprintf(sets[n++], sizeof sets[0], "plant.adc_offset_a_A=%.3f", OFFSET_A_A);
+        snprintf(sets[n++], sizeof sets[0], "plant.adc_offset_b_A=%.3f", OFFSET_B_A);
+        snprintf(sets[n++], sizeof sets[0], "plant.adc_noise_A=%.3f", NOISE_A);
+        snprintf(sets[n++], sizeof sets[0], "plant.deadtime_s=1e-6");
+        snprintf(sets[n++], sizeof sets[0], "controller.mode=speed");
+        snprintf(sets[n++], sizeof sets[0], "run.duration_s=1.35");
+        snprintf(sets[n++], sizeof sets[0], "run.calibrate=on");
+        snprintf(sets[n++], sizeof sets[0], "run.align=on");
+        for (int j = 0; j < n; j++) {
+            if (scenario_set(&sc, sets[j], err, sizeof err) != 0) {
+                fail_msg("%s", err);
+            }
+        }
+        assert_int_equal(scenario_finish(&sc, err, sizeof err), 0);
+        sil_result_t res;
+        assert_int_equal(sil_run(&sc, NULL, NULL, &res), 0);
+        assert_int_equal(res.final_state, APP_STATE_RUN);
+        const double e = fabs(wrap_pi(res.enc_offset_el_rad - start));
+        if (e > worst) {
+            worst = e;
+            worst_at = start;
+        }
+        assert_true(e <= COUNT_EL_RAD + ALIGN_TOL_EL_RAD);
+    }
+    print_message("alignment from 36 start angles and both dead points: worst |offset err| %.3f mrad el "
+                  "(start %.3f rad; count %.3f mrad + tol %.3f mrad)\n",
+                  1e3 * worst, worst_at, 1e3 * COUNT_EL_RAD, 1e3 * ALIGN_TOL_EL_RAD);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(startup_offset_2rad_averaged),
         cmocka_unit_test(startup_offset_minus_2_9rad_averaged),
         cmocka_unit_test(startup_offset_2rad_switching),
+        cmocka_unit_test(startup_rotor_180deg_from_phase_a_averaged),
+        cmocka_unit_test(startup_rotor_180deg_from_phase_a_switching),
+        cmocka_unit_test(startup_rotor_on_prepos_dead_point),
+        cmocka_unit_test(alignment_from_every_start_angle),
     };
     return cmocka_run_group_tests_name("sil_startup", tests, NULL, NULL);
 }
