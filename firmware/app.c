@@ -272,12 +272,10 @@ static void enter_identify(app_t *app)
 }
 
 /* After ALIGN, done or skipped: step 1 of the proposed method, or RUN. */
-static void leave_align(app_t *app, const hal_sample_t *s)
+static void leave_align(app_t *app)
 {
     if (app->cfg.rsid_mode == APP_RSID_OFF) {
         enter_run(app);
-    } else if (app->ctrl.status != CTRL_CFG_OK) {
-        latch_fault(app, APP_FAULT_CONFIG, s, (float)app->ctrl.status, 0.0f);
     } else if (app->cfg.rsid_mode == APP_RSID_TRUSTED) {
         enter_run(app);
         (void)ctrl_est_start(&app->ctrl, app->cfg.ctrl.Rs_Ohm); /* nominal R is in its own band */
@@ -292,17 +290,20 @@ static void enter_align(app_t *app)
     app->state_ticks = 0u;
 }
 
-/* After CALIBRATE, done or skipped: the bus must be up from here on,
+/* After CALIBRATE, done or skipped: the bus must be up from here on, and
+ * the observer's settings valid when step 1 or 2 will need them; both are
  * checked on this call's samples before anything is energised. */
 static void leave_calibrate(app_t *app, const hal_sample_t *s)
 {
     app->uv_armed = true;
     if (s->vdc_V < app->cfg.vdc_min_V) {
         latch_fault(app, APP_FAULT_UNDERVOLTAGE, s, s->vdc_V, app->cfg.vdc_min_V);
+    } else if ((app->cfg.rsid_mode != APP_RSID_OFF) && (app->ctrl.status != CTRL_CFG_OK)) {
+        latch_fault(app, APP_FAULT_CONFIG, s, (float)app->ctrl.status, 0.0f);
     } else if (app->cfg.align && !app->aligned) {
         enter_align(app);
     } else {
-        leave_align(app, s);
+        leave_align(app);
     }
 }
 
@@ -412,7 +413,7 @@ static void align_step(app_t *app, const hal_sample_t *s)
     if (k >= end) {
         encoder_align(&app->ctrl.enc, s->enc_count);
         app->aligned = true;
-        leave_align(app, s);
+        leave_align(app);
     }
 }
 

@@ -1031,19 +1031,22 @@ static void identify_trusted_and_off_skip_step_1(void **state)
 }
 
 /* Observer settings ctrl_init refused (a band whose top breaks (36)):
- * the start faults CONFIG in its own call, nothing energised. */
+ * the start faults CONFIG in its own call, nothing energised - also when
+ * an alignment would come first (it would energise the motor). */
 static void identify_refused_config_faults_at_start(void **state)
 {
     (void)state;
-    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, false);
-    ctrl_cfg_proposed_defaults(&cfg.ctrl, R_BAND_MIN, 1000.0f);
-    init_cfg(&cfg);
-    assert_int_not_equal(app.ctrl.status, CTRL_CFG_OK);
-    hal_sample_t s = sample(0.0f, 0.0f, VDC);
-    app_request_start(&app);
-    isr_fault(&s, 0);
-    assert_int_equal(app.fault, APP_FAULT_CONFIG);
-    assert_snapshot(&s, APP_STATE_INIT);
+    for (int align = 0; align <= 1; align++) {
+        app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, align != 0);
+        ctrl_cfg_proposed_defaults(&cfg.ctrl, R_BAND_MIN, 1000.0f);
+        init_cfg(&cfg);
+        assert_int_not_equal(app.ctrl.status, CTRL_CFG_OK);
+        hal_sample_t s = sample(0.0f, 0.0f, VDC);
+        app_request_start(&app);
+        isr_fault(&s, 0);
+        assert_int_equal(app.fault, APP_FAULT_CONFIG);
+        assert_snapshot(&s, APP_STATE_INIT);
+    }
 }
 
 /* A stop in IDENTIFY_R: IDLE in the next call, PWM off, zero-voltage duties. */
