@@ -36,20 +36,21 @@ endif
 WARN_BASE     := -std=c99 -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes
 FLOAT_ONLY    := -Wdouble-promotion -Wfloat-conversion -Wunsuffixed-float-constants
 PORTABLE_INC  := -include control/c28x_portable.h
-INC           := -Icontrol -Ihal -Ifirmware -Ihal/sim -Ihal/f28335 -Itests -Itests/c2000_fake/include
+INC           := -Icontrol -Ihal -Ifirmware -Ihal/sim -Itools/sil -Ihal/f28335 -Itests -Itests/c2000_fake/include
 
 CF_CONTROL  := $(WARN_BASE) $(FLOAT_ONLY) -Wconversion $(PORTABLE_INC)
 CF_PORTABLE := $(WARN_BASE) $(FLOAT_ONLY) $(PORTABLE_INC)
 CF_SIM      := $(WARN_BASE) -Wfloat-conversion -D_POSIX_C_SOURCE=200809L
 CF_TEST     := $(WARN_BASE) -Wno-missing-prototypes -D_POSIX_C_SOURCE=200809L
 
-cflags_for = $(if $(filter control/%,$1),$(CF_CONTROL),$(if $(filter firmware/% hal/f28335/%,$1),$(CF_PORTABLE),$(if $(filter hal/sim/%,$1),$(CF_SIM),$(CF_TEST))))
+cflags_for = $(if $(filter control/%,$1),$(CF_CONTROL),$(if $(filter firmware/% hal/f28335/%,$1),$(CF_PORTABLE),$(if $(filter hal/sim/% tools/sil/%,$1),$(CF_SIM),$(CF_TEST))))
 
 # Source groups, each archived into one static library, so a runner links
 # only what it references. Fragments below add programs and test wiring.
 CONTROL_SRCS  := $(wildcard control/*.c)
 FIRMWARE_SRCS := $(filter-out firmware/main.c,$(wildcard firmware/*.c))
-SIM_SRCS      := $(filter-out hal/sim/drive_sil.c,$(wildcard hal/sim/*.c))
+SIM_SRCS      := $(wildcard hal/sim/*.c)
+SILRUN_SRCS   := tools/sil/scenario.c tools/sil/profile.c
 F28335_SRCS   := $(wildcard hal/f28335/*.c) $(wildcard tests/c2000_fake/*.c)
 
 objs = $(patsubst %.c,$(OUT)/obj/%.o,$1)
@@ -57,11 +58,13 @@ objs = $(patsubst %.c,$(OUT)/obj/%.o,$1)
 LIB_control  := $(OUT)/lib/libcontrol.a
 LIB_firmware := $(OUT)/lib/libfirmware.a
 LIB_sim      := $(OUT)/lib/libsim.a
+LIB_silrun   := $(OUT)/lib/libsilrun.a
 LIB_f28335   := $(OUT)/lib/libf28335.a
 
 $(LIB_control):  $(call objs,$(CONTROL_SRCS))
 $(LIB_firmware): $(call objs,$(FIRMWARE_SRCS))
 $(LIB_sim):      $(call objs,$(SIM_SRCS))
+$(LIB_silrun):   $(call objs,$(SILRUN_SRCS))
 $(LIB_f28335):   $(call objs,$(F28335_SRCS))
 
 $(OUT)/lib/%.a:
@@ -92,7 +95,7 @@ $(OUT)/tests/$1: $(call objs,tests/$1.c $(TEST_SRCS_$1)) $(call test_libs,$1)
 endef
 
 # ---- fragments -------------------------------------------------------------
--include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk hal/f28335/module.mk tests/module.mk tools/module.mk tools/report.mk)
+-include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk tools/sil/module.mk hal/f28335/module.mk tests/module.mk tools/module.mk tools/report.mk)
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 

@@ -65,7 +65,7 @@
 #define BOARD_ALIGN_PREPOS_S     0.2f         /* hold at the pre-position: the rotor is off phase a's dead point before the turn [s] */
 #define BOARD_ALIGN_SETTLE_S     0.6f         /* hold on phase a: the rotor settles [s] */
 
-/* ---- controller tuning: the SIL scenario defaults (hal/sim/scenario.c) - */
+/* ---- controller tuning: the SIL scenario defaults (tools/sil/scenario.c) - */
 #define TUNE_SPEED_KP_NMS_RAD    0.5f         /* speed PI [N m / (rad/s)] */
 #define TUNE_SPEED_KI_NM_RAD     20.0f        /* speed PI [N m / rad] */
 #define TUNE_ENC_PLL_BW_RAD_S    500.0f       /* speed estimator bandwidth [rad/s] */
@@ -84,7 +84,7 @@
 #define BOARD_RSID_R_MIN_PER_R   0.2f         /* accepted R^ band, x MOTOR_R_OHM: cold winding, cable [-] */
 #define BOARD_RSID_R_MAX_PER_R   2.0f         /* hot copper (+130 K) and margin [-] */
 
-/* Bounds on what the controller's model may see (as in hal/sim/sil.c). */
+/* Bounds on what the controller's model may see (as in tools/sil/sil.c). */
 #define MODEL_I_BOUND_PER_TRIP   5.0f         /* x software overcurrent threshold [-] */
 #define MODEL_SPEED_BOUND_RPM    6000.0f      /* 3x rated speed [r/min] */
 #define MODEL_PSI_BOUND_PER_PSIF 4.0f         /* x psi_f [-] */

@@ -2,7 +2,7 @@
 """tests/test_metrics.py - tools/metrics.py on synthetic CSVs whose figures
 are known by hand. Standard library only (unittest); `make test-tools`.
 
-Each CSV has every column of hal/sim/sil.h; a row is the defaults below
+Each CSV has every column of tools/sil/sil.h; a row is the defaults below
 with a few columns overridden. Rows outside a measuring window carry large
 errors, so a row counted by mistake moves the figure far off.
 """

@@ -1,4 +1,4 @@
-/* Unit tests for hal/sim/scenario.c and profile.c: defaults from Table I,
+/* Unit tests for tools/sil/scenario.c and profile.c: defaults from Table I,
  * parsing of every key kind, profiles (steps, ramps, continuation lines),
  * and every bad-input case, whose message must name file, line and key. */
 #include <stdarg.h>

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""metrics.py - figures of one SIL run from its CSV (hal/sim/sil.h columns).
+"""metrics.py - figures of one SIL run from its CSV (tools/sil/sil.h columns).
 Standard library only, so it runs wherever python3 does.
 
 True plant values (te_Nm, psi_Wb, speed_rpm) are compared with the

@@ -5,7 +5,7 @@
 SIL_BENCH := $(OUT)/sil_bench
 HOST_PROGRAMS += $(SIL_BENCH)
 
-$(SIL_BENCH): $(call objs,tools/sil_bench.c hal/sim/sil.c) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+$(SIL_BENCH): $(call objs,tools/sil_bench.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(LDLIBS)
 

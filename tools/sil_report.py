@@ -34,7 +34,7 @@ import metrics  # noqa: E402
 PAPER_WINDOW = (0.8, 0.95)
 LOAD_WINDOW = (0.95, 1.05)
 SHORT_RUN_TAIL = 0.25
-PLANT_DEFAULTS = {"R_ohm": 3.0, "L_H": 0.011, "psif_Wb": 0.24}   # hal/sim/scenario.c
+PLANT_DEFAULTS = {"R_ohm": 3.0, "L_H": 0.011, "psif_Wb": 0.24}   # tools/sil/scenario.c
 METHODS = (("conv", "conventional"), ("prop", "proposed"))
 STEP1_TAIL_S = 0.05       # the step-1 figure runs this far past step 2's start
 FIG_DPI = 110

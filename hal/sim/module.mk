@@ -1,34 +1,7 @@
-# hal/sim: the simulated board (libsim.a, archived by the top Makefile) and
-# the SIL runner $(OUT)/drive_sil. See hal/sim/README.md.
-
-DRIVE_SIL := $(OUT)/drive_sil
-HOST_PROGRAMS += $(DRIVE_SIL)
-
-# sil.o is linked as an object, ahead of the libraries: it calls the app
-# (libfirmware), which calls the HAL (libsim) - one pass of "firmware sim
-# control" resolves that. Tests calling sil_run() do the same:
-#   TEST_SRCS_test_x := hal/sim/sil.c   TEST_LIBS_test_x := firmware sim control
-$(DRIVE_SIL): $(call objs,hal/sim/drive_sil.c hal/sim/sil.c) $(LIB_firmware) $(LIB_sim) $(LIB_control)
-	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(LDLIBS)
+# hal/sim: the simulated board (libsim.a, archived by the top Makefile):
+# plant, inverter, sensors and hal_sim. The SIL runner that drives the
+# firmware on it lives in tools/sil/. See hal/sim/README.md.
 
 TEST_LIBS_test_plant    := sim
 TEST_LIBS_test_inverter := sim
 TEST_LIBS_test_sensors  := sim
-TEST_LIBS_test_scenario := sim
-TEST_LIBS_test_sil      := firmware sim control
-TEST_SRCS_test_sil      := hal/sim/sil.c
-# The app's start-up sequence (calibrate, align, run) in SIL.
-TEST_LIBS_test_sil_startup := firmware sim control
-TEST_SRCS_test_sil_startup := hal/sim/sil.c
-
-# The CLI: exit status 2 and no CSV on bad input (runs the built binary).
-.PHONY: test-drive-sil-cli
-EXTRA_TESTS += test-drive-sil-cli
-test-drive-sil-cli: $(DRIVE_SIL)
-	@tools/test_drive_sil_cli.sh $(DRIVE_SIL)
-
-# Acceptance of the proposed method on the simulated board (scenario files
-# of tools/scenarios/, and the controller alone on hal_sim).
-TEST_LIBS_test_sil_proposed := firmware sim control
-TEST_SRCS_test_sil_proposed := hal/sim/sil.c

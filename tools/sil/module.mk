@@ -1,0 +1,32 @@
+# tools/sil: the SIL runner (a host harness of the application, above
+# firmware/ and hal/sim/): scenario and profile parsing (libsilrun.a),
+# sil_run() and the program $(OUT)/drive_sil. See hal/sim/README.md.
+
+DRIVE_SIL := $(OUT)/drive_sil
+HOST_PROGRAMS += $(DRIVE_SIL)
+
+# sil.o is linked as an object, ahead of the libraries: it calls the app
+# (libfirmware), which calls the HAL (libsim) - one pass of "firmware sim
+# control" resolves that. Tests calling sil_run() do the same:
+#   TEST_SRCS_test_x := tools/sil/sil.c   TEST_LIBS_test_x := silrun firmware sim control
+$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) $(LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(LDLIBS)
+
+TEST_LIBS_test_scenario := silrun
+TEST_LIBS_test_sil      := silrun firmware sim control
+TEST_SRCS_test_sil      := tools/sil/sil.c
+# The app's start-up sequence (calibrate, align, run) in SIL.
+TEST_LIBS_test_sil_startup := silrun firmware sim control
+TEST_SRCS_test_sil_startup := tools/sil/sil.c
+
+# The CLI: exit status 2 and no CSV on bad input (runs the built binary).
+.PHONY: test-drive-sil-cli
+EXTRA_TESTS += test-drive-sil-cli
+test-drive-sil-cli: $(DRIVE_SIL)
+	@tools/test_drive_sil_cli.sh $(DRIVE_SIL)
+
+# Acceptance of the proposed method on the simulated board (scenario files
+# of tools/scenarios/, and the controller alone on hal_sim).
+TEST_LIBS_test_sil_proposed := silrun firmware sim control
+TEST_SRCS_test_sil_proposed := tools/sil/sil.c
