@@ -138,6 +138,7 @@ check-deps:
 
 check: check-deps
 	@tools/check/portability.sh $(BUILD)/check
+	@tools/check/target_cfg.sh
 
 # ---- target build --------------------------------------------------------
 firmware:
