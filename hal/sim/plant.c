@@ -204,7 +204,11 @@ double plant_psi_s_Wb(const plant_t *p)
 
 void plant_iabc_A(const plant_t *p, double i_abc_A[3])
 {
-    double th = plant_theta_el_rad(p);
+    plant_iabc_at_A(p, plant_theta_el_rad(p), i_abc_A);
+}
+
+void plant_iabc_at_A(const plant_t *p, double th, double i_abc_A[3])
+{
     double s = sin(th);
     double c = cos(th);
     double i_alpha = p->x.id_A * c - p->x.iq_A * s;
