@@ -247,6 +247,11 @@ void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
     c->rsid_win = win;
 }
 
+rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
+{
+    return rs_ident_solve(&c->ri, out);
+}
+
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 {
     rs_ident_result_t r = rs_ident_solve(&c->ri, &c->rsid_out);
