@@ -162,6 +162,12 @@ typedef struct {
  * Background, before ctrl_init. */
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
 
+/* The default R^ band for cfg->Rs_Ohm (set it first): rs_ident.h's
+ * RS_IDENT_BAND_*_FACTOR x Rs_Ohm, the top kept below the largest R^ the
+ * observer's default gains take under condition (36) (observer_design.md
+ * sec. 6), and not below Rs_Ohm. Background, before ctrl_cfg_proposed_defaults. */
+void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
+
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method
  * conventional. Returns the set of refusals of every block (CTRL_CFG_*):
  * encoder, speed PI, model, dead time, and the proposed method's settings
