@@ -122,16 +122,24 @@ static void leave_align(app_t *app)
     }
 }
 
+/* The controller's blocks this start needs (ctrl.h CTRL_CFG_NEEDED_*). */
+static ctrl_status_t config_needed(const app_t *app)
+{
+    return (app->cfg.rsid_mode == APP_RSID_OFF) ? CTRL_CFG_NEEDED_ALWAYS
+                                                : (ctrl_status_t)(CTRL_CFG_NEEDED_ALWAYS | CTRL_CFG_NEEDED_PROPOSED);
+}
+
 /* After CALIBRATE, done or skipped: the bus must be up from here on, and
- * the observer's settings valid when step 1 or 2 will need them; both are
- * checked on this call's samples before anything is energised. */
+ * every controller block this start needs accepted by ctrl_init (CONFIG,
+ * the refusals in the snapshot's value); both are checked on this call's
+ * samples before anything is energised. */
 static void leave_calibrate(app_t *app, const hal_sample_t *s)
 {
     protect_arm_uv(&app->prot);
     if (s->vdc_V < app->cfg.vdc_min_V) {
         const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.vdc_min_V);
         latch_fault(app, &f, s);
-    } else if ((app->cfg.rsid_mode != APP_RSID_OFF) && (app->ctrl.status != CTRL_CFG_OK)) {
+    } else if ((app->ctrl.status & config_needed(app)) != 0u) {
         const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)app->ctrl.status, 0.0f);
         latch_fault(app, &f, s);
     } else if (app->cfg.align && !app->aligned) {

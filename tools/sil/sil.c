@@ -188,6 +188,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
         }
         double i_max = fmax(fabs(tr.ia_A), fmax(fabs(tr.ib_A), fabs(tr.ic_A)));
         res->max_abs_i_A = fmax(res->max_abs_i_A, i_max);
+        res->pwm_periods += tr.pwm_enabled ? 1u : 0u;
         res->periods = k + 1u;
         if (on_row != NULL && k % sc->run.log_every == 0u) {
             sil_row_t row;

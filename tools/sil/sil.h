@@ -44,6 +44,7 @@ typedef struct {
     double t_run_s;            /* first period that ended in RUN (its t_k); NaN if none */
     double enc_offset_el_rad;  /* the controller's encoder offset at the end: told or found by alignment, [0, 2 pi) */
     double i_offset_a_A, i_offset_b_A;   /* current offsets the app subtracts at the end (0 unless calibrated) */
+    uint32_t pwm_periods;      /* periods with the gates on (0: the motor was never energised) */
 } sil_result_t;
 
 /* Called for every logged row; a nonzero return stops the run. */
