@@ -13,6 +13,7 @@
 #define SIG_HI_U 1000000000u
 #define TIE_BAND 1e-6L              /* closer than this to x.5: libc decides */
 #define EXP_FIXED_MIN (-4)          /* %g's fixed notation for -4 <= exponent < precision */
+#define LOG10_2 0.30102999566398120
 
 /* Powers of ten exact in long double (x87 64-bit mantissa: 5^27 < 2^63). */
 static const long double P10[] = {
@@ -59,13 +60,16 @@ int csv_num_g9(char *out, double v)
         *p = '\0';
         return (int)(p - out);
     }
-    int e = (int)floor(log10(v));   /* may be one off next to a power of ten: corrected below */
+    int e2 = 0;
+    (void)frexp(v, &e2);   /* v in [2^(e2-1), 2^e2) */
+    int e = (int)floor((double)(e2 - 1) * LOG10_2);   /* the decimal exponent, or one below: corrected here */
     long double s = scale10(v, SIG - 1 - e);
-    if (s < SIG_LO) {
-        e--;
-        s = scale10(v, SIG - 1 - e);
-    } else if (s >= SIG_HI) {
+    while (s >= SIG_HI) {
         e++;
+        s = scale10(v, SIG - 1 - e);
+    }
+    while (s < SIG_LO) {
+        e--;
         s = scale10(v, SIG - 1 - e);
     }
     long double whole = floorl(s);
