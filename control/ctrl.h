@@ -153,6 +153,12 @@ typedef struct {
  * Background, before ctrl_init. */
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
 
+/* The default R^ band for cfg->Rs_Ohm (set it first): rs_ident.h's
+ * RS_IDENT_BAND_*_FACTOR x Rs_Ohm, the top kept below the largest R^ the
+ * observer's default gains take under condition (36) (observer_design.md
+ * sec. 6), and not below Rs_Ohm. Background, before ctrl_cfg_proposed_defaults. */
+void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
+
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method
  * conventional. Checks the proposed method's settings (observer stability
  * bound and condition (36) in smo_init, estimator and step-1 limits);
@@ -199,5 +205,13 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref);
 
 /* One control period from the samples *in; duties and flags to *out. ISR, 10 kHz. */
 void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
+
+/* One period of a stationary-frame voltage u_ab_V [V] at the bus vdc_V
+ * [V] (the app's rotor alignment): the same output path as ctrl_step -
+ * SVPWM, the realised voltage kept as u(k) (at the encoder's angle), the
+ * finiteness check (50 % duties and CTRL_FLAG_NONFINITE for a non-finite
+ * input or no bus) - without the dead-time feedforward. ISR, 10 kHz,
+ * instead of ctrl_step. */
+void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out);
 
 #endif /* CTRL_H */

@@ -30,3 +30,8 @@ test-drive-sil-cli: $(DRIVE_SIL)
 # of tools/scenarios/, and the controller alone on hal_sim).
 TEST_LIBS_test_sil_proposed := silrun firmware sim control
 TEST_SRCS_test_sil_proposed := tools/sil/sil.c
+
+# Step 1 on a real ADC (issue 13 part A): noise, offsets, inertia, the R^
+# band, the refusal policy; both methods on the same scenarios.
+TEST_LIBS_test_sil_identify := silrun firmware sim control
+TEST_SRCS_test_sil_identify := tools/sil/sil.c
