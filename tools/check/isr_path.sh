@@ -27,7 +27,7 @@ fail=0
 
 allowed='^(sinf|cosf|atan2f|sqrtf)$'
 flags=(-mthumb -march=armv7-a+fp -mfloat-abi=hard -O2 -std=c99 -ffunction-sections -fdata-sections
-       -fno-tree-loop-distribute-patterns
+       -fno-tree-loop-distribute-patterns -fcallgraph-info=su
        -Wall -Wextra -Werror -include control/c28x_portable.h
        -Icontrol -Ihal -Ifirmware -Ihal/f28335 -Itests/c2000_fake/include)
 srcs=$(ls control/*.c firmware/*.c hal/f28335/*.c tests/c2000_fake/*.c | grep -v '^firmware/main\.c$')
@@ -46,7 +46,7 @@ if [ $fail -eq 0 ]; then
     if ! arm-none-eabi-gcc "${flags[@]}" -nostdlib -nostartfiles -Wl,--gc-sections \
             -Wl,--unresolved-symbols=ignore-all -Wl,-e,app_isr \
             -Wl,-u,hal_f28335_isr_timing_begin -Wl,-u,hal_f28335_isr_timing_end \
-            -Wl,-u,f28335_unexpected_isr -Wl,-q \
+            -Wl,-u,f28335_unexpected_isr -Wl,-q -Wl,-Map,"$out/isr_path.map" \
             "${objs[@]}" -o "$elf" 2> "$out/link.log"; then
         echo "FAIL ISR-path link:"; sed 's/^/    /' "$out/link.log"
         fail=1
@@ -64,8 +64,69 @@ if [ $fail -eq 0 ]; then
         done
         fail=1
     fi
+    # Every function on the path runs from RAM on the target: control/ and
+    # firmware/ files are compiled --ramfunc=on unless target.mk lists them
+    # in FLASH_SRCS; a hal/f28335 function needs CODE_SECTION "ramfuncs".
+    flash_srcs=" $(sed -n 's/^FLASH_SRCS *:= *//p' firmware/target.mk) "
+    funcs=$(awk '/^Linker script and memory map/ {on = 1} !on {next}
+                 name != "" {print name, $NF; name = ""; next}
+                 /^ \.text\./ {sub(/^\.text\./, "", $1); if (NF >= 4) print $1, $NF; else name = $1}' \
+            "$out/isr_path.map")
+    while read -r fn obj; do
+        [ -n "$fn" ] || continue
+        fn=${fn%%.*}  # gcc's clones (.isra.0, .constprop.0) are the function
+        case "$(basename "$obj")" in
+            control_*) src=control/$(basename "$obj" .c.o | sed 's/^control_//').c ;;
+            firmware_*) src=firmware/$(basename "$obj" .c.o | sed 's/^firmware_//').c ;;
+            hal_f28335_*) src=hal/f28335/$(basename "$obj" .c.o | sed 's/^hal_f28335_//').c ;;
+            *) continue ;;
+        esac
+        case "$src" in
+            hal/f28335/*)
+                if ! grep -q "CODE_SECTION($fn, \"ramfuncs\")" "$src"; then
+                    echo "FAIL $src: $fn is on the ISR path without #pragma CODE_SECTION($fn, \"ramfuncs\"): it would run from flash"
+                    fail=1
+                fi ;;
+            *)
+                case "$flash_srcs" in *" $src "*)
+                    echo "FAIL $src: $fn is on the ISR path but the file is in FLASH_SRCS (firmware/target.mk): it would run from flash"
+                    fail=1 ;;
+                esac ;;
+        esac
+    done <<< "$funcs"
+    # Host estimates for the RAM budget (hal/f28335/README.md): Thumb-2
+    # bytes / 2 ~ C28x 16-bit words; drive.map has the F28335 figures.
     code=$(arm-none-eabi-size -A "$elf" | awk '$1 == ".text" {print $2}')
-    echo "isr_path: ISR path code ${code:-0} bytes (Thumb-2 host estimate; cl2000's drive.map has the F28335 figure)"
+    ramcode=0
+    for o in "${objs[@]}"; do
+        case "$o" in *control_*|*firmware_*) ;; *) continue ;; esac
+        case "$flash_srcs" in *" $(basename "$o" .c.o | sed 's/_/\//').c "*) continue ;; esac
+        ramcode=$((ramcode + $(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {t += $2} END {print t + 0}')))
+    done
+    echo "isr_path: code reached from app_isr ${code:-0} bytes; control/ + firmware/ compiled into RAM ${ramcode} bytes (Thumb-2)"
+    python3 - "$out" app_isr cmd_apply <<'PY'
+import glob, re, sys
+size, calls = {}, {}
+for f in glob.glob(sys.argv[1] + "/*.ci"):
+    for line in open(f):
+        m = re.match(r'node: \{ title: "([^"]+)" label: "[^"]*?\\n[^"]*?\\n(\d+) bytes', line)
+        if m:
+            size[m.group(1)] = int(m.group(2))
+        m = re.match(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"', line)
+        if m:
+            calls.setdefault(m.group(1), set()).add(m.group(2))
+def node(t, caller):
+    local = caller.split(":")[0] + ":" + t
+    return local if ":" in caller and local in size else t
+def deepest(n, seen=()):
+    if n in seen:
+        return (0, [n + "(recursion)"])
+    best = max((deepest(node(t, n), seen + (n,)) for t in calls.get(n, ())), default=(0, []))
+    return (size.get(n, 0) + best[0], [n.split(":")[-1]] + best[1])
+for root in sys.argv[2:]:
+    d, path = deepest(root)
+    print("isr_path: stack of %s %d bytes (gcc -fcallgraph-info): %s" % (root, d, " -> ".join(path)))
+PY
 fi
 # cl2000's isfinite and friends may call RTS functions; mathx_isfinitef is inline.
 cls=$(grep -nE '\b(isfinite|isnan|isinf|fpclassify)[[:space:]]*\(' control/*.[ch] firmware/*.[ch] hal/f28335/*.[ch] 2>/dev/null)
