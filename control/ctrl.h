@@ -47,6 +47,8 @@
 #include "clarke_park.h"
 #include "dbdtc.h"
 #include "encoder.h"
+#include "est_gate.h"
+#include "oplim.h"
 #include "param_est.h"
 #include "pi.h"
 #include "rs_ident.h"
@@ -78,6 +80,10 @@ typedef struct {
     float psi_max_Wb;           /* bound on psi_s* */
     float deadtime_s;           /* inverter dead time [s]: its voltage error is fed forward and
                                  * counted in the realised voltage; 0: none */
+    /* Operating limits (design sec. 7); 0 or less: i_lim_A = i_max_A, u_margin = 1 */
+    float i_lim_A;              /* stator-current limit |i| [A] the deadbeat target respects */
+    float u_margin;             /* share of the inscribed circle Vdc/sqrt(3) the flux
+                                 * reference leaves for steady state (flux weakening) [-] */
     /* Proposed method; ctrl_cfg_proposed_defaults() fills all of it. The
      * fields of smo/est/rsid that repeat the ones above (Ts, nominal R, L,
      * psi_f, the bounds, the R band) are taken from here by ctrl_init(). */
@@ -86,13 +92,15 @@ typedef struct {
     smo_cfg_t smo;              /* observer gains and ranges */
     param_est_cfg_t est;        /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
+    est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
 } ctrl_cfg_t;
 
 typedef enum {
     CTRL_CFG_OK = 0,
     CTRL_CFG_OBSERVER = 1,      /* smo_init refused: see ctrl_t.smo.status (stability, (36)) */
     CTRL_CFG_ESTIMATOR = 2,     /* param_est_init refused */
-    CTRL_CFG_RSID = 3           /* rs_ident_init refused */
+    CTRL_CFG_RSID = 3,          /* rs_ident_init refused */
+    CTRL_CFG_GATE = 4           /* est_gate_init refused */
 } ctrl_status_t;
 
 /* Where the proposed method's steps stand (ctrl_t.est, monitor). */
@@ -121,6 +129,7 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* observer estimates while it runs, else the nominal parameters */
     float fd_est, fq_est;                 /* observer disturbances (0 while the observer is stopped) */
     ctrl_est_t est;                       /* step of the proposed method */
+    uint16_t est_hold;                    /* EST_GATE_* why step 2's laws are paused (0: learning) */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
 } ctrl_mon_t;
 
@@ -135,6 +144,9 @@ typedef struct {
     pi_t speed_pi;
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
     float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
+    float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
+    float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */
+    oplim_t lim;                /* current limit and flux weakening (oplim.h) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */
     ctrl_est_t est;
     smo_t smo;                  /* observer: R^, L^, psi^, f^, i^ */
@@ -142,6 +154,8 @@ typedef struct {
     rs_ident_t ri;              /* step 1 windows */
     rs_ident_window_t rsid_win; /* window the coming periods go into */
     rs_ident_out_t rsid_out;    /* last ctrl_rsid_finish() result (R^, window means) */
+    est_gate_t gate;            /* pause and hold of step 2 */
+    uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the gate's voltage check) */
     uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */
     ctrl_mon_t mon;
 } ctrl_t;
