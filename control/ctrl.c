@@ -3,8 +3,9 @@
  *
  * Cost per ctrl_step() in speed/torque mode, as measured by `make
  * bench-ctrl` (callgrind, x86-64 -O2):
- *   conventional: 1079 instructions; proposed (step 2 running): 1475 (+37 %);
- *            of these about 100 are the dead-time feedforward (both methods)
+ *   conventional: 1255 instructions; proposed (step 2 running): 1502 (+20 %)
+ *            (with issue 12's current limit, weakening loop and step-2
+ *            gate); about 100 are the dead-time feedforward (both methods)
  *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
  *            rotation by a short series), both methods;
  *   divisions: conventional 2 (MTPA's torque term, svpwm_duty's 1/Vdc);
@@ -12,7 +13,8 @@
  *            1 in the observer's gain (L^ moved), 2 in dbdtc_set_params
  *            (only in periods an estimate moved: in step 2 every period
  *            with |w iq| above the freeze threshold); plus 3 only in the
- *            periods the torque-first voltage limit acts;
+ *            periods the torque-first voltage limit acts, and 1 (+ 1 square
+ *            root) only while the field is weakened (oplim.h);
  *   square roots: 3 (MTPA, eq. 17, the monitor's |psi_s|), both methods.
  */
 #include "ctrl.h"
