@@ -41,6 +41,9 @@
 #define OBS_L_MIN_STABILITY_MARGIN 1.25f
 #define HALF 0.5f
 #define TWO_THIRDS 0.666666667f
+/* The default R^ band's top stays this fraction of the largest R that
+ * meets (36) with the observer's default gains (18 Ohm for Table I). */
+#define RSID_BAND_KS_MARGIN 0.9f
 /* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
 /* Share of the hexagon's inscribed circle Vdc/sqrt(3) the flux reference
@@ -84,6 +87,18 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     ec->psi_max_Wb = sc->psi_max_Wb;
     rs_ident_cfg_defaults(&cfg->rsid, cfg->Rs_Ohm);
     est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
+}
+
+void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
+{
+    smo_cfg_t sc;
+    smo_cfg_defaults(&sc, cfg->Ts_s, cfg->Rs_Ohm, cfg->Ls_H, cfg->psi_f_Wb);
+    /* (36): Ks > ef_max + R_max phi, with a margin */
+    const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (sc.Ks_V - sc.ef_max_V) / sc.phi_A;
+    const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->Rs_Ohm;
+    *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->Rs_Ohm;
+    *R_max_Ohm = (R_top_Ohm < R_ks_Ohm) ? R_top_Ohm : R_ks_Ohm;
+    *R_max_Ohm = (*R_max_Ohm > cfg->Rs_Ohm) ? *R_max_Ohm : cfg->Rs_Ohm;
 }
 
 /* The proposed method's blocks, with the fields that repeat ctrl_cfg_t taken from it. */

@@ -80,7 +80,8 @@ typedef struct {
     float psi_max_Wb;           /* bound on psi_s* */
     float deadtime_s;           /* inverter dead time [s]: its voltage error is fed forward and
                                  * counted in the realised voltage; 0: none */
-    /* Operating limits (design sec. 7); 0 or less: i_lim_A = i_max_A, u_margin = 1 */
+    /* Operating limits (design sec. 8); i_lim_A outside (0, i_max_A]: i_max_A;
+     * u_margin outside (0, 1]: 0.92 (ctrl.c CTRL_U_MARGIN_DEFAULT) */
     float i_lim_A;              /* stator-current limit |i| [A] the deadbeat target respects */
     float u_margin;             /* share of the inscribed circle Vdc/sqrt(3) the flux
                                  * reference leaves for steady state (flux weakening) [-] */
@@ -166,6 +167,12 @@ typedef struct {
  * motor's) and L^ kept above the observer's stability bound at R_max.
  * Background, before ctrl_init. */
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
+
+/* The default R^ band for cfg->Rs_Ohm (set it first): rs_ident.h's
+ * RS_IDENT_BAND_*_FACTOR x Rs_Ohm, the top kept below the largest R^ the
+ * observer's default gains take under condition (36) (observer_design.md
+ * sec. 6), and not below Rs_Ohm. Background, before ctrl_cfg_proposed_defaults. */
+void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
 
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method
  * conventional. Checks the proposed method's settings (observer stability

@@ -1,7 +1,7 @@
 /*
  * est_gate.h - when step 2 may learn: pauses the L^ / psi_f^ transfer laws
  * (param_est.h) while their steady-state assumptions are broken, and holds
- * a value from before the transient (observer_design.md sec. 6).
+ * a value from before the transient (observer_design.md sec. 7).
  *
  * The transfer laws read parameter errors out of the observer's f^ under
  * two assumptions: di/dt ~ 0 (else fd, fq carry -dL di/dt) and a speed
@@ -35,7 +35,7 @@
 #include "clarke_park.h"
 #include "smo.h"
 
-/* Design defaults (observer_design.md sec. 6). */
+/* Design defaults (observer_design.md sec. 7). */
 #define EST_GATE_ACCEL_PER_SPEED_DEFAULT_1_S 1.0f   /* |a| > |w| / 1 s: the lag moved psi^ 1.8 % at 2500 r/min/s with 5 */
 #define EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2  100.0f /* electrical; 320 r/min/s at p = 3 */
 #define EST_GATE_SETTLED_DEFAULT             0.01f  /* copies this close: the estimates had settled */

@@ -31,7 +31,7 @@
 #define PARAM_EST_W_MIN_DEFAULT_RAD_S   30.0f  /* electrical, ~95 r/min at p = 3 */
 #define PARAM_EST_CLAMP_MIN_FACTOR      0.3f   /* L^, psi^ clamps, x nominal */
 #define PARAM_EST_CLAMP_MAX_FACTOR      3.0f
-/* Rate limits of L^ and psi^, x nominal per second (design sec. 6): a
+/* Rate limits of L^ and psi^, x nominal per second (design sec. 7): a
  * 50 % error still goes in 50 ms, a transient the gate misses moves an
  * estimate by at most 1 % per ms. */
 #define PARAM_EST_RATE_MAX_FACTOR_1_S   20.0f

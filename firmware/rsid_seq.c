@@ -57,8 +57,7 @@ static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
     switch (r) {
     case RS_IDENT_NOT_STEADY:
         return app_step_fault(APP_FAULT_RSID_NOT_STEADY,
-                              (o->iq_std_A[0] > o->iq_std_A[1]) ? o->iq_std_A[0] : o->iq_std_A[1],
-                              rc->iq_std_max_A);
+                              o->R_se_Ohm, o->R_se_max_Ohm); /* standard error of R^, its limit */
     case RS_IDENT_DEGENERATE:
         return app_step_fault(APP_FAULT_RSID_DEGENERATE, o->R_est_Ohm, 0.0f);
     case RS_IDENT_NON_FINITE:

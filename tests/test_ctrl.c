@@ -296,6 +296,31 @@ static void monitor_filled(void **state)
     assert_float_equal(c.mon.fd_est, 0.0, 0.0);
 }
 
+/* The default R^ band holds the motor's R with margin for a controller R
+ * from 0.25x to 5x it (issue 13), and the observer built on it is valid:
+ * by hand, [0.1, 6] x Rs with the top at 0.9 (Ks - ef_max) / phi =
+ * 0.9 x (100 - 50) / 2.5 = 18 Ohm. */
+static void default_band_holds_the_motor_r(void **state)
+{
+    static const double factors[] = { 0.25, 0.5, 1.0, 2.0, 4.3, 5.0 };
+    (void)state;
+    for (size_t i = 0; i < sizeof factors / sizeof factors[0]; i++) {
+        ctrl_cfg_t cfg = make_cfg();
+        ctrl_t c;
+        float R_min;
+        float R_max;
+        cfg.Rs_Ohm = (float)(factors[i] * RS);
+        ctrl_rsid_band_default(&cfg, &R_min, &R_max);
+        print_message("controller R %.2f x: band [%.3f, %.3f] Ohm\n", factors[i], R_min, R_max);
+        assert_float_equal(R_min, 0.1 * factors[i] * RS, 1e-5);
+        assert_float_equal(R_max, fmin(6.0 * factors[i] * RS, 18.0), 1e-4);
+        assert_true(R_min <= 0.5 * RS);   /* the motor's R at least 2x inside */
+        assert_true(R_max >= 1.5 * RS);   /*   and 1.5x inside at the top */
+        ctrl_cfg_proposed_defaults(&cfg, R_min, R_max);
+        assert_int_equal(ctrl_init(&c, &cfg), CTRL_CFG_OK);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -305,6 +330,7 @@ int main(void)
         cmocka_unit_test(mode_change_is_bumpless),
         cmocka_unit_test(non_finite_gives_half_duty),
         cmocka_unit_test(monitor_filled),
+        cmocka_unit_test(default_band_holds_the_motor_r),
     };
     return cmocka_run_group_tests_name("ctrl", tests, NULL, NULL);
 }

@@ -36,6 +36,10 @@ expect_bad "unknown key" --scenario "$(bad k '[plant]\nRs = 3\n')" --out "$dir/o
 expect_bad "malformed number" --scenario "$(bad n '[plant]\nL_H = 11mH\n')" --out "$dir/out.csv"
 expect_bad "malformed profile" --scenario "$(bad p '[reference]\nspeed_rpm = 0:0, 0.1 500\n')" --out "$dir/out.csv"
 expect_bad "unknown method" --scenario "$(bad m '[controller]\nmethod = better\n')" --out "$dir/out.csv"
+expect_bad "proposed without step 1" --scenario "$(bad q '[controller]\nmethod = proposed\n')" --out "$dir/out.csv"
+if ! grep -q "q.ini:2: \[identify\] mode: " "$dir/err"; then
+    echo "FAIL drive_sil CLI proposed without step 1: message is not FILE:LINE: [identify] mode: ..."; fail=1
+fi
 expect_bad "unknown mode" --scenario "$(bad o '[controller]\nmode = position\n')" --out "$dir/out.csv"
 expect_bad "unknown model" --scenario "$(bad i '[plant]\nmodel = pwm\n')" --out "$dir/out.csv"
 expect_bad "zero duration" --scenario "$(bad z '[run]\nduration_s = 0\n')" --out "$dir/out.csv"

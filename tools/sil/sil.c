@@ -80,11 +80,14 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->calibrate = (sc->run.calibrate == SC_ON);
     ac->align = (sc->run.align == SC_ON);
     /* the proposed method's settings for the controller's values, R^ band in ohms */
-    const double R_min = isnan(sc->controller.R_min_ohm) ? BOARD_RSID_R_MIN_PER_R * sc->controller.R_ohm
-                                                         : sc->controller.R_min_ohm;
-    const double R_max = isnan(sc->controller.R_max_ohm) ? BOARD_RSID_R_MAX_PER_R * sc->controller.R_ohm
-                                                         : sc->controller.R_max_ohm;
-    ctrl_cfg_proposed_defaults(c, (float)R_min, (float)R_max);
+    float R_min = NAN;
+    float R_max = NAN;
+    ctrl_rsid_band_default(c, &R_min, &R_max);
+    R_min = isnan(sc->controller.R_min_ohm) ? R_min : (float)sc->controller.R_min_ohm;
+    R_max = isnan(sc->controller.R_max_ohm) ? R_max : (float)sc->controller.R_max_ohm;
+    ctrl_cfg_proposed_defaults(c, R_min, R_max);
+    c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
+    c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
     ac->rsid_mode = (app_rsid_mode_t)sc->identify.mode;
     ac->rsid_settle_1_s = (float)sc->identify.settle_1_s;
     ac->rsid_window_s = (float)sc->identify.window_s;
