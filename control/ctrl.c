@@ -123,21 +123,24 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     rc.R_min_Ohm = cfg->R_min_Ohm;
     rc.R_max_Ohm = cfg->R_max_Ohm;
     gc.Ts_s = cfg->Ts_s;
-    const bool gate_ok = est_gate_init(&c->gate, &gc);
+    const ctrl_status_t gate = est_gate_init(&c->gate, &gc) ? CTRL_CFG_OK : CTRL_CFG_GATE;
 
     if (smo_init(&c->smo, &sc) != SMO_CFG_OK) {
         (void)param_est_init(&c->pe, &ec, &c->smo); /* refused too: frozen for good */
         (void)rs_ident_init(&c->ri, &rc);
-        return CTRL_CFG_OBSERVER;
+        return (ctrl_status_t)(CTRL_CFG_OBSERVER | gate);
     }
     if (!param_est_init(&c->pe, &ec, &c->smo)) {
         (void)rs_ident_init(&c->ri, &rc);
-        return CTRL_CFG_ESTIMATOR;
+        return (ctrl_status_t)(CTRL_CFG_ESTIMATOR | gate);
     }
-    if (!rs_ident_init(&c->ri, &rc)) {
-        return CTRL_CFG_RSID;
-    }
-    return gate_ok ? CTRL_CFG_OK : CTRL_CFG_GATE;
+    return (ctrl_status_t)((rs_ident_init(&c->ri, &rc) ? CTRL_CFG_OK : CTRL_CFG_RSID) | gate);
+}
+
+/* status with bit added unless ok. */
+static ctrl_status_t refused_if(bool ok, ctrl_status_t bit, ctrl_status_t status)
+{
+    return ok ? status : (ctrl_status_t)(status | bit);
 }
 
 ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
@@ -146,6 +149,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     dbdtc_cfg_t dc;
     pi_cfg_t pc;
     const rs_ident_out_t no_result = { 0 };
+    ctrl_status_t status = CTRL_CFG_OK;
 
     c->cfg = *cfg;
 
@@ -154,7 +158,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     ec.offset_elec_rad = cfg->enc_offset_el_rad;
     ec.Ts_s = cfg->Ts_s;
     ec.pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
-    (void)encoder_init(&c->enc, &ec); /* an invalid cfg reads angle 0, speed 0 */
+    status = refused_if(encoder_init(&c->enc, &ec), CTRL_CFG_ENCODER, status); /* refused: angle 0, speed 0 */
 
     dc.Ts_s = cfg->Ts_s;
     dc.pole_pairs = cfg->pole_pairs;
@@ -166,25 +170,26 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     dc.u_max_V = cfg->u_max_V;
     dc.te_max_Nm = cfg->te_max_Nm;
     dc.psi_max_Wb = cfg->psi_max_Wb;
-    dbdtc_init(&c->db, &dc);
+    status = refused_if(dbdtc_init(&c->db, &dc), CTRL_CFG_DBDTC, status);
 
     pc.Kp = cfg->speed_kp_Nms_rad;
     pc.Ki = cfg->speed_ki_Nm_rad;
     pc.Ts_s = cfg->Ts_s;
     pc.u_min = -cfg->te_max_Nm;
     pc.u_max = cfg->te_max_Nm;
-    (void)pi_init(&c->speed_pi, &pc); /* an invalid cfg gives Te* = 0 */
+    status = refused_if(pi_init(&c->speed_pi, &pc), CTRL_CFG_SPEED_PI, status); /* refused: Te* = 0 */
 
-    /* td/Ts; a non-finite or implausible dead time gives no compensation */
+    /* td/Ts; a non-finite or implausible dead time is refused (and not compensated) */
     c->deadtime_frac = cfg->deadtime_s / cfg->Ts_s;
     if (!((c->deadtime_frac >= 0.0f) && (c->deadtime_frac <= DEADTIME_FRAC_MAX))) {
         c->deadtime_frac = 0.0f;
+        status = refused_if(false, CTRL_CFG_DEADTIME, status);
     }
     c->i_lim_A = ((cfg->i_lim_A > 0.0f) && (cfg->i_lim_A <= cfg->i_max_A)) ? cfg->i_lim_A : cfg->i_max_A;
     c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
                                                 ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
     oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
-    c->status = init_proposed(c, cfg);
+    c->status = (ctrl_status_t)(status | init_proposed(c, cfg));
     c->rsid_out = no_result;
     c->rsid_out.R_est_Ohm = cfg->Rs_Ohm;
     c->mode = CTRL_MODE_TORQUE;
@@ -243,7 +248,7 @@ void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
 
 bool ctrl_set_method(ctrl_t *c, ctrl_method_t method)
 {
-    if ((method == CTRL_METHOD_PROPOSED) && (c->status != CTRL_CFG_OK)) {
+    if ((method == CTRL_METHOD_PROPOSED) && ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u)) {
         return false;
     }
     c->method = method; /* one store: the ISR sees the old or the new method */
@@ -252,7 +257,7 @@ bool ctrl_set_method(ctrl_t *c, ctrl_method_t method)
 
 bool ctrl_rsid_begin(ctrl_t *c)
 {
-    if (c->status != CTRL_CFG_OK) {
+    if ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) {
         return false;
     }
     smo_reset(&c->smo); /* nominal R, L, psi: rs_ident's dR is relative to them */
@@ -266,6 +271,11 @@ bool ctrl_rsid_begin(ctrl_t *c)
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
 {
     c->rsid_win = win;
+}
+
+rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
+{
+    return rs_ident_solve(&c->ri, out);
 }
 
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
@@ -295,7 +305,8 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 bool ctrl_est_start(ctrl_t *c, float R_Ohm)
 {
     /* ! (in band): NaN fails too */
-    if ((c->status != CTRL_CFG_OK) || !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
+    if (((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) ||
+        !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
         return false;
     }
     if (c->est == CTRL_EST_OFF) {

@@ -31,6 +31,7 @@ static const char *const METHOD_NAMES[] = { "conventional", "proposed", NULL };
 static const char *const MODE_NAMES[] = { "speed", "torque", "open_loop", NULL };
 static const char *const ONOFF_NAMES[] = { "off", "on", NULL };
 static const char *const RSID_NAMES[] = { "off", "windows", "speeds", "trusted", NULL };
+static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 
 #define UINT32_MAX_D 4294967295.0
 #define F(field) offsetof(scenario_t, field)
@@ -100,6 +101,10 @@ static const sc_key_t KEYS[] = {
     /* step 1 on a real ADC (issue 13 part A; rs_ident.h, observer_design.md sec. 6) */
     POS("identify", "R_se_max_rel", identify.R_se_max_rel, "0.01", "largest standard error of R^ accepted, x R^"),
     POS("identify", "batch_s", identify.batch_s, "0.005", "batch of the standard error's batch means [s]"),
+    NN("identify", "window_max_s", identify.window_max_s, "0.3",
+       "window 2 is lengthened up to this while the standard error of R^ is too large [s]"),
+    ENUM("identify", "on_refusal", identify.on_refusal, "fault", REFUSAL_NAMES,
+         "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
 
     PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
     PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),

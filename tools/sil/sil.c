@@ -95,6 +95,9 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->rsid_speed_1_rad_s = (float)(sc->identify.speed_1_rpm / RPM_PER_RAD_S);
     ac->rsid_speed_2_rad_s = (float)(sc->identify.speed_2_rpm / RPM_PER_RAD_S);
     ac->rsid_accel_rad_s2 = (float)(sc->identify.accel_rpm_s / RPM_PER_RAD_S);
+    ac->rsid_window_max_s = (float)sc->identify.window_max_s;
+    ac->rsid_on_refusal = (sc->identify.on_refusal == SC_REFUSAL_CONVENTIONAL) ? APP_RSID_REFUSAL_CONVENTIONAL
+                                                                               : APP_RSID_REFUSAL_FAULT;
 }
 
 static ctrl_mode_t ctrl_mode_of(uint32_t mode)
@@ -114,7 +117,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->t_s = tr.t_s;
     r->state = (double)g_app.state;
     r->fault = (double)g_app.fault;
-    r->flags = (double)g_app.out.flags;
+    r->flags = (double)(g_app.out.flags | g_app.warnings); /* app.h: APP_WARN_* above CTRL_FLAG_* */
     r->speed_ref_rpm = (sc->controller.mode == SC_MODE_SPEED) ? speed_ref_rpm : NAN;
     r->speed_rpm = tr.speed_m_rad_s * RPM_PER_RAD_S;
     r->speed_est_rpm = (double)m->speed_mech_rad_s * RPM_PER_RAD_S;
@@ -188,6 +191,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
         }
         double i_max = fmax(fabs(tr.ia_A), fmax(fabs(tr.ib_A), fabs(tr.ic_A)));
         res->max_abs_i_A = fmax(res->max_abs_i_A, i_max);
+        res->pwm_periods += tr.pwm_enabled ? 1u : 0u;
         res->periods = k + 1u;
         if (on_row != NULL && k % sc->run.log_every == 0u) {
             sil_row_t row;
@@ -198,6 +202,8 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     }
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
+    res->warnings = g_app.warnings;
+    res->rsid_refusal = (int)g_app.rsid_refusal.fault;
     res->enc_offset_el_rad = (double)g_app.ctrl.enc.offset_rad;
     res->i_offset_a_A = (double)g_app.offset_ia_A;
     res->i_offset_b_A = (double)g_app.offset_ib_A;
