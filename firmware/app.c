@@ -17,7 +17,8 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     const align_cfg_t ac = { cfg->align_u_V, cfg->align_prepos_el_rad, cfg->align_ramp_s, cfg->align_prepos_s,
                              cfg->align_settle_s };
     const rsid_seq_cfg_t rc = { cfg->rsid_mode, cfg->rsid_settle_1_s, cfg->rsid_window_s, cfg->rsid_settle_2_s,
-                                cfg->rsid_speed_1_rad_s, cfg->rsid_speed_2_rad_s, cfg->rsid_accel_rad_s2 };
+                                cfg->rsid_speed_1_rad_s, cfg->rsid_speed_2_rad_s, cfg->rsid_accel_rad_s2,
+                                cfg->rsid_window_max_s };
 
     hal_pwm_disable();
     app->cfg = *cfg;
@@ -35,12 +36,15 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     calib_init(&app->cal, &cc, Ts);
     align_init(&app->aln, &ac, Ts);
     rsid_seq_init(&app->rsid, &rc, Ts);
+    app->warnings = 0u;
+    app->rsid_refusal = app_step_running();
     app->req_start = 0u;
     app->req_stop = 0u;
     app->req_fault_reset = 0u;
-    app->op_req.ref = *ctrl_ref(&app->ctrl);
-    app->op_req.mode = ctrl_mode(&app->ctrl);
-    app->op_req.method = ctrl_method(&app->ctrl);
+    app->op_taken.ref = *ctrl_ref(&app->ctrl);
+    app->op_taken.mode = ctrl_mode(&app->ctrl);
+    app->op_taken.method = ctrl_method(&app->ctrl);
+    app_request_op(app, &app->op_taken);
     app->req_op = 0u;
 }
 
@@ -139,6 +143,8 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
 
 static void start_sequence(app_t *app, const hal_sample_t *s)
 {
+    app->warnings = 0u;
+    app->rsid_refusal = app_step_running();
     if (app->cfg.calibrate) {
         app->state = APP_STATE_CALIBRATE;
         calib_start(&app->cal);
@@ -189,11 +195,29 @@ static void align_state(app_t *app, const hal_sample_t *s)
     }
 }
 
+/* A refusal of R^ itself (not the controller's output, not its settings). */
+static bool is_rsid_refusal(app_fault_t f)
+{
+    return (f == APP_FAULT_RSID_TOO_FEW) || (f == APP_FAULT_RSID_NOT_STEADY) || (f == APP_FAULT_RSID_DEGENERATE) ||
+           (f == APP_FAULT_RSID_NON_FINITE) || (f == APP_FAULT_RSID_OUT_OF_BAND);
+}
+
 static void identify_state(app_t *app, const hal_sample_t *s)
 {
     const ctrl_in_t in = ctrl_input(app, s);
+    app_step_t r = rsid_seq_step(&app->rsid, &app->ctrl, &in, &app->out);
 
-    if (output(app, rsid_seq_step(&app->rsid, &app->ctrl, &in, &app->out), s).status == APP_STEP_DONE) {
+    if ((r.status == APP_STEP_FAULT) && is_rsid_refusal(r.fault) &&
+        (app->cfg.rsid_on_refusal == APP_RSID_REFUSAL_CONVENTIONAL)) {
+        /* no silent fallback: the method says so, the warning names why;
+         * the observer is stopped (ctrl_rsid_finish), so control is the
+         * conventional method's either way */
+        app->rsid_refusal = r;
+        app->warnings |= APP_WARN_STEP1_REFUSED;
+        (void)ctrl_set_method(&app->ctrl, CTRL_METHOD_CONVENTIONAL);
+        r = app_step_done();
+    }
+    if (output(app, r, s).status == APP_STEP_DONE) {
         app->state = APP_STATE_RUN; /* step 2 runs from the next period; no reset */
     }
 }
@@ -216,15 +240,23 @@ static void run_state(app_t *app, const hal_sample_t *s)
     (void)output(app, r, s);
 }
 
-/* The operator's request (app_request_op), whole, at the start of a period. */
+/* The operator's request (app_request_op), whole, at the start of a
+ * period: the references every time, a mode or method when the operator
+ * changed it (the app's own choice, e.g. the conventional method after a
+ * refused step 1, stands until then). */
 static void take_operator(app_t *app)
 {
     if (app->req_op != 0u) {
         const app_op_t op = app->op_req;
         app->req_op = 0u;
         ctrl_set_ref(&app->ctrl, &op.ref);
-        ctrl_set_mode(&app->ctrl, op.mode);
-        (void)ctrl_set_method(&app->ctrl, op.method); /* refused: unchanged (cmd checks it first) */
+        if (op.mode != app->op_taken.mode) {
+            ctrl_set_mode(&app->ctrl, op.mode);
+        }
+        if (op.method != app->op_taken.method) {
+            (void)ctrl_set_method(&app->ctrl, op.method); /* refused: unchanged (cmd checks it first) */
+        }
+        app->op_taken = op;
     }
 }
 

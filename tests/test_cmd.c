@@ -156,6 +156,12 @@ static void proposed_method_without_step1_is_refused(void **state)
     apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+    /* step 1 configured but refused at this start (on_refusal = conventional): refused too */
+    app.cfg.rsid_mode = APP_RSID_WINDOWS;
+    app.warnings = APP_WARN_STEP1_REFUSED;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
+    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
 }
 
 static void proposed_method_is_taken_or_refused_by_its_configuration(void **state)

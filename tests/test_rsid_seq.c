@@ -14,7 +14,7 @@ static void rsid_seq_timeline_by_hand(void **state)
 {
     (void)state;
     const rsid_seq_cfg_t cfg = { APP_RSID_SPEEDS, RSID_SETTLE_1 * 1e-4f, RSID_WIN * 1e-4f, RSID_SETTLE_2 * 1e-4f,
-                                 52.36f, 104.72f, 261.799f };
+                                 52.36f, 104.72f, 261.799f, 0.3f };
     rsid_seq_t q;
     rsid_seq_init(&q, &cfg, 1e-4f);
     assert_int_equal(q.window_ticks, RSID_WIN);
@@ -22,6 +22,7 @@ static void rsid_seq_timeline_by_hand(void **state)
     assert_int_equal(q.win2_tick, RSID_WIN2);
     assert_int_equal(q.end_tick, RSID_END);
     assert_float_equal(q.speed_step_rad_s, 0.0261799, 1e-6);
+    assert_int_equal(q.win2_max_ticks, 3000u);
     q.handover = true;
     rsid_seq_start(&q, 12.5f);
     assert_int_equal(q.ticks, 0u);

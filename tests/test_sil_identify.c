@@ -7,10 +7,17 @@
  *    |Te - Te*| over 0.8-0.95 s no worse than the conventional one's;
  *  - controller R 0.25x .. 5x the motor's with the default R^ band:
  *    step 1 passes, R^ within 1 %;
- *  - a refused step 1 with [identify] on_refusal = conventional.
+ *  - J = 10 J0 with the default step-1 timing: step 1 completes, R^
+ *    within 2 %;
+ *  - window 2 lengthened while se(R^) is too large, and refused when
+ *    window 1's share alone is;
+ *  - a refused step 1 with [identify] on_refusal = conventional: the
+ *    conventional method runs on, the warning in the result and in the
+ *    CSV's flags.
  * Figures are printed (the closing note quotes them). */
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdbool.h>
 #include <stdint.h>
 #include <setjmp.h>
 #include <cmocka.h>
@@ -31,7 +38,11 @@
 
 typedef struct {
     double state, fault;
+    double t2;              /* first row of step 2 (NaN: none) */
+    double t_fault;         /* first row in FAULT (NaN: none) */
     double R_first;         /* R^ in the first row of step 2 (NaN: none) */
+    double t_warn;          /* first row with APP_WARN_STEP1_REFUSED in flags (NaN: none) */
+    long rows_after_warn_without;   /* rows after t_warn without it */
     double te_abs;          /* sum of |Te - Te*| over the window */
     long n;
 } fig_t;
@@ -39,10 +50,21 @@ typedef struct {
 static int on_row(const sil_row_t *r, void *user)
 {
     fig_t *f = user;
+    const bool warn = (((unsigned)r->flags) & APP_WARN_STEP1_REFUSED) != 0u;
     f->state = r->state;
     f->fault = r->fault;
     if (isnan(f->R_first) && (int)r->est == CTRL_EST_STEP2) {
         f->R_first = r->R_est_ohm;
+        f->t2 = r->t_s;
+    }
+    if (isnan(f->t_fault) && (int)r->state == APP_STATE_FAULT) {
+        f->t_fault = r->t_s;
+    }
+    if (isnan(f->t_warn) && warn) {
+        f->t_warn = r->t_s;
+    }
+    if (!isnan(f->t_warn) && !warn) {
+        f->rows_after_warn_without++;
     }
     if (r->t_s >= WIN_T0 && r->t_s < WIN_T1) {
         f->te_abs += fabs(r->te_Nm - r->te_ref_Nm);
@@ -52,13 +74,14 @@ static int on_row(const sil_row_t *r, void *user)
 }
 
 /* tools/scenarios/<name>.ini with the overrides (NULL-terminated), until duration_s. */
+static sil_result_t last_res;
+
 static fig_t run(const char *name, const char *const *sets)
 {
     scenario_t sc;
     char path[128];
     char err[SCENARIO_ERR_LEN];
-    sil_result_t res;
-    fig_t f = { 0.0, 0.0, NAN, 0.0, 0 };
+    fig_t f = { 0.0, 0.0, NAN, NAN, NAN, NAN, 0, 0.0, 0 };
 
     scenario_defaults(&sc);
     snprintf(path, sizeof path, "tools/scenarios/%s.ini", name);
@@ -74,7 +97,7 @@ static fig_t run(const char *name, const char *const *sets)
     if (scenario_finish(&sc, err, sizeof err) != 0) {
         fail_msg("%s", err);
     }
-    assert_int_equal(sil_run(&sc, on_row, &f, &res), 0);
+    assert_int_equal(sil_run(&sc, on_row, &f, &last_res), 0);
     return f;
 }
 
@@ -127,12 +150,85 @@ static void controller_r_across_the_default_band(void **state)
     }
 }
 
+/* J = 10 J0, exact parameters, the default timing: window 1 still sees
+ * the slower speed loop settle (iq std 0.84 A); R^ is taken. */
+static void inertia_10x_default_timing(void **state)
+{
+    const char *const sets[] = { "plant.J_kgm2=0.0129", "run.duration_s=0.9", NULL };
+    (void)state;
+    const fig_t f = run("prop_paper", sets);
+    print_message("J = 10 J0: step 1 %s at %.4f s, R^ %+.3f %%\n", isnan(f.R_first) ? "refused" : "done", f.t2,
+                  100.0 * (f.R_first / R0 - 1.0));
+    assert_int_equal((int)f.fault, APP_FAULT_NONE);
+    assert_false(isnan(f.R_first));
+    assert_true(fabs(f.R_first / R0 - 1.0) <= R_TOL_NOISY);
+}
+
+/* se(R^) held to 0.4 % with 0.05 A noise: seed 3 needs window 2 longer
+ * (step 2 a few batches after 0.54 s) and is then taken; in seed 5 window
+ * 1's share alone is at the limit, window 2 grows to window_max_s
+ * (0.48 + 0.3 s) and R^ is refused NOT_STEADY. */
+static void window_2_lengthened_then_taken_or_refused(void **state)
+{
+    const char *const taken[] = { NOISE_A, "plant.seed=3", "identify.R_se_max_rel=0.004", "run.duration_s=0.9",
+                                  NULL };
+    const char *const refused[] = { NOISE_A, "plant.seed=5", "identify.R_se_max_rel=0.004", "run.duration_s=0.9",
+                                    NULL };
+    (void)state;
+    const fig_t a = run("prop_paper", taken);
+    print_message("se(R^) <= 0.4 %%, seed 3: step 2 from %.4f s (nominal 0.54), R^ %+.3f %%\n", a.t2,
+                  100.0 * (a.R_first / R0 - 1.0));
+    assert_int_equal((int)a.fault, APP_FAULT_NONE);
+    assert_true(a.t2 > 0.54 + 0.005);   /* at least one more batch */
+    assert_true(a.t2 < 0.78);
+    assert_true(fabs(a.R_first / R0 - 1.0) <= R_TOL_NOISY);
+    const fig_t b = run("prop_paper", refused);
+    print_message("se(R^) <= 0.4 %%, seed 5: fault %d at %.4f s (window 2 at its longest: 0.78 s)\n", (int)b.fault,
+                  b.t_fault);
+    assert_int_equal((int)b.fault, APP_FAULT_RSID_NOT_STEADY);
+    assert_true(fabs(b.t_fault - 0.78) < 0.006);
+}
+
+/* Step 1 refused (a band that starts above the motor's 3 Ohm) with
+ * on_refusal = conventional: RUN, no fault, the warning from step 1's
+ * end in every row's flags and in the result; the torque is the
+ * conventional method's on the same scenario. */
+static void refusal_runs_conventional_with_the_warning(void **state)
+{
+    const char *const sets[] = { "controller.R_min_ohm=5", "identify.on_refusal=conventional", NULL };
+    (void)state;
+    const fig_t c = run("conv_R430", NULL);
+    const fig_t p = run("prop_R430", sets);
+    const double te_c = c.te_abs / (double)c.n;
+    const double te_p = p.te_abs / (double)p.n;
+    print_message("forced refusal, on_refusal = conventional: state %d, fault %d, warning from %.4f s, result "
+                  "warnings 0x%x (%d); mean |Te - Te*| %.4f N m (conventional run %.4f)\n",
+                  (int)p.state, (int)p.fault, p.t_warn, last_res.warnings, last_res.rsid_refusal, te_p, te_c);
+    assert_int_equal((int)p.state, APP_STATE_RUN);
+    assert_int_equal((int)p.fault, APP_FAULT_NONE);
+    assert_true(isnan(p.R_first));                      /* no step 2 */
+    assert_true(fabs(p.t_warn - 0.54) < 0.002);
+    assert_int_equal(p.rows_after_warn_without, 0);
+    assert_int_equal(last_res.warnings & APP_WARN_STEP1_REFUSED, APP_WARN_STEP1_REFUSED);
+    assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_OUT_OF_BAND);
+    assert_true(fabs(te_p - te_c) <= 0.005);
+
+    /* the same refusal with the default policy: the fault, PWM off */
+    const char *const fault[] = { "controller.R_min_ohm=5", NULL };
+    const fig_t q = run("prop_R430", fault);
+    assert_int_equal((int)q.fault, APP_FAULT_RSID_OUT_OF_BAND);
+    assert_true(isnan(q.t_warn));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(noise_L150),
         cmocka_unit_test(noise_psif050),
         cmocka_unit_test(controller_r_across_the_default_band),
+        cmocka_unit_test(inertia_10x_default_timing),
+        cmocka_unit_test(window_2_lengthened_then_taken_or_refused),
+        cmocka_unit_test(refusal_runs_conventional_with_the_warning),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

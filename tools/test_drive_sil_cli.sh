@@ -53,5 +53,13 @@ if "$bin" --help > /dev/null && "$bin" --scenario "$good" --out "$dir/out.csv" >
 else
     echo "FAIL drive_sil CLI good run"; fail=1
 fi
+# a refused step 1 with on_refusal = conventional: exit 0, the warning in the summary line
+refused=$(printf '[plant]\nmodel = averaged\n[controller]\nmethod = proposed\nR_factor = 2\nR_min_ohm = 4\n[identify]\nmode = windows\non_refusal = conventional\n[reference]\nspeed_rpm = 0:0, 0.2:500~\n[load]\ntorque_Nm = 0:2, 0.35:4\n[run]\nduration_s = 0.6\n' > "$dir/refused.ini"; echo "$dir/refused.ini")
+if line=$("$bin" --scenario "$refused" --out "$dir/out.csv") && echo "$line" | grep -q "state 5 (RUN), fault 0 (NONE).*warning STEP1_REFUSED (RSID_OUT_OF_BAND)"; then
+    echo "ok   drive_sil CLI step 1 refused, conventional: $line"
+else
+    echo "FAIL drive_sil CLI step 1 refused, conventional: ${line:-no summary line}"; fail=1
+fi
+
 [ $fail -eq 0 ] && echo "drive_sil CLI: all passed"
 exit $fail

@@ -31,6 +31,7 @@ static const char *const METHOD_NAMES[] = { "conventional", "proposed", NULL };
 static const char *const MODE_NAMES[] = { "speed", "torque", "open_loop", NULL };
 static const char *const ONOFF_NAMES[] = { "off", "on", NULL };
 static const char *const RSID_NAMES[] = { "off", "windows", "speeds", "trusted", NULL };
+static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 
 #define UINT32_MAX_D 4294967295.0
 #define F(field) offsetof(scenario_t, field)
@@ -83,6 +84,9 @@ static const sc_key_t KEYS[] = {
     POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, "500", "speed estimator bandwidth [rad/s]"),
     POS("controller", "te_max_Nm", controller.te_max_Nm, "12", "torque reference limit [N m]"),
     POS("controller", "i_max_A", controller.i_max_A, "14", "software overcurrent threshold [A] (BOARD_OVERCURRENT_A)"),
+    /* operating limits (issue 12) */
+    POS("controller", "i_limit_A", controller.i_limit_A, "12", "stator-current limit the targets respect [A] (BOARD_I_LIMIT_A)"),
+    POS("controller", "overspeed_rpm", controller.overspeed_rpm, "2400", "overspeed trip [r/min] (BOARD_OVERSPEED_RPM)"),
     { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
     OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.2 x controller's R)"),
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 2 x controller's R)"),
@@ -97,6 +101,10 @@ static const sc_key_t KEYS[] = {
     /* step 1 on a real ADC (issue 13 part A; rs_ident.h, observer_design.md sec. 6) */
     POS("identify", "R_se_max_rel", identify.R_se_max_rel, "0.01", "largest standard error of R^ accepted, x R^"),
     POS("identify", "batch_s", identify.batch_s, "0.005", "batch of the standard error's batch means [s]"),
+    NN("identify", "window_max_s", identify.window_max_s, "0.3",
+       "window 2 is lengthened up to this while the standard error of R^ is too large [s]"),
+    ENUM("identify", "on_refusal", identify.on_refusal, "fault", REFUSAL_NAMES,
+         "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
 
     PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
     PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),

@@ -26,6 +26,8 @@ typedef enum { SC_MODE_SPEED = 0, SC_MODE_TORQUE = 1, SC_MODE_OPEN_LOOP = 2 } sc
 typedef enum { SC_OFF = 0, SC_ON = 1 } sc_onoff_t;
 /* [identify] mode: as app_rsid_mode_t */
 typedef enum { SC_RSID_OFF = 0, SC_RSID_WINDOWS = 1, SC_RSID_SPEEDS = 2, SC_RSID_TRUSTED = 3 } sc_rsid_mode_t;
+/* [identify] on_refusal: as app_rsid_refusal_t */
+typedef enum { SC_REFUSAL_FAULT = 0, SC_REFUSAL_CONVENTIONAL = 1 } sc_refusal_t;
 
 
 typedef struct {
@@ -52,6 +54,7 @@ typedef struct {
         uint32_t method;           /* sc_method_t */
         uint32_t mode;             /* sc_mode_t */
         double speed_kp_Nms_rad, speed_ki_Nm_rad, pll_bw_rad_s, te_max_Nm, i_max_A;
+        double i_limit_A, overspeed_rpm;   /* issue 12: current limit, overspeed trip */
         double R_min_ohm, R_max_ohm;           /* R^ band; NaN: the board's factors x R_ohm */
         double deadtime_s;                     /* dead time the controller compensates; NaN: the plant's */
     } controller;
@@ -60,7 +63,8 @@ typedef struct {
         double settle_1_s, window_s, settle_2_s;
         double speed_1_rpm, speed_2_rpm, accel_rpm_s;
         /* issue 13 part A: step 1 on a real ADC */
-        double R_se_max_rel, batch_s;
+        double R_se_max_rel, batch_s, window_max_s;
+        uint32_t on_refusal;       /* sc_refusal_t */
     } identify;
     struct {
         profile_t speed_rpm, torque_Nm, ud_V, uq_V;

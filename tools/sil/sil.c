@@ -71,6 +71,8 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     /* the dead time as if measured, unless the scenario gives the controller another */
     c->deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
     ac->i_max_A = (float)sc->controller.i_max_A;
+    c->i_lim_A = (float)sc->controller.i_limit_A;
+    ac->speed_max_rad_s = (float)(sc->controller.overspeed_rpm / RPM_PER_RAD_S);
     /* the board's bus limits relative to its nominal bus, at the scenario's bus */
     const float bus_scale = (float)sc->plant.vdc_V / BOARD_VDC_NOMINAL_V;
     ac->vdc_max_V = BOARD_VDC_MAX_V * bus_scale;
@@ -93,6 +95,9 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->rsid_speed_1_rad_s = (float)(sc->identify.speed_1_rpm / RPM_PER_RAD_S);
     ac->rsid_speed_2_rad_s = (float)(sc->identify.speed_2_rpm / RPM_PER_RAD_S);
     ac->rsid_accel_rad_s2 = (float)(sc->identify.accel_rpm_s / RPM_PER_RAD_S);
+    ac->rsid_window_max_s = (float)sc->identify.window_max_s;
+    ac->rsid_on_refusal = (sc->identify.on_refusal == SC_REFUSAL_CONVENTIONAL) ? APP_RSID_REFUSAL_CONVENTIONAL
+                                                                               : APP_RSID_REFUSAL_FAULT;
 }
 
 static ctrl_mode_t ctrl_mode_of(uint32_t mode)
@@ -112,7 +117,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->t_s = tr.t_s;
     r->state = (double)g_app.state;
     r->fault = (double)g_app.fault;
-    r->flags = (double)g_app.out.flags;
+    r->flags = (double)(g_app.out.flags | g_app.warnings); /* app.h: APP_WARN_* above CTRL_FLAG_* */
     r->speed_ref_rpm = (sc->controller.mode == SC_MODE_SPEED) ? speed_ref_rpm : NAN;
     r->speed_rpm = tr.speed_m_rad_s * RPM_PER_RAD_S;
     r->speed_est_rpm = (double)m->speed_mech_rad_s * RPM_PER_RAD_S;
@@ -135,6 +140,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->fd_est = (double)m->fd_est;
     r->fq_est = (double)m->fq_est;
     r->est = (double)m->est;
+    r->est_hold = (double)m->est_hold;
     r->R_ohm = tr.R_ohm;
 }
 
@@ -196,6 +202,8 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     }
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
+    res->warnings = g_app.warnings;
+    res->rsid_refusal = (int)g_app.rsid_refusal.fault;
     res->enc_offset_el_rad = (double)ctrl_enc_offset_el_rad(&g_app.ctrl);
     res->i_offset_a_A = (double)g_app.offset_ia_A;
     res->i_offset_b_A = (double)g_app.offset_ib_A;
@@ -217,7 +225,7 @@ static const sil_col_t COLS[] = {
     COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
-    COL(R_ohm),
+    COL(R_ohm), COL(est_hold),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 

@@ -31,6 +31,7 @@ typedef struct {
     double R_est_ohm, L_est_H, psif_est_Wb, fd_est, fq_est;
     double est;                             /* ctrl_est_t: 0 observer off, 1 step 1, 2 step 2 */
     double R_ohm;                           /* true stator resistance at t_k (warms with [plant] R_ohm's profile) */
+    double est_hold;                        /* EST_GATE_* bits: why step 2's laws pause (0: learning) */
 } sil_row_t;
 
 typedef struct {
@@ -38,6 +39,8 @@ typedef struct {
     uint32_t rows;             /* passed to the callback */
     int final_state;           /* app_state_t at the end */
     int final_fault;           /* app_fault_t at the end */
+    unsigned warnings;         /* app.h APP_WARN_* at the end */
+    int rsid_refusal;          /* APP_WARN_STEP1_REFUSED: the RSID_* fault step 1 would have latched */
     double max_abs_i_A;        /* largest true phase current seen at a sample */
     double t_run_s;            /* first period that ended in RUN (its t_k); NaN if none */
     double enc_offset_el_rad;  /* the controller's encoder offset at the end: told or found by alignment, [0, 2 pi) */
