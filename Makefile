@@ -36,6 +36,14 @@ endif
 WARN_BASE     := -std=c99 -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes
 FLOAT_ONLY    := -Wdouble-promotion -Wfloat-conversion -Wunsuffixed-float-constants
 PORTABLE_INC  := -include control/c28x_portable.h
+# Include lists, one per library: a layer sees itself and the layers below
+# it only (control <- hal <- firmware <- tools/sil, tests see everything);
+# `make check` gates the same (tools/check/layers.sh).
+INC_CONTROL   := -Icontrol
+INC_F28335    := -Ihal -Ihal/f28335 -Icontrol -Itests/c2000_fake/include
+INC_SIM       := -Ihal -Ihal/sim
+INC_FIRMWARE  := -Ifirmware -Ihal -Ihal/f28335 -Icontrol
+INC_SILRUN    := -Itools/sil -Ifirmware -Ihal -Ihal/sim -Ihal/f28335 -Icontrol
 INC           := -Icontrol -Ihal -Ifirmware -Ihal/sim -Itools/sil -Ihal/f28335 -Itests -Itests/c2000_fake/include
 
 CF_CONTROL  := $(WARN_BASE) $(FLOAT_ONLY) -Wconversion $(PORTABLE_INC)
@@ -44,6 +52,7 @@ CF_SIM      := $(WARN_BASE) -Wfloat-conversion -D_POSIX_C_SOURCE=200809L
 CF_TEST     := $(WARN_BASE) -Wno-missing-prototypes -D_POSIX_C_SOURCE=200809L
 
 cflags_for = $(if $(filter control/%,$1),$(CF_CONTROL),$(if $(filter firmware/% hal/f28335/%,$1),$(CF_PORTABLE),$(if $(filter hal/sim/% tools/sil/%,$1),$(CF_SIM),$(CF_TEST))))
+inc_for    = $(if $(filter control/%,$1),$(INC_CONTROL),$(if $(filter firmware/%,$1),$(INC_FIRMWARE),$(if $(filter hal/f28335/% tests/c2000_fake/%,$1),$(INC_F28335),$(if $(filter hal/sim/%,$1),$(INC_SIM),$(if $(filter tools/sil/%,$1),$(INC_SILRUN),$(INC))))))
 
 # Source groups, each archived into one static library, so a runner links
 # only what it references. Fragments below add programs and test wiring.
@@ -74,7 +83,7 @@ $(OUT)/lib/%.a:
 
 $(OUT)/obj/%.o: %.c | host-deps
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(call cflags_for,$<) $(INC) -MMD -MP -c $< -o $@
+	$(CC) $(OPT) $(call cflags_for,$<) $(call inc_for,$<) -MMD -MP -c $< -o $@
 
 # ---- tests ---------------------------------------------------------------
 # Ceedling's convention: tests/test_<module>.c, one runner per file. A test

@@ -25,6 +25,7 @@ static inv_cfg_t inv_cfg(inv_model_t model, double deadtime_s)
     c.vdc_V = VDC_V;
     c.Ts_s = TS_S;
     c.deadtime_s = deadtime_s;
+    c.device_drop_V = 0.0;
     c.substep_max_s = 1.0e-6;
     return c;
 }
@@ -55,8 +56,8 @@ static void centre_aligned_edges(void **state)
 }
 
 /* Mean rotor-frame voltage over one period at theta_el = 0 (rotor frame = stator frame). */
-static void period_mean_u(inv_model_t model, double deadtime_s, const double duty[3], double id0_A,
-                          double *ua, double *ub)
+static void period_mean_u_drop(inv_model_t model, double deadtime_s, double drop_V, const double duty[3],
+                               double id0_A, double *ua, double *ub)
 {
     plant_cfg_t pc;
     plant_default_cfg(&pc);
@@ -65,10 +66,17 @@ static void period_mean_u(inv_model_t model, double deadtime_s, const double dut
     plant_init(&p, &pc, 0.0);
     p.x.id_A = id0_A;
     inv_cfg_t c = inv_cfg(model, deadtime_s);
+    c.device_drop_V = drop_V;
     plant_acc_clear(&p);
     inv_period(&c, duty, 0.0, &p);
     *ua = p.acc.ud_Vs / p.acc.time_s;
     *ub = p.acc.uq_Vs / p.acc.time_s;
+}
+
+static void period_mean_u(inv_model_t model, double deadtime_s, const double duty[3], double id0_A,
+                          double *ua, double *ub)
+{
+    period_mean_u_drop(model, deadtime_s, 0.0, duty, id0_A, ua, ub);
 }
 
 /* Both models: mean alpha-beta voltage = Clarke of duty x Vdc (common mode removed). */
@@ -106,6 +114,36 @@ static void deadtime_error_follows_current_sign(void **state)
         assert_float_equal(ub, 0.0, 1e-9 * VDC_V);
         period_mean_u(m == 0 ? INV_AVERAGED : INV_SWITCHING, td_s, duty, -5.0, &ua, &ub);
         assert_float_equal(ua, -expect_ua, 1e-9 * VDC_V);
+    }
+}
+
+/* Device drop D, ia > 0 and ib, ic < 0 (id > 0 at theta 0): leg a is D
+ * lower, legs b and c D higher, so u_alpha drops by (4/3) D; with dead time
+ * as well the two errors add (same shape); at zero current no drop. */
+static void device_drop_follows_current_sign(void **state)
+{
+    (void)state;
+    const double drop_V = 1.5;
+    const double td_s = 1.0e-6;
+    const double duty[3] = { 0.6, 0.45, 0.3 };
+    double ua0;
+    double ub0;
+    period_mean_u(INV_AVERAGED, 0.0, duty, 0.0, &ua0, &ub0);
+    for (int m = 0; m < 2; m++) {
+        const inv_model_t model = (m == 0) ? INV_AVERAGED : INV_SWITCHING;
+        double ua;
+        double ub;
+        period_mean_u_drop(model, 0.0, drop_V, duty, 5.0, &ua, &ub);
+        assert_true(fabs(ua - ua0 - (-(4.0 / 3.0) * drop_V)) < 1e-9 * VDC_V);
+        assert_true(fabs(ub - ub0) < 1e-9 * VDC_V);
+        period_mean_u_drop(model, 0.0, drop_V, duty, -5.0, &ua, &ub);
+        assert_true(fabs(ua - ua0 - ((4.0 / 3.0) * drop_V)) < 1e-9 * VDC_V);
+        period_mean_u_drop(model, td_s, drop_V, duty, 5.0, &ua, &ub);
+        assert_true(fabs(ua - ua0 - (-(4.0 / 3.0) * (drop_V + td_s / TS_S * VDC_V))) < 1e-9 * VDC_V);
+        if (model == INV_AVERAGED) {   /* switching: the current leaves 0 after the first piece */
+            period_mean_u_drop(model, 0.0, drop_V, duty, 0.0, &ua, &ub);
+            assert_true(fabs(ua - ua0) < 1e-9 * VDC_V);
+        }
     }
 }
 
@@ -227,6 +265,7 @@ int main(void)
         cmocka_unit_test(centre_aligned_edges),
         cmocka_unit_test(period_mean_voltage_is_duty_times_vdc),
         cmocka_unit_test(deadtime_error_follows_current_sign),
+        cmocka_unit_test(device_drop_follows_current_sign),
         cmocka_unit_test(switching_matches_averaged_at_500rpm_4Nm),
         cmocka_unit_test(default_substep_agrees_with_1us),
     };

@@ -381,6 +381,14 @@ class Estimates(CsvCase):
             self.assertIsNone(r["t2_psif_ms"])
             self.assertAlmostEqual(r["R_err_pct"], 1.0, places=9)
 
+    def test_R_against_the_plants_R_column(self):
+        # a warming winding: R_ohm column 3.0 -> 3.99 (row k: 3 + 0.01 k), R^ = 1.01 x it
+        # in the window and 2 x it outside: R error +1 % (not against the truth argument)
+        rows = [{"t_s": t_of(k, 0.01), "R_ohm": 3.0 + 0.01 * k,
+                 "R_est_ohm": (1.01 if 80 <= k < 95 else 2.0) * (3.0 + 0.01 * k)} for k in range(100)]
+        r = metrics.compute(self.write(rows, header=HEADER + ["R_ohm"]), (0.8, 0.95), truth=TRUTH)
+        self.assertAlmostEqual(r["R_err_pct"], 1.0, places=9)
+
     def test_step2_after_window(self):
         # step 2 starts at 0.96 s, after the window 0.8:0.95: nothing to judge, None
         # (metrics.py said 0.0 ms, "within 2 % at once")

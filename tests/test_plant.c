@@ -56,6 +56,34 @@ static void locked_rotor_d_step_is_first_order(void **state)
     print_message("locked-rotor step: worst relative error %.3g\n", worst);
 }
 
+/* Locked rotor, id in steady state at U/R1; R changed to R2 (a warm
+ * winding): id moves to U/R2 with the time constant L/R2. Non-positive or
+ * non-finite R is ignored. */
+static void resistance_change_takes_effect(void **state)
+{
+    (void)state;
+    const double U_V = 30.0;
+    const double R2_ohm = 3.9;
+    plant_cfg_t cfg;
+    plant_default_cfg(&cfg);
+    cfg.speed_held = true;
+    plant_t p;
+    plant_init(&p, &cfg, 0.0);
+    p.x.id_A = U_V / cfg.R_ohm;
+    plant_set_R_ohm(&p, 0.0);
+    plant_set_R_ohm(&p, NAN);
+    assert_float_equal(p.cfg.R_ohm, cfg.R_ohm, 0.0);
+    plant_set_R_ohm(&p, R2_ohm);
+    const double tau_s = cfg.L_H / R2_ohm;
+    const int n = (int)lround(tau_s / STEP_S);
+    for (int k = 0; k < n; k++) {
+        step_dq(&p, U_V, 0.0, 0.0, STEP_S);
+    }
+    const double t = (double)n * STEP_S;
+    const double expect = U_V / R2_ohm + (U_V / cfg.R_ohm - U_V / R2_ohm) * exp(-t / tau_s);
+    assert_true(rel_err(p.x.id_A, expect) < REL_TOL);
+}
+
 /* Constant (ud = 0, uq) with load TL, B = 0: at steady state Te = TL, so
  * iq = TL / (1.5 p psi_f); ud = 0 gives id = w L iq / R; the q equation
  * uq = R iq + w psi_f + w^2 L^2 iq / R is a quadratic in w (electrical). */
@@ -168,6 +196,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(locked_rotor_d_step_is_first_order),
+        cmocka_unit_test(resistance_change_takes_effect),
         cmocka_unit_test(steady_state_under_load_matches_analytic),
         cmocka_unit_test(energy_balance_over_transient),
         cmocka_unit_test(angle_wraps_and_outputs_follow_state),

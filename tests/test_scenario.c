@@ -171,6 +171,34 @@ static void set_overrides_and_replaces_profiles(void **state)
     assert_non_null(strstr(err, "mode"));
 }
 
+/* [plant] R_ohm: a number or a positive profile from t = 0; R_ohm holds
+ * its value at t = 0, which the controller's factor multiplies. */
+static void plant_resistance_profile(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN] = "";
+    int rc = load_text(&sc,
+                       "[plant]\n"
+                       "R_ohm = 0:3.0, 2:3.9~\n"
+                       "device_drop_V = 1.2\n"
+                       "[controller]\n"
+                       "R_factor = 2\n",
+                       err);
+    assert_int_equal(rc, 0);
+    assert_float_equal(sc.plant.R_ohm, 3.0, TOL);
+    assert_float_equal(profile_eval(&sc.plant.R_profile, 1.0), 3.45, TOL);
+    assert_float_equal(profile_eval(&sc.plant.R_profile, 5.0), 3.9, TOL);
+    assert_float_equal(sc.plant.device_drop_V, 1.2, TOL);
+    assert_float_equal(sc.controller.R_ohm, 6.0, TOL);
+    scenario_defaults(&sc);
+    assert_int_equal(sc.plant.R_profile.n, 1);
+    assert_float_equal(profile_eval(&sc.plant.R_profile, 3.0), 3.0, TOL);
+    expect_error("[plant]\nR_ohm = 1:3.0, 2:3.9~\n", 2, "start at t = 0");
+    expect_error("[plant]\nR_ohm = 0:3.0, 2:0~\n", 2, "R_ohm");
+    expect_error("[plant]\ndevice_drop_V = -1\n", 2, "device_drop_V");
+}
+
 static void bad_inputs_name_file_line_key(void **state)
 {
     (void)state;
@@ -213,6 +241,7 @@ int main(void)
         cmocka_unit_test(parses_every_kind),
         cmocka_unit_test(profile_rules),
         cmocka_unit_test(set_overrides_and_replaces_profiles),
+        cmocka_unit_test(plant_resistance_profile),
         cmocka_unit_test(bad_inputs_name_file_line_key),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

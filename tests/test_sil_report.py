@@ -156,6 +156,9 @@ class WindowsAndTruth(Tmp):
                     "[controller]\npsif_Wb = 0.5\n")
         self.assertEqual(sil_report.truth_of(self.dir, "x"), (12.9, 0.0165, 0.24))
         self.assertEqual(sil_report.truth_of(self.dir, "none"), (3.0, 0.011, 0.24))
+        with open(os.path.join(self.dir, "warm.ini"), "w") as f:
+            f.write("[plant]\nR_ohm = 0:3.0, 1.2:3.9~\n")
+        self.assertEqual(sil_report.truth_of(self.dir, "warm"), (3.0, 0.011, 0.24))
 
 
 class Main(Tmp):

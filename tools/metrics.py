@@ -23,6 +23,7 @@ controller's references (te_ref_Nm, psi_ref_Wb, speed_ref_rpm):
   estimates (--truth R:L:psif, the plant's values; columns R_est_ohm,
   L_est_H, psif_est_Wb, est):
     R_err_pct, L_err_pct, psif_err_pct  mean of (x^ - x)/x over the steady window
+                    (R against the CSV's R_ohm column of each row when present)
     t2_L_ms, t2_psif_ms  time from step 2's start (first row with est = 2)
                     until the estimate stays within 2 % up to the window's end
                     (None: no step 2, or never)
@@ -211,7 +212,11 @@ def estimates(col, truth, t0, t1):
     for (name, c), x0 in zip(EST_COLS, truth):
         if c not in col or not idx:
             continue
-        out[f"{name}_err_pct"] = 100.0 * _mean([(col[c][i] - x0) / x0 for i in idx])
+        if name == "R" and "R_ohm" in col:
+            # the plant's R of each row (a warming winding), when the CSV has it
+            out[f"{name}_err_pct"] = 100.0 * _mean([(col[c][i] - col["R_ohm"][i]) / col["R_ohm"][i] for i in idx])
+        else:
+            out[f"{name}_err_pct"] = 100.0 * _mean([(col[c][i] - x0) / x0 for i in idx])
         if name == "R":
             continue
         key = f"t2_{name}_ms"

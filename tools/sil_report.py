@@ -47,6 +47,13 @@ def windows(col):
     return ((1.0 - SHORT_RUN_TAIL) * t_end, t_end + 1e-9), None
 
 
+def plant_value(text):
+    """A plant key's value: a number, or a profile's value at t = 0
+    ([plant] R_ohm = "0:3.0, 2:3.9~"; the CSV's R_ohm column has the rest)."""
+    first = text.split(",")[0].strip()
+    return float(first.split(":", 1)[1].rstrip("~ ")) if ":" in first else float(first)
+
+
 def truth_of(scen_dir, stem):
     """(R, L, psif) of the plant in tools/scenarios/<stem>.ini."""
     vals = dict(PLANT_DEFAULTS)
@@ -58,7 +65,7 @@ def truth_of(scen_dir, stem):
         if cp.has_section("plant"):
             for k in vals:
                 if cp.has_option("plant", k):
-                    vals[k] = float(cp.get("plant", k))
+                    vals[k] = plant_value(cp.get("plant", k))
     return vals["R_ohm"], vals["L_H"], vals["psif_Wb"]
 
 

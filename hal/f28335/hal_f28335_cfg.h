@@ -1,6 +1,6 @@
 /*
  * hal_f28335_cfg.h - register values of the F28335 HAL, derived from
- * firmware/board_cfg.h. Kept apart so the unit tests can check them.
+ * board_hw.h (the board's hardware facts). Kept apart so the unit tests can check them.
  * Document references: SPRUG04 (ePWM), SPRU812 (ADC), SPRUG05 (eQEP),
  * SPRUFB0 (system control, PIE), SPRUG03 (SCI), SPRS439 (data sheet).
  */
@@ -9,7 +9,7 @@
 
 #include <stdint.h>
 
-#include "board_cfg.h"
+#include "board_hw.h"
 
 /* ---- clocks (SPRUFB0 "Clocking") -------------------------------------- */
 #define F28335_PLL_DIVSEL_2      2U   /* PLLSTS.DIVSEL: CLKIN = VCOCLK / 2 */

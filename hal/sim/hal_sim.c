@@ -67,6 +67,11 @@ void hal_sim_set_load(double TL_Nm)
     g_sim.load_Nm = TL_Nm;
 }
 
+void hal_sim_set_R_ohm(double R_ohm)
+{
+    plant_set_R_ohm(&g_sim.plant, R_ohm);
+}
+
 void hal_sim_force_trip(void)
 {
     g_sim.trip = true;
@@ -100,6 +105,7 @@ static void sample_at_period_start(void)
     tr->t_s = g_sim.t_s;
     tr->id_A = g_sim.plant.x.id_A;
     tr->iq_A = g_sim.plant.x.iq_A;
+    tr->R_ohm = g_sim.plant.cfg.R_ohm;
     tr->ia_A = i_abc[0];
     tr->ib_A = i_abc[1];
     tr->ic_A = i_abc[2];

@@ -39,6 +39,7 @@ typedef struct {
     double t_s;                  /* t_k, the period's start and sample instant */
     /* at t_k */
     double id_A, iq_A;           /* true rotor frame */
+    double R_ohm;                /* stator resistance in the plant */
     double ia_A, ib_A, ic_A;
     double speed_m_rad_s;        /* mechanical */
     double theta_el_rad;
@@ -66,6 +67,9 @@ void hal_sim_configure(const hal_sim_cfg_t *cfg);
 
 /* Load torque [N m] opposing positive speed, from the next period on. */
 void hal_sim_set_load(double TL_Nm);
+
+/* Stator resistance of the plant [ohm] from the next period on (plant_set_R_ohm). */
+void hal_sim_set_R_ohm(double R_ohm);
 
 /* Simulate one PWM period (see the timing above). */
 void hal_sim_period(void);

@@ -56,13 +56,26 @@ int inv_leg_edges(const inv_cfg_t *cfg, double duty, double t_s[4])
     return n;
 }
 
-/* Leg voltage [V] against the negative rail; a dead leg follows its current's sign. */
+/* Sign of the current, 0 at exactly 0. */
+static double sign_of(double i_A)
+{
+    return (i_A > 0.0) ? 1.0 : ((i_A < 0.0) ? -1.0 : 0.0);
+}
+
+/* Leg voltage [V] against the negative rail, before the device drop; a
+ * dead leg follows its current's sign. */
 static double leg_voltage(const inv_cfg_t *cfg, leg_state_t st, double i_A)
 {
     if (st == LEG_HIGH || (st == LEG_DEAD && i_A < 0.0)) {
         return cfg->vdc_V;
     }
     return 0.0;
+}
+
+/* The leg currents are needed for the dead band's diode and the device drop. */
+static bool needs_current(const inv_cfg_t *cfg)
+{
+    return cfg->deadtime_s > 0.0 || cfg->device_drop_V > 0.0;
 }
 
 /* Alpha-beta of three leg voltages; the common mode drops out. */
@@ -114,12 +127,13 @@ static double leg_high_time(const inv_cfg_t *cfg, double duty, double i_A)
 static void period_averaged(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
 {
     double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
-    if (cfg->deadtime_s > 0.0) {
-        plant_iabc_A(plant, i_abc);   /* only a dead band needs the current's sign */
+    if (needs_current(cfg)) {
+        plant_iabc_A(plant, i_abc);
     }
     double v[N_LEGS];
     for (int k = 0; k < N_LEGS; k++) {
-        v[k] = cfg->vdc_V * leg_high_time(cfg, duty[k], i_abc[k]) / cfg->Ts_s;
+        v[k] = cfg->vdc_V * leg_high_time(cfg, duty[k], i_abc[k]) / cfg->Ts_s -
+               cfg->device_drop_V * sign_of(i_abc[k]);
     }
     double ua;
     double ub;
@@ -144,12 +158,13 @@ static void period_switching(const inv_cfg_t *cfg, const double duty[3], double 
             continue;   /* coinciding edges of different legs */
         }
         double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
-        if (cfg->deadtime_s > 0.0) {
-            plant_iabc_A(plant, i_abc);   /* only a dead band needs the current's sign */
+        if (needs_current(cfg)) {
+            plant_iabc_A(plant, i_abc);
         }
         double v[N_LEGS];
         for (int k = 0; k < N_LEGS; k++) {
-            v[k] = leg_voltage(cfg, inv_leg_state(cfg, duty[k], 0.5 * (t0 + t1)), i_abc[k]);
+            v[k] = leg_voltage(cfg, inv_leg_state(cfg, duty[k], 0.5 * (t0 + t1)), i_abc[k]) -
+                   cfg->device_drop_V * sign_of(i_abc[k]);
         }
         double ua;
         double ub;

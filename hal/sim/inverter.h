@@ -10,6 +10,13 @@
  * diode sets the leg: low for a current into the motor (i > 0), high for
  * i < 0. Zero-current clamping inside the dead band is not modelled.
  *
+ * On-state drop: the conducting device of a leg (upper switch or lower
+ * diode for i > 0, lower switch or upper diode for i < 0, in the dead band
+ * too) drops device_drop_V, switch and diode alike, so the leg voltage is
+ * lowered by device_drop_V * sign(i) in every state (0 at i = 0 exactly).
+ * Over a period this is a per-phase error of the dead time's shape: both
+ * give a fundamental (4/pi) dV along -i in the rotor frame.
+ *
  * Models:
  *   INV_AVERAGED  the period-average phase voltages (including the average
  *                 dead-time error, current sign at the period start) held
@@ -33,6 +40,7 @@ typedef struct {
     double vdc_V;           /* ideal DC bus */
     double Ts_s;            /* PWM period */
     double deadtime_s;      /* 0: ideal switches */
+    double device_drop_V;   /* on-state drop of the conducting switch or diode [V]; 0: ideal */
     double substep_max_s;   /* longest RK4 step inside a constant-voltage piece */
 } inv_cfg_t;
 

@@ -176,6 +176,13 @@ void plant_step_open(plant_t *p, double TL_Nm, double h_s)
     wrap_theta(p);
 }
 
+void plant_set_R_ohm(plant_t *p, double R_ohm)
+{
+    if (isfinite(R_ohm) && R_ohm > 0.0) {
+        p->cfg.R_ohm = R_ohm;
+    }
+}
+
 double plant_theta_el_rad(const plant_t *p)
 {
     double th = (double)p->cfg.pole_pairs * p->x.theta_m_rad + p->theta_offset_el_rad;

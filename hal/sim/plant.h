@@ -69,6 +69,9 @@ void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, dou
  * Valid while the back-EMF stays below the bus, so no freewheeling diode conducts. */
 void plant_step_open(plant_t *p, double TL_Nm, double h_s);
 
+/* Stator resistance from now on [ohm] (a winding warming up); > 0 and finite, else ignored. Any context. */
+void plant_set_R_ohm(plant_t *p, double R_ohm);
+
 /* Electrical angle of the d axis [rad], in [0, 2 pi). */
 double plant_theta_el_rad(const plant_t *p);
 

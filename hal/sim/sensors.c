@@ -8,7 +8,7 @@
 
 #define DEFAULT_ENC_LINES 2500u
 #define DEFAULT_ADC_BITS 12u
-/* As the board's front end (firmware/board_cfg.h): 10 A/V around 1.5 V on a
+/* As the board's front end (hal/f28335/board_hw.h): 10 A/V around 1.5 V on a
  * 0..3 V ADC gives +-15 A; the bus divider 200 V/V gives 0..600 V. */
 #define DEFAULT_ADC_FULL_SCALE_A 15.0
 #define DEFAULT_VDC_FULL_SCALE_V 600.0

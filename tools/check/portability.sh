@@ -7,14 +7,28 @@
 #   2. 16-bit int: the same sources built with avr-gcc (int is 16 bits, as
 #      on the C28x); control/ additionally with -Wconversion.
 #   3. cppcheck with the C28x data model (tools/check/c28x.xml).
+#   4. layers (tools/check/layers.sh): no include from hal/ or control/
+#      upward; each layer compiled with its own include list above.
 set -uo pipefail
 out=${1:-build/check}
 cd "$(dirname "$0")/../.."
 mkdir -p "$out/arm" "$out/avr"
 
-inc=(-Icontrol -Ihal -Ifirmware -Ihal/f28335 -Itests/c2000_fake/include)
+# Each layer's include list, as the Makefile's: control/ sees control/ only.
+inc_control=(-Icontrol)
+inc_firmware=(-Ifirmware -Ihal -Ihal/f28335 -Icontrol)
+inc_f28335=(-Ihal -Ihal/f28335 -Icontrol -Itests/c2000_fake/include)
+inc=("${inc_firmware[@]}" -Itests/c2000_fake/include)
 common=(-std=c99 -Wall -Wextra -Werror -Wshadow -Wdouble-promotion -Wfloat-conversion
-        -Wunsuffixed-float-constants -include control/c28x_portable.h "${inc[@]}")
+        -Wunsuffixed-float-constants -include control/c28x_portable.h)
+# inc_of FILE: its layer's include list.
+inc_of() {
+    case "$1" in
+        control/*) echo "${inc_control[@]}" ;;
+        firmware/*) echo "${inc_firmware[@]}" ;;
+        *) echo "${inc_f28335[@]}" ;;
+    esac
+}
 srcs=$(ls control/*.c firmware/*.c hal/f28335/*.c 2>/dev/null)
 # Header-only modules (static inline transforms) are gated as their own
 # translation units, with their unused inline functions still emitted.
@@ -32,7 +46,7 @@ arm_gate() {
     local f=$1; shift
     local o="$out/arm/$(echo "$f" | tr / _).o"
     if ! arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -O2 \
-            "${common[@]}" "$@" -c "$f" -o "$o" 2> "$o.log"; then
+            "${common[@]}" $(inc_of "$f") "$@" -c "$f" -o "$o" 2> "$o.log"; then
         echo "FAIL $f: does not compile float-only for Cortex-M4F:"; sed 's/^/    /' "$o.log"
         fail=1; return
     fi
@@ -48,27 +62,32 @@ arm_gate() {
 avr_gate() {
     local f=$1; shift
     local o="$out/avr/$(echo "$f" | tr / _).o"
-    if ! avr-gcc -mmcu=atmega2560 -Os "${common[@]}" "$@" -c "$f" -o "$o" 2> "$o.log"; then
+    if ! avr-gcc -mmcu=atmega2560 -Os "${common[@]}" $(inc_of "$f") "$@" -c "$f" -o "$o" 2> "$o.log"; then
         echo "FAIL $f: does not compile with 16-bit int (avr-gcc):"; sed 's/^/    /' "$o.log"
         fail=1
     fi
 }
 
-echo "check 1/3: float-only build (arm-none-eabi-gcc, Cortex-M4F single-precision FPU)"
+echo "check 1/4: float-only build (arm-none-eabi-gcc, Cortex-M4F single-precision FPU)"
 for f in $srcs; do arm_gate "$f"; done
 for h in $hdrs; do arm_gate "$h" "${keep[@]}" -x c; done
 
-echo "check 2/3: 16-bit int build (avr-gcc, atmega2560; control/ with -Wconversion)"
+echo "check 2/4: 16-bit int build (avr-gcc, atmega2560; control/ with -Wconversion)"
 for f in $srcs; do
     case "$f" in control/*) avr_gate "$f" -Wconversion ;; *) avr_gate "$f" ;; esac
 done
 for h in $hdrs; do avr_gate "$h" -Wconversion -x c; done
 
-echo "check 3/3: cppcheck (warning, portability) with the C28x data model"
+echo "check 3/4: cppcheck (warning, portability) with the C28x data model"
 if ! cppcheck --quiet --enable=warning,portability --platform=tools/check/c28x.xml \
         --error-exitcode=1 --inline-suppr --std=c99 -D__GNUC__ "${inc[@]}" \
         --template='FAIL {file}:{line}: cppcheck {severity} ({id}): {message}' \
         control firmware hal/f28335 2>&1; then
+    fail=1
+fi
+
+echo "check 4/4: layers (control/, hal/, firmware/ include only their own and lower layers)"
+if ! tools/check/layers.sh; then
     fail=1
 fi
 

@@ -9,7 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef enum { K_REAL, K_UINT, K_ENUM, K_PROFILE } key_kind_t;
+/* K_RPROFILE: a positive profile starting at t = 0 (a bare number is a
+ * constant); its value at t = 0 also goes to the double at offset_t0. */
+typedef enum { K_REAL, K_UINT, K_ENUM, K_PROFILE, K_RPROFILE } key_kind_t;
 
 typedef struct {
     const char *section;
@@ -21,6 +23,7 @@ typedef struct {
     bool lo_open;              /* K_REAL: lo itself excluded */
     const char *const *names;  /* K_ENUM: value k is names[k] */
     const char *help;
+    size_t offset_t0;          /* K_RPROFILE: the double that takes the value at t = 0 */
 } sc_key_t;
 
 static const char *const MODEL_NAMES[] = { "averaged", "switching", NULL };
@@ -32,16 +35,18 @@ static const char *const RSID_NAMES[] = { "off", "windows", "speeds", "trusted",
 #define UINT32_MAX_D 4294967295.0
 #define F(field) offsetof(scenario_t, field)
 /* One line per key. POS: > 0, NN: >= 0, ANY: finite, OPT: like POS, default unset. */
-#define POS(s, k, f, d, h) { s, k, K_REAL, F(f), d, 0.0, HUGE_VAL, true, NULL, h }
-#define NN(s, k, f, d, h) { s, k, K_REAL, F(f), d, 0.0, HUGE_VAL, false, NULL, h }
-#define ANY(s, k, f, d, h) { s, k, K_REAL, F(f), d, -HUGE_VAL, HUGE_VAL, false, NULL, h }
-#define OPT(s, k, f, h) { s, k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, true, NULL, h }
-#define UINT(s, k, f, d, lo, hi, h) { s, k, K_UINT, F(f), d, lo, hi, false, NULL, h }
-#define ENUM(s, k, f, d, n, h) { s, k, K_ENUM, F(f), d, 0.0, 0.0, false, n, h }
-#define PROF(s, k, f, h) { s, k, K_PROFILE, F(f), "", 0.0, 0.0, false, NULL, h }
+#define POS(s, k, f, d, h) { s, k, K_REAL, F(f), d, 0.0, HUGE_VAL, true, NULL, h, 0 }
+#define NN(s, k, f, d, h) { s, k, K_REAL, F(f), d, 0.0, HUGE_VAL, false, NULL, h, 0 }
+#define ANY(s, k, f, d, h) { s, k, K_REAL, F(f), d, -HUGE_VAL, HUGE_VAL, false, NULL, h, 0 }
+#define OPT(s, k, f, h) { s, k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, true, NULL, h, 0 }
+#define UINT(s, k, f, d, lo, hi, h) { s, k, K_UINT, F(f), d, lo, hi, false, NULL, h, 0 }
+#define ENUM(s, k, f, d, n, h) { s, k, K_ENUM, F(f), d, 0.0, 0.0, false, n, h, 0 }
+#define PROF(s, k, f, h) { s, k, K_PROFILE, F(f), "", 0.0, 0.0, false, NULL, h, 0 }
 
 static const sc_key_t KEYS[] = {
-    POS("plant", "R_ohm", plant.R_ohm, "3", "true stator resistance R0 [ohm]"),
+    { "plant", "R_ohm", K_RPROFILE, F(plant.R_profile), "3", 0.0, HUGE_VAL, true, NULL,
+      "true stator resistance R0 [ohm]; a profile from t = 0 warms the winding (\"0:3.0, 2:3.9~\")",
+      F(plant.R_ohm) },
     POS("plant", "L_H", plant.L_H, "0.011", "true inductance L0 = Ld = Lq [H]"),
     POS("plant", "psif_Wb", plant.psif_Wb, "0.24", "true PM flux linkage psi_f0 [Wb]"),
     UINT("plant", "pole_pairs", plant.pole_pairs, "3", 1.0, 64.0, "pole pairs"),
@@ -52,6 +57,8 @@ static const sc_key_t KEYS[] = {
     POS("plant", "vdc_V", plant.vdc_V, "311", "DC-bus voltage [V]"),
     ENUM("plant", "model", plant.model, "averaged", MODEL_NAMES, "inverter model: averaged | switching"),
     NN("plant", "deadtime_s", plant.deadtime_s, "0", "inverter dead time [s]"),
+    NN("plant", "device_drop_V", plant.device_drop_V, "0",
+       "on-state drop of the conducting switch or diode [V], by the current's sign"),
     POS("plant", "substep_s", plant.substep_s, "1e-4", "longest RK4 step inside a constant-voltage piece [s]"),
     UINT("plant", "encoder_lines", plant.encoder_lines, "2500", 1.0, 1.0e6, "encoder lines (x4 counts)"),
     ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, "0",
@@ -76,7 +83,7 @@ static const sc_key_t KEYS[] = {
     POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, "500", "speed estimator bandwidth [rad/s]"),
     POS("controller", "te_max_Nm", controller.te_max_Nm, "12", "torque reference limit [N m]"),
     POS("controller", "i_max_A", controller.i_max_A, "14", "software overcurrent threshold [A] (BOARD_OVERCURRENT_A)"),
-    { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)" },
+    { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
     OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.2 x controller's R)"),
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 2 x controller's R)"),
 
@@ -184,6 +191,33 @@ static int parse_enum(const sc_key_t *k, const char *v, uint32_t *out, char *err
     return -1;
 }
 
+/* K_RPROFILE: text into the profile (appended or replacing), which must
+ * start at t = 0 with every value > 0; *t0 = its value at t = 0. */
+static int parse_rprofile(const sc_key_t *k, profile_t *p, double *t0, const char *v, bool append,
+                          char *err, size_t errlen)
+{
+    profile_t q = *p;
+    if (!append) {
+        q.n = 0u;
+    }
+    if (profile_parse_append(&q, v, err, errlen) != 0) {
+        return -1;
+    }
+    if (q.n == 0u || q.pt[0].t_s > 0.0) {
+        snprintf(err, errlen, "\"%s\": the profile must start at t = 0", v);
+        return -1;
+    }
+    for (uint32_t j = 0; j < q.n; j++) {
+        if (!(q.pt[j].value > k->lo)) {
+            snprintf(err, errlen, "%g is out of range (must be > %g)", q.pt[j].value, k->lo);
+            return -1;
+        }
+    }
+    *p = q;
+    *t0 = q.pt[0].value;
+    return 0;
+}
+
 /* Set key i from text v; append: extend a profile instead of replacing it. */
 static int set_value(scenario_t *sc, int i, const char *v, bool append, char *err, size_t errlen)
 {
@@ -202,6 +236,9 @@ static int set_value(scenario_t *sc, int i, const char *v, bool append, char *er
         }
         return profile_parse_append(p, v, err, errlen);
     }
+    case K_RPROFILE:
+        return parse_rprofile(k, (profile_t *)field(sc, k), (double *)((char *)sc + k->offset_t0), v, append,
+                              err, errlen);
     }
     return -1;
 }
@@ -290,7 +327,7 @@ static int on_key(void *user, const char *section, const char *name, const char 
     int i = find_key(section, name, &known);
     bool append = false;
     if (i >= 0 && ctx->seen[i]) {
-        if (KEYS[i].kind != K_PROFILE) {
+        if (KEYS[i].kind != K_PROFILE && KEYS[i].kind != K_RPROFILE) {
             if (ctx->err[0] == '\0') {
                 snprintf(ctx->err, sizeof ctx->err, "%s: [%s] %s: given twice (first at %s)",
                          where, section, name, ctx->sc->origin[i]);

@@ -29,7 +29,9 @@ typedef enum { SC_RSID_OFF = 0, SC_RSID_WINDOWS = 1, SC_RSID_SPEEDS = 2, SC_RSID
 
 typedef struct {
     struct {                       /* [plant]: the TRUE motor, inverter and sensors */
-        double R_ohm, L_H, psif_Wb;
+        double R_ohm, L_H, psif_Wb;        /* R_ohm: at t = 0 (R_profile's first point) */
+        profile_t R_profile;               /* R over the run (a warming winding); key R_ohm */
+        double device_drop_V;              /* on-state drop of the conducting device [V] */
         uint32_t pole_pairs;
         double J_kgm2, B_Nms;
         uint32_t speed_held;       /* 1: shaft held at speed0_rpm (locked rotor at 0) */

@@ -37,6 +37,7 @@ static void board_cfg_from(const scenario_t *sc, hal_sim_cfg_t *hc)
     hc->inv.model = (sc->plant.model == SC_MODEL_SWITCHING) ? INV_SWITCHING : INV_AVERAGED;
     hc->inv.vdc_V = sc->plant.vdc_V;
     hc->inv.deadtime_s = sc->plant.deadtime_s;
+    hc->inv.device_drop_V = sc->plant.device_drop_V;
     hc->inv.substep_max_s = sc->plant.substep_s;
     hc->sens.enc_lines = sc->plant.encoder_lines;
     hc->sens.adc_full_scale_A = sc->plant.adc_full_scale_A;
@@ -131,6 +132,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->fd_est = (double)m->fd_est;
     r->fq_est = (double)m->fq_est;
     r->est = (double)m->est;
+    r->R_ohm = tr.R_ohm;
 }
 
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res)
@@ -166,6 +168,9 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
         ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
         ctrl_set_ref(&g_app.ctrl, &ref);
         hal_sim_set_load(profile_eval(&sc->load.torque_Nm, t));
+        if (sc->plant.R_profile.n > 1u) {
+            hal_sim_set_R_ohm(profile_eval(&sc->plant.R_profile, t));   /* the winding warms */
+        }
 
         hal_sim_period();
         app_background(&g_app);
@@ -208,6 +213,7 @@ static const sil_col_t COLS[] = {
     COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
+    COL(R_ohm),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 

@@ -30,6 +30,7 @@ typedef struct {
     double load_Nm;
     double R_est_ohm, L_est_H, psif_est_Wb, fd_est, fq_est;
     double est;                             /* ctrl_est_t: 0 observer off, 1 step 1, 2 step 2 */
+    double R_ohm;                           /* true stator resistance at t_k (warms with [plant] R_ohm's profile) */
 } sil_row_t;
 
 typedef struct {
