@@ -31,6 +31,9 @@ typedef struct {
     double R_est_ohm, L_est_H, psif_est_Wb, fd_est, fq_est;
     double est;                             /* ctrl_est_t: 0 observer off, 1 step 1, 2 step 2 */
     double R_ohm;                           /* true stator resistance at t_k (warms with [plant] R_ohm's profile) */
+    double pwm;                             /* 1: gates on during [t_k, t_k + Ts] */
+    double inj;                             /* hal_sim_fault_bit_t of the injected faults active ([faults]) */
+    double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; NaN unless in FAULT */
 } sil_row_t;
 
 typedef struct {
@@ -42,6 +45,13 @@ typedef struct {
     double t_run_s;            /* first period that ended in RUN (its t_k); NaN if none */
     double enc_offset_el_rad;  /* the controller's encoder offset at the end: told or found by alignment, [0, 2 pi) */
     double i_offset_a_A, i_offset_b_A;   /* current offsets the app subtracts at the end (0 unless calibrated) */
+    /* faults ([faults] injection and the app's protection) */
+    double t_inject_s;         /* first period with an injected fault active (its t_k); NaN if none */
+    double t_fault_s;          /* the ISR call that latched the first fault (its t_k); NaN if none */
+    int fault_state;           /* app_state_t that first fault was latched in */
+    double fault_value, fault_limit;     /* its snapshot */
+    uint32_t gates_on_in_fault;          /* periods with the gates on while the app was in FAULT (latching call included): 0 */
+    uint32_t fault_exits;                /* times the app left FAULT (no reset is requested in SIL: 0) */
 } sil_result_t;
 
 /* Called for every logged row; a nonzero return stops the run. */
