@@ -346,6 +346,44 @@ static void rotate_sincos(float s, float c, float delta_rad, float *s_out, float
     *c_out = c * cd - s * sd;
 }
 
+/* The period's duties out; when not finite (the period's check sum, or
+ * SVPWM refused its input), 50 % duties, no realised voltage and
+ * CTRL_FLAG_NONFINITE. */
+static void output_duties(ctrl_t *c, svpwm_duty_t duty, bool finite, uint16_t flags, ctrl_out_t *out)
+{
+    if (!finite) {
+        duty.a = DUTY_ZERO_VOLTAGE;
+        duty.b = DUTY_ZERO_VOLTAGE;
+        duty.c = DUTY_ZERO_VOLTAGE;
+        c->u_applied_V.d = 0.0f;
+        c->u_applied_V.q = 0.0f;
+        flags |= CTRL_FLAG_NONFINITE;
+    }
+    out->duty[0] = duty.a;
+    out->duty[1] = duty.b;
+    out->duty[2] = duty.c;
+    out->flags = flags;
+}
+
+void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out)
+{
+    svpwm_duty_t duty;
+    ab_t u_real;
+    float s;
+    float co;
+    uint16_t flags = 0u;
+    const uint16_t pwm_flags = svpwm_duty(u_ab_V, vdc_V, &duty, &u_real);
+
+    if ((pwm_flags & SVPWM_SATURATED) != 0u) {
+        flags |= CTRL_FLAG_VOLTAGE_LIMIT;
+    }
+    mathx_sincosf(c->enc.theta_e_rad, &s, &co);
+    c->u_applied_V = park(u_real, s, co);
+    /* one finiteness check: NaN and Inf survive a sum */
+    const float chk = u_ab_V.a + u_ab_V.b + vdc_V + duty.a + duty.b + duty.c + c->u_applied_V.d + c->u_applied_V.q;
+    output_duties(c, duty, mathx_isfinitef(chk) && ((pwm_flags & SVPWM_INVALID_INPUT) == 0u), flags, out);
+}
+
 void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
     const ctrl_cfg_t *cfg = &c->cfg;
@@ -450,16 +488,5 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
           c->ref.ud_ref_V + c->ref.uq_ref_V + omega + x.te_Nm + u.d + u.q + duty.a + duty.b +
           duty.c + c->u_applied_V.d + c->u_applied_V.q + c->smo.fd_V + c->smo.fq_V +
           c->smo.i_hat_A.d + c->smo.i_hat_A.q + c->smo.L_H + c->smo.psi_f_Wb;
-    if (!mathx_isfinitef(chk)) {
-        duty.a = DUTY_ZERO_VOLTAGE;
-        duty.b = DUTY_ZERO_VOLTAGE;
-        duty.c = DUTY_ZERO_VOLTAGE;
-        c->u_applied_V.d = 0.0f;
-        c->u_applied_V.q = 0.0f;
-        flags |= CTRL_FLAG_NONFINITE;
-    }
-    out->duty[0] = duty.a;
-    out->duty[1] = duty.b;
-    out->duty[2] = duty.c;
-    out->flags = flags;
+    output_duties(c, duty, mathx_isfinitef(chk), flags, out);
 }

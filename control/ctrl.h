@@ -200,4 +200,12 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref);
 /* One control period from the samples *in; duties and flags to *out. ISR, 10 kHz. */
 void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
 
+/* One period of a stationary-frame voltage u_ab_V [V] at the bus vdc_V
+ * [V] (the app's rotor alignment): the same output path as ctrl_step -
+ * SVPWM, the realised voltage kept as u(k) (at the encoder's angle), the
+ * finiteness check (50 % duties and CTRL_FLAG_NONFINITE for a non-finite
+ * input or no bus) - without the dead-time feedforward. ISR, 10 kHz,
+ * instead of ctrl_step. */
+void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out);
+
 #endif /* CTRL_H */
