@@ -30,3 +30,7 @@ test-drive-sil-cli: $(DRIVE_SIL)
 # of tools/scenarios/, and the controller alone on hal_sim).
 TEST_LIBS_test_sil_proposed := silrun firmware sim control
 TEST_SRCS_test_sil_proposed := tools/sil/sil.c
+
+# Fault injection ([faults]) against the app's protection.
+TEST_LIBS_test_sil_faults := silrun firmware sim control
+TEST_SRCS_test_sil_faults := tools/sil/sil.c

@@ -159,8 +159,8 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
     const bool faulted = (g_app.state == APP_STATE_FAULT);
-    r->fault_value = faulted ? (double)g_app.snapshot.value : NAN;
-    r->fault_limit = faulted ? (double)g_app.snapshot.limit : NAN;
+    r->fault_value = faulted ? (double)g_app.snapshot.value : 0.0;
+    r->fault_limit = faulted ? (double)g_app.snapshot.limit : 0.0;
 }
 
 /* The fault bookkeeping of sil_result_t after one period. */
@@ -175,6 +175,10 @@ static void track_faults(const hal_sim_truth_t *tr, bool was_faulted, sil_result
         res->fault_state = (int)g_app.snapshot.state;
         res->fault_value = (double)g_app.snapshot.value;
         res->fault_limit = (double)g_app.snapshot.limit;
+        res->fault_ia_A = (double)g_app.snapshot.sample.ia_A;
+        res->fault_ib_A = (double)g_app.snapshot.sample.ib_A;
+        res->fault_vdc_V = (double)g_app.snapshot.sample.vdc_V;
+        res->fault_enc_count = g_app.snapshot.sample.enc_count;
     }
     if (faulted && tr->pwm_enabled) {
         res->gates_on_in_fault++;

@@ -33,7 +33,7 @@ typedef struct {
     double R_ohm;                           /* true stator resistance at t_k (warms with [plant] R_ohm's profile) */
     double pwm;                             /* 1: gates on during [t_k, t_k + Ts] */
     double inj;                             /* hal_sim_fault_bit_t of the injected faults active ([faults]) */
-    double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; NaN unless in FAULT */
+    double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; 0 unless in FAULT */
 } sil_row_t;
 
 typedef struct {
@@ -49,7 +49,9 @@ typedef struct {
     double t_inject_s;         /* first period with an injected fault active (its t_k); NaN if none */
     double t_fault_s;          /* the ISR call that latched the first fault (its t_k); NaN if none */
     int fault_state;           /* app_state_t that first fault was latched in */
-    double fault_value, fault_limit;     /* its snapshot */
+    double fault_value, fault_limit;     /* its snapshot: the quantity and limit ... */
+    double fault_ia_A, fault_ib_A, fault_vdc_V;   /* ... and the raw samples of that period */
+    uint32_t fault_enc_count;
     uint32_t gates_on_in_fault;          /* periods with the gates on while the app was in FAULT (latching call included): 0 */
     uint32_t fault_exits;                /* times the app left FAULT (no reset is requested in SIL: 0) */
 } sil_result_t;
