@@ -39,6 +39,9 @@
 #define OBS_L_MIN_STABILITY_MARGIN 1.25f
 #define HALF 0.5f
 #define TWO_THIRDS 0.666666667f
+/* The default R^ band's top stays this fraction of the largest R that
+ * meets (36) with the observer's default gains (18 Ohm for Table I). */
+#define RSID_BAND_KS_MARGIN 0.9f
 /* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
 
@@ -79,6 +82,18 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     rs_ident_cfg_defaults(&cfg->rsid, cfg->Rs_Ohm);
 }
 
+void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
+{
+    smo_cfg_t sc;
+    smo_cfg_defaults(&sc, cfg->Ts_s, cfg->Rs_Ohm, cfg->Ls_H, cfg->psi_f_Wb);
+    /* (36): Ks > ef_max + R_max phi, with a margin */
+    const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (sc.Ks_V - sc.ef_max_V) / sc.phi_A;
+    const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->Rs_Ohm;
+    *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->Rs_Ohm;
+    *R_max_Ohm = (R_top_Ohm < R_ks_Ohm) ? R_top_Ohm : R_ks_Ohm;
+    *R_max_Ohm = (*R_max_Ohm > cfg->Rs_Ohm) ? *R_max_Ohm : cfg->Rs_Ohm;
+}
+
 /* The proposed method's blocks, with the fields that repeat ctrl_cfg_t taken from it. */
 static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
 {
@@ -112,12 +127,19 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     return rs_ident_init(&c->ri, &rc) ? CTRL_CFG_OK : CTRL_CFG_RSID;
 }
 
+/* status with bit added unless ok. */
+static ctrl_status_t refused_if(bool ok, ctrl_status_t bit, ctrl_status_t status)
+{
+    return ok ? status : (ctrl_status_t)(status | bit);
+}
+
 ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 {
     encoder_cfg_t ec;
     dbdtc_cfg_t dc;
     pi_cfg_t pc;
     const rs_ident_out_t no_result = { 0 };
+    ctrl_status_t status = CTRL_CFG_OK;
 
     c->cfg = *cfg;
 
@@ -126,7 +148,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     ec.offset_elec_rad = cfg->enc_offset_el_rad;
     ec.Ts_s = cfg->Ts_s;
     ec.pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
-    (void)encoder_init(&c->enc, &ec); /* an invalid cfg reads angle 0, speed 0 */
+    status = refused_if(encoder_init(&c->enc, &ec), CTRL_CFG_ENCODER, status); /* refused: angle 0, speed 0 */
 
     dc.Ts_s = cfg->Ts_s;
     dc.pole_pairs = cfg->pole_pairs;
@@ -138,21 +160,22 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     dc.u_max_V = cfg->u_max_V;
     dc.te_max_Nm = cfg->te_max_Nm;
     dc.psi_max_Wb = cfg->psi_max_Wb;
-    dbdtc_init(&c->db, &dc);
+    status = refused_if(dbdtc_init(&c->db, &dc), CTRL_CFG_DBDTC, status);
 
     pc.Kp = cfg->speed_kp_Nms_rad;
     pc.Ki = cfg->speed_ki_Nm_rad;
     pc.Ts_s = cfg->Ts_s;
     pc.u_min = -cfg->te_max_Nm;
     pc.u_max = cfg->te_max_Nm;
-    (void)pi_init(&c->speed_pi, &pc); /* an invalid cfg gives Te* = 0 */
+    status = refused_if(pi_init(&c->speed_pi, &pc), CTRL_CFG_SPEED_PI, status); /* refused: Te* = 0 */
 
-    /* td/Ts; a non-finite or implausible dead time gives no compensation */
+    /* td/Ts; a non-finite or implausible dead time is refused (and not compensated) */
     c->deadtime_frac = cfg->deadtime_s / cfg->Ts_s;
     if (!((c->deadtime_frac >= 0.0f) && (c->deadtime_frac <= DEADTIME_FRAC_MAX))) {
         c->deadtime_frac = 0.0f;
+        status = refused_if(false, CTRL_CFG_DEADTIME, status);
     }
-    c->status = init_proposed(c, cfg);
+    c->status = (ctrl_status_t)(status | init_proposed(c, cfg));
     c->rsid_out = no_result;
     c->rsid_out.R_est_Ohm = cfg->Rs_Ohm;
     c->mode = CTRL_MODE_TORQUE;
@@ -207,7 +230,7 @@ void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
 
 bool ctrl_set_method(ctrl_t *c, ctrl_method_t method)
 {
-    if ((method == CTRL_METHOD_PROPOSED) && (c->status != CTRL_CFG_OK)) {
+    if ((method == CTRL_METHOD_PROPOSED) && ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u)) {
         return false;
     }
     c->method = method; /* one store: the ISR sees the old or the new method */
@@ -216,7 +239,7 @@ bool ctrl_set_method(ctrl_t *c, ctrl_method_t method)
 
 bool ctrl_rsid_begin(ctrl_t *c)
 {
-    if (c->status != CTRL_CFG_OK) {
+    if ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) {
         return false;
     }
     smo_reset(&c->smo); /* nominal R, L, psi: rs_ident's dR is relative to them */
@@ -230,6 +253,11 @@ bool ctrl_rsid_begin(ctrl_t *c)
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
 {
     c->rsid_win = win;
+}
+
+rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
+{
+    return rs_ident_solve(&c->ri, out);
 }
 
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
@@ -258,7 +286,8 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 bool ctrl_est_start(ctrl_t *c, float R_Ohm)
 {
     /* ! (in band): NaN fails too */
-    if ((c->status != CTRL_CFG_OK) || !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
+    if (((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) ||
+        !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
         return false;
     }
     if (c->est == CTRL_EST_OFF) {

@@ -88,12 +88,21 @@ typedef struct {
     rs_ident_cfg_t rsid;        /* step-1 checks */
 } ctrl_cfg_t;
 
-typedef enum {
-    CTRL_CFG_OK = 0,
-    CTRL_CFG_OBSERVER = 1,      /* smo_init refused: see ctrl_t.smo.status (stability, (36)) */
-    CTRL_CFG_ESTIMATOR = 2,     /* param_est_init refused */
-    CTRL_CFG_RSID = 3           /* rs_ident_init refused */
-} ctrl_status_t;
+/* What ctrl_init refused, a set of bits (0: nothing). A refused block
+ * must not run: the app refuses a start that needs one (CONFIG fault). */
+typedef uint16_t ctrl_status_t;
+#define CTRL_CFG_OK         ((ctrl_status_t)0x0000u)
+#define CTRL_CFG_OBSERVER   ((ctrl_status_t)0x0001u) /* smo_init refused: see ctrl_t.smo.status (stability, (36)) */
+#define CTRL_CFG_ESTIMATOR  ((ctrl_status_t)0x0002u) /* param_est_init refused */
+#define CTRL_CFG_RSID       ((ctrl_status_t)0x0004u) /* rs_ident_init refused */
+#define CTRL_CFG_ENCODER    ((ctrl_status_t)0x0008u) /* encoder_init refused (e.g. PLL bandwidth x Ts above its bound) */
+#define CTRL_CFG_SPEED_PI   ((ctrl_status_t)0x0010u) /* pi_init refused the speed PI's gains or limits */
+#define CTRL_CFG_DBDTC      ((ctrl_status_t)0x0020u) /* dbdtc_init refused the model's parameters or bounds */
+#define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts */
+/* Needed by every method (encoder, speed loop, model, output path)... */
+#define CTRL_CFG_NEEDED_ALWAYS   ((ctrl_status_t)(CTRL_CFG_ENCODER | CTRL_CFG_SPEED_PI | CTRL_CFG_DBDTC | CTRL_CFG_DEADTIME))
+/* ...and by the proposed method's steps 1 and 2. */
+#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID))
 
 /* Where the proposed method's steps stand (ctrl_t.est, monitor). */
 typedef enum {
@@ -153,11 +162,18 @@ typedef struct {
  * Background, before ctrl_init. */
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
 
+/* The default R^ band for cfg->Rs_Ohm (set it first): rs_ident.h's
+ * RS_IDENT_BAND_*_FACTOR x Rs_Ohm, the top kept below the largest R^ the
+ * observer's default gains take under condition (36) (observer_design.md
+ * sec. 6), and not below Rs_Ohm. Background, before ctrl_cfg_proposed_defaults. */
+void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
+
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method
- * conventional. Checks the proposed method's settings (observer stability
- * bound and condition (36) in smo_init, estimator and step-1 limits);
- * anything but CTRL_CFG_OK leaves the conventional method working and the
- * proposed one unavailable: the app must refuse to start when it needs it. */
+ * conventional. Returns the set of refusals of every block (CTRL_CFG_*):
+ * encoder, speed PI, model, dead time, and the proposed method's settings
+ * (observer stability bound and condition (36) in smo_init, estimator and
+ * step-1 limits). A refusal in CTRL_CFG_NEEDED_PROPOSED makes the proposed
+ * method unavailable; the app refuses a start needing any refused block. */
 ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg);
 
 /* Clear states (integrator, speed estimate, applied voltage); observer
@@ -182,6 +198,12 @@ bool ctrl_rsid_begin(ctrl_t *c);
 /* Window the following periods are averaged into (RS_IDENT_WINDOW_NONE
  * while settling). ISR or background. */
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win);
+
+/* Step 1 under way: solves on the windows so far into *out without
+ * ending step 1 or touching the windows (the caller may fill window 2
+ * longer while R^'s standard error is too large, rs_ident.h). ISR or
+ * background (about 25 divisions). */
+rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
 
 /* Step 1 ends: solves (design sec. 1c) into c->rsid_out; on RS_IDENT_OK
  * sets R^ bumplessly and starts step 2, otherwise stops the observer and

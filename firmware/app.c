@@ -18,7 +18,8 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     const align_cfg_t ac = { cfg->align_u_V, cfg->align_prepos_el_rad, cfg->align_ramp_s, cfg->align_prepos_s,
                              cfg->align_settle_s };
     const rsid_seq_cfg_t rc = { cfg->rsid_mode, cfg->rsid_settle_1_s, cfg->rsid_window_s, cfg->rsid_settle_2_s,
-                                cfg->rsid_speed_1_rad_s, cfg->rsid_speed_2_rad_s, cfg->rsid_accel_rad_s2 };
+                                cfg->rsid_speed_1_rad_s, cfg->rsid_speed_2_rad_s, cfg->rsid_accel_rad_s2,
+                                cfg->rsid_window_max_s };
 
     pc.watch.te_max_Nm = cfg->ctrl.te_max_Nm;
     pc.watch.pole_pairs = cfg->ctrl.pole_pairs;
@@ -44,6 +45,8 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     calib_init(&app->cal, &cc, Ts);
     align_init(&app->aln, &ac, Ts);
     rsid_seq_init(&app->rsid, &rc, Ts);
+    app->warnings = 0u;
+    app->rsid_refusal = app_step_running();
     app->req_start = 0u;
     app->req_stop = 0u;
     app->req_fault_reset = 0u;
@@ -124,16 +127,24 @@ static void leave_align(app_t *app)
     }
 }
 
+/* The controller's blocks this start needs (ctrl.h CTRL_CFG_NEEDED_*). */
+static ctrl_status_t config_needed(const app_t *app)
+{
+    return (app->cfg.rsid_mode == APP_RSID_OFF) ? CTRL_CFG_NEEDED_ALWAYS
+                                                : (ctrl_status_t)(CTRL_CFG_NEEDED_ALWAYS | CTRL_CFG_NEEDED_PROPOSED);
+}
+
 /* After CALIBRATE, done or skipped: the bus must be up from here on, and
- * the observer's settings valid when step 1 or 2 will need them; both are
- * checked on this call's samples before anything is energised. */
+ * every controller block this start needs accepted by ctrl_init (CONFIG,
+ * the refusals in the snapshot's value); both are checked on this call's
+ * samples before anything is energised. */
 static void leave_calibrate(app_t *app, const hal_sample_t *s)
 {
     protect_arm_uv(&app->prot);
     if (s->vdc_V < app->cfg.vdc_min_V) {
         const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.vdc_min_V);
         latch_fault(app, &f, s);
-    } else if ((app->cfg.rsid_mode != APP_RSID_OFF) && (app->ctrl.status != CTRL_CFG_OK)) {
+    } else if ((app->ctrl.status & config_needed(app)) != 0u) {
         const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)app->ctrl.status, 0.0f);
         latch_fault(app, &f, s);
     } else if (app->cfg.align && !app->aligned) {
@@ -146,6 +157,8 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
 
 static void start_sequence(app_t *app, const hal_sample_t *s)
 {
+    app->warnings = 0u;
+    app->rsid_refusal = app_step_running();
     if (app->cfg.calibrate) {
         app->state = APP_STATE_CALIBRATE;
         calib_start(&app->cal);
@@ -196,11 +209,29 @@ static void align_state(app_t *app, const hal_sample_t *s)
     }
 }
 
+/* A refusal of R^ itself (not the controller's output, not its settings). */
+static bool is_rsid_refusal(app_fault_t f)
+{
+    return (f == APP_FAULT_RSID_TOO_FEW) || (f == APP_FAULT_RSID_NOT_STEADY) || (f == APP_FAULT_RSID_DEGENERATE) ||
+           (f == APP_FAULT_RSID_NON_FINITE) || (f == APP_FAULT_RSID_OUT_OF_BAND);
+}
+
 static void identify_state(app_t *app, const hal_sample_t *s)
 {
     const ctrl_in_t in = ctrl_input(app, s);
+    app_step_t r = rsid_seq_step(&app->rsid, &app->ctrl, &in, &app->out);
 
-    if (output(app, rsid_seq_step(&app->rsid, &app->ctrl, &in, &app->out), s).status == APP_STEP_DONE) {
+    if ((r.status == APP_STEP_FAULT) && is_rsid_refusal(r.fault) &&
+        (app->cfg.rsid_on_refusal == APP_RSID_REFUSAL_CONVENTIONAL)) {
+        /* no silent fallback: the method says so, the warning names why;
+         * the observer is stopped (ctrl_rsid_finish), so control is the
+         * conventional method's either way */
+        app->rsid_refusal = r;
+        app->warnings |= APP_WARN_STEP1_REFUSED;
+        (void)ctrl_set_method(&app->ctrl, CTRL_METHOD_CONVENTIONAL);
+        r = app_step_done();
+    }
+    if (output(app, r, s).status == APP_STEP_DONE) {
         app->state = APP_STATE_RUN; /* step 2 runs from the next period; no reset */
     }
 }

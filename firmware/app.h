@@ -6,7 +6,9 @@
  *   IDLE --start--> (the same sequence)
  *   CALIBRATE, ALIGN, IDENTIFY_R, RUN --stop--> IDLE
  *   INIT, IDLE, CALIBRATE, ALIGN, IDENTIFY_R, RUN --protection--> FAULT
- *   IDENTIFY_R --R^ refused--> FAULT (the reason in the code)
+ *   IDENTIFY_R --R^ refused--> FAULT (the reason in the code), or with
+ *              rsid_on_refusal = CONVENTIONAL --> RUN, conventional method,
+ *              warning APP_WARN_STEP1_REFUSED (the reason in rsid_refusal)
  *   FAULT --fault reset, cause gone--> IDLE
  *
  * INIT is the power-on state (nothing measured yet, bus may still be
@@ -51,6 +53,11 @@
 #include "protect.h"
 #include "rsid_seq.h"
 
+/* Warnings (app_t.warnings): the drive runs on, but not as configured.
+ * Bits above ctrl_out_t.flags' (CTRL_FLAG_*): the SIL's CSV column
+ * `flags` carries both. Cleared at the next start. */
+#define APP_WARN_STEP1_REFUSED 0x1000u /* step 1 refused R^ (rsid_refusal says why): conventional method */
+
 typedef struct {
     ctrl_cfg_t ctrl;
     /* protection */
@@ -79,6 +86,8 @@ typedef struct {
     float rsid_speed_1_rad_s;   /* SPEEDS: mechanical speed of point 1 [rad/s] */
     float rsid_speed_2_rad_s;   /*   and of point 2 [rad/s] */
     float rsid_accel_rad_s2;    /* SPEEDS: ramp rate of the commanded speed, handover included [rad/s^2] */
+    float rsid_window_max_s;    /* window 2 lengthened up to this while se(R^) is too large [s] */
+    app_rsid_refusal_t rsid_on_refusal; /* a refused step 1: fault, or conventional with a warning */
 } app_cfg_t;
 
 typedef struct {
@@ -97,6 +106,8 @@ typedef struct {
     calib_t cal;                   /* CALIBRATE */
     align_t aln;                   /* ALIGN */
     rsid_seq_t rsid;               /* IDENTIFY_R, and the handover in RUN */
+    uint16_t warnings;             /* APP_WARN_* since the last start */
+    app_step_t rsid_refusal;       /* APP_WARN_STEP1_REFUSED: the fault step 1 would have latched */
     /* Requests: one word each, so that setting (background) and clearing
      * (ISR) are single stores and cannot lose one another. */
     volatile uint16_t req_start;

@@ -12,6 +12,8 @@ void app_cfg_default(app_cfg_t *cfg)
 {
     static const app_cfg_t zero; /* a field added later reads 0, not garbage */
     ctrl_cfg_t *c = &cfg->ctrl;
+    float R_min_Ohm;
+    float R_max_Ohm;
 
     *cfg = zero;
     c->Ts_s = 1.0f / (float)BOARD_PWM_FREQ_HZ;
@@ -60,7 +62,8 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->align_prepos_s = BOARD_ALIGN_PREPOS_S;
     cfg->align_settle_s = BOARD_ALIGN_SETTLE_S;
 
-    ctrl_cfg_proposed_defaults(c, BOARD_RSID_R_MIN_PER_R * MOTOR_R_OHM, BOARD_RSID_R_MAX_PER_R * MOTOR_R_OHM);
+    ctrl_rsid_band_default(c, &R_min_Ohm, &R_max_Ohm);
+    ctrl_cfg_proposed_defaults(c, R_min_Ohm, R_max_Ohm);
     cfg->rsid_mode = (app_rsid_mode_t)BOARD_RSID_MODE;
     cfg->rsid_settle_1_s = BOARD_RSID_SETTLE_1_S;
     cfg->rsid_window_s = BOARD_RSID_WINDOW_S;
@@ -68,4 +71,6 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->rsid_speed_1_rad_s = BOARD_RSID_SPEED_1_RPM * RAD_S_PER_RPM;
     cfg->rsid_speed_2_rad_s = BOARD_RSID_SPEED_2_RPM * RAD_S_PER_RPM;
     cfg->rsid_accel_rad_s2 = BOARD_RSID_ACCEL_RPM_S * RAD_S_PER_RPM;
+    cfg->rsid_window_max_s = BOARD_RSID_WINDOW_MAX_S;
+    cfg->rsid_on_refusal = (app_rsid_refusal_t)BOARD_RSID_ON_REFUSAL;
 }

@@ -38,7 +38,7 @@ typedef enum {
     APP_FAULT_CURRENT_OFFSET = 10,
     APP_FAULT_CONFIG = 11,           /* identification asked for, ctrl_init refused the observer's settings */
     APP_FAULT_RSID_TOO_FEW = 12,     /* IDENTIFY_R: a window shorter than rs_ident's n_min */
-    APP_FAULT_RSID_NOT_STEADY = 13,  /* iq not steady in a window (snapshot: std of iq, its limit) */
+    APP_FAULT_RSID_NOT_STEADY = 13,  /* R^ too uncertain: noise or a transient (snapshot: se of R^, its limit) */
     APP_FAULT_RSID_DEGENERATE = 14,  /* the two operating points too alike for (41) */
     APP_FAULT_RSID_NON_FINITE = 15,  /* NaN/Inf in the windows or the result */
     APP_FAULT_RSID_OUT_OF_BAND = 16, /* R^ outside [R_min, R_max] (snapshot: R^, the bound crossed) */

@@ -10,6 +10,8 @@ void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
     q->win1_tick = app_periods_of(cfg->settle_1_s, Ts_s);
     q->win2_tick = q->win1_tick + q->window_ticks + app_periods_of(cfg->settle_2_s, Ts_s);
     q->end_tick = q->win2_tick + q->window_ticks;
+    q->win2_max_ticks = app_periods_of(cfg->window_max_s, Ts_s);
+    q->check_ticks = 1u; /* set from the controller's batch at the first check */
     q->speed_step_rad_s = cfg->accel_rad_s2 * Ts_s;
     q->ticks = 0u;
     q->speed_ref_rad_s = 0.0f;
@@ -57,8 +59,7 @@ static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
     switch (r) {
     case RS_IDENT_NOT_STEADY:
         return app_step_fault(APP_FAULT_RSID_NOT_STEADY,
-                              (o->iq_std_A[0] > o->iq_std_A[1]) ? o->iq_std_A[0] : o->iq_std_A[1],
-                              rc->iq_std_max_A);
+                              o->R_se_Ohm, o->R_se_max_Ohm); /* standard error of R^, its limit */
     case RS_IDENT_DEGENERATE:
         return app_step_fault(APP_FAULT_RSID_DEGENERATE, o->R_est_Ohm, 0.0f);
     case RS_IDENT_NON_FINITE:
@@ -77,6 +78,25 @@ static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
     }
 }
 
+/* At window 2's nominal end or later, at a batch boundary: true when
+ * window 2 should go on - R^ refused only for its standard error, window
+ * 1's share of it below the limit, window 2 not yet at its longest. */
+static bool lengthen(rsid_seq_t *q, const ctrl_t *c)
+{
+    rs_ident_out_t o;
+    const uint32_t k = q->ticks;
+    const uint32_t batch = c->ri.cfg.n_batch;
+
+    q->check_ticks = (batch > 0u) ? batch : 1u;
+    if ((k - q->end_tick) % q->check_ticks != 0u) {
+        return true; /* between checks */
+    }
+    if (k - q->win2_tick + q->check_ticks > q->win2_max_ticks) {
+        return false; /* no room for another batch */
+    }
+    return (ctrl_rsid_check(c, &o) == RS_IDENT_NOT_STEADY) && (o.R_se_part_Ohm[0] <= o.R_se_max_Ohm);
+}
+
 app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
     const uint32_t k = q->ticks;
@@ -85,8 +105,8 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
 
     if ((k >= q->win1_tick) && (k < q->win1_tick + q->window_ticks)) {
         win = RS_IDENT_WINDOW_1;
-    } else if ((k >= q->win2_tick) && (k < q->end_tick)) {
-        win = RS_IDENT_WINDOW_2;
+    } else if (k >= q->win2_tick) {
+        win = RS_IDENT_WINDOW_2; /* up to end_tick, and on while lengthened */
     }
     ctrl_rsid_window(c, win);
     if (q->cfg.mode == APP_RSID_SPEEDS) {
@@ -106,7 +126,7 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
         return app_step_running();
     }
     q->ticks++;
-    if (q->ticks < q->end_tick) {
+    if ((q->ticks < q->end_tick) || lengthen(q, c)) {
         return app_step_running();
     }
     q->result = ctrl_rsid_finish(c);

@@ -17,6 +17,13 @@
  * The speed it commands goes into its own ctrl_step only: ctrl.ref keeps
  * the outside reference throughout. A refused R^ is a fault naming the
  * reason (RSID_*) with the quantity and its limit.
+ * Window 2 is lengthened (issue 13; observer_design.md sec. 6): at its
+ * nominal end, and every batch after it, the windows so far are solved
+ * (ctrl_rsid_check); while R^ is refused only for its standard error
+ * (NOT_STEADY), window 1's share of it is below the limit (so more of
+ * window 2 can help) and window 2 is shorter than window_max_s, window 2
+ * goes on. Window 2's operating point must hold that long (WINDOWS: the
+ * outside's load and speed).
  */
 #ifndef RSID_SEQ_H
 #define RSID_SEQ_H
@@ -35,6 +42,14 @@ typedef enum {
     APP_RSID_TRUSTED = 3
 } app_rsid_mode_t;
 
+/* What a refused step 1 does (issue 13): latch the RSID_* fault (PWM
+ * off), or run on with the conventional method and the warning
+ * APP_WARN_STEP1_REFUSED (app.h). */
+typedef enum {
+    APP_RSID_REFUSAL_FAULT = 0,
+    APP_RSID_REFUSAL_CONVENTIONAL = 1
+} app_rsid_refusal_t;
+
 typedef struct {
     app_rsid_mode_t mode;
     float settle_1_s;           /* IDENTIFY_R entry to window 1 [s] */
@@ -43,12 +58,15 @@ typedef struct {
     float speed_1_rad_s;        /* SPEEDS: mechanical speed of point 1 [rad/s] */
     float speed_2_rad_s;        /*   and of point 2 [rad/s] */
     float accel_rad_s2;         /* SPEEDS: ramp rate of the commanded speed, handover included [rad/s^2] */
+    float window_max_s;         /* window 2 lengthened up to this while se(R^) is too large [s] (<= window_s: never) */
 } rsid_seq_cfg_t;
 
 typedef struct {
     rsid_seq_cfg_t cfg;
     uint32_t win1_tick, win2_tick, end_tick;  /* window starts and the end, periods from the start */
     uint32_t window_ticks;
+    uint32_t win2_max_ticks;    /* window 2's longest */
+    uint32_t check_ticks;       /* periods between checks while lengthening (one batch) */
     float speed_step_rad_s;     /* SPEEDS: ramp step per period [rad/s] */
     uint32_t ticks;             /* periods counted since rsid_seq_start (not while ramping) */
     float speed_ref_rad_s;      /* SPEEDS: the ramped reference (IDENTIFY_R, then the handover) [rad/s] */

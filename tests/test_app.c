@@ -178,6 +178,30 @@ static void background_kicks_watchdog(void **state)
     app_background(&app);
 }
 
+/* A refused block the conventional method needs (the encoder's PLL at
+ * 6000 rad/s: bandwidth x Ts 0.6 > 0.5) faults CONFIG at the start, in
+ * the request's own call, with ctrl_init's refusals as the snapshot's
+ * value and the PWM never enabled (isr_fault: no write, no enable). */
+static void refused_block_faults_config_at_start(void **state)
+{
+    (void)state;
+    for (int align = 0; align <= 1; align++) {
+        app_cfg_t cfg = make_cfg(align != 0, align != 0);
+        cfg.ctrl.enc_pll_bw_rad_s = 6000.0f;
+        init_cfg(&cfg);
+        assert_int_equal(app.ctrl.status & CTRL_CFG_ENCODER, CTRL_CFG_ENCODER);
+        hal_sample_t s = sample(0.0f, 0.0f, VDC);
+        app_request_start(&app);
+        for (int k = 0; align != 0 && k < CAL_SETTLE + CAL_N - 1; k++) {
+            isr_quiet(&s); /* calibration first (PWM off); the check after it */
+        }
+        isr_fault(&s, 0);
+        assert_int_equal(app.fault, APP_FAULT_CONFIG);
+        assert_float_equal(app.snapshot.value, (float)app.ctrl.status, 0.0);
+        assert_false(app.pwm_on);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -188,6 +212,7 @@ int main(void)
         cmocka_unit_test(stop_during_calibrate_and_align),
         cmocka_unit_test(isr_call_order),
         cmocka_unit_test(background_kicks_watchdog),
+        cmocka_unit_test(refused_block_faults_config_at_start),
     };
     return cmocka_run_group_tests_name("app", tests, NULL, NULL);
 }

@@ -9,7 +9,9 @@ CSV's 9-digit numbers, so the figures agree to the CSV's rounding: the
 tolerances below are a few units of the 9th digit of each figure's inputs
 (torque ~10 N m, flux ~0.3 Wb, speed ~2000 r/min, estimates ~1 x truth).
 """
+import contextlib
 import csv
+import io
 import json
 import os
 import shutil
@@ -137,8 +139,7 @@ class Sweep(unittest.TestCase):
         # fixed picks: first, a middle and the last row
         for r in (rows[0], rows[5], rows[-1]):
             sets = [f"controller.L_factor={r['controller.L_factor']}",
-                    f"controller.psif_factor={r['controller.psif_factor']}",
-                    f"controller.method={r['method']}"]
+                    f"controller.psif_factor={r['controller.psif_factor']}"] + sweep.METHOD_SETS[r["method"]]
             hand, col = by_hand(self.tmp, sets)
             for k, tol in TOL.items():
                 self.assertAlmostEqual(float(r[k]), hand[k], delta=tol, msg=f"{k} at {sets}")
@@ -185,6 +186,47 @@ class Sweep(unittest.TestCase):
         self.assertAlmostEqual(float(self.rows()[0]["controller.R_ohm"]), 4.5, delta=1e-9)
 
 
+class SweepCheck(unittest.TestCase):
+    """tools/sweep_check.py on hand-made results: each rule can fail."""
+
+    def write(self, d, points):
+        cols = sweep.columns([sweep.Grid("controller.L_factor=1:2:2", False)])
+        with open(os.path.join(d, sweep.RESULTS), "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(cols)
+            for x, method, te, fault in points:
+                r = {c: "1" for c in cols}
+                r.update({"method": method, "controller.L_factor": x, "te_err_Nm": te, "fault_name": fault,
+                          "final_state_name": "FAULT" if fault != "NONE" else "RUN", "status": "ok"})
+                w.writerow([r[c] for c in cols])
+
+    def run_check(self, points):
+        import sweep_check
+        with tempfile.TemporaryDirectory() as d:
+            self.write(d, points)
+            out = io.StringIO()
+            with contextlib.redirect_stdout(out):
+                rc = sweep_check.main([d, "--tol-Nm", "0.005"])
+        return rc, out.getvalue()
+
+    def test_within_the_tolerance_and_faults_of_both_pass(self):
+        rc, out = self.run_check([("1", "conventional", "0.010", "NONE"), ("1", "proposed", "0.0149", "NONE"),
+                                  ("2", "conventional", "0", "OVERCURRENT"), ("2", "proposed", "0", "HW_TRIP")])
+        self.assertEqual(rc, 0, out)
+
+    def test_worse_torque_and_a_fault_of_its_own_fail(self):
+        rc, out = self.run_check([("1", "conventional", "0.010", "NONE"), ("1", "proposed", "0.0151", "NONE"),
+                                  ("2", "conventional", "0.5", "NONE"), ("2", "proposed", "0", "CONFIG")])
+        self.assertEqual(rc, 1)
+        self.assertIn("0.0151 N m > conventional 0.0100", out)
+        self.assertIn("proposed faulted (CONFIG)", out)
+
+    def test_a_missing_method_fails(self):
+        rc, out = self.run_check([("1", "proposed", "0.001", "NONE")])
+        self.assertEqual(rc, 1)
+        self.assertIn("not both methods ran", out)
+
+
 class GridText(unittest.TestCase):
     def test_linear_and_log_values(self):
         self.assertEqual(sweep.Grid("a.b=1:3:3", False).values(), [1.0, 2.0, 3.0])
@@ -207,6 +249,8 @@ class GridText(unittest.TestCase):
         sets = sweep.point_sets(["load.torque_Nm=0:2, 0.6:{load_Nm}"], g, [2.0, 1.0], "proposed")
         self.assertEqual(sets, ["load.torque_Nm=0:2, 0.6:2.0", "controller.L_factor=1.0",
                                 "controller.method=proposed"])
+        self.assertEqual(sweep.point_sets([], g[1:], [1.0], "conventional"),
+                         ["controller.L_factor=1.0", "controller.method=conventional", "identify.mode=off"])
 
 
 if __name__ == "__main__":

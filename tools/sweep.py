@@ -13,7 +13,9 @@ START:STOP:N is N evenly spaced values from START to STOP (N = 1: START);
 --log spaces every grid logarithmically, a grid's own ":log" or ":lin"
 suffix overrides it.
 
-Every point x method runs in one of --jobs drive_sil --batch workers (one
+The method is set per run (controller.method; the conventional method
+also gets identify.mode=off: it has no step 1, as conv_*.ini). Every
+point x method runs in one of --jobs drive_sil --batch workers (one
 process per core, fed through its stdin; the runs' figures are computed in
 C over the scenario's steady window, tools/sil/summary.h, the same as
 tools/metrics.py's). DIR/results.csv gets a row as each point finishes:
@@ -47,6 +49,10 @@ import time
 
 EXIT_BAD_INPUT = 2
 METHODS = ("conventional", "proposed")
+# A method's overrides, applied last: the conventional method has no step 1
+# (as tools/scenarios/conv_*.ini), whatever the scenario's [identify] says.
+METHOD_SETS = {"conventional": ["controller.method=conventional", "identify.mode=off"],
+               "proposed": ["controller.method=proposed"]}
 DEFAULT_DRIVE_SIL = os.path.join("build", "host", "drive_sil")
 RESULTS = "results.csv"
 DEFINITION = "sweep.json"
@@ -115,7 +121,7 @@ def point_sets(sets, grids, values, method):
     env = {g.name: fmt_value(v) for g, v in zip(grids, values)}
     out = [TEMPLATE.sub(lambda m: env[m.group(1)], s) for s in sets]
     out += [f"{g.name}={env[g.name]}" for g in grids if g.is_key]
-    out.append(f"controller.method={method}")
+    out += METHOD_SETS[method]
     return out
 
 
@@ -201,7 +207,7 @@ def file_sha256(path):
 def definition_of(a, grids):
     """What results.csv's rows depend on besides their grid values and method."""
     return {"scenario": os.path.abspath(a.scenario), "scenario_sha256": file_sha256(a.scenario),
-            "set": a.set, "grid_names": [g.name for g in grids], "window": a.window,
+            "set": a.set, "method_sets": METHOD_SETS, "grid_names": [g.name for g in grids], "window": a.window,
             "drive_sil_sha256": file_sha256(a.drive_sil)}
 
 

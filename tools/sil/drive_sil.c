@@ -25,7 +25,7 @@
 #define EXIT_BAD_INPUT 2
 #define MAX_SETS 64
 #define TMP_SUFFIX_LEN 32
-#define NAME_LEN 32
+#define NAME_LEN 64
 #define BATCH_LINE_LEN 8192
 #define BATCH_FIELD_SEP "\t"
 
@@ -390,10 +390,13 @@ int main(int argc, char **argv)
     if (a.out_path != NULL && !summary_on_stdout(&a)) {
         char sbuf[NAME_LEN];
         char fbuf[NAME_LEN];
-        printf("drive_sil: %s: %u periods, %u rows, final state %d (%s), fault %d (%s), max |i| %.2f A -> %s\n",
+        char wbuf[NAME_LEN];
+        const char *warn = summary_warning_text(&res, wbuf, sizeof wbuf);
+        printf("drive_sil: %s: %u periods, %u rows, final state %d (%s), fault %d (%s), max |i| %.2f A%s%s -> %s\n",
                a.scenario_path, res.periods, res.rows, res.final_state,
                summary_state_name(res.final_state, sbuf, sizeof sbuf), res.final_fault,
-               summary_fault_name(res.final_fault, fbuf, sizeof fbuf), res.max_abs_i_A, a.out_path);
+               summary_fault_name(res.final_fault, fbuf, sizeof fbuf), res.max_abs_i_A,
+               (warn[0] != '\0') ? ", warning " : "", warn, a.out_path);
     }
     return EXIT_SUCCESS;
 }

@@ -9,7 +9,7 @@
 
 #define CSV_T_FORMAT "%.9g"       /* sil_csv_row()'s number format */
 #define EDGE_CHECK_S 1e-6         /* rows this close to a window edge are decided on the printed t */
-#define TEXT_LEN 32
+#define TEXT_LEN 64
 #define PERCENT 100.0
 
 static const char *const STATE_NAMES[] = {
@@ -48,6 +48,16 @@ const char *summary_state_name(int state, char *buf, size_t len)
 const char *summary_fault_name(int fault, char *buf, size_t len)
 {
     return name_of(FAULT_NAMES, sizeof FAULT_NAMES / sizeof FAULT_NAMES[0], fault, "FAULT", buf, len);
+}
+
+const char *summary_warning_text(const sil_result_t *res, char *buf, size_t len)
+{
+    char fbuf[32];
+    buf[0] = '\0';
+    if ((res->warnings & APP_WARN_STEP1_REFUSED) != 0u) {
+        snprintf(buf, len, "STEP1_REFUSED (%s)", summary_fault_name(res->rsid_refusal, fbuf, sizeof fbuf));
+    }
+    return buf;
 }
 
 void summary_default_window(double duration_s, double *t0_s, double *t1_s)
@@ -180,6 +190,8 @@ void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const
     put_str(f, "final_state_name", summary_state_name(res->final_state, buf, sizeof buf));
     put_num(f, "final_fault", (double)res->final_fault, 0);
     put_str(f, "fault_name", summary_fault_name(res->final_fault, buf, sizeof buf));
+    put_num(f, "warnings", (double)res->warnings, 0);
+    put_str(f, "warning", summary_warning_text(res, buf, sizeof buf));
     put_num(f, "t_run_s", res->t_run_s, 0);
     put_num(f, "max_abs_i_A", res->max_abs_i_A, 0);
     put_num(f, "te_err_Nm", mean(&s->te_abs), 0);

@@ -59,6 +59,9 @@ void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const
 /* text as a JSON string (quoted; quotes, backslashes and control characters escaped). */
 void summary_json_string(FILE *f, const char *text);
 
+/* "STEP1_REFUSED (RSID_...)" for the run's warnings (app.h APP_WARN_*), "" without. */
+const char *summary_warning_text(const sil_result_t *res, char *buf, size_t len);
+
 /* Names of app_state_t / app_fault_t values ("FAULT_<n>" for one this table does not know). */
 const char *summary_state_name(int state, char *buf, size_t len);
 const char *summary_fault_name(int fault, char *buf, size_t len);
