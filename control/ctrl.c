@@ -3,8 +3,9 @@
  *
  * Cost per ctrl_step() in speed/torque mode, as measured by `make
  * bench-ctrl` (callgrind, x86-64 -O2):
- *   conventional: 1079 instructions; proposed (step 2 running): 1475 (+37 %);
- *            of these about 100 are the dead-time feedforward (both methods)
+ *   conventional: 1255 instructions; proposed (step 2 running): 1502 (+20 %)
+ *            (with issue 12's current limit, weakening loop and step-2
+ *            gate); about 100 are the dead-time feedforward (both methods)
  *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
  *            rotation by a short series), both methods;
  *   divisions: conventional 2 (MTPA's torque term, svpwm_duty's 1/Vdc);
@@ -12,13 +13,14 @@
  *            1 in the observer's gain (L^ moved), 2 in dbdtc_set_params
  *            (only in periods an estimate moved: in step 2 every period
  *            with |w iq| above the freeze threshold); plus 3 only in the
- *            periods the torque-first voltage limit acts;
+ *            periods the torque-first voltage limit acts, and 1 (+ 1 square
+ *            root) only while the field is weakened (oplim.h);
  *   square roots: 3 (MTPA, eq. 17, the monitor's |psi_s|), both methods.
  */
 #include "ctrl.h"
 
 #include "mathx.h"
-#include "mtpa.h"
+#include "oplim.h"
 #include "svpwm.h"
 
 /* The voltage computed now is applied over [k+1, k+2]: its middle lies
@@ -44,6 +46,10 @@
 #define RSID_BAND_KS_MARGIN 0.9f
 /* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
+/* Share of the hexagon's inscribed circle Vdc/sqrt(3) the flux reference
+ * leaves for steady state when cfg.u_margin is not in (0, 1] (design
+ * sec. 7): the rest is the deadbeat's headroom for torque changes. */
+#define CTRL_U_MARGIN_DEFAULT 0.92f
 
 /* What db.par holds (ctrl_t.model_src). */
 #define MODEL_OBSERVER 0u      /* the observer's estimates, up to date */
@@ -80,6 +86,7 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     ec->psi_min_Wb = sc->psi_min_Wb;
     ec->psi_max_Wb = sc->psi_max_Wb;
     rs_ident_cfg_defaults(&cfg->rsid, cfg->Rs_Ohm);
+    est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
 }
 
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
@@ -100,6 +107,7 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     smo_cfg_t sc = cfg->smo;
     param_est_cfg_t ec = cfg->est;
     rs_ident_cfg_t rc = cfg->rsid;
+    est_gate_cfg_t gc = cfg->gate;
 
     sc.Ts_s = cfg->Ts_s;
     sc.R_Ohm = cfg->Rs_Ohm;
@@ -114,17 +122,19 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     rc.R_nom_Ohm = cfg->Rs_Ohm;
     rc.R_min_Ohm = cfg->R_min_Ohm;
     rc.R_max_Ohm = cfg->R_max_Ohm;
+    gc.Ts_s = cfg->Ts_s;
+    const ctrl_status_t gate = est_gate_init(&c->gate, &gc) ? CTRL_CFG_OK : CTRL_CFG_GATE;
 
     if (smo_init(&c->smo, &sc) != SMO_CFG_OK) {
         (void)param_est_init(&c->pe, &ec, &c->smo); /* refused too: frozen for good */
         (void)rs_ident_init(&c->ri, &rc);
-        return CTRL_CFG_OBSERVER;
+        return (ctrl_status_t)(CTRL_CFG_OBSERVER | gate);
     }
     if (!param_est_init(&c->pe, &ec, &c->smo)) {
         (void)rs_ident_init(&c->ri, &rc);
-        return CTRL_CFG_ESTIMATOR;
+        return (ctrl_status_t)(CTRL_CFG_ESTIMATOR | gate);
     }
-    return rs_ident_init(&c->ri, &rc) ? CTRL_CFG_OK : CTRL_CFG_RSID;
+    return (ctrl_status_t)((rs_ident_init(&c->ri, &rc) ? CTRL_CFG_OK : CTRL_CFG_RSID) | gate);
 }
 
 /* status with bit added unless ok. */
@@ -175,6 +185,10 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
         c->deadtime_frac = 0.0f;
         status = refused_if(false, CTRL_CFG_DEADTIME, status);
     }
+    c->i_lim_A = ((cfg->i_lim_A > 0.0f) && (cfg->i_lim_A <= cfg->i_max_A)) ? cfg->i_lim_A : cfg->i_max_A;
+    c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
+                                                ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
+    oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
     c->status = (ctrl_status_t)(status | init_proposed(c, cfg));
     c->rsid_out = no_result;
     c->rsid_out.R_est_Ohm = cfg->Rs_Ohm;
@@ -199,6 +213,9 @@ void ctrl_reset(ctrl_t *c)
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
     c->est = CTRL_EST_OFF;
+    est_gate_reset(&c->gate, &c->smo);
+    oplim_reset(&c->lim);
+    c->flags_last = 0u;
     pi_reset(&c->speed_pi, 0.0f);
     c->mode = c->mode_req;
     c->u_applied_V.d = 0.0f;
@@ -220,6 +237,7 @@ void ctrl_reset(ctrl_t *c)
     c->mon.fd_est = 0.0f;
     c->mon.fq_est = 0.0f;
     c->mon.est = CTRL_EST_OFF;
+    c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
 }
 
@@ -273,6 +291,7 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
     }
     if (r == RS_IDENT_OK) {
         param_est_run(&c->pe, true);
+        est_gate_reset(&c->gate, &c->smo);
         c->est = CTRL_EST_STEP2;
         if (c->model_src == MODEL_OBSERVER) {
             c->model_src = MODEL_STALE;
@@ -297,6 +316,7 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
     param_est_run(&c->pe, true);
+    est_gate_reset(&c->gate, &c->smo);
     c->est = CTRL_EST_STEP2;
     if (c->model_src == MODEL_OBSERVER) {
         c->model_src = MODEL_STALE;
@@ -323,7 +343,12 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
             rs_ident_step(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
                           omega_el_rad_s);
         } else {
-            const uint16_t moved = param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
+            /* pause and hold while the laws' assumptions are broken (est_gate.h) */
+            uint16_t moved = est_gate_step(&c->gate, &c->smo, omega_el_rad_s, i_dq_A, c->mon.te_ref_Nm,
+                                           (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u) ? 1u : 0u;
+            if (c->gate.reasons == 0u) {
+                moved |= param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
+            }
             if (c->method == CTRL_METHOD_PROPOSED) {
                 /* 2 divisions, only when an estimate moved */
                 if ((moved != 0u) || (c->model_src != MODEL_OBSERVER)) {
@@ -457,8 +482,12 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         } else {
             te_ref = mathx_clampf(c->ref.te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
         }
-        psi_ref = mtpa_psi_s_ref(par->Ls_H, par->psi_f_Wb, cfg->pole_pairs, te_ref); /* sec. III */
+        /* current limit, MTPA (sec. III), flux weakening (oplim.h) */
+        const oplim_out_t tgt = oplim_targets(&c->lim, par, cfg->pole_pairs, c->i_lim_A, te_ref);
+        te_ref = tgt.te_Nm;
+        psi_ref = tgt.psi_Wb;
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
+        oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
     }
 
     /* applied over [k+1, k+2]: rotor angle of its middle */
@@ -508,6 +537,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         c->mon.fq_est = 0.0f;
     }
     c->mon.est = c->est;
+    c->mon.est_hold = c->gate.reasons;
     c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
 
     /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
@@ -517,5 +547,6 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
           c->ref.ud_ref_V + c->ref.uq_ref_V + omega + x.te_Nm + u.d + u.q + duty.a + duty.b +
           duty.c + c->u_applied_V.d + c->u_applied_V.q + c->smo.fd_V + c->smo.fq_V +
           c->smo.i_hat_A.d + c->smo.i_hat_A.q + c->smo.L_H + c->smo.psi_f_Wb;
+    c->flags_last = flags; /* before any NONFINITE: the gate's voltage check */
     output_duties(c, duty, mathx_isfinitef(chk), flags, out);
 }

@@ -47,6 +47,8 @@
 #include "clarke_park.h"
 #include "dbdtc.h"
 #include "encoder.h"
+#include "est_gate.h"
+#include "oplim.h"
 #include "param_est.h"
 #include "pi.h"
 #include "rs_ident.h"
@@ -78,6 +80,11 @@ typedef struct {
     float psi_max_Wb;           /* bound on psi_s* */
     float deadtime_s;           /* inverter dead time [s]: its voltage error is fed forward and
                                  * counted in the realised voltage; 0: none */
+    /* Operating limits (design sec. 8); i_lim_A outside (0, i_max_A]: i_max_A;
+     * u_margin outside (0, 1]: 0.92 (ctrl.c CTRL_U_MARGIN_DEFAULT) */
+    float i_lim_A;              /* stator-current limit |i| [A] the deadbeat target respects */
+    float u_margin;             /* share of the inscribed circle Vdc/sqrt(3) the flux
+                                 * reference leaves for steady state (flux weakening) [-] */
     /* Proposed method; ctrl_cfg_proposed_defaults() fills all of it. The
      * fields of smo/est/rsid that repeat the ones above (Ts, nominal R, L,
      * psi_f, the bounds, the R band) are taken from here by ctrl_init(). */
@@ -86,6 +93,7 @@ typedef struct {
     smo_cfg_t smo;              /* observer gains and ranges */
     param_est_cfg_t est;        /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
+    est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
 } ctrl_cfg_t;
 
 /* What ctrl_init refused, a set of bits (0: nothing). A refused block
@@ -99,10 +107,11 @@ typedef uint16_t ctrl_status_t;
 #define CTRL_CFG_SPEED_PI   ((ctrl_status_t)0x0010u) /* pi_init refused the speed PI's gains or limits */
 #define CTRL_CFG_DBDTC      ((ctrl_status_t)0x0020u) /* dbdtc_init refused the model's parameters or bounds */
 #define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts */
+#define CTRL_CFG_GATE       ((ctrl_status_t)0x0080u) /* est_gate_init refused (step 2's pause and hold) */
 /* Needed by every method (encoder, speed loop, model, output path)... */
 #define CTRL_CFG_NEEDED_ALWAYS   ((ctrl_status_t)(CTRL_CFG_ENCODER | CTRL_CFG_SPEED_PI | CTRL_CFG_DBDTC | CTRL_CFG_DEADTIME))
 /* ...and by the proposed method's steps 1 and 2. */
-#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID))
+#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID | CTRL_CFG_GATE))
 
 /* Where the proposed method's steps stand (ctrl_t.est, monitor). */
 typedef enum {
@@ -130,6 +139,7 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* observer estimates while it runs, else the nominal parameters */
     float fd_est, fq_est;                 /* observer disturbances (0 while the observer is stopped) */
     ctrl_est_t est;                       /* step of the proposed method */
+    uint16_t est_hold;                    /* EST_GATE_* why step 2's laws are paused (0: learning) */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
 } ctrl_mon_t;
 
@@ -144,6 +154,9 @@ typedef struct {
     pi_t speed_pi;
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
     float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
+    float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
+    float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */
+    oplim_t lim;                /* current limit and flux weakening (oplim.h) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */
     ctrl_est_t est;
     smo_t smo;                  /* observer: R^, L^, psi^, f^, i^ */
@@ -151,6 +164,8 @@ typedef struct {
     rs_ident_t ri;              /* step 1 windows */
     rs_ident_window_t rsid_win; /* window the coming periods go into */
     rs_ident_out_t rsid_out;    /* last ctrl_rsid_finish() result (R^, window means) */
+    est_gate_t gate;            /* pause and hold of step 2 */
+    uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the gate's voltage check) */
     uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */
     ctrl_mon_t mon;
 } ctrl_t;
