@@ -139,6 +139,7 @@ check-deps:
 check: check-deps
 	@tools/check/portability.sh $(BUILD)/check
 	@tools/check/target_cfg.sh
+	@tools/check/isr_path.sh $(BUILD)/check
 
 # ---- target build --------------------------------------------------------
 firmware:
