@@ -44,6 +44,8 @@ static struct {
     bool isr_stalled;
     uint32_t isr_calls;
     uint32_t watchdog_kicks;
+    uint32_t cycles;                /* hal_cycles(): CPU clock cycles of simulated time, mod 2^32 */
+    uint32_t cycles_per_period;
     hal_sample_t sample;
     hal_sim_truth_t truth;
     /* fault injection */
@@ -77,6 +79,7 @@ void hal_sim_configure(const hal_sim_cfg_t *cfg)
     g_sim.cfg = *cfg;
     plant_init(&g_sim.plant, &cfg->plant, cfg->theta_offset_el_rad);
     prng_seed(&g_sim.prng, cfg->sens.seed);
+    g_sim.cycles_per_period = (uint32_t)llround(fmod(cfg->inv.Ts_s * CPU_CLOCK_HZ, ldexp(1.0, CYCLE_COUNTER_BITS)));
     for (int k = 0; k < N_PHASES; k++) {
         g_sim.duty_shadow[k] = DUTY_ZERO_VOLTAGE;
         g_sim.duty_active[k] = DUTY_ZERO_VOLTAGE;
@@ -242,7 +245,8 @@ static void sample_at_period_start(void)
 
     double i_abc[N_PHASES];
     double i_leg[N_PHASES];
-    plant_iabc_A(&g_sim.plant, i_abc);
+    const double th_el = plant_theta_el_rad(&g_sim.plant);
+    plant_iabc_at_A(&g_sim.plant, th_el, i_abc);
     memcpy(i_leg, i_abc, sizeof i_leg);
     faults_leg_currents(i_leg);
     for (int k = 0; k < N_PHASES; k++) {
@@ -265,7 +269,7 @@ static void sample_at_period_start(void)
     tr->ib_A = i_abc[1];
     tr->ic_A = i_abc[2];
     tr->speed_m_rad_s = g_sim.plant.x.omega_m_rad_s;
-    tr->theta_el_rad = plant_theta_el_rad(&g_sim.plant);
+    tr->theta_el_rad = th_el;
     tr->te_Nm = plant_te_Nm(&g_sim.plant);
     tr->psi_s_Wb = plant_psi_s_Wb(&g_sim.plant);
 }
@@ -307,6 +311,7 @@ void hal_sim_period(void)
     tr->isr_calls = g_sim.isr_calls;
     tr->faults_active = g_sim.faults_active;
     g_sim.t_s += c->inv.Ts_s;
+    g_sim.cycles += g_sim.cycles_per_period;
 }
 
 void hal_sim_truth(hal_sim_truth_t *out)
@@ -370,19 +375,18 @@ void hal_isr_ack(void)
 
 uint32_t hal_cycles(void)
 {
-    /* Simulated time, so runs stay reproducible; wraps like the 32-bit counter.
-     * It stands still inside the ISR, except in an injected overrun: every
-     * call after the ISR's first is isr_overrun_run_s later. */
-    double t = g_sim.t_s;
-    if (g_sim.in_isr && (g_sim.isr_cycles_calls > 0u) &&
-        ((g_sim.faults_new & SIM_FAULT_ISR_OVERRUN) != 0u)) {
-        t += g_sim.faults.isr_overrun_run_s;
+    /* Simulated time, so runs stay reproducible; wraps like the 32-bit counter
+     * (unsigned arithmetic of the period count). It stands still inside the
+     * ISR, except in an injected overrun: every call after the ISR's first
+     * is isr_overrun_run_s later. */
+    uint32_t extra = 0u;
+    if (g_sim.in_isr && (g_sim.isr_cycles_calls > 0u) && ((g_sim.faults_new & SIM_FAULT_ISR_OVERRUN) != 0u)) {
+        extra = (uint32_t)llround(g_sim.faults.isr_overrun_run_s * CPU_CLOCK_HZ);
     }
     if (g_sim.in_isr) {
         g_sim.isr_cycles_calls++;
     }
-    double cycles = fmod(t * CPU_CLOCK_HZ, ldexp(1.0, CYCLE_COUNTER_BITS));
-    return (uint32_t)cycles;
+    return g_sim.cycles + extra;
 }
 
 void hal_watchdog_kick(void)
