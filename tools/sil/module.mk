@@ -39,3 +39,6 @@ TEST_SRCS_test_sil_limits := tools/sil/sil.c
 # band, the refusal policy; both methods on the same scenarios.
 TEST_LIBS_test_sil_identify := silrun firmware sim control
 TEST_SRCS_test_sil_identify := tools/sil/sil.c
+
+# The CSV's number format (csv_num.c, in libsilrun) against printf.
+TEST_LIBS_test_csv_num := silrun
