@@ -104,7 +104,7 @@ static const sc_key_t KEYS[] = {
     ANY("identify", "speed_2_rpm", identify.speed_2_rpm, "1000", "speeds mode: speed of point 2 [r/min]"),
     POS("identify", "accel_rpm_s", identify.accel_rpm_s, "2500", "speeds mode: ramp of the commanded speed [r/min/s]"),
     /* step 1 on a real ADC (issue 13 part A; rs_ident.h, observer_design.md sec. 6) */
-    POS("identify", "R_se_max_rel", identify.R_se_max_rel, "0.01", "largest standard error of R^ accepted, x R^"),
+    POS("identify", "R_se_max_rel", identify.R_se_max_rel, "0.015", "largest standard error of R^ accepted, x R^"),
     POS("identify", "batch_s", identify.batch_s, "0.005", "batch of the standard error's batch means [s]"),
     NN("identify", "window_max_s", identify.window_max_s, "0.3",
        "window 2 is lengthened up to this while the standard error of R^ is too large [s]"),
