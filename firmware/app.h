@@ -30,9 +30,11 @@
  * Why the sequence is built this way (dead points of the alignment,
  * open-loop voltage, the handover): firmware/startup_design.md.
  *
- * Background requests (start, stop, fault reset) only set a flag; the ISR
- * carries them out at the start of its next call, so the controller state
- * is only ever touched from the ISR. A fault turns the PWM off in the same
+ * Background requests (start, stop, fault reset, the operator's
+ * references, mode and method) only set a flag; the ISR carries them out
+ * at the start of its next call, so the controller state is only ever
+ * touched from the ISR. ctrl_track() runs first in every call, in every
+ * state: the controller owns the encoder. A fault turns the PWM off in the same
  * ISR call that detected it and keeps a snapshot (protect.h).
  *
  * Protection (protect.h) in every state but FAULT, and from the state's
@@ -67,6 +69,7 @@ typedef struct {
     float speed_max_rad_s;      /* overspeed trip, mechanical [rad/s]; also sets the encoder jump limit */
     uint32_t isr_period_cycles; /* control period in hal_cycles() counts [cycles] */
     uint32_t isr_budget_cycles; /* longest allowed app_isr run [cycles] */
+    protect_watch_cfg_t watch;  /* open phase, frozen current reading, lost encoder (protect.h); te_max_Nm and pole_pairs are taken from ctrl */
     /* start-up sequence */
     bool calibrate;             /* measure the current offsets at every start */
     float cal_settle_s;         /* PWM off this long before averaging [s] */
@@ -88,6 +91,13 @@ typedef struct {
     float rsid_window_max_s;    /* window 2 lengthened up to this while se(R^) is too large [s] */
     app_rsid_refusal_t rsid_on_refusal; /* a refused step 1: fault, or conventional with a warning */
 } app_cfg_t;
+
+/* The operator's input: references, mode, method (app_request_op). */
+typedef struct {
+    ctrl_ref_t ref;             /* [rad/s mech, N m, V] */
+    ctrl_mode_t mode;
+    ctrl_method_t method;
+} app_op_t;
 
 typedef struct {
     app_cfg_t cfg;
@@ -112,6 +122,11 @@ typedef struct {
     volatile uint16_t req_start;
     volatile uint16_t req_stop;
     volatile uint16_t req_fault_reset;
+    /* The operator's request: written whole by the background between
+     * req_op = 0 and req_op = 1, taken by the ISR at its next start. */
+    volatile app_op_t op_req;
+    volatile uint16_t req_op;
+    app_op_t op_taken;             /* the last request the ISR took */
 } app_t;
 
 /* Start-up: the board's configuration (firmware/board_cfg.h) into *cfg. */
@@ -130,6 +145,11 @@ void app_background(app_t *app);
 
 /* Background: INIT or IDLE -> the start sequence at the next ISR. */
 void app_request_start(app_t *app);
+
+/* Background: the operator's references, mode and method; the ISR takes
+ * them together at the start of its next call (ctrl_set_ref, _mode,
+ * _method there: the background never writes the controller). */
+void app_request_op(app_t *app, const app_op_t *op);
 
 /* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);

@@ -49,6 +49,29 @@ static void board_cfg_from(const scenario_t *sc, hal_sim_cfg_t *hc)
     hc->trip_current_A = sc->plant.trip_A;
 }
 
+static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
+{
+    hal_sim_faults_none(f);
+    f->open_phase_s = sc->faults.open_phase_s;
+    f->open_phase = sc->faults.open_phase;
+    f->short_s = sc->faults.short_s;
+    f->short_pair = sc->faults.short_phases;
+    f->short_ohm = sc->faults.short_ohm;
+    f->short_H = sc->faults.short_H;
+    f->adc_stuck_s = sc->faults.adc_stuck_s;
+    f->adc_stuck_channel = sc->faults.adc_stuck;
+    f->enc_lost_s = sc->faults.encoder_lost_s;
+    f->enc_jump_s = sc->faults.encoder_jump_s;
+    f->enc_jump_counts = (int32_t)llround(sc->faults.encoder_jump_counts);
+    f->vdc_sag_s = sc->faults.vdc_sag_s;
+    f->vdc_sag_V = sc->faults.vdc_sag_V;
+    f->vdc_surge_s = sc->faults.vdc_surge_s;
+    f->vdc_surge_V = sc->faults.vdc_surge_V;
+    f->gate_trip_s = sc->faults.gate_trip_s;
+    f->isr_overrun_s = sc->faults.isr_overrun_s;
+    f->isr_overrun_run_s = sc->faults.isr_overrun_run_s;
+}
+
 static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_t *ac)
 {
     app_cfg_default(ac);   /* the board's protection, ISR timing and start-up sequence */
@@ -113,7 +136,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
 {
     hal_sim_truth_t tr;
     hal_sim_truth(&tr);
-    const ctrl_mon_t *m = &g_app.ctrl.mon;
+    const ctrl_mon_t *m = ctrl_monitor(&g_app.ctrl);
     const bool closed = (sc->controller.mode != SC_MODE_OPEN_LOOP);
     r->t_s = tr.t_s;
     r->state = (double)g_app.state;
@@ -143,6 +166,36 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->est = (double)m->est;
     r->est_hold = (double)m->est_hold;
     r->R_ohm = tr.R_ohm;
+    r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
+    r->inj = (double)tr.faults_active;
+    const bool faulted = (g_app.state == APP_STATE_FAULT);
+    r->fault_value = faulted ? (double)g_app.snapshot.value : 0.0;
+    r->fault_limit = faulted ? (double)g_app.snapshot.limit : 0.0;
+}
+
+/* The fault bookkeeping of sil_result_t after one period. */
+static void track_faults(const hal_sim_truth_t *tr, bool was_faulted, sil_result_t *res)
+{
+    const bool faulted = (g_app.state == APP_STATE_FAULT);
+    if (isnan(res->t_inject_s) && tr->faults_active != 0u) {
+        res->t_inject_s = tr->t_s;
+    }
+    if (faulted && isnan(res->t_fault_s)) {
+        res->t_fault_s = tr->t_s;
+        res->fault_state = (int)g_app.snapshot.state;
+        res->fault_value = (double)g_app.snapshot.value;
+        res->fault_limit = (double)g_app.snapshot.limit;
+        res->fault_ia_A = (double)g_app.snapshot.sample.ia_A;
+        res->fault_ib_A = (double)g_app.snapshot.sample.ib_A;
+        res->fault_vdc_V = (double)g_app.snapshot.sample.vdc_V;
+        res->fault_enc_count = g_app.snapshot.sample.enc_count;
+    }
+    if (faulted && tr->pwm_enabled) {
+        res->gates_on_in_fault++;
+    }
+    if (was_faulted && !faulted) {
+        res->fault_exits++;
+    }
 }
 
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res)
@@ -153,15 +206,23 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     app_cfg_from(sc, &hc, &ac);
     memset(res, 0, sizeof *res);
     res->t_run_s = NAN;
+    res->t_inject_s = NAN;
+    res->t_fault_s = NAN;
+    res->fault_value = NAN;
+    res->fault_limit = NAN;
+    hal_sim_faults_t hf;
+    faults_from(sc, &hf);
 
     hal_sim_configure(&hc);
+    hal_sim_set_faults(&hf);
     hal_init();
     app_init(&g_app, &ac);
-    ctrl_set_mode(&g_app.ctrl, ctrl_mode_of(sc->controller.mode));
-    /* refused when ctrl_init refused the observer's settings: the app then faults CONFIG at the
-     * start if [identify] asks for step 1, else the drive runs conventional */
-    (void)ctrl_set_method(&g_app.ctrl, (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED
-                                                                                     : CTRL_METHOD_CONVENTIONAL);
+    /* the operator's mode and method, with each period's references below; a
+     * proposed method ctrl_init refused stays conventional (the app faults
+     * CONFIG at the start if [identify] asks for step 1) */
+    app_op_t op;
+    op.mode = ctrl_mode_of(sc->controller.mode);
+    op.method = (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED : CTRL_METHOD_CONVENTIONAL;
     hal_isr_attach(sil_isr);
     app_request_start(&g_app);
 
@@ -171,22 +232,23 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     for (uint32_t k = 0; k < n && rc == 0; k++) {
         const double t = (double)k * Ts;
         const double speed_ref_rpm = profile_eval(&sc->reference.speed_rpm, t);
-        ctrl_ref_t ref;
-        ref.speed_ref_rad_s = (float)(speed_ref_rpm / RPM_PER_RAD_S);
-        ref.te_ref_Nm = (float)profile_eval(&sc->reference.torque_Nm, t);
-        ref.ud_ref_V = (float)profile_eval(&sc->reference.ud_V, t);
-        ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
-        ctrl_set_ref(&g_app.ctrl, &ref);
+        op.ref.speed_ref_rad_s = (float)(speed_ref_rpm / RPM_PER_RAD_S);
+        op.ref.te_ref_Nm = (float)profile_eval(&sc->reference.torque_Nm, t);
+        op.ref.ud_ref_V = (float)profile_eval(&sc->reference.ud_V, t);
+        op.ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
+        app_request_op(&g_app, &op);   /* taken at the start of this period's ISR */
         hal_sim_set_load(profile_eval(&sc->load.torque_Nm, t));
         if (sc->plant.R_profile.n > 1u) {
             hal_sim_set_R_ohm(profile_eval(&sc->plant.R_profile, t));   /* the winding warms */
         }
 
+        const bool was_faulted = (g_app.state == APP_STATE_FAULT);
         hal_sim_period();
         app_background(&g_app);
 
         hal_sim_truth_t tr;
         hal_sim_truth(&tr);
+        track_faults(&tr, was_faulted, res);
         if (isnan(res->t_run_s) && g_app.state == APP_STATE_RUN) {
             res->t_run_s = tr.t_s;
         }
@@ -205,7 +267,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     res->final_fault = (int)g_app.fault;
     res->warnings = g_app.warnings;
     res->rsid_refusal = (int)g_app.rsid_refusal.fault;
-    res->enc_offset_el_rad = (double)g_app.ctrl.enc.offset_rad;
+    res->enc_offset_el_rad = (double)ctrl_enc_offset_el_rad(&g_app.ctrl);
     res->i_offset_a_A = (double)g_app.offset_ia_A;
     res->i_offset_b_A = (double)g_app.offset_ib_A;
     return rc;
@@ -226,7 +288,7 @@ static const sil_col_t COLS[] = {
     COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
-    COL(R_ohm), COL(est_hold),
+    COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 
