@@ -42,6 +42,11 @@
 /* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
 
+/* A per-leg square wave of amplitude dv (dead time, device drop) has the
+ * rotor-frame fundamental (4/pi) dv against the current (design sec. 6). */
+#define FUNDAMENTAL_OF_SQUARE 1.27323954f
+#define QUARTER_PI 0.785398163f
+
 /* What db.par holds (ctrl_t.model_src). */
 #define MODEL_OBSERVER 0u      /* the observer's estimates, up to date */
 #define MODEL_NOMINAL  1u      /* the configured parameters */
@@ -77,6 +82,8 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     ec->psi_min_Wb = sc->psi_min_Wb;
     ec->psi_max_Wb = sc->psi_max_Wb;
     rs_ident_cfg_defaults(&cfg->rsid, cfg->Rs_Ohm);
+    r_track_cfg_defaults(&cfg->rtrack);
+    cfg->track_R = 0u;
 }
 
 /* The proposed method's blocks, with the fields that repeat ctrl_cfg_t taken from it. */
@@ -104,6 +111,11 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
         (void)param_est_init(&c->pe, &ec, &c->smo); /* refused too: frozen for good */
         (void)rs_ident_init(&c->ri, &rc);
         return CTRL_CFG_OBSERVER;
+    }
+    if (!r_track_init(&c->rt, &cfg->rtrack)) {
+        (void)param_est_init(&c->pe, &ec, &c->smo);
+        (void)rs_ident_init(&c->ri, &rc);
+        return CTRL_CFG_RTRACK;
     }
     if (!param_est_init(&c->pe, &ec, &c->smo)) {
         (void)rs_ident_init(&c->ri, &rc);
@@ -176,6 +188,9 @@ void ctrl_reset(ctrl_t *c)
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
     c->est = CTRL_EST_OFF;
+    r_track_reset(&c->rt);
+    c->inv_dv_V = 0.0f;
+    c->rt_flags = 0u;
     pi_reset(&c->speed_pi, 0.0f);
     c->mode = c->mode_req;
     c->u_applied_V.d = 0.0f;
@@ -198,6 +213,7 @@ void ctrl_reset(ctrl_t *c)
     c->mon.fq_est = 0.0f;
     c->mon.est = CTRL_EST_OFF;
     c->mon.model_from_observer = 0u;
+    c->mon.inv_err_V = 0.0f;
 }
 
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
@@ -224,12 +240,76 @@ bool ctrl_rsid_begin(ctrl_t *c)
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
     c->est = CTRL_EST_STEP1;
+    r_track_reset(&c->rt); /* identified again after this step 1 */
+    c->inv_dv_V = 0.0f;
+    c->rt_flags = 0u;
     return true;
 }
 
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
 {
     c->rsid_win = win;
+}
+
+/* R^ tracked from now on when configured. */
+static void start_tracking(ctrl_t *c)
+{
+    r_track_start(&c->rt, (c->cfg.track_R != 0u) ? R_TRACK_TRACK : R_TRACK_OFF);
+}
+
+/* Step 2 starts: estimator running, R tracked when configured. */
+static void start_step2(ctrl_t *c)
+{
+    param_est_run(&c->pe, true);
+    c->est = CTRL_EST_STEP2;
+    if (c->model_src == MODEL_OBSERVER) {
+        c->model_src = MODEL_STALE;
+    }
+    start_tracking(c);
+}
+
+/* Per-leg voltage error dv_V [V] of the dead time's shape added to the
+ * compensation, bumplessly: f^ takes the fundamental -(4/pi) dv i/|i| it
+ * no longer has to explain (design sec. 6). 1 square root, 1 division, once. */
+static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A)
+{
+    const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
+    c->inv_dv_V += dv_V;
+    if (i_abs > 0.0f) {
+        const float k = -FUNDAMENTAL_OF_SQUARE * dv_V / i_abs;
+        c->smo.fd_V += k * i_dq_A.d;
+        c->smo.fq_V += k * i_dq_A.q;
+    }
+}
+
+/* The injection's period: after step 1 the inverter error, in step 2 R^. */
+static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
+{
+    const float z = c->smo.fd_V - omega_el_rad_s * c->smo.L_H * i_dq_A.q; /* L^ law's invariant */
+    const r_track_event_t ev = r_track_step(&c->rt, z, i_dq_A.d, i_dq_A.q);
+
+    if (ev == R_TRACK_IDENT_DONE) {
+        add_inverter_error(c, QUARTER_PI * c->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */
+        c->rt_flags = 0u;
+        start_tracking(c);
+    } else if (ev == R_TRACK_IDENT_REFUSED) {
+        c->rt_flags = CTRL_FLAG_INV_UNIDENTIFIED; /* says so, and keeps the dead time as told */
+        start_tracking(c);
+    } else if (ev == R_TRACK_CYCLE) {
+        /* rho = dR with the inverter error compensated: R^ -= k_R rho, within the band */
+        if (smo_set_R(&c->smo, c->smo.R_Ohm - c->cfg.rtrack.k_R * c->rt.rho_Ohm)) {
+            c->rt_flags &= (uint16_t)~CTRL_FLAG_R_HELD;
+            if (c->model_src == MODEL_OBSERVER) {
+                c->model_src = MODEL_STALE;
+            }
+        } else {
+            c->rt_flags |= CTRL_FLAG_R_HELD;
+        }
+    } else if (ev == R_TRACK_HELD) {
+        c->rt_flags |= CTRL_FLAG_R_HELD;
+    } else {
+        /* cycle under way */
+    }
 }
 
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
@@ -244,11 +324,9 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
         r = RS_IDENT_OUT_OF_BAND; /* same band as rs_ident's: not expected */
     }
     if (r == RS_IDENT_OK) {
-        param_est_run(&c->pe, true);
-        c->est = CTRL_EST_STEP2;
-        if (c->model_src == MODEL_OBSERVER) {
-            c->model_src = MODEL_STALE;
-        }
+        start_step2(c);
+        /* first the inverter error, at R^ = R0 (design sec. 6) */
+        r_track_start(&c->rt, R_TRACK_IDENT);
     } else {
         c->est = CTRL_EST_OFF;
     }
@@ -267,11 +345,7 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
     (void)smo_set_R(&c->smo, R_Ohm); /* in band: accepted */
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
-    param_est_run(&c->pe, true);
-    c->est = CTRL_EST_STEP2;
-    if (c->model_src == MODEL_OBSERVER) {
-        c->model_src = MODEL_STALE;
-    }
+    start_step2(c); /* no inverter-error identification: R is trusted, not measured */
     return true;
 }
 
@@ -290,6 +364,9 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
     if (c->est != CTRL_EST_OFF) {
         /* u(k) is the clamped voltage the last step realised, as the observer needs */
         const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
+        if (c->rt.phase != R_TRACK_OFF) {
+            ctrl_r_track_step(c, i_dq_A, omega_el_rad_s); /* may end step 1 */
+        }
         if (c->est == CTRL_EST_STEP1) {
             rs_ident_step(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
                           omega_el_rad_s);
@@ -320,7 +397,8 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
 static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
 {
     const ab_t i = park_inv(i_dq_A, sin_a, cos_a);
-    const float dv = c->deadtime_frac * vdc_V;
+    const float dv_sum = c->deadtime_frac * vdc_V + c->inv_dv_V;
+    const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
     const float ia = i.a;
     const float ib = -HALF * i.a + HALF * MATHX_SQRT3_F * i.b;
     const float ic = -HALF * i.a - HALF * MATHX_SQRT3_F * i.b;
@@ -391,6 +469,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
             te_ref = mathx_clampf(c->ref.te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
         }
         psi_ref = mtpa_psi_s_ref(par->Ls_H, par->psi_f_Wb, cfg->pole_pairs, te_ref); /* sec. III */
+        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H, par->psi_f_Wb); /* + L id* (design sec. 6) */
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
     }
 
@@ -442,6 +521,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     }
     c->mon.est = c->est;
     c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
+    c->mon.inv_err_V = FUNDAMENTAL_OF_SQUARE * c->inv_dv_V;
 
     /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
      * are in it because the blocks clamp (a NaN would become a bound); the
@@ -461,5 +541,5 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     out->duty[0] = duty.a;
     out->duty[1] = duty.b;
     out->duty[2] = duty.c;
-    out->flags = flags;
+    out->flags = flags | c->rt_flags;
 }

@@ -49,6 +49,7 @@
 #include "encoder.h"
 #include "param_est.h"
 #include "pi.h"
+#include "r_track.h"
 #include "rs_ident.h"
 #include "smo.h"
 
@@ -59,6 +60,9 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_VOLTAGE_LIMIT    0x0001u /* vector clamped to the hexagon */
 #define CTRL_FLAG_FLUX_UNREACHABLE 0x0002u /* negative discriminant: flux target not reachable in one period */
 #define CTRL_FLAG_NONFINITE        0x0004u /* a non-finite value appeared; duties are 0.5 and the app must fault */
+/* Inverter error and R tracking (observer_design.md sec. 6); high bits, set while it lasts: */
+#define CTRL_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
+#define CTRL_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
 
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
@@ -86,19 +90,23 @@ typedef struct {
     smo_cfg_t smo;              /* observer gains and ranges */
     param_est_cfg_t est;        /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
+    r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
+    uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection (design sec. 6) */
 } ctrl_cfg_t;
 
 typedef enum {
     CTRL_CFG_OK = 0,
     CTRL_CFG_OBSERVER = 1,      /* smo_init refused: see ctrl_t.smo.status (stability, (36)) */
     CTRL_CFG_ESTIMATOR = 2,     /* param_est_init refused */
-    CTRL_CFG_RSID = 3           /* rs_ident_init refused */
+    CTRL_CFG_RSID = 3,          /* rs_ident_init refused */
+    CTRL_CFG_RTRACK = 4         /* r_track_init refused */
 } ctrl_status_t;
 
 /* Where the proposed method's steps stand (ctrl_t.est, monitor). */
 typedef enum {
     CTRL_EST_OFF = 0,           /* observer stopped */
-    CTRL_EST_STEP1 = 1,         /* observer runs, R^ being identified, conventional control */
+    CTRL_EST_STEP1 = 1,         /* observer runs, R^ (then the inverter error) being identified,
+                                 * conventional control */
     CTRL_EST_STEP2 = 2          /* observer and L^, psi^ estimator run */
 } ctrl_est_t;
 
@@ -122,6 +130,7 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float fd_est, fq_est;                 /* observer disturbances (0 while the observer is stopped) */
     ctrl_est_t est;                       /* step of the proposed method */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
+    float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 6) */
 } ctrl_mon_t;
 
 typedef struct {
@@ -142,6 +151,9 @@ typedef struct {
     rs_ident_t ri;              /* step 1 windows */
     rs_ident_window_t rsid_win; /* window the coming periods go into */
     rs_ident_out_t rsid_out;    /* last ctrl_rsid_finish() result (R^, window means) */
+    r_track_t rt;               /* d-axis injection (inverter error, R tracking) */
+    float inv_dv_V;             /* per-leg voltage error identified on top of the dead time's [V] */
+    uint16_t rt_flags;          /* CTRL_FLAG_INV_UNIDENTIFIED, CTRL_FLAG_R_HELD while they last */
     uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */
     ctrl_mon_t mon;
 } ctrl_t;
@@ -184,8 +196,10 @@ bool ctrl_rsid_begin(ctrl_t *c);
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win);
 
 /* Step 1 ends: solves (design sec. 1c) into c->rsid_out; on RS_IDENT_OK
- * sets R^ bumplessly and starts step 2, otherwise stops the observer and
- * returns the reason. ISR once (about 20 divisions) or background. */
+ * sets R^ bumplessly and starts step 2 - its first 0.12 s at the same
+ * operating point identify the inverter error (design sec. 6) -
+ * otherwise stops the
+ * observer and returns the reason. ISR once (about 20 divisions) or background. */
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
 
 /* Step 2 without step 1, for an R the caller trusts (a recent

@@ -58,6 +58,7 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->align_settle_s = BOARD_ALIGN_SETTLE_S;
 
     ctrl_cfg_proposed_defaults(c, BOARD_RSID_R_MIN_PER_R * MOTOR_R_OHM, BOARD_RSID_R_MAX_PER_R * MOTOR_R_OHM);
+    c->track_R = BOARD_TRACK_R;
     cfg->rsid_mode = (app_rsid_mode_t)BOARD_RSID_MODE;
     cfg->rsid_settle_1_s = BOARD_RSID_SETTLE_1_S;
     cfg->rsid_window_s = BOARD_RSID_WINDOW_S;

@@ -94,6 +94,8 @@ static const sc_key_t KEYS[] = {
     ANY("identify", "speed_1_rpm", identify.speed_1_rpm, "500", "speeds mode: speed of point 1 [r/min]"),
     ANY("identify", "speed_2_rpm", identify.speed_2_rpm, "1000", "speeds mode: speed of point 2 [r/min]"),
     POS("identify", "accel_rpm_s", identify.accel_rpm_s, "2500", "speeds mode: ramp of the commanded speed [r/min/s]"),
+    ENUM("identify", "track_R", identify.track_R, "off", ONOFF_NAMES,
+         "off | on: R^ tracked in step 2 by a d-current injection (a warming winding)"),
 
     PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
     PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),

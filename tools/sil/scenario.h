@@ -58,6 +58,7 @@ typedef struct {
         uint32_t mode;             /* sc_rsid_mode_t */
         double settle_1_s, window_s, settle_2_s;
         double speed_1_rpm, speed_2_rpm, accel_rpm_s;
+        uint32_t track_R;          /* sc_onoff_t: R^ tracked in step 2 (ctrl_cfg_t.track_R) */
     } identify;
     struct {
         profile_t speed_rpm, torque_Nm, ud_V, uq_V;

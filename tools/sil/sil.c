@@ -83,6 +83,7 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     const double R_max = isnan(sc->controller.R_max_ohm) ? BOARD_RSID_R_MAX_PER_R * sc->controller.R_ohm
                                                          : sc->controller.R_max_ohm;
     ctrl_cfg_proposed_defaults(c, (float)R_min, (float)R_max);
+    c->track_R = (sc->identify.track_R == SC_ON) ? 1u : 0u;
     ac->rsid_mode = (app_rsid_mode_t)sc->identify.mode;
     ac->rsid_settle_1_s = (float)sc->identify.settle_1_s;
     ac->rsid_window_s = (float)sc->identify.window_s;
@@ -133,6 +134,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->fq_est = (double)m->fq_est;
     r->est = (double)m->est;
     r->R_ohm = tr.R_ohm;
+    r->inv_err_est_V = (double)m->inv_err_V;
 }
 
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res)
@@ -213,7 +215,7 @@ static const sil_col_t COLS[] = {
     COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
-    COL(R_ohm),
+    COL(R_ohm), COL(inv_err_est_V),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 
