@@ -3,7 +3,8 @@
  *
  * Cost per ctrl_step() in speed/torque mode, as measured by `make
  * bench-ctrl` (callgrind, x86-64 -O2):
- *   conventional: 1079 instructions; proposed (step 2 running): 1475 (+37 %);
+ *   conventional: 1097 instructions; proposed (step 2 running): 1497 (+36 %),
+ *            1571 with track_R (observer_design.md sec. 6);
  *            of these about 100 are the dead-time feedforward (both methods)
  *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
  *            rotation by a short series), both methods;

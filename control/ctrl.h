@@ -28,6 +28,11 @@
  *      estimates R^, L^, psi^ and x(k+1) from i^(k+1) (eq. 11, 12) instead
  *      of eq. (10); MTPA, eq. (17), limit, SVPWM as above
  *   5. monitor: fd^, fq^ and R^, L^, psi^ while the observer runs
+ * Inverter error and warming winding (observer_design.md sec. 6, r_track.h):
+ *   0.1 s into step 2, a 1 A square-wave i_d (no torque) for 0.12 s gives
+ *   the inverter voltage error the dead-time compensation left; it is fed
+ *   forward from then on, so psi^ does not learn it as flux. With
+ *   cfg.track_R a 0.5 A injection then keeps R^ on the winding's R.
  * Method switching policy (bumpless both ways): once step 2 has started,
  * observer and estimator keep running whatever the method, so
  * CONVENTIONAL -> PROPOSED takes a converged observer and PROPOSED ->

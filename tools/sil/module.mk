@@ -30,3 +30,6 @@ test-drive-sil-cli: $(DRIVE_SIL)
 # of tools/scenarios/, and the controller alone on hal_sim).
 TEST_LIBS_test_sil_proposed := silrun firmware sim control
 TEST_SRCS_test_sil_proposed := tools/sil/sil.c
+# The proposed method on a real inverter: inverter error, warming winding (issue 13).
+TEST_LIBS_test_sil_inverter := silrun firmware sim control
+TEST_SRCS_test_sil_inverter := tools/sil/sil.c
