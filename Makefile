@@ -104,7 +104,7 @@ $(OUT)/tests/$1: $(call objs,tests/$1.c $(TEST_SRCS_$1)) $(call test_libs,$1)
 endef
 
 # ---- fragments -------------------------------------------------------------
--include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk tools/sil/module.mk hal/f28335/module.mk tests/module.mk tools/module.mk tools/report.mk)
+-include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk tools/sil/module.mk hal/f28335/module.mk tests/module.mk tools/module.mk tools/report.mk tools/sweep.mk)
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 
@@ -138,6 +138,7 @@ check-deps:
 
 check: check-deps
 	@tools/check/portability.sh $(BUILD)/check
+	@tools/check/target_cfg.sh
 
 # ---- target build --------------------------------------------------------
 firmware:

@@ -4,7 +4,7 @@
  * Cost per ctrl_step() in speed/torque mode, as measured by `make
  * bench-ctrl` (callgrind, x86-64 -O2):
  *   conventional: 1097 instructions; proposed (step 2 running): 1497 (+36 %),
- *            1571 with track_R (observer_design.md sec. 6);
+ *            1571 with track_R (observer_design.md sec. 7);
  *            of these about 100 are the dead-time feedforward (both methods)
  *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
  *            rotation by a short series), both methods;
@@ -40,11 +40,14 @@
 #define OBS_L_MIN_STABILITY_MARGIN 1.25f
 #define HALF 0.5f
 #define TWO_THIRDS 0.666666667f
+/* The default R^ band's top stays this fraction of the largest R that
+ * meets (36) with the observer's default gains (18 Ohm for Table I). */
+#define RSID_BAND_KS_MARGIN 0.9f
 /* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
 
 /* A per-leg square wave of amplitude dv (dead time, device drop) has the
- * rotor-frame fundamental (4/pi) dv against the current (design sec. 6). */
+ * rotor-frame fundamental (4/pi) dv against the current (design sec. 7). */
 #define FUNDAMENTAL_OF_SQUARE 1.27323954f
 #define QUARTER_PI 0.785398163f
 
@@ -87,6 +90,18 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     cfg->track_R = 0u;
 }
 
+void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
+{
+    smo_cfg_t sc;
+    smo_cfg_defaults(&sc, cfg->Ts_s, cfg->Rs_Ohm, cfg->Ls_H, cfg->psi_f_Wb);
+    /* (36): Ks > ef_max + R_max phi, with a margin */
+    const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (sc.Ks_V - sc.ef_max_V) / sc.phi_A;
+    const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->Rs_Ohm;
+    *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->Rs_Ohm;
+    *R_max_Ohm = (R_top_Ohm < R_ks_Ohm) ? R_top_Ohm : R_ks_Ohm;
+    *R_max_Ohm = (*R_max_Ohm > cfg->Rs_Ohm) ? *R_max_Ohm : cfg->Rs_Ohm;
+}
+
 /* The proposed method's blocks, with the fields that repeat ctrl_cfg_t taken from it. */
 static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
 {
@@ -125,12 +140,19 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     return rs_ident_init(&c->ri, &rc) ? CTRL_CFG_OK : CTRL_CFG_RSID;
 }
 
+/* status with bit added unless ok. */
+static ctrl_status_t refused_if(bool ok, ctrl_status_t bit, ctrl_status_t status)
+{
+    return ok ? status : (ctrl_status_t)(status | bit);
+}
+
 ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 {
     encoder_cfg_t ec;
     dbdtc_cfg_t dc;
     pi_cfg_t pc;
     const rs_ident_out_t no_result = { 0 };
+    ctrl_status_t status = CTRL_CFG_OK;
 
     c->cfg = *cfg;
 
@@ -139,7 +161,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     ec.offset_elec_rad = cfg->enc_offset_el_rad;
     ec.Ts_s = cfg->Ts_s;
     ec.pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
-    (void)encoder_init(&c->enc, &ec); /* an invalid cfg reads angle 0, speed 0 */
+    status = refused_if(encoder_init(&c->enc, &ec), CTRL_CFG_ENCODER, status); /* refused: angle 0, speed 0 */
 
     dc.Ts_s = cfg->Ts_s;
     dc.pole_pairs = cfg->pole_pairs;
@@ -151,21 +173,22 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     dc.u_max_V = cfg->u_max_V;
     dc.te_max_Nm = cfg->te_max_Nm;
     dc.psi_max_Wb = cfg->psi_max_Wb;
-    dbdtc_init(&c->db, &dc);
+    status = refused_if(dbdtc_init(&c->db, &dc), CTRL_CFG_DBDTC, status);
 
     pc.Kp = cfg->speed_kp_Nms_rad;
     pc.Ki = cfg->speed_ki_Nm_rad;
     pc.Ts_s = cfg->Ts_s;
     pc.u_min = -cfg->te_max_Nm;
     pc.u_max = cfg->te_max_Nm;
-    (void)pi_init(&c->speed_pi, &pc); /* an invalid cfg gives Te* = 0 */
+    status = refused_if(pi_init(&c->speed_pi, &pc), CTRL_CFG_SPEED_PI, status); /* refused: Te* = 0 */
 
-    /* td/Ts; a non-finite or implausible dead time gives no compensation */
+    /* td/Ts; a non-finite or implausible dead time is refused (and not compensated) */
     c->deadtime_frac = cfg->deadtime_s / cfg->Ts_s;
     if (!((c->deadtime_frac >= 0.0f) && (c->deadtime_frac <= DEADTIME_FRAC_MAX))) {
         c->deadtime_frac = 0.0f;
+        status = refused_if(false, CTRL_CFG_DEADTIME, status);
     }
-    c->status = init_proposed(c, cfg);
+    c->status = (ctrl_status_t)(status | init_proposed(c, cfg));
     c->rsid_out = no_result;
     c->rsid_out.R_est_Ohm = cfg->Rs_Ohm;
     c->mode = CTRL_MODE_TORQUE;
@@ -224,7 +247,7 @@ void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
 
 bool ctrl_set_method(ctrl_t *c, ctrl_method_t method)
 {
-    if ((method == CTRL_METHOD_PROPOSED) && (c->status != CTRL_CFG_OK)) {
+    if ((method == CTRL_METHOD_PROPOSED) && ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u)) {
         return false;
     }
     c->method = method; /* one store: the ISR sees the old or the new method */
@@ -233,7 +256,7 @@ bool ctrl_set_method(ctrl_t *c, ctrl_method_t method)
 
 bool ctrl_rsid_begin(ctrl_t *c)
 {
-    if (c->status != CTRL_CFG_OK) {
+    if ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) {
         return false;
     }
     smo_reset(&c->smo); /* nominal R, L, psi: rs_ident's dR is relative to them */
@@ -271,7 +294,7 @@ static void start_step2(ctrl_t *c)
 
 /* Per-leg voltage error dv_V [V] of the dead time's shape added to the
  * compensation, bumplessly: f^ takes the fundamental -(4/pi) dv i/|i| it
- * no longer has to explain (design sec. 6). 1 square root, 1 division, once. */
+ * no longer has to explain (design sec. 7). 1 square root, 1 division, once. */
 static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A)
 {
     const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
@@ -313,6 +336,11 @@ static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
     }
 }
 
+rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
+{
+    return rs_ident_solve(&c->ri, out);
+}
+
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 {
     rs_ident_result_t r = rs_ident_solve(&c->ri, &c->rsid_out);
@@ -326,7 +354,7 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
     }
     if (r == RS_IDENT_OK) {
         start_step2(c);
-        /* first the inverter error, at R^ = R0 (design sec. 6) */
+        /* first the inverter error, at R^ = R0 (design sec. 7) */
         r_track_start(&c->rt, R_TRACK_IDENT);
     } else {
         c->est = CTRL_EST_OFF;
@@ -337,7 +365,8 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 bool ctrl_est_start(ctrl_t *c, float R_Ohm)
 {
     /* ! (in band): NaN fails too */
-    if ((c->status != CTRL_CFG_OK) || !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
+    if (((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) ||
+        !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
         return false;
     }
     if (c->est == CTRL_EST_OFF) {
@@ -425,6 +454,44 @@ static void rotate_sincos(float s, float c, float delta_rad, float *s_out, float
     *c_out = c * cd - s * sd;
 }
 
+/* The period's duties out; when not finite (the period's check sum, or
+ * SVPWM refused its input), 50 % duties, no realised voltage and
+ * CTRL_FLAG_NONFINITE. */
+static void output_duties(ctrl_t *c, svpwm_duty_t duty, bool finite, uint16_t flags, ctrl_out_t *out)
+{
+    if (!finite) {
+        duty.a = DUTY_ZERO_VOLTAGE;
+        duty.b = DUTY_ZERO_VOLTAGE;
+        duty.c = DUTY_ZERO_VOLTAGE;
+        c->u_applied_V.d = 0.0f;
+        c->u_applied_V.q = 0.0f;
+        flags |= CTRL_FLAG_NONFINITE;
+    }
+    out->duty[0] = duty.a;
+    out->duty[1] = duty.b;
+    out->duty[2] = duty.c;
+    out->flags = flags;
+}
+
+void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out)
+{
+    svpwm_duty_t duty;
+    ab_t u_real;
+    float s;
+    float co;
+    uint16_t flags = 0u;
+    const uint16_t pwm_flags = svpwm_duty(u_ab_V, vdc_V, &duty, &u_real);
+
+    if ((pwm_flags & SVPWM_SATURATED) != 0u) {
+        flags |= CTRL_FLAG_VOLTAGE_LIMIT;
+    }
+    mathx_sincosf(c->enc.theta_e_rad, &s, &co);
+    c->u_applied_V = park(u_real, s, co);
+    /* one finiteness check: NaN and Inf survive a sum */
+    const float chk = u_ab_V.a + u_ab_V.b + vdc_V + duty.a + duty.b + duty.c + c->u_applied_V.d + c->u_applied_V.q;
+    output_duties(c, duty, mathx_isfinitef(chk) && ((pwm_flags & SVPWM_INVALID_INPUT) == 0u), flags, out);
+}
+
 void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
     const ctrl_cfg_t *cfg = &c->cfg;
@@ -470,7 +537,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
             te_ref = mathx_clampf(c->ref.te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
         }
         psi_ref = mtpa_psi_s_ref(par->Ls_H, par->psi_f_Wb, cfg->pole_pairs, te_ref); /* sec. III */
-        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H, par->psi_f_Wb); /* + L id* (design sec. 6) */
+        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H, par->psi_f_Wb); /* + L id* (design sec. 7) */
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
     }
 
@@ -531,16 +598,5 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
           c->ref.ud_ref_V + c->ref.uq_ref_V + omega + x.te_Nm + u.d + u.q + duty.a + duty.b +
           duty.c + c->u_applied_V.d + c->u_applied_V.q + c->smo.fd_V + c->smo.fq_V +
           c->smo.i_hat_A.d + c->smo.i_hat_A.q + c->smo.L_H + c->smo.psi_f_Wb;
-    if (!mathx_isfinitef(chk)) {
-        duty.a = DUTY_ZERO_VOLTAGE;
-        duty.b = DUTY_ZERO_VOLTAGE;
-        duty.c = DUTY_ZERO_VOLTAGE;
-        c->u_applied_V.d = 0.0f;
-        c->u_applied_V.q = 0.0f;
-        flags |= CTRL_FLAG_NONFINITE;
-    }
-    out->duty[0] = duty.a;
-    out->duty[1] = duty.b;
-    out->duty[2] = duty.c;
-    out->flags = flags | c->rt_flags;
+    output_duties(c, duty, mathx_isfinitef(chk), flags | c->rt_flags, out);
 }

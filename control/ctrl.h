@@ -28,7 +28,7 @@
  *      estimates R^, L^, psi^ and x(k+1) from i^(k+1) (eq. 11, 12) instead
  *      of eq. (10); MTPA, eq. (17), limit, SVPWM as above
  *   5. monitor: fd^, fq^ and R^, L^, psi^ while the observer runs
- * Inverter error and warming winding (observer_design.md sec. 6, r_track.h):
+ * Inverter error and warming winding (observer_design.md sec. 7, r_track.h):
  *   0.1 s into step 2, a 1 A square-wave i_d (no torque) for 0.12 s gives
  *   the inverter voltage error the dead-time compensation left; it is fed
  *   forward from then on, so psi^ does not learn it as flux. With
@@ -65,7 +65,7 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_VOLTAGE_LIMIT    0x0001u /* vector clamped to the hexagon */
 #define CTRL_FLAG_FLUX_UNREACHABLE 0x0002u /* negative discriminant: flux target not reachable in one period */
 #define CTRL_FLAG_NONFINITE        0x0004u /* a non-finite value appeared; duties are 0.5 and the app must fault */
-/* Inverter error and R tracking (observer_design.md sec. 6); high bits, set while it lasts: */
+/* Inverter error and R tracking (observer_design.md sec. 7); high bits, set while it lasts: */
 #define CTRL_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
 #define CTRL_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
 
@@ -96,16 +96,25 @@ typedef struct {
     param_est_cfg_t est;        /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
-    uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection (design sec. 6) */
+    uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection (design sec. 7) */
 } ctrl_cfg_t;
 
-typedef enum {
-    CTRL_CFG_OK = 0,
-    CTRL_CFG_OBSERVER = 1,      /* smo_init refused: see ctrl_t.smo.status (stability, (36)) */
-    CTRL_CFG_ESTIMATOR = 2,     /* param_est_init refused */
-    CTRL_CFG_RSID = 3,          /* rs_ident_init refused */
-    CTRL_CFG_RTRACK = 4         /* r_track_init refused */
-} ctrl_status_t;
+/* What ctrl_init refused, a set of bits (0: nothing). A refused block
+ * must not run: the app refuses a start that needs one (CONFIG fault). */
+typedef uint16_t ctrl_status_t;
+#define CTRL_CFG_OK         ((ctrl_status_t)0x0000u)
+#define CTRL_CFG_OBSERVER   ((ctrl_status_t)0x0001u) /* smo_init refused: see ctrl_t.smo.status (stability, (36)) */
+#define CTRL_CFG_ESTIMATOR  ((ctrl_status_t)0x0002u) /* param_est_init refused */
+#define CTRL_CFG_RSID       ((ctrl_status_t)0x0004u) /* rs_ident_init refused */
+#define CTRL_CFG_ENCODER    ((ctrl_status_t)0x0008u) /* encoder_init refused (e.g. PLL bandwidth x Ts above its bound) */
+#define CTRL_CFG_SPEED_PI   ((ctrl_status_t)0x0010u) /* pi_init refused the speed PI's gains or limits */
+#define CTRL_CFG_DBDTC      ((ctrl_status_t)0x0020u) /* dbdtc_init refused the model's parameters or bounds */
+#define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts */
+#define CTRL_CFG_RTRACK     ((ctrl_status_t)0x0080u) /* r_track_init refused (d-current injection, design sec. 7) */
+/* Needed by every method (encoder, speed loop, model, output path)... */
+#define CTRL_CFG_NEEDED_ALWAYS   ((ctrl_status_t)(CTRL_CFG_ENCODER | CTRL_CFG_SPEED_PI | CTRL_CFG_DBDTC | CTRL_CFG_DEADTIME))
+/* ...and by the proposed method's steps 1 and 2. */
+#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID | CTRL_CFG_RTRACK))
 
 /* Where the proposed method's steps stand (ctrl_t.est, monitor). */
 typedef enum {
@@ -135,7 +144,7 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float fd_est, fq_est;                 /* observer disturbances (0 while the observer is stopped) */
     ctrl_est_t est;                       /* step of the proposed method */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
-    float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 6) */
+    float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 7) */
 } ctrl_mon_t;
 
 typedef struct {
@@ -170,11 +179,18 @@ typedef struct {
  * Background, before ctrl_init. */
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
 
+/* The default R^ band for cfg->Rs_Ohm (set it first): rs_ident.h's
+ * RS_IDENT_BAND_*_FACTOR x Rs_Ohm, the top kept below the largest R^ the
+ * observer's default gains take under condition (36) (observer_design.md
+ * sec. 6), and not below Rs_Ohm. Background, before ctrl_cfg_proposed_defaults. */
+void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
+
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method
- * conventional. Checks the proposed method's settings (observer stability
- * bound and condition (36) in smo_init, estimator and step-1 limits);
- * anything but CTRL_CFG_OK leaves the conventional method working and the
- * proposed one unavailable: the app must refuse to start when it needs it. */
+ * conventional. Returns the set of refusals of every block (CTRL_CFG_*):
+ * encoder, speed PI, model, dead time, and the proposed method's settings
+ * (observer stability bound and condition (36) in smo_init, estimator and
+ * step-1 limits). A refusal in CTRL_CFG_NEEDED_PROPOSED makes the proposed
+ * method unavailable; the app refuses a start needing any refused block. */
 ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg);
 
 /* Clear states (integrator, speed estimate, applied voltage); observer
@@ -200,9 +216,15 @@ bool ctrl_rsid_begin(ctrl_t *c);
  * while settling). ISR or background. */
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win);
 
+/* Step 1 under way: solves on the windows so far into *out without
+ * ending step 1 or touching the windows (the caller may fill window 2
+ * longer while R^'s standard error is too large, rs_ident.h). ISR or
+ * background (about 25 divisions). */
+rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
+
 /* Step 1 ends: solves (design sec. 1c) into c->rsid_out; on RS_IDENT_OK
  * sets R^ bumplessly and starts step 2 - its first 0.12 s at the same
- * operating point identify the inverter error (design sec. 6) -
+ * operating point identify the inverter error (design sec. 7) -
  * otherwise stops the
  * observer and returns the reason. ISR once (about 20 divisions) or background. */
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
@@ -218,5 +240,13 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref);
 
 /* One control period from the samples *in; duties and flags to *out. ISR, 10 kHz. */
 void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
+
+/* One period of a stationary-frame voltage u_ab_V [V] at the bus vdc_V
+ * [V] (the app's rotor alignment): the same output path as ctrl_step -
+ * SVPWM, the realised voltage kept as u(k) (at the encoder's angle), the
+ * finiteness check (50 % duties and CTRL_FLAG_NONFINITE for a non-finite
+ * input or no bus) - without the dead-time feedforward. ISR, 10 kHz,
+ * instead of ctrl_step. */
+void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out);
 
 #endif /* CTRL_H */

@@ -18,11 +18,23 @@
  * constraint does not depend on u_d (avoids dividing by ~0). */
 #define SIDE_PARALLEL_EPS 1.0e-6f
 
-void dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg)
+/* x finite and > 0 (a NaN fails). */
+static bool positive(float x)
 {
+    return mathx_isfinitef(x) && (x > 0.0f);
+}
+
+bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg)
+{
+    const bool ok = positive(cfg->Ts_s) && positive(cfg->Rs_Ohm) && positive(cfg->Ls_H) &&
+                    positive(cfg->psi_f_Wb) && (cfg->pole_pairs > 0u) && positive(cfg->i_max_A) &&
+                    positive(cfg->omega_max_rad_s) && positive(cfg->u_max_V) && positive(cfg->te_max_Nm) &&
+                    positive(cfg->psi_max_Wb);
+
     db->cfg = *cfg;
     db->inv_Ts_1_s = 1.0f / cfg->Ts_s;
     dbdtc_reset(db);
+    return ok;
 }
 
 void dbdtc_reset(dbdtc_t *db)

@@ -44,6 +44,7 @@
 #ifndef DBDTC_H
 #define DBDTC_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "clarke_park.h"
@@ -89,8 +90,11 @@ typedef struct {
     dbdtc_par_t par;
 } dbdtc_t;
 
-/* Start-up: copy *cfg and set the model parameters from it. */
-void dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg);
+/* Start-up: copy *cfg and set the model parameters from it. False (the
+ * configuration refused; the caller must not run it) when a value is not
+ * finite, Ts_s, Rs_Ohm, Ls_H, psi_f_Wb or a bound is not positive, or
+ * pole_pairs is 0. */
+bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg);
 
 /* Back to the configured parameters. Background, before PWM is enabled. */
 void dbdtc_reset(dbdtc_t *db);

@@ -123,7 +123,7 @@ static r_track_event_t end_cycle(r_track_t *rt)
         }
         ev = R_TRACK_NONE;
         if (rt->cycles >= c->ident_cycles) {
-            /* Ve = -rho |i| with R^ = R0 (design sec. 6) */
+            /* Ve = -rho |i| with R^ = R0 (design sec. 7) */
             const float iq = rt->id_iq / (float)rt->cycles;
             const float i_abs = mathx_sqrtf(rt->i_inj_A * rt->i_inj_A + iq * iq);
             const float Ve = (rt->id_zs / rt->id_is) * i_abs;

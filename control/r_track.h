@@ -1,7 +1,7 @@
 /*
  * r_track.h - d-axis square-wave current injection with synchronous
  * demodulation of the observer's f^_d (beyond the paper; derivation and
- * figures: observer_design.md sec. 6).
+ * figures: observer_design.md sec. 7).
  *
  * For an SPMSM (Ld = Lq) an i_d makes no torque (Te = 1.5 p psi_f iq, eq. 3),
  * so a small i_d square wave +-I can run in service. In steady state the
@@ -38,7 +38,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-/* Design defaults (observer_design.md sec. 6). */
+/* Design defaults (observer_design.md sec. 7). */
 #define R_TRACK_I_IDENT_DEFAULT_A    1.0f   /* identification: 4.5 W for 0.12 s at 3 ohm */
 #define R_TRACK_I_TRACK_DEFAULT_A    0.5f   /* in service: 1.5 R I^2 = 1.1 W at 3 ohm */
 #define R_TRACK_SEG_DEFAULT          100u   /* periods per segment: 10 ms, cycle 40 ms */

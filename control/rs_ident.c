@@ -22,20 +22,23 @@ void rs_ident_cfg_defaults(rs_ident_cfg_t *cfg, float R_nom_Ohm)
     cfg->R_nom_Ohm = R_nom_Ohm;
     cfg->R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * R_nom_Ohm;
     cfg->R_max_Ohm = RS_IDENT_BAND_MAX_FACTOR * R_nom_Ohm;
-    cfg->iq_std_max_A = RS_IDENT_IQ_STD_MAX_DEFAULT_A;
+    cfg->R_se_max_rel = RS_IDENT_R_SE_MAX_REL_DEFAULT;
     cfg->den_ratio_min = RS_IDENT_DEN_RATIO_DEFAULT;
     cfg->n_min = RS_IDENT_N_MIN_DEFAULT;
+    cfg->n_batch = RS_IDENT_N_BATCH_DEFAULT;
 }
 
 bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg)
 {
-    const float sum = cfg->R_nom_Ohm + cfg->R_min_Ohm + cfg->R_max_Ohm + cfg->iq_std_max_A +
+    const float sum = cfg->R_nom_Ohm + cfg->R_min_Ohm + cfg->R_max_Ohm + cfg->R_se_max_rel +
                       cfg->den_ratio_min;
     ri->cfg = *cfg;
     ri->valid = mathx_isfinitef(sum) && (cfg->R_nom_Ohm > 0.0f) && (cfg->R_min_Ohm >= 0.0f) &&
                 (cfg->R_min_Ohm <= cfg->R_nom_Ohm) && (cfg->R_nom_Ohm <= cfg->R_max_Ohm) &&
-                (cfg->iq_std_max_A > 0.0f) && (cfg->den_ratio_min > 0.0f) &&
-                (cfg->den_ratio_min < 1.0f) && (cfg->n_min >= 2u) && (cfg->n_min <= WIN_N_MAX);
+                (cfg->R_se_max_rel > 0.0f) && (cfg->den_ratio_min > 0.0f) &&
+                (cfg->den_ratio_min < 1.0f) && (cfg->n_min >= 2u) && (cfg->n_min <= WIN_N_MAX) &&
+                (cfg->n_batch >= 2u) && (cfg->n_batch <= WIN_N_MAX);
+    ri->inv_n_batch = ri->valid ? 1.0f / (float)cfg->n_batch : 0.0f;
     rs_ident_reset(ri);
     return ri->valid;
 }
@@ -45,13 +48,51 @@ void rs_ident_reset(rs_ident_t *ri)
     int16_t j;
     int16_t ch;
     for (j = 0; j < 2; j++) {
-        ri->win[j].n = 0u;
-        ri->win[j].s2_iq = 0.0f;
+        rs_ident_win_t *w = &ri->win[j];
+        w->n = 0u;
+        w->s2_iq = 0.0f;
         for (ch = 0; ch < (int16_t)RS_CH_COUNT; ch++) {
-            ri->win[j].x0[ch] = 0.0f;
-            ri->win[j].s1[ch] = 0.0f;
+            w->x0[ch] = 0.0f;
+            w->s1[ch] = 0.0f;
+        }
+        w->bn = 0u;
+        w->nb = 0u;
+        for (ch = 0; ch < (int16_t)RS_ST_COUNT; ch++) {
+            w->bsum[ch] = 0.0f;
+            w->m1[ch] = 0.0f;
+        }
+        for (ch = 0; ch < (int16_t)RS_ST_PAIRS; ch++) {
+            w->m2[ch] = 0.0f;
         }
     }
+}
+
+/* Index of the pair (a, b), a <= b, in rs_ident_win_t.m2 (ff, fi, fw, ii, iw, ww). */
+static int16_t pair_index(int16_t a, int16_t b)
+{
+    static const int16_t idx[RS_ST_COUNT][RS_ST_COUNT] = { { 0, 1, 2 }, { 1, 3, 4 }, { 2, 4, 5 } };
+    return idx[a][b];
+}
+
+/* A batch is complete: its mean (relative to x0) into the batch sums. */
+static void close_batch(rs_ident_win_t *w, float inv_n_batch)
+{
+    float m[RS_ST_COUNT];
+    int16_t a;
+    int16_t b;
+
+    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
+        m[a] = w->bsum[a] * inv_n_batch;
+        w->m1[a] += m[a];
+        w->bsum[a] = 0.0f;
+    }
+    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
+        for (b = a; b < (int16_t)RS_ST_COUNT; b++) {
+            w->m2[pair_index(a, b)] += m[a] * m[b];
+        }
+    }
+    w->bn = 0u;
+    w->nb++;
 }
 
 void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A,
@@ -81,6 +122,34 @@ void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V
     const float diq = x[RS_CH_IQ] - w->x0[RS_CH_IQ];
     w->s2_iq += diq * diq;
     w->n++;
+    w->bsum[RS_ST_FQ] += x[RS_CH_FQ] - w->x0[RS_CH_FQ];
+    w->bsum[RS_ST_IQ] += diq;
+    w->bsum[RS_ST_W] += x[RS_CH_W] - w->x0[RS_CH_W];
+    w->bn++;
+    if (w->bn >= ri->cfg.n_batch) {
+        close_batch(w, ri->inv_n_batch);
+    }
+}
+
+/* Variance of the mean of r = fq + dR iq + dpsi w over the window, from
+ * the spread of its batch means (nb >= RS_IDENT_BATCHES_MIN >= 2). */
+static float residual_se2(const rs_ident_win_t *w, float dR, float dpsi)
+{
+    const float c[RS_ST_COUNT] = { 1.0f, dR, dpsi };
+    const float nb = (float)w->nb;
+    const float inv_nb = 1.0f / nb;
+    float var = 0.0f;
+    int16_t a;
+    int16_t b;
+
+    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
+        for (b = 0; b < (int16_t)RS_ST_COUNT; b++) {
+            const int16_t p = (a <= b) ? pair_index(a, b) : pair_index(b, a);
+            var += c[a] * c[b] * (w->m2[p] - w->m1[a] * w->m1[b] * inv_nb);
+        }
+    }
+    var = (var > 0.0f) ? var : 0.0f; /* >= 0 up to rounding */
+    return var * inv_nb / (nb - 1.0f); /* sample variance of the batch means / nb */
 }
 
 static void zero_out(rs_ident_out_t *out, float R_nom)
@@ -90,7 +159,12 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
     out->dR_Ohm = 0.0f;
     out->dL_H = 0.0f;
     out->dpsi_Wb = 0.0f;
+    out->R_se_Ohm = 0.0f;
+    out->R_se_max_Ohm = 0.0f;
     for (j = 0; j < 2; j++) {
+        out->R_se_part_Ohm[j] = 0.0f;
+        out->r_se_V[j] = 0.0f;
+        out->batches[j] = 0u;
         out->iq_std_A[j] = 0.0f;
         out->mean_fd_V[j] = 0.0f;
         out->mean_fq_V[j] = 0.0f;
@@ -119,7 +193,8 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     }
     for (j = 0; j < 2; j++) {
         const rs_ident_win_t *wn = &ri->win[j];
-        if (wn->n < c->n_min) {
+        out->batches[j] = wn->nb;
+        if ((wn->n < c->n_min) || (wn->nb < RS_IDENT_BATCHES_MIN)) {
             return RS_IDENT_TOO_FEW;
         }
         const float inv_n = 1.0f / (float)wn->n; /* n >= n_min >= 2 */
@@ -140,12 +215,6 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
             return RS_IDENT_NON_FINITE;
         }
     }
-    for (j = 0; j < 2; j++) {
-        if (!(out->iq_std_A[j] <= c->iq_std_max_A)) {
-            return RS_IDENT_NOT_STEADY;
-        }
-    }
-
     /* (41)'s denominator: equal speeds need iq1 != iq2, equal loads w1 != w2 */
     const float den = iq[1] * w[0] - iq[0] * w[1];
     const float a1 = mathx_fabsf(iq[1] * w[0]);
@@ -194,6 +263,21 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     out->dR_Ohm = dR;
     out->dL_H = dL;
     out->dpsi_Wb = dpsi;
+
+    /* design sec. 6: delta dR = -(w1 delta r2 - w2 delta r1) / den */
+    const float abs_inv_den = mathx_fabsf(inv_den);
+    for (j = 0; j < 2; j++) {
+        out->r_se_V[j] = mathx_sqrtf(residual_se2(&ri->win[j], dR, dpsi));
+        out->R_se_part_Ohm[j] = mathx_fabsf(w[1 - j]) * out->r_se_V[j] * abs_inv_den;
+    }
+    out->R_se_Ohm = mathx_sqrtf(out->R_se_part_Ohm[0] * out->R_se_part_Ohm[0] +
+                                out->R_se_part_Ohm[1] * out->R_se_part_Ohm[1]);
+    /* against |R^|, not below R_min: an R^ near 0 is judged by the band */
+    const float R_ref = (mathx_fabsf(R_est) > c->R_min_Ohm) ? mathx_fabsf(R_est) : c->R_min_Ohm;
+    out->R_se_max_Ohm = c->R_se_max_rel * R_ref;
+    if (!mathx_isfinitef(out->R_se_Ohm) || !(out->R_se_Ohm <= out->R_se_max_Ohm)) {
+        return RS_IDENT_NOT_STEADY;
+    }
     if (!((R_est >= c->R_min_Ohm) && (R_est <= c->R_max_Ohm))) {
         return RS_IDENT_OUT_OF_BAND;
     }

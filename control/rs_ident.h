@@ -17,8 +17,20 @@
  *
  * Use: during the averaging windows the caller passes, each period after
  * smo_step(), the observer's fd^, fq^ and the measured id, iq, omega with
- * the window that is active; then rs_ident_solve() once, and on
- * RS_IDENT_OK smo_set_R(R_est_Ohm) (bumpless) and param_est_run().
+ * the window that is active; then rs_ident_solve(), and on RS_IDENT_OK
+ * smo_set_R(R_est_Ohm) (bumpless) and param_est_run().
+ *
+ * Steadiness from the windows' own statistics (observer_design.md sec. 6):
+ * each window is also cut into batches of n_batch samples; the spread of
+ * the batch means of (fq, iq, w) gives the standard error of the model's
+ * residual r_j = fq_j + dR iq_j + dpsi w_j in each window (batch means:
+ * the samples are correlated over the observer's and the speed loop's
+ * time constants), and (41) carries it into the standard error of R^:
+ *   se(R^)^2 = (w1^2 se(r2)^2 + w2^2 se(r1)^2) / den^2.
+ * R^ is refused (NOT_STEADY) when se(R^) > R_se_max_rel |R^|; the caller
+ * may go on filling window 2 and solve again (rs_ident_solve() does not
+ * change the windows): out.R_se_part_Ohm[0] says whether window 2 alone
+ * can still bring se(R^) under the limit.
  */
 #ifndef RS_IDENT_H
 #define RS_IDENT_H
@@ -26,20 +38,22 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-/* Design defaults (observer_design.md sec. 3). */
-#define RS_IDENT_IQ_STD_MAX_DEFAULT_A  0.05f /* steady window */
+/* Design defaults (observer_design.md sec. 3 and 6). */
+#define RS_IDENT_R_SE_MAX_REL_DEFAULT  0.01f /* se(R^) / R^: 2 % at 2 standard errors (sec. 6) */
 #define RS_IDENT_DEN_RATIO_DEFAULT     0.3f  /* |den| >= ratio * max(|iq2 w1|, |iq1 w2|) */
-#define RS_IDENT_BAND_MIN_FACTOR       0.2f  /* plausible R^, x nominal */
-#define RS_IDENT_BAND_MAX_FACTOR       2.0f  /* = SMO_R_MAX_FACTOR: smo_set_R takes any accepted R^ */
+#define RS_IDENT_BAND_MIN_FACTOR       0.1f  /* plausible R^, x nominal: a controller R up to 5x */
+#define RS_IDENT_BAND_MAX_FACTOR       6.0f  /*   or down to 0.25x the motor's stays 2x / 1.5x inside */
 #define RS_IDENT_N_MIN_DEFAULT         100u  /* samples per window (10 ms at 10 kHz) */
+#define RS_IDENT_N_BATCH_DEFAULT       50u   /* samples per batch (5 ms: 5x the observer's time constant) */
+#define RS_IDENT_BATCHES_MIN           4u    /* batches per window for a spread at all */
 
 typedef enum { RS_IDENT_WINDOW_NONE = 0, RS_IDENT_WINDOW_1 = 1, RS_IDENT_WINDOW_2 = 2 } rs_ident_window_t;
 
 typedef enum {
     RS_IDENT_OK = 0,
     RS_IDENT_INVALID_CFG = 1,   /* init refused the configuration */
-    RS_IDENT_TOO_FEW = 2,       /* a window has fewer than n_min samples */
-    RS_IDENT_NOT_STEADY = 3,    /* std of iq in a window above iq_std_max_A */
+    RS_IDENT_TOO_FEW = 2,       /* a window has fewer than n_min samples or RS_IDENT_BATCHES_MIN batches */
+    RS_IDENT_NOT_STEADY = 3,    /* standard error of R^ above R_se_max_rel |R^| (noise, transient) */
     RS_IDENT_DEGENERATE = 4,    /* operating points too alike: denominator of (41) too small */
     RS_IDENT_NON_FINITE = 5,    /* NaN/Inf in the data or the result */
     RS_IDENT_OUT_OF_BAND = 6    /* R^ outside [R_min, R_max] */
@@ -49,24 +63,35 @@ typedef struct {
     float R_nom_Ohm;          /* R^ the observer used during step 1 [Ohm] */
     float R_min_Ohm;          /* plausible band for the result */
     float R_max_Ohm;
-    float iq_std_max_A;       /* steadiness: std of iq per window [A] */
+    float R_se_max_rel;       /* steadiness: largest standard error of R^, x |R^| [1] */
     float den_ratio_min;      /* conditioning of (41) [1] */
     uint32_t n_min;           /* minimum samples per window */
+    uint32_t n_batch;         /* samples per batch of the standard error */
 } rs_ident_cfg_t;
 
 /* Channels averaged per window. */
 typedef enum { RS_CH_FD = 0, RS_CH_FQ, RS_CH_ID, RS_CH_IQ, RS_CH_W, RS_CH_COUNT } rs_ident_ch_t;
+
+/* Channels of the batch statistics, and their pairs (upper triangle). */
+typedef enum { RS_ST_FQ = 0, RS_ST_IQ, RS_ST_W, RS_ST_COUNT } rs_ident_st_t;
+#define RS_ST_PAIRS 6
 
 typedef struct {              /* sums relative to the first sample: no cancellation */
     uint32_t n;
     float x0[RS_CH_COUNT];    /* first sample */
     float s1[RS_CH_COUNT];    /* sum of (x - x0) */
     float s2_iq;              /* sum of (iq - iq0)^2 */
+    uint32_t bn;              /* samples in the batch being filled */
+    float bsum[RS_ST_COUNT];  /* its sums of (x - x0) */
+    uint32_t nb;              /* complete batches */
+    float m1[RS_ST_COUNT];    /* sum of batch means (relative to x0) */
+    float m2[RS_ST_PAIRS];    /* sums of their products: ff, fi, fw, ii, iw, ww */
 } rs_ident_win_t;
 
 typedef struct {
     rs_ident_cfg_t cfg;
     bool valid;
+    float inv_n_batch;        /* 1 / n_batch */
     rs_ident_win_t win[2];
 } rs_ident_t;
 
@@ -75,7 +100,12 @@ typedef struct {
     float dR_Ohm;             /* by-products, d = model - true: */
     float dL_H;               /*   warm start for L^ = L - dL */
     float dpsi_Wb;            /*   and psi^ = psi - dpsi (optional) */
-    float iq_std_A[2];        /* measured std of iq per window */
+    float R_se_Ohm;           /* standard error of R^ (0 until the solve got that far) */
+    float R_se_max_Ohm;       /*   and the limit it was held to */
+    float R_se_part_Ohm[2];   /* window j's share: |w_other| se(r_j) / |den| */
+    float r_se_V[2];          /* standard error of the residual's mean per window */
+    uint32_t batches[2];      /* complete batches per window */
+    float iq_std_A[2];        /* measured std of iq per window (monitor) */
     float mean_fd_V[2];       /* window means used */
     float mean_fq_V[2];
     float mean_id_A[2];
@@ -86,8 +116,9 @@ typedef struct {
 /* Design defaults for the nominal R_nom_Ohm [Ohm]. Background. */
 void rs_ident_cfg_defaults(rs_ident_cfg_t *cfg, float R_nom_Ohm);
 
-/* Copies cfg (finite, R_nom > 0, 0 <= R_min <= R_nom <= R_max, std > 0,
- * 0 < ratio < 1, n_min >= 2) and empties both windows. Background. */
+/* Copies cfg (finite, R_nom > 0, 0 <= R_min <= R_nom <= R_max,
+ * R_se_max_rel > 0, 0 < ratio < 1, n_min >= 2, n_batch >= 2) and empties
+ * both windows. Background. */
 bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg);
 
 /* Empties both windows. Background or ISR. */
@@ -99,9 +130,9 @@ void rs_ident_reset(rs_ident_t *ri);
 void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A,
                    float iq_A, float omega_el_rad_s);
 
-/* Checks the windows and solves (design sec. 1c); *out is filled as far as
- * the checks got (R_est_Ohm = R_nom unless OK). Background, or ISR once
- * (about 20 divisions, 1 square root per window). */
+/* Checks the windows and solves (design sec. 1c, 6); *out is filled as far
+ * as the checks got (R_est_Ohm = R_nom unless OK); the windows are left as
+ * they are. Background, or ISR (about 25 divisions, 4 square roots). */
 rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
 
 #endif /* RS_IDENT_H */

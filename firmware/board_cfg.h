@@ -63,9 +63,9 @@
 #define BOARD_RSID_SETTLE_1_S    0.28f        /* entry to window 1: ramp + speed loop settled (SIL, Table I) [s] */
 #define BOARD_RSID_WINDOW_S      0.06f        /* averaging window, 600 periods [s] */
 #define BOARD_RSID_SETTLE_2_S    0.14f        /* window 1 to window 2: the speed loop settles after the change [s] */
-#define BOARD_RSID_R_MIN_PER_R   0.2f         /* accepted R^ band, x MOTOR_R_OHM: cold winding, cable [-] */
-#define BOARD_RSID_R_MAX_PER_R   2.0f         /* hot copper (+130 K) and margin [-] */
-#define BOARD_TRACK_R            0U           /* 1: R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 6) [-] */
+#define BOARD_RSID_WINDOW_MAX_S  0.3f         /* window 2 lengthened up to this while se(R^) is too large [s] */
+#define BOARD_RSID_ON_REFUSAL    0U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning [-] */
+#define BOARD_TRACK_R            0U           /* 1: R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 7) [-] */
 
 /* Bounds on what the controller's model may see (as in tools/sil/sil.c). */
 #define MODEL_I_BOUND_PER_TRIP   5.0f         /* x software overcurrent threshold [-] */

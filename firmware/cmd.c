@@ -34,6 +34,9 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
 
     if (c.method > (uint16_t)CTRL_METHOD_PROPOSED) {
         err = CMD_ERR_METHOD;
+    } else if ((c.method == (uint16_t)CTRL_METHOD_PROPOSED) &&
+               ((app->cfg.rsid_mode == APP_RSID_OFF) || ((app->warnings & APP_WARN_STEP1_REFUSED) != 0u))) {
+        err = CMD_ERR_METHOD_NO_STEP1; /* no silent fallback to the conventional method */
     } else if ((ctrl_method_t)c.method != app->ctrl.method) {
         if (!ctrl_set_method(&app->ctrl, (ctrl_method_t)c.method)) {
             err = CMD_ERR_METHOD_CFG;

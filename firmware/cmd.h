@@ -22,7 +22,10 @@ typedef enum {
     CMD_ERR_MODE,        /* mode is not open loop, torque or speed */
     CMD_ERR_SPEED,       /* speed reference not finite or beyond cmd_limits_t */
     CMD_ERR_TORQUE,      /* torque reference not finite or beyond cmd_limits_t */
-    CMD_ERR_VOLTAGE      /* open-loop voltage not finite or beyond cmd_limits_t */
+    CMD_ERR_VOLTAGE,     /* open-loop voltage not finite or beyond cmd_limits_t */
+    CMD_ERR_METHOD_NO_STEP1  /* proposed method refused: step 1 is off (BOARD_RSID_MODE 0), or refused R^
+                              * at this start (APP_WARN_STEP1_REFUSED); it would run as the conventional
+                              * one. Set the mode to windows, speeds or trusted; restart */
 } cmd_error_t;
 
 typedef struct {

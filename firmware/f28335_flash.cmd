@@ -20,6 +20,7 @@ PAGE 0 :
    CSM_RSVD   : origin = 0x33FF80, length = 0x000076   /* must be 0x0000 when the CSM is used */
    BEGIN      : origin = 0x33FFF6, length = 0x000002   /* boot ROM "jump to flash" entry */
    CSM_PWL    : origin = 0x33FFF8, length = 0x000008   /* code security passwords */
+   ADC_CAL    : origin = 0x380080, length = 0x000009   /* ADC_cal in TI-reserved OTP (factory trims) */
    FPUTABLES  : origin = 0x3FEBDC, length = 0x0006A0   /* boot ROM FPU math tables (FPUfastRTS) */
    RESET      : origin = 0x3FFFC0, length = 0x000002   /* reset vector, in boot ROM */
 
@@ -44,14 +45,16 @@ SECTIONS
 
    /* Code that runs from RAM: the control ISR path (CODE_SECTION "ramfuncs",
     * --ramfunc=on files, FPUfastRTS members) and the flash wait-state set-up.
-    * Stored in flash, copied to L0-L3 by hal_init() (hal_f28335_sysctrl.c). */
+    * Stored in flash, copied to L0-L3 by hal_init() (hal_f28335_sysctrl.c).
+    * The members are named in the COFF library that holds the objects
+    * (firmware/target.mk links the same library). */
    ramfuncs      : {
                       *(ramfuncs)
                       *(.TI.ramfunc)
-                      rts2800_fpu32_fast_supplement.lib<sincos_f32.obj>(.text)
-                      rts2800_fpu32_fast_supplement.lib<atan2_f32.obj>(.text)
-                      rts2800_fpu32_fast_supplement.lib<sqrt_f32.obj>(.text)
-                      rts2800_fpu32_fast_supplement.lib<div_f32.obj>(.text)
+                      rts2800_fpu32_fast_supplement_coff.lib<sincos_f32.obj>(.text)
+                      rts2800_fpu32_fast_supplement_coff.lib<atan2_f32.obj>(.text)
+                      rts2800_fpu32_fast_supplement_coff.lib<sqrt_f32.obj>(.text)
+                      rts2800_fpu32_fast_supplement_coff.lib<div_f32.obj>(.text)
                    }
                    LOAD = FLASHHB,
                    RUN = RAML0L3,
@@ -70,6 +73,10 @@ SECTIONS
 
    /* Tables already in boot ROM: referenced, never loaded. */
    FPUmathTables : > FPUTABLES, PAGE = 0, TYPE = NOLOAD
+
+   /* ADC_cal is factory code in OTP: referenced (hal_f28335_adc.c calls it
+    * as TI's InitAdc does), never loaded. */
+   .adc_cal      : load = ADC_CAL, PAGE = 0, TYPE = NOLOAD
 
    /* The reset vector lives in boot ROM; keep the RTS one out of the image. */
    .reset        : > RESET,     PAGE = 0, TYPE = DSECT

@@ -9,3 +9,14 @@ TEST_LIBS_test_sil_conventional := firmware sim control
 # The operator's command block, against the same HAL mock.
 TEST_LIBS_test_cmd := firmware control
 TEST_SRCS_test_cmd := tests/mock_hal.c
+
+# The start-up steps and protection, each with its own runner, against
+# the same HAL mock (tests/app_harness.h).
+TEST_LIBS_test_calib    := firmware control
+TEST_SRCS_test_calib    := tests/mock_hal.c
+TEST_LIBS_test_align    := firmware control
+TEST_SRCS_test_align    := tests/mock_hal.c
+TEST_LIBS_test_protect  := firmware control
+TEST_SRCS_test_protect  := tests/mock_hal.c
+TEST_LIBS_test_rsid_seq := firmware control
+TEST_SRCS_test_rsid_seq := tests/mock_hal.c

@@ -8,7 +8,10 @@
 # the tools (tools/check/ti_tools.sh). Sources: control/*.c, firmware/*.c,
 # hal/f28335/*.c, plus from C2000Ware the peripheral register definitions
 # (DSP2833x_GlobalVariableDefs.c), the flash entry branch
-# (DSP2833x_CodeStartBranch.asm) and the header linker command file.
+# (DSP2833x_CodeStartBranch.asm), the ADC trim routine's section
+# (DSP2833x_ADC_cal.asm: ADC_cal lives in TI-reserved OTP) and the header
+# linker command file. tools/check/target_cfg.sh (make check) checks the
+# options and library names below against C2000Ware's F2833x projects.
 # The host register fake (tests/c2000_fake) is never on this include path.
 
 SHELL := /bin/bash
@@ -29,7 +32,7 @@ FASTRTS        := $(C2000WARE_ROOT)/libraries/math/FPUfastRTS/c28
 # large memory model and unified memory as C2000Ware's f2833x headers expect.
 CPU_FLAGS := -v28 -ml -mt --float_support=fpu32 --abi=coffabi
 CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
-          --diag_warning=225 --display_error_number --issue_remarks=off \
+          --diag_warning=225 --display_error_number \
           --preinclude=control/c28x_portable.h \
           --include_path=$(CG_TOOL_ROOT)/include \
           --include_path=control --include_path=hal --include_path=firmware \
@@ -41,24 +44,33 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # The ISR path runs from RAM: the control core and the application are
 # compiled with every function in .TI.ramfunc; the HAL marks its ISR-path
 # functions with CODE_SECTION "ramfuncs" itself (hal_init must run from flash).
-RAMFUNC_SRCS := $(wildcard control/*.c) firmware/app.c
+RAMFUNC_SRCS := $(wildcard control/*.c) $(filter-out firmware/main.c firmware/cmd.c firmware/app_cfg.c,$(wildcard firmware/*.c))
 
 APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*.c) $(wildcard hal/f28335/*.c)
 TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c
-TI_ASM_SRCS := $(F2833X_COMMON)/source/DSP2833x_CodeStartBranch.asm
+TI_ASM_SRCS := $(F2833X_COMMON)/source/DSP2833x_CodeStartBranch.asm \
+               $(F2833X_COMMON)/source/DSP2833x_ADC_cal.asm
 
 obj_of = $(OUT)/obj/$(basename $(notdir $1)).obj
 APP_OBJS := $(foreach s,$(APP_SRCS),$(call obj_of,$s))
 TI_OBJS  := $(foreach s,$(TI_C_SRCS) $(TI_ASM_SRCS),$(call obj_of,$s))
 
 # Linker: our memory map, then C2000Ware's peripheral-register placement.
-# The FPU fast RTS supplement comes before the standard FPU32 RTS so that
-# sin/cos/atan2/sqrt/division resolve to it.
+# The FPU fast RTS supplement comes before the standard FPU32 RTS and
+# --priority makes the first library that defines a symbol win, so
+# sin/cos/atan2/sqrt and FS$$DIV resolve to it, not to the order the linker
+# happens to search in. Its COFF objects are in
+# rts2800_fpu32_fast_supplement_coff.lib (the plain .lib of current
+# C2000Ware is an index whose members are only .libinfo files).
+# --entry_point=code_start: a debugger load starts where the boot ROM's
+# jump to flash does (DSP2833x_CodeStartBranch.asm: watchdog off, then
+# _c_int00), not at _c_int00 with the watchdog running through cinit.
 LINK_CMDS := firmware/f28335_flash.cmd $(F2833X_HEADERS)/cmd/DSP2833x_Headers_nonBIOS.cmd
-LFLAGS := -z --rom_model --stack_size=0x400 --heap_size=0 --warn_sections --reread_libs \
+LFLAGS := -z --rom_model --entry_point=code_start --stack_size=0x400 --heap_size=0 \
+          --warn_sections --reread_libs --priority \
           --search_path=$(CG_TOOL_ROOT)/lib --search_path=$(FASTRTS)/lib \
           --map_file=$(OUT)/drive.map
-LIBS := --library=rts2800_fpu32_fast_supplement.lib --library=rts2800_fpu32.lib
+LIBS := --library=rts2800_fpu32_fast_supplement_coff.lib --library=rts2800_fpu32.lib
 
 .PHONY: all flash flash-tools clean-target
 all: $(OUT)/drive.out

@@ -177,6 +177,7 @@ static void sysctrl_and_flash_register_map(void **state)
     assert_int_equal(WORDS(SYS_CTRL_REGS, WDCR), 0x19);
     assert_int_equal(SIZE_WORDS(SYS_CTRL_REGS), 0x20);
     BIT_OF(PLLSTS_REG, MCLKSTS, 0x0008);
+    BIT_OF(PLLSTS_REG, MCLKCLR, 0x0010);
     BIT_OF(PLLSTS_REG, MCLKOFF, 0x0040);
     BIT_OF(PCLKCR0_REG, TBCLKSYNC, 0x0004);
     BIT_OF(PCLKCR0_REG, ADCENCLK, 0x0008);
@@ -207,6 +208,38 @@ static void pie_register_map(void **state)
     assert_int_equal(offsetof(struct PIE_VECT_TABLE, SEQ1INT) / sizeof(PINT), 32);
     assert_int_equal(offsetof(struct PIE_VECT_TABLE, TINT0) / sizeof(PINT), 38);
     assert_int_equal(offsetof(struct PIE_VECT_TABLE, EPWM1_TZINT) / sizeof(PINT), 40);
+}
+
+/* The whole table (SPRUFB0 "PIE Vector Table Mapping"): 0x0D00 + 2 * index.
+ * The CPU's own vectors, then group g's INTg.1 at 32 + 8 (g - 1). */
+#define VEC(member) (offsetof(struct PIE_VECT_TABLE, member) / sizeof(PINT))
+static void pie_vector_table_covers_all_128_entries(void **state)
+{
+    (void)state;
+    assert_int_equal(sizeof(struct PIE_VECT_TABLE) / sizeof(PINT), 128);
+    assert_int_equal(VEC(PIE13_RESERVED), 12);
+    assert_int_equal(VEC(XINT13), 13);       /* 0x0D1A INT13 */
+    assert_int_equal(VEC(TINT2), 14);        /* 0x0D1C INT14 */
+    assert_int_equal(VEC(XNMI), 18);         /* 0x0D24 NMI */
+    assert_int_equal(VEC(ILLEGAL), 19);      /* 0x0D26 ITRAP */
+    assert_int_equal(VEC(USER1), 20);        /* 0x0D28 */
+    assert_int_equal(VEC(USER12), 31);       /* 0x0D3E */
+    assert_int_equal(VEC(WAKEINT), 39);      /* INT1.8 */
+    assert_int_equal(VEC(EPWM1_INT), 48);    /* INT3.1 0x0D60 */
+    assert_int_equal(VEC(ECAP1_INT), 56);    /* INT4.1 0x0D70 */
+    assert_int_equal(VEC(EQEP1_INT), 64);    /* INT5.1 0x0D80 */
+    assert_int_equal(VEC(SPIRXINTA), 72);    /* INT6.1 0x0D90 */
+    assert_int_equal(VEC(MRINTA), 76);       /* INT6.5 */
+    assert_int_equal(VEC(DINTCH1), 80);      /* INT7.1 0x0DA0 */
+    assert_int_equal(VEC(I2CINT1A), 88);     /* INT8.1 0x0DB0 */
+    assert_int_equal(VEC(SCIRXINTC), 92);    /* INT8.5 */
+    assert_int_equal(VEC(SCIRXINTA), 96);    /* INT9.1 0x0DC0 */
+    assert_int_equal(VEC(ECAN1INTB), 103);   /* INT9.8 */
+    assert_int_equal(VEC(rsvd10_1), 104);    /* INT10.1 0x0DD0 */
+    assert_int_equal(VEC(rsvd11_1), 112);    /* INT11.1 0x0DE0 */
+    assert_int_equal(VEC(XINT3), 120);       /* INT12.1 0x0DF0 */
+    assert_int_equal(VEC(LVF), 126);         /* INT12.7 */
+    assert_int_equal(VEC(LUF), 127);         /* INT12.8 0x0DFE */
 }
 
 static void timer_gpio_sci_register_maps(void **state)
@@ -251,6 +284,7 @@ int main(void)
         cmocka_unit_test(eqep_register_map),
         cmocka_unit_test(sysctrl_and_flash_register_map),
         cmocka_unit_test(pie_register_map),
+        cmocka_unit_test(pie_vector_table_covers_all_128_entries),
         cmocka_unit_test(timer_gpio_sci_register_maps),
     };
     return cmocka_run_group_tests_name("c2000_fake", tests, NULL, NULL);

@@ -113,9 +113,41 @@ static void unknown_method_or_mode_is_refused(void **state)
     assert_int_equal(app.ctrl.mode_req, CTRL_MODE_SPEED);
 }
 
+/* Step 1 off (the board's default BOARD_RSID_MODE 0): the proposed method
+ * would control as the conventional one, so it is refused by name. */
+static void proposed_method_without_step1_is_refused(void **state)
+{
+    (void)state;
+    assert_int_equal(app.cfg.rsid_mode, APP_RSID_OFF);
+    cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
+    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+    /* trusted R is an explicit choice: taken */
+    app.cfg.rsid_mode = APP_RSID_TRUSTED;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_OK);
+    assert_int_equal(app.ctrl.method, CTRL_METHOD_PROPOSED);
+    /* and refused again once step 1 is off */
+    cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
+    cmd_apply(&cmd, &LIM, &app);
+    app.cfg.rsid_mode = APP_RSID_OFF;
+    cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
+    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+    /* step 1 configured but refused at this start (on_refusal = conventional): refused too */
+    app.cfg.rsid_mode = APP_RSID_WINDOWS;
+    app.warnings = APP_WARN_STEP1_REFUSED;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
+    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+}
+
 static void proposed_method_is_taken_or_refused_by_its_configuration(void **state)
 {
     (void)state;
+    app.cfg.rsid_mode = APP_RSID_WINDOWS; /* step 1 configured */
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     cmd_apply(&cmd, &LIM, &app);
     assert_int_equal(app.ctrl.status, CTRL_CFG_OK); /* board defaults pass (36) and the stability bound */
@@ -151,6 +183,7 @@ int main(void)
         cmocka_unit_test_setup(references_reach_the_controller_in_si_units, setup),
         cmocka_unit_test_setup(refused_reference_keeps_the_old_value_and_is_named, setup),
         cmocka_unit_test_setup(unknown_method_or_mode_is_refused, setup),
+        cmocka_unit_test_setup(proposed_method_without_step1_is_refused, setup),
         cmocka_unit_test_setup(proposed_method_is_taken_or_refused_by_its_configuration, setup),
         cmocka_unit_test_setup(fault_reset_is_passed_once_and_cleared, setup),
     };

@@ -296,6 +296,77 @@ static void monitor_filled(void **state)
     assert_float_equal(c.mon.fd_est, 0.0, 0.0);
 }
 
+/* ctrl_init reports every block's refusal as its own bit; a valid
+ * configuration with the proposed method's defaults has none. */
+static void init_reports_each_refusal(void **state)
+{
+    (void)state;
+    static const struct { const char *what; ctrl_status_t bit; } cases[] = {
+        { "PLL bandwidth x Ts 0.6 > 0.5", CTRL_CFG_ENCODER },
+        { "no encoder lines", CTRL_CFG_ENCODER },
+        { "speed PI Kp 0", CTRL_CFG_SPEED_PI },
+        { "speed PI Ts Ki > Kp", CTRL_CFG_SPEED_PI },
+        { "L 0", CTRL_CFG_DBDTC },
+        { "dead time 0.2 Ts", CTRL_CFG_DEADTIME },
+        { "dead time NaN", CTRL_CFG_DEADTIME },
+        { "dead time < 0", CTRL_CFG_DEADTIME },
+    };
+    ctrl_t c;
+    ctrl_cfg_t cfg = make_cfg();
+    ctrl_cfg_proposed_defaults(&cfg, 0.2f * (float)RS, 2.0f * (float)RS);
+    assert_int_equal(ctrl_init(&c, &cfg), CTRL_CFG_OK);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        ctrl_cfg_t bad = cfg;
+        switch (k) {
+        case 0: bad.enc_pll_bw_rad_s = 6000.0f; break;
+        case 1: bad.enc_lines = 0u; break;
+        case 2: bad.speed_kp_Nms_rad = 0.0f; break;
+        case 3: bad.speed_ki_Nm_rad = 1.0e5f; break;
+        case 4: bad.Ls_H = 0.0f; break;
+        case 5: bad.deadtime_s = 2.0e-5f; break;
+        case 6: bad.deadtime_s = NAN; break;
+        default: bad.deadtime_s = -1.0e-6f; break;
+        }
+        const ctrl_status_t st = ctrl_init(&c, &bad);
+        if ((st & cases[k].bit) == 0u) {
+            fail_msg("%s: status 0x%x lacks 0x%x", cases[k].what, (unsigned)st, (unsigned)cases[k].bit);
+        }
+        assert_int_equal(c.status, st);
+    }
+    /* the proposed method's refusal alone leaves the conventional blocks accepted */
+    ctrl_cfg_t obs = cfg;
+    ctrl_cfg_proposed_defaults(&obs, 0.2f * (float)RS, 1000.0f);
+    const ctrl_status_t st = ctrl_init(&c, &obs);
+    assert_int_not_equal(st & CTRL_CFG_NEEDED_PROPOSED, 0);
+    assert_int_equal(st & CTRL_CFG_NEEDED_ALWAYS, 0);
+    assert_false(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
+}
+
+/* The default R^ band holds the motor's R with margin for a controller R
+ * from 0.25x to 5x it (issue 13), and the observer built on it is valid:
+ * by hand, [0.1, 6] x Rs with the top at 0.9 (Ks - ef_max) / phi =
+ * 0.9 x (100 - 50) / 2.5 = 18 Ohm. */
+static void default_band_holds_the_motor_r(void **state)
+{
+    static const double factors[] = { 0.25, 0.5, 1.0, 2.0, 4.3, 5.0 };
+    (void)state;
+    for (size_t i = 0; i < sizeof factors / sizeof factors[0]; i++) {
+        ctrl_cfg_t cfg = make_cfg();
+        ctrl_t c;
+        float R_min;
+        float R_max;
+        cfg.Rs_Ohm = (float)(factors[i] * RS);
+        ctrl_rsid_band_default(&cfg, &R_min, &R_max);
+        print_message("controller R %.2f x: band [%.3f, %.3f] Ohm\n", factors[i], R_min, R_max);
+        assert_float_equal(R_min, 0.1 * factors[i] * RS, 1e-5);
+        assert_float_equal(R_max, fmin(6.0 * factors[i] * RS, 18.0), 1e-4);
+        assert_true(R_min <= 0.5 * RS);   /* the motor's R at least 2x inside */
+        assert_true(R_max >= 1.5 * RS);   /*   and 1.5x inside at the top */
+        ctrl_cfg_proposed_defaults(&cfg, R_min, R_max);
+        assert_int_equal(ctrl_init(&c, &cfg), CTRL_CFG_OK);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -305,6 +376,8 @@ int main(void)
         cmocka_unit_test(mode_change_is_bumpless),
         cmocka_unit_test(non_finite_gives_half_duty),
         cmocka_unit_test(monitor_filled),
+        cmocka_unit_test(init_reports_each_refusal),
+        cmocka_unit_test(default_band_holds_the_motor_r),
     };
     return cmocka_run_group_tests_name("ctrl", tests, NULL, NULL);
 }

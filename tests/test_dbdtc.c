@@ -27,7 +27,7 @@ static dbdtc_t make(void)
         .u_max_V = 5000.0f, .te_max_Nm = 24.0f, .psi_max_Wb = 1.0f,
     };
     dbdtc_t db;
-    dbdtc_init(&db, &cfg);
+    assert_true(dbdtc_init(&db, &cfg));
     return db;
 }
 
@@ -274,6 +274,34 @@ static void parameters_bounded_and_reset(void **state)
     assert_float_equal(db.par.psi_f_Wb, PSIF, 1e-9);
 }
 
+/* A model that cannot be run is refused: each parameter and bound must be
+ * finite and positive, and there must be a pole pair. */
+static void init_refuses_unusable_model(void **state)
+{
+    (void)state;
+    const dbdtc_t good = make();
+    for (int k = 0; k < 9; k++) {
+        dbdtc_cfg_t cfg = good.cfg;
+        switch (k) {
+        case 0: cfg.Ts_s = 0.0f; break;
+        case 1: cfg.Rs_Ohm = -1.0f; break;
+        case 2: cfg.Ls_H = 0.0f; break;
+        case 3: cfg.psi_f_Wb = NAN; break;
+        case 4: cfg.pole_pairs = 0u; break;
+        case 5: cfg.i_max_A = 0.0f; break;
+        case 6: cfg.omega_max_rad_s = INFINITY; break;
+        case 7: cfg.u_max_V = -5.0f; break;
+        default: cfg.te_max_Nm = 0.0f; break;
+        }
+        dbdtc_t db;
+        assert_false(dbdtc_init(&db, &cfg));
+    }
+    dbdtc_cfg_t cfg = good.cfg;
+    cfg.psi_max_Wb = 0.0f;
+    dbdtc_t db;
+    assert_false(dbdtc_init(&db, &cfg));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -285,6 +313,7 @@ int main(void)
         cmocka_unit_test(voltage_limit_without_bus),
         cmocka_unit_test(finite_for_any_finite_input),
         cmocka_unit_test(parameters_bounded_and_reset),
+        cmocka_unit_test(init_refuses_unusable_model),
     };
     return cmocka_run_group_tests_name("dbdtc", tests, NULL, NULL);
 }

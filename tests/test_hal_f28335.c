@@ -17,6 +17,7 @@
 #include "hal.h"
 #include "hal_f28335.h"
 #include "hal_f28335_cfg.h"
+#include "hal_f28335_internal.h"
 
 #define TOL 1e-4
 
@@ -136,6 +137,38 @@ static void init_sets_epwm(void **state)
     assert_int_equal(EPwm1Regs.ETPS.bit.SOCAPRD, 1);
 }
 
+/* D8: checked after every EDIS of hal_init: a gate pin muxed to its ePWM
+ * while that module is not forced off through the trip zone. */
+static int pin_mux_violations;
+static int edis_count;
+static void gates_muxed_only_when_forced_off(void)
+{
+    edis_count++;
+    for (int k = 0; k < 3; k++) {
+        /* GPIO 2k = EPWMkA, 2k+1 = EPWMkB: 2 mux bits each, bits 4k+3:4k. */
+        const uint32_t mux = (GpioCtrlRegs.GPAMUX1.all >> (4 * k)) & 0xFUL;
+        const int forced = (pwm[k]->TZFRC.bit.OST == 1U) && (pwm[k]->TZCTL.all == 0x000AU);
+        if ((mux != 0UL) && !forced) {
+            pin_mux_violations++;
+        }
+    }
+}
+
+static void gate_pins_are_muxed_only_once_the_outputs_are_forced_off(void **state)
+{
+    (void)state;
+    c2000_fake_reset();
+    SysCtrlRegs.PLLSTS.bit.PLLLOCKS = 1U;
+    pin_mux_violations = 0;
+    edis_count = 0;
+    c2000_fake_set_edis_hook(gates_muxed_only_when_forced_off);
+    hal_init();
+    c2000_fake_set_edis_hook(NULL);
+    assert_true(edis_count > 10);
+    assert_int_equal(pin_mux_violations, 0);
+    assert_int_equal(GpioCtrlRegs.GPAMUX1.all & 0xFFFUL, 0x555UL); /* and muxed in the end */
+}
+
 static void init_sets_pin_mux(void **state)
 {
     (void)state;
@@ -193,7 +226,57 @@ static void init_enables_only_the_trip_interrupt(void **state)
     assert_int_equal(PieCtrlRegs.PIEIER2.all, 0x0001);        /* INT2.1 EPWM1_TZINT */
     assert_int_equal(IER, M_INT2);
     assert_non_null(PieVectTable.EPWM1_TZINT);
-    assert_null(PieVectTable.SEQ1INT);
+    assert_true(PieVectTable.EPWM1_TZINT != PieVectTable.ILLEGAL);
+    assert_ptr_equal(PieVectTable.SEQ1INT, PieVectTable.ILLEGAL); /* the catch-all until attached */
+}
+
+/* D3: TI's InitPieVectTable fills all 128 vectors; PIE RAM is random after
+ * power-up. Every vector but the trip ISR's must force all six outputs off
+ * and halt (ESTOP0) - an ITRAP, NMI or stray PIE interrupt included. */
+static void every_pie_vector_is_set_and_forces_the_outputs_off(void **state)
+{
+    (void)state;
+    PINT *const vec = (PINT *)&PieVectTable;
+    const size_t n = sizeof(PieVectTable) / sizeof(PINT);
+    assert_int_equal(n, 128);
+    for (size_t k = 0; k < n; k++) {
+        assert_non_null(vec[k]);
+        if (vec[k] == PieVectTable.EPWM1_TZINT) {
+            assert_int_equal(k, 40);                          /* INT2.1 only */
+            continue;
+        }
+        hal_pwm_enable();
+        for (int m = 0; m < 3; m++) {
+            pwm[m]->TZFRC.all = 0U;
+        }
+        c2000_fake_estop0 = 0U;
+        vec[k]();
+        for (int m = 0; m < 3; m++) {
+            assert_int_equal(pwm[m]->TZFRC.bit.OST, 1);
+        }
+        assert_int_equal(c2000_fake_estop0, 1);
+    }
+}
+
+/* D11: PIEACK = 0xFFFF at start-up (TI's InitPieCtrl leaves no group blocked). */
+static void init_acknowledges_every_pie_group(void **state)
+{
+    (void)state;
+    assert_int_equal(PieCtrlRegs.PIEACK.all, 0xFFFF);
+}
+
+/* D11: conversions run from TBCLKSYNC on; the stale SEQ1 flag in the PIE and
+ * the CPU must not fire the ISR at EINT on a sequence it never saw start. */
+static void isr_attach_drops_the_stale_adc_interrupt(void **state)
+{
+    (void)state;
+    PieCtrlRegs.PIEIFR1.bit.INTx1 = 1U;
+    PieCtrlRegs.PIEIFR1.bit.INTx7 = 1U;                       /* not ours: kept */
+    IFR = M_INT1 | M_INT2;
+    hal_isr_attach(fake_ctrl_isr);
+    assert_int_equal(PieCtrlRegs.PIEIFR1.bit.INTx1, 0);
+    assert_int_equal(PieCtrlRegs.PIEIFR1.bit.INTx7, 1);
+    assert_int_equal(IFR, M_INT2);
 }
 
 static void isr_attach_installs_and_enables(void **state)
@@ -206,6 +289,7 @@ static void isr_attach_installs_and_enables(void **state)
     assert_int_equal(c2000_fake_intm, 0);                     /* EINT */
     assert_int_equal(SysCtrlRegs.WDCR, 0x002C);               /* watchdog on, /8 */
     assert_int_equal(SysCtrlRegs.WDKEY, 0xAA);                /* kicked before enabling */
+    assert_int_equal(SysCtrlRegs.SCSR, 0x0001);               /* D12: WDOVERRIDE cleared: locked */
     isr_calls = 0;
     PieVectTable.SEQ1INT();
     assert_int_equal(isr_calls, 1);
@@ -220,7 +304,77 @@ static void isr_ack_clears_adc_flag_and_acks_group1(void **state)
     hal_isr_ack();
     assert_int_equal(PieCtrlRegs.PIEACK.all, PIEACK_GROUP1);
     assert_int_equal(AdcRegs.ADCST.bit.INT_SEQ1_CLR, 1);
+    /* D13: no sequencer reset at the end of the ISR: after an overrun it
+     * would abort the conversion the next SOCA already started. */
+    assert_int_equal(AdcRegs.ADCTRL2.bit.RST_SEQ1, 0);
+}
+
+/* D13: the sequencer is rewound right after the results are read. */
+static void sample_read_rewinds_the_sequencer_after_reading(void **state)
+{
+    (void)state;
+    hal_sample_t s;
+    AdcRegs.ADCTRL2.bit.RST_SEQ1 = 0U;
+    hal_sample_read(&s);
     assert_int_equal(AdcRegs.ADCTRL2.bit.RST_SEQ1, 1);
+}
+
+/* D12: a watchdog reset is reported (WDFLAG read before the first WDCR
+ * write, then cleared by writing it as 1 with the disable value). */
+static void watchdog_reset_is_reported_and_its_flag_cleared(void **state)
+{
+    (void)state;
+    assert_false(hal_f28335_watchdog_reset());                /* setup: power-on reset */
+    c2000_fake_reset();
+    SysCtrlRegs.PLLSTS.bit.PLLLOCKS = 1U;
+    SysCtrlRegs.WDCR = 0x0080U;                               /* WDFLAG after a watchdog reset */
+    hal_init();
+    assert_true(hal_f28335_watchdog_reset());
+    assert_int_equal(SysCtrlRegs.WDCR, 0x00E8);               /* 0x0068 | WDFLAG (write 1 to clear) */
+}
+
+/* D6: ADC_cal (factory trims) runs in hal_init, with the ADC clock on, as
+ * TI's InitAdc does: a debugger load that skips the boot ROM needs it. */
+static void init_runs_adc_cal_with_the_adc_clock_on(void **state)
+{
+    (void)state;
+    assert_int_equal(c2000_fake_adc_cal.calls, 1);
+    assert_int_equal(c2000_fake_adc_cal.adc_clock_on, 1);
+    assert_int_equal(AdcRegs.ADCOFFTRIM, C2000_FAKE_ADCOFFTRIM_TRIM);
+    assert_int_equal(AdcRegs.ADCREFSEL, C2000_FAKE_ADCREFSEL_TRIM);
+}
+
+/* D5: the flash set-up is a global function (cl2000 cannot inline it into
+ * the flash-resident hal_init; FUNC_CANNOT_INLINE on the target). */
+static void flash_init_is_callable_on_its_own(void **state)
+{
+    (void)state;
+    FlashRegs.FBANKWAIT.all = 0x0F0FU;                        /* reset value: maximum */
+    FlashRegs.FOTPWAIT.all = 0x001FU;
+    FlashRegs.FOPT.all = 0U;
+    f28335_flash_init();
+    assert_int_equal(FlashRegs.FBANKWAIT.all, 0x0505);
+    assert_int_equal(FlashRegs.FOTPWAIT.bit.OTPWAIT, 8);
+    assert_int_equal(FlashRegs.FOPT.bit.ENPIPE, 1);
+    assert_int_equal(c2000_fake_eallow, 0);
+}
+
+/* D7: limp mode after start-up (oscillator lost) is a permanent trip: the
+ * ISR's every timing check scales with the slow clock and cannot see it. */
+static void limp_mode_at_run_time_is_a_permanent_trip(void **state)
+{
+    (void)state;
+    hal_pwm_enable();
+    assert_false(hal_trip_active());
+    SysCtrlRegs.PLLSTS.bit.MCLKSTS = 1U;
+    assert_true(hal_trip_active());
+    assert_false(hal_f28335_clock_ok());
+    SysCtrlRegs.PLLSTS.bit.MCLKSTS = 0U;                      /* latched: a reset ends it */
+    hal_trip_clear();
+    assert_true(hal_trip_active());
+    EPwm1Regs.TZCLR.all = 0U;
+    hal_pwm_enable();
+    assert_int_equal(EPwm1Regs.TZCLR.bit.OST, 0);             /* refused */
 }
 
 static void watchdog_kick_writes_key_sequence_last_0xaa(void **state)
@@ -247,7 +401,19 @@ static void duty_maps_to_cmpa(void **state)
     hal_pwm_write(e);
     assert_int_equal(EPwm1Regs.CMPA.half.CMPA, 5000);
     assert_int_equal(EPwm2Regs.CMPA.half.CMPA, 7500);         /* duty 0: high side never on */
-    assert_int_equal(EPwm3Regs.CMPA.half.CMPA, 0);            /* duty 1: high side always on */
+    assert_int_equal(EPwm3Regs.CMPA.half.CMPA, 1);            /* duty 1: CMPA_MIN (D1) */
+}
+
+/* D1: SPRUG04, up-down count with CMPA loaded at TBCTR = 0: CMPA >= 1. */
+static void cmpa_never_below_one(void **state)
+{
+    (void)state;
+    /* 7500 * (1 - 0.99995) = 0.375 rounds to 0 -> 1; 7500 * (1 - 0.9997) = 2.25 -> 2. */
+    const float d[3] = { 1.0f, 0.99995f, 0.9997f };
+    hal_pwm_write(d);
+    assert_int_equal(EPwm1Regs.CMPA.half.CMPA, 1);
+    assert_int_equal(EPwm2Regs.CMPA.half.CMPA, 1);
+    assert_int_equal(EPwm3Regs.CMPA.half.CMPA, 2);
 }
 
 static void duty_out_of_range_is_clamped(void **state)
@@ -255,9 +421,9 @@ static void duty_out_of_range_is_clamped(void **state)
     (void)state;
     const float d[3] = { 1.5f, -0.2f, 1e30f };
     hal_pwm_write(d);
-    assert_int_equal(EPwm1Regs.CMPA.half.CMPA, 0);
+    assert_int_equal(EPwm1Regs.CMPA.half.CMPA, 1);
     assert_int_equal(EPwm2Regs.CMPA.half.CMPA, 7500);
-    assert_int_equal(EPwm3Regs.CMPA.half.CMPA, 0);
+    assert_int_equal(EPwm3Regs.CMPA.half.CMPA, 1);
     assert_int_equal(hal_f28335_nonfinite_duty_count(), 0);
 }
 
@@ -474,6 +640,16 @@ int main(void)
         T(init_sets_eqep),
         T(init_sets_sci_and_timer),
         T(init_enables_only_the_trip_interrupt),
+        T(every_pie_vector_is_set_and_forces_the_outputs_off),
+        T(init_acknowledges_every_pie_group),
+        T(isr_attach_drops_the_stale_adc_interrupt),
+        T(sample_read_rewinds_the_sequencer_after_reading),
+        T(watchdog_reset_is_reported_and_its_flag_cleared),
+        T(init_runs_adc_cal_with_the_adc_clock_on),
+        T(flash_init_is_callable_on_its_own),
+        T(limp_mode_at_run_time_is_a_permanent_trip),
+        T(gate_pins_are_muxed_only_once_the_outputs_are_forced_off),
+        T(cmpa_never_below_one),
         T(isr_attach_installs_and_enables),
         T(isr_ack_clears_adc_flag_and_acks_group1),
         T(watchdog_kick_writes_key_sequence_last_0xaa),

@@ -187,10 +187,55 @@ static void equal_operating_points_are_degenerate(void **state)
     assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_DEGENERATE);
 }
 
-/* iq not steady in a window (std 0.1 A > 0.05 A): refused. The std comes
- * from sums relative to the first sample: exact at a large offset, where
- * float sum(x^2) - n mean^2 would be all rounding. */
-static void non_steady_window_is_refused(void **state)
+/* Window 2 at 3.7 A with fq^ off the model by +a in even batches and -a in
+ * odd ones (10 batches of 50): by hand the batch means of the residual are
+ * +-a, their sample variance 10 a^2 / 9, se(r2) = a / 3, and with equal
+ * speeds se(R^) = w se(r2) / |w (iq2 - iq1)| = a / (3 x 1.85 A); window 1
+ * is exact (share 0). a = 0.5 V: se 0.090 Ohm > 1 % of 3 Ohm, refused;
+ * a = 0.05 V: 0.009 Ohm, taken, and R^ is still exact (the +-a cancel). */
+static void feed_batch_square(rs_ident_t *ri, double a, double w)
+{
+    const double iq = 3.7;
+    for (int k = 0; k < 500; k++) {
+        const double fq = -(R_NOM - OP_R0) * iq + (((k / (int)RS_IDENT_N_BATCH_DEFAULT) % 2 == 0) ? a : -a);
+        rs_ident_step(ri, RS_IDENT_WINDOW_2, 0.0f, (float)fq, 0.0f, (float)iq, (float)w);
+    }
+}
+
+static void scattered_window_is_refused_by_its_standard_error(void **state)
+{
+    (void)state;
+    rs_ident_out_t o;
+    const double w = op_w_el(500.0);
+    rs_ident_t ri = make(R_NOM);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
+    feed_batch_square(&ri, 0.5, w);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_NOT_STEADY);
+    printf("    batch square wave 0.5 V: se(R^) %.5f Ohm (hand %.5f), limit %.4f Ohm\n", o.R_se_Ohm,
+           0.5 / (3.0 * 1.85), o.R_se_max_Ohm);
+    assert_int_equal(o.batches[0], 10u);
+    assert_int_equal(o.batches[1], 10u);
+    assert_float_equal(o.r_se_V[1], 0.5 / 3.0, 1e-3);
+    assert_float_equal(o.R_se_part_Ohm[0], 0.0, 1e-4);
+    assert_float_equal(o.R_se_Ohm, 0.5 / (3.0 * 1.85), 1e-3);
+    assert_float_equal(o.R_se_max_Ohm, RS_IDENT_R_SE_MAX_REL_DEFAULT * OP_R0, 1e-4);
+    assert_float_equal(o.R_est_Ohm, R_NOM, 1e-5); /* refused: nominal */
+
+    rs_ident_reset(&ri);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
+    feed_batch_square(&ri, 0.05, w);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
+    assert_float_equal(o.R_se_Ohm, 0.05 / (3.0 * 1.85), 1e-4);
+    assert_float_equal(o.R_est_Ohm, OP_R0, 1e-3);
+    /* solving does not change the windows: more samples, solve again */
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
+}
+
+/* A scatter that follows the model (iq and fq^ moving together, as in a
+ * speed-loop ripple) is no uncertainty: the residual stays 0. The std of
+ * iq comes from sums relative to the first sample: exact at a large
+ * offset, where float sum(x^2) - n mean^2 would be all rounding. */
+static void scatter_along_the_model_is_taken(void **state)
 {
     (void)state;
     rs_ident_out_t o;
@@ -198,13 +243,14 @@ static void non_steady_window_is_refused(void **state)
     rs_ident_t ri = make(R_NOM);
     feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
     for (int k = 0; k < 500; k++) {
-        const double iq = 3.7 + ((k & 1) ? 0.1 : -0.1);
+        const double iq = 3.7 + (((k / 20) & 1) ? 0.3 : -0.3);
         rs_ident_step(&ri, RS_IDENT_WINDOW_2, 0.0f, (float)(-(R_NOM - OP_R0) * iq), 0.0f,
                       (float)iq, (float)w);
     }
-    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_NOT_STEADY);
-    assert_float_equal(o.iq_std_A[1], 0.1, 1e-4);
-    assert_float_equal(o.R_est_Ohm, R_NOM, 1e-5);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
+    assert_float_equal(o.iq_std_A[1], 0.3, 1e-3);
+    assert_true(o.R_se_Ohm < 1e-4);
+    assert_float_equal(o.R_est_Ohm, OP_R0, 1e-3);
 
     rs_ident_reset(&ri);
     for (int k = 0; k < 1000; k++) {
@@ -217,7 +263,7 @@ static void non_steady_window_is_refused(void **state)
     assert_float_equal(o.iq_std_A[1], 0.0, 1e-6);
 }
 
-/* R^ outside the band [0.2, 2] x R_nom: refused with the value in dR. */
+/* R^ outside the band [0.1, 6] x R_nom: refused with the value in dR. */
 static void out_of_band_is_refused(void **state)
 {
     (void)state;
@@ -230,10 +276,10 @@ static void out_of_band_is_refused(void **state)
     assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OUT_OF_BAND);
     assert_float_equal(o.R_est_Ohm, 20.0 * OP_R0, 1e-4);
     assert_float_equal(o.dR_Ohm, 19.0 * OP_R0, 1e-3);
-    /* observer nominal 0.3 R0: R^ = 3.3 R_nom */
-    ri = make(0.3 * OP_R0);
-    feed_analytic(&ri, RS_IDENT_WINDOW_1, 0.3 * OP_R0, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
-    feed_analytic(&ri, RS_IDENT_WINDOW_2, 0.3 * OP_R0, OP_L0, OP_PSI0, 0.0, 3.7, w, 500);
+    /* observer nominal 0.1 R0: R^ = 10 R_nom */
+    ri = make(0.1 * OP_R0);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, 0.1 * OP_R0, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
+    feed_analytic(&ri, RS_IDENT_WINDOW_2, 0.1 * OP_R0, OP_L0, OP_PSI0, 0.0, 3.7, w, 500);
     assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OUT_OF_BAND);
 }
 
@@ -262,6 +308,12 @@ static void other_refusals(void **state)
     assert_false(rs_ident_init(&ri, &c));
     assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_INVALID_CFG);
     rs_ident_cfg_defaults(&c, (float)R_NOM);
+    c.n_batch = 1u;
+    assert_false(rs_ident_init(&ri, &c));
+    rs_ident_cfg_defaults(&c, (float)R_NOM);
+    c.R_se_max_rel = 0.0f;
+    assert_false(rs_ident_init(&ri, &c));
+    rs_ident_cfg_defaults(&c, (float)R_NOM);
     c.R_max_Ohm = (float)(0.5 * R_NOM);
     assert_false(rs_ident_init(&ri, &c));
     rs_ident_cfg_defaults(&c, NAN);
@@ -275,7 +327,8 @@ int main(void)
         cmocka_unit_test(analytic_all_mismatched_and_two_speeds),
         cmocka_unit_test(plant_and_observer_paper_case),
         cmocka_unit_test(equal_operating_points_are_degenerate),
-        cmocka_unit_test(non_steady_window_is_refused),
+        cmocka_unit_test(scattered_window_is_refused_by_its_standard_error),
+        cmocka_unit_test(scatter_along_the_model_is_taken),
         cmocka_unit_test(out_of_band_is_refused),
         cmocka_unit_test(other_refusals),
     };

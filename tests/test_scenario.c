@@ -96,6 +96,9 @@ static void parses_every_kind(void **state)
                        "psif_Wb = 0.2\n"
                        "method = proposed\n"
                        "mode = torque\n"
+                       "[identify]\n"
+                       "mode = windows\n"
+                       "R_se_max_rel = 0.02\n"
                        "[reference]\n"
                        "torque_Nm = 0:0, 0.1:4, 0.3:6~\n"
                        "  0.5:0\n"
@@ -115,6 +118,8 @@ static void parses_every_kind(void **state)
     assert_float_equal(sc.controller.psif_Wb, 0.2, TOL);
     assert_int_equal(sc.controller.method, SC_METHOD_PROPOSED);
     assert_int_equal(sc.controller.mode, SC_MODE_TORQUE);
+    assert_int_equal(sc.identify.mode, SC_RSID_WINDOWS);
+    assert_float_equal(sc.identify.R_se_max_rel, 0.02, TOL);
     const profile_t *p = &sc.reference.torque_Nm;
     assert_int_equal(p->n, 4);
     assert_float_equal(profile_eval(p, 0.05), 0.0, TOL);
@@ -219,6 +224,10 @@ static void bad_inputs_name_file_line_key(void **state)
     expect_error("[plant]\nR_ohm = 3\nR_ohm = 4\n", 3, "R_ohm");
     expect_error("[controller]\nL_H = 0.01\nL_factor = 1.5\n", 2, "L_H");
     expect_error("[plant]\nR_ohm 3\n", 2, "syntax");
+    /* no silent fallback: the proposed method without step 1, at the line that asked for it */
+    expect_error("[controller]\nmethod = proposed\n", 2, "[identify] mode: off with [controller] method = proposed");
+    expect_error("[controller]\nmethod = proposed\n[identify]\nmode = off\n", 4, "mode = windows | speeds");
+    expect_error("[identify]\nR_se_max_rel = 0\n", 2, "R_se_max_rel");
     char long_line[400];
     int n = snprintf(long_line, sizeof long_line, "[reference]\nspeed_rpm = 0:0");
     while (n < 300) {

@@ -241,9 +241,42 @@ static void trip_disables_until_cleared(void **state)
     assert_true(tr.pwm_enabled);
 }
 
+/* The issue's case: a PLL bandwidth the encoder refuses (6000 rad/s x
+ * 1e-4 s > 0.5). The start latches CONFIG with the refusal in the
+ * snapshot before anything is energised: the gates never turn on, no
+ * current flows. The same scenario without the --set energises the motor
+ * (the measure can fail). */
+static void refused_pll_faults_config_never_energised(void **state)
+{
+    (void)state;
+    for (int bad = 0; bad <= 1; bad++) {
+        char err[SCENARIO_ERR_LEN];
+        scenario_t sc;
+        scenario_defaults(&sc);
+        assert_int_equal(scenario_load(&sc, "tools/scenarios/conv_paper.ini", err, sizeof err), 0);
+        assert_int_equal(scenario_set(&sc, "run.duration_s=0.05", err, sizeof err), 0);
+        if (bad) {
+            assert_int_equal(scenario_set(&sc, "controller.pll_bw_rad_s=6000", err, sizeof err), 0);
+        }
+        assert_int_equal(scenario_finish(&sc, err, sizeof err), 0);
+        sil_result_t res;
+        run(&sc, &res);
+        if (bad) {
+            assert_int_equal(res.final_state, APP_STATE_FAULT);
+            assert_int_equal(res.final_fault, APP_FAULT_CONFIG);
+            assert_int_equal(res.pwm_periods, 0u);
+            assert_true(res.max_abs_i_A == 0.0);
+        } else {
+            assert_int_equal(res.final_state, APP_STATE_RUN);
+            assert_true(res.pwm_periods > 0u);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(refused_pll_faults_config_never_energised),
         cmocka_unit_test(open_loop_locked_rotor_step),
         cmocka_unit_test(open_loop_steady_state_500rpm_4Nm),
         cmocka_unit_test(nan_columns_by_mode),

@@ -26,6 +26,7 @@ bench-ctrl: bench-ctrl-deps $(OUT)/bench_ctrl
 # matplotlib: sil_report.py imports it only to draw). No bytecode is
 # written into the tree.
 EXTRA_TESTS += test-tools
-test-tools:
+# tests/test_sweep.py runs the built drive_sil (its summary against metrics.py).
+test-tools: $(DRIVE_SIL)
 	@command -v python3 > /dev/null || tools/ensure_pkgs.sh python3
-	@PYTHONDONTWRITEBYTECODE=1 python3 tools/run_py_tests.py tests
+	@DRIVE_SIL=$(DRIVE_SIL) PYTHONDONTWRITEBYTECODE=1 python3 tools/run_py_tests.py tests

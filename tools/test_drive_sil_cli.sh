@@ -36,6 +36,10 @@ expect_bad "unknown key" --scenario "$(bad k '[plant]\nRs = 3\n')" --out "$dir/o
 expect_bad "malformed number" --scenario "$(bad n '[plant]\nL_H = 11mH\n')" --out "$dir/out.csv"
 expect_bad "malformed profile" --scenario "$(bad p '[reference]\nspeed_rpm = 0:0, 0.1 500\n')" --out "$dir/out.csv"
 expect_bad "unknown method" --scenario "$(bad m '[controller]\nmethod = better\n')" --out "$dir/out.csv"
+expect_bad "proposed without step 1" --scenario "$(bad q '[controller]\nmethod = proposed\n')" --out "$dir/out.csv"
+if ! grep -q "q.ini:2: \[identify\] mode: " "$dir/err"; then
+    echo "FAIL drive_sil CLI proposed without step 1: message is not FILE:LINE: [identify] mode: ..."; fail=1
+fi
 expect_bad "unknown mode" --scenario "$(bad o '[controller]\nmode = position\n')" --out "$dir/out.csv"
 expect_bad "unknown model" --scenario "$(bad i '[plant]\nmodel = pwm\n')" --out "$dir/out.csv"
 expect_bad "zero duration" --scenario "$(bad z '[run]\nduration_s = 0\n')" --out "$dir/out.csv"
@@ -49,5 +53,13 @@ if "$bin" --help > /dev/null && "$bin" --scenario "$good" --out "$dir/out.csv" >
 else
     echo "FAIL drive_sil CLI good run"; fail=1
 fi
+# a refused step 1 with on_refusal = conventional: exit 0, the warning in the summary line
+refused=$(printf '[plant]\nmodel = averaged\n[controller]\nmethod = proposed\nR_factor = 2\nR_min_ohm = 4\n[identify]\nmode = windows\non_refusal = conventional\n[reference]\nspeed_rpm = 0:0, 0.2:500~\n[load]\ntorque_Nm = 0:2, 0.35:4\n[run]\nduration_s = 0.6\n' > "$dir/refused.ini"; echo "$dir/refused.ini")
+if line=$("$bin" --scenario "$refused" --out "$dir/out.csv") && echo "$line" | grep -q "state 5 (RUN), fault 0 (NONE).*warning STEP1_REFUSED (RSID_OUT_OF_BAND)"; then
+    echo "ok   drive_sil CLI step 1 refused, conventional: $line"
+else
+    echo "FAIL drive_sil CLI step 1 refused, conventional: ${line:-no summary line}"; fail=1
+fi
+
 [ $fail -eq 0 ] && echo "drive_sil CLI: all passed"
 exit $fail

@@ -26,9 +26,14 @@ void hal_isr_attach(hal_isr_fn isr)
     EALLOW;
     PieVectTable.SEQ1INT = (PINT)isr;  /* isr is declared HAL_INTERRUPT by the caller */
     EDIS;
-    /* Drop a sequence finished before the ISR existed, so the first interrupt is a fresh one. */
+    /* Drop a sequence finished before the ISR existed, so the first
+     * interrupt is a fresh one: conversions have run since TBCLKSYNC and
+     * left INT_SEQ1, PIEIFR1.1 and IFR.INT1 set. PIEIER1.1 is still 0 and
+     * interrupts are masked, so clearing the PIE flag here is safe (SPRUFB0). */
     AdcRegs.ADCTRL2.bit.RST_SEQ1 = 1U;
     AdcRegs.ADCST.bit.INT_SEQ1_CLR = 1U;
+    PieCtrlRegs.PIEIFR1.bit.INTx1 = 0U;
+    IFR &= ~M_INT1;
     PieCtrlRegs.PIEIER1.bit.INTx1 = 1U;
     IER |= M_INT1;
     f28335_watchdog_enable();
@@ -41,7 +46,8 @@ void hal_isr_attach(hal_isr_fn isr)
 #endif
 void hal_isr_ack(void)
 {
-    AdcRegs.ADCTRL2.bit.RST_SEQ1 = 1U;     /* next SOCA starts again at CONV00 */
+    /* RST_SEQ1 is in hal_sample_read: here, after an overrun, it would abort
+     * the next period's conversion. */
     AdcRegs.ADCST.bit.INT_SEQ1_CLR = 1U;   /* clear the SEQ1 interrupt flag */
     PieCtrlRegs.PIEACK.all = PIEACK_GROUP1; /* write-1-to-clear: re-open PIE group 1 */
 }

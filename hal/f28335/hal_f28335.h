@@ -37,9 +37,15 @@ uint16_t hal_f28335_sci_write(const char *data, uint16_t len);
 /* Move queued characters into the SCI-A transmit FIFO, never waiting. Background loop. */
 void hal_f28335_sci_pump(void);
 
-/* False when the PLL did not lock or the oscillator is missing; the HAL
- * then reports a trip that hal_trip_clear() cannot clear. Any context. */
+/* False when the PLL did not lock or the oscillator is missing, at start-up
+ * or since (PLLSTS.MCLKSTS, limp mode, polled by every call and by
+ * hal_trip_active()); the HAL then reports a trip that hal_trip_clear()
+ * cannot clear. Any context. */
 bool hal_f28335_clock_ok(void);
+
+/* True when the last reset was a watchdog reset (WDCR.WDFLAG, read and
+ * cleared by hal_init). Any context after hal_init. */
+bool hal_f28335_watchdog_reset(void);
 
 /* Number of hal_pwm_write() calls that got a NaN or infinite duty (each
  * disabled the outputs). Any context. */

@@ -21,8 +21,19 @@
 #define ADC_PAIR_CURRENTS   0U   /* ADCINA0 / ADCINB0 */
 #define ADC_PAIR_VDC        1U   /* ADCINA1 / ADCINB1 */
 
+/* TI's factory trim routine in TI-reserved OTP (0x380080, section .adc_cal
+ * of C2000Ware's DSP2833x_ADC_cal.asm): writes ADCREFSEL and ADCOFFTRIM. */
+extern void ADC_cal(void);
+
 void f28335_adc_init(void)
 {
+    /* As TI's InitAdc: the boot ROM runs ADC_cal only when it boots the
+     * device; a debugger load-and-run skips it and leaves the reference and
+     * offset trims at their reset values. The ADC clock is on already
+     * (peripheral_clocks_init). */
+    EALLOW;
+    ADC_cal();
+    EDIS;
     AdcRegs.ADCTRL3.bit.ADCBGRFDN = ADC_BGRF_POWER_UP;
     AdcRegs.ADCTRL3.bit.ADCPWDN = 1U;
     f28335_delay_us(F28335_ADC_POWERUP_US);
@@ -62,6 +73,9 @@ void hal_sample_read(hal_sample_t *out)
 
     out->ia_A = current_from_result(AdcRegs.ADCRESULT0);
     out->ib_A = current_from_result(AdcRegs.ADCRESULT1);
+    /* Results read: rewind SEQ1 to CONV00 now, 100 us before the next SOCA,
+     * not at the end of the ISR where an overrunning ISR would abort it. */
+    AdcRegs.ADCTRL2.bit.RST_SEQ1 = 1U;
     out->vdc_V = vdc_counts * F28335_VDC_V_PER_COUNT - F28335_VDC_OFFSET_V;
     out->enc_count = EQep1Regs.QPOSCNT;
 }

@@ -37,6 +37,14 @@
 /* Timeout = 256 * 8 * 512 / 30 MHz = 35 ms without a hal_watchdog_kick(). */
 #define F28335_WDKEY_1           0x0055U
 #define F28335_WDKEY_2           0x00AAU
+/* WDCR.WDFLAG (bit 7): set by a watchdog reset, write 1 to clear. */
+#define F28335_WDCR_WDFLAG       0x0080U
+/* SCSR: WDOVERRIDE (bit 0, write 1 to clear) = 0 locks WDDIS, so nothing can
+ * turn the watchdog off again; WDENINT (bit 1) = 0 keeps it a reset. */
+#define F28335_SCSR_WD_LOCK      0x0001U
+
+/* ---- PIE (SPRUFB0 "PIE") ------------------------------------------------ */
+#define F28335_PIEACK_ALL        0xFFFFU  /* acknowledge every group: all may deliver */
 
 /* ---- ePWM (SPRUG04 "Time-Base", "Dead-Band") -------------------------- */
 #define F28335_TBCLK_HZ          BOARD_SYSCLK_HZ   /* HSPCLKDIV = CLKDIV = /1 */
@@ -45,6 +53,11 @@
 /* Dead band in TBCLK counts, rounded up: 1000 ns * 150 MHz = 150. */
 #define F28335_DB_COUNTS         ((uint16_t)((BOARD_DEADTIME_NS * (F28335_TBCLK_HZ / 1000000UL) + 999UL) / 1000UL))
 #define F28335_DB_MAX_COUNTS     1023U             /* DBRED/DBFED are 10 bits */
+/* SPRUG04 "Action-Qualifier", symmetric up-down PWM: with CMPA loaded at
+ * TBCTR = 0, CMPA must be >= 1 (at 0 the compare event can coincide with the
+ * load and an edge is lost or doubled). Duty 1 is therefore CMPA = 1: the
+ * high side is off for 2 TBCLK (13 ns) around zero, well inside the dead band. */
+#define F28335_CMPA_MIN          1U
 
 /* ---- ADC (SPRU812) ----------------------------------------------------- */
 #define F28335_ADC_CLKPS         1U   /* FCLK = HSPCLK / (2 * 1) = 12.5 MHz, CPS = 0 */

@@ -5,6 +5,8 @@
 
 #include <stdint.h>
 
+#include "hal.h"
+
 /* Compile-time check usable in C99 (negative array size on failure). */
 #define F28335_STATIC_ASSERT(name, cond) typedef char f28335_assert_##name[(cond) ? 1 : -1]
 
@@ -12,8 +14,20 @@
  * peripheral clocks. Start-up, first step of hal_init(). */
 void f28335_sysctrl_init(void);
 
-/* PIE off and cleared, CPU interrupts masked. Start-up, before any vector is set. */
+/* Flash wait states and pipeline for 150 MHz (TI's InitFlash). Runs from
+ * RAM and is never inlined into a flash-resident caller: flash must not be
+ * read while its wait states change. Start-up, after the PLL. */
+void f28335_flash_init(void);
+
+/* PIE off and cleared, every group acknowledged, every vector pointing at
+ * f28335_unexpected_isr, CPU interrupts masked. Start-up, before any vector
+ * is set. */
 void f28335_pie_init(void);
+
+/* Any interrupt or trap nobody installed (ILLEGAL, NMI, USER1..12, an
+ * unexpected PIE interrupt): all six gate outputs off, then halt (ESTOP0 for
+ * a debugger, then wait for the watchdog reset). Interrupt context. */
+HAL_INTERRUPT void f28335_unexpected_isr(void);
 
 /* Watchdog on (35 ms). Start-up, last step before the background loop. */
 void f28335_watchdog_enable(void);

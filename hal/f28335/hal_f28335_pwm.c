@@ -50,8 +50,17 @@ static volatile bool s_sw_off = true;       /* outputs held off by TZFRC OST */
 static volatile bool s_trip_latched = false; /* a TZ1 trip was seen */
 static volatile uint32_t s_nonfinite_duty_count = 0U;
 
+/* One module, outputs forced off first: from the TZ force on, neither gate
+ * follows the dead band, whatever DBCTL is set to next. */
 static void epwm_setup(volatile struct EPWM_REGS *p, bool master)
 {
+    EALLOW;
+    p->TZSEL.bit.OSHT1 = 1U;
+    p->TZCTL.bit.TZA = TZ_FORCE_LOW;
+    p->TZCTL.bit.TZB = TZ_FORCE_LOW;
+    p->TZFRC.bit.OST = 1U;  /* start with the outputs off */
+    EDIS;
+
     p->TBPRD = F28335_TBPRD;
     p->TBPHS.half.TBPHS = 0U;
     p->TBCTR = 0U;
@@ -78,12 +87,32 @@ static void epwm_setup(volatile struct EPWM_REGS *p, bool master)
     p->DBCTL.bit.OUT_MODE = DB_OUT_BOTH_DELAYED;
     p->DBRED = F28335_DB_COUNTS;
     p->DBFED = F28335_DB_COUNTS;
+}
 
+/* Pins last: GPIO0..5 become EPWM1A..3B only once all three modules hold
+ * their outputs low through the trip zone (with the active-high
+ * complementary dead band already set, an unforced B output would turn the
+ * low-side gate on). */
+static void pwm_pins_init(void)
+{
     EALLOW;
-    p->TZSEL.bit.OSHT1 = 1U;
-    p->TZCTL.bit.TZA = TZ_FORCE_LOW;
-    p->TZCTL.bit.TZB = TZ_FORCE_LOW;
-    p->TZFRC.bit.OST = 1U;  /* start with the outputs off */
+    /* GPIO12 = TZ1 (active low): pull-up on, asynchronous so a trip is not delayed. */
+    GpioCtrlRegs.GPAPUD.bit.GPIO12 = 0U;
+    GpioCtrlRegs.GPAQSEL1.bit.GPIO12 = GPIO_QSEL_ASYNC;
+    GpioCtrlRegs.GPAMUX1.bit.GPIO12 = GPIO_MUX_PERIPH1;
+    /* GPIO0..5 = EPWM1A, 1B, 2A, 2B, 3A, 3B; no pull-ups on gate outputs. */
+    GpioCtrlRegs.GPAPUD.bit.GPIO0 = 1U;
+    GpioCtrlRegs.GPAPUD.bit.GPIO1 = 1U;
+    GpioCtrlRegs.GPAPUD.bit.GPIO2 = 1U;
+    GpioCtrlRegs.GPAPUD.bit.GPIO3 = 1U;
+    GpioCtrlRegs.GPAPUD.bit.GPIO4 = 1U;
+    GpioCtrlRegs.GPAPUD.bit.GPIO5 = 1U;
+    GpioCtrlRegs.GPAMUX1.bit.GPIO0 = GPIO_MUX_PERIPH1;
+    GpioCtrlRegs.GPAMUX1.bit.GPIO1 = GPIO_MUX_PERIPH1;
+    GpioCtrlRegs.GPAMUX1.bit.GPIO2 = GPIO_MUX_PERIPH1;
+    GpioCtrlRegs.GPAMUX1.bit.GPIO3 = GPIO_MUX_PERIPH1;
+    GpioCtrlRegs.GPAMUX1.bit.GPIO4 = GPIO_MUX_PERIPH1;
+    GpioCtrlRegs.GPAMUX1.bit.GPIO5 = GPIO_MUX_PERIPH1;
     EDIS;
 }
 
@@ -115,29 +144,13 @@ void f28335_pwm_init(void)
     s_nonfinite_duty_count = 0U;
 
     EALLOW;
-    /* GPIO0..5 = EPWM1A, 1B, 2A, 2B, 3A, 3B; no pull-ups on gate outputs. */
-    GpioCtrlRegs.GPAPUD.bit.GPIO0 = 1U;
-    GpioCtrlRegs.GPAPUD.bit.GPIO1 = 1U;
-    GpioCtrlRegs.GPAPUD.bit.GPIO2 = 1U;
-    GpioCtrlRegs.GPAPUD.bit.GPIO3 = 1U;
-    GpioCtrlRegs.GPAPUD.bit.GPIO4 = 1U;
-    GpioCtrlRegs.GPAPUD.bit.GPIO5 = 1U;
-    GpioCtrlRegs.GPAMUX1.bit.GPIO0 = GPIO_MUX_PERIPH1;
-    GpioCtrlRegs.GPAMUX1.bit.GPIO1 = GPIO_MUX_PERIPH1;
-    GpioCtrlRegs.GPAMUX1.bit.GPIO2 = GPIO_MUX_PERIPH1;
-    GpioCtrlRegs.GPAMUX1.bit.GPIO3 = GPIO_MUX_PERIPH1;
-    GpioCtrlRegs.GPAMUX1.bit.GPIO4 = GPIO_MUX_PERIPH1;
-    GpioCtrlRegs.GPAMUX1.bit.GPIO5 = GPIO_MUX_PERIPH1;
-    /* GPIO12 = TZ1 (active low): pull-up on, asynchronous so a trip is not delayed. */
-    GpioCtrlRegs.GPAPUD.bit.GPIO12 = 0U;
-    GpioCtrlRegs.GPAQSEL1.bit.GPIO12 = GPIO_QSEL_ASYNC;
-    GpioCtrlRegs.GPAMUX1.bit.GPIO12 = GPIO_MUX_PERIPH1;
     SysCtrlRegs.PCLKCR0.bit.TBCLKSYNC = 0U;
     EDIS;
 
     epwm_setup(&EPwm1Regs, true);
     epwm_setup(&EPwm2Regs, false);
     epwm_setup(&EPwm3Regs, false);
+    pwm_pins_init();
 
     /* ePWM1 starts the ADC at every counter zero (SOCA). */
     EPwm1Regs.ETSEL.bit.SOCASEL = ET_SOCA_AT_ZERO;
@@ -161,7 +174,8 @@ void f28335_pwm_init(void)
 static uint16_t duty_to_cmpa(float duty)
 {
     const float d = mathx_clampf(duty, 0.0f, 1.0f);
-    return (uint16_t)((1.0f - d) * (float)F28335_TBPRD + 0.5f);
+    const uint16_t cmpa = (uint16_t)((1.0f - d) * (float)F28335_TBPRD + 0.5f);
+    return (cmpa < F28335_CMPA_MIN) ? (uint16_t)F28335_CMPA_MIN : cmpa;
 }
 
 /* A NaN or infinite duty means the controller failed: all outputs off

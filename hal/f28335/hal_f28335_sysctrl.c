@@ -1,7 +1,8 @@
 /*
  * hal_f28335_sysctrl.c - start-up of the F28335: watchdog, copy of the RAM
  * functions, PLL (30 MHz x 10 / 2 = 150 MHz), flash wait states,
- * peripheral clocks, PIE reset, and the watchdog service.
+ * peripheral clocks, PIE reset and vector table, the watchdog (enable,
+ * lock, service, reset cause) and the missing-clock (limp mode) watch.
  * References: SPRUFB0 "Clocking" (PLL, PLLSTS, PCLKCRx, HISPCP/LOSPCP),
  * "Watchdog Block", "PIE"; SPRS439 flash timing.
  */
@@ -25,6 +26,7 @@ extern Uint16 RamfuncsRunStart;
 #endif
 
 static volatile bool s_clock_ok;
+static bool s_watchdog_reset;  /* WDCR.WDFLAG was set at start-up */
 
 /* Copy the code that must run from RAM (ISR path, flash set-up) out of flash. */
 static void ramfuncs_copy(void)
@@ -64,12 +66,13 @@ static bool pll_init(void)
     return locked;
 }
 
-/* Flash wait states for 150 MHz. Runs from RAM: flash must not be read
- * while its wait states change. */
+/* Flash wait states for 150 MHz, as TI's InitFlash: a global function in
+ * ramfuncs that cl2000 may not inline into hal_init (flash-resident). */
 #if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(flash_init, "ramfuncs")
+#pragma CODE_SECTION(f28335_flash_init, "ramfuncs")
+#pragma FUNC_CANNOT_INLINE(f28335_flash_init)
 #endif
-static void flash_init(void)
+void f28335_flash_init(void)
 {
     EALLOW;
     FlashRegs.FOPT.bit.ENPIPE = 1U;  /* prefetch pipeline on */
@@ -103,13 +106,48 @@ static void peripheral_clocks_init(void)
 
 void f28335_sysctrl_init(void)
 {
+    /* WDFLAG tells a watchdog reset from a power-on/XRS reset; read it
+     * before anything writes WDCR, clear it (write 1) with the disable. */
+    s_watchdog_reset = (SysCtrlRegs.WDCR & F28335_WDCR_WDFLAG) != 0U;
     EALLOW;
-    SysCtrlRegs.WDCR = F28335_WDCR_DISABLE;  /* PLL lock and ADC power-up outlast a 4 ms watchdog */
+    /* PLL lock and ADC power-up outlast a 4 ms watchdog */
+    SysCtrlRegs.WDCR = s_watchdog_reset ? (F28335_WDCR_DISABLE | F28335_WDCR_WDFLAG) : F28335_WDCR_DISABLE;
     EDIS;
     ramfuncs_copy();
     s_clock_ok = pll_init();
-    flash_init();
+    f28335_flash_init();
     peripheral_clocks_init();
+}
+
+/* Every one of the 128 vectors (SPRUFB0 "PIE Vector Table": reserved
+ * entries, the CPU's own interrupts and traps, groups 1..12), as TI's
+ * InitPieVectTable fills them: PIE RAM holds random data after power-up, and
+ * an ITRAP or NMI taken through it would jump anywhere with the PWM running. */
+static void pie_vectors_init(void)
+{
+    PINT *const vec = (PINT *)&PieVectTable;
+    const uint16_t n = (uint16_t)(sizeof(PieVectTable) / sizeof(PINT));
+    uint16_t k;
+
+    EALLOW;
+    for (k = 0U; k < n; k++) {
+        vec[k] = &f28335_unexpected_isr;
+    }
+    EDIS;
+}
+
+#if defined(__TMS320C28XX__)
+#pragma CODE_SECTION(f28335_unexpected_isr, "ramfuncs")
+#endif
+HAL_INTERRUPT void f28335_unexpected_isr(void)
+{
+    hal_pwm_disable();  /* TZ one-shot force on all three legs: both gates low */
+    ESTOP0;
+#if defined(__TMS320C28XX__)
+    for (;;) {
+        /* no kick: the watchdog resets the device (35 ms, once enabled) */
+    }
+#endif
 }
 
 void f28335_pie_init(void)
@@ -128,8 +166,10 @@ void f28335_pie_init(void)
     PieCtrlRegs.PIEIER10.all = 0U; PieCtrlRegs.PIEIFR10.all = 0U;
     PieCtrlRegs.PIEIER11.all = 0U; PieCtrlRegs.PIEIFR11.all = 0U;
     PieCtrlRegs.PIEIER12.all = 0U; PieCtrlRegs.PIEIFR12.all = 0U;
+    PieCtrlRegs.PIEACK.all = F28335_PIEACK_ALL;  /* no group left blocked by a stale ACK bit */
     IER = 0x0000U;
     IFR = 0x0000U;
+    pie_vectors_init();
 }
 
 void f28335_watchdog_enable(void)
@@ -137,7 +177,13 @@ void f28335_watchdog_enable(void)
     hal_watchdog_kick();
     EALLOW;
     SysCtrlRegs.WDCR = F28335_WDCR_ENABLE_DIV8;
+    SysCtrlRegs.SCSR = F28335_SCSR_WD_LOCK;  /* WDOVERRIDE cleared: WDDIS is locked until reset */
     EDIS;
+}
+
+bool hal_f28335_watchdog_reset(void)
+{
+    return s_watchdog_reset;
 }
 
 void f28335_delay_us(uint32_t us)
@@ -155,6 +201,12 @@ void f28335_delay_us(uint32_t us)
 #endif
 bool hal_f28335_clock_ok(void)
 {
+    /* Limp mode at run time (oscillator lost after start-up): every timing
+     * scales with the slow clock, so the HAL latches it; only a reset, not
+     * MCLKCLR from here, brings the clock back. */
+    if (SysCtrlRegs.PLLSTS.bit.MCLKSTS != 0U) {
+        s_clock_ok = false;
+    }
     return s_clock_ok;
 }
 

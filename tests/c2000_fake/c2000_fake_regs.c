@@ -1,6 +1,7 @@
 /* c2000_fake_regs.c - the register objects of the host fake. On the target
  * C2000Ware's DSP2833x_GlobalVariableDefs.c defines them and the header
  * linker command file places them at the peripheral addresses. */
+#include <stddef.h>
 #include <string.h>
 
 #include "DSP2833x_Device.h"
@@ -10,6 +11,10 @@ volatile Uint16 c2000_fake_eallow;
 volatile Uint16 c2000_fake_intm = 1U;
 volatile Uint16 IER;
 volatile Uint16 IFR;
+volatile Uint16 c2000_fake_estop0;
+c2000_fake_adc_cal_t c2000_fake_adc_cal;
+
+static void (*s_edis_hook)(void);
 
 volatile struct ADC_REGS AdcRegs;
 volatile struct CPUTIMER_REGS CpuTimer2Regs;
@@ -43,6 +48,33 @@ void c2000_fake_reset(void)
     ZERO(FlashRegs);
     c2000_fake_eallow = 0U;
     c2000_fake_intm = 1U;
+    c2000_fake_estop0 = 0U;
     IER = 0U;
     IFR = 0U;
+    s_edis_hook = NULL;
+    c2000_fake_adc_cal.calls = 0U;
+    c2000_fake_adc_cal.adc_clock_on = 1U;
+}
+
+void c2000_fake_set_edis_hook(void (*hook)(void))
+{
+    s_edis_hook = hook;
+}
+
+void c2000_fake_edis(void)
+{
+    c2000_fake_eallow = 0U;
+    if (s_edis_hook != NULL) {
+        s_edis_hook();
+    }
+}
+
+void ADC_cal(void)
+{
+    c2000_fake_adc_cal.calls++;
+    if (SysCtrlRegs.PCLKCR0.bit.ADCENCLK == 0U) {
+        c2000_fake_adc_cal.adc_clock_on = 0U;
+    }
+    AdcRegs.ADCREFSEL = C2000_FAKE_ADCREFSEL_TRIM;
+    AdcRegs.ADCOFFTRIM = C2000_FAKE_ADCOFFTRIM_TRIM;
 }

@@ -1,10 +1,17 @@
 /*
  * drive_sil.c - the SIL runner program:
- *   drive_sil --scenario FILE [--set section.key=value ...] --out FILE.csv
+ *   drive_sil --scenario FILE [--set section.key=value ...]
+ *             [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]
  * Runs the firmware application on the simulated board (sil.h) and writes
- * one CSV row per logged period. Bad input (scenario, override, flag,
- * output path) prints a message naming file, line and key, exits 2 and
- * leaves no CSV: rows go to FILE.csv.tmp.PID, renamed at the end.
+ * one CSV row per logged period (--out) and/or the steady window's figures
+ * as JSON (--summary, summary.h; "-" is stdout), or with --check only
+ * validates the scenario and overrides. --batch is the sweep's worker
+ * (tools/sweep.py): one run per stdin line "ID<TAB>section.key=value<TAB>..."
+ * (overrides on top of the scenario's), one summary line per run on stdout,
+ * {"id": ID, "error": "..."} for refused overrides. Bad input (scenario, override,
+ * flag, output path) prints a message naming file, line and key, exits 2
+ * and leaves no output: each file is written as FILE.tmp.PID, renamed at
+ * the end.
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,118 +20,383 @@
 
 #include "scenario.h"
 #include "sil.h"
+#include "summary.h"
 
 #define EXIT_BAD_INPUT 2
 #define MAX_SETS 64
 #define TMP_SUFFIX_LEN 32
+#define NAME_LEN 64
+#define BATCH_LINE_LEN 8192
+#define BATCH_FIELD_SEP "\t"
+
+typedef struct {
+    const char *scenario_path;
+    const char *out_path;        /* CSV, or NULL */
+    const char *summary_path;    /* JSON, "-" for stdout, or NULL */
+    const char *window;          /* "T0:T1", or NULL for the default */
+    int check;                   /* validate only */
+    int batch;                   /* one run per stdin line */
+    const char *sets[MAX_SETS];
+    int n_sets;
+} args_t;
+
+/* An output written to a temporary name and renamed when complete. */
+typedef struct {
+    const char *path;
+    char *tmp_path;
+    FILE *f;
+} out_file_t;
+
+typedef struct {
+    FILE *csv;                   /* or NULL */
+    summary_t *summary;          /* or NULL */
+} sink_t;
 
 static void usage(FILE *f)
 {
     fprintf(f,
-            "usage: drive_sil --scenario FILE [--set section.key=value ...] --out FILE.csv\n"
+            "usage: drive_sil --scenario FILE [--set section.key=value ...]\n"
+            "                 [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]\n"
             "       drive_sil --help\n"
             "Runs the drive firmware on the simulated board for one scenario (INI)\n"
-            "and writes the CSV trace. Every key is optional (defaults: paper Table I).\n"
+            "and writes the CSV trace (--out) and/or the steady window's figures as\n"
+            "JSON (--summary; - for stdout; tools/sil/summary.h names them). The\n"
+            "window defaults to 0.8:0.95 s for a run of 1.05 s or more, else the\n"
+            "last quarter. --check validates the scenario and overrides, runs nothing.\n"
+            "--batch runs one point per stdin line \"ID<TAB>section.key=value<TAB>...\"\n"
+            "(overrides on top of the scenario's) and prints one summary line per point.\n"
+            "Every key is optional (defaults: paper Table I).\n"
             "Profiles: \"t:value, t:value\" steps; \"t:value~\" ramps to value at t.\n"
             "Keys (section, name, default, meaning):\n");
     scenario_print_keys(f);
     fprintf(f, "See hal/sim/README.md for the CSV columns.\n");
 }
 
-static int write_row(const sil_row_t *row, void *user)
+static int parse_args(int argc, char **argv, args_t *a)
 {
-    FILE *f = user;
-    sil_csv_row(f, row);
-    return ferror(f) ? 1 : 0;
+    memset(a, 0, sizeof *a);
+    for (int i = 1; i < argc; i++) {
+        const char *s = argv[i];
+        if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
+            usage(stdout);
+            exit(EXIT_SUCCESS);
+        }
+        if (strcmp(s, "--check") == 0 || strcmp(s, "--batch") == 0) {
+            *((s[2] == 'c') ? &a->check : &a->batch) = 1;
+            continue;
+        }
+        const char **slot = NULL;
+        if (strcmp(s, "--scenario") == 0) {
+            slot = &a->scenario_path;
+        } else if (strcmp(s, "--out") == 0) {
+            slot = &a->out_path;
+        } else if (strcmp(s, "--summary") == 0) {
+            slot = &a->summary_path;
+        } else if (strcmp(s, "--window") == 0) {
+            slot = &a->window;
+        } else if (strcmp(s, "--set") == 0) {
+            if (a->n_sets >= MAX_SETS) {
+                fprintf(stderr, "drive_sil: more than %d --set\n", MAX_SETS);
+                return -1;
+            }
+            slot = &a->sets[a->n_sets++];
+        } else {
+            fprintf(stderr, "drive_sil: unknown argument \"%s\" (see --help)\n", s);
+            return -1;
+        }
+        if (i + 1 >= argc) {
+            fprintf(stderr, "drive_sil: %s needs a value\n", s);
+            return -1;
+        }
+        *slot = argv[++i];
+    }
+    if (a->batch && (a->check || a->out_path != NULL || a->summary_path != NULL)) {
+        fprintf(stderr, "drive_sil: --batch writes its summaries to stdout (no --out, --summary, --check)\n");
+        return -1;
+    }
+    if (a->scenario_path == NULL || (!a->check && !a->batch && a->out_path == NULL && a->summary_path == NULL)) {
+        fprintf(stderr, "drive_sil: --scenario and --out or --summary are required (see --help)\n");
+        return -1;
+    }
+    if (a->out_path != NULL && strcmp(a->out_path, "-") == 0) {
+        fprintf(stderr, "drive_sil: --out -: the CSV goes to a file (--summary - is stdout)\n");
+        return -1;
+    }
+    return 0;
+}
+
+static int summary_on_stdout(const args_t *a)
+{
+    return a->summary_path != NULL && strcmp(a->summary_path, "-") == 0;
+}
+
+/* The scenario file and the --set overrides, not yet finished (resolved). */
+static int load_base(const args_t *a, scenario_t *sc)
+{
+    char err[SCENARIO_ERR_LEN];
+    scenario_defaults(sc);
+    if (scenario_load(sc, a->scenario_path, err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s\n", err);
+        return -1;
+    }
+    for (int i = 0; i < a->n_sets; i++) {
+        if (scenario_set(sc, a->sets[i], err, sizeof err) != 0) {
+            fprintf(stderr, "drive_sil: %s\n", err);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static int load_scenario(const args_t *a, scenario_t *sc)
+{
+    char err[SCENARIO_ERR_LEN];
+    if (load_base(a, sc) != 0) {
+        return -1;
+    }
+    if (scenario_finish(sc, err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s\n", err);
+        return -1;
+    }
+    return 0;
+}
+
+/* --window T0:T1 (or the default for the run), T0 < T1, both finite. */
+static int window_of(const args_t *a, const scenario_t *sc, double *t0, double *t1)
+{
+    if (a->window == NULL) {
+        summary_default_window(sc->run.duration_s, t0, t1);
+        return 0;
+    }
+    char *end;
+    *t0 = strtod(a->window, &end);
+    if (end != a->window && *end == ':') {
+        const char *p = end + 1;
+        *t1 = strtod(p, &end);
+        if (end != p && *end == '\0' && *t0 < *t1) {
+            return 0;
+        }
+    }
+    fprintf(stderr, "drive_sil: --window %s: expected T0:T1 in seconds with T0 < T1\n", a->window);
+    return -1;
+}
+
+static int out_open(out_file_t *o, const char *path, const char *flag)
+{
+    o->path = path;
+    o->tmp_path = NULL;
+    o->f = NULL;
+    if (path == NULL) {
+        return 0;
+    }
+    if (strcmp(path, "-") == 0) {
+        o->f = stdout;
+        return 0;
+    }
+    size_t len = strlen(path) + TMP_SUFFIX_LEN;
+    o->tmp_path = malloc(len);
+    if (o->tmp_path == NULL) {
+        fprintf(stderr, "drive_sil: out of memory\n");
+        return -1;
+    }
+    snprintf(o->tmp_path, len, "%s.tmp.%ld", path, (long)getpid());
+    o->f = fopen(o->tmp_path, "w");
+    if (o->f == NULL) {
+        fprintf(stderr, "drive_sil: %s %s: cannot write: ", flag, path);
+        perror(NULL);
+        free(o->tmp_path);
+        o->tmp_path = NULL;
+        return -1;
+    }
+    return 0;
+}
+
+/* Drop an unfinished output. */
+static void out_abandon(out_file_t *o)
+{
+    if (o->tmp_path != NULL) {
+        if (o->f != NULL) {
+            fclose(o->f);
+        }
+        remove(o->tmp_path);
+        free(o->tmp_path);
+        o->tmp_path = NULL;
+    }
+    o->f = NULL;
+}
+
+/* Close and rename into place; 0, or -1 with the temporary removed. */
+static int out_commit(out_file_t *o, const char *flag)
+{
+    if (o->f == NULL) {
+        return 0;
+    }
+    if (o->tmp_path == NULL) {
+        return (fflush(o->f) == 0) ? 0 : -1;
+    }
+    int bad = ferror(o->f);
+    FILE *f = o->f;
+    o->f = NULL;
+    if (fclose(f) != 0 || bad) {
+        fprintf(stderr, "drive_sil: %s %s: write error\n", flag, o->path);
+        out_abandon(o);
+        return -1;
+    }
+    if (rename(o->tmp_path, o->path) != 0) {
+        fprintf(stderr, "drive_sil: %s %s: cannot rename the finished file: ", flag, o->path);
+        perror(NULL);
+        out_abandon(o);
+        return -1;
+    }
+    free(o->tmp_path);
+    o->tmp_path = NULL;
+    return 0;
+}
+
+static int on_row(const sil_row_t *row, void *user)
+{
+    sink_t *k = user;
+    if (k->summary != NULL) {
+        summary_add(k->summary, row);
+    }
+    if (k->csv != NULL) {
+        sil_csv_row(k->csv, row);
+        return ferror(k->csv) ? 1 : 0;
+    }
+    return 0;
+}
+
+static int add_to_summary(const sil_row_t *row, void *user)
+{
+    summary_add(user, row);
+    return 0;
+}
+
+/* One batch line "ID<TAB>set<TAB>set..." (newline removed) on top of *base: its summary line. */
+static void batch_point(const args_t *a, const scenario_t *base, char *line)
+{
+    static scenario_t sc;
+    static summary_t sum;
+    char err[SCENARIO_ERR_LEN];
+    char *save = NULL;
+    const char *id = strtok_r(line, BATCH_FIELD_SEP, &save);
+    if (id == NULL) {
+        id = "";
+    }
+    sc = *base;
+    int bad = 0;
+    for (char *set = strtok_r(NULL, BATCH_FIELD_SEP, &save); set != NULL && !bad;
+         set = strtok_r(NULL, BATCH_FIELD_SEP, &save)) {
+        bad = scenario_set(&sc, set, err, sizeof err);
+    }
+    if (!bad) {
+        bad = scenario_finish(&sc, err, sizeof err);
+    }
+    if (bad) {
+        fputs("{\"id\": ", stdout);
+        summary_json_string(stdout, id);
+        fputs(", \"error\": ", stdout);
+        summary_json_string(stdout, err);
+        fputs("}\n", stdout);
+        return;
+    }
+    double t0 = 0.0;
+    double t1 = 0.0;
+    if (window_of(a, &sc, &t0, &t1) != 0) {
+        exit(EXIT_BAD_INPUT);
+    }
+    summary_init(&sum, &sc, t0, t1);
+    sil_result_t res;
+    (void)sil_run(&sc, add_to_summary, &sum, &res);
+    summary_write_json(stdout, &sum, &sc, &res, a->scenario_path, id);
+}
+
+/* --batch: every stdin line a point; 0 at end of input, -1 on a line too long. */
+static int run_batch(const args_t *a)
+{
+    static scenario_t base;
+    static char line[BATCH_LINE_LEN];
+    if (load_base(a, &base) != 0) {
+        return EXIT_BAD_INPUT;
+    }
+    while (fgets(line, sizeof line, stdin) != NULL) {
+        size_t n = strlen(line);
+        if (n > 0u && line[n - 1u] == '\n') {
+            line[--n] = '\0';
+        } else if (!feof(stdin)) {
+            fprintf(stderr, "drive_sil: --batch: a line longer than %d characters\n", BATCH_LINE_LEN - 2);
+            return EXIT_BAD_INPUT;
+        }
+        batch_point(a, &base, line);
+        if (fflush(stdout) != 0) {
+            return EXIT_FAILURE;
+        }
+    }
+    return EXIT_SUCCESS;
 }
 
 int main(int argc, char **argv)
 {
-    const char *scenario_path = NULL;
-    const char *out_path = NULL;
-    const char *sets[MAX_SETS];
-    int n_sets = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            usage(stdout);
-            return EXIT_SUCCESS;
-        }
-        if ((strcmp(a, "--scenario") == 0 || strcmp(a, "--out") == 0 || strcmp(a, "--set") == 0) &&
-            i + 1 >= argc) {
-            fprintf(stderr, "drive_sil: %s needs a value\n", a);
-            return EXIT_BAD_INPUT;
-        }
-        if (strcmp(a, "--scenario") == 0) {
-            scenario_path = argv[++i];
-        } else if (strcmp(a, "--out") == 0) {
-            out_path = argv[++i];
-        } else if (strcmp(a, "--set") == 0) {
-            if (n_sets >= MAX_SETS) {
-                fprintf(stderr, "drive_sil: more than %d --set\n", MAX_SETS);
-                return EXIT_BAD_INPUT;
-            }
-            sets[n_sets++] = argv[++i];
-        } else {
-            fprintf(stderr, "drive_sil: unknown argument \"%s\" (see --help)\n", a);
-            return EXIT_BAD_INPUT;
-        }
-    }
-    if (scenario_path == NULL || out_path == NULL) {
-        fprintf(stderr, "drive_sil: --scenario and --out are required (see --help)\n");
-        return EXIT_BAD_INPUT;
-    }
-
+    args_t a;
     static scenario_t sc;
-    char err[SCENARIO_ERR_LEN];
-    scenario_defaults(&sc);
-    if (scenario_load(&sc, scenario_path, err, sizeof err) != 0) {
-        fprintf(stderr, "drive_sil: %s\n", err);
+    double t0 = 0.0;
+    double t1 = 0.0;
+    if (parse_args(argc, argv, &a) != 0) {
         return EXIT_BAD_INPUT;
     }
-    for (int i = 0; i < n_sets; i++) {
-        if (scenario_set(&sc, sets[i], err, sizeof err) != 0) {
-            fprintf(stderr, "drive_sil: %s\n", err);
-            return EXIT_BAD_INPUT;
-        }
+    if (a.batch) {
+        return run_batch(&a);
     }
-    if (scenario_finish(&sc, err, sizeof err) != 0) {
-        fprintf(stderr, "drive_sil: %s\n", err);
+    if (load_scenario(&a, &sc) != 0 || window_of(&a, &sc, &t0, &t1) != 0) {
         return EXIT_BAD_INPUT;
     }
-
-    size_t tmp_len = strlen(out_path) + TMP_SUFFIX_LEN;
-    char *tmp_path = malloc(tmp_len);
-    if (tmp_path == NULL) {
-        fprintf(stderr, "drive_sil: out of memory\n");
-        return EXIT_FAILURE;
+    if (a.check) {
+        printf("drive_sil: %s: ok\n", a.scenario_path);
+        return EXIT_SUCCESS;
     }
-    snprintf(tmp_path, tmp_len, "%s.tmp.%ld", out_path, (long)getpid());
-    FILE *f = fopen(tmp_path, "w");
-    if (f == NULL) {
-        fprintf(stderr, "drive_sil: --out %s: cannot write: ", out_path);
-        perror(NULL);
-        free(tmp_path);
+    out_file_t csv;
+    out_file_t js;
+    if (out_open(&csv, a.out_path, "--out") != 0) {
         return EXIT_BAD_INPUT;
     }
-    sil_csv_header(f);
+    if (out_open(&js, a.summary_path, "--summary") != 0) {
+        out_abandon(&csv);
+        return EXIT_BAD_INPUT;
+    }
+    static summary_t sum;
+    summary_init(&sum, &sc, t0, t1);
+    sink_t sink = { csv.f, (js.f != NULL) ? &sum : NULL };
+    if (csv.f != NULL) {
+        sil_csv_header(csv.f);
+    }
     sil_result_t res;
-    int rc = sil_run(&sc, write_row, f, &res);
-    if (fclose(f) != 0 || rc != 0) {
-        fprintf(stderr, "drive_sil: --out %s: write error\n", out_path);
-        remove(tmp_path);
-        free(tmp_path);
+    int rc = sil_run(&sc, on_row, &sink, &res);
+    if (rc != 0) {
+        fprintf(stderr, "drive_sil: --out %s: write error\n", a.out_path);
+        out_abandon(&csv);
+        out_abandon(&js);
         return EXIT_FAILURE;
     }
-    if (rename(tmp_path, out_path) != 0) {
-        fprintf(stderr, "drive_sil: --out %s: cannot rename the finished file: ", out_path);
-        perror(NULL);
-        remove(tmp_path);
-        free(tmp_path);
-        return EXIT_BAD_INPUT;
+    if (js.f != NULL) {
+        summary_write_json(js.f, &sum, &sc, &res, a.scenario_path, NULL);
     }
-    free(tmp_path);
-    printf("drive_sil: %s: %u periods, %u rows, final state %d, fault %d, max |i| %.2f A -> %s\n",
-           scenario_path, res.periods, res.rows, res.final_state, res.final_fault, res.max_abs_i_A, out_path);
+    if (out_commit(&csv, "--out") != 0) {
+        out_abandon(&js);
+        return EXIT_FAILURE;
+    }
+    if (out_commit(&js, "--summary") != 0) {
+        return EXIT_FAILURE;
+    }
+    if (a.out_path != NULL && !summary_on_stdout(&a)) {
+        char sbuf[NAME_LEN];
+        char fbuf[NAME_LEN];
+        char wbuf[NAME_LEN];
+        const char *warn = summary_warning_text(&res, wbuf, sizeof wbuf);
+        printf("drive_sil: %s: %u periods, %u rows, final state %d (%s), fault %d (%s), max |i| %.2f A%s%s -> %s\n",
+               a.scenario_path, res.periods, res.rows, res.final_state,
+               summary_state_name(res.final_state, sbuf, sizeof sbuf), res.final_fault,
+               summary_fault_name(res.final_fault, fbuf, sizeof fbuf), res.max_abs_i_A,
+               (warn[0] != '\0') ? ", warning " : "", warn, a.out_path);
+    }
     return EXIT_SUCCESS;
 }

@@ -9,7 +9,7 @@ HOST_PROGRAMS += $(DRIVE_SIL)
 # (libfirmware), which calls the HAL (libsim) - one pass of "firmware sim
 # control" resolves that. Tests calling sil_run() do the same:
 #   TEST_SRCS_test_x := tools/sil/sil.c   TEST_LIBS_test_x := silrun firmware sim control
-$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/sil.c tools/sil/summary.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(LDLIBS)
 
@@ -30,6 +30,12 @@ test-drive-sil-cli: $(DRIVE_SIL)
 # of tools/scenarios/, and the controller alone on hal_sim).
 TEST_LIBS_test_sil_proposed := silrun firmware sim control
 TEST_SRCS_test_sil_proposed := tools/sil/sil.c
+
+# Step 1 on a real ADC (issue 13 part A): noise, offsets, inertia, the R^
+# band, the refusal policy; both methods on the same scenarios.
+TEST_LIBS_test_sil_identify := silrun firmware sim control
+TEST_SRCS_test_sil_identify := tools/sil/sil.c
+
 # The proposed method on a real inverter: inverter error, warming winding (issue 13).
 TEST_LIBS_test_sil_inverter := silrun firmware sim control
 TEST_SRCS_test_sil_inverter := tools/sil/sil.c

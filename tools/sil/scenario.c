@@ -31,6 +31,7 @@ static const char *const METHOD_NAMES[] = { "conventional", "proposed", NULL };
 static const char *const MODE_NAMES[] = { "speed", "torque", "open_loop", NULL };
 static const char *const ONOFF_NAMES[] = { "off", "on", NULL };
 static const char *const RSID_NAMES[] = { "off", "windows", "speeds", "trusted", NULL };
+static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 
 #define UINT32_MAX_D 4294967295.0
 #define F(field) offsetof(scenario_t, field)
@@ -94,6 +95,13 @@ static const sc_key_t KEYS[] = {
     ANY("identify", "speed_1_rpm", identify.speed_1_rpm, "500", "speeds mode: speed of point 1 [r/min]"),
     ANY("identify", "speed_2_rpm", identify.speed_2_rpm, "1000", "speeds mode: speed of point 2 [r/min]"),
     POS("identify", "accel_rpm_s", identify.accel_rpm_s, "2500", "speeds mode: ramp of the commanded speed [r/min/s]"),
+    /* step 1 on a real ADC (issue 13 part A; rs_ident.h, observer_design.md sec. 6) */
+    POS("identify", "R_se_max_rel", identify.R_se_max_rel, "0.01", "largest standard error of R^ accepted, x R^"),
+    POS("identify", "batch_s", identify.batch_s, "0.005", "batch of the standard error's batch means [s]"),
+    NN("identify", "window_max_s", identify.window_max_s, "0.3",
+       "window 2 is lengthened up to this while the standard error of R^ is too large [s]"),
+    ENUM("identify", "on_refusal", identify.on_refusal, "fault", REFUSAL_NAMES,
+         "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
     ENUM("identify", "track_R", identify.track_R, "off", ONOFF_NAMES,
          "off | on: R^ tracked in step 2 by a d-current injection (a warming winding)"),
 
@@ -417,6 +425,26 @@ static int resolve(scenario_t *sc, const char *abs_name, const char *fac_name, d
     return 0;
 }
 
+/* method = proposed with step 1 off would run the conventional method
+ * unannounced (ctrl.h): refused, naming the fix. */
+static int check_identify(const scenario_t *sc, char *err, size_t errlen)
+{
+    int known = 0;
+    const int i_mode = find_key("identify", "mode", &known);
+    const int i_method = find_key("controller", "method", &known);
+    if (sc->controller.method != SC_METHOD_PROPOSED || sc->identify.mode != SC_RSID_OFF) {
+        return 0;
+    }
+    /* where mode was set to off, else where the method was asked for */
+    const char *where = (sc->origin[i_mode][0] != '\0') ? sc->origin[i_mode] : sc->origin[i_method];
+    snprintf(err, errlen,
+             "%s: [identify] mode: off with [controller] method = proposed: the proposed method needs step 1; "
+             "set [identify] mode = windows | speeds (identify R), or trusted (the controller's R_ohm is right), "
+             "or method = conventional",
+             where);
+    return -1;
+}
+
 int scenario_finish(scenario_t *sc, char *err, size_t errlen)
 {
     if (resolve(sc, "R_ohm", "R_factor", sc->plant.R_ohm, &sc->controller.R_ohm,
@@ -427,7 +455,7 @@ int scenario_finish(scenario_t *sc, char *err, size_t errlen)
                 sc->controller.psif_factor, err, errlen) != 0) {
         return -1;
     }
-    return 0;
+    return check_identify(sc, err, errlen);
 }
 
 void scenario_print_keys(FILE *f)

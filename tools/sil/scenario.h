@@ -17,7 +17,7 @@
 #include "profile.h"
 
 #define SCENARIO_ERR_LEN 512
-#define SCENARIO_MAX_KEYS 64
+#define SCENARIO_MAX_KEYS 128
 #define SCENARIO_ORIGIN_LEN 96
 
 typedef enum { SC_MODEL_AVERAGED = 0, SC_MODEL_SWITCHING = 1 } sc_model_t;
@@ -26,6 +26,9 @@ typedef enum { SC_MODE_SPEED = 0, SC_MODE_TORQUE = 1, SC_MODE_OPEN_LOOP = 2 } sc
 typedef enum { SC_OFF = 0, SC_ON = 1 } sc_onoff_t;
 /* [identify] mode: as app_rsid_mode_t */
 typedef enum { SC_RSID_OFF = 0, SC_RSID_WINDOWS = 1, SC_RSID_SPEEDS = 2, SC_RSID_TRUSTED = 3 } sc_rsid_mode_t;
+/* [identify] on_refusal: as app_rsid_refusal_t */
+typedef enum { SC_REFUSAL_FAULT = 0, SC_REFUSAL_CONVENTIONAL = 1 } sc_refusal_t;
+
 
 typedef struct {
     struct {                       /* [plant]: the TRUE motor, inverter and sensors */
@@ -58,6 +61,9 @@ typedef struct {
         uint32_t mode;             /* sc_rsid_mode_t */
         double settle_1_s, window_s, settle_2_s;
         double speed_1_rpm, speed_2_rpm, accel_rpm_s;
+        /* issue 13 part A: step 1 on a real ADC */
+        double R_se_max_rel, batch_s, window_max_s;
+        uint32_t on_refusal;       /* sc_refusal_t */
         uint32_t track_R;          /* sc_onoff_t: R^ tracked in step 2 (ctrl_cfg_t.track_R) */
     } identify;
     struct {
@@ -85,7 +91,8 @@ int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen);
 /* Apply one "section.key=value" override. Returns 0, or -1 with err filled. */
 int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen);
 
-/* Cross-key checks (duration, absolute vs factor) and resolution of the controller's
+/* Cross-key checks (absolute vs factor; method = proposed needs step 1 or a
+ * trusted R: no silent fallback to the conventional method) and resolution of the controller's
  * R, L, psi_f to absolute values. Call once after loading. Returns 0, or -1 with err. */
 int scenario_finish(scenario_t *sc, char *err, size_t errlen);
 

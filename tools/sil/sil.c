@@ -78,11 +78,14 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->calibrate = (sc->run.calibrate == SC_ON);
     ac->align = (sc->run.align == SC_ON);
     /* the proposed method's settings for the controller's values, R^ band in ohms */
-    const double R_min = isnan(sc->controller.R_min_ohm) ? BOARD_RSID_R_MIN_PER_R * sc->controller.R_ohm
-                                                         : sc->controller.R_min_ohm;
-    const double R_max = isnan(sc->controller.R_max_ohm) ? BOARD_RSID_R_MAX_PER_R * sc->controller.R_ohm
-                                                         : sc->controller.R_max_ohm;
-    ctrl_cfg_proposed_defaults(c, (float)R_min, (float)R_max);
+    float R_min = NAN;
+    float R_max = NAN;
+    ctrl_rsid_band_default(c, &R_min, &R_max);
+    R_min = isnan(sc->controller.R_min_ohm) ? R_min : (float)sc->controller.R_min_ohm;
+    R_max = isnan(sc->controller.R_max_ohm) ? R_max : (float)sc->controller.R_max_ohm;
+    ctrl_cfg_proposed_defaults(c, R_min, R_max);
+    c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
+    c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
     c->track_R = (sc->identify.track_R == SC_ON) ? 1u : 0u;
     ac->rsid_mode = (app_rsid_mode_t)sc->identify.mode;
     ac->rsid_settle_1_s = (float)sc->identify.settle_1_s;
@@ -91,6 +94,9 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->rsid_speed_1_rad_s = (float)(sc->identify.speed_1_rpm / RPM_PER_RAD_S);
     ac->rsid_speed_2_rad_s = (float)(sc->identify.speed_2_rpm / RPM_PER_RAD_S);
     ac->rsid_accel_rad_s2 = (float)(sc->identify.accel_rpm_s / RPM_PER_RAD_S);
+    ac->rsid_window_max_s = (float)sc->identify.window_max_s;
+    ac->rsid_on_refusal = (sc->identify.on_refusal == SC_REFUSAL_CONVENTIONAL) ? APP_RSID_REFUSAL_CONVENTIONAL
+                                                                               : APP_RSID_REFUSAL_FAULT;
 }
 
 static ctrl_mode_t ctrl_mode_of(uint32_t mode)
@@ -110,7 +116,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->t_s = tr.t_s;
     r->state = (double)g_app.state;
     r->fault = (double)g_app.fault;
-    r->flags = (double)g_app.out.flags;
+    r->flags = (double)(g_app.out.flags | g_app.warnings); /* app.h: APP_WARN_* above CTRL_FLAG_* */
     r->speed_ref_rpm = (sc->controller.mode == SC_MODE_SPEED) ? speed_ref_rpm : NAN;
     r->speed_rpm = tr.speed_m_rad_s * RPM_PER_RAD_S;
     r->speed_est_rpm = (double)m->speed_mech_rad_s * RPM_PER_RAD_S;
@@ -184,6 +190,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
         }
         double i_max = fmax(fabs(tr.ia_A), fmax(fabs(tr.ib_A), fabs(tr.ic_A)));
         res->max_abs_i_A = fmax(res->max_abs_i_A, i_max);
+        res->pwm_periods += tr.pwm_enabled ? 1u : 0u;
         res->periods = k + 1u;
         if (on_row != NULL && k % sc->run.log_every == 0u) {
             sil_row_t row;
@@ -194,6 +201,8 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     }
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
+    res->warnings = g_app.warnings;
+    res->rsid_refusal = (int)g_app.rsid_refusal.fault;
     res->enc_offset_el_rad = (double)g_app.ctrl.enc.offset_rad;
     res->i_offset_a_A = (double)g_app.offset_ia_A;
     res->i_offset_b_A = (double)g_app.offset_ib_A;

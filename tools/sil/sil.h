@@ -39,10 +39,13 @@ typedef struct {
     uint32_t rows;             /* passed to the callback */
     int final_state;           /* app_state_t at the end */
     int final_fault;           /* app_fault_t at the end */
+    unsigned warnings;         /* app.h APP_WARN_* at the end */
+    int rsid_refusal;          /* APP_WARN_STEP1_REFUSED: the RSID_* fault step 1 would have latched */
     double max_abs_i_A;        /* largest true phase current seen at a sample */
     double t_run_s;            /* first period that ended in RUN (its t_k); NaN if none */
     double enc_offset_el_rad;  /* the controller's encoder offset at the end: told or found by alignment, [0, 2 pi) */
     double i_offset_a_A, i_offset_b_A;   /* current offsets the app subtracts at the end (0 unless calibrated) */
+    uint32_t pwm_periods;      /* periods with the gates on (0: the motor was never energised) */
 } sil_result_t;
 
 /* Called for every logged row; a nonzero return stops the run. */

@@ -1,0 +1,83 @@
+/*
+ * app_step.h - what the application's pieces share: the drive states, the
+ * fault codes, and the outcome of one step of a start-up state machine
+ * (calib, align, rsid_seq) or of the protection checks (protect).
+ *
+ * Every start-up step is a small state machine with its own state struct,
+ * a _start() and a _step() called once per ISR period that returns
+ * running, done, or a fault with the quantity and the limit it crossed;
+ * app.c holds the sequence that chains them (app.h).
+ */
+#ifndef APP_STEP_H
+#define APP_STEP_H
+
+#include <stdint.h>
+
+/* Values are logged (SIL CSV, telemetry). */
+typedef enum {
+    APP_STATE_INIT = 0,
+    APP_STATE_IDLE = 1,
+    APP_STATE_CALIBRATE = 2,
+    APP_STATE_ALIGN = 3,
+    APP_STATE_IDENTIFY_R = 4,
+    APP_STATE_RUN = 5,
+    APP_STATE_FAULT = 6
+} app_state_t;
+
+typedef enum {
+    APP_FAULT_NONE = 0,
+    APP_FAULT_HW_TRIP = 1,
+    APP_FAULT_OVERCURRENT = 2,
+    APP_FAULT_NONFINITE_OUTPUT = 3,
+    APP_FAULT_NONFINITE_SAMPLE = 4,
+    APP_FAULT_OVERVOLTAGE = 5,
+    APP_FAULT_UNDERVOLTAGE = 6,
+    APP_FAULT_OVERSPEED = 7,
+    APP_FAULT_ENCODER = 8,
+    APP_FAULT_OVERRUN = 9,
+    APP_FAULT_CURRENT_OFFSET = 10,
+    APP_FAULT_CONFIG = 11,           /* identification asked for, ctrl_init refused the observer's settings */
+    APP_FAULT_RSID_TOO_FEW = 12,     /* IDENTIFY_R: a window shorter than rs_ident's n_min */
+    APP_FAULT_RSID_NOT_STEADY = 13,  /* R^ too uncertain: noise or a transient (snapshot: se of R^, its limit) */
+    APP_FAULT_RSID_DEGENERATE = 14,  /* the two operating points too alike for (41) */
+    APP_FAULT_RSID_NON_FINITE = 15,  /* NaN/Inf in the windows or the result */
+    APP_FAULT_RSID_OUT_OF_BAND = 16  /* R^ outside [R_min, R_max] (snapshot: R^, the bound crossed) */
+} app_fault_t;
+
+typedef enum {
+    APP_STEP_RUNNING = 0,       /* call again next period */
+    APP_STEP_DONE = 1,          /* finished in this period: the sequence moves on */
+    APP_STEP_FAULT = 2          /* refused: fault, value and limit say why */
+} app_step_status_t;
+
+typedef struct {
+    app_step_status_t status;
+    app_fault_t fault;          /* APP_FAULT_NONE unless status is APP_STEP_FAULT */
+    float value;                /* the quantity that tripped, in its unit (A, V, rad/s, counts, cycles, Ohm) */
+    float limit;                /* the threshold it crossed (0 where none applies) */
+} app_step_t;
+
+/* Outcomes, for the steps' returns. */
+static inline app_step_t app_step_running(void)
+{
+    const app_step_t r = { APP_STEP_RUNNING, APP_FAULT_NONE, 0.0f, 0.0f };
+    return r;
+}
+
+static inline app_step_t app_step_done(void)
+{
+    const app_step_t r = { APP_STEP_DONE, APP_FAULT_NONE, 0.0f, 0.0f };
+    return r;
+}
+
+static inline app_step_t app_step_fault(app_fault_t fault, float value, float limit)
+{
+    const app_step_t r = { APP_STEP_FAULT, fault, value, limit };
+    return r;
+}
+
+/* Whole periods of Ts_s in t_s, rounded; 0 for a non-positive time, at
+ * most 1e9 (28 h at 10 kHz: the float-to-integer cast stays defined). */
+uint32_t app_periods_of(float t_s, float Ts_s);
+
+#endif /* APP_STEP_H */

@@ -1,0 +1,144 @@
+/* rsid_seq.c - step 1 of the proposed method as a timed sequence; see rsid_seq.h. */
+#include "rsid_seq.h"
+
+#include "mathx.h"
+
+void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
+{
+    q->cfg = *cfg;
+    q->window_ticks = app_periods_of(cfg->window_s, Ts_s);
+    q->win1_tick = app_periods_of(cfg->settle_1_s, Ts_s);
+    q->win2_tick = q->win1_tick + q->window_ticks + app_periods_of(cfg->settle_2_s, Ts_s);
+    q->end_tick = q->win2_tick + q->window_ticks;
+    q->win2_max_ticks = app_periods_of(cfg->window_max_s, Ts_s);
+    q->check_ticks = 1u; /* set from the controller's batch at the first check */
+    q->speed_step_rad_s = cfg->accel_rad_s2 * Ts_s;
+    q->ticks = 0u;
+    q->speed_ref_rad_s = 0.0f;
+    q->handover = false;
+    q->result = RS_IDENT_OK;
+}
+
+void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
+{
+    q->ticks = 0u;
+    q->speed_ref_rad_s = speed_now_rad_s; /* SPEEDS ramps from here */
+    q->handover = false;
+}
+
+/* The commanded speed one period on towards target at accel (a step when
+ * that is 0); true while target is not yet reached. */
+static bool ramp_speed(rsid_seq_t *q, float target)
+{
+    const float dmax = q->speed_step_rad_s;
+    const float err = target - q->speed_ref_rad_s;
+
+    q->speed_ref_rad_s += (dmax > 0.0f) ? mathx_clampf(err, -dmax, dmax) : err;
+    return (dmax > 0.0f) && (mathx_fabsf(err) > dmax);
+}
+
+/* ctrl_step at the sequence's speed reference; ctrl.ref, the outside's,
+ * is put back after it. */
+static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+{
+    const ctrl_ref_t outside = c->ref;
+    ctrl_ref_t ref = outside;
+
+    ref.speed_ref_rad_s = q->speed_ref_rad_s;
+    ctrl_set_ref(c, &ref);
+    ctrl_step(c, in, out);
+    ctrl_set_ref(c, &outside);
+}
+
+/* The fault naming why step 1 refused R^, with the quantity and its limit. */
+static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
+{
+    const rs_ident_out_t *o = &c->rsid_out;
+    const rs_ident_cfg_t *rc = &c->ri.cfg;
+
+    switch (r) {
+    case RS_IDENT_NOT_STEADY:
+        return app_step_fault(APP_FAULT_RSID_NOT_STEADY,
+                              o->R_se_Ohm, o->R_se_max_Ohm); /* standard error of R^, its limit */
+    case RS_IDENT_DEGENERATE:
+        return app_step_fault(APP_FAULT_RSID_DEGENERATE, o->R_est_Ohm, 0.0f);
+    case RS_IDENT_NON_FINITE:
+        return app_step_fault(APP_FAULT_RSID_NON_FINITE, o->R_est_Ohm, 0.0f);
+    case RS_IDENT_OUT_OF_BAND: {
+        const float R_hat = rc->R_nom_Ohm - o->dR_Ohm; /* rs_ident leaves R_est_Ohm at R_nom when refused */
+        return app_step_fault(APP_FAULT_RSID_OUT_OF_BAND, R_hat,
+                              (R_hat > rc->R_max_Ohm) ? rc->R_max_Ohm : rc->R_min_Ohm);
+    }
+    case RS_IDENT_INVALID_CFG:
+        return app_step_fault(APP_FAULT_CONFIG, o->R_est_Ohm, 0.0f);
+    case RS_IDENT_TOO_FEW:
+    case RS_IDENT_OK: /* not called with OK */
+    default:
+        return app_step_fault(APP_FAULT_RSID_TOO_FEW, o->R_est_Ohm, 0.0f);
+    }
+}
+
+/* At window 2's nominal end or later, at a batch boundary: true when
+ * window 2 should go on - R^ refused only for its standard error, window
+ * 1's share of it below the limit, window 2 not yet at its longest. */
+static bool lengthen(rsid_seq_t *q, const ctrl_t *c)
+{
+    rs_ident_out_t o;
+    const uint32_t k = q->ticks;
+    const uint32_t batch = c->ri.cfg.n_batch;
+
+    q->check_ticks = (batch > 0u) ? batch : 1u;
+    if ((k - q->end_tick) % q->check_ticks != 0u) {
+        return true; /* between checks */
+    }
+    if (k - q->win2_tick + q->check_ticks > q->win2_max_ticks) {
+        return false; /* no room for another batch */
+    }
+    return (ctrl_rsid_check(c, &o) == RS_IDENT_NOT_STEADY) && (o.R_se_part_Ohm[0] <= o.R_se_max_Ohm);
+}
+
+app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+{
+    const uint32_t k = q->ticks;
+    rs_ident_window_t win = RS_IDENT_WINDOW_NONE;
+    bool moving = false;
+
+    if ((k >= q->win1_tick) && (k < q->win1_tick + q->window_ticks)) {
+        win = RS_IDENT_WINDOW_1;
+    } else if (k >= q->win2_tick) {
+        win = RS_IDENT_WINDOW_2; /* up to end_tick, and on while lengthened */
+    }
+    ctrl_rsid_window(c, win);
+    if (q->cfg.mode == APP_RSID_SPEEDS) {
+        /* point 1 until window 1 ends, then point 2, in place of the outside reference */
+        const float target = (k < q->win1_tick + q->window_ticks) ? q->cfg.speed_1_rad_s : q->cfg.speed_2_rad_s;
+        /* the settle times count from the end of the ramp: a window in a
+         * ramp sees the speed estimate's lag as back-EMF in fq (biases R^) */
+        moving = ramp_speed(q, target) && (win == RS_IDENT_WINDOW_NONE);
+        step_at_speed(q, c, in, out);
+    } else {
+        ctrl_step(c, in, out);
+    }
+    if ((out->flags & CTRL_FLAG_NONFINITE) != 0u) {
+        return app_step_fault(APP_FAULT_NONFINITE_OUTPUT, 0.0f, 0.0f);
+    }
+    if (moving) {
+        return app_step_running();
+    }
+    q->ticks++;
+    if ((q->ticks < q->end_tick) || lengthen(q, c)) {
+        return app_step_running();
+    }
+    q->result = ctrl_rsid_finish(c);
+    if (q->result != RS_IDENT_OK) {
+        return refusal(c, q->result);
+    }
+    q->handover = (q->cfg.mode == APP_RSID_SPEEDS);
+    return app_step_done();
+}
+
+void rsid_seq_handover_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+{
+    q->handover = ramp_speed(q, c->ref.speed_ref_rad_s);
+    step_at_speed(q, c, in, out);
+}

@@ -1,0 +1,94 @@
+/*
+ * rsid_seq.h - step 1 of the proposed method as a timed sequence (the
+ * IDENTIFY_R state, app.h; paper sec. V-B): ctrl_step every period
+ * (conventional control, observer running) and, from IDENTIFY_R's first
+ * period, settle_1_s, window 1 (window_s), settle_2_s, window 2, then
+ * ctrl_rsid_finish(): R^ into the observer, step 2 (L^, psi_f^) starts.
+ * The operating points (mode):
+ *   WINDOWS  set from outside (a dyno's load, the speed reference): the
+ *            sequence only times the windows;
+ *   SPEEDS   the sequence commands speed_1 then speed_2 (speed mode,
+ *            ramped at accel; the settle times count from the ramp's
+ *            end) at the load present; in RUN it then ramps from speed_2
+ *            to the outside reference at accel (the handover) and follows
+ *            the outside reference once it is reached;
+ *   TRUSTED, OFF: no step 1 (app.c: step 2 from the controller's R, or
+ *            no step 2); the sequence is not started.
+ * The speed it commands goes into its own ctrl_step only: ctrl.ref keeps
+ * the outside reference throughout. A refused R^ is a fault naming the
+ * reason (RSID_*) with the quantity and its limit.
+ * Window 2 is lengthened (issue 13; observer_design.md sec. 6): at its
+ * nominal end, and every batch after it, the windows so far are solved
+ * (ctrl_rsid_check); while R^ is refused only for its standard error
+ * (NOT_STEADY), window 1's share of it is below the limit (so more of
+ * window 2 can help) and window 2 is shorter than window_max_s, window 2
+ * goes on. Window 2's operating point must hold that long (WINDOWS: the
+ * outside's load and speed).
+ */
+#ifndef RSID_SEQ_H
+#define RSID_SEQ_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "app_step.h"
+#include "ctrl.h"
+
+/* Step 1 of the proposed method in IDENTIFY_R (see above). */
+typedef enum {
+    APP_RSID_OFF = 0,
+    APP_RSID_WINDOWS = 1,
+    APP_RSID_SPEEDS = 2,
+    APP_RSID_TRUSTED = 3
+} app_rsid_mode_t;
+
+/* What a refused step 1 does (issue 13): latch the RSID_* fault (PWM
+ * off), or run on with the conventional method and the warning
+ * APP_WARN_STEP1_REFUSED (app.h). */
+typedef enum {
+    APP_RSID_REFUSAL_FAULT = 0,
+    APP_RSID_REFUSAL_CONVENTIONAL = 1
+} app_rsid_refusal_t;
+
+typedef struct {
+    app_rsid_mode_t mode;
+    float settle_1_s;           /* IDENTIFY_R entry to window 1 [s] */
+    float window_s;             /* each averaging window [s] */
+    float settle_2_s;           /* window 1's end to window 2: the operating point changes in it [s] */
+    float speed_1_rad_s;        /* SPEEDS: mechanical speed of point 1 [rad/s] */
+    float speed_2_rad_s;        /*   and of point 2 [rad/s] */
+    float accel_rad_s2;         /* SPEEDS: ramp rate of the commanded speed, handover included [rad/s^2] */
+    float window_max_s;         /* window 2 lengthened up to this while se(R^) is too large [s] (<= window_s: never) */
+} rsid_seq_cfg_t;
+
+typedef struct {
+    rsid_seq_cfg_t cfg;
+    uint32_t win1_tick, win2_tick, end_tick;  /* window starts and the end, periods from the start */
+    uint32_t window_ticks;
+    uint32_t win2_max_ticks;    /* window 2's longest */
+    uint32_t check_ticks;       /* periods between checks while lengthening (one batch) */
+    float speed_step_rad_s;     /* SPEEDS: ramp step per period [rad/s] */
+    uint32_t ticks;             /* periods counted since rsid_seq_start (not while ramping) */
+    float speed_ref_rad_s;      /* SPEEDS: the ramped reference (IDENTIFY_R, then the handover) [rad/s] */
+    bool handover;              /* RUN after SPEEDS: still ramping to the outside reference */
+    rs_ident_result_t result;   /* the last step 1's (R^ etc. in the controller's step-1 result) */
+} rsid_seq_t;
+
+/* Start-up: copy *cfg, derive the periods at Ts_s [s]. */
+void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s);
+
+/* ISR, on entering IDENTIFY_R after ctrl_rsid_begin(): SPEEDS ramps from
+ * speed_now_rad_s [rad/s, mechanical]. */
+void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s);
+
+/* ISR, once per IDENTIFY_R period: the window, the commanded speed and
+ * one ctrl_step on *in into *out. DONE in the period step 1 succeeded
+ * (step 2 runs from the next), NONFINITE_OUTPUT when ctrl_step flagged
+ * it, RSID_* or CONFIG when ctrl_rsid_finish refused R^. */
+app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
+
+/* ISR, RUN while q->handover: one ctrl_step at the handover ramp's speed;
+ * the handover ends once the outside reference is reached. */
+void rsid_seq_handover_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
+
+#endif /* RSID_SEQ_H */

@@ -1,0 +1,387 @@
+/* Unit tests for firmware/protect (protection and the snapshot): the
+ * derived limits and each check's value and limit by hand; in the app,
+ * each fault with PWM off in the same ISR call and its snapshot, and a
+ * fault reset refused while the cause persists. */
+#include "app_harness.h"
+
+/* ---- protect on its own -------------------------------------------------- */
+
+static protect_t prot_unit(void)
+{
+    const protect_cfg_t cfg = { I_MAX, VDC_MAX, VDC_MIN, SPEED_MAX, PERIOD_CYC, BUDGET_CYC, CPR, 1e-4f };
+    protect_t p;
+    protect_init(&p, &cfg);
+    return p;
+}
+
+static app_step_t check(const protect_t *p, const hal_sample_t *s, float speed)
+{
+    expect_function_call(hal_trip_active);
+    will_return(hal_trip_active, 0);
+    return protect_check(p, s, 0.0f, 0.0f, speed);
+}
+
+/* The derived limits by hand: 2400 r/min is 40 counts per period, x 1.5
+ * + 1 = 61; 1.5 periods = 22500 cycles. Each check's value and limit. */
+static void protect_limits_and_values_by_hand(void **state)
+{
+    (void)state;
+    protect_t p = prot_unit();
+    assert_float_equal(p.enc_jump_max, JUMP_MAX, 1e-3);
+    assert_int_equal(p.isr_late_cycles, LATE_CYC);
+    hal_sample_t ok = sample_at(1.0f, -1.0f, VDC, 0u);
+    assert_int_equal(check(&p, &ok, 0.0f).status, APP_STEP_RUNNING);
+    hal_sample_t low = sample_at(1.0f, -1.0f, VDC_MIN - 1.0f, 0u);
+    assert_int_equal(check(&p, &low, 0.0f).status, APP_STEP_RUNNING); /* not armed */
+    protect_arm_uv(&p);
+    app_step_t r = check(&p, &low, 0.0f);
+    assert_int_equal(r.fault, APP_FAULT_UNDERVOLTAGE);
+    assert_float_equal(r.value, VDC_MIN - 1.0f, 0.0);
+    assert_float_equal(r.limit, VDC_MIN, 0.0);
+    r = check(&p, &ok, -SPEED_MAX - 1.0f);
+    assert_int_equal(r.fault, APP_FAULT_OVERSPEED);
+    assert_float_equal(r.value, SPEED_MAX + 1.0f, 1e-4);
+    protect_track(&p, CPR - 31u, 0u);
+    protect_track(&p, 31u, PERIOD_CYC); /* 62 counts forward across the wrap */
+    assert_int_equal(p.enc_delta, 62);
+    r = check(&p, &ok, 0.0f);
+    assert_int_equal(r.fault, APP_FAULT_ENCODER);
+    assert_float_equal(r.value, 62.0, 0.0);
+    assert_int_equal(protect_run_time(&p, 100u, 100u + BUDGET_CYC).status, APP_STEP_RUNNING);
+    r = protect_run_time(&p, 100u, 101u + BUDGET_CYC);
+    assert_int_equal(r.fault, APP_FAULT_OVERRUN);
+    assert_float_equal(r.value, BUDGET_CYC + 1.0f, 0.0);
+}
+
+/* ---- protection: each fault, PWM off in the same call, snapshot ----------- */
+
+static void overcurrent_on_each_phase_latches(void **state)
+{
+    (void)state;
+    /* ia, ib, and ic = -ia - ib beyond 12 A */
+    const hal_sample_t bad[3] = { sample(12.5f, -1.0f, VDC), sample(1.0f, -12.5f, VDC),
+                                  sample(6.5f, 6.0f, VDC) };
+    const float peak[3] = { 12.5f, 12.5f, 12.5f };
+    for (int k = 0; k < 3; k++) {
+        init_app();
+        hal_sample_t ok = sample(11.9f, -6.0f, VDC); /* ic = -5.9 A */
+        start(&ok);
+        isr_run(&ok);
+        isr_fault(&bad[k], 0);
+        assert_int_equal(app.fault, APP_FAULT_OVERCURRENT);
+        assert_snapshot(&bad[k], APP_STATE_RUN);
+        assert_float_equal(app.snapshot.value, peak[k], 1e-6);
+        assert_float_equal(app.snapshot.limit, I_MAX, 0.0);
+    }
+}
+
+/* The check uses the offset-corrected currents. */
+static void overcurrent_after_offset_correction(void **state)
+{
+    (void)state;
+    init_with(true, false);
+    const float ia[CAL_N] = { 0.5f, 0.5f, 0.5f, 0.5f };
+    const float ib[CAL_N] = { 0.0f, 0.0f, 0.0f, 0.0f };
+    run_calibration(ia, ib, VDC);
+    hal_sample_t ok = sample(12.4f, -6.0f, VDC); /* 11.9 A after the 0.5 A offset */
+    isr_first_write(&ok);
+    hal_sample_t bad = sample(-11.6f, 6.0f, VDC); /* -12.1 A */
+    isr_fault(&bad, 0);
+    assert_int_equal(app.fault, APP_FAULT_OVERCURRENT);
+    assert_float_equal(app.snapshot.value, 12.1, 1e-5);
+}
+
+static void hardware_trip_latches_in_run_and_init(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s = sample(1.0f, 1.0f, VDC);
+    start(&s);
+    isr_fault(&s, 1);
+    assert_int_equal(app.fault, APP_FAULT_HW_TRIP);
+    assert_snapshot(&s, APP_STATE_RUN);
+
+    init_app();
+    isr_fault(&s, 1);
+    assert_int_equal(app.fault, APP_FAULT_HW_TRIP);
+    assert_snapshot(&s, APP_STATE_INIT);
+}
+
+static void non_finite_sample_latches(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t ok = sample(1.0f, 1.0f, VDC);
+    hal_sample_t bad = sample(1.0f, 1.0f, NAN);
+    start(&ok);
+    isr_fault(&bad, 0);
+    assert_int_equal(app.fault, APP_FAULT_NONFINITE_SAMPLE);
+    assert_true(isnan(app.snapshot.sample.vdc_V));
+}
+
+/* The controller's output turns non-finite (a NaN reference): no write,
+ * PWM off in the same call. */
+static void non_finite_controller_output_latches(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s = sample(1.0f, 1.0f, VDC);
+    start(&s);
+    ctrl_ref_t r = { 0.0f, NAN, 0.0f, 0.0f };
+    ctrl_set_ref(&app.ctrl, &r);
+    isr_fault(&s, 0);
+    assert_int_equal(app.fault, APP_FAULT_NONFINITE_OUTPUT);
+    assert_snapshot(&s, APP_STATE_RUN);
+}
+
+static void overvoltage_latches_in_every_state(void **state)
+{
+    (void)state;
+    hal_sample_t ok = sample(0.0f, 0.0f, VDC_MAX);   /* at the limit: fine */
+    hal_sample_t bad = sample(0.0f, 0.0f, 400.5f);
+    init_app();
+    isr_quiet(&ok);
+    isr_fault(&bad, 0); /* INIT: the bus charging too high */
+    assert_int_equal(app.fault, APP_FAULT_OVERVOLTAGE);
+    assert_snapshot(&bad, APP_STATE_INIT);
+    assert_float_equal(app.snapshot.value, 400.5, 1e-4);
+    assert_float_equal(app.snapshot.limit, VDC_MAX, 0.0);
+
+    init_app();
+    start(&ok);
+    isr_fault(&bad, 0);
+    assert_int_equal(app.fault, APP_FAULT_OVERVOLTAGE);
+    assert_snapshot(&bad, APP_STATE_RUN);
+}
+
+/* Undervoltage: not checked in INIT nor while calibrating (bus charging);
+ * armed when calibration ends, checked on that period's samples before
+ * the motor is energised, and from then on in every state. */
+static void undervoltage_armed_after_calibration(void **state)
+{
+    (void)state;
+    init_with(true, true);
+    hal_sample_t low = sample(0.0f, 0.0f, 100.0f);
+    isr_quiet(&low);
+    assert_int_equal(app.state, APP_STATE_INIT);
+    app_request_start(&app);
+    for (int k = 0; k < CAL_SETTLE + CAL_N - 1; k++) {
+        isr_quiet(&low);
+        assert_int_equal(app.state, APP_STATE_CALIBRATE);
+    }
+    isr_fault(&low, 0); /* calibration done, bus still low: no alignment */
+    assert_int_equal(app.fault, APP_FAULT_UNDERVOLTAGE);
+    assert_snapshot(&low, APP_STATE_CALIBRATE);
+    assert_float_equal(app.snapshot.value, 100.0, 0.0);
+    assert_float_equal(app.snapshot.limit, VDC_MIN, 0.0);
+
+    /* bus lost during the alignment */
+    init_with(true, true);
+    run_calibration(CAL_IA, CAL_IB, VDC);
+    hal_sample_t ok = sample(0.0f, 0.0f, VDC);
+    isr_first_write(&ok);
+    hal_sample_t dip = sample(0.0f, 0.0f, 199.0f);
+    isr_fault(&dip, 0);
+    assert_int_equal(app.fault, APP_FAULT_UNDERVOLTAGE);
+    assert_snapshot(&dip, APP_STATE_ALIGN);
+
+    /* without calibration the start arms it and checks its own samples */
+    init_app();
+    isr_quiet(&low);
+    app_request_start(&app);
+    isr_fault(&low, 0);
+    assert_int_equal(app.fault, APP_FAULT_UNDERVOLTAGE);
+    assert_snapshot(&low, APP_STATE_INIT);
+}
+
+/* The count may change by up to JUMP_MAX (61) per period either way (across
+ * the wrap too); 62 is a jump. */
+static void encoder_jump_latches(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s0 = sample_at(0.0f, 0.0f, VDC, 9990u);
+    hal_sample_t s1 = sample_at(0.0f, 0.0f, VDC, (9990u + JUMP_MAX - 1u) % CPR); /* +60, across the wrap */
+    hal_sample_t s2 = sample_at(0.0f, 0.0f, VDC, 9990u);                          /* -60 */
+    hal_sample_t s3 = sample_at(0.0f, 0.0f, VDC, (9990u + JUMP_MAX + 1u) % CPR);  /* +62 */
+    start(&s0);
+    isr_run(&s1);
+    isr_run(&s2);
+    isr_fault(&s3, 0);
+    assert_int_equal(app.fault, APP_FAULT_ENCODER);
+    assert_snapshot(&s3, APP_STATE_RUN);
+    assert_float_equal(app.snapshot.value, JUMP_MAX + 1, 0.0);
+    assert_float_equal(app.snapshot.limit, JUMP_MAX, 1e-3);
+
+    init_app(); /* also when stopped */
+    isr_quiet(&s0);
+    isr_fault(&s3, 0);
+    assert_int_equal(app.fault, APP_FAULT_ENCODER);
+    assert_snapshot(&s3, APP_STATE_INIT);
+}
+
+/* Overspeed on the encoder's speed estimate, stepped by the app outside
+ * RUN: a shaft turning at 45 counts per period (2700 r/min) while stopped;
+ * the PLL is replayed here to know the period it crosses 2400 r/min in.
+ * A reset is refused while it turns that fast and taken once it stands. */
+static void overspeed_latches_and_reset_waits(void **state)
+{
+    (void)state;
+    init_app();
+    encoder_t ref;
+    encoder_cfg_t ec = { CPR, 3u, 0.0f, 1e-4f, 500.0f };
+    assert_true(encoder_init(&ref, &ec));
+    uint32_t count = 0u;
+    int k;
+    for (k = 0; k < 1000; k++) {
+        encoder_step(&ref, count);
+        hal_sample_t s = sample_at(0.0f, 0.0f, VDC, count);
+        if (fabsf(ref.omega_m_rad_s) > SPEED_MAX) {
+            isr_fault(&s, 0);
+            assert_int_equal(app.fault, APP_FAULT_OVERSPEED);
+            assert_snapshot(&s, APP_STATE_INIT);
+            assert_float_equal(app.snapshot.value, fabsf(ref.omega_m_rad_s), 1e-3);
+            assert_float_equal(app.snapshot.limit, SPEED_MAX, 0.0);
+            break;
+        }
+        isr_quiet(&s);
+        count = (count + 45u) % CPR;
+    }
+    assert_true(k > 5 && k < 1000);
+    count = (count + 45u) % CPR;
+    hal_sample_t fast = sample_at(0.0f, 0.0f, VDC, count);
+    expect_reset_isr(&fast, 0);
+    assert_int_equal(app.state, APP_STATE_FAULT);
+    hal_sample_t still = sample_at(0.0f, 0.0f, VDC, count);
+    for (k = 0; k < 200; k++) { /* FAULT without a reset: read and ack only */
+        expect_function_call(hal_sample_read);
+        will_return(hal_sample_read, &still);
+        expect_function_call(hal_isr_ack);
+        app_isr(&app);
+    }
+    expect_reset_isr(&still, 0);
+    assert_int_equal(app.state, APP_STATE_IDLE);
+}
+
+/* In RUN the check reads the estimate the last ctrl_step left. */
+static void overspeed_in_run(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s = sample(0.0f, 0.0f, VDC);
+    start(&s);
+    app.ctrl.enc.omega_m_rad_s = -300.0f;
+    isr_fault(&s, 0);
+    assert_int_equal(app.fault, APP_FAULT_OVERSPEED);
+    assert_snapshot(&s, APP_STATE_RUN);
+    assert_float_equal(app.snapshot.value, 300.0, 0.0);
+}
+
+/* Run time over the budget: the fault comes at the ISR's exit, after the
+ * duties, before the ack. */
+static void overrun_run_time_latches(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s = sample(0.0f, 0.0f, VDC);
+    mock_hal_cycles_step = BUDGET_CYC; /* exit - entry = budget: fine */
+    start(&s);
+    mock_hal_cycles = PERIOD_CYC; /* each entry one period after the last */
+    isr_run(&s);
+    mock_hal_cycles = 2u * PERIOD_CYC;
+    mock_hal_cycles_step = BUDGET_CYC + 1u;
+    expect_read_poll(&s, 0);
+    expect_function_call(hal_pwm_write);
+    expect_function_call(hal_pwm_disable);
+    expect_function_call(hal_isr_ack);
+    app_isr(&app);
+    assert_int_equal(app.state, APP_STATE_FAULT);
+    assert_int_equal(app.fault, APP_FAULT_OVERRUN);
+    assert_snapshot(&s, APP_STATE_RUN);
+    assert_float_equal(app.snapshot.value, BUDGET_CYC + 1u, 0.0);
+    assert_float_equal(app.snapshot.limit, BUDGET_CYC, 0.0);
+}
+
+/* A missed period: the entry-to-entry interval beyond 1.5 periods. */
+static void overrun_missed_period_latches(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s = sample(0.0f, 0.0f, VDC);
+    start(&s);
+    mock_hal_cycles += LATE_CYC; /* 1.5 periods: still fine */
+    isr_run(&s);
+    mock_hal_cycles += 2u * PERIOD_CYC;
+    isr_fault(&s, 0);
+    assert_int_equal(app.fault, APP_FAULT_OVERRUN);
+    assert_float_equal(app.snapshot.value, 2u * PERIOD_CYC, 0.0);
+    assert_float_equal(app.snapshot.limit, LATE_CYC, 0.0);
+}
+
+/* ---- fault reset ------------------------------------------------------------ */
+
+/* FAULT holds: later ISRs read and ack only, keep the snapshot, ignore a
+ * start; a reset while a cause persists (overcurrent, trip, bus low,
+ * run time) stays; without, goes IDLE. */
+static void fault_holds_until_reset_and_cause_gone(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s = sample(1.0f, 1.0f, VDC);
+    hal_sample_t bad = sample(20.0f, 0.0f, VDC);
+    hal_sample_t low = sample(1.0f, 1.0f, 150.0f);
+    start(&s);
+    isr_fault(&bad, 0);
+    app_request_start(&app);
+    for (int k = 0; k < 3; k++) {
+        expect_function_call(hal_sample_read);
+        will_return(hal_sample_read, &s);
+        expect_function_call(hal_isr_ack);
+        app_isr(&app);
+        assert_int_equal(app.state, APP_STATE_FAULT);
+        assert_snapshot(&bad, APP_STATE_RUN);
+    }
+    expect_reset_isr(&bad, 0); /* currents still too high */
+    assert_int_equal(app.state, APP_STATE_FAULT);
+    expect_reset_isr(&s, 1);   /* trip still active */
+    assert_int_equal(app.state, APP_STATE_FAULT);
+    expect_reset_isr(&low, 0); /* bus below the armed undervoltage limit */
+    assert_int_equal(app.state, APP_STATE_FAULT);
+    mock_hal_cycles_step = BUDGET_CYC + 1u; /* a call over budget, so the next one also comes late */
+    expect_function_call(hal_sample_read);
+    will_return(hal_sample_read, &s);
+    expect_function_call(hal_isr_ack);
+    app_isr(&app);
+    mock_hal_cycles_step = 0u;
+    expect_reset_isr(&s, 0);
+    assert_int_equal(app.state, APP_STATE_FAULT);
+    assert_int_equal(app.fault, APP_FAULT_OVERCURRENT); /* the reason stays the first */
+    expect_reset_isr(&s, 0);   /* cause gone */
+    assert_int_equal(app.state, APP_STATE_IDLE);
+    assert_int_equal(app.fault, APP_FAULT_NONE);
+    /* the start asked for while faulted was dropped */
+    isr_quiet(&s);
+    assert_int_equal(app.state, APP_STATE_IDLE);
+    start(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(protect_limits_and_values_by_hand),
+        cmocka_unit_test(overcurrent_on_each_phase_latches),
+        cmocka_unit_test(overcurrent_after_offset_correction),
+        cmocka_unit_test(hardware_trip_latches_in_run_and_init),
+        cmocka_unit_test(non_finite_sample_latches),
+        cmocka_unit_test(non_finite_controller_output_latches),
+        cmocka_unit_test(overvoltage_latches_in_every_state),
+        cmocka_unit_test(undervoltage_armed_after_calibration),
+        cmocka_unit_test(encoder_jump_latches),
+        cmocka_unit_test(overspeed_latches_and_reset_waits),
+        cmocka_unit_test(overspeed_in_run),
+        cmocka_unit_test(overrun_run_time_latches),
+        cmocka_unit_test(overrun_missed_period_latches),
+        cmocka_unit_test(fault_holds_until_reset_and_cause_gone),
+    };
+    return cmocka_run_group_tests_name("protect", tests, NULL, NULL);
+}

@@ -1,0 +1,234 @@
+/* Step 1 of the proposed method on a real ADC (issue 13 part A;
+ * control/observer_design.md sec. 6) in the SIL: switching inverter, the
+ * scenarios of tools/scenarios/ (paper timeline: windows 0.28-0.34 s at
+ * 2 N m and 0.48-0.54 s at 4 N m), both methods on the same scenario.
+ *  - ADC noise 0.05 A rms, seeds 1-5, L = 1.5 L0 and psi_f = 0.5 psi_f0:
+ *    step 1 completes, R^ within 2 %, the proposed method's mean
+ *    |Te - Te*| over 0.8-0.95 s no worse than the conventional one's;
+ *  - controller R 0.25x .. 5x the motor's with the default R^ band:
+ *    step 1 passes, R^ within 1 %;
+ *  - J = 10 J0 with the default step-1 timing: step 1 completes, R^
+ *    within 2 %;
+ *  - window 2 lengthened while se(R^) is too large, and refused when
+ *    window 1's share alone is;
+ *  - a refused step 1 with [identify] on_refusal = conventional: the
+ *    conventional method runs on, the warning in the result and in the
+ *    CSV's flags.
+ * Figures are printed (the closing note quotes them). */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "app.h"
+#include "sil.h"
+
+#define R0        3.0
+#define WIN_T0    0.80      /* the paper's steady window */
+#define WIN_T1    0.95
+#define R_TOL_NOISY 0.02    /* R^ within 2 % with a noisy ADC */
+#define R_TOL_BAND  0.01    /* R^ within 1 % across the controller's R */
+#define NOISE_A   "plant.adc_noise_A=0.05"
+#define N_SEEDS   5
+
+typedef struct {
+    double state, fault;
+    double t2;              /* first row of step 2 (NaN: none) */
+    double t_fault;         /* first row in FAULT (NaN: none) */
+    double R_first;         /* R^ in the first row of step 2 (NaN: none) */
+    double t_warn;          /* first row with APP_WARN_STEP1_REFUSED in flags (NaN: none) */
+    long rows_after_warn_without;   /* rows after t_warn without it */
+    double te_abs;          /* sum of |Te - Te*| over the window */
+    long n;
+} fig_t;
+
+static int on_row(const sil_row_t *r, void *user)
+{
+    fig_t *f = user;
+    const bool warn = (((unsigned)r->flags) & APP_WARN_STEP1_REFUSED) != 0u;
+    f->state = r->state;
+    f->fault = r->fault;
+    if (isnan(f->R_first) && (int)r->est == CTRL_EST_STEP2) {
+        f->R_first = r->R_est_ohm;
+        f->t2 = r->t_s;
+    }
+    if (isnan(f->t_fault) && (int)r->state == APP_STATE_FAULT) {
+        f->t_fault = r->t_s;
+    }
+    if (isnan(f->t_warn) && warn) {
+        f->t_warn = r->t_s;
+    }
+    if (!isnan(f->t_warn) && !warn) {
+        f->rows_after_warn_without++;
+    }
+    if (r->t_s >= WIN_T0 && r->t_s < WIN_T1) {
+        f->te_abs += fabs(r->te_Nm - r->te_ref_Nm);
+        f->n++;
+    }
+    return 0;
+}
+
+/* tools/scenarios/<name>.ini with the overrides (NULL-terminated), until duration_s. */
+static sil_result_t last_res;
+
+static fig_t run(const char *name, const char *const *sets)
+{
+    scenario_t sc;
+    char path[128];
+    char err[SCENARIO_ERR_LEN];
+    fig_t f = { 0.0, 0.0, NAN, NAN, NAN, NAN, 0, 0.0, 0 };
+
+    scenario_defaults(&sc);
+    snprintf(path, sizeof path, "tools/scenarios/%s.ini", name);
+    if (scenario_load(&sc, path, err, sizeof err) != 0) {
+        fail_msg("%s", err);
+    }
+    assert_int_equal(scenario_set(&sc, "run.log_every=1", err, sizeof err), 0);
+    for (const char *const *s = sets; s != NULL && *s != NULL; s++) {
+        if (scenario_set(&sc, *s, err, sizeof err) != 0) {
+            fail_msg("%s", err);
+        }
+    }
+    if (scenario_finish(&sc, err, sizeof err) != 0) {
+        fail_msg("%s", err);
+    }
+    assert_int_equal(sil_run(&sc, on_row, &f, &last_res), 0);
+    return f;
+}
+
+/* Both methods with 0.05 A noise, seeds 1..N_SEEDS, on conv_<c> / prop_<c>. */
+static void noisy_case(const char *c)
+{
+    char prop[64];
+    char conv[64];
+    char seed[32];
+    snprintf(prop, sizeof prop, "prop_%s", c);
+    snprintf(conv, sizeof conv, "conv_%s", c);
+    for (int s = 1; s <= N_SEEDS; s++) {
+        snprintf(seed, sizeof seed, "plant.seed=%d", s);
+        const char *const sets[] = { NOISE_A, seed, NULL };
+        const fig_t fc = run(conv, sets);
+        const fig_t fp = run(prop, sets);
+        const double te_c = fc.te_abs / (double)fc.n;
+        const double te_p = fp.te_abs / (double)fp.n;
+        print_message("%-8s noise 0.05 A seed %d: step 1 %s, R^ %+.3f %%; mean |Te - Te*| conventional %.4f, "
+                      "proposed %.4f N m\n", c, s, isnan(fp.R_first) ? "refused" : "done",
+                      100.0 * (fp.R_first / R0 - 1.0), te_c, te_p);
+        assert_int_equal((int)fp.state, APP_STATE_RUN);
+        assert_int_equal((int)fp.fault, APP_FAULT_NONE);
+        assert_false(isnan(fp.R_first));
+        assert_true(fabs(fp.R_first / R0 - 1.0) <= R_TOL_NOISY);
+        assert_true(te_p <= te_c);
+    }
+}
+
+static void noise_L150(void **state) { (void)state; noisy_case("L150"); }
+static void noise_psif050(void **state) { (void)state; noisy_case("psif050"); }
+
+/* Controller R from 0.25x to 5x the motor's, the default band (prop_paper
+ * has none of its own): step 1 passes, R^ within 1 %. Step 1 ends at
+ * 0.54 s; the run stops at 0.6 s. */
+static void controller_r_across_the_default_band(void **state)
+{
+    static const char *const factors[] = { "0.25", "0.5", "2", "4.3", "5" };
+    (void)state;
+    for (size_t i = 0; i < sizeof factors / sizeof factors[0]; i++) {
+        char f_set[48];
+        snprintf(f_set, sizeof f_set, "controller.R_factor=%s", factors[i]);
+        const char *const sets[] = { f_set, "run.duration_s=0.6", NULL };
+        const fig_t f = run("prop_paper", sets);
+        print_message("controller R %s x R0, default band: R^ %+.3f %%\n", factors[i],
+                      100.0 * (f.R_first / R0 - 1.0));
+        assert_int_equal((int)f.fault, APP_FAULT_NONE);
+        assert_false(isnan(f.R_first));
+        assert_true(fabs(f.R_first / R0 - 1.0) <= R_TOL_BAND);
+    }
+}
+
+/* J = 10 J0, exact parameters, the default timing: window 1 still sees
+ * the slower speed loop settle (iq std 0.84 A); R^ is taken. */
+static void inertia_10x_default_timing(void **state)
+{
+    const char *const sets[] = { "plant.J_kgm2=0.0129", "run.duration_s=0.9", NULL };
+    (void)state;
+    const fig_t f = run("prop_paper", sets);
+    print_message("J = 10 J0: step 1 %s at %.4f s, R^ %+.3f %%\n", isnan(f.R_first) ? "refused" : "done", f.t2,
+                  100.0 * (f.R_first / R0 - 1.0));
+    assert_int_equal((int)f.fault, APP_FAULT_NONE);
+    assert_false(isnan(f.R_first));
+    assert_true(fabs(f.R_first / R0 - 1.0) <= R_TOL_NOISY);
+}
+
+/* se(R^) held to 0.4 % with 0.05 A noise: seed 3 needs window 2 longer
+ * (step 2 a few batches after 0.54 s) and is then taken; in seed 5 window
+ * 1's share alone is at the limit, window 2 grows to window_max_s
+ * (0.48 + 0.3 s) and R^ is refused NOT_STEADY. */
+static void window_2_lengthened_then_taken_or_refused(void **state)
+{
+    const char *const taken[] = { NOISE_A, "plant.seed=3", "identify.R_se_max_rel=0.004", "run.duration_s=0.9",
+                                  NULL };
+    const char *const refused[] = { NOISE_A, "plant.seed=5", "identify.R_se_max_rel=0.004", "run.duration_s=0.9",
+                                    NULL };
+    (void)state;
+    const fig_t a = run("prop_paper", taken);
+    print_message("se(R^) <= 0.4 %%, seed 3: step 2 from %.4f s (nominal 0.54), R^ %+.3f %%\n", a.t2,
+                  100.0 * (a.R_first / R0 - 1.0));
+    assert_int_equal((int)a.fault, APP_FAULT_NONE);
+    assert_true(a.t2 > 0.54 + 0.005);   /* at least one more batch */
+    assert_true(a.t2 < 0.78);
+    assert_true(fabs(a.R_first / R0 - 1.0) <= R_TOL_NOISY);
+    const fig_t b = run("prop_paper", refused);
+    print_message("se(R^) <= 0.4 %%, seed 5: fault %d at %.4f s (window 2 at its longest: 0.78 s)\n", (int)b.fault,
+                  b.t_fault);
+    assert_int_equal((int)b.fault, APP_FAULT_RSID_NOT_STEADY);
+    assert_true(fabs(b.t_fault - 0.78) < 0.006);
+}
+
+/* Step 1 refused (a band that starts above the motor's 3 Ohm) with
+ * on_refusal = conventional: RUN, no fault, the warning from step 1's
+ * end in every row's flags and in the result; the torque is the
+ * conventional method's on the same scenario. */
+static void refusal_runs_conventional_with_the_warning(void **state)
+{
+    const char *const sets[] = { "controller.R_min_ohm=5", "identify.on_refusal=conventional", NULL };
+    (void)state;
+    const fig_t c = run("conv_R430", NULL);
+    const fig_t p = run("prop_R430", sets);
+    const double te_c = c.te_abs / (double)c.n;
+    const double te_p = p.te_abs / (double)p.n;
+    print_message("forced refusal, on_refusal = conventional: state %d, fault %d, warning from %.4f s, result "
+                  "warnings 0x%x (%d); mean |Te - Te*| %.4f N m (conventional run %.4f)\n",
+                  (int)p.state, (int)p.fault, p.t_warn, last_res.warnings, last_res.rsid_refusal, te_p, te_c);
+    assert_int_equal((int)p.state, APP_STATE_RUN);
+    assert_int_equal((int)p.fault, APP_FAULT_NONE);
+    assert_true(isnan(p.R_first));                      /* no step 2 */
+    assert_true(fabs(p.t_warn - 0.54) < 0.002);
+    assert_int_equal(p.rows_after_warn_without, 0);
+    assert_int_equal(last_res.warnings & APP_WARN_STEP1_REFUSED, APP_WARN_STEP1_REFUSED);
+    assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_OUT_OF_BAND);
+    assert_true(fabs(te_p - te_c) <= 0.005);
+
+    /* the same refusal with the default policy: the fault, PWM off */
+    const char *const fault[] = { "controller.R_min_ohm=5", NULL };
+    const fig_t q = run("prop_R430", fault);
+    assert_int_equal((int)q.fault, APP_FAULT_RSID_OUT_OF_BAND);
+    assert_true(isnan(q.t_warn));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(noise_L150),
+        cmocka_unit_test(noise_psif050),
+        cmocka_unit_test(controller_r_across_the_default_band),
+        cmocka_unit_test(inertia_10x_default_timing),
+        cmocka_unit_test(window_2_lengthened_then_taken_or_refused),
+        cmocka_unit_test(refusal_runs_conventional_with_the_warning),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

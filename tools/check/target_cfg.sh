@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# target_cfg.sh - host gate of `make check` for what only cl2000 would see:
+# the target build's options, libraries and linker placement
+# (firmware/target.mk, firmware/f28335_flash.cmd) and the HAL's pragmas,
+# against C2000Ware's F2833x projects (F28335.cmd, the FPUfastRTS examples,
+# InitFlash/InitAdc). Each failure names the file and the problem; exit 1
+# if any check failed. Usage: target_cfg.sh [ROOT] (default: the repository).
+set -uo pipefail
+root=${1:-$(dirname "$0")/../..}
+mk=$root/firmware/target.mk
+cmd=$root/firmware/f28335_flash.cmd
+hal=$root/hal/f28335
+fail=0
+
+bad() { echo "FAIL $1: $2"; fail=1; }
+# has FILE REGEX: the file holds a line matching the (extended) regex
+has() { grep -Eq -- "$2" "$1"; }
+
+# D9: --issue_remarks is not a cl2000 option form (remarks: --issue_remarks / -pdr).
+if has "$mk" '--issue_remarks='; then
+    bad "$mk" "'--issue_remarks=...' is not a documented cl2000 option; drop it"
+fi
+# D10: entry point and library priority as in TI's F2833x projects.
+has "$mk" '--entry_point=code_start' ||
+    bad "$mk" "link without --entry_point=code_start: a debugger load skips the watchdog-disable branch"
+has "$mk" '(^|[[:space:]])--priority([[:space:]]|$)' ||
+    bad "$mk" "link without --priority: library search order alone decides which FS\$\$DIV/sin/cos wins"
+# D4: the fast-RTS objects live in the _coff library (COFF ABI build).
+for f in "$mk" "$cmd"; do
+    if grep -Eo 'rts2800_fpu32_fast_supplement[a-z_]*\.lib' "$f" | grep -vq '_coff\.lib$'; then
+        bad "$f" "names rts2800_fpu32_fast_supplement.lib (an index of .libinfo files); use rts2800_fpu32_fast_supplement_coff.lib"
+    fi
+done
+has "$mk" -- '--library=rts2800_fpu32_fast_supplement_coff\.lib' ||
+    bad "$mk" "does not link rts2800_fpu32_fast_supplement_coff.lib"
+for m in sincos_f32 div_f32 sqrt_f32 atan2_f32; do
+    has "$cmd" "rts2800_fpu32_fast_supplement_coff\\.lib<$m\\.obj>" ||
+        bad "$cmd" "fast-RTS member $m.obj is not placed in ramfuncs (it would run from flash)"
+done
+# D6: ADC_cal's section from C2000Ware, placed (not loaded) at its OTP address.
+has "$mk" 'DSP2833x_ADC_cal\.asm' ||
+    bad "$mk" "does not assemble C2000Ware's DSP2833x_ADC_cal.asm (ADC_cal unresolved)"
+has "$cmd" 'ADC_CAL[[:space:]]*:[[:space:]]*origin[[:space:]]*=[[:space:]]*0x380080' ||
+    bad "$cmd" "no ADC_CAL memory at 0x380080 (TI-reserved OTP)"
+has "$cmd" '\.adc_cal[[:space:]]*:.*ADC_CAL.*NOLOAD' ||
+    bad "$cmd" "section .adc_cal not placed NOLOAD in ADC_CAL"
+grep -q 'ADC_cal();' "$hal"/*.c || bad "$hal" "ADC_cal() is never called (TI's InitAdc calls it)"
+# D5: the flash wait-state set-up runs from RAM and is never inlined into flash code.
+grep -q 'CODE_SECTION(f28335_flash_init, "ramfuncs")' "$hal"/*.c ||
+    bad "$hal" "f28335_flash_init is not in ramfuncs"
+grep -q 'FUNC_CANNOT_INLINE(f28335_flash_init)' "$hal"/*.c ||
+    bad "$hal" "f28335_flash_init may be inlined into its flash-resident caller (FUNC_CANNOT_INLINE)"
+# The boot entry and the copy of ramfuncs the HAL relies on.
+has "$cmd" 'codestart[[:space:]]*:[[:space:]]*>[[:space:]]*BEGIN' || bad "$cmd" "codestart not at BEGIN (0x33FFF6)"
+has "$cmd" 'RUN_START\(_RamfuncsRunStart\)' || bad "$cmd" "ramfuncs has no RUN_START(_RamfuncsRunStart)"
+
+if [ $fail -ne 0 ]; then
+    echo "target_cfg: FAILED"
+    exit 1
+fi
+echo "target_cfg: target build options, libraries and placement as in C2000Ware's F2833x projects"
