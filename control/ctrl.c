@@ -3,9 +3,10 @@
  *
  * Cost per ctrl_step() in speed/torque mode, as measured by `make
  * bench-ctrl` (callgrind, x86-64 -O2):
- *   conventional: 1097 instructions; proposed (step 2 running): 1497 (+36 %),
- *            1571 with track_R (observer_design.md sec. 7);
- *            of these about 100 are the dead-time feedforward (both methods)
+ *   conventional: 1255 instructions; proposed (step 2 running): 1502 (+20 %)
+ *            (with issue 12's current limit, weakening loop and step-2
+ *            gate); about 100 are the dead-time feedforward (both methods);
+ *            with track_R (observer_design.md sec. 9) see `make bench-ctrl`
  *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
  *            rotation by a short series), both methods;
  *   divisions: conventional 2 (MTPA's torque term, svpwm_duty's 1/Vdc);
@@ -13,13 +14,14 @@
  *            1 in the observer's gain (L^ moved), 2 in dbdtc_set_params
  *            (only in periods an estimate moved: in step 2 every period
  *            with |w iq| above the freeze threshold); plus 3 only in the
- *            periods the torque-first voltage limit acts;
+ *            periods the torque-first voltage limit acts, and 1 (+ 1 square
+ *            root) only while the field is weakened (oplim.h);
  *   square roots: 3 (MTPA, eq. 17, the monitor's |psi_s|), both methods.
  */
 #include "ctrl.h"
 
 #include "mathx.h"
-#include "mtpa.h"
+#include "oplim.h"
 #include "svpwm.h"
 
 /* The voltage computed now is applied over [k+1, k+2]: its middle lies
@@ -45,9 +47,13 @@
 #define RSID_BAND_KS_MARGIN 0.9f
 /* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
+/* Share of the hexagon's inscribed circle Vdc/sqrt(3) the flux reference
+ * leaves for steady state when cfg.u_margin is not in (0, 1] (design
+ * sec. 7): the rest is the deadbeat's headroom for torque changes. */
+#define CTRL_U_MARGIN_DEFAULT 0.92f
 
 /* A per-leg square wave of amplitude dv (dead time, device drop) has the
- * rotor-frame fundamental (4/pi) dv against the current (design sec. 7). */
+ * rotor-frame fundamental (4/pi) dv against the current (design sec. 9). */
 #define FUNDAMENTAL_OF_SQUARE 1.27323954f
 #define QUARTER_PI 0.785398163f
 
@@ -88,6 +94,7 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     rs_ident_cfg_defaults(&cfg->rsid, cfg->Rs_Ohm);
     r_track_cfg_defaults(&cfg->rtrack);
     cfg->track_R = 0u;
+    est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
 }
 
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
@@ -108,6 +115,7 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     smo_cfg_t sc = cfg->smo;
     param_est_cfg_t ec = cfg->est;
     rs_ident_cfg_t rc = cfg->rsid;
+    est_gate_cfg_t gc = cfg->gate;
 
     sc.Ts_s = cfg->Ts_s;
     sc.R_Ohm = cfg->Rs_Ohm;
@@ -122,11 +130,13 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     rc.R_nom_Ohm = cfg->Rs_Ohm;
     rc.R_min_Ohm = cfg->R_min_Ohm;
     rc.R_max_Ohm = cfg->R_max_Ohm;
+    gc.Ts_s = cfg->Ts_s;
+    const ctrl_status_t gate = est_gate_init(&c->gate, &gc) ? CTRL_CFG_OK : CTRL_CFG_GATE;
 
     if (smo_init(&c->smo, &sc) != SMO_CFG_OK) {
         (void)param_est_init(&c->pe, &ec, &c->smo); /* refused too: frozen for good */
         (void)rs_ident_init(&c->ri, &rc);
-        return CTRL_CFG_OBSERVER;
+        return (ctrl_status_t)(CTRL_CFG_OBSERVER | gate);
     }
     if (!r_track_init(&c->rt, &cfg->rtrack)) {
         (void)param_est_init(&c->pe, &ec, &c->smo);
@@ -135,9 +145,9 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     }
     if (!param_est_init(&c->pe, &ec, &c->smo)) {
         (void)rs_ident_init(&c->ri, &rc);
-        return CTRL_CFG_ESTIMATOR;
+        return (ctrl_status_t)(CTRL_CFG_ESTIMATOR | gate);
     }
-    return rs_ident_init(&c->ri, &rc) ? CTRL_CFG_OK : CTRL_CFG_RSID;
+    return (ctrl_status_t)((rs_ident_init(&c->ri, &rc) ? CTRL_CFG_OK : CTRL_CFG_RSID) | gate);
 }
 
 /* status with bit added unless ok. */
@@ -188,6 +198,10 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
         c->deadtime_frac = 0.0f;
         status = refused_if(false, CTRL_CFG_DEADTIME, status);
     }
+    c->i_lim_A = ((cfg->i_lim_A > 0.0f) && (cfg->i_lim_A <= cfg->i_max_A)) ? cfg->i_lim_A : cfg->i_max_A;
+    c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
+                                                ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
+    oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
     c->status = (ctrl_status_t)(status | init_proposed(c, cfg));
     c->rsid_out = no_result;
     c->rsid_out.R_est_Ohm = cfg->Rs_Ohm;
@@ -215,6 +229,11 @@ void ctrl_reset(ctrl_t *c)
     r_track_reset(&c->rt);
     c->inv_dv_V = 0.0f;
     c->rt_flags = 0u;
+    c->psi_held = 0u;
+    c->pe.cfg.w_min_rad_s = c->cfg.est.w_min_rad_s;
+    est_gate_reset(&c->gate, &c->smo);
+    oplim_reset(&c->lim);
+    c->flags_last = 0u;
     pi_reset(&c->speed_pi, 0.0f);
     c->mode = c->mode_req;
     c->u_applied_V.d = 0.0f;
@@ -236,6 +255,7 @@ void ctrl_reset(ctrl_t *c)
     c->mon.fd_est = 0.0f;
     c->mon.fq_est = 0.0f;
     c->mon.est = CTRL_EST_OFF;
+    c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
     c->mon.inv_err_V = 0.0f;
 }
@@ -266,6 +286,7 @@ bool ctrl_rsid_begin(ctrl_t *c)
     c->est = CTRL_EST_STEP1;
     r_track_reset(&c->rt); /* identified again after this step 1 */
     c->inv_dv_V = 0.0f;
+    c->pe.cfg.w_min_rad_s = c->cfg.est.w_min_rad_s;
     c->rt_flags = 0u;
     return true;
 }
@@ -278,6 +299,9 @@ void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
 /* R^ tracked from now on when configured. */
 static void start_tracking(ctrl_t *c)
 {
+    /* psi^ learns only where w psi_f dominates what the identification may have left */
+    const float w_min = r_track_w_psi_min(&c->rt, c->cfg.psi_f_Wb);
+    c->pe.cfg.w_min_rad_s = (w_min > c->cfg.est.w_min_rad_s) ? w_min : c->cfg.est.w_min_rad_s;
     r_track_start(&c->rt, (c->cfg.track_R != 0u) ? R_TRACK_TRACK : R_TRACK_OFF);
 }
 
@@ -285,6 +309,7 @@ static void start_tracking(ctrl_t *c)
 static void start_step2(ctrl_t *c)
 {
     param_est_run(&c->pe, true);
+    est_gate_reset(&c->gate, &c->smo);
     c->est = CTRL_EST_STEP2;
     if (c->model_src == MODEL_OBSERVER) {
         c->model_src = MODEL_STALE;
@@ -294,7 +319,7 @@ static void start_step2(ctrl_t *c)
 
 /* Per-leg voltage error dv_V [V] of the dead time's shape added to the
  * compensation, bumplessly: f^ takes the fundamental -(4/pi) dv i/|i| it
- * no longer has to explain (design sec. 7). 1 square root, 1 division, once. */
+ * no longer has to explain (design sec. 9). 1 square root, 1 division, once. */
 static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A)
 {
     const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
@@ -354,7 +379,7 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
     }
     if (r == RS_IDENT_OK) {
         start_step2(c);
-        /* first the inverter error, at R^ = R0 (design sec. 7) */
+        /* first the inverter error, at R^ = R0 (design sec. 9) */
         r_track_start(&c->rt, R_TRACK_IDENT);
     } else {
         c->est = CTRL_EST_OFF;
@@ -401,7 +426,17 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
             rs_ident_step(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
                           omega_el_rad_s);
         } else {
-            const uint16_t moved = param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
+            /* pause and hold while the laws' assumptions are broken (est_gate.h); the
+             * injected d current is no transient (design sec. 9) */
+            dq_t i_gate = i_dq_A;
+            i_gate.d -= c->rt.id_expect_A;
+            uint16_t moved = est_gate_step(&c->gate, &c->smo, omega_el_rad_s, i_gate, c->mon.te_ref_Nm,
+                                           (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u) ? 1u : 0u;
+            if (c->gate.reasons == 0u) {
+                const uint16_t est_moved = param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
+                moved |= est_moved;
+                c->psi_held = ((est_moved & PARAM_EST_PSI_MOVED) == 0u) ? CTRL_FLAG_PSI_HELD : 0u;
+            }
             if (c->method == CTRL_METHOD_PROPOSED) {
                 /* 2 divisions, only when an estimate moved */
                 if ((moved != 0u) || (c->model_src != MODEL_OBSERVER)) {
@@ -536,9 +571,13 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         } else {
             te_ref = mathx_clampf(c->ref.te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
         }
-        psi_ref = mtpa_psi_s_ref(par->Ls_H, par->psi_f_Wb, cfg->pole_pairs, te_ref); /* sec. III */
-        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H, par->psi_f_Wb); /* + L id* (design sec. 7) */
+        /* current limit, MTPA (sec. III), flux weakening (oplim.h) */
+        const oplim_out_t tgt = oplim_targets(&c->lim, par, cfg->pole_pairs, c->i_lim_A, te_ref);
+        te_ref = tgt.te_Nm;
+        psi_ref = tgt.psi_Wb;
+        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H, par->psi_f_Wb); /* + L id* (design sec. 9) */
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
+        oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
     }
 
     /* applied over [k+1, k+2]: rotor angle of its middle */
@@ -588,6 +627,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         c->mon.fq_est = 0.0f;
     }
     c->mon.est = c->est;
+    c->mon.est_hold = c->gate.reasons;
     c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
     c->mon.inv_err_V = FUNDAMENTAL_OF_SQUARE * c->inv_dv_V;
 
@@ -598,5 +638,6 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
           c->ref.ud_ref_V + c->ref.uq_ref_V + omega + x.te_Nm + u.d + u.q + duty.a + duty.b +
           duty.c + c->u_applied_V.d + c->u_applied_V.q + c->smo.fd_V + c->smo.fq_V +
           c->smo.i_hat_A.d + c->smo.i_hat_A.q + c->smo.L_H + c->smo.psi_f_Wb;
-    output_duties(c, duty, mathx_isfinitef(chk), flags | c->rt_flags, out);
+    c->flags_last = flags; /* before any NONFINITE: the gate's voltage check */
+    output_duties(c, duty, mathx_isfinitef(chk), flags | c->rt_flags | ((c->est == CTRL_EST_STEP2) ? c->psi_held : 0u), out);
 }

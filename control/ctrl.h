@@ -28,7 +28,7 @@
  *      estimates R^, L^, psi^ and x(k+1) from i^(k+1) (eq. 11, 12) instead
  *      of eq. (10); MTPA, eq. (17), limit, SVPWM as above
  *   5. monitor: fd^, fq^ and R^, L^, psi^ while the observer runs
- * Inverter error and warming winding (observer_design.md sec. 7, r_track.h):
+ * Inverter error and warming winding (observer_design.md sec. 9, r_track.h):
  *   0.1 s into step 2, a 1 A square-wave i_d (no torque) for 0.12 s gives
  *   the inverter voltage error the dead-time compensation left; it is fed
  *   forward from then on, so psi^ does not learn it as flux. With
@@ -52,6 +52,8 @@
 #include "clarke_park.h"
 #include "dbdtc.h"
 #include "encoder.h"
+#include "est_gate.h"
+#include "oplim.h"
 #include "param_est.h"
 #include "pi.h"
 #include "r_track.h"
@@ -65,9 +67,10 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_VOLTAGE_LIMIT    0x0001u /* vector clamped to the hexagon */
 #define CTRL_FLAG_FLUX_UNREACHABLE 0x0002u /* negative discriminant: flux target not reachable in one period */
 #define CTRL_FLAG_NONFINITE        0x0004u /* a non-finite value appeared; duties are 0.5 and the app must fault */
-/* Inverter error and R tracking (observer_design.md sec. 7); high bits, set while it lasts: */
+/* Inverter error and R tracking (observer_design.md sec. 9); high bits, set while it lasts: */
 #define CTRL_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
 #define CTRL_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
+#define CTRL_FLAG_PSI_HELD         0x0400u /* step 2: psi^ holds (|w| below what the voltage error allows) */
 
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
@@ -87,6 +90,11 @@ typedef struct {
     float psi_max_Wb;           /* bound on psi_s* */
     float deadtime_s;           /* inverter dead time [s]: its voltage error is fed forward and
                                  * counted in the realised voltage; 0: none */
+    /* Operating limits (design sec. 8); i_lim_A outside (0, i_max_A]: i_max_A;
+     * u_margin outside (0, 1]: 0.92 (ctrl.c CTRL_U_MARGIN_DEFAULT) */
+    float i_lim_A;              /* stator-current limit |i| [A] the deadbeat target respects */
+    float u_margin;             /* share of the inscribed circle Vdc/sqrt(3) the flux
+                                 * reference leaves for steady state (flux weakening) [-] */
     /* Proposed method; ctrl_cfg_proposed_defaults() fills all of it. The
      * fields of smo/est/rsid that repeat the ones above (Ts, nominal R, L,
      * psi_f, the bounds, the R band) are taken from here by ctrl_init(). */
@@ -96,7 +104,8 @@ typedef struct {
     param_est_cfg_t est;        /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
-    uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection (design sec. 7) */
+    uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection (design sec. 9) */
+    est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
 } ctrl_cfg_t;
 
 /* What ctrl_init refused, a set of bits (0: nothing). A refused block
@@ -110,11 +119,12 @@ typedef uint16_t ctrl_status_t;
 #define CTRL_CFG_SPEED_PI   ((ctrl_status_t)0x0010u) /* pi_init refused the speed PI's gains or limits */
 #define CTRL_CFG_DBDTC      ((ctrl_status_t)0x0020u) /* dbdtc_init refused the model's parameters or bounds */
 #define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts */
-#define CTRL_CFG_RTRACK     ((ctrl_status_t)0x0080u) /* r_track_init refused (d-current injection, design sec. 7) */
+#define CTRL_CFG_GATE       ((ctrl_status_t)0x0080u) /* est_gate_init refused (step 2's pause and hold) */
+#define CTRL_CFG_RTRACK     ((ctrl_status_t)0x0100u) /* r_track_init refused (d-current injection, design sec. 9) */
 /* Needed by every method (encoder, speed loop, model, output path)... */
 #define CTRL_CFG_NEEDED_ALWAYS   ((ctrl_status_t)(CTRL_CFG_ENCODER | CTRL_CFG_SPEED_PI | CTRL_CFG_DBDTC | CTRL_CFG_DEADTIME))
 /* ...and by the proposed method's steps 1 and 2. */
-#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID | CTRL_CFG_RTRACK))
+#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID | CTRL_CFG_GATE | CTRL_CFG_RTRACK))
 
 /* Where the proposed method's steps stand (ctrl_t.est, monitor). */
 typedef enum {
@@ -143,8 +153,9 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* observer estimates while it runs, else the nominal parameters */
     float fd_est, fq_est;                 /* observer disturbances (0 while the observer is stopped) */
     ctrl_est_t est;                       /* step of the proposed method */
+    uint16_t est_hold;                    /* EST_GATE_* why step 2's laws are paused (0: learning) */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
-    float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 7) */
+    float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 9) */
 } ctrl_mon_t;
 
 typedef struct {
@@ -158,6 +169,9 @@ typedef struct {
     pi_t speed_pi;
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
     float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
+    float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
+    float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */
+    oplim_t lim;                /* current limit and flux weakening (oplim.h) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */
     ctrl_est_t est;
     smo_t smo;                  /* observer: R^, L^, psi^, f^, i^ */
@@ -168,6 +182,9 @@ typedef struct {
     r_track_t rt;               /* d-axis injection (inverter error, R tracking) */
     float inv_dv_V;             /* per-leg voltage error identified on top of the dead time's [V] */
     uint16_t rt_flags;          /* CTRL_FLAG_INV_UNIDENTIFIED, CTRL_FLAG_R_HELD while they last */
+    uint16_t psi_held;          /* CTRL_FLAG_PSI_HELD when psi^'s law did not act in the last step-2 period */
+    est_gate_t gate;            /* pause and hold of step 2 */
+    uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the gate's voltage check) */
     uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */
     ctrl_mon_t mon;
 } ctrl_t;
@@ -224,7 +241,7 @@ rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
 
 /* Step 1 ends: solves (design sec. 1c) into c->rsid_out; on RS_IDENT_OK
  * sets R^ bumplessly and starts step 2 - its first 0.12 s at the same
- * operating point identify the inverter error (design sec. 7) -
+ * operating point identify the inverter error (design sec. 9) -
  * otherwise stops the
  * observer and returns the reason. ISR once (about 20 divisions) or background. */
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);

@@ -6,12 +6,14 @@
 static bool cfg_valid(const param_est_cfg_t *c, const smo_t *smo)
 {
     const float sum = c->Ts_s + c->gamma_L_1_s + c->gamma_psi_1_s + c->wiq_min_A_rad_s +
-                      c->w_min_rad_s + c->L_min_H + c->L_max_H + c->psi_min_Wb + c->psi_max_Wb;
+                      c->w_min_rad_s + c->L_min_H + c->L_max_H + c->psi_min_Wb + c->psi_max_Wb +
+                      c->L_rate_max_H_s + c->psi_rate_max_Wb_s;
     if (!mathx_isfinitef(sum) || (smo->status != SMO_CFG_OK)) {
         return false;
     }
     if (!(c->Ts_s > 0.0f) || !(c->gamma_L_1_s > 0.0f) || !(c->gamma_psi_1_s > 0.0f) ||
-        !(c->wiq_min_A_rad_s > 0.0f) || !(c->w_min_rad_s > 0.0f)) {
+        !(c->wiq_min_A_rad_s > 0.0f) || !(c->w_min_rad_s > 0.0f) || !(c->L_rate_max_H_s > 0.0f) ||
+        !(c->psi_rate_max_Wb_s > 0.0f)) {
         return false;
     }
     /* gamma Ts < 1: one update never moves more than the whole of f^ */
@@ -36,6 +38,8 @@ void param_est_cfg_defaults(param_est_cfg_t *cfg, float Ts_s, float L_H, float p
     cfg->L_max_H = PARAM_EST_CLAMP_MAX_FACTOR * L_H;
     cfg->psi_min_Wb = PARAM_EST_CLAMP_MIN_FACTOR * psi_f_Wb;
     cfg->psi_max_Wb = PARAM_EST_CLAMP_MAX_FACTOR * psi_f_Wb;
+    cfg->L_rate_max_H_s = PARAM_EST_RATE_MAX_FACTOR_1_S * L_H;
+    cfg->psi_rate_max_Wb_s = PARAM_EST_RATE_MAX_FACTOR_1_S * psi_f_Wb;
 }
 
 bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *smo)
@@ -44,6 +48,8 @@ bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *sm
     pe->valid = cfg_valid(cfg, smo);
     pe->kL = pe->valid ? cfg->gamma_L_1_s * cfg->Ts_s : 0.0f;
     pe->kpsi = pe->valid ? cfg->gamma_psi_1_s * cfg->Ts_s : 0.0f;
+    pe->dL_max_H = pe->valid ? cfg->L_rate_max_H_s * cfg->Ts_s : 0.0f;
+    pe->dpsi_max_Wb = pe->valid ? cfg->psi_rate_max_Wb_s * cfg->Ts_s : 0.0f;
     param_est_reset(pe);
     return pe->valid;
 }
@@ -75,7 +81,7 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
      * applied as a slow transfer of fd^ into L^ instead of L + fd/(w iq). */
     if (mathx_fabsf(wiq) > c->wiq_min_A_rad_s) {
         const float delta_V = pe->kL * smo->fd_V;
-        const float L_tgt = smo->L_H - delta_V / wiq;
+        const float L_tgt = smo->L_H - mathx_clampf(delta_V / wiq, -pe->dL_max_H, pe->dL_max_H);
         const float L_new = mathx_clampf(L_tgt, c->L_min_H, c->L_max_H);
         (void)smo_set_L(smo, L_new, w, iq); /* fd^ -= delta (less when clamped) */
         flags |= PARAM_EST_L_MOVED;
@@ -87,7 +93,7 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
      * takes fq^ at the speed-independent rate gamma_psi. */
     if (mathx_fabsf(w) > c->w_min_rad_s) {
         const float delta_V = pe->kpsi * smo->fq_V;
-        const float psi_tgt = smo->psi_f_Wb + delta_V / w;
+        const float psi_tgt = smo->psi_f_Wb + mathx_clampf(delta_V / w, -pe->dpsi_max_Wb, pe->dpsi_max_Wb);
         const float psi_new = mathx_clampf(psi_tgt, c->psi_min_Wb, c->psi_max_Wb);
         (void)smo_set_psi(smo, psi_new, w); /* fq^ -= delta (less when clamped) */
         flags |= PARAM_EST_PSI_MOVED;

@@ -31,6 +31,10 @@
 #define PARAM_EST_W_MIN_DEFAULT_RAD_S   30.0f  /* electrical, ~95 r/min at p = 3 */
 #define PARAM_EST_CLAMP_MIN_FACTOR      0.3f   /* L^, psi^ clamps, x nominal */
 #define PARAM_EST_CLAMP_MAX_FACTOR      3.0f
+/* Rate limits of L^ and psi^, x nominal per second (design sec. 7): a
+ * 50 % error still goes in 50 ms, a transient the gate misses moves an
+ * estimate by at most 1 % per ms. */
+#define PARAM_EST_RATE_MAX_FACTOR_1_S   20.0f
 
 /* Bits returned by param_est_step(). */
 #define PARAM_EST_L_MOVED     0x0001u /* L^ law acted this period */
@@ -48,6 +52,8 @@ typedef struct {
     float L_max_H;
     float psi_min_Wb;
     float psi_max_Wb;
+    float L_rate_max_H_s;     /* |dL^/dt| limit [H/s] */
+    float psi_rate_max_Wb_s;  /* |dpsi^/dt| limit [Wb/s] */
 } param_est_cfg_t;
 
 typedef struct {
@@ -56,13 +62,15 @@ typedef struct {
     bool running;             /* run/freeze switch; false after init and reset */
     float kL;                 /* gamma_L Ts [1] */
     float kpsi;               /* gamma_psi Ts [1] */
+    float dL_max_H;           /* L_rate_max Ts: largest step of L^ per period [H] */
+    float dpsi_max_Wb;        /* psi_rate_max Ts [Wb] */
 } param_est_t;
 
 /* Design defaults for Ts_s [s] and nominal L_H [H], psi_f_Wb [Wb]. Background. */
 void param_est_cfg_defaults(param_est_cfg_t *cfg, float Ts_s, float L_H, float psi_f_Wb);
 
 /* Copies cfg and resets (frozen). Needs finite values, Ts > 0, 0 < gamma Ts < 1,
- * thresholds > 0, 0 < min <= max and the clamps inside the observer's
+ * thresholds and rate limits > 0, 0 < min <= max and the clamps inside the observer's
  * accepted ranges (*smo initialised OK). Returns false otherwise; then
  * param_est_step() never moves anything. Background. */
 bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *smo);

@@ -5,6 +5,8 @@
 
 /* Segments per cycle: signs + - - + (a linear drift of z cancels). */
 #define SEGMENTS 4u
+/* r_track_step shifts a two-entry delay line */
+typedef char r_track_delay_line_fits[(R_TRACK_RESPONSE_PERIODS == 2u) ? 1 : -1];
 
 void r_track_cfg_defaults(r_track_cfg_t *cfg)
 {
@@ -18,11 +20,16 @@ void r_track_cfg_defaults(r_track_cfg_t *cfg)
     cfg->iq_step_max_A = R_TRACK_IQ_STEP_DEFAULT_A;
     cfg->k_R = R_TRACK_K_R_DEFAULT;
     cfg->ve_max_V = R_TRACK_VE_MAX_DEFAULT_V;
+    cfg->ve_unc_frac = R_TRACK_VE_UNC_FRAC_DEFAULT;
+    cfg->ve_unc_abs_V = R_TRACK_VE_UNC_ABS_DEFAULT_V;
+    cfg->psi_tol = R_TRACK_PSI_TOL_DEFAULT;
 }
 
 static void clear_cycle(r_track_t *rt)
 {
-    rt->k = 0u;
+    rt->seg = 0u;
+    rt->j = 0u;
+    rt->s_now = 1.0f;
     rt->n_pos = 0u;
     rt->n_neg = 0u;
     rt->s_zs = 0.0f;
@@ -34,13 +41,14 @@ static void clear_cycle(r_track_t *rt)
 bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg)
 {
     const float sum = cfg->i_ident_A + cfg->i_track_A + cfg->iq_min_A + cfg->iq_step_max_A + cfg->k_R +
-                      cfg->ve_max_V;
+                      cfg->ve_max_V + cfg->ve_unc_frac + cfg->ve_unc_abs_V + cfg->psi_tol;
     rt->cfg = *cfg;
     rt->valid = mathx_isfinitef(sum) && (cfg->i_ident_A > 0.0f) && (cfg->i_track_A > 0.0f) &&
                 (cfg->blank_periods > 0u) && (cfg->blank_periods < cfg->seg_periods) &&
                 (cfg->seg_periods <= (uint16_t)(UINT16_MAX / SEGMENTS)) && (cfg->ident_cycles >= 1u) &&
                 (cfg->iq_min_A > 0.0f) && (cfg->iq_step_max_A > 0.0f) && (cfg->k_R > 0.0f) &&
-                (cfg->k_R <= 1.0f) && (cfg->ve_max_V > 0.0f);
+                (cfg->k_R <= 1.0f) && (cfg->ve_max_V > 0.0f) && (cfg->ve_unc_frac >= 0.0f) &&
+                (cfg->ve_unc_abs_V >= 0.0f) && (cfg->psi_tol > 0.0f);
     r_track_reset(rt);
     return rt->valid;
 }
@@ -50,6 +58,9 @@ void r_track_reset(r_track_t *rt)
     rt->phase = R_TRACK_OFF;
     rt->i_inj_A = 0.0f;
     rt->wait = 0u;
+    rt->ref_q[0] = 0.0f;
+    rt->ref_q[1] = 0.0f;
+    rt->id_expect_A = 0.0f;
     rt->cycles = 0u;
     rt->tried = 0u;
     rt->id_zs = 0.0f;
@@ -73,16 +84,21 @@ void r_track_start(r_track_t *rt, r_track_phase_t phase)
     rt->wait = (phase == R_TRACK_IDENT) ? rt->cfg.ident_delay_periods : 0u;
 }
 
-/* Sign of the reference in the segment of period k: + - - +. */
-static float seg_sign(const r_track_t *rt, uint16_t k)
+/* Sign of the reference in segment seg: + - - +. */
+static float seg_sign(uint16_t seg)
 {
-    const uint16_t seg = (uint16_t)(k / rt->cfg.seg_periods);
     return ((seg == 0u) || (seg == (SEGMENTS - 1u))) ? 1.0f : -1.0f;
 }
 
 float r_track_id_ref(const r_track_t *rt)
 {
-    return ((rt->phase == R_TRACK_OFF) || (rt->wait > 0u)) ? 0.0f : seg_sign(rt, rt->k) * rt->i_inj_A;
+    return ((rt->phase == R_TRACK_OFF) || (rt->wait > 0u)) ? 0.0f : rt->s_now * rt->i_inj_A;
+}
+
+float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb)
+{
+    const float unc = rt->cfg.ve_unc_frac * mathx_fabsf(rt->Ve_V) + rt->cfg.ve_unc_abs_V;
+    return (psi_f_Wb > 0.0f) ? unc / (rt->cfg.psi_tol * psi_f_Wb) : 0.0f;
 }
 
 float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H, float psi_f_Wb)
@@ -123,7 +139,7 @@ static r_track_event_t end_cycle(r_track_t *rt)
         }
         ev = R_TRACK_NONE;
         if (rt->cycles >= c->ident_cycles) {
-            /* Ve = -rho |i| with R^ = R0 (design sec. 7) */
+            /* Ve = -rho |i| with R^ = R0 (design sec. 9) */
             const float iq = rt->id_iq / (float)rt->cycles;
             const float i_abs = mathx_sqrtf(rt->i_inj_A * rt->i_inj_A + iq * iq);
             const float Ve = (rt->id_zs / rt->id_is) * i_abs;
@@ -136,6 +152,9 @@ static r_track_event_t end_cycle(r_track_t *rt)
         }
         if (ev != R_TRACK_NONE) {
             rt->phase = R_TRACK_OFF;
+            rt->ref_q[0] = 0.0f;
+            rt->ref_q[1] = 0.0f;
+            rt->id_expect_A = 0.0f;
             rt->i_inj_A = 0.0f;
         }
     }
@@ -146,6 +165,7 @@ static r_track_event_t end_cycle(r_track_t *rt)
 r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A)
 {
     const r_track_cfg_t *c = &rt->cfg;
+    r_track_event_t ev = R_TRACK_NONE;
     if (rt->phase == R_TRACK_OFF) {
         return R_TRACK_NONE;
     }
@@ -153,11 +173,13 @@ r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A)
         rt->wait--;
         return R_TRACK_NONE;
     }
-    if ((uint16_t)(rt->k % c->seg_periods) >= c->blank_periods) {
-        const float s = seg_sign(rt, rt->k);
-        rt->s_zs += s * z_V;
-        rt->s_is += s * id_A;
-        if (s > 0.0f) {
+    /* the reference two periods back is in this sample (delay line, no modulo) */
+    rt->id_expect_A = rt->ref_q[0];
+    rt->ref_q[0] = rt->ref_q[1];
+    if (rt->j >= c->blank_periods) {
+        rt->s_zs += rt->s_now * z_V;
+        rt->s_is += rt->s_now * id_A;
+        if (rt->s_now > 0.0f) {
             rt->s_iq_pos += iq_A;
             rt->n_pos++;
         } else {
@@ -165,6 +187,15 @@ r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A)
             rt->n_neg++;
         }
     }
-    rt->k++;
-    return (rt->k >= (uint16_t)(SEGMENTS * c->seg_periods)) ? end_cycle(rt) : R_TRACK_NONE;
+    rt->j++;
+    if (rt->j >= c->seg_periods) {
+        rt->j = 0u;
+        rt->seg++;
+        if (rt->seg >= SEGMENTS) {
+            ev = end_cycle(rt); /* back to segment 0 */
+        }
+        rt->s_now = seg_sign(rt->seg);
+    }
+    rt->ref_q[1] = r_track_id_ref(rt); /* for the voltage computed this period */
+    return ev;
 }

@@ -1,7 +1,7 @@
 /*
  * r_track.h - d-axis square-wave current injection with synchronous
  * demodulation of the observer's f^_d (beyond the paper; derivation and
- * figures: observer_design.md sec. 7).
+ * figures: observer_design.md sec. 9).
  *
  * For an SPMSM (Ld = Lq) an i_d makes no torque (Te = 1.5 p psi_f iq, eq. 3),
  * so a small i_d square wave +-I can run in service. In steady state the
@@ -38,7 +38,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-/* Design defaults (observer_design.md sec. 7). */
+/* Design defaults (observer_design.md sec. 9). */
 #define R_TRACK_I_IDENT_DEFAULT_A    1.0f   /* identification: 4.5 W for 0.12 s at 3 ohm */
 #define R_TRACK_I_TRACK_DEFAULT_A    0.5f   /* in service: 1.5 R I^2 = 1.1 W at 3 ohm */
 #define R_TRACK_SEG_DEFAULT          100u   /* periods per segment: 10 ms, cycle 40 ms */
@@ -49,6 +49,16 @@
 #define R_TRACK_IQ_STEP_DEFAULT_A    0.2f
 #define R_TRACK_K_R_DEFAULT          0.5f   /* per cycle: time constant 58 ms */
 #define R_TRACK_VE_MAX_DEFAULT_V     20.0f  /* |Ve| beyond this is no inverter error: refused */
+/* What the identification may leave, as a bound (SIL: within 2.3 % of the
+ * hand value, sec. 9), and the psi^ error it may cause: psi^ holds where
+ * |w| psi_f < (unc_frac |Ve| + unc_abs) / psi_tol. */
+#define R_TRACK_VE_UNC_FRAC_DEFAULT  0.05f
+#define R_TRACK_VE_UNC_ABS_DEFAULT_V 0.05f
+#define R_TRACK_PSI_TOL_DEFAULT      0.01f
+
+/* Periods from a d-current reference to the sampled current (deadbeat: the
+ * voltage computed at k acts over [k+1, k+2]). */
+#define R_TRACK_RESPONSE_PERIODS 2u
 
 typedef enum { R_TRACK_OFF = 0, R_TRACK_IDENT = 1, R_TRACK_TRACK = 2 } r_track_phase_t;
 
@@ -72,6 +82,9 @@ typedef struct {
     float iq_step_max_A;      /* |mean iq(+) - mean iq(-)| above: cycle held */
     float k_R;                /* fraction of rho corrected per cycle, (0, 1] */
     float ve_max_V;           /* |Ve| above: identification refused */
+    float ve_unc_frac;        /* bound on what identification leaves: frac |Ve| + abs [1, V] */
+    float ve_unc_abs_V;
+    float psi_tol;            /* psi^ error that bound may cause where psi^ learns [1] */
 } r_track_cfg_t;
 
 typedef struct {
@@ -79,8 +92,13 @@ typedef struct {
     bool valid;
     r_track_phase_t phase;
     float i_inj_A;            /* amplitude of the phase */
-    uint16_t k;               /* period within the cycle */
+    uint16_t seg;             /* segment of the cycle, 0..3 (signs + - - +) */
+    uint16_t j;               /* period within the segment */
+    float s_now;              /* sign of the segment */
     uint16_t wait;            /* periods left before the first cycle (IDENT) */
+    float ref_q[R_TRACK_RESPONSE_PERIODS]; /* references of the last periods, oldest first [A] */
+    float id_expect_A;        /* injected current the last sample carries (the reference
+                               * R_TRACK_RESPONSE_PERIODS earlier) [A] */
     uint16_t cycles;          /* valid cycles summed (IDENT) */
     uint16_t tried;           /* cycles ended (IDENT) */
     uint16_t n_pos, n_neg;    /* samples used per sign this cycle */
@@ -110,6 +128,11 @@ r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A);
 
 /* d-current reference for the voltage computed this period [A] (0 when OFF). ISR. */
 float r_track_id_ref(const r_track_t *rt);
+
+/* Lowest |w| [rad/s el] at which psi^ may learn once the inverter error
+ * Ve_V was identified (0 when refused), for the nominal psi_f_Wb:
+ * (unc_frac |Ve| + unc_abs) / (psi_tol psi_f). Background or ISR once. */
+float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb);
 
 /* Flux reference with the injection: psi_d* = psi_f + L id* keeps the
  * torque's psi_q*: sqrt(psi_s*^2 + L id* (2 psi_f + L id*)), psi_s_Wb

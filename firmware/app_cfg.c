@@ -32,6 +32,8 @@ void app_cfg_default(app_cfg_t *cfg)
     c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * RAD_S_PER_RPM * (float)MOTOR_POLE_PAIRS;
     c->psi_max_Wb = MODEL_PSI_BOUND_PER_PSIF * MOTOR_PSI_F_WB;
     c->deadtime_s = (float)BOARD_DEADTIME_NS * S_PER_NS;
+    c->i_lim_A = BOARD_I_LIMIT_A;
+    c->u_margin = TUNE_U_MARGIN;
 
     cfg->i_max_A = BOARD_OVERCURRENT_A;
     cfg->vdc_max_V = BOARD_VDC_MAX_V;

@@ -20,6 +20,10 @@
  * torque limit asks for (12 / (1.5 p psi_f)), with room for one period of
  * deadbeat overshoot, below the sensors' 15 A full scale and hardware trip. */
 #define BOARD_OVERCURRENT_A      14.0f        /* [A] */
+/* Stator-current limit the controller's targets respect (oplim.h): the
+ * 11.1 A of the 12 N m torque limit plus margin, below the trip with room
+ * for a period of deadbeat overshoot and the switching ripple. */
+#define BOARD_I_LIMIT_A          12.0f        /* [A] */
 #define BOARD_VDC_MIN_V          200.0f       /* undervoltage trip [V] */
 #define BOARD_VDC_MAX_V          400.0f       /* overvoltage trip [V] */
 #define BOARD_OVERSPEED_RPM      2400.0f      /* 1.2 x rated speed [r/min] */
@@ -52,6 +56,7 @@
 #define TUNE_SPEED_KI_NM_RAD     20.0f        /* speed PI [N m / rad] */
 #define TUNE_ENC_PLL_BW_RAD_S    500.0f       /* speed estimator bandwidth [rad/s] */
 #define TUNE_TE_MAX_PER_RATED    2.0f         /* torque limit / rated torque: 12 N m [-] */
+#define TUNE_U_MARGIN            0.92f        /* steady-state share of Vdc/sqrt(3) for flux weakening (oplim.h) [-] */
 
 /* Step 1 of the proposed method (IDENTIFY_R, app.h). Off by default (the
  * conventional method); with the proposed one, 2: the board commands two
@@ -65,7 +70,7 @@
 #define BOARD_RSID_SETTLE_2_S    0.14f        /* window 1 to window 2: the speed loop settles after the change [s] */
 #define BOARD_RSID_WINDOW_MAX_S  0.3f         /* window 2 lengthened up to this while se(R^) is too large [s] */
 #define BOARD_RSID_ON_REFUSAL    0U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning [-] */
-#define BOARD_TRACK_R            0U           /* 1: R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 7) [-] */
+#define BOARD_TRACK_R            0U           /* 1: R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9) [-] */
 
 /* Bounds on what the controller's model may see (as in tools/sil/sil.c). */
 #define MODEL_I_BOUND_PER_TRIP   5.0f         /* x software overcurrent threshold [-] */

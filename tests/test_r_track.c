@@ -1,5 +1,5 @@
 /* Unit tests of control/r_track.c: the d-current square wave and its
- * synchronous demodulation (observer_design.md sec. 7) on synthetic
+ * synchronous demodulation (observer_design.md sec. 9) on synthetic
  * signals whose answer is known by hand. */
 #include <stdarg.h>
 #include <stddef.h>

@@ -1,6 +1,6 @@
 /* The proposed method on a real inverter (issue 13 part B): inverter
  * voltage error not learned as flux, resistance tracked in service
- * (control/observer_design.md sec. 7), on the simulated board with the
+ * (control/observer_design.md sec. 9), on the simulated board with the
  * switching inverter and the paper's timeline (tools/scenarios/prop_paper.ini,
  * conv_paper.ini: step 1 at 500 r/min, 2 and 4 N m; step 2 from 0.54 s,
  * the inverter error identified 0.1 s later).

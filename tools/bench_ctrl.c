@@ -5,7 +5,7 @@
  * proposed: step 2 from the start (ctrl_est_start with the nominal R), so
  * every period runs observer, estimator and the observer-based model;
  * proposed_track_R: the same with R^ tracked by the d-current injection
- * (ctrl_cfg_t.track_R, observer_design.md sec. 7). Host only. */
+ * (ctrl_cfg_t.track_R, observer_design.md sec. 9). Host only. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

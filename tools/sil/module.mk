@@ -30,6 +30,10 @@ test-drive-sil-cli: $(DRIVE_SIL)
 # of tools/scenarios/, and the controller alone on hal_sim).
 TEST_LIBS_test_sil_proposed := silrun firmware sim control
 TEST_SRCS_test_sil_proposed := tools/sil/sil.c
+# Issue 12: current and torque limits, estimation through transients, flux
+# weakening; both methods on the scenarios prop_lim_*, prop_fw_*.
+TEST_LIBS_test_sil_limits := silrun firmware sim control
+TEST_SRCS_test_sil_limits := tools/sil/sil.c
 
 # Step 1 on a real ADC (issue 13 part A): noise, offsets, inertia, the R^
 # band, the refusal policy; both methods on the same scenarios.

@@ -84,6 +84,9 @@ static const sc_key_t KEYS[] = {
     POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, "500", "speed estimator bandwidth [rad/s]"),
     POS("controller", "te_max_Nm", controller.te_max_Nm, "12", "torque reference limit [N m]"),
     POS("controller", "i_max_A", controller.i_max_A, "14", "software overcurrent threshold [A] (BOARD_OVERCURRENT_A)"),
+    /* operating limits (issue 12) */
+    POS("controller", "i_limit_A", controller.i_limit_A, "12", "stator-current limit the targets respect [A] (BOARD_I_LIMIT_A)"),
+    POS("controller", "overspeed_rpm", controller.overspeed_rpm, "2400", "overspeed trip [r/min] (BOARD_OVERSPEED_RPM)"),
     { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
     OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.2 x controller's R)"),
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 2 x controller's R)"),

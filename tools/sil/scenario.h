@@ -54,6 +54,7 @@ typedef struct {
         uint32_t method;           /* sc_method_t */
         uint32_t mode;             /* sc_mode_t */
         double speed_kp_Nms_rad, speed_ki_Nm_rad, pll_bw_rad_s, te_max_Nm, i_max_A;
+        double i_limit_A, overspeed_rpm;   /* issue 12: current limit, overspeed trip */
         double R_min_ohm, R_max_ohm;           /* R^ band; NaN: the board's factors x R_ohm */
         double deadtime_s;                     /* dead time the controller compensates; NaN: the plant's */
     } controller;

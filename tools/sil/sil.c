@@ -71,6 +71,8 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     /* the dead time as if measured, unless the scenario gives the controller another */
     c->deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
     ac->i_max_A = (float)sc->controller.i_max_A;
+    c->i_lim_A = (float)sc->controller.i_limit_A;
+    ac->speed_max_rad_s = (float)(sc->controller.overspeed_rpm / RPM_PER_RAD_S);
     /* the board's bus limits relative to its nominal bus, at the scenario's bus */
     const float bus_scale = (float)sc->plant.vdc_V / BOARD_VDC_NOMINAL_V;
     ac->vdc_max_V = BOARD_VDC_MAX_V * bus_scale;
@@ -139,6 +141,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->fd_est = (double)m->fd_est;
     r->fq_est = (double)m->fq_est;
     r->est = (double)m->est;
+    r->est_hold = (double)m->est_hold;
     r->R_ohm = tr.R_ohm;
     r->inv_err_est_V = (double)m->inv_err_V;
 }
@@ -224,7 +227,7 @@ static const sil_col_t COLS[] = {
     COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
-    COL(R_ohm), COL(inv_err_est_V),
+    COL(R_ohm), COL(est_hold), COL(inv_err_est_V),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 

@@ -31,6 +31,7 @@ typedef struct {
     double R_est_ohm, L_est_H, psif_est_Wb, fd_est, fq_est;
     double est;                             /* ctrl_est_t: 0 observer off, 1 step 1, 2 step 2 */
     double R_ohm;                           /* true stator resistance at t_k (warms with [plant] R_ohm's profile) */
+    double est_hold;                        /* EST_GATE_* bits: why step 2's laws pause (0: learning) */
     double inv_err_est_V;                   /* inverter voltage error the controller identified (ctrl_mon_t.inv_err_V) */
 } sil_row_t;
 

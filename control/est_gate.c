@@ -1,0 +1,153 @@
+/* est_gate.c - pause and hold of step 2's laws; see est_gate.h. */
+#include "est_gate.h"
+
+#include "mathx.h"
+
+/* Longest hold / snap in periods (uint16_t counters). */
+#define EST_GATE_PERIODS_MAX 65535.0f
+#define ROUND_HALF 0.5f
+
+void est_gate_cfg_defaults(est_gate_cfg_t *cfg, float Ts_s)
+{
+    cfg->Ts_s = Ts_s;
+    cfg->accel_per_speed_1_s = EST_GATE_ACCEL_PER_SPEED_DEFAULT_1_S;
+    cfg->accel_floor_rad_s2 = EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2;
+    cfg->settled = EST_GATE_SETTLED_DEFAULT;
+    cfg->di_max_A = EST_GATE_DI_MAX_DEFAULT_A;
+    cfg->dte_max_Nm = EST_GATE_DTE_MAX_DEFAULT_NM;
+    cfg->tau_s = EST_GATE_TAU_DEFAULT_S;
+    cfg->tau_accel_s = EST_GATE_TAU_ACCEL_DEFAULT_S;
+    cfg->hold_s = EST_GATE_HOLD_DEFAULT_S;
+    cfg->snap_s = EST_GATE_SNAP_DEFAULT_S;
+}
+
+static bool periods_ok(float t_s, float Ts_s)
+{
+    const float n = t_s / Ts_s;
+    return (n >= 1.0f) && (n <= EST_GATE_PERIODS_MAX);
+}
+
+bool est_gate_init(est_gate_t *g, const est_gate_cfg_t *cfg)
+{
+    const float sum = cfg->Ts_s + cfg->accel_per_speed_1_s + cfg->accel_floor_rad_s2 + cfg->settled + cfg->di_max_A + cfg->dte_max_Nm +
+                      cfg->tau_s + cfg->tau_accel_s + cfg->hold_s + cfg->snap_s;
+    g->cfg = *cfg;
+    g->valid = mathx_isfinitef(sum) && (cfg->Ts_s > 0.0f) && (cfg->accel_per_speed_1_s >= 0.0f) &&
+               (cfg->accel_floor_rad_s2 > 0.0f) && (cfg->settled > 0.0f) &&
+               (cfg->di_max_A > 0.0f) && (cfg->dte_max_Nm > 0.0f) && (cfg->tau_s >= cfg->Ts_s) &&
+               (cfg->tau_accel_s >= cfg->Ts_s) && periods_ok(cfg->hold_s, cfg->Ts_s) &&
+               periods_ok(cfg->snap_s, cfg->Ts_s);
+    if (g->valid) {
+        g->k_lp = cfg->Ts_s / cfg->tau_s;
+        g->k_acc = cfg->Ts_s / cfg->tau_accel_s;
+        g->inv_Ts = 1.0f / cfg->Ts_s;
+        g->hold_n = (uint16_t)(cfg->hold_s / cfg->Ts_s + ROUND_HALF);
+        g->snap_n = (uint16_t)(cfg->snap_s / cfg->Ts_s + ROUND_HALF);
+    } else {
+        g->k_lp = 0.0f;
+        g->k_acc = 0.0f;
+        g->inv_Ts = 0.0f;
+        g->hold_n = 1u;
+        g->snap_n = 1u;
+    }
+    g->seeded = false;
+    g->hold_cnt = g->hold_n;
+    g->snap_cnt = 0u;
+    g->reasons = EST_GATE_HOLD;
+    g->w_prev = 0.0f;
+    g->acc_lp = 0.0f;
+    g->i_lp.d = 0.0f;
+    g->i_lp.q = 0.0f;
+    g->te_lp = 0.0f;
+    g->L_old = 0.0f;
+    g->psi_old = 0.0f;
+    g->L_new = 0.0f;
+    g->psi_new = 0.0f;
+    return g->valid;
+}
+
+void est_gate_reset(est_gate_t *g, const smo_t *smo)
+{
+    g->seeded = false;
+    g->hold_cnt = 0u; /* step 2 starts learning at once; the copy is the start value */
+    g->snap_cnt = 0u;
+    g->reasons = 0u;
+    g->acc_lp = 0.0f;
+    g->L_old = smo->L_H;
+    g->psi_old = smo->psi_f_Wb;
+    g->L_new = smo->L_H;
+    g->psi_new = smo->psi_f_Wb;
+}
+
+bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
+                   bool v_limited)
+{
+    const est_gate_cfg_t *c = &g->cfg;
+    uint16_t why = 0u;
+    bool restored = false;
+
+    if (!g->valid) {
+        g->reasons = EST_GATE_HOLD;
+        return false;
+    }
+    if (!g->seeded) {
+        g->w_prev = omega_el_rad_s;
+        g->i_lp = i_dq_A;
+        g->te_lp = te_ref_Nm;
+        g->seeded = true;
+    }
+    /* low-passed acceleration of the speed estimate; the filters' states
+     * are bounded by their inputs (a NaN input is caught by ctrl_step's
+     * finiteness check, which stops the drive) */
+    g->acc_lp += g->k_acc * ((omega_el_rad_s - g->w_prev) * g->inv_Ts - g->acc_lp);
+    g->w_prev = omega_el_rad_s;
+    g->i_lp.d += g->k_lp * (i_dq_A.d - g->i_lp.d);
+    g->i_lp.q += g->k_lp * (i_dq_A.q - g->i_lp.q);
+    g->te_lp += g->k_lp * (te_ref_Nm - g->te_lp);
+
+    const float a_max = c->accel_per_speed_1_s * mathx_fabsf(omega_el_rad_s);
+    if (!(mathx_fabsf(g->acc_lp) <= ((a_max > c->accel_floor_rad_s2) ? a_max : c->accel_floor_rad_s2))) {
+        why |= EST_GATE_ACCEL;
+    }
+    if (!(mathx_fabsf(i_dq_A.d - g->i_lp.d) + mathx_fabsf(i_dq_A.q - g->i_lp.q) <= c->di_max_A)) {
+        why |= EST_GATE_CURRENT;
+    }
+    if (!(mathx_fabsf(te_ref_Nm - g->te_lp) <= c->dte_max_Nm)) {
+        why |= EST_GATE_TORQUE;
+    }
+    if (v_limited) {
+        why |= EST_GATE_VOLTAGE;
+    }
+    if (!(mathx_fabsf(g->L_new - g->L_old) <= c->settled * g->L_new) ||
+        !(mathx_fabsf(g->psi_new - g->psi_old) <= c->settled * g->psi_new)) {
+        why = 0u; /* still converging: learn on (header) */
+    }
+
+    if (why != 0u) {
+        if (g->hold_cnt == 0u) {
+            /* onset: back to the delayed copy, which the transient's first
+             * periods have not touched */
+            (void)smo_set_L(smo, g->L_old, omega_el_rad_s, i_dq_A.q);
+            (void)smo_set_psi(smo, g->psi_old, omega_el_rad_s);
+            g->L_new = g->L_old;
+            g->psi_new = g->psi_old;
+            restored = true;
+        }
+        g->hold_cnt = g->hold_n;
+        g->snap_cnt = 0u;
+    } else if (g->hold_cnt > 0u) {
+        g->hold_cnt--;
+        why = EST_GATE_HOLD;
+    } else {
+        g->snap_cnt++;
+        if (g->snap_cnt >= g->snap_n) {
+            g->snap_cnt = 0u;
+            g->L_old = g->L_new;
+            g->psi_old = g->psi_new;
+            g->L_new = smo->L_H;
+            g->psi_new = smo->psi_f_Wb;
+        }
+    }
+    g->reasons = why;
+    return restored;
+}

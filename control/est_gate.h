@@ -1,0 +1,109 @@
+/*
+ * est_gate.h - when step 2 may learn: pauses the L^ / psi_f^ transfer laws
+ * (param_est.h) while their steady-state assumptions are broken, and holds
+ * a value from before the transient (observer_design.md sec. 7).
+ *
+ * The transfer laws read parameter errors out of the observer's f^ under
+ * two assumptions: di/dt ~ 0 (else fd, fq carry -dL di/dt) and a speed
+ * estimate that matches the rotor (else fq carries w_err psi_f0, which the
+ * psi law takes as -w_err/w of psi_f^). Per period the gate checks:
+ *   acceleration   |d omega_el/dt| (low-passed)  > max(accel_per_speed |w|, accel_floor)
+ *                  (a type-2 PLL lags a ramp by ~a/bw: fq^ then carries
+ *                  a psi_f0/bw, i.e. a relative psi^ error a/(bw w))
+ *   current        |i_dq - i_dq_lp| (d + q)       > di_max_A
+ *   torque command |Te* - Te*_lp|                 > dte_max_Nm
+ *   voltage        the last period was voltage-limited (the applied
+ *                  voltage is not the one the model was solved for)
+ * Any of them pauses the laws for hold_s after it clears (the observer's
+ * f^ and the speed estimate settle). At the onset the estimates go back
+ * to a delayed copy taken snap_s .. 2 snap_s earlier: the checks see a
+ * transient a few periods after it began, and what it drove the
+ * estimates to in those periods is not kept. The restore goes through the
+ * observer's setters, which keep its prediction unchanged (bumpless).
+ * The gate acts only once the estimates have settled (the two copies
+ * within `settled` of each other): while step 2 is still converging from
+ * a large error, the convergence itself moves torque and speed, and a
+ * gate that paused and restored on it would never let it finish.
+ * The low |w| and |w iq| freezes stay in param_est (conditioning).
+ */
+#ifndef EST_GATE_H
+#define EST_GATE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "clarke_park.h"
+#include "smo.h"
+
+/* Design defaults (observer_design.md sec. 7). */
+#define EST_GATE_ACCEL_PER_SPEED_DEFAULT_1_S 1.0f   /* |a| > |w| / 1 s: the lag moved psi^ 1.8 % at 2500 r/min/s with 5 */
+#define EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2  100.0f /* electrical; 320 r/min/s at p = 3 */
+#define EST_GATE_SETTLED_DEFAULT             0.01f  /* copies this close: the estimates had settled */
+#define EST_GATE_DI_MAX_DEFAULT_A         0.5f
+#define EST_GATE_DTE_MAX_DEFAULT_NM       0.3f
+#define EST_GATE_TAU_DEFAULT_S            5.0e-3f /* low-pass of i, Te* */
+#define EST_GATE_TAU_ACCEL_DEFAULT_S      2.0e-3f /* low-pass of the acceleration */
+#define EST_GATE_HOLD_DEFAULT_S           20.0e-3f
+#define EST_GATE_SNAP_DEFAULT_S           5.0e-3f
+
+/* Why the laws are paused (est_gate_t.reasons, bit set). */
+#define EST_GATE_ACCEL   0x0001u
+#define EST_GATE_CURRENT 0x0002u
+#define EST_GATE_TORQUE  0x0004u
+#define EST_GATE_VOLTAGE 0x0008u
+#define EST_GATE_HOLD    0x0010u /* conditions clear, hold time running */
+
+typedef struct {
+    float Ts_s;               /* period [s] */
+    float accel_per_speed_1_s; /* |d omega_el/dt| threshold per |omega_el| [1/s] */
+    float accel_floor_rad_s2; /* ... but not below this [rad/s^2, electrical] */
+    float settled;            /* relative difference of the two copies below which the
+                               * estimates count as settled and the gate acts [-] */
+    float di_max_A;           /* |id - id_lp| + |iq - iq_lp| threshold [A] */
+    float dte_max_Nm;         /* |Te* - Te*_lp| threshold [N m] */
+    float tau_s;              /* low-pass time constant of i and Te* [s] */
+    float tau_accel_s;        /* low-pass time constant of the acceleration [s] */
+    float hold_s;             /* pause kept this long after the last trip [s] */
+    float snap_s;             /* age step of the delayed copy [s] */
+} est_gate_cfg_t;
+
+typedef struct {
+    est_gate_cfg_t cfg;
+    bool valid;
+    bool seeded;
+    float k_lp;               /* Ts/tau */
+    float k_acc;              /* Ts/tau_accel */
+    float inv_Ts;             /* 1/Ts */
+    uint16_t hold_n;          /* hold_s in periods */
+    uint16_t snap_n;          /* snap_s in periods */
+    uint16_t hold_cnt;        /* periods left of the pause */
+    uint16_t snap_cnt;        /* periods since the last copy */
+    uint16_t reasons;         /* EST_GATE_* of the last step; 0: the laws may run */
+    float w_prev;             /* omega_el(k-1) */
+    float acc_lp;             /* low-passed d omega_el/dt [rad/s^2] */
+    dq_t i_lp;                /* low-passed i_dq [A] */
+    float te_lp;              /* low-passed Te* [N m] */
+    float L_old, psi_old;     /* delayed copy, snap_n .. 2 snap_n periods old */
+    float L_new, psi_new;     /* copy of the last snap boundary */
+} est_gate_t;
+
+/* Design defaults for period Ts_s [s]. Background. */
+void est_gate_cfg_defaults(est_gate_cfg_t *cfg, float Ts_s);
+
+/* Copies cfg (finite, positive, hold and snap of 1..65535 periods) and
+ * resets; false when refused (then est_gate_step never lets the laws run). Background. */
+bool est_gate_init(est_gate_t *g, const est_gate_cfg_t *cfg);
+
+/* Filters re-seeded at the next step, both copies from *smo, no pause.
+ * Background or ISR (when step 2 starts). */
+void est_gate_reset(est_gate_t *g, const smo_t *smo);
+
+/* One period, before param_est_step(): omega_el_rad_s and i_dq_A of this
+ * sample, te_ref_Nm and v_limited of the last step. On a new pause sets
+ * L^, psi^ of *smo back to the delayed copy (bumpless setters) and
+ * returns true when it did (the model's parameters moved); the laws may
+ * run when g->reasons == 0. ISR, no division. */
+bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
+                   bool v_limited);
+
+#endif /* EST_GATE_H */

@@ -1,0 +1,61 @@
+/* oplim.c - torque and flux targets inside the current and voltage limits; see oplim.h. */
+#include "oplim.h"
+
+#include "mathx.h"
+#include "mtpa.h"
+
+#define HALF 0.5f
+
+void oplim_init(oplim_t *o, float Ts_s, float rate_Wb_s, float hyst)
+{
+    const bool ok = mathx_isfinitef(Ts_s * rate_Wb_s * hyst) && (Ts_s > 0.0f) && (rate_Wb_s > 0.0f) &&
+                    (hyst > 0.0f) && (hyst <= 1.0f);
+    /* refused: no weakening (dpsi stays 0), the current limit still holds */
+    o->dpsi_step_Wb = ok ? rate_Wb_s * Ts_s : 0.0f;
+    o->hyst_sq = ok ? hyst * hyst : 1.0f;
+    oplim_reset(o);
+}
+
+void oplim_reset(oplim_t *o)
+{
+    o->dpsi_Wb = 0.0f;
+    o->dpsi_max_Wb = 0.0f;
+}
+
+oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, uint16_t pole_pairs, float i_lim_A,
+                          float te_req_Nm)
+{
+    oplim_out_t out;
+    /* current limit at id = 0 (MTPA): |Te*| <= kt i_lim */
+    const float te_i = p->kt_Nm_per_A * i_lim_A;
+    const float Li = p->Ls_H * i_lim_A;
+
+    out.te_Nm = mathx_clampf(te_req_Nm, -te_i, te_i);
+    out.psi_Wb = mtpa_psi_s_ref(p->Ls_H, p->psi_f_Wb, pole_pairs, out.te_Nm); /* sec. III */
+    o->dpsi_max_Wb = out.psi_Wb - (p->psi_f_Wb - Li);
+    if (o->dpsi_Wb > 0.0f) {
+        /* weakening: the flux the voltage allows, then the torque the current allows there */
+        const float psi = out.psi_Wb - mathx_clampf(o->dpsi_Wb, 0.0f, o->dpsi_max_Wb);
+        const float psid_min = (psi * psi + p->psi_f_Wb * p->psi_f_Wb - Li * Li) * HALF / p->psi_f_Wb;
+        const float psid_lo = (psid_min > 0.0f) ? psid_min : 0.0f;
+        const float te_fw = p->te_per_Wb * mathx_sqrtf(psi * psi - psid_lo * psid_lo);
+        out.te_Nm = mathx_clampf(out.te_Nm, -te_fw, te_fw);
+        out.psi_Wb = psi;
+    }
+    return out;
+}
+
+void oplim_fw_update(oplim_t *o, dq_t u_req_V, float u_lim_V)
+{
+    const float u_sq = u_req_V.d * u_req_V.d + u_req_V.q * u_req_V.q;
+    const float lim_sq = u_lim_V * u_lim_V;
+    float d = o->dpsi_Wb;
+
+    if (u_sq > lim_sq) {
+        d += o->dpsi_step_Wb;
+    } else if (u_sq < o->hyst_sq * lim_sq) {
+        d -= o->dpsi_step_Wb;
+    }
+    /* a NaN stays out: the bounds win */
+    o->dpsi_Wb = mathx_clampf(d, 0.0f, o->dpsi_max_Wb);
+}

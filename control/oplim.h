@@ -1,0 +1,71 @@
+/*
+ * oplim.h - the torque and flux targets of the deadbeat step inside the
+ * drive's operating limits: stator current |i| <= i_lim and, above base
+ * speed, the inverter voltage (flux weakening). Derivation and figures:
+ * observer_design.md sec. 8. Both methods use it, with the parameters in
+ * use (dbdtc_par_t: nominal, or the observer's estimates).
+ *
+ * Current limit. Surface PMSM, psi_d = psi_f + L id, psi_q = L iq
+ * (eq. 11). The deadbeat step (eq. 17) puts psi_q = psi_q* = Te* /
+ * te_per_Wb and psi_d = sqrt(psi_s*^2 - psi_q*^2), so the current it aims
+ * at follows from (Te*, psi_s*):
+ *   |i|^2 <= i_lim^2  <=>  psi_s*^2 - 2 psi_f psi_d + psi_f^2 <= (L i_lim)^2
+ *                     <=>  psi_d >= psi_d,min = (psi_s*^2 + psi_f^2 - (L i_lim)^2) / (2 psi_f)
+ *   hence |Te*| <= te_per_Wb sqrt(psi_s*^2 - max(psi_d,min, 0)^2).
+ * At psi_s* = MTPA's (id = 0) this is |Te*| <= kt i_lim.
+ *
+ * Voltage limit (flux weakening). psi_s* = MTPA's - dpsi, not below
+ * psi_f - L i_lim (all the current on -d), and Te* limited by the current
+ * limit at that flux: negative i_d, |i| <= i_lim. dpsi >= 0 is a
+ * voltage-feedback loop: it rises at rate_Wb_s while the deadbeat asks
+ * for more than u_lim = margin Vdc/sqrt(3) (the hexagon's inscribed
+ * circle: any angle; the margin is the deadbeat's headroom) and falls at
+ * the same rate when it asks for less than hyst u_lim. A feedforward
+ * psi_v = u_lim/|w| would act on the model's flux, which is not the
+ * motor's while the parameters are off (conventional method, step 1):
+ * with psi_f = 1.5 psi_f0 it weakened at 1350 r/min and drove id to the
+ * limit in the SIL. The loop sees the voltage the motor really needs.
+ */
+#ifndef OPLIM_H
+#define OPLIM_H
+
+#include "dbdtc.h"
+
+/* Design defaults (observer_design.md sec. 8). */
+#define OPLIM_FW_RATE_DEFAULT_WB_S 5.0f  /* follows 3x the 2050 r/min in 0.2 s ramp's flux change */
+#define OPLIM_FW_HYST_DEFAULT      0.97f /* dpsi falls below 0.97 u_lim */
+
+typedef struct {
+    float dpsi_step_Wb;   /* rate_Wb_s * Ts: change of dpsi per period [Wb] */
+    float hyst_sq;        /* hyst^2 */
+    float dpsi_Wb;        /* flux reduction below MTPA [Wb], >= 0 */
+    float dpsi_max_Wb;    /* MTPA's flux - (psi_f - L i_lim) of the last targets [Wb] */
+} oplim_t;
+
+typedef struct {
+    float te_Nm;        /* torque target, limited */
+    float psi_Wb;       /* stator-flux target */
+} oplim_out_t;
+
+/* Weakening loop rate rate_Wb_s [Wb/s] (> 0) and hysteresis hyst (0..1],
+ * period Ts_s [s]; dpsi = 0. Background. */
+void oplim_init(oplim_t *o, float Ts_s, float rate_Wb_s, float hyst);
+
+/* dpsi = 0. Background or ISR. */
+void oplim_reset(oplim_t *o);
+
+/*
+ * Targets for a requested torque te_req_Nm [N m] (already within
+ * +-te_max): MTPA flux (sec. III) less dpsi, and the current limit
+ * i_lim_A [A] above, with the parameters *p and pole_pairs. 1 division
+ * (MTPA) and 1 square root; while weakening 1 division and 1 square root
+ * more. ISR.
+ */
+oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, uint16_t pole_pairs, float i_lim_A,
+                          float te_req_Nm);
+
+/* The weakening loop, after the deadbeat step: u_req_V [V] = its voltage
+ * before the hexagon, u_lim_V [V] = the steady-state limit. ISR, no division. */
+void oplim_fw_update(oplim_t *o, dq_t u_req_V, float u_lim_V);
+
+#endif /* OPLIM_H */
