@@ -249,9 +249,11 @@ static void run_state(app_t *app, const hal_sample_t *s)
     (void)output(app, r, s);
 }
 
-/* Background requests; stop wins over start. */
+/* Background requests; stop wins over start. A fault reset is FAULT's
+ * only: one found here is dropped, never kept for the next fault. */
 static void take_requests(app_t *app, const hal_sample_t *s)
 {
+    app->req_fault_reset = 0u;
     if (app->req_stop != 0u) {
         app->req_stop = 0u;
         app->req_start = 0u;
@@ -352,6 +354,12 @@ void app_request_stop(app_t *app)
 
 void app_fault_reset(app_t *app)
 {
-    hal_trip_clear();
-    app->req_fault_reset = 1u;
+    /* Only the ISR leaves FAULT, and only on this request: a FAULT read here
+     * still holds when the ISR takes it. Outside FAULT hal_trip_clear() would
+     * force the outputs off under the running drive, and a kept request
+     * would clear the next fault with no operator action. */
+    if (app->state == APP_STATE_FAULT) {
+        hal_trip_clear();
+        app->req_fault_reset = 1u;
+    }
 }

@@ -134,8 +134,11 @@ void app_request_start(app_t *app);
 /* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);
 
-/* Background: clears a latched hardware trip; FAULT -> IDLE at the next
- * ISR if no protection check fails on that ISR's samples. */
+/* Background, acts only in FAULT: clears a latched hardware trip; FAULT ->
+ * IDLE at the next ISR if no protection check fails on that ISR's samples.
+ * Outside FAULT it does nothing (no hal_trip_clear under a running drive,
+ * no request kept for a later fault); the ISR also drops a reset request
+ * it finds outside FAULT. */
 void app_fault_reset(app_t *app);
 
 #endif /* APP_H */

@@ -21,16 +21,17 @@ void protect_init(protect_t *p, const protect_cfg_t *cfg)
     p->uv_armed = false;
 }
 
-/* Count change from prev to now (both < cpr), the shortest way round. */
+/* Count change from prev to now (both < cpr), the shortest way round; no
+ * 32-bit % (an RTS call from flash on the C28x). */
 static int32_t count_delta(uint32_t now, uint32_t prev, uint32_t cpr)
 {
-    const uint32_t d = (now + cpr - prev) % cpr;
+    const uint32_t d = (now >= prev) ? (now - prev) : (now + cpr - prev);
     return (d > (cpr / 2u)) ? ((int32_t)d - (int32_t)cpr) : (int32_t)d;
 }
 
 void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles)
 {
-    const uint32_t count = enc_count % p->enc_cpr;
+    const uint32_t count = mathx_umod_u32(enc_count, p->enc_cpr);
 
     if (p->seeded) {
         p->enc_delta = count_delta(count, p->enc_prev, p->enc_cpr);

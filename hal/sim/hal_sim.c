@@ -32,6 +32,8 @@ static struct {
     bool isr_stalled;
     uint32_t isr_calls;
     uint32_t watchdog_kicks;
+    uint32_t cycles;                /* hal_cycles(): CPU clock cycles of simulated time, mod 2^32 */
+    uint32_t cycles_per_period;
     hal_sample_t sample;
     hal_sim_truth_t truth;
 } g_sim;
@@ -56,6 +58,7 @@ void hal_sim_configure(const hal_sim_cfg_t *cfg)
     g_sim.cfg = *cfg;
     plant_init(&g_sim.plant, &cfg->plant, cfg->theta_offset_el_rad);
     prng_seed(&g_sim.prng, cfg->sens.seed);
+    g_sim.cycles_per_period = (uint32_t)llround(fmod(cfg->inv.Ts_s * CPU_CLOCK_HZ, ldexp(1.0, CYCLE_COUNTER_BITS)));
     for (int k = 0; k < N_PHASES; k++) {
         g_sim.duty_shadow[k] = DUTY_ZERO_VOLTAGE;
         g_sim.duty_active[k] = DUTY_ZERO_VOLTAGE;
@@ -91,7 +94,8 @@ static void sample_at_period_start(void)
     memcpy(g_sim.duty_active, g_sim.duty_shadow, sizeof g_sim.duty_active);
 
     double i_abc[N_PHASES];
-    plant_iabc_A(&g_sim.plant, i_abc);
+    const double th_el = plant_theta_el_rad(&g_sim.plant);
+    plant_iabc_at_A(&g_sim.plant, th_el, i_abc);
     for (int k = 0; k < N_PHASES; k++) {
         if (fabs(i_abc[k]) > c->trip_current_A) {
             hal_sim_force_trip();
@@ -110,7 +114,7 @@ static void sample_at_period_start(void)
     tr->ib_A = i_abc[1];
     tr->ic_A = i_abc[2];
     tr->speed_m_rad_s = g_sim.plant.x.omega_m_rad_s;
-    tr->theta_el_rad = plant_theta_el_rad(&g_sim.plant);
+    tr->theta_el_rad = th_el;
     tr->te_Nm = plant_te_Nm(&g_sim.plant);
     tr->psi_s_Wb = plant_psi_s_Wb(&g_sim.plant);
 }
@@ -147,6 +151,7 @@ void hal_sim_period(void)
     tr->isr_stalled = g_sim.isr_stalled;
     tr->isr_calls = g_sim.isr_calls;
     g_sim.t_s += c->inv.Ts_s;
+    g_sim.cycles += g_sim.cycles_per_period;
 }
 
 void hal_sim_truth(hal_sim_truth_t *out)
@@ -210,9 +215,9 @@ void hal_isr_ack(void)
 
 uint32_t hal_cycles(void)
 {
-    /* Simulated time, so runs stay reproducible; wraps like the 32-bit counter. */
-    double cycles = fmod(g_sim.t_s * CPU_CLOCK_HZ, ldexp(1.0, CYCLE_COUNTER_BITS));
-    return (uint32_t)cycles;
+    /* Simulated time, so runs stay reproducible; wraps like the 32-bit counter
+     * (unsigned arithmetic of the period count). */
+    return g_sim.cycles;
 }
 
 void hal_watchdog_kick(void)

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "csv_num.h"
 #include "board_cfg.h"
 #include "hal_sim.h"
 
@@ -240,13 +241,12 @@ void sil_csv_header(FILE *f)
 
 void sil_csv_row(FILE *f, const sil_row_t *row)
 {
+    char line[N_COLS * CSV_NUM_MAX];   /* each number and its separator fit in CSV_NUM_MAX */
+    size_t n = 0;
     for (size_t i = 0; i < N_COLS; i++) {
         double v = *(const double *)((const char *)row + COLS[i].offset);
-        if (isnan(v)) {
-            fputs("nan", f);   /* one spelling whatever the libc prints for -nan */
-        } else {
-            fprintf(f, "%.9g", v);
-        }
-        fputc((i + 1u < N_COLS) ? ',' : '\n', f);
+        n += (size_t)csv_num_g9(line + n, v);   /* "%.9g"; one spelling "nan" for any NaN */
+        line[n++] = (i + 1u < N_COLS) ? ',' : '\n';
     }
+    fwrite(line, 1, n, f);
 }
