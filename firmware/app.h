@@ -67,6 +67,7 @@ typedef struct {
     float speed_max_rad_s;      /* overspeed trip, mechanical [rad/s]; also sets the encoder jump limit */
     uint32_t isr_period_cycles; /* control period in hal_cycles() counts [cycles] */
     uint32_t isr_budget_cycles; /* longest allowed app_isr run [cycles] */
+    protect_watch_cfg_t watch;  /* open phase, frozen current reading, lost encoder (protect.h); te_max_Nm and pole_pairs are taken from ctrl */
     /* start-up sequence */
     bool calibrate;             /* measure the current offsets at every start */
     float cal_settle_s;         /* PWM off this long before averaging [s] */
