@@ -255,6 +255,7 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
 {
     int16_t j;
     out->R_est_Ohm = R_nom;
+    out->R_raw_Ohm = 0.0f;
     out->dR_Ohm = 0.0f;
     out->dL_H = 0.0f;
     out->dpsi_Wb = 0.0f;
@@ -377,6 +378,7 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     if (!mathx_isfinitef(R_est + dL + dpsi)) {
         return RS_IDENT_NON_FINITE;
     }
+    out->R_raw_Ohm = R_est;
     out->dR_Ohm = dR;
     out->dL_H = dL;
     out->dpsi_Wb = dpsi;

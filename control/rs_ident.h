@@ -107,7 +107,8 @@ typedef struct {
 } rs_ident_t;
 
 typedef struct {
-    float R_est_Ohm;          /* R^ = R_nom - dR */
+    float R_est_Ohm;          /* R^ = R_nom - dR when accepted, else R_nom */
+    float R_raw_Ohm;          /* R_nom - dR as solved, accepted or not (0 until the solve got that far) */
     float dR_Ohm;             /* by-products, d = model - true: */
     float dL_H;               /*   warm start for L^ = L - dL */
     float dpsi_Wb;            /*   and psi^ = psi - dpsi (optional) */

@@ -305,7 +305,8 @@ static void scatter_along_the_model_is_taken(void **state)
     assert_float_equal(o.iq_std_A[1], 0.0, 1e-6);
 }
 
-/* R^ outside the band [0.1, 6] x R_nom: refused with the value in dR. */
+/* R^ outside the band [0.1, 6] x R_nom: refused with the value in dR and
+ * R_raw_Ohm (R_est_Ohm stays R_nom). */
 static void out_of_band_is_refused(void **state)
 {
     (void)state;
@@ -318,6 +319,7 @@ static void out_of_band_is_refused(void **state)
     assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OUT_OF_BAND);
     assert_float_equal(o.R_est_Ohm, 20.0 * OP_R0, 1e-4);
     assert_float_equal(o.dR_Ohm, 19.0 * OP_R0, 1e-3);
+    assert_float_equal(o.R_raw_Ohm, OP_R0, 1e-3); /* the refused R^ itself: the motor's */
     /* observer nominal 0.1 R0: R^ = 10 R_nom */
     ri = make(0.1 * OP_R0);
     feed_analytic(&ri, RS_IDENT_WINDOW_1, 0.1 * OP_R0, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
