@@ -128,6 +128,7 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     sc.omega_max_rad_s = cfg->omega_max_el_rad_s;
     ec.Ts_s = cfg->Ts_s;
     rc.R_nom_Ohm = cfg->Rs_Ohm;
+    rc.Ts_s = cfg->Ts_s;
     rc.R_min_Ohm = cfg->R_min_Ohm;
     rc.R_max_Ohm = cfg->R_max_Ohm;
     gc.Ts_s = cfg->Ts_s;
