@@ -120,6 +120,7 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     sc.omega_max_rad_s = cfg->omega_max_el_rad_s;
     ec.Ts_s = cfg->Ts_s;
     rc.R_nom_Ohm = cfg->Rs_Ohm;
+    rc.Ts_s = cfg->Ts_s;
     rc.R_min_Ohm = cfg->R_min_Ohm;
     rc.R_max_Ohm = cfg->R_max_Ohm;
     gc.Ts_s = cfg->Ts_s;
@@ -199,13 +200,13 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     c->ref.te_ref_Nm = 0.0f;
     c->ref.ud_ref_V = 0.0f;
     c->ref.uq_ref_V = 0.0f;
+    c->tracked = false;
     ctrl_reset(c);
     return c->status;
 }
 
 void ctrl_reset(ctrl_t *c)
 {
-    encoder_reset(&c->enc);
     dbdtc_reset(&c->db);
     c->model_src = MODEL_NOMINAL;
     smo_reset(&c->smo);
@@ -239,6 +240,17 @@ void ctrl_reset(ctrl_t *c)
     c->mon.est = CTRL_EST_OFF;
     c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
+}
+
+void ctrl_track(ctrl_t *c, uint32_t enc_count)
+{
+    encoder_step(&c->enc, enc_count);
+    c->tracked = true;
+}
+
+void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
+{
+    encoder_align(&c->enc, enc_count);
 }
 
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
@@ -463,8 +475,11 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         c->mode = c->mode_req;
     }
 
-    /* angle and speed, current in the rotor frame */
-    encoder_step(&c->enc, in->enc_count);
+    /* angle and speed (this period's ctrl_track), current in the rotor frame */
+    if (!c->tracked) {
+        encoder_step(&c->enc, in->enc_count);
+    }
+    c->tracked = false;
     const float theta = c->enc.theta_e_rad;
     const float omega = c->enc.omega_e_rad_s;
     mathx_sincosf(theta, &s, &co);

@@ -167,6 +167,7 @@ typedef struct {
     est_gate_t gate;            /* pause and hold of step 2 */
     uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the gate's voltage check) */
     uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */
+    bool tracked;               /* ctrl_track ran this period: ctrl_step leaves the encoder alone */
     ctrl_mon_t mon;
 } ctrl_t;
 
@@ -191,15 +192,17 @@ void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_ma
  * method unavailable; the app refuses a start needing any refused block. */
 ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg);
 
-/* Clear states (integrator, speed estimate, applied voltage); observer
- * stopped, estimates back to nominal (step 1 is to be repeated). Background,
- * or ISR before PWM is enabled. */
+/* Clear states (integrator, applied voltage); observer stopped, estimates
+ * back to nominal (step 1 is to be repeated). The encoder keeps tracking
+ * (ctrl_track). Background, or ISR before PWM is enabled. */
 void ctrl_reset(ctrl_t *c);
 
-/* Background; takes effect at the next step (bumpless into speed mode). */
+/* ISR at the start of a period (the app takes the operator's request
+ * there), or a harness between periods; takes effect at the next step
+ * (bumpless into speed mode). */
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode);
 
-/* Background or ISR; switchable at run time, bumpless (policy in the
+/* As ctrl_set_mode; switchable at run time, bumpless (policy in the
  * header comment). Returns false (method unchanged) for PROPOSED when
  * ctrl_init did not return CTRL_CFG_OK. */
 bool ctrl_set_method(ctrl_t *c, ctrl_method_t method);
@@ -231,8 +234,19 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
  * outside [R_min_Ohm, R_max_Ohm] or the method is unavailable. ISR or background. */
 bool ctrl_est_start(ctrl_t *c, float R_Ohm);
 
-/* References [rad/s mech, N m, V]. Background or ISR. */
+/* References [rad/s mech, N m, V]. As ctrl_set_mode: a multi-word copy
+ * the ISR must not be interrupted in by another writer. */
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref);
+
+/* Every period, in every state, first: the encoder count [counts] into
+ * the angle and speed estimate. ctrl owns the encoder: ctrl_step uses what
+ * this call left (and tracks in->enc_count itself only when the caller
+ * did not call ctrl_track this period, as a bare controller does). ISR. */
+void ctrl_track(ctrl_t *c, uint32_t enc_count);
+
+/* The rotor's d axis is on phase a: the count enc_count now reads 0 rad
+ * el (the app's alignment). ISR. */
+void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count);
 
 /* One control period from the samples *in; duties and flags to *out. ISR, 10 kHz. */
 void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
@@ -244,5 +258,63 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
  * input or no bus) - without the dead-time feedforward. ISR, 10 kHz,
  * instead of ctrl_step. */
 void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out);
+
+/* ---- readers: what the app, the command block and the SIL see -------
+ * Any context: single words, or the monitor written once per ctrl_step. */
+
+/* The monitor of the last ctrl_step (logging, telemetry). */
+static inline const ctrl_mon_t *ctrl_monitor(const ctrl_t *c)
+{
+    return &c->mon;
+}
+
+/* Mechanical speed estimate of the last ctrl_track [rad/s]. */
+static inline float ctrl_speed_m_rad_s(const ctrl_t *c)
+{
+    return c->enc.omega_m_rad_s;
+}
+
+/* Electrical angle at encoder count 0 [rad el], told or aligned, in [0, 2 pi). */
+static inline float ctrl_enc_offset_el_rad(const ctrl_t *c)
+{
+    return c->enc.offset_rad;
+}
+
+/* ctrl_init's refusals (CTRL_CFG_*). */
+static inline ctrl_status_t ctrl_status(const ctrl_t *c)
+{
+    return c->status;
+}
+
+/* The method in use. */
+static inline ctrl_method_t ctrl_method(const ctrl_t *c)
+{
+    return c->method;
+}
+
+/* The mode asked for (in use from the next step). */
+static inline ctrl_mode_t ctrl_mode(const ctrl_t *c)
+{
+    return c->mode_req;
+}
+
+/* The references in use [rad/s mech, N m, V]. */
+static inline const ctrl_ref_t *ctrl_ref(const ctrl_t *c)
+{
+    return &c->ref;
+}
+
+/* The last ctrl_rsid_finish(): R^ (raw, accepted or not), window means,
+ * standard errors. */
+static inline const rs_ident_out_t *ctrl_rsid_out(const ctrl_t *c)
+{
+    return &c->rsid_out;
+}
+
+/* The step-1 settings ctrl_init gave rs_ident (R band, limits). */
+static inline const rs_ident_cfg_t *ctrl_rsid_cfg(const ctrl_t *c)
+{
+    return &c->ri.cfg;
+}
 
 #endif /* CTRL_H */

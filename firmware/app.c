@@ -10,7 +10,8 @@
 void app_init(app_t *app, const app_cfg_t *cfg)
 {
     const float Ts = cfg->ctrl.Ts_s;
-    const hal_sample_t no_sample = { 0.0f, 0.0f, 0.0f, 0u };
+    const app_snapshot_t no_snapshot = { { 0.0f, 0.0f, 0.0f, 0u }, APP_STATE_INIT, 0.0f, 0.0f };
+    const ctrl_out_t zero_voltage = { { DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE }, 0u };
     protect_cfg_t pc = { cfg->i_max_A, cfg->vdc_max_V, cfg->vdc_min_V, cfg->speed_max_rad_s,
                          cfg->isr_period_cycles, cfg->isr_budget_cycles,
                          ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, Ts, cfg->watch };
@@ -27,15 +28,9 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->cfg = *cfg;
     app->state = APP_STATE_INIT;
     app->fault = APP_FAULT_NONE;
-    app->snapshot.sample = no_sample;
-    app->snapshot.state = APP_STATE_INIT;
-    app->snapshot.value = 0.0f;
-    app->snapshot.limit = 0.0f;
+    app->snapshot = no_snapshot;
     (void)ctrl_init(&app->ctrl, &cfg->ctrl); /* status kept in ctrl.status; a start checks it when needed */
-    app->out.duty[0] = DUTY_ZERO_VOLTAGE;
-    app->out.duty[1] = DUTY_ZERO_VOLTAGE;
-    app->out.duty[2] = DUTY_ZERO_VOLTAGE;
-    app->out.flags = 0u;
+    app->out = zero_voltage;
     app->ticks = 0u;
     app->offset_ia_A = 0.0f;
     app->offset_ib_A = 0.0f;
@@ -50,19 +45,14 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->req_start = 0u;
     app->req_stop = 0u;
     app->req_fault_reset = 0u;
+    app->op_taken.ref = *ctrl_ref(&app->ctrl);
+    app->op_taken.mode = ctrl_mode(&app->ctrl);
+    app->op_taken.method = ctrl_method(&app->ctrl);
+    app_request_op(app, &app->op_taken);
+    app->req_op = 0u;
 }
 
 /* ---- outputs and faults ------------------------------------------------- */
-
-/* Duties for the next period; the outputs go on after the first ones are written. */
-static void write_duties(app_t *app, const float duty[3])
-{
-    hal_pwm_write(duty);
-    if (!app->pwm_on) {
-        hal_pwm_enable();
-        app->pwm_on = true;
-    }
-}
 
 /* PWM off first, then the bookkeeping: the outputs go off in this ISR call. */
 static void latch_fault(app_t *app, const app_step_t *f, const hal_sample_t *s)
@@ -79,11 +69,16 @@ static void latch_fault(app_t *app, const app_step_t *f, const hal_sample_t *s)
 }
 
 /* A step's period written out: the duties unless the output is not
- * finite, then its fault if it has one. */
+ * finite (the outputs go on after the first ones are written), then the
+ * step's fault if it has one. */
 static app_step_t output(app_t *app, app_step_t r, const hal_sample_t *s)
 {
     if ((app->out.flags & CTRL_FLAG_NONFINITE) == 0u) {
-        write_duties(app, app->out.duty);
+        hal_pwm_write(app->out.duty);
+        if (!app->pwm_on) {
+            hal_pwm_enable();
+            app->pwm_on = true;
+        }
     }
     if (r.status == APP_STEP_FAULT) {
         latch_fault(app, &r, s);
@@ -94,11 +89,7 @@ static app_step_t output(app_t *app, app_step_t r, const hal_sample_t *s)
 /* The controller's inputs: this period's samples, offsets subtracted. */
 static ctrl_in_t ctrl_input(const app_t *app, const hal_sample_t *s)
 {
-    ctrl_in_t in;
-    in.ia_A = s->ia_A - app->offset_ia_A;
-    in.ib_A = s->ib_A - app->offset_ib_A;
-    in.vdc_V = s->vdc_V;
-    in.enc_count = s->enc_count;
+    const ctrl_in_t in = { s->ia_A - app->offset_ia_A, s->ib_A - app->offset_ib_A, s->vdc_V, s->enc_count };
     return in;
 }
 
@@ -123,7 +114,7 @@ static void leave_align(app_t *app)
         ctrl_reset(&app->ctrl);
         (void)ctrl_rsid_begin(&app->ctrl); /* status checked by leave_calibrate */
         app->state = APP_STATE_IDENTIFY_R;
-        rsid_seq_start(&app->rsid, app->ctrl.enc.omega_m_rad_s);
+        rsid_seq_start(&app->rsid, ctrl_speed_m_rad_s(&app->ctrl));
     }
 }
 
@@ -144,8 +135,8 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
     if (s->vdc_V < app->cfg.vdc_min_V) {
         const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.vdc_min_V);
         latch_fault(app, &f, s);
-    } else if ((app->ctrl.status & config_needed(app)) != 0u) {
-        const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)app->ctrl.status, 0.0f);
+    } else if ((ctrl_status(&app->ctrl) & config_needed(app)) != 0u) {
+        const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)ctrl_status(&app->ctrl), 0.0f);
         latch_fault(app, &f, s);
     } else if (app->cfg.align && !app->aligned) {
         app->state = APP_STATE_ALIGN;
@@ -203,7 +194,7 @@ static void align_state(app_t *app, const hal_sample_t *s)
         r = app_step_fault(APP_FAULT_NONFINITE_OUTPUT, u.a, 0.0f);
     }
     if ((output(app, r, s).status == APP_STEP_DONE)) {
-        encoder_align(&app->ctrl.enc, s->enc_count);
+        ctrl_encoder_align(&app->ctrl, s->enc_count);
         app->aligned = true;
         leave_align(app);
     }
@@ -254,6 +245,26 @@ static void run_state(app_t *app, const hal_sample_t *s)
     (void)output(app, r, s);
 }
 
+/* The operator's request (app_request_op), whole, at the start of a
+ * period: the references every time, a mode or method when the operator
+ * changed it (the app's own choice, e.g. the conventional method after a
+ * refused step 1, stands until then). */
+static void take_operator(app_t *app)
+{
+    if (app->req_op != 0u) {
+        const app_op_t op = app->op_req;
+        app->req_op = 0u;
+        ctrl_set_ref(&app->ctrl, &op.ref);
+        if (op.mode != app->op_taken.mode) {
+            ctrl_set_mode(&app->ctrl, op.mode);
+        }
+        if (op.method != app->op_taken.method) {
+            (void)ctrl_set_method(&app->ctrl, op.method); /* refused: unchanged (cmd checks it first) */
+        }
+        app->op_taken = op;
+    }
+}
+
 /* Background requests; stop wins over start. A fault reset is FAULT's
  * only: one found here is dropped, never kept for the next fault. */
 static void take_requests(app_t *app, const hal_sample_t *s)
@@ -276,7 +287,7 @@ static void take_requests(app_t *app, const hal_sample_t *s)
 
 static app_step_t protection(const app_t *app, const hal_sample_t *s)
 {
-    return protect_check(&app->prot, s, app->offset_ia_A, app->offset_ib_A, app->ctrl.enc.omega_m_rad_s);
+    return protect_check(&app->prot, s, app->offset_ia_A, app->offset_ib_A, ctrl_speed_m_rad_s(&app->ctrl));
 }
 
 /* The checks on the periods' history; the duties written last call are the ones just applied. */
@@ -291,8 +302,8 @@ static app_step_t watch(app_t *app, const hal_sample_t *s)
     in.vdc_V = s->vdc_V;
     in.duty = app->pwm_on ? app->out.duty : NULL;
     in.ctrl_running = (app->state == APP_STATE_RUN) || (app->state == APP_STATE_IDENTIFY_R);
-    in.speed_m_rad_s = app->ctrl.enc.omega_m_rad_s;
-    in.te_ref_Nm = app->ctrl.mon.te_ref_Nm;
+    in.speed_m_rad_s = ctrl_speed_m_rad_s(&app->ctrl);
+    in.te_ref_Nm = ctrl_monitor(&app->ctrl)->te_ref_Nm;
     return protect_watch(&app->prot, &in);
 }
 
@@ -320,9 +331,8 @@ void app_isr(app_t *app)
     t_entry = hal_cycles();
     app->ticks++;
     protect_track(&app->prot, s.enc_count, t_entry);
-    if ((app->state != APP_STATE_RUN) && (app->state != APP_STATE_IDENTIFY_R)) {
-        encoder_step(&app->ctrl.enc, s.enc_count); /* ctrl_step steps it in RUN, IDENTIFY_R */
-    }
+    ctrl_track(&app->ctrl, s.enc_count); /* every state: the speed estimate protection checks */
+    take_operator(app);
 
     if (app->state == APP_STATE_FAULT) {
         fault_state(app, &s);
@@ -370,6 +380,15 @@ void app_background(app_t *app)
 void app_request_start(app_t *app)
 {
     app->req_start = 1u;
+}
+
+void app_request_op(app_t *app, const app_op_t *op)
+{
+    app->req_op = 0u; /* the ISR cannot take a half-written request */
+    app->op_req.ref = op->ref;
+    app->op_req.mode = op->mode;
+    app->op_req.method = op->method;
+    app->req_op = 1u;
 }
 
 void app_request_stop(app_t *app)

@@ -136,7 +136,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
 {
     hal_sim_truth_t tr;
     hal_sim_truth(&tr);
-    const ctrl_mon_t *m = &g_app.ctrl.mon;
+    const ctrl_mon_t *m = ctrl_monitor(&g_app.ctrl);
     const bool closed = (sc->controller.mode != SC_MODE_OPEN_LOOP);
     r->t_s = tr.t_s;
     r->state = (double)g_app.state;
@@ -217,11 +217,12 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     hal_sim_set_faults(&hf);
     hal_init();
     app_init(&g_app, &ac);
-    ctrl_set_mode(&g_app.ctrl, ctrl_mode_of(sc->controller.mode));
-    /* refused when ctrl_init refused the observer's settings: the app then faults CONFIG at the
-     * start if [identify] asks for step 1, else the drive runs conventional */
-    (void)ctrl_set_method(&g_app.ctrl, (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED
-                                                                                     : CTRL_METHOD_CONVENTIONAL);
+    /* the operator's mode and method, with each period's references below; a
+     * proposed method ctrl_init refused stays conventional (the app faults
+     * CONFIG at the start if [identify] asks for step 1) */
+    app_op_t op;
+    op.mode = ctrl_mode_of(sc->controller.mode);
+    op.method = (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED : CTRL_METHOD_CONVENTIONAL;
     hal_isr_attach(sil_isr);
     app_request_start(&g_app);
 
@@ -231,12 +232,11 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     for (uint32_t k = 0; k < n && rc == 0; k++) {
         const double t = (double)k * Ts;
         const double speed_ref_rpm = profile_eval(&sc->reference.speed_rpm, t);
-        ctrl_ref_t ref;
-        ref.speed_ref_rad_s = (float)(speed_ref_rpm / RPM_PER_RAD_S);
-        ref.te_ref_Nm = (float)profile_eval(&sc->reference.torque_Nm, t);
-        ref.ud_ref_V = (float)profile_eval(&sc->reference.ud_V, t);
-        ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
-        ctrl_set_ref(&g_app.ctrl, &ref);
+        op.ref.speed_ref_rad_s = (float)(speed_ref_rpm / RPM_PER_RAD_S);
+        op.ref.te_ref_Nm = (float)profile_eval(&sc->reference.torque_Nm, t);
+        op.ref.ud_ref_V = (float)profile_eval(&sc->reference.ud_V, t);
+        op.ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
+        app_request_op(&g_app, &op);   /* taken at the start of this period's ISR */
         hal_sim_set_load(profile_eval(&sc->load.torque_Nm, t));
         if (sc->plant.R_profile.n > 1u) {
             hal_sim_set_R_ohm(profile_eval(&sc->plant.R_profile, t));   /* the winding warms */
@@ -267,7 +267,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     res->final_fault = (int)g_app.fault;
     res->warnings = g_app.warnings;
     res->rsid_refusal = (int)g_app.rsid_refusal.fault;
-    res->enc_offset_el_rad = (double)g_app.ctrl.enc.offset_rad;
+    res->enc_offset_el_rad = (double)ctrl_enc_offset_el_rad(&g_app.ctrl);
     res->i_offset_a_A = (double)g_app.offset_ia_A;
     res->i_offset_b_A = (double)g_app.offset_ib_A;
     return rc;
