@@ -293,7 +293,9 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
         param_est_run(&c->pe, true);
         est_gate_reset(&c->gate, &c->smo);
         c->est = CTRL_EST_STEP2;
-        if (c->model_src == MODEL_OBSERVER) {
+        if ((c->model_src == MODEL_OBSERVER) && est_gate_f_usable(&c->gate)) {
+            /* the disturbance the observer sees acts over [k+1, k+2] too:
+             * L^ di/dt = u - ... - f (design sec. 7) */
             c->model_src = MODEL_STALE;
         }
     } else {
@@ -354,6 +356,11 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
                 if ((moved != 0u) || (c->model_src != MODEL_OBSERVER)) {
                     dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->smo.psi_f_Wb);
                     c->model_src = MODEL_OBSERVER;
+                }
+                if (!est_gate_f_usable(&c->gate)) {
+                    /* f^ carries a current transient: eq. (10)-(12) with the
+                     * held estimates (design sec. 7) */
+                    return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s);
                 }
                 return dbdtc_state_from_currents(&c->db, i_hat); /* replaces eq. (10) */
             }
@@ -487,6 +494,12 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         te_ref = tgt.te_Nm;
         psi_ref = tgt.psi_Wb;
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
+        if ((c->model_src == MODEL_OBSERVER) && est_gate_f_usable(&c->gate)) {
+            /* the disturbance the observer sees acts over [k+1, k+2] too:
+             * L^ di/dt = u - ... - f (design sec. 7) */
+            u.d += c->smo.fd_V;
+            u.q += c->smo.fq_V;
+        }
         oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
     }
 

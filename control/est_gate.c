@@ -19,6 +19,7 @@ void est_gate_cfg_defaults(est_gate_cfg_t *cfg, float Ts_s)
     cfg->tau_accel_s = EST_GATE_TAU_ACCEL_DEFAULT_S;
     cfg->hold_s = EST_GATE_HOLD_DEFAULT_S;
     cfg->snap_s = EST_GATE_SNAP_DEFAULT_S;
+    cfg->f_hold_s = EST_GATE_F_HOLD_DEFAULT_S;
 }
 
 static bool periods_ok(float t_s, float Ts_s)
@@ -30,30 +31,33 @@ static bool periods_ok(float t_s, float Ts_s)
 bool est_gate_init(est_gate_t *g, const est_gate_cfg_t *cfg)
 {
     const float sum = cfg->Ts_s + cfg->accel_per_speed_1_s + cfg->accel_floor_rad_s2 + cfg->settled + cfg->di_max_A + cfg->dte_max_Nm +
-                      cfg->tau_s + cfg->tau_accel_s + cfg->hold_s + cfg->snap_s;
+                      cfg->tau_s + cfg->tau_accel_s + cfg->hold_s + cfg->snap_s + cfg->f_hold_s;
     g->cfg = *cfg;
     g->valid = mathx_isfinitef(sum) && (cfg->Ts_s > 0.0f) && (cfg->accel_per_speed_1_s >= 0.0f) &&
                (cfg->accel_floor_rad_s2 > 0.0f) && (cfg->settled > 0.0f) &&
                (cfg->di_max_A > 0.0f) && (cfg->dte_max_Nm > 0.0f) && (cfg->tau_s >= cfg->Ts_s) &&
                (cfg->tau_accel_s >= cfg->Ts_s) && periods_ok(cfg->hold_s, cfg->Ts_s) &&
-               periods_ok(cfg->snap_s, cfg->Ts_s);
+               periods_ok(cfg->snap_s, cfg->Ts_s) && periods_ok(cfg->f_hold_s, cfg->Ts_s);
     if (g->valid) {
         g->k_lp = cfg->Ts_s / cfg->tau_s;
         g->k_acc = cfg->Ts_s / cfg->tau_accel_s;
         g->inv_Ts = 1.0f / cfg->Ts_s;
         g->hold_n = (uint16_t)(cfg->hold_s / cfg->Ts_s + ROUND_HALF);
         g->snap_n = (uint16_t)(cfg->snap_s / cfg->Ts_s + ROUND_HALF);
+        g->f_hold_n = (uint16_t)(cfg->f_hold_s / cfg->Ts_s + ROUND_HALF);
     } else {
         g->k_lp = 0.0f;
         g->k_acc = 0.0f;
         g->inv_Ts = 0.0f;
         g->hold_n = 1u;
         g->snap_n = 1u;
+        g->f_hold_n = 1u;
     }
     g->seeded = false;
     g->hold_cnt = g->hold_n;
     g->snap_cnt = 0u;
     g->reasons = EST_GATE_HOLD;
+    g->di_cnt = 0u;
     g->w_prev = 0.0f;
     g->acc_lp = 0.0f;
     g->i_lp.d = 0.0f;
@@ -69,12 +73,13 @@ bool est_gate_init(est_gate_t *g, const est_gate_cfg_t *cfg)
 void est_gate_reset(est_gate_t *g, const smo_t *smo)
 {
     g->seeded = false;
-    g->hold_cnt = 0u; /* step 2 starts learning at once; the copy is the start value */
+    g->hold_cnt = 0u; /* step 2 starts learning at once */
     g->snap_cnt = 0u;
     g->reasons = 0u;
+    g->di_cnt = 0u;
     g->acc_lp = 0.0f;
-    g->L_old = smo->L_H;
-    g->psi_old = smo->psi_f_Wb;
+    g->L_old = 0.0f; /* no old copy yet: unsettled until two copies agree */
+    g->psi_old = 0.0f;
     g->L_new = smo->L_H;
     g->psi_new = smo->psi_f_Wb;
 }
@@ -118,9 +123,15 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
     if (v_limited) {
         why |= EST_GATE_VOLTAGE;
     }
+    if ((why & (EST_GATE_CURRENT | EST_GATE_TORQUE)) != 0u) {
+        g->di_cnt = g->f_hold_n;
+    } else if (g->di_cnt > 0u) {
+        g->di_cnt--;
+    }
     if (!(mathx_fabsf(g->L_new - g->L_old) <= c->settled * g->L_new) ||
         !(mathx_fabsf(g->psi_new - g->psi_old) <= c->settled * g->psi_new)) {
         why = 0u; /* still converging: learn on (header) */
+        g->di_cnt = 0u;
     }
 
     if (why != 0u) {
