@@ -336,14 +336,15 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
  * compensates the one-period delay; the one place the methods differ
  * (steps 2-4 of the header's sequence).
  */
-static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
+static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s, float sin_el, float cos_el)
 {
     if (c->est != CTRL_EST_OFF) {
         /* u(k) is the clamped voltage the last step realised, as the observer needs */
         const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
         if (c->est == CTRL_EST_STEP1) {
-            rs_ident_step(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
-                          omega_el_rad_s);
+            /* the angle for the fit of the electrical-frequency ripple (design sec. 6e) */
+            rs_ident_step_el(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
+                             omega_el_rad_s, cos_el, sin_el);
         } else {
             /* pause and hold while the laws' assumptions are broken (est_gate.h) */
             uint16_t moved = est_gate_step(&c->gate, &c->smo, omega_el_rad_s, i_dq_A, c->mon.te_ref_Nm,
@@ -477,7 +478,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     const dq_t i_dq = park(clarke_2ph(in->ia_A, in->ib_A), s, co);
 
     /* delay compensation and the parameters in use */
-    const dbdtc_state_t x = ctrl_model_step(c, i_dq, omega);
+    const dbdtc_state_t x = ctrl_model_step(c, i_dq, omega, s, co);
     const dbdtc_par_t *par = &c->db.par;
 
     if (c->mode == CTRL_MODE_OPEN_LOOP) {

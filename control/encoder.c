@@ -43,8 +43,15 @@ static void encoder_outputs_zero(encoder_t *enc)
  * by 0.8 % through the back-EMF it sees on d); the centre is unbiased. */
 static float encoder_elec_angle(const encoder_t *enc, uint32_t count)
 {
-    /* Integer product mod cpr: exact, and init checked it cannot overflow. */
-    const uint32_t elec = (count * (uint32_t)enc->cfg.pole_pairs) % enc->cfg.counts_per_rev;
+    /* Integer product mod cpr: exact, and init checked it cannot overflow.
+     * count < cpr, so fewer than pole_pairs subtractions bring it into
+     * [0, cpr): no 32-bit % (an RTS call on the C28x). */
+    uint32_t elec = count * (uint32_t)enc->cfg.pole_pairs;
+    uint16_t k;
+
+    for (k = 1u; (k < enc->cfg.pole_pairs) && (elec >= enc->cfg.counts_per_rev); k++) {
+        elec -= enc->cfg.counts_per_rev;
+    }
     return ((float)elec + ENCODER_COUNT_CENTRE * (float)enc->cfg.pole_pairs) * enc->rad_per_count;
 }
 
@@ -103,7 +110,7 @@ void encoder_step(encoder_t *enc, uint32_t count)
         encoder_outputs_zero(enc);
         return;
     }
-    const uint32_t c = count % enc->cfg.counts_per_rev;
+    const uint32_t c = mathx_umod_u32(count, enc->cfg.counts_per_rev);
     const float cf = (float)c;
     enc->theta_e_rad = mathx_wrap_2pi(encoder_elec_angle(enc, c) + enc->offset_rad);
 
@@ -140,6 +147,6 @@ void encoder_align(encoder_t *enc, uint32_t count)
     if (!enc->valid) {
         return;
     }
-    const float theta = encoder_elec_angle(enc, count % enc->cfg.counts_per_rev);
+    const float theta = encoder_elec_angle(enc, mathx_umod_u32(count, enc->cfg.counts_per_rev));
     enc->offset_rad = mathx_wrap_2pi(-theta);
 }

@@ -46,10 +46,47 @@ static inline float mathx_fabsf(float x)
     return (x < 0.0f) ? -x : x;
 }
 
-/* Non-zero when x is neither NaN nor infinite. Any context. */
+/* IEEE-754 binary32: an exponent field of all ones is Inf or NaN. */
+#define MATHX_F32_EXP_MASK 0x7F800000UL
+
+/* Non-zero when x is neither NaN nor infinite. A test of the exponent bits,
+ * inline on every target: the C library's isfinite macro may call a library
+ * function (cl2000's RTS: in flash, out of the RAM-resident ISR path). Any
+ * context. */
 static inline bool mathx_isfinitef(float x)
 {
-    return isfinite(x) != 0;
+    union {
+        float f;
+        uint32_t u;
+    } bits;
+
+    bits.f = x;
+    return (bits.u & MATHX_F32_EXP_MASK) != MATHX_F32_EXP_MASK;
+}
+
+/* x mod m without a division instruction or library call: the C28x has no
+ * integer divide and cl2000's 32-bit % calls an RTS helper that lives in
+ * flash. x < m (a count already in range, the usual case) returns at once;
+ * else 32 shift-and-subtract steps. m = 0 gives 0. Any context. */
+static inline uint32_t mathx_umod_u32(uint32_t x, uint32_t m)
+{
+    uint32_t r = 0u;
+    uint16_t k;
+
+    if (x < m) {
+        return x;
+    }
+    if (m == 0u) {
+        return 0u;
+    }
+    for (k = 32u; k > 0u; k--) {
+        const bool top = (r & 0x80000000UL) != 0u; /* r << 1 would leave 32 bits: then r > m */
+        r = (r << 1) | ((x >> (k - 1u)) & 1u);
+        if (top || (r >= m)) {
+            r -= m;
+        }
+    }
+    return r;
 }
 
 /* x limited to [lo, hi]; NaN maps to lo. Any context. */

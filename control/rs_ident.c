@@ -64,8 +64,24 @@ void rs_ident_reset(rs_ident_t *ri)
         for (ch = 0; ch < (int16_t)RS_ST_PAIRS; ch++) {
             w->m2[ch] = 0.0f;
         }
+        for (ch = 0; ch < 5; ch++) {
+            w->g[ch] = 0.0f;
+        }
+        w->bcs[0] = 0.0f;
+        w->bcs[1] = 0.0f;
+        for (ch = 0; ch < (int16_t)RS_ST_COUNT; ch++) {
+            w->mcs[ch][0] = 0.0f;
+            w->mcs[ch][1] = 0.0f;
+        }
     }
 }
+
+/* rs_ident_win_t.g */
+#define G_C  0
+#define G_S  1
+#define G_CC 2
+#define G_CS 3
+#define G_SS 4
 
 /* Index of the pair (a, b), a <= b, in rs_ident_win_t.m2 (ff, fi, fw, ii, iw, ww). */
 static int16_t pair_index(int16_t a, int16_t b)
@@ -81,11 +97,23 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
     int16_t a;
     int16_t b;
 
+    const float C = w->bcs[0] * inv_n_batch;
+    const float S = w->bcs[1] * inv_n_batch;
+
     for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
         m[a] = w->bsum[a] * inv_n_batch;
         w->m1[a] += m[a];
+        w->mcs[a][0] += m[a] * C;
+        w->mcs[a][1] += m[a] * S;
         w->bsum[a] = 0.0f;
     }
+    w->g[G_C] += C;
+    w->g[G_S] += S;
+    w->g[G_CC] += C * C;
+    w->g[G_CS] += C * S;
+    w->g[G_SS] += S * S;
+    w->bcs[0] = 0.0f;
+    w->bcs[1] = 0.0f;
     for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
         for (b = a; b < (int16_t)RS_ST_COUNT; b++) {
             w->m2[pair_index(a, b)] += m[a] * m[b];
@@ -97,6 +125,13 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
 
 void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A,
                    float iq_A, float omega_el_rad_s)
+{
+    /* no angle: C = S = 0, the ripple fit is never conditioned */
+    rs_ident_step_el(ri, win, fd_V, fq_V, id_A, iq_A, omega_el_rad_s, 0.0f, 0.0f);
+}
+
+void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A, float iq_A,
+                      float omega_el_rad_s, float cos_el, float sin_el)
 {
     const float x[RS_CH_COUNT] = { fd_V, fq_V, id_A, iq_A, omega_el_rad_s };
     rs_ident_win_t *w;
@@ -125,31 +160,95 @@ void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V
     w->bsum[RS_ST_FQ] += x[RS_CH_FQ] - w->x0[RS_CH_FQ];
     w->bsum[RS_ST_IQ] += diq;
     w->bsum[RS_ST_W] += x[RS_CH_W] - w->x0[RS_CH_W];
+    w->bcs[0] += cos_el;
+    w->bcs[1] += sin_el;
     w->bn++;
     if (w->bn >= ri->cfg.n_batch) {
         close_batch(w, ri->inv_n_batch);
     }
 }
 
-/* Variance of the mean of r = fq + dR iq + dpsi w over the window, from
- * the spread of its batch means (nb >= RS_IDENT_BATCHES_MIN >= 2). */
-static float residual_se2(const rs_ident_win_t *w, float dR, float dpsi)
+/* The ripple fit of a window (design sec. 6e): inverse of G = Z'Z, Z the
+ * rows (1, C_i, S_i); false (plain means) when there are too few batches
+ * or det(G / nb) is below RS_IDENT_RIPPLE_DET_MIN. 1 division. */
+static bool ripple_fit(const rs_ident_win_t *w, float Gi[3][3])
+{
+    const float nb = (float)w->nb;
+    const float G[3][3] = { { nb, w->g[G_C], w->g[G_S] },
+                            { w->g[G_C], w->g[G_CC], w->g[G_CS] },
+                            { w->g[G_S], w->g[G_CS], w->g[G_SS] } };
+    int16_t r;
+    int16_t k;
+
+    if (w->nb < RS_IDENT_RIPPLE_BATCHES_MIN) {
+        return false;
+    }
+    /* adjugate: Gi[r][k] = cofactor(k, r); G is symmetric */
+    for (r = 0; r < 3; r++) {
+        for (k = 0; k < 3; k++) {
+            const int16_t r1 = (int16_t)((k + 1) % 3);
+            const int16_t r2 = (int16_t)((k + 2) % 3);
+            const int16_t c1 = (int16_t)((r + 1) % 3);
+            const int16_t c2 = (int16_t)((r + 2) % 3);
+            Gi[r][k] = G[r1][c1] * G[r2][c2] - G[r1][c2] * G[r2][c1];
+        }
+    }
+    const float det = G[0][0] * Gi[0][0] + G[0][1] * Gi[1][0] + G[0][2] * Gi[2][0];
+    if (!(det > RS_IDENT_RIPPLE_DET_MIN * nb * nb * nb)) {
+        return false;
+    }
+    const float inv_det = 1.0f / det;
+    for (r = 0; r < 3; r++) {
+        for (k = 0; k < 3; k++) {
+            Gi[r][k] *= inv_det;
+        }
+    }
+    return true;
+}
+
+/* Z'x for channel a of the batch stats: (sum m_a, sum m_a C, sum m_a S). */
+static void zt_channel(const rs_ident_win_t *w, int16_t a, float h[3])
+{
+    h[0] = w->m1[a];
+    h[1] = w->mcs[a][0];
+    h[2] = w->mcs[a][1];
+}
+
+/* Variance of the window's mean of r = fq + dR iq + dpsi w (nb >=
+ * RS_IDENT_BATCHES_MIN >= 2): from the spread of its batch means, or, with
+ * the ripple fit (Gi), from the fit's residuals: the intercept's variance
+ * sigma^2 (G^-1)_00 with sigma^2 = SSR / (nb - 3). */
+static float residual_se2(const rs_ident_win_t *w, float dR, float dpsi, bool fit, const float Gi[3][3])
 {
     const float c[RS_ST_COUNT] = { 1.0f, dR, dpsi };
     const float nb = (float)w->nb;
-    const float inv_nb = 1.0f / nb;
-    float var = 0.0f;
+    float h[3] = { 0.0f, 0.0f, 0.0f };
+    float r2 = 0.0f;
     int16_t a;
     int16_t b;
 
     for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
+        float ha[3];
+        zt_channel(w, a, ha);
+        for (b = 0; b < 3; b++) {
+            h[b] += c[a] * ha[b];
+        }
         for (b = 0; b < (int16_t)RS_ST_COUNT; b++) {
-            const int16_t p = (a <= b) ? pair_index(a, b) : pair_index(b, a);
-            var += c[a] * c[b] * (w->m2[p] - w->m1[a] * w->m1[b] * inv_nb);
+            r2 += c[a] * c[b] * w->m2[(a <= b) ? pair_index(a, b) : pair_index(b, a)];
         }
     }
-    var = (var > 0.0f) ? var : 0.0f; /* >= 0 up to rounding */
-    return var * inv_nb / (nb - 1.0f); /* sample variance of the batch means / nb */
+    if (!fit) {
+        const float var = r2 - h[0] * h[0] / nb;
+        return ((var > 0.0f) ? var : 0.0f) / (nb * (nb - 1.0f)); /* sample variance of the batch means / nb */
+    }
+    float ssr = r2;
+    for (a = 0; a < 3; a++) {
+        for (b = 0; b < 3; b++) {
+            ssr -= h[a] * Gi[a][b] * h[b];
+        }
+    }
+    ssr = (ssr > 0.0f) ? ssr : 0.0f; /* >= 0 up to rounding */
+    return ssr / (nb - 3.0f) * Gi[0][0];
 }
 
 static void zero_out(rs_ident_out_t *out, float R_nom)
@@ -164,6 +263,7 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
     for (j = 0; j < 2; j++) {
         out->R_se_part_Ohm[j] = 0.0f;
         out->r_se_V[j] = 0.0f;
+        out->ripple_fit[j] = false;
         out->batches[j] = 0u;
         out->iq_std_A[j] = 0.0f;
         out->mean_fd_V[j] = 0.0f;
@@ -184,6 +284,8 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     float w[2];
     float inv_wiq[2];
     bool use_wiq[2];
+    bool fit[2];
+    float Gi[2][3][3];
     int16_t j;
     int16_t it;
 
@@ -213,6 +315,21 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
         out->mean_w_rad_s[j] = w[j];
         if (!mathx_isfinitef(fd[j] + fq[j] + id[j] + iq[j] + w[j] + wn->s2_iq)) {
             return RS_IDENT_NON_FINITE;
+        }
+        /* sec. 6e: the means over whole turns where the ripple fit holds */
+        fit[j] = ripple_fit(wn, Gi[j]);
+        out->ripple_fit[j] = fit[j];
+        if (fit[j]) {
+            float h[3];
+            zt_channel(wn, RS_ST_FQ, h);
+            fq[j] = wn->x0[RS_CH_FQ] + Gi[j][0][0] * h[0] + Gi[j][0][1] * h[1] + Gi[j][0][2] * h[2];
+            zt_channel(wn, RS_ST_IQ, h);
+            iq[j] = wn->x0[RS_CH_IQ] + Gi[j][0][0] * h[0] + Gi[j][0][1] * h[1] + Gi[j][0][2] * h[2];
+            zt_channel(wn, RS_ST_W, h);
+            w[j] = wn->x0[RS_CH_W] + Gi[j][0][0] * h[0] + Gi[j][0][1] * h[1] + Gi[j][0][2] * h[2];
+            out->mean_fq_V[j] = fq[j];
+            out->mean_iq_A[j] = iq[j];
+            out->mean_w_rad_s[j] = w[j];
         }
     }
     /* (41)'s denominator: equal speeds need iq1 != iq2, equal loads w1 != w2 */
@@ -267,7 +384,7 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     /* design sec. 6: delta dR = -(w1 delta r2 - w2 delta r1) / den */
     const float abs_inv_den = mathx_fabsf(inv_den);
     for (j = 0; j < 2; j++) {
-        out->r_se_V[j] = mathx_sqrtf(residual_se2(&ri->win[j], dR, dpsi));
+        out->r_se_V[j] = mathx_sqrtf(residual_se2(&ri->win[j], dR, dpsi, fit[j], Gi[j]));
         out->R_se_part_Ohm[j] = mathx_fabsf(w[1 - j]) * out->r_se_V[j] * abs_inv_den;
     }
     out->R_se_Ohm = mathx_sqrtf(out->R_se_part_Ohm[0] * out->R_se_part_Ohm[0] +

@@ -27,6 +27,12 @@
  * the samples are correlated over the observer's and the speed loop's
  * time constants), and (41) carries it into the standard error of R^:
  *   se(R^)^2 = (w1^2 se(r2)^2 + w2^2 se(r1)^2) / den^2.
+ * A ripple at the electrical frequency (ADC offsets) is no noise: with
+ * the angle given (rs_ident_step_el), the batch means are fitted as
+ * alpha + a C_i + b S_i (C_i, S_i the batch means of cos, sin theta_el)
+ * and the intercept alpha - the mean over whole turns - and its standard
+ * error are used (design sec. 6e); where the fit is ill-conditioned
+ * (batches of whole turns, standstill, no angle) the plain means.
  * R^ is refused (NOT_STEADY) when se(R^) > R_se_max_rel |R^|; the caller
  * may go on filling window 2 and solve again (rs_ident_solve() does not
  * change the windows): out.R_se_part_Ohm[0] says whether window 2 alone
@@ -39,13 +45,15 @@
 #include <stdint.h>
 
 /* Design defaults (observer_design.md sec. 3 and 6). */
-#define RS_IDENT_R_SE_MAX_REL_DEFAULT  0.01f /* se(R^) / R^: 2 % at 2 standard errors (sec. 6) */
+#define RS_IDENT_R_SE_MAX_REL_DEFAULT  0.015f /* se(R^) / R^: psi_f^ within 0.5 % at 500 r/min per se (sec. 6) */
 #define RS_IDENT_DEN_RATIO_DEFAULT     0.3f  /* |den| >= ratio * max(|iq2 w1|, |iq1 w2|) */
 #define RS_IDENT_BAND_MIN_FACTOR       0.1f  /* plausible R^, x nominal: a controller R up to 5x */
 #define RS_IDENT_BAND_MAX_FACTOR       6.0f  /*   or down to 0.25x the motor's stays 2x / 1.5x inside */
 #define RS_IDENT_N_MIN_DEFAULT         100u  /* samples per window (10 ms at 10 kHz) */
 #define RS_IDENT_N_BATCH_DEFAULT       50u   /* samples per batch (5 ms: 5x the observer's time constant) */
 #define RS_IDENT_BATCHES_MIN           4u    /* batches per window for a spread at all */
+#define RS_IDENT_RIPPLE_BATCHES_MIN    6u    /* and for the fit of the electrical-frequency ripple */
+#define RS_IDENT_RIPPLE_DET_MIN        0.01f /* det(Z'Z / nb) below which the fit is not used */
 
 typedef enum { RS_IDENT_WINDOW_NONE = 0, RS_IDENT_WINDOW_1 = 1, RS_IDENT_WINDOW_2 = 2 } rs_ident_window_t;
 
@@ -86,6 +94,9 @@ typedef struct {              /* sums relative to the first sample: no cancellat
     uint32_t nb;              /* complete batches */
     float m1[RS_ST_COUNT];    /* sum of batch means (relative to x0) */
     float m2[RS_ST_PAIRS];    /* sums of their products: ff, fi, fw, ii, iw, ww */
+    float bcs[2];             /* batch being filled: sums of cos, sin theta_el */
+    float g[5];               /* over batches: sum of C, S, C C, C S, S S (batch means of cos, sin) */
+    float mcs[RS_ST_COUNT][2];   /* sum of m_a C and of m_a S */
 } rs_ident_win_t;
 
 typedef struct {
@@ -104,6 +115,7 @@ typedef struct {
     float R_se_max_Ohm;       /*   and the limit it was held to */
     float R_se_part_Ohm[2];   /* window j's share: |w_other| se(r_j) / |den| */
     float r_se_V[2];          /* standard error of the residual's mean per window */
+    bool ripple_fit[2];       /* the means are the ripple fit's intercepts (sec. 6e) */
     uint32_t batches[2];      /* complete batches per window */
     float iq_std_A[2];        /* measured std of iq per window (monitor) */
     float mean_fd_V[2];       /* window means used */
@@ -129,6 +141,11 @@ void rs_ident_reset(rs_ident_t *ri);
  * (RS_IDENT_WINDOW_NONE: ignored). No division. ISR. */
 void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A,
                    float iq_A, float omega_el_rad_s);
+
+/* As rs_ident_step, with the electrical angle's cos_el, sin_el for the
+ * ripple fit (design sec. 6e). ISR. */
+void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A, float iq_A,
+                      float omega_el_rad_s, float cos_el, float sin_el);
 
 /* Checks the windows and solves (design sec. 1c, 6); *out is filled as far
  * as the checks got (R_est_Ohm = R_nom unless OK); the windows are left as

@@ -1,6 +1,8 @@
 /* app.c - ISR glue and the start-up sequence; see app.h. */
 #include "app.h"
 
+#include <stddef.h>
+
 /* Duty that gives zero line-to-line voltage: written whenever PWM goes off. */
 #define DUTY_ZERO_VOLTAGE 0.5f
 #define ENC_COUNTS_PER_LINE 4u      /* x4 quadrature decoding */
@@ -9,9 +11,9 @@ void app_init(app_t *app, const app_cfg_t *cfg)
 {
     const float Ts = cfg->ctrl.Ts_s;
     const hal_sample_t no_sample = { 0.0f, 0.0f, 0.0f, 0u };
-    const protect_cfg_t pc = { cfg->i_max_A, cfg->vdc_max_V, cfg->vdc_min_V, cfg->speed_max_rad_s,
-                               cfg->isr_period_cycles, cfg->isr_budget_cycles,
-                               ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, Ts };
+    protect_cfg_t pc = { cfg->i_max_A, cfg->vdc_max_V, cfg->vdc_min_V, cfg->speed_max_rad_s,
+                         cfg->isr_period_cycles, cfg->isr_budget_cycles,
+                         ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, Ts, cfg->watch };
     const calib_cfg_t cc = { cfg->cal_settle_s, cfg->cal_samples, cfg->offset_max_A };
     const align_cfg_t ac = { cfg->align_u_V, cfg->align_prepos_el_rad, cfg->align_ramp_s, cfg->align_prepos_s,
                              cfg->align_settle_s };
@@ -19,6 +21,8 @@ void app_init(app_t *app, const app_cfg_t *cfg)
                                 cfg->rsid_speed_1_rad_s, cfg->rsid_speed_2_rad_s, cfg->rsid_accel_rad_s2,
                                 cfg->rsid_window_max_s };
 
+    pc.watch.te_max_Nm = cfg->ctrl.te_max_Nm;
+    pc.watch.pole_pairs = cfg->ctrl.pole_pairs;
     hal_pwm_disable();
     app->cfg = *cfg;
     app->state = APP_STATE_INIT;
@@ -66,6 +70,7 @@ static void latch_fault(app_t *app, const app_step_t *f, const hal_sample_t *s)
     hal_pwm_disable();
     app->pwm_on = false;
     protect_snapshot(&app->snapshot, app->state, s, f);
+    protect_watch_reset(&app->prot);
     app->state = APP_STATE_FAULT;
     app->fault = f->fault;
     if (f->fault == APP_FAULT_ENCODER) {
@@ -249,9 +254,11 @@ static void run_state(app_t *app, const hal_sample_t *s)
     (void)output(app, r, s);
 }
 
-/* Background requests; stop wins over start. */
+/* Background requests; stop wins over start. A fault reset is FAULT's
+ * only: one found here is dropped, never kept for the next fault. */
 static void take_requests(app_t *app, const hal_sample_t *s)
 {
+    app->req_fault_reset = 0u;
     if (app->req_stop != 0u) {
         app->req_stop = 0u;
         app->req_start = 0u;
@@ -270,6 +277,23 @@ static void take_requests(app_t *app, const hal_sample_t *s)
 static app_step_t protection(const app_t *app, const hal_sample_t *s)
 {
     return protect_check(&app->prot, s, app->offset_ia_A, app->offset_ib_A, app->ctrl.enc.omega_m_rad_s);
+}
+
+/* The checks on the periods' history; the duties written last call are the ones just applied. */
+static app_step_t watch(app_t *app, const hal_sample_t *s)
+{
+    protect_watch_in_t in;
+
+    in.ia_A = s->ia_A;
+    in.ib_A = s->ib_A;
+    in.ia_corr_A = s->ia_A - app->offset_ia_A;
+    in.ib_corr_A = s->ib_A - app->offset_ib_A;
+    in.vdc_V = s->vdc_V;
+    in.duty = app->pwm_on ? app->out.duty : NULL;
+    in.ctrl_running = (app->state == APP_STATE_RUN) || (app->state == APP_STATE_IDENTIFY_R);
+    in.speed_m_rad_s = app->ctrl.enc.omega_m_rad_s;
+    in.te_ref_Nm = app->ctrl.mon.te_ref_Nm;
+    return protect_watch(&app->prot, &in);
 }
 
 /* FAULT: outputs stay off; a reset is taken only if no check fails now. */
@@ -304,6 +328,9 @@ void app_isr(app_t *app)
         fault_state(app, &s);
     } else {
         f = protection(app, &s);
+        if (f.status != APP_STEP_FAULT) {
+            f = watch(app, &s);
+        }
         if (f.status == APP_STEP_FAULT) {
             latch_fault(app, &f, &s);
         } else {
@@ -352,6 +379,12 @@ void app_request_stop(app_t *app)
 
 void app_fault_reset(app_t *app)
 {
-    hal_trip_clear();
-    app->req_fault_reset = 1u;
+    /* Only the ISR leaves FAULT, and only on this request: a FAULT read here
+     * still holds when the ISR takes it. Outside FAULT hal_trip_clear() would
+     * force the outputs off under the running drive, and a kept request
+     * would clear the next fault with no operator action. */
+    if (app->state == APP_STATE_FAULT) {
+        hal_trip_clear();
+        app->req_fault_reset = 1u;
+    }
 }

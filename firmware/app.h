@@ -67,6 +67,7 @@ typedef struct {
     float speed_max_rad_s;      /* overspeed trip, mechanical [rad/s]; also sets the encoder jump limit */
     uint32_t isr_period_cycles; /* control period in hal_cycles() counts [cycles] */
     uint32_t isr_budget_cycles; /* longest allowed app_isr run [cycles] */
+    protect_watch_cfg_t watch;  /* open phase, frozen current reading, lost encoder (protect.h); te_max_Nm and pole_pairs are taken from ctrl */
     /* start-up sequence */
     bool calibrate;             /* measure the current offsets at every start */
     float cal_settle_s;         /* PWM off this long before averaging [s] */
@@ -134,8 +135,11 @@ void app_request_start(app_t *app);
 /* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);
 
-/* Background: clears a latched hardware trip; FAULT -> IDLE at the next
- * ISR if no protection check fails on that ISR's samples. */
+/* Background, acts only in FAULT: clears a latched hardware trip; FAULT ->
+ * IDLE at the next ISR if no protection check fails on that ISR's samples.
+ * Outside FAULT it does nothing (no hal_trip_clear under a running drive,
+ * no request kept for a later fault); the ISR also drops a reset request
+ * it finds outside FAULT. */
 void app_fault_reset(app_t *app);
 
 #endif /* APP_H */

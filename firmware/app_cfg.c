@@ -41,6 +41,17 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->speed_max_rad_s = BOARD_OVERSPEED_RPM * RAD_S_PER_RPM;
     cfg->isr_period_cycles = (uint32_t)BOARD_ISR_PERIOD_CYCLES;
     cfg->isr_budget_cycles = (uint32_t)BOARD_ISR_BUDGET_CYCLES;
+    cfg->watch.op_window_s = BOARD_OPEN_PHASE_WINDOW_S;
+    cfg->watch.op_i_min_A = BOARD_OPEN_PHASE_I_MIN_A;
+    cfg->watch.op_ratio = BOARD_OPEN_PHASE_RATIO;
+    cfg->watch.op_u_min_V = BOARD_OPEN_PHASE_U_MIN_V;
+    cfg->watch.stuck_delta_A = BOARD_I_STUCK_DELTA_A;
+    cfg->watch.stuck_angle_el_rad = BOARD_I_STUCK_ANGLE_EL_DEG * RAD_PER_DEG;
+    cfg->watch.stuck_span_A = BOARD_I_STUCK_SPAN_A;
+    cfg->watch.stuck_zero_A = BOARD_I_STUCK_ZERO_A;
+    cfg->watch.enc_lost_counts = BOARD_ENC_LOST_COUNTS;
+    cfg->watch.enc_stall_s = BOARD_ENC_STALL_S;
+    cfg->watch.enc_stall_te_frac = BOARD_ENC_STALL_TE_FRAC;
 
     cfg->calibrate = true;
     cfg->cal_settle_s = BOARD_CAL_SETTLE_S;

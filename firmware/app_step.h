@@ -41,7 +41,10 @@ typedef enum {
     APP_FAULT_RSID_NOT_STEADY = 13,  /* R^ too uncertain: noise or a transient (snapshot: se of R^, its limit) */
     APP_FAULT_RSID_DEGENERATE = 14,  /* the two operating points too alike for (41) */
     APP_FAULT_RSID_NON_FINITE = 15,  /* NaN/Inf in the windows or the result */
-    APP_FAULT_RSID_OUT_OF_BAND = 16  /* R^ outside [R_min, R_max] (snapshot: R^, the bound crossed) */
+    APP_FAULT_RSID_OUT_OF_BAND = 16, /* R^ outside [R_min, R_max] (snapshot: R^, the bound crossed) */
+    APP_FAULT_OPEN_PHASE = 17,       /* a phase carries no current under voltage (protect.h) */
+    APP_FAULT_CURRENT_SENSOR = 18,   /* a current reading frozen while the rotor turns (protect.h) */
+    APP_FAULT_ENCODER_LOST = 19      /* the count stopped while moving, or no count at the torque limit (protect.h) */
 } app_fault_t;
 
 typedef enum {

@@ -31,6 +31,34 @@
  * loop's (watchdog, telemetry) and the interrupt entry/exit. */
 #define BOARD_ISR_PERIOD_CYCLES  (BOARD_SYSCLK_HZ / BOARD_PWM_FREQ_HZ) /* [cycles] */
 #define BOARD_ISR_BUDGET_CYCLES  12000UL      /* 80 % of the period for app_isr [cycles] */
+/* Checks on the periods' history (firmware/protect.h derives each rule;
+ * detection times measured in SIL: tests/test_sil_faults.c). */
+/* Open phase: a window of 0.1 s covers an electrical half turn (where a
+ * healthy phase carries 2/pi = 0.64 of |i|) from 100 r/min; below that the
+ * back-EMF (7.5 V peak at 100 r/min), R i_x and the dead-time feedforward
+ * stay below the voltage threshold when i_x < 0.2 |i| (< 2.8 A). */
+#define BOARD_OPEN_PHASE_WINDOW_S  0.1f       /* [s] */
+#define BOARD_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i| to judge by [A] */
+#define BOARD_OPEN_PHASE_RATIO     0.2f       /* mean |i_x| / mean |i| below it: no current in phase x [-] */
+#define BOARD_OPEN_PHASE_U_MIN_V   25.0f      /* ... while phase x was given this mean |u_x| [V] */
+/* Frozen current reading: half an ADC step is "unchanged". In a turn of
+ * 30 deg el a field-oriented current |i| moves each reading by at least
+ * |i| (1 - cos 15 deg) = 0.034 |i| and the other by at most 2 |i| sin 15 deg
+ * = 0.52 |i|: the other sweeping 0.5 A means |i| >= 1 A, and a healthy
+ * reading then moves >= 34 mA, nine ADC steps. A reading frozen near zero
+ * is what an open phase gives too: OPEN_PHASE judges that one. */
+#define BOARD_I_STUCK_DELTA_A    (0.5f * BOARD_I_GAIN_A_PER_V * BOARD_ADC_FULL_SCALE_V / BOARD_ADC_COUNTS) /* [A] */
+#define BOARD_I_STUCK_ANGLE_EL_DEG 30.0f      /* rotor turn with one reading unchanged [deg el] */
+#define BOARD_I_STUCK_SPAN_A     0.5f         /* ... while the other reading swept this [A] */
+#define BOARD_I_STUCK_ZERO_A     0.1f         /* ... and the frozen reading is beyond +- this [A] */
+/* Lost encoder: the PLL (500 rad/s) runs on past a count that stops from
+ * speed; a healthy count lags the estimate by a few counts (a full-torque
+ * reversal: about 16), so 100 counts (3.6 deg) is a lost signal. At low
+ * speed the PLL stops first: no count for 0.3 s at 0.9 x the torque limit
+ * is no motion where the controller asks for all it has. */
+#define BOARD_ENC_LOST_COUNTS    100.0f       /* [counts] */
+#define BOARD_ENC_STALL_S        0.3f         /* [s] */
+#define BOARD_ENC_STALL_TE_FRAC  0.9f         /* x te_max [-] */
 
 /* ---- start-up sequence (used by the application) ---------------------- */
 /* Current-offset calibration, PWM off, at every start. */

@@ -30,7 +30,7 @@ typedef enum {
 
 typedef struct {
     uint16_t run;          /* 1: start (calibration, alignment, identification, run); 0: stop */
-    uint16_t fault_reset;  /* write 1 to clear a latched fault; cmd_apply() sets it back to 0 */
+    uint16_t fault_reset;  /* write 1 to clear a latched fault (ignored when none is); cmd_apply() sets it back to 0 */
     uint16_t method;       /* ctrl_method_t: 0 conventional, 1 proposed */
     uint16_t mode;         /* ctrl_mode_t: 0 open loop, 1 torque, 2 speed */
     float speed_ref_rpm;   /* mechanical speed reference (speed mode) [r/min] */

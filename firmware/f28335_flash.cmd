@@ -14,7 +14,10 @@
 MEMORY
 {
 PAGE 0 :
-   RAML0L3    : origin = 0x008000, length = 0x004000   /* L0-L3 SARAM (16K words): run address of ramfuncs */
+   /* L0-L5 for ramfuncs: the host estimate of that code (hal/f28335/README.md,
+    * "RAM budget") is 11.6K words before cl2000's own density; L0-L3 alone
+    * (16K) would leave too little margin. */
+   RAML0L5    : origin = 0x008000, length = 0x006000   /* L0-L5 SARAM (24K words): run address of ramfuncs */
    FLASHHB    : origin = 0x300000, length = 0x038000   /* flash sectors H..B, 32K words each */
    FLASHA     : origin = 0x338000, length = 0x007F80   /* flash sector A, up to the CSM reserved words */
    CSM_RSVD   : origin = 0x33FF80, length = 0x000076   /* must be 0x0000 when the CSM is used */
@@ -28,7 +31,7 @@ PAGE 1 :
    BOOT_RSVD  : origin = 0x000000, length = 0x000050   /* M0 part used by the boot ROM stack */
    RAMM0      : origin = 0x000050, length = 0x0003B0   /* M0 SARAM */
    RAMM1      : origin = 0x000400, length = 0x000400   /* M1 SARAM: the stack */
-   RAML4L7    : origin = 0x00C000, length = 0x004000   /* L4-L7 SARAM (16K words) */
+   RAML6L7    : origin = 0x00E000, length = 0x002000   /* L6-L7 SARAM (8K words): .ebss */
 }
 
 SECTIONS
@@ -45,7 +48,7 @@ SECTIONS
 
    /* Code that runs from RAM: the control ISR path (CODE_SECTION "ramfuncs",
     * --ramfunc=on files, FPUfastRTS members) and the flash wait-state set-up.
-    * Stored in flash, copied to L0-L3 by hal_init() (hal_f28335_sysctrl.c).
+    * Stored in flash, copied to L0-L5 by hal_init() (hal_f28335_sysctrl.c).
     * The members are named in the COFF library that holds the objects
     * (firmware/target.mk links the same library). */
    ramfuncs      : {
@@ -57,7 +60,7 @@ SECTIONS
                       rts2800_fpu32_fast_supplement_coff.lib<div_f32.obj>(.text)
                    }
                    LOAD = FLASHHB,
-                   RUN = RAML0L3,
+                   RUN = RAML0L5,
                    LOAD_START(_RamfuncsLoadStart),
                    LOAD_SIZE(_RamfuncsLoadSize),
                    RUN_START(_RamfuncsRunStart),
@@ -68,7 +71,7 @@ SECTIONS
 
    /* Data. */
    .stack        : > RAMM1,     PAGE = 1
-   .ebss         : > RAML4L7,   PAGE = 1
+   .ebss         : > RAML6L7,   PAGE = 1
    .esysmem      : > RAMM0,     PAGE = 1
 
    /* Tables already in boot ROM: referenced, never loaded. */

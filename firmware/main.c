@@ -9,6 +9,9 @@
  * 0/1/2 (open loop/torque/speed), the reference, then run = 1. `g_app`
  * shows the state, the latched fault with its snapshot and the monitor
  * (g_app.ctrl.mon); g_cmd.error names a refused command.
+ * g_reset_by_watchdog is true when the last reset was the watchdog's (the
+ * background loop stopped kicking it: a hang, a trap, an endless ISR); it
+ * is also sent once on the telemetry line at start-up.
  * Not linked on the host (the Makefile filters it out); the make check
  * gates compile it.
  */
@@ -20,6 +23,8 @@
 
 static app_t g_app;          /* the whole drive state; static so CCS can watch it */
 static volatile cmd_t g_cmd; /* written by the operator from CCS (or a telemetry link) */
+static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
+static const char WATCHDOG_RESET_MSG[] = "reset by watchdog\r\n";
 
 /* PIE INT1.1 (ADC SEQ1 end of sequence), once per PWM period; app_isr acknowledges. */
 #if defined(__TMS320C28XX__)
@@ -38,6 +43,10 @@ int main(void)
     cmd_limits_t lim;
 
     hal_init();
+    g_reset_by_watchdog = hal_f28335_watchdog_reset();
+    if (g_reset_by_watchdog) {
+        (void)hal_f28335_sci_write(WATCHDOG_RESET_MSG, (uint16_t)(sizeof WATCHDOG_RESET_MSG - 1u));
+    }
     app_cfg_default(&cfg);
     app_init(&g_app, &cfg);
     cmd_init(&g_cmd);

@@ -1,7 +1,14 @@
 /* protect.c - protection checks and the fault snapshot; see protect.h. */
 #include "protect.h"
 
+#include <stddef.h>
+
 #include "mathx.h"
+
+#define N_PHASES 3u
+#define N_READINGS 2u                /* ia, ib */
+#define ONE_THIRD (1.0f / 3.0f)
+#define INV_SQRT3 0.577350269f       /* i_beta = (ia + 2 ib) / sqrt(3), amplitude-invariant Clarke */
 
 void protect_init(protect_t *p, const protect_cfg_t *cfg)
 {
@@ -19,18 +26,25 @@ void protect_init(protect_t *p, const protect_cfg_t *cfg)
     p->isr_interval_cycles = 0u;
     p->isr_run_cycles = 0u;
     p->uv_armed = false;
+    p->op_window_ticks = app_periods_of(cfg->watch.op_window_s, cfg->Ts_s);
+    p->stall_ticks_max = app_periods_of(cfg->watch.enc_stall_s, cfg->Ts_s);
+    p->el_rad_per_count = MATHX_TWO_PI_F * (float)cfg->watch.pole_pairs / (float)p->enc_cpr;
+    p->counts_per_rad = (float)p->enc_cpr / MATHX_TWO_PI_F;
+    p->op_phase = 0u;
+    protect_watch_reset(p);
 }
 
-/* Count change from prev to now (both < cpr), the shortest way round. */
+/* Count change from prev to now (both < cpr), the shortest way round; no
+ * 32-bit % (an RTS call from flash on the C28x). */
 static int32_t count_delta(uint32_t now, uint32_t prev, uint32_t cpr)
 {
-    const uint32_t d = (now + cpr - prev) % cpr;
+    const uint32_t d = (now >= prev) ? (now - prev) : (now + cpr - prev);
     return (d > (cpr / 2u)) ? ((int32_t)d - (int32_t)cpr) : (int32_t)d;
 }
 
 void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles)
 {
-    const uint32_t count = enc_count % p->enc_cpr;
+    const uint32_t count = mathx_umod_u32(enc_count, p->enc_cpr);
 
     if (p->seeded) {
         p->enc_delta = count_delta(count, p->enc_prev, p->enc_cpr);
@@ -95,6 +109,139 @@ app_step_t protect_run_time(protect_t *p, uint32_t t_entry_cycles, uint32_t now_
         return app_step_fault(APP_FAULT_OVERRUN, (float)p->isr_run_cycles, (float)p->cfg.isr_budget_cycles);
     }
     return app_step_running();
+}
+
+/* ---- checks on the periods' history (protect_watch) --------------------- */
+
+static void op_clear(protect_t *p)
+{
+    uint32_t x;
+
+    p->op_ticks = 0u;
+    p->op_sum_i_A = 0.0f;
+    for (x = 0u; x < N_PHASES; x++) {
+        p->op_sum_ix_A[x] = 0.0f;
+        p->op_sum_ux_V[x] = 0.0f;
+    }
+}
+
+void protect_watch_reset(protect_t *p)
+{
+    op_clear(p);
+    p->st_seeded = false;
+    p->enc_missed_counts = 0.0f;
+    p->stall_ticks = 0u;
+}
+
+/* OPEN_PHASE: one window's sums; at its end, the test of protect.h. */
+static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
+{
+    const protect_watch_cfg_t *w = &p->cfg.watch;
+    const float ix[N_PHASES] = { in->ia_corr_A, in->ib_corr_A, -in->ia_corr_A - in->ib_corr_A };
+    const float i_beta = (in->ia_corr_A + 2.0f * in->ib_corr_A) * INV_SQRT3;
+    float d_mean;
+    uint32_t x;
+
+    if ((in->duty == NULL) || (p->op_window_ticks == 0u)) {
+        op_clear(p); /* outputs off: nothing to compare */
+        return app_step_running();
+    }
+    d_mean = (in->duty[0] + in->duty[1] + in->duty[2]) * ONE_THIRD;
+    p->op_sum_i_A += mathx_sqrtf(in->ia_corr_A * in->ia_corr_A + i_beta * i_beta);
+    for (x = 0u; x < N_PHASES; x++) {
+        p->op_sum_ix_A[x] += mathx_fabsf(ix[x]);
+        p->op_sum_ux_V[x] += mathx_fabsf((in->duty[x] - d_mean) * in->vdc_V);
+    }
+    p->op_ticks++;
+    if (p->op_ticks < p->op_window_ticks) {
+        return app_step_running();
+    }
+    {
+        const float n = (float)p->op_ticks;
+        const float i_mean = p->op_sum_i_A / n;
+        app_step_t r = app_step_running();
+        for (x = 0u; x < N_PHASES; x++) {
+            const float ix_mean = p->op_sum_ix_A[x] / n;
+            const float limit = w->op_ratio * i_mean;
+            if ((i_mean >= w->op_i_min_A) && (ix_mean < limit) && (p->op_sum_ux_V[x] / n >= w->op_u_min_V) &&
+                (r.status != APP_STEP_FAULT)) {
+                p->op_phase = (uint16_t)x;
+                r = app_step_fault(APP_FAULT_OPEN_PHASE, ix_mean, limit);
+            }
+        }
+        op_clear(p);
+        return r;
+    }
+}
+
+/* CURRENT_SENSOR: per reading, the turn and the other reading's span since it last changed. */
+static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
+{
+    const protect_watch_cfg_t *w = &p->cfg.watch;
+    const float rd[N_READINGS] = { in->ia_A, in->ib_A };
+    const float turn = mathx_fabsf((float)p->enc_delta) * p->el_rad_per_count;
+    uint32_t c;
+
+    if (!in->ctrl_running) {
+        p->st_seeded = false;
+        return app_step_running();
+    }
+    for (c = 0u; c < N_READINGS; c++) {
+        const float other = rd[N_READINGS - 1u - c];
+        if (!p->st_seeded || (mathx_fabsf(rd[c] - p->st_last_A[c]) > w->stuck_delta_A)) {
+            p->st_last_A[c] = rd[c];
+            p->st_angle_el_rad[c] = 0.0f;
+            p->st_other_min_A[c] = other;
+            p->st_other_max_A[c] = other;
+        } else {
+            p->st_angle_el_rad[c] += turn;
+            p->st_other_min_A[c] = (other < p->st_other_min_A[c]) ? other : p->st_other_min_A[c];
+            p->st_other_max_A[c] = (other > p->st_other_max_A[c]) ? other : p->st_other_max_A[c];
+        }
+    }
+    p->st_seeded = true;
+    for (c = 0u; c < N_READINGS; c++) {
+        if ((p->st_angle_el_rad[c] >= w->stuck_angle_el_rad) && (mathx_fabsf(p->st_last_A[c]) > w->stuck_zero_A) &&
+            (p->st_other_max_A[c] - p->st_other_min_A[c] >= w->stuck_span_A)) {
+            return app_step_fault(APP_FAULT_CURRENT_SENSOR, p->st_angle_el_rad[c], w->stuck_angle_el_rad);
+        }
+    }
+    return app_step_running();
+}
+
+/* ENCODER_LOST: the counts the speed estimate expected since the count last
+ * changed; the periods at the torque limit without a count. */
+static app_step_t encoder_lost_check(protect_t *p, const protect_watch_in_t *in)
+{
+    const protect_watch_cfg_t *w = &p->cfg.watch;
+    const bool moved = (p->enc_delta != 0);
+
+    p->enc_missed_counts = moved ? 0.0f
+                                 : p->enc_missed_counts + mathx_fabsf(in->speed_m_rad_s) * p->cfg.Ts_s * p->counts_per_rad;
+    if (!(p->enc_missed_counts < w->enc_lost_counts)) { /* a NaN speed trips too */
+        return app_step_fault(APP_FAULT_ENCODER_LOST, p->enc_missed_counts, w->enc_lost_counts);
+    }
+    if (moved || !in->ctrl_running || !(mathx_fabsf(in->te_ref_Nm) >= w->enc_stall_te_frac * w->te_max_Nm)) {
+        p->stall_ticks = 0u;
+    } else {
+        p->stall_ticks++;
+    }
+    if ((p->stall_ticks_max > 0u) && (p->stall_ticks >= p->stall_ticks_max)) {
+        return app_step_fault(APP_FAULT_ENCODER_LOST, (float)p->stall_ticks * p->cfg.Ts_s, w->enc_stall_s);
+    }
+    return app_step_running();
+}
+
+app_step_t protect_watch(protect_t *p, const protect_watch_in_t *in)
+{
+    app_step_t r = encoder_lost_check(p, in);
+    if (r.status != APP_STEP_FAULT) {
+        r = stuck_check(p, in);
+    }
+    if (r.status != APP_STEP_FAULT) {
+        r = open_phase_check(p, in);
+    }
+    return r;
 }
 
 void protect_snapshot(app_snapshot_t *snap, app_state_t state, const hal_sample_t *s, const app_step_t *f)

@@ -14,6 +14,35 @@
  *   OVERSPEED         |speed estimate (encoder PLL)| > speed_max_rad_s
  *   OVERRUN           entry-to-entry interval > 1.5 periods (a period was
  *                     missed), or the last ISR run > isr_budget_cycles
+ * and, from the history of the periods (protect_watch, after the checks
+ * above pass; thresholds in protect_watch_cfg_t, values in board_cfg.h):
+ *   OPEN_PHASE        over a window of op_window_s with the outputs on:
+ *                     mean |i| >= op_i_min_A and, for one phase x, mean
+ *                     |i_x| < op_ratio x mean |i| while the mean |u_x| it
+ *                     was given >= op_u_min_V (u_x: the phase voltage of
+ *                     the duties, zero sequence removed). A healthy phase
+ *                     carries 2/pi = 0.64 of |i| over an electrical half
+ *                     turn; at standstill its current follows u_x / R, so
+ *                     a small i_x comes with a small u_x (a current vector
+ *                     across the phase, as in the alignment's first step).
+ *                     Not observable with no current asked for.
+ *   CURRENT_SENSOR    in RUN and IDENTIFY_R: one current reading unchanged
+ *                     (by less than stuck_delta_A, half an ADC step) and
+ *                     beyond +- stuck_zero_A while the rotor turned
+ *                     stuck_angle_el_rad and the other reading moved over
+ *                     stuck_span_A: a field-oriented current turns with
+ *                     the rotor, so both readings move. A reading stuck
+ *                     near 0 A looks like an open phase and is judged by
+ *                     OPEN_PHASE. Not observable at standstill on a
+ *                     noise-free ADC.
+ *   ENCODER_LOST      the count unchanged while the speed estimate,
+ *                     integrated since the last change, says it should
+ *                     have moved enc_lost_counts (the PLL runs on past a
+ *                     count that stops); or, at low speed where the PLL
+ *                     stops first, in RUN and IDENTIFY_R no count change
+ *                     for enc_stall_s with |te_ref| >= enc_stall_te_frac x
+ *                     te_max (no motion at the torque limit: the encoder
+ *                     lost, or a stalled rotor).
  * A latched fault keeps a snapshot: the period's raw samples, the state it
  * was detected in, the quantity and the limit it crossed.
  */
@@ -32,6 +61,34 @@
 #define PROTECT_ENC_JUMP_MARGIN 1.5f
 #define APP_ENC_JUMP_MARGIN PROTECT_ENC_JUMP_MARGIN /* old name */
 
+/* Thresholds of the checks on the periods' history (protect_watch). */
+typedef struct {
+    float op_window_s;          /* OPEN_PHASE window [s] */
+    float op_i_min_A;           /* mean |i| in the window at least [A] */
+    float op_ratio;             /* a phase's mean |i_x| below this x mean |i| [-] ... */
+    float op_u_min_V;           /* ... while its mean |u_x| is at least this [V] */
+    float stuck_delta_A;        /* a reading changing by less is unchanged [A] */
+    float stuck_angle_el_rad;   /* rotor turn with one reading unchanged [rad el] ... */
+    float stuck_span_A;         /* ... while the other one moved over this [A] */
+    float stuck_zero_A;         /* ... and it is beyond +- this (near 0: OPEN_PHASE's) [A] */
+    float enc_lost_counts;      /* counts the speed estimate says were missed [counts] */
+    float enc_stall_s;          /* no count change this long ... [s] */
+    float enc_stall_te_frac;    /* ... at |te_ref| >= this x te_max_Nm [-] */
+    float te_max_Nm;            /* the controller's torque limit [N m] */
+    uint16_t pole_pairs;        /* [-] */
+} protect_watch_cfg_t;
+
+/* One period's inputs to protect_watch. */
+typedef struct {
+    float ia_A, ib_A;           /* raw samples [A] */
+    float ia_corr_A, ib_corr_A; /* offsets subtracted [A] */
+    float vdc_V;                /* [V] */
+    const float *duty;          /* the three duties applied in the period just sampled; NULL: outputs off */
+    bool ctrl_running;          /* RUN or IDENTIFY_R: the current is field-oriented */
+    float speed_m_rad_s;        /* speed estimate (encoder PLL), mechanical [rad/s] */
+    float te_ref_Nm;            /* the controller's torque reference [N m] (NaN: none) */
+} protect_watch_in_t;
+
 typedef struct {
     float i_max_A;              /* software overcurrent on |ia|, |ib|, |ic| [A] */
     float vdc_max_V;            /* overvoltage trip [V] */
@@ -41,6 +98,7 @@ typedef struct {
     uint32_t isr_budget_cycles; /* longest allowed ISR run [cycles] */
     uint32_t enc_cpr;           /* encoder counts per revolution [counts] */
     float Ts_s;                 /* control period [s] */
+    protect_watch_cfg_t watch;  /* the checks on the periods' history */
 } protect_cfg_t;
 
 /* What was known in the period a fault was detected. */
@@ -65,6 +123,25 @@ typedef struct {
     uint32_t isr_interval_cycles;  /* entry to entry, this call [cycles] */
     uint32_t isr_run_cycles;       /* entry to exit, last call [cycles] */
     bool uv_armed;                 /* undervoltage check active */
+    /* protect_watch: derived */
+    uint32_t op_window_ticks;      /* OPEN_PHASE window [periods] */
+    uint32_t stall_ticks_max;      /* enc_stall_s [periods] */
+    float el_rad_per_count;        /* electrical angle of one count [rad] */
+    float counts_per_rad;          /* counts per mechanical radian [counts/rad] */
+    /* protect_watch: OPEN_PHASE window so far */
+    uint32_t op_ticks;
+    float op_sum_i_A;              /* sum of |i| [A] */
+    float op_sum_ix_A[3];          /* sums of |i_a|, |i_b|, |i_c| [A] */
+    float op_sum_ux_V[3];          /* sums of |u_a|, |u_b|, |u_c| [V] */
+    uint16_t op_phase;             /* the phase found open (0 a, 1 b, 2 c), for the operator */
+    /* protect_watch: CURRENT_SENSOR, per reading (0 ia, 1 ib) since it last changed */
+    float st_last_A[2];
+    float st_angle_el_rad[2];
+    float st_other_min_A[2], st_other_max_A[2];
+    bool st_seeded;
+    /* protect_watch: ENCODER_LOST */
+    float enc_missed_counts;       /* counts the speed estimate expected since the count last changed */
+    uint32_t stall_ticks;          /* periods at the torque limit with no count change */
 } protect_t;
 
 /* Start-up: copy *cfg, derive the limits; nothing tracked, undervoltage off. */
@@ -85,6 +162,16 @@ app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset
 /* ISR, at the exit: the run time from t_entry_cycles to now_cycles;
  * FAULT (OVERRUN) when over the budget. */
 app_step_t protect_run_time(protect_t *p, uint32_t t_entry_cycles, uint32_t now_cycles);
+
+/* ISR, after protect_check passed: the checks on the periods' history
+ * (see above); RUNNING, or FAULT with the quantity and its limit:
+ * OPEN_PHASE mean |i_x| and op_ratio x mean |i| [A], CURRENT_SENSOR the
+ * turn [rad el] and stuck_angle_el_rad, ENCODER_LOST the missed counts and
+ * enc_lost_counts, or the time without a count [s] and enc_stall_s. */
+app_step_t protect_watch(protect_t *p, const protect_watch_in_t *in);
+
+/* ISR or start-up: forget the history protect_watch keeps (after a fault). */
+void protect_watch_reset(protect_t *p);
 
 /* ISR: the snapshot of a fault detected in state on *s. */
 void protect_snapshot(app_snapshot_t *snap, app_state_t state, const hal_sample_t *s, const app_step_t *f);

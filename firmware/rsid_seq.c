@@ -88,7 +88,7 @@ static bool lengthen(rsid_seq_t *q, const ctrl_t *c)
     const uint32_t batch = c->ri.cfg.n_batch;
 
     q->check_ticks = (batch > 0u) ? batch : 1u;
-    if ((k - q->end_tick) % q->check_ticks != 0u) {
+    if (mathx_umod_u32(k - q->end_tick, q->check_ticks) != 0u) { /* no 32-bit %: RTS call from flash */
         return true; /* between checks */
     }
     if (k - q->win2_tick + q->check_ticks > q->win2_max_ticks) {

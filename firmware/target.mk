@@ -42,9 +42,13 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
           --include_path=$(FASTRTS)/include
 
 # The ISR path runs from RAM: the control core and the application are
-# compiled with every function in .TI.ramfunc; the HAL marks its ISR-path
-# functions with CODE_SECTION "ramfuncs" itself (hal_init must run from flash).
-RAMFUNC_SRCS := $(wildcard control/*.c) $(filter-out firmware/main.c firmware/cmd.c firmware/app_cfg.c,$(wildcard firmware/*.c))
+# compiled with every function in .TI.ramfunc, except the files below that
+# only the background loop and start-up use (a new firmware/ file is in RAM
+# unless listed); the HAL marks its ISR-path functions with CODE_SECTION
+# "ramfuncs" itself (hal_init must run from flash). tools/check/isr_path.sh
+# (make check) fails if a function the ISR reaches would run from flash.
+FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c
+RAMFUNC_SRCS := $(filter-out $(FLASH_SRCS),$(wildcard control/*.c) $(wildcard firmware/*.c))
 
 APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*.c) $(wildcard hal/f28335/*.c)
 TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c

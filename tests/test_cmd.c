@@ -166,6 +166,7 @@ static void proposed_method_is_taken_or_refused_by_its_configuration(void **stat
 static void fault_reset_is_passed_once_and_cleared(void **state)
 {
     (void)state;
+    app.state = APP_STATE_FAULT; /* as if a protection check had latched one */
     cmd.fault_reset = 1u;
     expect_function_call(hal_trip_clear);
     cmd_apply(&cmd, &LIM, &app);
@@ -174,6 +175,24 @@ static void fault_reset_is_passed_once_and_cleared(void **state)
     app.req_fault_reset = 0u;
     cmd_apply(&cmd, &LIM, &app); /* no second reset: hal_trip_clear not expected */
     assert_int_equal(app.req_fault_reset, 0u);
+}
+
+/* D2: a reset written while nothing is latched is dropped: no
+ * hal_trip_clear (it would force the outputs off under a running drive;
+ * the mock fails on any unexpected call) and no request left for the ISR
+ * to take when the next fault comes. */
+static void fault_reset_outside_fault_is_dropped(void **state)
+{
+    (void)state;
+    const app_state_t states[] = { APP_STATE_INIT, APP_STATE_IDLE, APP_STATE_CALIBRATE,
+                                   APP_STATE_ALIGN, APP_STATE_IDENTIFY_R, APP_STATE_RUN };
+    for (size_t k = 0; k < sizeof states / sizeof states[0]; k++) {
+        app.state = states[k];
+        cmd.fault_reset = 1u;
+        cmd_apply(&cmd, &LIM, &app);
+        assert_int_equal(app.req_fault_reset, 0u);
+        assert_int_equal(cmd.fault_reset, 0u);
+    }
 }
 
 int main(void)
@@ -186,6 +205,7 @@ int main(void)
         cmocka_unit_test_setup(proposed_method_without_step1_is_refused, setup),
         cmocka_unit_test_setup(proposed_method_is_taken_or_refused_by_its_configuration, setup),
         cmocka_unit_test_setup(fault_reset_is_passed_once_and_cleared, setup),
+        cmocka_unit_test_setup(fault_reset_outside_fault_is_dropped, setup),
     };
     return cmocka_run_group_tests_name("cmd", tests, NULL, NULL);
 }

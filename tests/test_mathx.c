@@ -107,6 +107,37 @@ static void atan2_and_fabs_hand_values(void **state)
     assert_true(mathx_isfinitef(FLT_MAX));
     assert_false(mathx_isfinitef(NAN));
     assert_false(mathx_isfinitef(-INFINITY));
+    assert_true(mathx_isfinitef(-FLT_MAX));
+    assert_true(mathx_isfinitef(FLT_MIN / 4.0f));            /* denormal */
+    assert_true(mathx_isfinitef(-0.0f));
+    assert_false(mathx_isfinitef(-NAN));
+}
+
+/* mathx_umod_u32 against the C operator (independent): the in-range fast
+ * path, exact multiples, the 32-bit ends, and divisors above 2^31 where the
+ * shift-and-subtract carries out of 32 bits. */
+static void umod_matches_the_c_operator(void **state)
+{
+    (void)state;
+    const uint32_t m[] = { 1u, 2u, 3u, 7u, 10000u, 65536u, 16777216u, 0x7FFFFFFFu,
+                           0x80000000u, 0x80000001u, 0xFFFFFFFEu, 0xFFFFFFFFu };
+    const uint32_t x[] = { 0u, 1u, 9999u, 10000u, 10001u, 39999u, 12345678u, 0x7FFFFFFFu,
+                           0x80000000u, 0xC0000001u, 0xFFFFFFFEu, 0xFFFFFFFFu };
+    for (size_t i = 0; i < sizeof m / sizeof m[0]; i++) {
+        for (size_t j = 0; j < sizeof x / sizeof x[0]; j++) {
+            assert_int_equal(mathx_umod_u32(x[j], m[i]), x[j] % m[i]);
+        }
+    }
+    /* A pseudo-random sweep (LCG) over both arguments. */
+    uint32_t s = 12345u;
+    for (int n = 0; n < 20000; n++) {
+        s = s * 1664525u + 1013904223u;
+        const uint32_t a = s;
+        s = s * 1664525u + 1013904223u;
+        const uint32_t b = (s >> (s & 31u)) | 1u;
+        assert_int_equal(mathx_umod_u32(a, b), a % b);
+    }
+    assert_int_equal(mathx_umod_u32(5u, 0u), 0u);            /* defined: no trap */
 }
 
 int main(void)
@@ -118,6 +149,7 @@ int main(void)
         cmocka_unit_test(wrap_2pi_non_finite_and_huge),
         cmocka_unit_test(sincos_matches_libm),
         cmocka_unit_test(atan2_and_fabs_hand_values),
+        cmocka_unit_test(umod_matches_the_c_operator),
     };
     return cmocka_run_group_tests_name("mathx", tests, NULL, NULL);
 }

@@ -6,9 +6,24 @@
 
 /* ---- protect on its own -------------------------------------------------- */
 
+/* The history checks' thresholds of the unit tests: the board's, with
+ * windows of a few periods. */
+#define OP_WINDOW   10           /* OPEN_PHASE window [periods] */
+#define STALL_N     10           /* ENCODER_LOST at the torque limit [periods] */
+#define TE_MAX      12.0f
+#define POLES       3u
+
+static protect_cfg_t prot_cfg(void)
+{
+    const protect_watch_cfg_t w = { OP_WINDOW * 1e-4f, 1.0f, 0.2f, 25.0f, 3.662e-3f, PI_F / 6.0f, 0.5f, 0.1f,
+                                    100.0f, STALL_N * 1e-4f, 0.9f, TE_MAX, POLES };
+    const protect_cfg_t cfg = { I_MAX, VDC_MAX, VDC_MIN, SPEED_MAX, PERIOD_CYC, BUDGET_CYC, CPR, 1e-4f, w };
+    return cfg;
+}
+
 static protect_t prot_unit(void)
 {
-    const protect_cfg_t cfg = { I_MAX, VDC_MAX, VDC_MIN, SPEED_MAX, PERIOD_CYC, BUDGET_CYC, CPR, 1e-4f };
+    const protect_cfg_t cfg = prot_cfg();
     protect_t p;
     protect_init(&p, &cfg);
     return p;
@@ -365,6 +380,127 @@ static void fault_holds_until_reset_and_cause_gone(void **state)
     start(&s);
 }
 
+/* ---- the history checks (protect_watch) ---------------------------------- */
+
+static protect_watch_in_t watch_in(float ia, float ib, const float *duty, bool running, float speed, float te_ref)
+{
+    const protect_watch_in_t in = { ia, ib, ia, ib, VDC, duty, running, speed, te_ref };
+    return in;
+}
+
+/* Phase a given 0.1 x 311 = 31.1 V (>= 25) but carrying 0 A while ib = 2 A:
+ * |i| = |i_beta| = 2 x 2 / sqrt(3) = 2.309 A, the limit 0.2 x that = 0.462 A;
+ * the window ends at its 10th period. The same current with phase a at
+ * zero voltage (a vector across the phase, as in the alignment) is healthy,
+ * and so is ia = 1 A (mean |i_a| / |i| = 1 / 2 = 0.5). */
+static void open_phase_found_at_the_window_end(void **state)
+{
+    (void)state;
+    const float d_open[3] = { 0.6f, 0.5f, 0.4f };
+    const float d_across[3] = { 0.5f, 0.6f, 0.4f };
+    protect_t p = prot_unit();
+    for (int k = 1; k < OP_WINDOW; k++) {
+        const protect_watch_in_t in = watch_in(0.0f, 2.0f, d_open, true, 0.0f, 0.0f);
+        assert_int_equal(protect_watch(&p, &in).status, APP_STEP_RUNNING);
+    }
+    const protect_watch_in_t in = watch_in(0.0f, 2.0f, d_open, true, 0.0f, 0.0f);
+    app_step_t r = protect_watch(&p, &in);
+    assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
+    assert_float_equal(r.value, 0.0f, 1e-6);
+    assert_float_equal(r.limit, 0.2f * 4.0f / sqrtf(3.0f), 1e-5);
+    assert_int_equal(p.op_phase, 0);
+
+    p = prot_unit();
+    for (int k = 0; k < 3 * OP_WINDOW; k++) {
+        const protect_watch_in_t across = watch_in(0.0f, 2.0f, d_across, true, 0.0f, 0.0f);
+        const protect_watch_in_t carries = watch_in(1.0f, 1.0f, d_open, true, 0.0f, 0.0f);
+        assert_int_equal(protect_watch(&p, (k < OP_WINDOW) ? &across : &carries).status, APP_STEP_RUNNING);
+    }
+    /* outputs off (no duties) restart the window: 9 + off + 9 periods do not end one */
+    p = prot_unit();
+    for (int k = 0; k < 2 * OP_WINDOW - 1; k++) {
+        const protect_watch_in_t in2 = watch_in(0.0f, 2.0f, (k == OP_WINDOW - 1) ? NULL : d_open, true, 0.0f, 0.0f);
+        assert_int_equal(protect_watch(&p, &in2).status, APP_STEP_RUNNING);
+    }
+}
+
+/* ia frozen at 1 A while the count moves 20 per period (20 x 2 pi x 3 /
+ * 10000 = 0.0377 rad el) and ib sweeps 0.1 A per period: the turn since
+ * the first period reaches 30 deg (0.5236 rad) after 14 periods (0.5278). */
+static void frozen_current_reading_found_after_30_deg(void **state)
+{
+    (void)state;
+    const float step_rad = 20.0f * 2.0f * PI_F * 3.0f / (float)CPR;
+    protect_t p = prot_unit();
+    uint32_t count = 0u;
+    app_step_t r = app_step_running();
+    int k;
+    for (k = 0; (k < 20) && (r.status == APP_STEP_RUNNING); k++) {
+        protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
+        count += 20u;
+        const protect_watch_in_t in = watch_in(1.0f, 0.1f * (float)k, NULL, true, 0.0f, 0.0f);
+        r = protect_watch(&p, &in);
+    }
+    assert_int_equal(r.fault, APP_FAULT_CURRENT_SENSOR);
+    assert_int_equal(k, 15); /* the 15th period: 14 turns after the first */
+    assert_float_equal(r.value, 14.0f * step_rad, 1e-4);
+    assert_float_equal(r.limit, PI_F / 6.0f, 1e-6);
+
+    /* the same near 0 A (an open phase's reading), or not in RUN, or at standstill: no fault */
+    for (int variant = 0; variant < 3; variant++) {
+        p = prot_unit();
+        count = 0u;
+        for (k = 0; k < 40; k++) {
+            protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
+            count += (variant == 2) ? 0u : 20u;
+            const protect_watch_in_t in = watch_in((variant == 0) ? 0.05f : 1.0f, 0.1f * (float)k, NULL, variant != 1,
+                                                   0.0f, 0.0f);
+            assert_int_equal(protect_watch(&p, &in).status, APP_STEP_RUNNING);
+        }
+    }
+}
+
+/* The count stops at 94.25 rad/s (15 counts per period by the estimate):
+ * 105 missed counts at the 7th frozen period cross 100. At the torque limit
+ * (11 N m >= 0.9 x 12) with no count for STALL_N periods: the stall rule;
+ * at 10 N m (< 10.8) none. */
+static void lost_encoder_found_moving_and_at_the_torque_limit(void **state)
+{
+    (void)state;
+    const float speed = 15.0f * 2.0f * PI_F / ((float)CPR * 1e-4f);
+    protect_t p = prot_unit();
+    protect_track(&p, 500u, 0u);
+    app_step_t r = app_step_running();
+    int k;
+    for (k = 1; (k < 20) && (r.status == APP_STEP_RUNNING); k++) {
+        protect_track(&p, 500u, (uint32_t)k * PERIOD_CYC);
+        const protect_watch_in_t in = watch_in(0.0f, 0.0f, NULL, false, speed, 0.0f);
+        r = protect_watch(&p, &in);
+    }
+    assert_int_equal(r.fault, APP_FAULT_ENCODER_LOST);
+    assert_int_equal(k - 1, 7);
+    assert_float_equal(r.value, 105.0f, 1e-3);
+    assert_float_equal(r.limit, 100.0f, 0.0);
+
+    for (int te = 0; te < 2; te++) {
+        const float te_ref = (te == 0) ? 11.0f : 10.0f;
+        p = prot_unit();
+        r = app_step_running();
+        for (k = 0; (k < 3 * STALL_N) && (r.status == APP_STEP_RUNNING); k++) {
+            protect_track(&p, 500u, (uint32_t)k * PERIOD_CYC);
+            const protect_watch_in_t in = watch_in(0.0f, 0.0f, NULL, true, 0.0f, te_ref);
+            r = protect_watch(&p, &in);
+        }
+        if (te == 0) {
+            assert_int_equal(r.fault, APP_FAULT_ENCODER_LOST);
+            assert_int_equal(k, STALL_N);
+            assert_float_equal(r.value, STALL_N * 1e-4f, 1e-7);
+        } else {
+            assert_int_equal(r.status, APP_STEP_RUNNING);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -382,6 +518,9 @@ int main(void)
         cmocka_unit_test(overrun_run_time_latches),
         cmocka_unit_test(overrun_missed_period_latches),
         cmocka_unit_test(fault_holds_until_reset_and_cause_gone),
+        cmocka_unit_test(open_phase_found_at_the_window_end),
+        cmocka_unit_test(frozen_current_reading_found_after_30_deg),
+        cmocka_unit_test(lost_encoder_found_moving_and_at_the_torque_limit),
     };
     return cmocka_run_group_tests_name("protect", tests, NULL, NULL);
 }

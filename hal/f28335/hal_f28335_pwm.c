@@ -7,7 +7,8 @@
  * Waveform (up-down count, TBPRD = 7500, 10 kHz): AQ sets ePWMxA when the
  * counter passes CMPA counting up and clears it counting down, so A (the
  * high-side gate) is on while TBCTR > CMPA, centred on the period match:
- *     duty = (TBPRD - CMPA) / TBPRD   <=>   CMPA = TBPRD * (1 - duty).
+ *     duty = (TBPRD - CMPA) / TBPRD   <=>   CMPA = TBPRD * (1 - duty),
+ * with CMPA >= F28335_CMPA_MIN = 1 (SPRUG04: CMPA loaded at zero).
  * The dead band (active-high complementary) derives both gates from A:
  * high side = A with rising edge delayed, low side = NOT A with its rising
  * edge delayed. At TBCTR = 0 every low side is on: the current samples

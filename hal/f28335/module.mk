@@ -3,3 +3,5 @@
 # the top-level Makefile; the target build is firmware/target.mk.
 TEST_LIBS_test_hal_f28335 := f28335 control
 TEST_LIBS_test_c2000_fake := f28335
+# The application on this HAL over the register fake (firmware -> hal/f28335).
+TEST_LIBS_test_app_f28335 := firmware f28335 control

@@ -16,6 +16,18 @@
 #define CPU_CLOCK_HZ 150.0e6         /* F28335 SYSCLKOUT: hal_cycles() counts simulated time in it */
 #define CYCLE_COUNTER_BITS 32
 #define N_PHASES 3
+#define TWO_PI 6.283185307179586
+#define SQRT3_2 0.8660254037844386
+/* A fault time t_f starts the fault at the first t_k >= t_f; t_k is a sum of
+ * periods, so t_f = k Ts must not miss period k by rounding. */
+#define FAULT_TIME_TOL_PER_TS 1.0e-6
+/* Defaults of the injected faults (hal_sim_faults_none). */
+#define DEFAULT_SHORT_OHM 0.1        /* a bolted short through a cable loop */
+#define DEFAULT_SHORT_H 10.0e-6
+#define DEFAULT_ENC_JUMP_COUNTS 2500 /* a quarter turn of the 2500-line encoder */
+#define DEFAULT_VDC_SAG_V 150.0      /* below the board's 200 V undervoltage trip */
+#define DEFAULT_VDC_SURGE_V 450.0    /* above its 400 V overvoltage trip */
+#define DEFAULT_ISR_OVERRUN_RUN_S 1.2e-4   /* longer than a period */
 
 static struct {
     hal_sim_cfg_t cfg;
@@ -32,8 +44,19 @@ static struct {
     bool isr_stalled;
     uint32_t isr_calls;
     uint32_t watchdog_kicks;
+    uint32_t cycles;                /* hal_cycles(): CPU clock cycles of simulated time, mod 2^32 */
+    uint32_t cycles_per_period;
     hal_sample_t sample;
     hal_sim_truth_t truth;
+    /* fault injection */
+    hal_sim_faults_t faults;
+    uint32_t faults_active;
+    uint32_t faults_new;            /* the bits that started at this t_k */
+    float stuck_value_A;            /* ADC_STUCK: the frozen reading */
+    uint32_t enc_frozen;            /* ENC_LOST: the frozen count */
+    double i_short_A;               /* SHORT: current from the first output into the second */
+    bool in_isr;
+    uint32_t isr_cycles_calls;      /* hal_cycles() calls in this ISR call */
 } g_sim;
 
 void hal_sim_default_cfg(hal_sim_cfg_t *cfg)
@@ -56,10 +79,12 @@ void hal_sim_configure(const hal_sim_cfg_t *cfg)
     g_sim.cfg = *cfg;
     plant_init(&g_sim.plant, &cfg->plant, cfg->theta_offset_el_rad);
     prng_seed(&g_sim.prng, cfg->sens.seed);
+    g_sim.cycles_per_period = (uint32_t)llround(fmod(cfg->inv.Ts_s * CPU_CLOCK_HZ, ldexp(1.0, CYCLE_COUNTER_BITS)));
     for (int k = 0; k < N_PHASES; k++) {
         g_sim.duty_shadow[k] = DUTY_ZERO_VOLTAGE;
         g_sim.duty_active[k] = DUTY_ZERO_VOLTAGE;
     }
+    hal_sim_faults_none(&g_sim.faults);
 }
 
 void hal_sim_set_load(double TL_Nm)
@@ -83,26 +108,160 @@ uint32_t hal_sim_watchdog_kicks(void)
     return g_sim.watchdog_kicks;
 }
 
+/* ---- fault injection -------------------------------------------------- */
+
+void hal_sim_faults_none(hal_sim_faults_t *f)
+{
+    memset(f, 0, sizeof *f);
+    f->open_phase_s = NAN;
+    f->short_s = NAN;
+    f->short_ohm = DEFAULT_SHORT_OHM;
+    f->short_H = DEFAULT_SHORT_H;
+    f->adc_stuck_s = NAN;
+    f->enc_lost_s = NAN;
+    f->enc_jump_s = NAN;
+    f->enc_jump_counts = DEFAULT_ENC_JUMP_COUNTS;
+    f->vdc_sag_s = NAN;
+    f->vdc_sag_V = DEFAULT_VDC_SAG_V;
+    f->vdc_surge_s = NAN;
+    f->vdc_surge_V = DEFAULT_VDC_SURGE_V;
+    f->gate_trip_s = NAN;
+    f->isr_overrun_s = NAN;
+    f->isr_overrun_run_s = DEFAULT_ISR_OVERRUN_RUN_S;
+}
+
+void hal_sim_set_faults(const hal_sim_faults_t *f)
+{
+    g_sim.faults = *f;
+    g_sim.faults_active = 0u;
+}
+
+/* The bits of the faults whose time has come by t_k (NaN never comes). */
+static uint32_t faults_due(double t_s)
+{
+    const hal_sim_faults_t *f = &g_sim.faults;
+    const double t = t_s + FAULT_TIME_TOL_PER_TS * g_sim.cfg.inv.Ts_s;
+    uint32_t m = 0u;
+    m |= (t >= f->open_phase_s) ? (uint32_t)SIM_FAULT_OPEN_PHASE : 0u;
+    m |= (t >= f->short_s) ? (uint32_t)SIM_FAULT_SHORT : 0u;
+    m |= (t >= f->adc_stuck_s) ? (uint32_t)SIM_FAULT_ADC_STUCK : 0u;
+    m |= (t >= f->enc_lost_s) ? (uint32_t)SIM_FAULT_ENC_LOST : 0u;
+    m |= (t >= f->enc_jump_s) ? (uint32_t)SIM_FAULT_ENC_JUMP : 0u;
+    m |= (t >= f->vdc_sag_s) ? (uint32_t)SIM_FAULT_VDC_SAG : 0u;
+    m |= (t >= f->vdc_surge_s) ? (uint32_t)SIM_FAULT_VDC_SURGE : 0u;
+    m |= (t >= f->gate_trip_s) ? (uint32_t)SIM_FAULT_GATE_TRIP : 0u;
+    m |= (t >= f->isr_overrun_s) ? (uint32_t)SIM_FAULT_ISR_OVERRUN : 0u;
+    return m;
+}
+
+/* At t_k, before the samples: the faults that start now change the board. */
+static void faults_start(void)
+{
+    const uint32_t due = faults_due(g_sim.t_s);
+    const uint32_t new_bits = due & ~g_sim.faults_active;
+    g_sim.faults_active = due;
+    g_sim.faults_new = new_bits;
+    if ((new_bits & SIM_FAULT_VDC_SAG) != 0u) {
+        g_sim.cfg.inv.vdc_V = g_sim.faults.vdc_sag_V;
+    }
+    if ((new_bits & SIM_FAULT_VDC_SURGE) != 0u) {
+        g_sim.cfg.inv.vdc_V = g_sim.faults.vdc_surge_V;
+    }
+    if ((new_bits & SIM_FAULT_GATE_TRIP) != 0u) {
+        hal_sim_force_trip();
+    }
+}
+
+/* The inverter output currents the sensors and comparators see: the motor's plus the short's. */
+static void faults_leg_currents(double i_abc[N_PHASES])
+{
+    if ((g_sim.faults_active & SIM_FAULT_SHORT) != 0u) {
+        const uint32_t x = g_sim.faults.short_pair % N_PHASES;
+        i_abc[x] += g_sim.i_short_A;
+        i_abc[(x + 1u) % N_PHASES] -= g_sim.i_short_A;
+    }
+}
+
+/* The samples after the sensors: a stuck channel, a lost or jumping count. */
+static void faults_samples(hal_sample_t *s, uint32_t new_bits)
+{
+    const uint32_t cpr = 4u * g_sim.cfg.sens.enc_lines;
+    float *ch = (g_sim.faults.adc_stuck_channel == 0u) ? &s->ia_A : &s->ib_A;
+
+    if ((new_bits & SIM_FAULT_ADC_STUCK) != 0u) {
+        g_sim.stuck_value_A = *ch;
+    }
+    if ((g_sim.faults_active & SIM_FAULT_ADC_STUCK) != 0u) {
+        *ch = g_sim.stuck_value_A;
+    }
+    if ((g_sim.faults_active & SIM_FAULT_ENC_JUMP) != 0u) {
+        int64_t c = ((int64_t)s->enc_count + g_sim.faults.enc_jump_counts) % (int64_t)cpr;
+        s->enc_count = (uint32_t)((c < 0) ? c + (int64_t)cpr : c);
+    }
+    if ((new_bits & SIM_FAULT_ENC_LOST) != 0u) {
+        g_sim.enc_frozen = s->enc_count;
+    }
+    if ((g_sim.faults_active & SIM_FAULT_ENC_LOST) != 0u) {
+        s->enc_count = g_sim.enc_frozen;
+    }
+}
+
+/* After the plant's period: an open phase carries no current (the component
+ * of the stator current along its axis is removed, once per period: exact
+ * with the default one RK4 step per period, as the SPMSM's alpha and beta
+ * equations do not couple); the short's current over the period. */
+static void faults_after_period(bool gates_on)
+{
+    if ((g_sim.faults_active & SIM_FAULT_OPEN_PHASE) != 0u) {
+        plant_t *p = &g_sim.plant;
+        const double th = plant_theta_el_rad(p);
+        const double ax = TWO_PI / 3.0 * (double)(g_sim.faults.open_phase % N_PHASES);
+        const double c = cos(th), s = sin(th);
+        double ia = p->x.id_A * c - p->x.iq_A * s;   /* alpha-beta */
+        double ib = p->x.id_A * s + p->x.iq_A * c;
+        const double along = ia * cos(ax) + ib * sin(ax);
+        ia -= along * cos(ax);
+        ib -= along * sin(ax);
+        p->x.id_A = ia * c + ib * s;
+        p->x.iq_A = -ia * s + ib * c;
+    }
+    if ((g_sim.faults_active & SIM_FAULT_SHORT) != 0u) {
+        /* L di/dt = v - R i over the period with the period-mean line voltage; outputs off: zero at once */
+        const uint32_t x = g_sim.faults.short_pair % N_PHASES;
+        const double v = (g_sim.duty_active[x] - g_sim.duty_active[(x + 1u) % N_PHASES]) * g_sim.cfg.inv.vdc_V;
+        const double R = g_sim.faults.short_ohm;
+        const double e = exp(-R * g_sim.cfg.inv.Ts_s / g_sim.faults.short_H);
+        g_sim.i_short_A = gates_on ? (g_sim.i_short_A * e + v / R * (1.0 - e)) : 0.0;
+    }
+}
+
 /* Step 1 of hal_sim_period(): shadow load, samples, comparator, truth at t_k. */
 static void sample_at_period_start(void)
 {
     const hal_sim_cfg_t *c = &g_sim.cfg;
     hal_sim_truth_t *tr = &g_sim.truth;
     memcpy(g_sim.duty_active, g_sim.duty_shadow, sizeof g_sim.duty_active);
+    faults_start();
 
     double i_abc[N_PHASES];
-    plant_iabc_A(&g_sim.plant, i_abc);
+    double i_leg[N_PHASES];
+    const double th_el = plant_theta_el_rad(&g_sim.plant);
+    plant_iabc_at_A(&g_sim.plant, th_el, i_abc);
+    memcpy(i_leg, i_abc, sizeof i_leg);
+    faults_leg_currents(i_leg);
     for (int k = 0; k < N_PHASES; k++) {
-        if (fabs(i_abc[k]) > c->trip_current_A) {
+        if (fabs(i_leg[k]) > c->trip_current_A) {
             hal_sim_force_trip();
         }
     }
-    g_sim.sample.ia_A = (float)sensor_adc_current_A(&c->sens, &g_sim.prng, i_abc[0], c->sens.adc_offset_a_A);
-    g_sim.sample.ib_A = (float)sensor_adc_current_A(&c->sens, &g_sim.prng, i_abc[1], c->sens.adc_offset_b_A);
+    g_sim.sample.ia_A = (float)sensor_adc_current_A(&c->sens, &g_sim.prng, i_leg[0], c->sens.adc_offset_a_A);
+    g_sim.sample.ib_A = (float)sensor_adc_current_A(&c->sens, &g_sim.prng, i_leg[1], c->sens.adc_offset_b_A);
     g_sim.sample.vdc_V = (float)sensor_adc_vdc_V(&c->sens, c->inv.vdc_V);
     g_sim.sample.enc_count = sensor_encoder_count(&c->sens, g_sim.plant.x.theta_m_rad);
+    faults_samples(&g_sim.sample, g_sim.faults_new);
 
     tr->t_s = g_sim.t_s;
+    tr->i_short_A = g_sim.i_short_A;
     tr->id_A = g_sim.plant.x.id_A;
     tr->iq_A = g_sim.plant.x.iq_A;
     tr->R_ohm = g_sim.plant.cfg.R_ohm;
@@ -110,7 +269,7 @@ static void sample_at_period_start(void)
     tr->ib_A = i_abc[1];
     tr->ic_A = i_abc[2];
     tr->speed_m_rad_s = g_sim.plant.x.omega_m_rad_s;
-    tr->theta_el_rad = plant_theta_el_rad(&g_sim.plant);
+    tr->theta_el_rad = th_el;
     tr->te_Nm = plant_te_Nm(&g_sim.plant);
     tr->psi_s_Wb = plant_psi_s_Wb(&g_sim.plant);
 }
@@ -124,7 +283,10 @@ void hal_sim_period(void)
     if (g_sim.isr != NULL && !g_sim.isr_stalled) {
         g_sim.ack_pending = true;
         g_sim.isr_calls++;
+        g_sim.in_isr = true;
+        g_sim.isr_cycles_calls = 0u;
         g_sim.isr();
+        g_sim.in_isr = false;
         g_sim.isr_stalled = g_sim.ack_pending;
     }
 
@@ -135,6 +297,7 @@ void hal_sim_period(void)
     } else {
         plant_step_open(&g_sim.plant, g_sim.load_Nm, c->inv.Ts_s);
     }
+    faults_after_period(gates_on);
     const plant_acc_t *acc = &g_sim.plant.acc;
     tr->ud_mean_V = acc->ud_Vs / acc->time_s;
     tr->uq_mean_V = acc->uq_Vs / acc->time_s;
@@ -146,7 +309,9 @@ void hal_sim_period(void)
     tr->trip = g_sim.trip;
     tr->isr_stalled = g_sim.isr_stalled;
     tr->isr_calls = g_sim.isr_calls;
+    tr->faults_active = g_sim.faults_active;
     g_sim.t_s += c->inv.Ts_s;
+    g_sim.cycles += g_sim.cycles_per_period;
 }
 
 void hal_sim_truth(hal_sim_truth_t *out)
@@ -210,9 +375,18 @@ void hal_isr_ack(void)
 
 uint32_t hal_cycles(void)
 {
-    /* Simulated time, so runs stay reproducible; wraps like the 32-bit counter. */
-    double cycles = fmod(g_sim.t_s * CPU_CLOCK_HZ, ldexp(1.0, CYCLE_COUNTER_BITS));
-    return (uint32_t)cycles;
+    /* Simulated time, so runs stay reproducible; wraps like the 32-bit counter
+     * (unsigned arithmetic of the period count). It stands still inside the
+     * ISR, except in an injected overrun: every call after the ISR's first
+     * is isr_overrun_run_s later. */
+    uint32_t extra = 0u;
+    if (g_sim.in_isr && (g_sim.isr_cycles_calls > 0u) && ((g_sim.faults_new & SIM_FAULT_ISR_OVERRUN) != 0u)) {
+        extra = (uint32_t)llround(g_sim.faults.isr_overrun_run_s * CPU_CLOCK_HZ);
+    }
+    if (g_sim.in_isr) {
+        g_sim.isr_cycles_calls++;
+    }
+    return g_sim.cycles + extra;
 }
 
 void hal_watchdog_kick(void)

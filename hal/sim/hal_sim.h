@@ -34,6 +34,39 @@ typedef struct {
     double trip_current_A;       /* hardware overcurrent comparator on |ia|, |ib|, |ic| */
 } hal_sim_cfg_t;
 
+/* Fault injection (the scenario's [faults] section, hal/sim/README.md):
+ * each fault starts at the first period whose sample instant t_k >= its
+ * time and stays (NaN: never). Bits of hal_sim_truth_t.faults_active. */
+typedef enum {
+    SIM_FAULT_OPEN_PHASE = 1u << 0,   /* one phase conducts no current */
+    SIM_FAULT_SHORT = 1u << 1,        /* two inverter outputs shorted through short_ohm, short_H */
+    SIM_FAULT_ADC_STUCK = 1u << 2,    /* one current channel repeats its reading of the first faulted period */
+    SIM_FAULT_ENC_LOST = 1u << 3,     /* the count stops (A/B signals lost) */
+    SIM_FAULT_ENC_JUMP = 1u << 4,     /* the count jumps by enc_jump_counts (noise on A/B) */
+    SIM_FAULT_VDC_SAG = 1u << 5,      /* the bus steps to vdc_sag_V */
+    SIM_FAULT_VDC_SURGE = 1u << 6,    /* the bus steps to vdc_surge_V */
+    SIM_FAULT_GATE_TRIP = 1u << 7,    /* the gate driver pulls the trip input */
+    SIM_FAULT_ISR_OVERRUN = 1u << 8   /* the ISR call of that period runs isr_overrun_run_s (one call) */
+} hal_sim_fault_bit_t;
+
+typedef struct {
+    double open_phase_s;
+    uint32_t open_phase;         /* 0 a, 1 b, 2 c */
+    double short_s;
+    uint32_t short_pair;         /* 0 a-b, 1 b-c, 2 c-a: current from the first output into the second */
+    double short_ohm, short_H;   /* the short's loop resistance and inductance */
+    double adc_stuck_s;
+    uint32_t adc_stuck_channel;  /* 0 ia, 1 ib */
+    double enc_lost_s;
+    double enc_jump_s;
+    int32_t enc_jump_counts;
+    double vdc_sag_s, vdc_sag_V;
+    double vdc_surge_s, vdc_surge_V;
+    double gate_trip_s;
+    double isr_overrun_s;
+    double isr_overrun_run_s;    /* run time of the overrunning ISR call, as hal_cycles() counts it */
+} hal_sim_faults_t;
+
 /* Ground truth of the last simulated period. */
 typedef struct {
     double t_s;                  /* t_k, the period's start and sample instant */
@@ -54,6 +87,8 @@ typedef struct {
     bool trip;                   /* hardware trip latched */
     bool isr_stalled;            /* an ISR returned without hal_isr_ack() */
     uint32_t isr_calls;
+    uint32_t faults_active;      /* hal_sim_fault_bit_t of the injected faults active in this period */
+    double i_short_A;            /* current in the injected short at t_k (0 without one) */
 } hal_sim_truth_t;
 
 /* Defaults: Table I motor at rest, averaged inverter at 311 V, 10 kHz, no dead time, one RK4 step
@@ -70,6 +105,12 @@ void hal_sim_set_load(double TL_Nm);
 
 /* Stator resistance of the plant [ohm] from the next period on (plant_set_R_ohm). */
 void hal_sim_set_R_ohm(double R_ohm);
+
+/* No fault: every time NaN, the other fields at their defaults. */
+void hal_sim_faults_none(hal_sim_faults_t *f);
+
+/* Inject the faults of *f from their times on; after hal_sim_configure(). */
+void hal_sim_set_faults(const hal_sim_faults_t *f);
 
 /* Simulate one PWM period (see the timing above). */
 void hal_sim_period(void);

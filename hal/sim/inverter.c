@@ -2,7 +2,6 @@
 #include "inverter.h"
 
 #include <math.h>
-#include <stdlib.h>
 
 #define SQRT3 1.7320508075688772
 #define N_LEGS 3
@@ -17,24 +16,41 @@ static double clamp01(double d)
     return (d >= 0.0) ? d : 0.0;   /* NaN maps to 0 */
 }
 
-leg_state_t inv_leg_state(const inv_cfg_t *cfg, double duty, double t_s)
+/* A leg's switching instants in one period (0 < duty < 1), or a leg held at one rail. */
+typedef struct {
+    leg_state_t held;          /* LEG_LOW / LEG_HIGH for duty <= 0 / >= 1, else LEG_DEAD (switching) */
+    double on_s, off_s;        /* upper gate on / off command */
+    double deadtime_s;
+} leg_times_t;
+
+static void leg_times(const inv_cfg_t *cfg, double duty, leg_times_t *lt)
 {
     double d = clamp01(duty);
-    if (d <= 0.0) {
-        return LEG_LOW;
+    lt->held = (d <= 0.0) ? LEG_LOW : ((d >= 1.0) ? LEG_HIGH : LEG_DEAD);
+    lt->on_s = 0.5 * (1.0 - d) * cfg->Ts_s;
+    lt->off_s = 0.5 * (1.0 + d) * cfg->Ts_s;
+    lt->deadtime_s = cfg->deadtime_s;
+}
+
+static leg_state_t leg_state_at(const leg_times_t *lt, double t_s)
+{
+    if (lt->held != LEG_DEAD) {
+        return lt->held;
     }
-    if (d >= 1.0) {
+    if (t_s >= lt->on_s + lt->deadtime_s && t_s < lt->off_s) {
         return LEG_HIGH;
     }
-    double t_on = 0.5 * (1.0 - d) * cfg->Ts_s;
-    double t_off = 0.5 * (1.0 + d) * cfg->Ts_s;
-    if (t_s >= t_on + cfg->deadtime_s && t_s < t_off) {
-        return LEG_HIGH;
-    }
-    if (t_s >= t_on && t_s < t_off + cfg->deadtime_s) {
+    if (t_s >= lt->on_s && t_s < lt->off_s + lt->deadtime_s) {
         return LEG_DEAD;
     }
     return LEG_LOW;
+}
+
+leg_state_t inv_leg_state(const inv_cfg_t *cfg, double duty, double t_s)
+{
+    leg_times_t lt;
+    leg_times(cfg, duty, &lt);
+    return leg_state_at(&lt, t_s);
 }
 
 int inv_leg_edges(const inv_cfg_t *cfg, double duty, double t_s[4])
@@ -99,29 +115,35 @@ static void integrate_piece(const inv_cfg_t *cfg, plant_t *plant, double ua_V, d
     }
 }
 
-static int cmp_double(const void *a, const void *b)
+/* Sort the period's few edges in place (insertion sort: at most MAX_BREAKS values). */
+static void sort_edges(double *t_s, int n)
 {
-    double x = *(const double *)a;
-    double y = *(const double *)b;
-    return (x > y) - (x < y);
+    for (int i = 1; i < n; i++) {
+        double x = t_s[i];
+        int j = i - 1;
+        while (j >= 0 && t_s[j] > x) {
+            t_s[j + 1] = t_s[j];
+            j--;
+        }
+        t_s[j + 1] = x;
+    }
 }
 
-/* High time of one leg [s] over the period, the dead band counted for i < 0. */
+/* High time of one leg [s] over the period: [on + dead time, off) high, the
+ * dead bands [on, on + dead time) and [off, off + dead time) (cut at the
+ * period's end) high for i < 0, the diode carrying the current; the same
+ * time inv_leg_state() says over the period. */
 static double leg_high_time(const inv_cfg_t *cfg, double duty, double i_A)
 {
-    double edges[EDGES_PER_LEG];
-    int n = inv_leg_edges(cfg, duty, edges);
-    double high_s = 0.0;
-    double t0 = 0.0;
-    for (int k = 0; k <= n; k++) {
-        double t1 = (k < n) ? edges[k] : cfg->Ts_s;
-        leg_state_t st = inv_leg_state(cfg, duty, 0.5 * (t0 + t1));
-        if (leg_voltage(cfg, st, i_A) > 0.0) {
-            high_s += t1 - t0;
-        }
-        t0 = t1;
+    leg_times_t lt;
+    leg_times(cfg, duty, &lt);
+    if (lt.held != LEG_DEAD) {
+        return (lt.held == LEG_HIGH) ? cfg->Ts_s : 0.0;
     }
-    return high_s;
+    if (i_A < 0.0) {
+        return fmin(lt.off_s + lt.deadtime_s, cfg->Ts_s) - lt.on_s;
+    }
+    return fmax(lt.off_s - (lt.on_s + lt.deadtime_s), 0.0);
 }
 
 static void period_averaged(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
@@ -148,8 +170,12 @@ static void period_switching(const inv_cfg_t *cfg, const double duty[3], double 
     for (int k = 0; k < N_LEGS; k++) {
         n += inv_leg_edges(cfg, duty[k], &br[n]);
     }
-    qsort(br, (size_t)n, sizeof br[0], cmp_double);
+    sort_edges(br, n);
     br[n++] = cfg->Ts_s;
+    leg_times_t lt[N_LEGS];
+    for (int k = 0; k < N_LEGS; k++) {
+        leg_times(cfg, duty[k], &lt[k]);
+    }
 
     double t0 = 0.0;
     for (int j = 0; j < n; j++) {
@@ -163,7 +189,7 @@ static void period_switching(const inv_cfg_t *cfg, const double duty[3], double 
         }
         double v[N_LEGS];
         for (int k = 0; k < N_LEGS; k++) {
-            v[k] = leg_voltage(cfg, inv_leg_state(cfg, duty[k], 0.5 * (t0 + t1)), i_abc[k]) -
+            v[k] = leg_voltage(cfg, leg_state_at(&lt[k], 0.5 * (t0 + t1)), i_abc[k]) -
                    cfg->device_drop_V * sign_of(i_abc[k]);
         }
         double ua;

@@ -57,38 +57,58 @@ void plant_init(plant_t *p, const plant_cfg_t *cfg, double theta_offset_el_rad)
     anchor_at(p, theta_offset_el_rad);
 }
 
+/* The step's inner functions are inlined into plant_step() (host-only code
+ * built with gcc or clang): with the constants and the anchor in locals the
+ * four stages share them in registers (callgrind: a third fewer
+ * instructions per step). */
+#if defined(__GNUC__)
+#define PLANT_INLINE static inline __attribute__((always_inline))
+#else
+#define PLANT_INLINE static inline
+#endif
+
+/* What a step reads: the motor's constants and the sin/cos anchor (written back by plant_step). */
+typedef struct {
+    double pp, R_ohm, L_H, psif_Wb, B_Nms, inv_L_per_H, inv_J_per_kgm2, theta_offset_el_rad;
+    bool speed_held;
+    double anchor_el_rad, anchor_sin, anchor_cos;
+    bool anchor_moved;
+} step_ctx_t;
+
 /* sin and cos of the unwrapped electrical angle theta_el_rad. */
-static void sincos_el(plant_t *p, double theta_el_rad, double *s, double *c)
+PLANT_INLINE void sincos_el(step_ctx_t *k, double theta_el_rad, double *s, double *c)
 {
-    double d = theta_el_rad - p->anchor_el_rad;
+    double d = theta_el_rad - k->anchor_el_rad;
     if (fabs(d) > ANCHOR_SPAN_RAD) {
-        anchor_at(p, theta_el_rad);
+        k->anchor_el_rad = theta_el_rad;
+        k->anchor_sin = sin(theta_el_rad);
+        k->anchor_cos = cos(theta_el_rad);
+        k->anchor_moved = true;
         d = 0.0;
     }
     /* Taylor series to d^6 and d^7, nested; constant reciprocals fold, so no division. */
     double d2 = d * d;
     double cd = 1.0 - d2 * (1.0 / 2.0) * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0)));
     double sd = d * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0))));
-    *s = p->anchor_sin * cd + p->anchor_cos * sd;
-    *c = p->anchor_cos * cd - p->anchor_sin * sd;
+    *s = k->anchor_sin * cd + k->anchor_cos * sd;
+    *c = k->anchor_cos * cd - k->anchor_sin * sd;
 }
 
-static void deriv(plant_t *p, const plant_state_t *x, double ua_V, double ub_V, double TL_Nm, deriv_t *out)
+PLANT_INLINE void deriv(step_ctx_t *k, const plant_state_t *x, double ua_V, double ub_V, double TL_Nm, deriv_t *out)
 {
-    const plant_cfg_t *c = &p->cfg;
-    double pp = (double)c->pole_pairs;
+    double pp = k->pp;
     double s;
     double co;
-    sincos_el(p, pp * x->theta_m_rad + p->theta_offset_el_rad, &s, &co);
+    sincos_el(k, pp * x->theta_m_rad + k->theta_offset_el_rad, &s, &co);
     double ud = ua_V * co + ub_V * s;
     double uq = -ua_V * s + ub_V * co;
     double w_el = pp * x->omega_m_rad_s;
     out->ud_V = ud;
     out->uq_V = uq;
-    out->dx.id_A = (ud - c->R_ohm * x->id_A + w_el * c->L_H * x->iq_A) * p->inv_L_per_H;
-    out->dx.iq_A = (uq - c->R_ohm * x->iq_A - w_el * (c->L_H * x->id_A + c->psif_Wb)) * p->inv_L_per_H;
-    double te = TORQUE_FACTOR * pp * c->psif_Wb * x->iq_A;
-    out->dx.omega_m_rad_s = c->speed_held ? 0.0 : (te - TL_Nm - c->B_Nms * x->omega_m_rad_s) * p->inv_J_per_kgm2;
+    out->dx.id_A = (ud - k->R_ohm * x->id_A + w_el * k->L_H * x->iq_A) * k->inv_L_per_H;
+    out->dx.iq_A = (uq - k->R_ohm * x->iq_A - w_el * (k->L_H * x->id_A + k->psif_Wb)) * k->inv_L_per_H;
+    double te = TORQUE_FACTOR * pp * k->psif_Wb * x->iq_A;
+    out->dx.omega_m_rad_s = k->speed_held ? 0.0 : (te - TL_Nm - k->B_Nms * x->omega_m_rad_s) * k->inv_J_per_kgm2;
     out->dx.theta_m_rad = x->omega_m_rad_s;
 }
 
@@ -124,17 +144,26 @@ static void wrap_theta(plant_t *p)
 void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s)
 {
     const plant_state_t x0 = p->x;
+    const plant_cfg_t *c = &p->cfg;
+    step_ctx_t k = { (double)c->pole_pairs, c->R_ohm, c->L_H, c->psif_Wb, c->B_Nms, p->inv_L_per_H,
+                     p->inv_J_per_kgm2, p->theta_offset_el_rad, c->speed_held,
+                     p->anchor_el_rad, p->anchor_sin, p->anchor_cos, false };
     deriv_t k1;
     deriv_t k2;
     deriv_t k3;
     deriv_t k4;
-    deriv(p, &x0, u_alpha_V, u_beta_V, TL_Nm, &k1);
+    deriv(&k, &x0, u_alpha_V, u_beta_V, TL_Nm, &k1);
     plant_state_t x1 = axpy(&x0, 0.5 * h_s, &k1.dx);
-    deriv(p, &x1, u_alpha_V, u_beta_V, TL_Nm, &k2);
+    deriv(&k, &x1, u_alpha_V, u_beta_V, TL_Nm, &k2);
     plant_state_t x2 = axpy(&x0, 0.5 * h_s, &k2.dx);
-    deriv(p, &x2, u_alpha_V, u_beta_V, TL_Nm, &k3);
+    deriv(&k, &x2, u_alpha_V, u_beta_V, TL_Nm, &k3);
     plant_state_t x3 = axpy(&x0, h_s, &k3.dx);
-    deriv(p, &x3, u_alpha_V, u_beta_V, TL_Nm, &k4);
+    deriv(&k, &x3, u_alpha_V, u_beta_V, TL_Nm, &k4);
+    if (k.anchor_moved) {
+        p->anchor_el_rad = k.anchor_el_rad;
+        p->anchor_sin = k.anchor_sin;
+        p->anchor_cos = k.anchor_cos;
+    }
 
     p->x.id_A += h_s * rk4_sum(k1.dx.id_A, k2.dx.id_A, k3.dx.id_A, k4.dx.id_A);
     p->x.iq_A += h_s * rk4_sum(k1.dx.iq_A, k2.dx.iq_A, k3.dx.iq_A, k4.dx.iq_A);
@@ -204,7 +233,11 @@ double plant_psi_s_Wb(const plant_t *p)
 
 void plant_iabc_A(const plant_t *p, double i_abc_A[3])
 {
-    double th = plant_theta_el_rad(p);
+    plant_iabc_at_A(p, plant_theta_el_rad(p), i_abc_A);
+}
+
+void plant_iabc_at_A(const plant_t *p, double th, double i_abc_A[3])
+{
     double s = sin(th);
     double c = cos(th);
     double i_alpha = p->x.id_A * c - p->x.iq_A * s;

@@ -83,6 +83,8 @@ double plant_psi_s_Wb(const plant_t *p);
 
 /* Phase currents [A], positive into the motor, of the present state. */
 void plant_iabc_A(const plant_t *p, double i_abc_A[3]);
+/* The same at the electrical angle theta_el_rad = plant_theta_el_rad(p), when the caller has it. */
+void plant_iabc_at_A(const plant_t *p, double theta_el_rad, double i_abc_A[3]);
 
 /* Zero the integrals of plant_acc_t. */
 void plant_acc_clear(plant_t *p);

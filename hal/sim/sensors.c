@@ -37,7 +37,7 @@ double prng_uniform(prng_t *g)
     g->s ^= g->s >> XS_C;
     uint64_t r = (g->s * XS_MULT) >> U64_TO_53;
     /* (r + 0.5) / 2^53 never hits 0 or 1, so log() below stays finite. */
-    return ((double)r + 0.5) / ldexp(1.0, MANTISSA_BITS);
+    return ((double)r + 0.5) / (double)((uint64_t)1u << MANTISSA_BITS);
 }
 
 double prng_gauss(prng_t *g)
@@ -92,14 +92,14 @@ double sensor_adc_current_A(const sensors_cfg_t *cfg, prng_t *g, double i_A, dou
     if (cfg->adc_noise_A > 0.0) {
         x += cfg->adc_noise_A * prng_gauss(g);
     }
-    double half_codes = ldexp(1.0, (int)cfg->adc_bits - 1);   /* mid-scale code = zero current */
+    double half_codes = (double)((uint64_t)1u << (cfg->adc_bits - 1u));   /* mid-scale code = zero current */
     double lsb = cfg->adc_full_scale_A / half_codes;
     return quantize(x, lsb, -half_codes, half_codes - 1.0);
 }
 
 double sensor_adc_vdc_V(const sensors_cfg_t *cfg, double vdc_V)
 {
-    double codes = ldexp(1.0, (int)cfg->adc_bits);
+    double codes = (double)((uint64_t)1u << cfg->adc_bits);
     double lsb = cfg->vdc_full_scale_V / codes;
     return quantize(vdc_V, lsb, 0.0, codes - 1.0);
 }

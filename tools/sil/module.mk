@@ -35,7 +35,14 @@ TEST_SRCS_test_sil_proposed := tools/sil/sil.c
 TEST_LIBS_test_sil_limits := silrun firmware sim control
 TEST_SRCS_test_sil_limits := tools/sil/sil.c
 
+# Fault injection ([faults]) against the app's protection.
+TEST_LIBS_test_sil_faults := silrun firmware sim control
+TEST_SRCS_test_sil_faults := tools/sil/sil.c
+
 # Step 1 on a real ADC (issue 13 part A): noise, offsets, inertia, the R^
 # band, the refusal policy; both methods on the same scenarios.
 TEST_LIBS_test_sil_identify := silrun firmware sim control
 TEST_SRCS_test_sil_identify := tools/sil/sil.c
+
+# The CSV's number format (csv_num.c, in libsilrun) against printf.
+TEST_LIBS_test_csv_num := silrun

@@ -31,6 +31,9 @@ static const char *const METHOD_NAMES[] = { "conventional", "proposed", NULL };
 static const char *const MODE_NAMES[] = { "speed", "torque", "open_loop", NULL };
 static const char *const ONOFF_NAMES[] = { "off", "on", NULL };
 static const char *const RSID_NAMES[] = { "off", "windows", "speeds", "trusted", NULL };
+static const char *const PHASE_NAMES[] = { "a", "b", "c", NULL };
+static const char *const PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
+static const char *const CHANNEL_NAMES[] = { "a", "b", NULL };
 static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 
 #define UINT32_MAX_D 4294967295.0
@@ -43,6 +46,8 @@ static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 #define UINT(s, k, f, d, lo, hi, h) { s, k, K_UINT, F(f), d, lo, hi, false, NULL, h, 0 }
 #define ENUM(s, k, f, d, n, h) { s, k, K_ENUM, F(f), d, 0.0, 0.0, false, n, h, 0 }
 #define PROF(s, k, f, h) { s, k, K_PROFILE, F(f), "", 0.0, 0.0, false, NULL, h, 0 }
+/* [faults]: a time >= 0, default unset (NaN: the fault never happens). */
+#define WHEN(k, f, h) { "faults", k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, false, NULL, h, 0 }
 
 static const sc_key_t KEYS[] = {
     { "plant", "R_ohm", K_RPROFILE, F(plant.R_profile), "3", 0.0, HUGE_VAL, true, NULL,
@@ -99,7 +104,7 @@ static const sc_key_t KEYS[] = {
     ANY("identify", "speed_2_rpm", identify.speed_2_rpm, "1000", "speeds mode: speed of point 2 [r/min]"),
     POS("identify", "accel_rpm_s", identify.accel_rpm_s, "2500", "speeds mode: ramp of the commanded speed [r/min/s]"),
     /* step 1 on a real ADC (issue 13 part A; rs_ident.h, observer_design.md sec. 6) */
-    POS("identify", "R_se_max_rel", identify.R_se_max_rel, "0.01", "largest standard error of R^ accepted, x R^"),
+    POS("identify", "R_se_max_rel", identify.R_se_max_rel, "0.015", "largest standard error of R^ accepted, x R^"),
     POS("identify", "batch_s", identify.batch_s, "0.005", "batch of the standard error's batch means [s]"),
     NN("identify", "window_max_s", identify.window_max_s, "0.3",
        "window 2 is lengthened up to this while the standard error of R^ is too large [s]"),
@@ -119,6 +124,26 @@ static const sc_key_t KEYS[] = {
          "off | on: current-offset calibration at start (both off: RUN at t = 0)"),
     ENUM("run", "align", run.align, "off", ONOFF_NAMES,
          "off | on: rotor alignment identifies the encoder offset (off: the controller is told it)"),
+
+    /* [faults]: fault injection on the simulated board (hal_sim.h); each from its time on */
+    WHEN("open_phase_s", faults.open_phase_s, "time the phase `open_phase` opens [s] (default never)"),
+    ENUM("faults", "open_phase", faults.open_phase, "a", PHASE_NAMES, "the open phase: a | b | c"),
+    WHEN("short_s", faults.short_s, "time the outputs `short_phases` short together [s] (default never)"),
+    ENUM("faults", "short_phases", faults.short_phases, "bc", PAIR_NAMES, "the shorted pair: ab | bc | ca"),
+    POS("faults", "short_ohm", faults.short_ohm, "0.1", "the short's loop resistance [ohm]"),
+    POS("faults", "short_H", faults.short_H, "1e-5", "the short's loop inductance [H]"),
+    WHEN("adc_stuck_s", faults.adc_stuck_s, "time the current channel `adc_stuck` freezes at its reading [s] (default never)"),
+    ENUM("faults", "adc_stuck", faults.adc_stuck, "a", CHANNEL_NAMES, "the stuck channel: a | b"),
+    WHEN("encoder_lost_s", faults.encoder_lost_s, "time the encoder count stops (A/B lost) [s] (default never)"),
+    WHEN("encoder_jump_s", faults.encoder_jump_s, "time the encoder count jumps by encoder_jump_counts [s] (default never)"),
+    ANY("faults", "encoder_jump_counts", faults.encoder_jump_counts, "2500", "the jump [counts] (whole)"),
+    WHEN("vdc_sag_s", faults.vdc_sag_s, "time the DC bus steps to vdc_sag_V [s] (default never)"),
+    POS("faults", "vdc_sag_V", faults.vdc_sag_V, "150", "bus after the sag [V]"),
+    WHEN("vdc_surge_s", faults.vdc_surge_s, "time the DC bus steps to vdc_surge_V [s] (default never)"),
+    POS("faults", "vdc_surge_V", faults.vdc_surge_V, "450", "bus after the surge [V]"),
+    WHEN("gate_trip_s", faults.gate_trip_s, "time the gate driver pulls the trip input [s] (default never)"),
+    WHEN("isr_overrun_s", faults.isr_overrun_s, "time of the control ISR call that overruns [s] (default never)"),
+    POS("faults", "isr_overrun_run_s", faults.isr_overrun_run_s, "1.2e-4", "run time of that ISR call [s]"),
 };
 
 #define N_KEYS ((int)(sizeof KEYS / sizeof KEYS[0]))

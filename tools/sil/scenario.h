@@ -78,6 +78,19 @@ typedef struct {
         uint32_t calibrate;        /* 1: the app measures the current offsets at start (sc_onoff_t) */
         uint32_t align;            /* 1: the app aligns the rotor; the controller is not told the encoder offset */
     } run;
+    struct {                       /* [faults]: injected on the simulated board (hal_sim_faults_t); times NaN: never */
+        double open_phase_s;
+        uint32_t open_phase;       /* 0 a, 1 b, 2 c */
+        double short_s;
+        uint32_t short_phases;     /* 0 ab, 1 bc, 2 ca */
+        double short_ohm, short_H;
+        double adc_stuck_s;
+        uint32_t adc_stuck;        /* 0 a, 1 b */
+        double encoder_lost_s, encoder_jump_s, encoder_jump_counts;
+        double vdc_sag_s, vdc_sag_V, vdc_surge_s, vdc_surge_V;
+        double gate_trip_s;
+        double isr_overrun_s, isr_overrun_run_s;
+    } faults;
     /* where each key was last set ("" = default), for messages */
     char origin[SCENARIO_MAX_KEYS][SCENARIO_ORIGIN_LEN];
 } scenario_t;

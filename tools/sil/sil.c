@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "csv_num.h"
 #include "board_cfg.h"
 #include "hal_sim.h"
 
@@ -46,6 +47,29 @@ static void board_cfg_from(const scenario_t *sc, hal_sim_cfg_t *hc)
     hc->sens.adc_noise_A = sc->plant.adc_noise_A;
     hc->sens.seed = sc->plant.seed;
     hc->trip_current_A = sc->plant.trip_A;
+}
+
+static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
+{
+    hal_sim_faults_none(f);
+    f->open_phase_s = sc->faults.open_phase_s;
+    f->open_phase = sc->faults.open_phase;
+    f->short_s = sc->faults.short_s;
+    f->short_pair = sc->faults.short_phases;
+    f->short_ohm = sc->faults.short_ohm;
+    f->short_H = sc->faults.short_H;
+    f->adc_stuck_s = sc->faults.adc_stuck_s;
+    f->adc_stuck_channel = sc->faults.adc_stuck;
+    f->enc_lost_s = sc->faults.encoder_lost_s;
+    f->enc_jump_s = sc->faults.encoder_jump_s;
+    f->enc_jump_counts = (int32_t)llround(sc->faults.encoder_jump_counts);
+    f->vdc_sag_s = sc->faults.vdc_sag_s;
+    f->vdc_sag_V = sc->faults.vdc_sag_V;
+    f->vdc_surge_s = sc->faults.vdc_surge_s;
+    f->vdc_surge_V = sc->faults.vdc_surge_V;
+    f->gate_trip_s = sc->faults.gate_trip_s;
+    f->isr_overrun_s = sc->faults.isr_overrun_s;
+    f->isr_overrun_run_s = sc->faults.isr_overrun_run_s;
 }
 
 static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_t *ac)
@@ -142,6 +166,36 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->est = (double)m->est;
     r->est_hold = (double)m->est_hold;
     r->R_ohm = tr.R_ohm;
+    r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
+    r->inj = (double)tr.faults_active;
+    const bool faulted = (g_app.state == APP_STATE_FAULT);
+    r->fault_value = faulted ? (double)g_app.snapshot.value : 0.0;
+    r->fault_limit = faulted ? (double)g_app.snapshot.limit : 0.0;
+}
+
+/* The fault bookkeeping of sil_result_t after one period. */
+static void track_faults(const hal_sim_truth_t *tr, bool was_faulted, sil_result_t *res)
+{
+    const bool faulted = (g_app.state == APP_STATE_FAULT);
+    if (isnan(res->t_inject_s) && tr->faults_active != 0u) {
+        res->t_inject_s = tr->t_s;
+    }
+    if (faulted && isnan(res->t_fault_s)) {
+        res->t_fault_s = tr->t_s;
+        res->fault_state = (int)g_app.snapshot.state;
+        res->fault_value = (double)g_app.snapshot.value;
+        res->fault_limit = (double)g_app.snapshot.limit;
+        res->fault_ia_A = (double)g_app.snapshot.sample.ia_A;
+        res->fault_ib_A = (double)g_app.snapshot.sample.ib_A;
+        res->fault_vdc_V = (double)g_app.snapshot.sample.vdc_V;
+        res->fault_enc_count = g_app.snapshot.sample.enc_count;
+    }
+    if (faulted && tr->pwm_enabled) {
+        res->gates_on_in_fault++;
+    }
+    if (was_faulted && !faulted) {
+        res->fault_exits++;
+    }
 }
 
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res)
@@ -152,8 +206,15 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     app_cfg_from(sc, &hc, &ac);
     memset(res, 0, sizeof *res);
     res->t_run_s = NAN;
+    res->t_inject_s = NAN;
+    res->t_fault_s = NAN;
+    res->fault_value = NAN;
+    res->fault_limit = NAN;
+    hal_sim_faults_t hf;
+    faults_from(sc, &hf);
 
     hal_sim_configure(&hc);
+    hal_sim_set_faults(&hf);
     hal_init();
     app_init(&g_app, &ac);
     ctrl_set_mode(&g_app.ctrl, ctrl_mode_of(sc->controller.mode));
@@ -181,11 +242,13 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
             hal_sim_set_R_ohm(profile_eval(&sc->plant.R_profile, t));   /* the winding warms */
         }
 
+        const bool was_faulted = (g_app.state == APP_STATE_FAULT);
         hal_sim_period();
         app_background(&g_app);
 
         hal_sim_truth_t tr;
         hal_sim_truth(&tr);
+        track_faults(&tr, was_faulted, res);
         if (isnan(res->t_run_s) && g_app.state == APP_STATE_RUN) {
             res->t_run_s = tr.t_s;
         }
@@ -225,7 +288,7 @@ static const sil_col_t COLS[] = {
     COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
-    COL(R_ohm), COL(est_hold),
+    COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 
@@ -238,13 +301,12 @@ void sil_csv_header(FILE *f)
 
 void sil_csv_row(FILE *f, const sil_row_t *row)
 {
+    char line[N_COLS * CSV_NUM_MAX];   /* each number and its separator fit in CSV_NUM_MAX */
+    size_t n = 0;
     for (size_t i = 0; i < N_COLS; i++) {
         double v = *(const double *)((const char *)row + COLS[i].offset);
-        if (isnan(v)) {
-            fputs("nan", f);   /* one spelling whatever the libc prints for -nan */
-        } else {
-            fprintf(f, "%.9g", v);
-        }
-        fputc((i + 1u < N_COLS) ? ',' : '\n', f);
+        n += (size_t)csv_num_g9(line + n, v);   /* "%.9g"; one spelling "nan" for any NaN */
+        line[n++] = (i + 1u < N_COLS) ? ',' : '\n';
     }
+    fwrite(line, 1, n, f);
 }

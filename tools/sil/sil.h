@@ -32,6 +32,9 @@ typedef struct {
     double est;                             /* ctrl_est_t: 0 observer off, 1 step 1, 2 step 2 */
     double R_ohm;                           /* true stator resistance at t_k (warms with [plant] R_ohm's profile) */
     double est_hold;                        /* EST_GATE_* bits: why step 2's laws pause (0: learning) */
+    double pwm;                             /* 1: gates on during [t_k, t_k + Ts] */
+    double inj;                             /* hal_sim_fault_bit_t of the injected faults active ([faults]) */
+    double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; 0 unless in FAULT */
 } sil_row_t;
 
 typedef struct {
@@ -45,6 +48,15 @@ typedef struct {
     double t_run_s;            /* first period that ended in RUN (its t_k); NaN if none */
     double enc_offset_el_rad;  /* the controller's encoder offset at the end: told or found by alignment, [0, 2 pi) */
     double i_offset_a_A, i_offset_b_A;   /* current offsets the app subtracts at the end (0 unless calibrated) */
+    /* faults ([faults] injection and the app's protection) */
+    double t_inject_s;         /* first period with an injected fault active (its t_k); NaN if none */
+    double t_fault_s;          /* the ISR call that latched the first fault (its t_k); NaN if none */
+    int fault_state;           /* app_state_t that first fault was latched in */
+    double fault_value, fault_limit;     /* its snapshot: the quantity and limit ... */
+    double fault_ia_A, fault_ib_A, fault_vdc_V;   /* ... and the raw samples of that period */
+    uint32_t fault_enc_count;
+    uint32_t gates_on_in_fault;          /* periods with the gates on while the app was in FAULT (latching call included): 0 */
+    uint32_t fault_exits;                /* times the app left FAULT (no reset is requested in SIL: 0) */
     uint32_t pwm_periods;      /* periods with the gates on (0: the motor was never energised) */
 } sil_result_t;
 

@@ -27,6 +27,8 @@ static const char *const FAULT_NAMES[] = {
     [APP_FAULT_RSID_TOO_FEW] = "RSID_TOO_FEW", [APP_FAULT_RSID_NOT_STEADY] = "RSID_NOT_STEADY",
     [APP_FAULT_RSID_DEGENERATE] = "RSID_DEGENERATE", [APP_FAULT_RSID_NON_FINITE] = "RSID_NON_FINITE",
     [APP_FAULT_RSID_OUT_OF_BAND] = "RSID_OUT_OF_BAND",
+    [APP_FAULT_OPEN_PHASE] = "OPEN_PHASE", [APP_FAULT_CURRENT_SENSOR] = "CURRENT_SENSOR",
+    [APP_FAULT_ENCODER_LOST] = "ENCODER_LOST",
 };
 
 static const char *name_of(const char *const *names, size_t n, int v, const char *prefix, char *buf, size_t len)

@@ -1,0 +1,143 @@
+#!/usr/bin/env bash
+# isr_path.sh [OUTDIR] - host gate of `make check` (D14): the control ISR
+# path reaches no library function except the FPU fast-RTS members that
+# f28335_flash.cmd places in RAM.
+#
+# On the F28335 the ISR runs from RAM (ramfuncs), but cl2000 implements
+# 32-bit integer / and %, 64-bit arithmetic and some struct copies and
+# classification macros (isfinite) with RTS functions that stay in .text,
+# in flash with 5 wait states. A host stand-in for that: build control/,
+# firmware/ (without main.c) and hal/f28335/ with the register fake for an
+# ARMv7-A with a single/double FPU but no integer divide, as cl2000 has
+# FPU32 but no divider; link with app_isr (and the HAL's ISR timing and
+# catch-all ISR) as the only roots, dropping every unreachable function
+# (--gc-sections), and without any library: every symbol left undefined is
+# a library function the ISR path calls (gcc's turning of zeroing loops into
+# memset, which cl2000 does not do, is switched off). Allowed: sinf, cosf, atan2f,
+# sqrtf (the fast-RTS members in RAM; the hardware FPU divides inline here,
+# FS$$DIV is in RAM on the target). Also fails on isfinite/isnan/isinf/
+# fpclassify anywhere in the portable sources (use mathx_isfinitef).
+# Prints the ISR path's code size and the largest RAM objects (host
+# estimates for the README's RAM budget).
+set -uo pipefail
+out=${1:-build/check}/isr
+cd "$(dirname "$0")/../.."
+mkdir -p "$out"
+fail=0
+
+allowed='^(sinf|cosf|atan2f|sqrtf)$'
+flags=(-mthumb -march=armv7-a+fp -mfloat-abi=hard -O2 -std=c99 -ffunction-sections -fdata-sections
+       -fno-tree-loop-distribute-patterns -fcallgraph-info=su
+       -Wall -Wextra -Werror -include control/c28x_portable.h
+       -Icontrol -Ihal -Ifirmware -Ihal/f28335 -Itests/c2000_fake/include)
+srcs=$(ls control/*.c firmware/*.c hal/f28335/*.c tests/c2000_fake/*.c | grep -v '^firmware/main\.c$')
+objs=()
+for f in $srcs; do
+    o="$out/$(echo "$f" | tr / _).o"
+    if ! arm-none-eabi-gcc "${flags[@]}" -c "$f" -o "$o" 2> "$o.log"; then
+        echo "FAIL $f: does not compile for the ISR-path check:"; sed 's/^/    /' "$o.log"
+        fail=1
+    fi
+    objs+=("$o")
+done
+
+elf="$out/isr_path.elf"
+if [ $fail -eq 0 ]; then
+    if ! arm-none-eabi-gcc "${flags[@]}" -nostdlib -nostartfiles -Wl,--gc-sections \
+            -Wl,--unresolved-symbols=ignore-all -Wl,-e,app_isr \
+            -Wl,-u,hal_f28335_isr_timing_begin -Wl,-u,hal_f28335_isr_timing_end \
+            -Wl,-u,f28335_unexpected_isr -Wl,-q -Wl,-Map,"$out/isr_path.map" \
+            "${objs[@]}" -o "$elf" 2> "$out/link.log"; then
+        echo "FAIL ISR-path link:"; sed 's/^/    /' "$out/link.log"
+        fail=1
+    fi
+fi
+if [ $fail -eq 0 ]; then
+    calls=$(arm-none-eabi-nm -u "$elf" | awk '{print $NF}' | grep -Ev "$allowed" | tr '\n' ' ')
+    if [ -n "$calls" ]; then
+        echo "FAIL ISR path (app_isr and what it calls) needs library functions that run from flash on the F28335: $calls"
+        # caller -> callee, from the relocations kept in the image (-q)
+        edges=$(arm-none-eabi-objdump -dr "$elf" |
+            awk '/^[0-9a-f]+ <.*>:$/ {fn = $2} /R_ARM_(THM_)?(CALL|JUMP24|PC24)/ {print "    " fn " calls " $NF}' | sort -u)
+        for s in $calls; do
+            echo "$edges" | grep -E " calls $s\$"
+        done
+        fail=1
+    fi
+    # Every function on the path runs from RAM on the target: control/ and
+    # firmware/ files are compiled --ramfunc=on unless target.mk lists them
+    # in FLASH_SRCS; a hal/f28335 function needs CODE_SECTION "ramfuncs".
+    flash_srcs=" $(sed -n 's/^FLASH_SRCS *:= *//p' firmware/target.mk) "
+    funcs=$(awk '/^Linker script and memory map/ {on = 1} !on {next}
+                 name != "" {print name, $NF; name = ""; next}
+                 /^ \.text\./ {sub(/^\.text\./, "", $1); if (NF >= 4) print $1, $NF; else name = $1}' \
+            "$out/isr_path.map")
+    while read -r fn obj; do
+        [ -n "$fn" ] || continue
+        fn=${fn%%.*}  # gcc's clones (.isra.0, .constprop.0) are the function
+        case "$(basename "$obj")" in
+            control_*) src=control/$(basename "$obj" .c.o | sed 's/^control_//').c ;;
+            firmware_*) src=firmware/$(basename "$obj" .c.o | sed 's/^firmware_//').c ;;
+            hal_f28335_*) src=hal/f28335/$(basename "$obj" .c.o | sed 's/^hal_f28335_//').c ;;
+            *) continue ;;
+        esac
+        case "$src" in
+            hal/f28335/*)
+                if ! grep -q "CODE_SECTION($fn, \"ramfuncs\")" "$src"; then
+                    echo "FAIL $src: $fn is on the ISR path without #pragma CODE_SECTION($fn, \"ramfuncs\"): it would run from flash"
+                    fail=1
+                fi ;;
+            *)
+                case "$flash_srcs" in *" $src "*)
+                    echo "FAIL $src: $fn is on the ISR path but the file is in FLASH_SRCS (firmware/target.mk): it would run from flash"
+                    fail=1 ;;
+                esac ;;
+        esac
+    done <<< "$funcs"
+    # Host estimates for the RAM budget (hal/f28335/README.md): Thumb-2
+    # bytes / 2 ~ C28x 16-bit words; drive.map has the F28335 figures.
+    code=$(arm-none-eabi-size -A "$elf" | awk '$1 == ".text" {print $2}')
+    ramcode=0
+    for o in "${objs[@]}"; do
+        case "$o" in *control_*|*firmware_*) ;; *) continue ;; esac
+        case "$flash_srcs" in *" $(basename "$o" .c.o | sed 's/_/\//').c "*) continue ;; esac
+        ramcode=$((ramcode + $(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {t += $2} END {print t + 0}')))
+    done
+    echo "isr_path: code reached from app_isr ${code:-0} bytes; control/ + firmware/ compiled into RAM ${ramcode} bytes (Thumb-2)"
+    python3 - "$out" app_isr cmd_apply <<'PY'
+import glob, re, sys
+size, calls = {}, {}
+for f in glob.glob(sys.argv[1] + "/*.ci"):
+    for line in open(f):
+        m = re.match(r'node: \{ title: "([^"]+)" label: "[^"]*?\\n[^"]*?\\n(\d+) bytes', line)
+        if m:
+            size[m.group(1)] = int(m.group(2))
+        m = re.match(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"', line)
+        if m:
+            calls.setdefault(m.group(1), set()).add(m.group(2))
+def node(t, caller):
+    local = caller.split(":")[0] + ":" + t
+    return local if ":" in caller and local in size else t
+def deepest(n, seen=()):
+    if n in seen:
+        return (0, [n + "(recursion)"])
+    best = max((deepest(node(t, n), seen + (n,)) for t in calls.get(n, ())), default=(0, []))
+    return (size.get(n, 0) + best[0], [n.split(":")[-1]] + best[1])
+for root in sys.argv[2:]:
+    d, path = deepest(root)
+    print("isr_path: stack of %s %d bytes (gcc -fcallgraph-info): %s" % (root, d, " -> ".join(path)))
+PY
+fi
+# cl2000's isfinite and friends may call RTS functions; mathx_isfinitef is inline.
+cls=$(grep -nE '\b(isfinite|isnan|isinf|fpclassify)[[:space:]]*\(' control/*.[ch] firmware/*.[ch] hal/f28335/*.[ch] 2>/dev/null)
+if [ -n "$cls" ]; then
+    echo "FAIL classification macro outside mathx_isfinitef (may call an RTS function):"
+    echo "$cls" | sed 's/^/    /'
+    fail=1
+fi
+
+if [ $fail -ne 0 ]; then
+    echo "isr_path: FAILED"
+    exit 1
+fi
+echo "isr_path: the ISR path calls no library function outside the fast-RTS members in RAM"
