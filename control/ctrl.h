@@ -27,7 +27,7 @@
  *      pauses/holds, param_est on the observer state; with
  *      CTRL_METHOD_PROPOSED the model takes the estimates R^, L^, psi^ and
  *      x(k+1) from i^(k+1) (eq. 11, 12) instead of eq. (10), and eq. (17)
- *      adds f^; for 40 ms after a current transient eq. (10) with the held
+ *      adds f^; for 30 ms after a current transient eq. (10) with the held
  *      estimates and no f^ (design sec. 7); targets (oplim), eq. (17),
  *      limit, SVPWM as above
  *   5. monitor: fd^, fq^ and R^, L^, psi^ while the observer runs

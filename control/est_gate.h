@@ -45,7 +45,7 @@
 #define EST_GATE_TAU_ACCEL_DEFAULT_S      2.0e-3f /* low-pass of the acceleration */
 #define EST_GATE_HOLD_DEFAULT_S           20.0e-3f
 #define EST_GATE_SNAP_DEFAULT_S           5.0e-3f
-#define EST_GATE_F_HOLD_DEFAULT_S         40.0e-3f /* f^ after a current transient (design sec. 7) */
+#define EST_GATE_F_HOLD_DEFAULT_S         30.0e-3f /* f^ after a current transient (design sec. 7) */
 
 /* Why the laws are paused (est_gate_t.reasons, bit set). */
 #define EST_GATE_ACCEL   0x0001u
@@ -76,7 +76,9 @@ typedef struct {
     bool seeded;
     float k_lp;               /* Ts/tau */
     float k_acc;              /* Ts/tau_accel */
-    float inv_Ts;             /* 1/Ts */
+    float k_dw;               /* accel_per_speed Ts: threshold of |dw| per |w| [1] */
+    float dw_floor;           /* accel_floor Ts [rad/s per period] */
+    float w_floor;            /* |w| below which the floor applies [rad/s] */
     uint16_t hold_n;          /* hold_s in periods */
     uint16_t snap_n;          /* snap_s in periods */
     uint16_t f_hold_n;        /* f_hold_s in periods */
@@ -85,11 +87,12 @@ typedef struct {
     uint16_t reasons;         /* EST_GATE_* of the last step; 0: the laws may run */
     uint16_t di_cnt;          /* periods left in which f^ still carries a current transient */
     float w_prev;             /* omega_el(k-1) */
-    float acc_lp;             /* low-passed d omega_el/dt [rad/s^2] */
+    float dw_lp;              /* low-passed change of omega_el per period [rad/s] */
     dq_t i_lp;                /* low-passed i_dq [A] */
     float te_lp;              /* low-passed Te* [N m] */
     float L_old, psi_old;     /* delayed copy, snap_n .. 2 snap_n periods old */
     float L_new, psi_new;     /* copy of the last snap boundary */
+    bool settled;             /* the two copies agree within cfg.settled */
 } est_gate_t;
 
 /* Design defaults for period Ts_s [s]. Background. */
