@@ -16,6 +16,8 @@
  * which it gives no dpsi (ill-conditioned divisions). */
 #define WIQ_MIN_A_RAD_S 30.0f
 #define W_MIN_RAD_S 30.0f
+#define HALF 0.5f
+#define INV_12 0.0833333333f
 
 void rs_ident_cfg_defaults(rs_ident_cfg_t *cfg, float R_nom_Ohm)
 {
@@ -26,18 +28,19 @@ void rs_ident_cfg_defaults(rs_ident_cfg_t *cfg, float R_nom_Ohm)
     cfg->den_ratio_min = RS_IDENT_DEN_RATIO_DEFAULT;
     cfg->n_min = RS_IDENT_N_MIN_DEFAULT;
     cfg->n_batch = RS_IDENT_N_BATCH_DEFAULT;
+    cfg->Ts_s = 0.0f;
 }
 
 bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg)
 {
     const float sum = cfg->R_nom_Ohm + cfg->R_min_Ohm + cfg->R_max_Ohm + cfg->R_se_max_rel +
-                      cfg->den_ratio_min;
+                      cfg->den_ratio_min + cfg->Ts_s;
     ri->cfg = *cfg;
     ri->valid = mathx_isfinitef(sum) && (cfg->R_nom_Ohm > 0.0f) && (cfg->R_min_Ohm >= 0.0f) &&
                 (cfg->R_min_Ohm <= cfg->R_nom_Ohm) && (cfg->R_nom_Ohm <= cfg->R_max_Ohm) &&
                 (cfg->R_se_max_rel > 0.0f) && (cfg->den_ratio_min > 0.0f) &&
                 (cfg->den_ratio_min < 1.0f) && (cfg->n_min >= 2u) && (cfg->n_min <= WIN_N_MAX) &&
-                (cfg->n_batch >= 2u) && (cfg->n_batch <= WIN_N_MAX);
+                (cfg->n_batch >= 2u) && (cfg->n_batch <= WIN_N_MAX) && (cfg->Ts_s >= 0.0f);
     ri->inv_n_batch = ri->valid ? 1.0f / (float)cfg->n_batch : 0.0f;
     rs_ident_reset(ri);
     return ri->valid;
@@ -69,6 +72,7 @@ void rs_ident_reset(rs_ident_t *ri)
         }
         w->bcs[0] = 0.0f;
         w->bcs[1] = 0.0f;
+        w->km_iq = 0.0f;
         for (ch = 0; ch < (int16_t)RS_ST_COUNT; ch++) {
             w->mcs[ch][0] = 0.0f;
             w->mcs[ch][1] = 0.0f;
@@ -107,6 +111,7 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
         w->mcs[a][1] += m[a] * S;
         w->bsum[a] = 0.0f;
     }
+    w->km_iq += (float)w->nb * m[RS_ST_IQ];
     w->g[G_C] += C;
     w->g[G_S] += S;
     w->g[G_CC] += C * C;
@@ -255,6 +260,7 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
 {
     int16_t j;
     out->R_est_Ohm = R_nom;
+    out->R_raw_Ohm = 0.0f;
     out->dR_Ohm = 0.0f;
     out->dL_H = 0.0f;
     out->dpsi_Wb = 0.0f;
@@ -264,6 +270,7 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
         out->R_se_part_Ohm[j] = 0.0f;
         out->r_se_V[j] = 0.0f;
         out->ripple_fit[j] = false;
+        out->diq_dt_A_s[j] = 0.0f;
         out->batches[j] = 0u;
         out->iq_std_A[j] = 0.0f;
         out->mean_fd_V[j] = 0.0f;
@@ -286,6 +293,7 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     bool use_wiq[2];
     bool fit[2];
     float Gi[2][3][3];
+    float diq_dt[2];
     int16_t j;
     int16_t it;
 
@@ -316,6 +324,14 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
         if (!mathx_isfinitef(fd[j] + fq[j] + id[j] + iq[j] + w[j] + wn->s2_iq)) {
             return RS_IDENT_NON_FINITE;
         }
+        /* sec. 6f: iq's slope over the window, least squares on its batch
+         * means: sum (k - kbar) m_k / sum (k - kbar)^2, kbar = (nb - 1)/2 */
+        const float nbf = (float)wn->nb;
+        const float kbar = HALF * (nbf - 1.0f);
+        const float skk = nbf * (nbf * nbf - 1.0f) * INV_12;
+        diq_dt[j] = (c->Ts_s > 0.0f) ? (wn->km_iq - kbar * wn->m1[RS_ST_IQ]) / (skk * (float)c->n_batch * c->Ts_s)
+                                     : 0.0f;
+        out->diq_dt_A_s[j] = diq_dt[j];
         /* sec. 6e: the means over whole turns where the ripple fit holds */
         fit[j] = ripple_fit(wn, Gi[j]);
         out->ripple_fit[j] = fit[j];
@@ -358,9 +374,9 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     float dL = 0.0f;
     float dpsi = 0.0f;
     for (it = 0; it < SOLVE_ITERATIONS; it++) {
-        /* design 1c: g_j = fq_j + dL w_j id_j = -dR iq_j - dpsi w_j */
-        const float g0 = fq[0] + dL * w[0] * id[0];
-        const float g1 = fq[1] + dL * w[1] * id[1];
+        /* design 1c: g_j = fq_j + dL w_j id_j (+ dL diq/dt_j, sec. 6f) = -dR iq_j - dpsi w_j */
+        const float g0 = fq[0] + dL * (w[0] * id[0] + diq_dt[0]);
+        const float g1 = fq[1] + dL * (w[1] * id[1] + diq_dt[1]);
         /* (41) with the corrected sign of (27) */
         dR = -(w[0] * g1 - w[1] * g0) * inv_den;
         dpsi = -(((jf == 0) ? g0 : g1) + dR * iq[jf]) * inv_wf;
@@ -377,6 +393,7 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     if (!mathx_isfinitef(R_est + dL + dpsi)) {
         return RS_IDENT_NON_FINITE;
     }
+    out->R_raw_Ohm = R_est;
     out->dR_Ohm = dR;
     out->dL_H = dL;
     out->dpsi_Wb = dpsi;

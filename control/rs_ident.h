@@ -6,7 +6,7 @@
  * Steady state with the corrected signs (d = x^ - x0, x^ = the observer's):
  *   fd_j = dL w_j iq_j - dR id_j,   fq_j = -dR iq_j - dL w_j id_j - dpsi w_j
  * Four fixed iterations from dL = 0:
- *   g_j  = fq_j + dL w_j id_j
+ *   g_j  = fq_j + dL w_j id_j  (+ dL <diq/dt>_j, design sec. 6f)
  *   dR   = -(w1 g2 - w2 g1)/(iq2 w1 - iq1 w2)      (41) with the sign of (27) fixed
  *   dpsi = -(g_j + dR iq_j)/w_j                   (at the faster point)
  *   dL   = mean_j (fd_j + dR id_j)/(w_j iq_j)     (points with |w iq| large enough)
@@ -33,6 +33,9 @@
  * and the intercept alpha - the mean over whole turns - and its standard
  * error are used (design sec. 6e); where the fit is ill-conditioned
  * (batches of whole turns, standstill, no angle) the plain means.
+ * A window that is still settling carries -dL <diq/dt> in fq^: with Ts_s
+ * set, each window's mean slope of iq (least squares on its batch means)
+ * and the estimated dL take it out (design sec. 6f).
  * R^ is refused (NOT_STEADY) when se(R^) > R_se_max_rel |R^|; the caller
  * may go on filling window 2 and solve again (rs_ident_solve() does not
  * change the windows): out.R_se_part_Ohm[0] says whether window 2 alone
@@ -75,6 +78,7 @@ typedef struct {
     float den_ratio_min;      /* conditioning of (41) [1] */
     uint32_t n_min;           /* minimum samples per window */
     uint32_t n_batch;         /* samples per batch of the standard error */
+    float Ts_s;               /* sample period [s] for the windows' mean diq/dt; 0: not corrected (sec. 6f) */
 } rs_ident_cfg_t;
 
 /* Channels averaged per window. */
@@ -97,6 +101,7 @@ typedef struct {              /* sums relative to the first sample: no cancellat
     float bcs[2];             /* batch being filled: sums of cos, sin theta_el */
     float g[5];               /* over batches: sum of C, S, C C, C S, S S (batch means of cos, sin) */
     float mcs[RS_ST_COUNT][2];   /* sum of m_a C and of m_a S */
+    float km_iq;              /* sum of k m_iq(k), k = 0, 1, ...: the slope of iq's batch means */
 } rs_ident_win_t;
 
 typedef struct {
@@ -107,7 +112,8 @@ typedef struct {
 } rs_ident_t;
 
 typedef struct {
-    float R_est_Ohm;          /* R^ = R_nom - dR */
+    float R_est_Ohm;          /* R^ = R_nom - dR when accepted, else R_nom */
+    float R_raw_Ohm;          /* R_nom - dR as solved, accepted or not (0 until the solve got that far) */
     float dR_Ohm;             /* by-products, d = model - true: */
     float dL_H;               /*   warm start for L^ = L - dL */
     float dpsi_Wb;            /*   and psi^ = psi - dpsi (optional) */
@@ -116,6 +122,7 @@ typedef struct {
     float R_se_part_Ohm[2];   /* window j's share: |w_other| se(r_j) / |den| */
     float r_se_V[2];          /* standard error of the residual's mean per window */
     bool ripple_fit[2];       /* the means are the ripple fit's intercepts (sec. 6e) */
+    float diq_dt_A_s[2];      /* mean diq/dt per window (0 without Ts_s) [A/s] */
     uint32_t batches[2];      /* complete batches per window */
     float iq_std_A[2];        /* measured std of iq per window (monitor) */
     float mean_fd_V[2];       /* window means used */

@@ -1,68 +1,14 @@
-/* app.c - ISR glue and the start-up sequence; see app.h. */
+/* app.c - the ISR context: the state machine, the start-up sequence that
+ * chains the steps, protection and the requests taken; see app.h. The
+ * background context (init, requests) is app_bg.c. */
 #include "app.h"
 
 #include <stddef.h>
 
 /* Duty that gives zero line-to-line voltage: written whenever PWM goes off. */
 #define DUTY_ZERO_VOLTAGE 0.5f
-#define ENC_COUNTS_PER_LINE 4u      /* x4 quadrature decoding */
-
-void app_init(app_t *app, const app_cfg_t *cfg)
-{
-    const float Ts = cfg->ctrl.Ts_s;
-    const hal_sample_t no_sample = { 0.0f, 0.0f, 0.0f, 0u };
-    protect_cfg_t pc = { cfg->i_max_A, cfg->vdc_max_V, cfg->vdc_min_V, cfg->speed_max_rad_s,
-                         cfg->isr_period_cycles, cfg->isr_budget_cycles,
-                         ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, Ts, cfg->watch };
-    const calib_cfg_t cc = { cfg->cal_settle_s, cfg->cal_samples, cfg->offset_max_A };
-    const align_cfg_t ac = { cfg->align_u_V, cfg->align_prepos_el_rad, cfg->align_ramp_s, cfg->align_prepos_s,
-                             cfg->align_settle_s };
-    const rsid_seq_cfg_t rc = { cfg->rsid_mode, cfg->rsid_settle_1_s, cfg->rsid_window_s, cfg->rsid_settle_2_s,
-                                cfg->rsid_speed_1_rad_s, cfg->rsid_speed_2_rad_s, cfg->rsid_accel_rad_s2,
-                                cfg->rsid_window_max_s };
-
-    pc.watch.te_max_Nm = cfg->ctrl.te_max_Nm;
-    pc.watch.pole_pairs = cfg->ctrl.pole_pairs;
-    hal_pwm_disable();
-    app->cfg = *cfg;
-    app->state = APP_STATE_INIT;
-    app->fault = APP_FAULT_NONE;
-    app->snapshot.sample = no_sample;
-    app->snapshot.state = APP_STATE_INIT;
-    app->snapshot.value = 0.0f;
-    app->snapshot.limit = 0.0f;
-    (void)ctrl_init(&app->ctrl, &cfg->ctrl); /* status kept in ctrl.status; a start checks it when needed */
-    app->out.duty[0] = DUTY_ZERO_VOLTAGE;
-    app->out.duty[1] = DUTY_ZERO_VOLTAGE;
-    app->out.duty[2] = DUTY_ZERO_VOLTAGE;
-    app->out.flags = 0u;
-    app->ticks = 0u;
-    app->offset_ia_A = 0.0f;
-    app->offset_ib_A = 0.0f;
-    app->aligned = false;
-    app->pwm_on = false;
-    protect_init(&app->prot, &pc);
-    calib_init(&app->cal, &cc, Ts);
-    align_init(&app->aln, &ac, Ts);
-    rsid_seq_init(&app->rsid, &rc, Ts);
-    app->warnings = 0u;
-    app->rsid_refusal = app_step_running();
-    app->req_start = 0u;
-    app->req_stop = 0u;
-    app->req_fault_reset = 0u;
-}
 
 /* ---- outputs and faults ------------------------------------------------- */
-
-/* Duties for the next period; the outputs go on after the first ones are written. */
-static void write_duties(app_t *app, const float duty[3])
-{
-    hal_pwm_write(duty);
-    if (!app->pwm_on) {
-        hal_pwm_enable();
-        app->pwm_on = true;
-    }
-}
 
 /* PWM off first, then the bookkeeping: the outputs go off in this ISR call. */
 static void latch_fault(app_t *app, const app_step_t *f, const hal_sample_t *s)
@@ -79,11 +25,16 @@ static void latch_fault(app_t *app, const app_step_t *f, const hal_sample_t *s)
 }
 
 /* A step's period written out: the duties unless the output is not
- * finite, then its fault if it has one. */
+ * finite (the outputs go on after the first ones are written), then the
+ * step's fault if it has one. */
 static app_step_t output(app_t *app, app_step_t r, const hal_sample_t *s)
 {
     if ((app->out.flags & CTRL_FLAG_NONFINITE) == 0u) {
-        write_duties(app, app->out.duty);
+        hal_pwm_write(app->out.duty);
+        if (!app->pwm_on) {
+            hal_pwm_enable();
+            app->pwm_on = true;
+        }
     }
     if (r.status == APP_STEP_FAULT) {
         latch_fault(app, &r, s);
@@ -94,11 +45,7 @@ static app_step_t output(app_t *app, app_step_t r, const hal_sample_t *s)
 /* The controller's inputs: this period's samples, offsets subtracted. */
 static ctrl_in_t ctrl_input(const app_t *app, const hal_sample_t *s)
 {
-    ctrl_in_t in;
-    in.ia_A = s->ia_A - app->offset_ia_A;
-    in.ib_A = s->ib_A - app->offset_ib_A;
-    in.vdc_V = s->vdc_V;
-    in.enc_count = s->enc_count;
+    const ctrl_in_t in = { s->ia_A - app->offset_ia_A, s->ib_A - app->offset_ib_A, s->vdc_V, s->enc_count };
     return in;
 }
 
@@ -123,7 +70,7 @@ static void leave_align(app_t *app)
         ctrl_reset(&app->ctrl);
         (void)ctrl_rsid_begin(&app->ctrl); /* status checked by leave_calibrate */
         app->state = APP_STATE_IDENTIFY_R;
-        rsid_seq_start(&app->rsid, app->ctrl.enc.omega_m_rad_s);
+        rsid_seq_start(&app->rsid, ctrl_speed_m_rad_s(&app->ctrl));
     }
 }
 
@@ -144,8 +91,8 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
     if (s->vdc_V < app->cfg.vdc_min_V) {
         const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.vdc_min_V);
         latch_fault(app, &f, s);
-    } else if ((app->ctrl.status & config_needed(app)) != 0u) {
-        const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)app->ctrl.status, 0.0f);
+    } else if ((ctrl_status(&app->ctrl) & config_needed(app)) != 0u) {
+        const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)ctrl_status(&app->ctrl), 0.0f);
         latch_fault(app, &f, s);
     } else if (app->cfg.align && !app->aligned) {
         app->state = APP_STATE_ALIGN;
@@ -203,7 +150,7 @@ static void align_state(app_t *app, const hal_sample_t *s)
         r = app_step_fault(APP_FAULT_NONFINITE_OUTPUT, u.a, 0.0f);
     }
     if ((output(app, r, s).status == APP_STEP_DONE)) {
-        encoder_align(&app->ctrl.enc, s->enc_count);
+        ctrl_encoder_align(&app->ctrl, s->enc_count);
         app->aligned = true;
         leave_align(app);
     }
@@ -254,6 +201,26 @@ static void run_state(app_t *app, const hal_sample_t *s)
     (void)output(app, r, s);
 }
 
+/* The operator's request (app_request_op), whole, at the start of a
+ * period: the references every time, a mode or method when the operator
+ * changed it (the app's own choice, e.g. the conventional method after a
+ * refused step 1, stands until then). */
+static void take_operator(app_t *app)
+{
+    if (app->req_op != 0u) {
+        const app_op_t op = app->op_req;
+        app->req_op = 0u;
+        ctrl_set_ref(&app->ctrl, &op.ref);
+        if (op.mode != app->op_taken.mode) {
+            ctrl_set_mode(&app->ctrl, op.mode);
+        }
+        if (op.method != app->op_taken.method) {
+            (void)ctrl_set_method(&app->ctrl, op.method); /* refused: unchanged (cmd checks it first) */
+        }
+        app->op_taken = op;
+    }
+}
+
 /* Background requests; stop wins over start. A fault reset is FAULT's
  * only: one found here is dropped, never kept for the next fault. */
 static void take_requests(app_t *app, const hal_sample_t *s)
@@ -276,7 +243,7 @@ static void take_requests(app_t *app, const hal_sample_t *s)
 
 static app_step_t protection(const app_t *app, const hal_sample_t *s)
 {
-    return protect_check(&app->prot, s, app->offset_ia_A, app->offset_ib_A, app->ctrl.enc.omega_m_rad_s);
+    return protect_check(&app->prot, s, app->offset_ia_A, app->offset_ib_A, ctrl_speed_m_rad_s(&app->ctrl));
 }
 
 /* The checks on the periods' history; the duties written last call are the ones just applied. */
@@ -291,8 +258,8 @@ static app_step_t watch(app_t *app, const hal_sample_t *s)
     in.vdc_V = s->vdc_V;
     in.duty = app->pwm_on ? app->out.duty : NULL;
     in.ctrl_running = (app->state == APP_STATE_RUN) || (app->state == APP_STATE_IDENTIFY_R);
-    in.speed_m_rad_s = app->ctrl.enc.omega_m_rad_s;
-    in.te_ref_Nm = app->ctrl.mon.te_ref_Nm;
+    in.speed_m_rad_s = ctrl_speed_m_rad_s(&app->ctrl);
+    in.te_ref_Nm = ctrl_monitor(&app->ctrl)->te_ref_Nm;
     return protect_watch(&app->prot, &in);
 }
 
@@ -320,9 +287,8 @@ void app_isr(app_t *app)
     t_entry = hal_cycles();
     app->ticks++;
     protect_track(&app->prot, s.enc_count, t_entry);
-    if ((app->state != APP_STATE_RUN) && (app->state != APP_STATE_IDENTIFY_R)) {
-        encoder_step(&app->ctrl.enc, s.enc_count); /* ctrl_step steps it in RUN, IDENTIFY_R */
-    }
+    ctrl_track(&app->ctrl, s.enc_count); /* every state: the speed estimate protection checks */
+    take_operator(app);
 
     if (app->state == APP_STATE_FAULT) {
         fault_state(app, &s);
@@ -359,32 +325,4 @@ void app_isr(app_t *app)
         latch_fault(app, &f, &s);
     }
     hal_isr_ack();
-}
-
-void app_background(app_t *app)
-{
-    (void)app;
-    hal_watchdog_kick();
-}
-
-void app_request_start(app_t *app)
-{
-    app->req_start = 1u;
-}
-
-void app_request_stop(app_t *app)
-{
-    app->req_stop = 1u;
-}
-
-void app_fault_reset(app_t *app)
-{
-    /* Only the ISR leaves FAULT, and only on this request: a FAULT read here
-     * still holds when the ISR takes it. Outside FAULT hal_trip_clear() would
-     * force the outputs off under the running drive, and a kept request
-     * would clear the next fault with no operator action. */
-    if (app->state == APP_STATE_FAULT) {
-        hal_trip_clear();
-        app->req_fault_reset = 1u;
-    }
 }

@@ -30,9 +30,11 @@
  * Why the sequence is built this way (dead points of the alignment,
  * open-loop voltage, the handover): firmware/startup_design.md.
  *
- * Background requests (start, stop, fault reset) only set a flag; the ISR
- * carries them out at the start of its next call, so the controller state
- * is only ever touched from the ISR. A fault turns the PWM off in the same
+ * Background requests (start, stop, fault reset, the operator's
+ * references, mode and method) only set a flag; the ISR carries them out
+ * at the start of its next call, so the controller state is only ever
+ * touched from the ISR. ctrl_track() runs first in every call, in every
+ * state: the controller owns the encoder. A fault turns the PWM off in the same
  * ISR call that detected it and keeps a snapshot (protect.h).
  *
  * Protection (protect.h) in every state but FAULT, and from the state's
@@ -90,6 +92,13 @@ typedef struct {
     app_rsid_refusal_t rsid_on_refusal; /* a refused step 1: fault, or conventional with a warning */
 } app_cfg_t;
 
+/* The operator's input: references, mode, method (app_request_op). */
+typedef struct {
+    ctrl_ref_t ref;             /* [rad/s mech, N m, V] */
+    ctrl_mode_t mode;
+    ctrl_method_t method;
+} app_op_t;
+
 typedef struct {
     app_cfg_t cfg;
     app_state_t state;
@@ -113,6 +122,11 @@ typedef struct {
     volatile uint16_t req_start;
     volatile uint16_t req_stop;
     volatile uint16_t req_fault_reset;
+    /* The operator's request: written whole by the background between
+     * req_op = 0 and req_op = 1, taken by the ISR at its next start. */
+    volatile app_op_t op_req;
+    volatile uint16_t req_op;
+    app_op_t op_taken;             /* the last request the ISR took */
 } app_t;
 
 /* Start-up: the board's configuration (firmware/board_cfg.h) into *cfg. */
@@ -131,6 +145,11 @@ void app_background(app_t *app);
 
 /* Background: INIT or IDLE -> the start sequence at the next ISR. */
 void app_request_start(app_t *app);
+
+/* Background: the operator's references, mode and method; the ISR takes
+ * them together at the start of its next call (ctrl_set_ref, _mode,
+ * _method there: the background never writes the controller). */
+void app_request_op(app_t *app, const app_op_t *op);
 
 /* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);

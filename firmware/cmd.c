@@ -30,43 +30,45 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
     /* One snapshot: the debugger may write while this runs. */
     const cmd_t c = *cmd;
     cmd_error_t err = CMD_OK;
-    ctrl_ref_t ref = app->ctrl.ref;
+    /* the last request (the background's own): a refused field keeps its value */
+    app_op_t op = app->op_req;
 
     if (c.method > (uint16_t)CTRL_METHOD_PROPOSED) {
         err = CMD_ERR_METHOD;
     } else if ((c.method == (uint16_t)CTRL_METHOD_PROPOSED) &&
                ((app->cfg.rsid_mode == APP_RSID_OFF) || ((app->warnings & APP_WARN_STEP1_REFUSED) != 0u))) {
         err = CMD_ERR_METHOD_NO_STEP1; /* no silent fallback to the conventional method */
-    } else if ((ctrl_method_t)c.method != app->ctrl.method) {
-        if (!ctrl_set_method(&app->ctrl, (ctrl_method_t)c.method)) {
-            err = CMD_ERR_METHOD_CFG;
-        }
+    } else if ((c.method == (uint16_t)CTRL_METHOD_PROPOSED) &&
+               ((ctrl_status(&app->ctrl) & CTRL_CFG_NEEDED_PROPOSED) != 0u)) {
+        err = CMD_ERR_METHOD_CFG;
+    } else {
+        op.method = (ctrl_method_t)c.method;
     }
 
     if (c.mode > (uint16_t)CTRL_MODE_SPEED) {
         err = CMD_ERR_MODE;
     } else {
-        ctrl_set_mode(&app->ctrl, (ctrl_mode_t)c.mode);
+        op.mode = (ctrl_mode_t)c.mode;
     }
 
     /* Each reference is taken only when valid; a refused one keeps its old value. */
     if (within(c.speed_ref_rpm, lim->speed_max_rpm)) {
-        ref.speed_ref_rad_s = c.speed_ref_rpm * RPM_TO_RAD_S;
+        op.ref.speed_ref_rad_s = c.speed_ref_rpm * RPM_TO_RAD_S;
     } else {
         err = CMD_ERR_SPEED;
     }
     if (within(c.te_ref_Nm, lim->te_max_Nm)) {
-        ref.te_ref_Nm = c.te_ref_Nm;
+        op.ref.te_ref_Nm = c.te_ref_Nm;
     } else {
         err = CMD_ERR_TORQUE;
     }
     if (within(c.ud_ref_V, lim->u_max_V) && within(c.uq_ref_V, lim->u_max_V)) {
-        ref.ud_ref_V = c.ud_ref_V;
-        ref.uq_ref_V = c.uq_ref_V;
+        op.ref.ud_ref_V = c.ud_ref_V;
+        op.ref.uq_ref_V = c.uq_ref_V;
     } else {
         err = CMD_ERR_VOLTAGE;
     }
-    ctrl_set_ref(&app->ctrl, &ref);
+    app_request_op(app, &op); /* the ISR takes it at the start of its next period */
 
     if (c.fault_reset != 0u) {
         app_fault_reset(app);

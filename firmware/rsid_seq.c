@@ -41,7 +41,7 @@ static bool ramp_speed(rsid_seq_t *q, float target)
  * is put back after it. */
 static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
-    const ctrl_ref_t outside = c->ref;
+    const ctrl_ref_t outside = *ctrl_ref(c);
     ctrl_ref_t ref = outside;
 
     ref.speed_ref_rad_s = q->speed_ref_rad_s;
@@ -53,8 +53,8 @@ static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, c
 /* The fault naming why step 1 refused R^, with the quantity and its limit. */
 static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
 {
-    const rs_ident_out_t *o = &c->rsid_out;
-    const rs_ident_cfg_t *rc = &c->ri.cfg;
+    const rs_ident_out_t *o = ctrl_rsid_out(c);
+    const rs_ident_cfg_t *rc = ctrl_rsid_cfg(c);
 
     switch (r) {
     case RS_IDENT_NOT_STEADY:
@@ -65,7 +65,7 @@ static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
     case RS_IDENT_NON_FINITE:
         return app_step_fault(APP_FAULT_RSID_NON_FINITE, o->R_est_Ohm, 0.0f);
     case RS_IDENT_OUT_OF_BAND: {
-        const float R_hat = rc->R_nom_Ohm - o->dR_Ohm; /* rs_ident leaves R_est_Ohm at R_nom when refused */
+        const float R_hat = o->R_raw_Ohm; /* R_est_Ohm stays R_nom when refused */
         return app_step_fault(APP_FAULT_RSID_OUT_OF_BAND, R_hat,
                               (R_hat > rc->R_max_Ohm) ? rc->R_max_Ohm : rc->R_min_Ohm);
     }
@@ -139,6 +139,6 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
 
 void rsid_seq_handover_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
-    q->handover = ramp_speed(q, c->ref.speed_ref_rad_s);
+    q->handover = ramp_speed(q, ctrl_ref(c)->speed_ref_rad_s);
     step_at_speed(q, c, in, out);
 }

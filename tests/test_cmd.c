@@ -1,5 +1,7 @@
 /* Unit tests for firmware/cmd: the operator's command block is checked
- * field by field, references reach the controller in SI units, a refused
+ * field by field, references reach the controller in SI units (through
+ * the app's request, taken by the ISR at the start of its next period;
+ * nothing before it), a refused
  * field keeps the previous command and is named, start/stop and fault
  * reset are sent once per change. Runs against the cmocka HAL mock. */
 #include <stdarg.h>
@@ -47,6 +49,20 @@ static void run_change_sends_one_start_then_one_stop(void **state)
     assert_int_equal(cmd.error, CMD_OK);
 }
 
+/* cmd_apply in the background, then the ISR call that takes the request
+ * at the start of its period (INIT: read, trip poll, ack). */
+static void apply(void)
+{
+    static hal_sample_t s = { 0.0f, 0.0f, 311.0f, 0u };
+    cmd_apply(&cmd, &LIM, &app);
+    expect_function_call(hal_sample_read);
+    will_return(hal_sample_read, &s);
+    expect_function_call(hal_trip_active);
+    will_return(hal_trip_active, 0);
+    expect_function_call(hal_isr_ack);
+    app_isr(&app);
+}
+
 static void references_reach_the_controller_in_si_units(void **state)
 {
     (void)state;
@@ -56,6 +72,10 @@ static void references_reach_the_controller_in_si_units(void **state)
     cmd.uq_ref_V = -60.0f;
     cmd.mode = (uint16_t)CTRL_MODE_TORQUE;
     cmd_apply(&cmd, &LIM, &app);
+    assert_float_equal(app.ctrl.ref.te_ref_Nm, 0.0, 0.0); /* nothing before the ISR */
+    assert_int_equal(app.req_op, 1u);
+    apply();
+    assert_int_equal(app.req_op, 0u);
     assert_float_equal(app.ctrl.ref.speed_ref_rad_s, RPM_500_RAD_S, TOL);
     assert_float_equal(app.ctrl.ref.te_ref_Nm, -4.0, TOL);
     assert_float_equal(app.ctrl.ref.ud_ref_V, 12.5, TOL);
@@ -69,32 +89,32 @@ static void refused_reference_keeps_the_old_value_and_is_named(void **state)
     (void)state;
     cmd.speed_ref_rpm = 500.0f;
     cmd.te_ref_Nm = 4.0f;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
 
     cmd.speed_ref_rpm = NAN;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_ERR_SPEED);
     assert_float_equal(app.ctrl.ref.speed_ref_rad_s, RPM_500_RAD_S, TOL);
 
     cmd.speed_ref_rpm = 2000.5f; /* just beyond the limit */
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_ERR_SPEED);
     assert_float_equal(app.ctrl.ref.speed_ref_rad_s, RPM_500_RAD_S, TOL);
 
     cmd.speed_ref_rpm = 500.0f;
     cmd.te_ref_Nm = 12.01f;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_ERR_TORQUE);
     assert_float_equal(app.ctrl.ref.te_ref_Nm, 4.0, TOL);
 
     cmd.te_ref_Nm = 4.0f;
     cmd.uq_ref_V = INFINITY;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_ERR_VOLTAGE);
     assert_float_equal(app.ctrl.ref.uq_ref_V, 0.0, TOL);
 
     cmd.uq_ref_V = 0.0f; /* all valid again: the error clears */
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_OK);
 }
 
@@ -102,13 +122,13 @@ static void unknown_method_or_mode_is_refused(void **state)
 {
     (void)state;
     cmd.method = 7u;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
 
     cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
     cmd.mode = 3u;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_ERR_MODE);
     assert_int_equal(app.ctrl.mode_req, CTRL_MODE_SPEED);
 }
@@ -120,20 +140,20 @@ static void proposed_method_without_step1_is_refused(void **state)
     (void)state;
     assert_int_equal(app.cfg.rsid_mode, APP_RSID_OFF);
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
     /* trusted R is an explicit choice: taken */
     app.cfg.rsid_mode = APP_RSID_TRUSTED;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_OK);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_PROPOSED);
     /* and refused again once step 1 is off */
     cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     app.cfg.rsid_mode = APP_RSID_OFF;
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
     /* step 1 configured but refused at this start (on_refusal = conventional): refused too */
@@ -149,16 +169,16 @@ static void proposed_method_is_taken_or_refused_by_its_configuration(void **stat
     (void)state;
     app.cfg.rsid_mode = APP_RSID_WINDOWS; /* step 1 configured */
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(app.ctrl.status, CTRL_CFG_OK); /* board defaults pass (36) and the stability bound */
     assert_int_equal(cmd.error, CMD_OK);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_PROPOSED);
 
     cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     app.ctrl.status = CTRL_CFG_OBSERVER; /* as if smo_init had refused the gains */
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
-    cmd_apply(&cmd, &LIM, &app);
+    apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_CFG);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
 }

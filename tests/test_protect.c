@@ -278,14 +278,18 @@ static void overspeed_latches_and_reset_waits(void **state)
     assert_int_equal(app.state, APP_STATE_IDLE);
 }
 
-/* In RUN the check reads the estimate the last ctrl_step left. */
+/* In RUN too the check reads this period's estimate (ctrl_track runs
+ * first in every state): the PLL put at -300 rad/s with the prediction
+ * landing on the count, so this period's error is 0 and the estimate
+ * stays -300 rad/s (exact in float). */
 static void overspeed_in_run(void **state)
 {
     (void)state;
     init_app();
     hal_sample_t s = sample(0.0f, 0.0f, VDC);
     start(&s);
-    app.ctrl.enc.omega_m_rad_s = -300.0f;
+    app.ctrl.enc.vel = -300.0f / app.ctrl.enc.rad_per_count;
+    app.ctrl.enc.pos = (float)COUNT0 - app.ctrl.enc.cfg.Ts_s * app.ctrl.enc.vel;
     isr_fault(&s, 0);
     assert_int_equal(app.fault, APP_FAULT_OVERSPEED);
     assert_snapshot(&s, APP_STATE_RUN);

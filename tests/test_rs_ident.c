@@ -273,6 +273,53 @@ static void electrical_ripple_is_fitted_not_counted_as_noise(void **state)
     assert_true(plain.R_se_Ohm > 5e-3);
 }
 
+/* Window 1 while iq still ramps at 20 A/s (a slow speed loop), L^ = 1.5
+ * L0: fq^ carries -dL diq/dt = -0.11 V, fd^ = dL w iq (design 1a, id = 0).
+ * By hand the bias in R^ without the correction is dL s / (iq2 - iq1)
+ * (equal speeds): 0.0055 x 20 / 1.85 = 0.059 Ohm (2 %); with Ts given the
+ * least-squares slope of iq's batch means (exact for a ramp) and the
+ * estimated dL take it out. */
+static void feed_ramp(rs_ident_t *ri, rs_ident_window_t win, double iq0, double slope, double w)
+{
+    const double dR = R_NOM - OP_R0;
+    const double dL = 0.5 * OP_L0;
+    for (int k = 0; k < 600; k++) {
+        const double iq = iq0 + slope * OP_TS * k;
+        rs_ident_step(ri, win, (float)(dL * w * iq), (float)(-dR * iq - dL * slope), 0.0f, (float)iq, (float)w);
+    }
+}
+
+static void settling_window_is_corrected_by_its_mean_slope(void **state)
+{
+    (void)state;
+    rs_ident_out_t o;
+    rs_ident_cfg_t c;
+    rs_ident_t ri;
+    const double w = op_w_el(500.0);
+    const double s = 20.0;
+    const double bias = 0.5 * OP_L0 * s / 1.85;
+
+    rs_ident_cfg_defaults(&c, (float)R_NOM);
+    assert_true(rs_ident_init(&ri, &c)); /* Ts_s = 0: no correction */
+    feed_ramp(&ri, RS_IDENT_WINDOW_1, 1.85 - 0.5 * s * 0.06, s, w);
+    feed_ramp(&ri, RS_IDENT_WINDOW_2, 3.7, 0.0, w);
+    (void)rs_ident_solve(&ri, &o);
+    const double R_plain = R_NOM - o.dR_Ohm;
+    c.Ts_s = (float)OP_TS;
+    assert_true(rs_ident_init(&ri, &c));
+    feed_ramp(&ri, RS_IDENT_WINDOW_1, 1.85 - 0.5 * s * 0.06, s, w);
+    feed_ramp(&ri, RS_IDENT_WINDOW_2, 3.7, 0.0, w);
+    assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
+    printf("    iq ramping 20 A/s in window 1, L^ = 1.5 L0: R^ %.4f Ohm uncorrected (hand %.4f), %.5f corrected; "
+           "slope %.2f A/s, dL %.3e H\n", R_plain, OP_R0 + bias, o.R_est_Ohm, o.diq_dt_A_s[0], o.dL_H);
+    assert_float_equal(R_plain, OP_R0 + bias, 0.01 * bias);
+    assert_float_equal(o.diq_dt_A_s[0], s, 0.01 * s);
+    assert_float_equal(o.diq_dt_A_s[1], 0.0, 1e-3);
+    assert_float_equal(o.R_est_Ohm, OP_R0, 1e-3 * OP_R0);
+    c.Ts_s = -1e-4f;
+    assert_false(rs_ident_init(&ri, &c));
+}
+
 /* A scatter that follows the model (iq and fq^ moving together, as in a
  * speed-loop ripple) is no uncertainty: the residual stays 0. The std of
  * iq comes from sums relative to the first sample: exact at a large
@@ -305,7 +352,8 @@ static void scatter_along_the_model_is_taken(void **state)
     assert_float_equal(o.iq_std_A[1], 0.0, 1e-6);
 }
 
-/* R^ outside the band [0.1, 6] x R_nom: refused with the value in dR. */
+/* R^ outside the band [0.1, 6] x R_nom: refused with the value in dR and
+ * R_raw_Ohm (R_est_Ohm stays R_nom). */
 static void out_of_band_is_refused(void **state)
 {
     (void)state;
@@ -318,6 +366,7 @@ static void out_of_band_is_refused(void **state)
     assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OUT_OF_BAND);
     assert_float_equal(o.R_est_Ohm, 20.0 * OP_R0, 1e-4);
     assert_float_equal(o.dR_Ohm, 19.0 * OP_R0, 1e-3);
+    assert_float_equal(o.R_raw_Ohm, OP_R0, 1e-3); /* the refused R^ itself: the motor's */
     /* observer nominal 0.1 R0: R^ = 10 R_nom */
     ri = make(0.1 * OP_R0);
     feed_analytic(&ri, RS_IDENT_WINDOW_1, 0.1 * OP_R0, OP_L0, OP_PSI0, 0.0, 1.85, w, 500);
@@ -371,6 +420,7 @@ int main(void)
         cmocka_unit_test(equal_operating_points_are_degenerate),
         cmocka_unit_test(scattered_window_is_refused_by_its_standard_error),
         cmocka_unit_test(electrical_ripple_is_fitted_not_counted_as_noise),
+        cmocka_unit_test(settling_window_is_corrected_by_its_mean_slope),
         cmocka_unit_test(scatter_along_the_model_is_taken),
         cmocka_unit_test(out_of_band_is_refused),
         cmocka_unit_test(other_refusals),

@@ -112,6 +112,7 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ctrl_cfg_proposed_defaults(c, R_min, R_max);
     c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
     c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
+    c->track_R = (sc->identify.track_R == SC_ON) ? 1u : 0u;
     ac->rsid_mode = (app_rsid_mode_t)sc->identify.mode;
     ac->rsid_settle_1_s = (float)sc->identify.settle_1_s;
     ac->rsid_window_s = (float)sc->identify.window_s;
@@ -136,7 +137,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
 {
     hal_sim_truth_t tr;
     hal_sim_truth(&tr);
-    const ctrl_mon_t *m = &g_app.ctrl.mon;
+    const ctrl_mon_t *m = ctrl_monitor(&g_app.ctrl);
     const bool closed = (sc->controller.mode != SC_MODE_OPEN_LOOP);
     r->t_s = tr.t_s;
     r->state = (double)g_app.state;
@@ -166,6 +167,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->est = (double)m->est;
     r->est_hold = (double)m->est_hold;
     r->R_ohm = tr.R_ohm;
+    r->inv_err_est_V = (double)m->inv_err_V;
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
     const bool faulted = (g_app.state == APP_STATE_FAULT);
@@ -217,11 +219,12 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     hal_sim_set_faults(&hf);
     hal_init();
     app_init(&g_app, &ac);
-    ctrl_set_mode(&g_app.ctrl, ctrl_mode_of(sc->controller.mode));
-    /* refused when ctrl_init refused the observer's settings: the app then faults CONFIG at the
-     * start if [identify] asks for step 1, else the drive runs conventional */
-    (void)ctrl_set_method(&g_app.ctrl, (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED
-                                                                                     : CTRL_METHOD_CONVENTIONAL);
+    /* the operator's mode and method, with each period's references below; a
+     * proposed method ctrl_init refused stays conventional (the app faults
+     * CONFIG at the start if [identify] asks for step 1) */
+    app_op_t op;
+    op.mode = ctrl_mode_of(sc->controller.mode);
+    op.method = (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED : CTRL_METHOD_CONVENTIONAL;
     hal_isr_attach(sil_isr);
     app_request_start(&g_app);
 
@@ -231,12 +234,11 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     for (uint32_t k = 0; k < n && rc == 0; k++) {
         const double t = (double)k * Ts;
         const double speed_ref_rpm = profile_eval(&sc->reference.speed_rpm, t);
-        ctrl_ref_t ref;
-        ref.speed_ref_rad_s = (float)(speed_ref_rpm / RPM_PER_RAD_S);
-        ref.te_ref_Nm = (float)profile_eval(&sc->reference.torque_Nm, t);
-        ref.ud_ref_V = (float)profile_eval(&sc->reference.ud_V, t);
-        ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
-        ctrl_set_ref(&g_app.ctrl, &ref);
+        op.ref.speed_ref_rad_s = (float)(speed_ref_rpm / RPM_PER_RAD_S);
+        op.ref.te_ref_Nm = (float)profile_eval(&sc->reference.torque_Nm, t);
+        op.ref.ud_ref_V = (float)profile_eval(&sc->reference.ud_V, t);
+        op.ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
+        app_request_op(&g_app, &op);   /* taken at the start of this period's ISR */
         hal_sim_set_load(profile_eval(&sc->load.torque_Nm, t));
         if (sc->plant.R_profile.n > 1u) {
             hal_sim_set_R_ohm(profile_eval(&sc->plant.R_profile, t));   /* the winding warms */
@@ -267,7 +269,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     res->final_fault = (int)g_app.fault;
     res->warnings = g_app.warnings;
     res->rsid_refusal = (int)g_app.rsid_refusal.fault;
-    res->enc_offset_el_rad = (double)g_app.ctrl.enc.offset_rad;
+    res->enc_offset_el_rad = (double)ctrl_enc_offset_el_rad(&g_app.ctrl);
     res->i_offset_a_A = (double)g_app.offset_ia_A;
     res->i_offset_b_A = (double)g_app.offset_ib_A;
     return rc;
@@ -288,7 +290,7 @@ static const sil_col_t COLS[] = {
     COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
-    COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit),
+    COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 
