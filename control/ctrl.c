@@ -5,7 +5,8 @@
  * bench-ctrl` (callgrind, x86-64 -O2):
  *   conventional: 1255 instructions; proposed (step 2 running): 1502 (+20 %)
  *            (with issue 12's current limit, weakening loop and step-2
- *            gate); about 100 are the dead-time feedforward (both methods)
+ *            gate); about 100 are the dead-time feedforward (both methods);
+ *            with track_R (observer_design.md sec. 9) see `make bench-ctrl`
  *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
  *            rotation by a short series), both methods;
  *   divisions: conventional 2 (MTPA's torque term, svpwm_duty's 1/Vdc);
@@ -51,6 +52,11 @@
  * sec. 7): the rest is the deadbeat's headroom for torque changes. */
 #define CTRL_U_MARGIN_DEFAULT 0.92f
 
+/* A per-leg square wave of amplitude dv (dead time, device drop) has the
+ * rotor-frame fundamental (4/pi) dv against the current (design sec. 9). */
+#define FUNDAMENTAL_OF_SQUARE 1.27323954f
+#define QUARTER_PI 0.785398163f
+
 /* What db.par holds (ctrl_t.model_src). */
 #define MODEL_OBSERVER 0u      /* the observer's estimates, up to date */
 #define MODEL_NOMINAL  1u      /* the configured parameters */
@@ -86,6 +92,8 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     ec->psi_min_Wb = sc->psi_min_Wb;
     ec->psi_max_Wb = sc->psi_max_Wb;
     rs_ident_cfg_defaults(&cfg->rsid, cfg->Rs_Ohm);
+    r_track_cfg_defaults(&cfg->rtrack);
+    cfg->track_R = 0u;
     est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
 }
 
@@ -130,6 +138,11 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
         (void)param_est_init(&c->pe, &ec, &c->smo); /* refused too: frozen for good */
         (void)rs_ident_init(&c->ri, &rc);
         return (ctrl_status_t)(CTRL_CFG_OBSERVER | gate);
+    }
+    if (!r_track_init(&c->rt, &cfg->rtrack)) {
+        (void)param_est_init(&c->pe, &ec, &c->smo);
+        (void)rs_ident_init(&c->ri, &rc);
+        return CTRL_CFG_RTRACK;
     }
     if (!param_est_init(&c->pe, &ec, &c->smo)) {
         (void)rs_ident_init(&c->ri, &rc);
@@ -214,6 +227,11 @@ void ctrl_reset(ctrl_t *c)
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
     c->est = CTRL_EST_OFF;
+    r_track_reset(&c->rt);
+    c->inv_dv_V = 0.0f;
+    c->rt_flags = 0u;
+    c->psi_held = 0u;
+    c->pe.cfg.w_min_rad_s = c->cfg.est.w_min_rad_s;
     est_gate_reset(&c->gate, &c->smo);
     oplim_reset(&c->lim);
     c->flags_last = 0u;
@@ -240,6 +258,7 @@ void ctrl_reset(ctrl_t *c)
     c->mon.est = CTRL_EST_OFF;
     c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
+    c->mon.inv_err_V = 0.0f;
 }
 
 void ctrl_track(ctrl_t *c, uint32_t enc_count)
@@ -277,12 +296,81 @@ bool ctrl_rsid_begin(ctrl_t *c)
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
     c->est = CTRL_EST_STEP1;
+    r_track_reset(&c->rt); /* identified again after this step 1 */
+    c->inv_dv_V = 0.0f;
+    c->pe.cfg.w_min_rad_s = c->cfg.est.w_min_rad_s;
+    c->rt_flags = 0u;
     return true;
 }
 
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
 {
     c->rsid_win = win;
+}
+
+/* R^ tracked from now on when configured. */
+static void start_tracking(ctrl_t *c)
+{
+    /* psi^ learns only where w psi_f dominates what the identification may have left */
+    const float w_min = r_track_w_psi_min(&c->rt, c->cfg.psi_f_Wb);
+    c->pe.cfg.w_min_rad_s = (w_min > c->cfg.est.w_min_rad_s) ? w_min : c->cfg.est.w_min_rad_s;
+    r_track_start(&c->rt, (c->cfg.track_R != 0u) ? R_TRACK_TRACK : R_TRACK_OFF);
+}
+
+/* Step 2 starts: estimator running, R tracked when configured. */
+static void start_step2(ctrl_t *c)
+{
+    param_est_run(&c->pe, true);
+    est_gate_reset(&c->gate, &c->smo);
+    c->est = CTRL_EST_STEP2;
+    if (c->model_src == MODEL_OBSERVER) {
+        c->model_src = MODEL_STALE;
+    }
+    start_tracking(c);
+}
+
+/* Per-leg voltage error dv_V [V] of the dead time's shape added to the
+ * compensation, bumplessly: f^ takes the fundamental -(4/pi) dv i/|i| it
+ * no longer has to explain (design sec. 9). 1 square root, 1 division, once. */
+static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A)
+{
+    const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
+    c->inv_dv_V += dv_V;
+    if (i_abs > 0.0f) {
+        const float k = -FUNDAMENTAL_OF_SQUARE * dv_V / i_abs;
+        c->smo.fd_V += k * i_dq_A.d;
+        c->smo.fq_V += k * i_dq_A.q;
+    }
+}
+
+/* The injection's period: after step 1 the inverter error, in step 2 R^. */
+static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
+{
+    const float z = c->smo.fd_V - omega_el_rad_s * c->smo.L_H * i_dq_A.q; /* L^ law's invariant */
+    const r_track_event_t ev = r_track_step(&c->rt, z, i_dq_A.d, i_dq_A.q);
+
+    if (ev == R_TRACK_IDENT_DONE) {
+        add_inverter_error(c, QUARTER_PI * c->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */
+        c->rt_flags = 0u;
+        start_tracking(c);
+    } else if (ev == R_TRACK_IDENT_REFUSED) {
+        c->rt_flags = CTRL_FLAG_INV_UNIDENTIFIED; /* says so, and keeps the dead time as told */
+        start_tracking(c);
+    } else if (ev == R_TRACK_CYCLE) {
+        /* rho = dR with the inverter error compensated: R^ -= k_R rho, within the band */
+        if (smo_set_R(&c->smo, c->smo.R_Ohm - c->cfg.rtrack.k_R * c->rt.rho_Ohm)) {
+            c->rt_flags &= (uint16_t)~CTRL_FLAG_R_HELD;
+            if (c->model_src == MODEL_OBSERVER) {
+                c->model_src = MODEL_STALE;
+            }
+        } else {
+            c->rt_flags |= CTRL_FLAG_R_HELD;
+        }
+    } else if (ev == R_TRACK_HELD) {
+        c->rt_flags |= CTRL_FLAG_R_HELD;
+    } else {
+        /* cycle under way */
+    }
 }
 
 rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
@@ -302,12 +390,9 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
         r = RS_IDENT_OUT_OF_BAND; /* same band as rs_ident's: not expected */
     }
     if (r == RS_IDENT_OK) {
-        param_est_run(&c->pe, true);
-        est_gate_reset(&c->gate, &c->smo);
-        c->est = CTRL_EST_STEP2;
-        if (c->model_src == MODEL_OBSERVER) {
-            c->model_src = MODEL_STALE;
-        }
+        start_step2(c);
+        /* first the inverter error, at R^ = R0 (design sec. 9) */
+        r_track_start(&c->rt, R_TRACK_IDENT);
     } else {
         c->est = CTRL_EST_OFF;
     }
@@ -327,12 +412,7 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
     (void)smo_set_R(&c->smo, R_Ohm); /* in band: accepted */
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
-    param_est_run(&c->pe, true);
-    est_gate_reset(&c->gate, &c->smo);
-    c->est = CTRL_EST_STEP2;
-    if (c->model_src == MODEL_OBSERVER) {
-        c->model_src = MODEL_STALE;
-    }
+    start_step2(c); /* no inverter-error identification: R is trusted, not measured */
     return true;
 }
 
@@ -351,16 +431,24 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
     if (c->est != CTRL_EST_OFF) {
         /* u(k) is the clamped voltage the last step realised, as the observer needs */
         const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
+        if (c->rt.phase != R_TRACK_OFF) {
+            ctrl_r_track_step(c, i_dq_A, omega_el_rad_s); /* may end step 1 */
+        }
         if (c->est == CTRL_EST_STEP1) {
             /* the angle for the fit of the electrical-frequency ripple (design sec. 6e) */
             rs_ident_step_el(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
                              omega_el_rad_s, cos_el, sin_el);
         } else {
-            /* pause and hold while the laws' assumptions are broken (est_gate.h) */
-            uint16_t moved = est_gate_step(&c->gate, &c->smo, omega_el_rad_s, i_dq_A, c->mon.te_ref_Nm,
+            /* pause and hold while the laws' assumptions are broken (est_gate.h); the
+             * injected d current is no transient (design sec. 9) */
+            dq_t i_gate = i_dq_A;
+            i_gate.d -= c->rt.id_expect_A;
+            uint16_t moved = est_gate_step(&c->gate, &c->smo, omega_el_rad_s, i_gate, c->mon.te_ref_Nm,
                                            (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u) ? 1u : 0u;
             if (c->gate.reasons == 0u) {
-                moved |= param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
+                const uint16_t est_moved = param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
+                moved |= est_moved;
+                c->psi_held = ((est_moved & PARAM_EST_PSI_MOVED) == 0u) ? CTRL_FLAG_PSI_HELD : 0u;
             }
             if (c->method == CTRL_METHOD_PROPOSED) {
                 /* 2 divisions, only when an estimate moved */
@@ -387,7 +475,8 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
 static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
 {
     const ab_t i = park_inv(i_dq_A, sin_a, cos_a);
-    const float dv = c->deadtime_frac * vdc_V;
+    const float dv_sum = c->deadtime_frac * vdc_V + c->inv_dv_V;
+    const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
     const float ia = i.a;
     const float ib = -HALF * i.a + HALF * MATHX_SQRT3_F * i.b;
     const float ic = -HALF * i.a - HALF * MATHX_SQRT3_F * i.b;
@@ -502,6 +591,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         const oplim_out_t tgt = oplim_targets(&c->lim, par, cfg->pole_pairs, c->i_lim_A, te_ref);
         te_ref = tgt.te_Nm;
         psi_ref = tgt.psi_Wb;
+        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H, par->psi_f_Wb); /* + L id* (design sec. 9) */
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
         oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
     }
@@ -555,6 +645,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     c->mon.est = c->est;
     c->mon.est_hold = c->gate.reasons;
     c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
+    c->mon.inv_err_V = FUNDAMENTAL_OF_SQUARE * c->inv_dv_V;
 
     /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
      * are in it because the blocks clamp (a NaN would become a bound); the
@@ -564,5 +655,5 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
           duty.c + c->u_applied_V.d + c->u_applied_V.q + c->smo.fd_V + c->smo.fq_V +
           c->smo.i_hat_A.d + c->smo.i_hat_A.q + c->smo.L_H + c->smo.psi_f_Wb;
     c->flags_last = flags; /* before any NONFINITE: the gate's voltage check */
-    output_duties(c, duty, mathx_isfinitef(chk), flags, out);
+    output_duties(c, duty, mathx_isfinitef(chk), flags | c->rt_flags | ((c->est == CTRL_EST_STEP2) ? c->psi_held : 0u), out);
 }

@@ -28,6 +28,11 @@
  *      estimates R^, L^, psi^ and x(k+1) from i^(k+1) (eq. 11, 12) instead
  *      of eq. (10); MTPA, eq. (17), limit, SVPWM as above
  *   5. monitor: fd^, fq^ and R^, L^, psi^ while the observer runs
+ * Inverter error and warming winding (observer_design.md sec. 9, r_track.h):
+ *   0.1 s into step 2, a 1 A square-wave i_d (no torque) for 0.12 s gives
+ *   the inverter voltage error the dead-time compensation left; it is fed
+ *   forward from then on, so psi^ does not learn it as flux. With
+ *   cfg.track_R a 0.5 A injection then keeps R^ on the winding's R.
  * Method switching policy (bumpless both ways): once step 2 has started,
  * observer and estimator keep running whatever the method, so
  * CONVENTIONAL -> PROPOSED takes a converged observer and PROPOSED ->
@@ -51,6 +56,7 @@
 #include "oplim.h"
 #include "param_est.h"
 #include "pi.h"
+#include "r_track.h"
 #include "rs_ident.h"
 #include "smo.h"
 
@@ -61,6 +67,10 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_VOLTAGE_LIMIT    0x0001u /* vector clamped to the hexagon */
 #define CTRL_FLAG_FLUX_UNREACHABLE 0x0002u /* negative discriminant: flux target not reachable in one period */
 #define CTRL_FLAG_NONFINITE        0x0004u /* a non-finite value appeared; duties are 0.5 and the app must fault */
+/* Inverter error and R tracking (observer_design.md sec. 9); high bits, set while it lasts: */
+#define CTRL_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
+#define CTRL_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
+#define CTRL_FLAG_PSI_HELD         0x0400u /* step 2: psi^ holds (|w| below what the voltage error allows) */
 
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
@@ -93,6 +103,8 @@ typedef struct {
     smo_cfg_t smo;              /* observer gains and ranges */
     param_est_cfg_t est;        /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
+    r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
+    uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection (design sec. 9) */
     est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
 } ctrl_cfg_t;
 
@@ -108,15 +120,17 @@ typedef uint16_t ctrl_status_t;
 #define CTRL_CFG_DBDTC      ((ctrl_status_t)0x0020u) /* dbdtc_init refused the model's parameters or bounds */
 #define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts */
 #define CTRL_CFG_GATE       ((ctrl_status_t)0x0080u) /* est_gate_init refused (step 2's pause and hold) */
+#define CTRL_CFG_RTRACK     ((ctrl_status_t)0x0100u) /* r_track_init refused (d-current injection, design sec. 9) */
 /* Needed by every method (encoder, speed loop, model, output path)... */
 #define CTRL_CFG_NEEDED_ALWAYS   ((ctrl_status_t)(CTRL_CFG_ENCODER | CTRL_CFG_SPEED_PI | CTRL_CFG_DBDTC | CTRL_CFG_DEADTIME))
 /* ...and by the proposed method's steps 1 and 2. */
-#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID | CTRL_CFG_GATE))
+#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID | CTRL_CFG_GATE | CTRL_CFG_RTRACK))
 
 /* Where the proposed method's steps stand (ctrl_t.est, monitor). */
 typedef enum {
     CTRL_EST_OFF = 0,           /* observer stopped */
-    CTRL_EST_STEP1 = 1,         /* observer runs, R^ being identified, conventional control */
+    CTRL_EST_STEP1 = 1,         /* observer runs, R^ (then the inverter error) being identified,
+                                 * conventional control */
     CTRL_EST_STEP2 = 2          /* observer and L^, psi^ estimator run */
 } ctrl_est_t;
 
@@ -141,6 +155,7 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     ctrl_est_t est;                       /* step of the proposed method */
     uint16_t est_hold;                    /* EST_GATE_* why step 2's laws are paused (0: learning) */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
+    float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 9) */
 } ctrl_mon_t;
 
 typedef struct {
@@ -164,6 +179,10 @@ typedef struct {
     rs_ident_t ri;              /* step 1 windows */
     rs_ident_window_t rsid_win; /* window the coming periods go into */
     rs_ident_out_t rsid_out;    /* last ctrl_rsid_finish() result (R^, window means) */
+    r_track_t rt;               /* d-axis injection (inverter error, R tracking) */
+    float inv_dv_V;             /* per-leg voltage error identified on top of the dead time's [V] */
+    uint16_t rt_flags;          /* CTRL_FLAG_INV_UNIDENTIFIED, CTRL_FLAG_R_HELD while they last */
+    uint16_t psi_held;          /* CTRL_FLAG_PSI_HELD when psi^'s law did not act in the last step-2 period */
     est_gate_t gate;            /* pause and hold of step 2 */
     uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the gate's voltage check) */
     uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */
@@ -224,8 +243,10 @@ void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win);
 rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
 
 /* Step 1 ends: solves (design sec. 1c) into c->rsid_out; on RS_IDENT_OK
- * sets R^ bumplessly and starts step 2, otherwise stops the observer and
- * returns the reason. ISR once (about 20 divisions) or background. */
+ * sets R^ bumplessly and starts step 2 - its first 0.12 s at the same
+ * operating point identify the inverter error (design sec. 9) -
+ * otherwise stops the
+ * observer and returns the reason. ISR once (about 20 divisions) or background. */
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
 
 /* Step 2 without step 1, for an R the caller trusts (a recent

@@ -66,6 +66,7 @@ void app_cfg_default(app_cfg_t *cfg)
 
     ctrl_rsid_band_default(c, &R_min_Ohm, &R_max_Ohm);
     ctrl_cfg_proposed_defaults(c, R_min_Ohm, R_max_Ohm);
+    c->track_R = BOARD_TRACK_R;
     cfg->rsid_mode = (app_rsid_mode_t)BOARD_RSID_MODE;
     cfg->rsid_settle_1_s = BOARD_RSID_SETTLE_1_S;
     cfg->rsid_window_s = BOARD_RSID_WINDOW_S;

@@ -1,9 +1,11 @@
-/* bench_ctrl.c STEPS [conventional|proposed] - drives ctrl_step() in speed
+/* bench_ctrl.c STEPS [conventional|proposed|proposed_track_R] - drives ctrl_step() in speed
  * mode at 500 r/min with 4 N m worth of current, for tools/bench_ctrl.sh
  * (callgrind). Inputs are synthesised (a rotating current phasor and a
  * counting encoder), so the controller runs its normal path every period;
  * proposed: step 2 from the start (ctrl_est_start with the nominal R), so
- * every period runs observer, estimator and the observer-based model. Host only. */
+ * every period runs observer, estimator and the observer-based model;
+ * proposed_track_R: the same with R^ tracked by the d-current injection
+ * (ctrl_cfg_t.track_R, observer_design.md sec. 9). Host only. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,9 +39,11 @@ int main(int argc, char **argv)
     ctrl_out_t out;
     double sum = 0.0;
 
-    const int proposed = (argc > 2) && (strcmp(argv[2], "proposed") == 0);
+    const int track_R = (argc > 2) && (strcmp(argv[2], "proposed_track_R") == 0);
+    const int proposed = track_R || ((argc > 2) && (strcmp(argv[2], "proposed") == 0));
     ctrl_cfg_t full = cfg;
     ctrl_cfg_proposed_defaults(&full, R_MIN_OHM, R_MAX_OHM);
+    full.track_R = track_R ? 1u : 0u;
     if (ctrl_init(&c, &full) != CTRL_CFG_OK) {
         fprintf(stderr, "bench_ctrl: ctrl_init refused the proposed method's settings\n");
         return 1;

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # bench_ctrl.sh BIN [STEPS] - cost of one ctrl_step() on x86-64 (-O2) for
-# the conventional and the proposed method (step 2 running) and the
+# the conventional and the proposed method (step 2 running; also with
+# track_R, the d-current injection) and the
 # proposed method's overhead, measured with callgrind, collecting inside
 # ctrl_step only:
 #   instructions per step  = Ir collected / steps
@@ -13,14 +14,14 @@ bin=$1
 n=${2:-20000}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-for m in conventional proposed; do
+for m in conventional proposed proposed_track_R; do
     valgrind --tool=callgrind --dump-instr=yes --toggle-collect=ctrl_step \
         --callgrind-out-file="$out/$m.cg" "$bin" "$n" "$m" > "$out/$m.stdout" 2> "$out/$m.stderr"
 done
 objdump -d --no-show-raw-insn "$bin" > "$out/dis"
-python3 - "$out/conventional.cg" "$out/proposed.cg" "$out/dis" "$n" <<'PY'
+python3 - "$out/conventional.cg" "$out/proposed.cg" "$out/proposed_track_R.cg" "$out/dis" "$n" <<'PY'
 import re, sys
-cgs, dis, n = sys.argv[1:3], sys.argv[3], int(sys.argv[4])
+cgs, dis, n = sys.argv[1:4], sys.argv[4], int(sys.argv[5])
 
 
 def cost(cg):
@@ -60,7 +61,7 @@ for line in open(dis):
     if m:
         dis_lines.append((int(m.group(1), 16), m.group(2)))
 res = {}
-for name, cg in zip(("conventional", "proposed"), cgs):
+for name, cg in zip(("conventional", "proposed", "proposed_track_R"), cgs):
     count, total = cost(cg)
     tally = {k: 0 for k in kinds}
     for a, ins in dis_lines:

@@ -44,5 +44,8 @@ TEST_SRCS_test_sil_faults := tools/sil/sil.c
 TEST_LIBS_test_sil_identify := silrun firmware sim control
 TEST_SRCS_test_sil_identify := tools/sil/sil.c
 
+# The proposed method on a real inverter: inverter error, warming winding (issue 13).
+TEST_LIBS_test_sil_inverter := silrun firmware sim control
+TEST_SRCS_test_sil_inverter := tools/sil/sil.c
 # The CSV's number format (csv_num.c, in libsilrun) against printf.
 TEST_LIBS_test_csv_num := silrun

@@ -112,6 +112,8 @@ static const sc_key_t KEYS[] = {
          "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large"),
     ENUM("identify", "on_refusal", identify.on_refusal, "fault", REFUSAL_NAMES,
          "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
+    ENUM("identify", "track_R", identify.track_R, "off", ONOFF_NAMES,
+         "off | on: R^ tracked in step 2 by a d-current injection (a warming winding)"),
 
     PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
     PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),

@@ -112,6 +112,7 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ctrl_cfg_proposed_defaults(c, R_min, R_max);
     c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
     c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
+    c->track_R = (sc->identify.track_R == SC_ON) ? 1u : 0u;
     ac->rsid_mode = (app_rsid_mode_t)sc->identify.mode;
     ac->rsid_settle_1_s = (float)sc->identify.settle_1_s;
     ac->rsid_window_s = (float)sc->identify.window_s;
@@ -167,6 +168,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->est = (double)m->est;
     r->est_hold = (double)m->est_hold;
     r->R_ohm = tr.R_ohm;
+    r->inv_err_est_V = (double)m->inv_err_V;
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
     const bool faulted = (g_app.state == APP_STATE_FAULT);
@@ -289,7 +291,7 @@ static const sil_col_t COLS[] = {
     COL(psi_ref_Wb), COL(psi_Wb), COL(psi_est_Wb),
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
-    COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit),
+    COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 

@@ -35,6 +35,7 @@ typedef struct {
     double pwm;                             /* 1: gates on during [t_k, t_k + Ts] */
     double inj;                             /* hal_sim_fault_bit_t of the injected faults active ([faults]) */
     double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; 0 unless in FAULT */
+    double inv_err_est_V;                   /* inverter voltage error the controller identified (ctrl_mon_t.inv_err_V) */
 } sil_row_t;
 
 typedef struct {

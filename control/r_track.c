@@ -1,0 +1,201 @@
+/* r_track.c - d-axis square-wave injection, synchronous demodulation; see r_track.h. */
+#include "r_track.h"
+
+#include "mathx.h"
+
+/* Segments per cycle: signs + - - + (a linear drift of z cancels). */
+#define SEGMENTS 4u
+/* r_track_step shifts a two-entry delay line */
+typedef char r_track_delay_line_fits[(R_TRACK_RESPONSE_PERIODS == 2u) ? 1 : -1];
+
+void r_track_cfg_defaults(r_track_cfg_t *cfg)
+{
+    cfg->i_ident_A = R_TRACK_I_IDENT_DEFAULT_A;
+    cfg->i_track_A = R_TRACK_I_TRACK_DEFAULT_A;
+    cfg->seg_periods = R_TRACK_SEG_DEFAULT;
+    cfg->blank_periods = R_TRACK_BLANK_DEFAULT;
+    cfg->ident_cycles = R_TRACK_IDENT_CYCLES_DEFAULT;
+    cfg->ident_delay_periods = R_TRACK_IDENT_DELAY_DEFAULT;
+    cfg->iq_min_A = R_TRACK_IQ_MIN_DEFAULT_A;
+    cfg->iq_step_max_A = R_TRACK_IQ_STEP_DEFAULT_A;
+    cfg->k_R = R_TRACK_K_R_DEFAULT;
+    cfg->ve_max_V = R_TRACK_VE_MAX_DEFAULT_V;
+    cfg->ve_unc_frac = R_TRACK_VE_UNC_FRAC_DEFAULT;
+    cfg->ve_unc_abs_V = R_TRACK_VE_UNC_ABS_DEFAULT_V;
+    cfg->psi_tol = R_TRACK_PSI_TOL_DEFAULT;
+}
+
+static void clear_cycle(r_track_t *rt)
+{
+    rt->seg = 0u;
+    rt->j = 0u;
+    rt->s_now = 1.0f;
+    rt->n_pos = 0u;
+    rt->n_neg = 0u;
+    rt->s_zs = 0.0f;
+    rt->s_is = 0.0f;
+    rt->s_iq_pos = 0.0f;
+    rt->s_iq_neg = 0.0f;
+}
+
+bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg)
+{
+    const float sum = cfg->i_ident_A + cfg->i_track_A + cfg->iq_min_A + cfg->iq_step_max_A + cfg->k_R +
+                      cfg->ve_max_V + cfg->ve_unc_frac + cfg->ve_unc_abs_V + cfg->psi_tol;
+    rt->cfg = *cfg;
+    rt->valid = mathx_isfinitef(sum) && (cfg->i_ident_A > 0.0f) && (cfg->i_track_A > 0.0f) &&
+                (cfg->blank_periods > 0u) && (cfg->blank_periods < cfg->seg_periods) &&
+                (cfg->seg_periods <= (uint16_t)(UINT16_MAX / SEGMENTS)) && (cfg->ident_cycles >= 1u) &&
+                (cfg->iq_min_A > 0.0f) && (cfg->iq_step_max_A > 0.0f) && (cfg->k_R > 0.0f) &&
+                (cfg->k_R <= 1.0f) && (cfg->ve_max_V > 0.0f) && (cfg->ve_unc_frac >= 0.0f) &&
+                (cfg->ve_unc_abs_V >= 0.0f) && (cfg->psi_tol > 0.0f);
+    r_track_reset(rt);
+    return rt->valid;
+}
+
+void r_track_reset(r_track_t *rt)
+{
+    rt->phase = R_TRACK_OFF;
+    rt->i_inj_A = 0.0f;
+    rt->wait = 0u;
+    rt->ref_q[0] = 0.0f;
+    rt->ref_q[1] = 0.0f;
+    rt->id_expect_A = 0.0f;
+    rt->cycles = 0u;
+    rt->tried = 0u;
+    rt->id_zs = 0.0f;
+    rt->id_is = 0.0f;
+    rt->id_iq = 0.0f;
+    rt->rho_Ohm = 0.0f;
+    rt->Ve_V = 0.0f;
+    clear_cycle(rt);
+}
+
+void r_track_start(r_track_t *rt, r_track_phase_t phase)
+{
+    const float Ve = rt->Ve_V; /* an identification survives the start of tracking */
+    r_track_reset(rt);
+    rt->Ve_V = Ve;
+    if (!rt->valid || (phase == R_TRACK_OFF)) {
+        return;
+    }
+    rt->phase = phase;
+    rt->i_inj_A = (phase == R_TRACK_IDENT) ? rt->cfg.i_ident_A : rt->cfg.i_track_A;
+    rt->wait = (phase == R_TRACK_IDENT) ? rt->cfg.ident_delay_periods : 0u;
+}
+
+/* Sign of the reference in segment seg: + - - +. */
+static float seg_sign(uint16_t seg)
+{
+    return ((seg == 0u) || (seg == (SEGMENTS - 1u))) ? 1.0f : -1.0f;
+}
+
+float r_track_id_ref(const r_track_t *rt)
+{
+    return ((rt->phase == R_TRACK_OFF) || (rt->wait > 0u)) ? 0.0f : rt->s_now * rt->i_inj_A;
+}
+
+float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb)
+{
+    const float unc = rt->cfg.ve_unc_frac * mathx_fabsf(rt->Ve_V) + rt->cfg.ve_unc_abs_V;
+    return (psi_f_Wb > 0.0f) ? unc / (rt->cfg.psi_tol * psi_f_Wb) : 0.0f;
+}
+
+float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H, float psi_f_Wb)
+{
+    if ((rt->phase == R_TRACK_OFF) || (rt->wait > 0u)) {
+        return psi_s_Wb;
+    }
+    const float Lid = L_H * r_track_id_ref(rt);
+    const float sq = psi_s_Wb * psi_s_Wb + Lid * (2.0f * psi_f_Wb + Lid);
+    return (sq > 0.0f) ? mathx_sqrtf(sq) : psi_s_Wb;
+}
+
+/* End of a cycle: rho, or a hold. IDENT also sums the valid cycles and
+ * ends after ident_cycles of them (or twice that many tried). */
+static r_track_event_t end_cycle(r_track_t *rt)
+{
+    const r_track_cfg_t *c = &rt->cfg;
+    const float iq_pos = rt->s_iq_pos / (float)rt->n_pos;
+    const float iq_neg = rt->s_iq_neg / (float)rt->n_neg;
+    const float iq_mean = 0.5f * (iq_pos + iq_neg);
+    /* a demodulated current well below the injection: the current did not follow */
+    const bool followed = (rt->s_is > 0.5f * rt->i_inj_A * (float)(rt->n_pos + rt->n_neg));
+    const bool ok = followed && (mathx_fabsf(iq_mean) >= c->iq_min_A) &&
+                    (mathx_fabsf(iq_pos - iq_neg) <= c->iq_step_max_A);
+    r_track_event_t ev = R_TRACK_HELD;
+
+    if (ok) {
+        rt->rho_Ohm = -rt->s_zs / rt->s_is;
+        ev = R_TRACK_CYCLE;
+    }
+    if (rt->phase == R_TRACK_IDENT) {
+        rt->tried++;
+        if (ok) {
+            rt->cycles++;
+            rt->id_zs += rt->s_zs;
+            rt->id_is += rt->s_is;
+            rt->id_iq += iq_mean;
+        }
+        ev = R_TRACK_NONE;
+        if (rt->cycles >= c->ident_cycles) {
+            /* Ve = -rho |i| with R^ = R0 (design sec. 9) */
+            const float iq = rt->id_iq / (float)rt->cycles;
+            const float i_abs = mathx_sqrtf(rt->i_inj_A * rt->i_inj_A + iq * iq);
+            const float Ve = (rt->id_zs / rt->id_is) * i_abs;
+            const bool plausible = mathx_isfinitef(Ve) && (mathx_fabsf(Ve) <= c->ve_max_V);
+            rt->Ve_V = plausible ? Ve : 0.0f;
+            ev = plausible ? R_TRACK_IDENT_DONE : R_TRACK_IDENT_REFUSED;
+        } else if (rt->tried >= (uint16_t)(2u * c->ident_cycles)) {
+            rt->Ve_V = 0.0f;
+            ev = R_TRACK_IDENT_REFUSED;
+        }
+        if (ev != R_TRACK_NONE) {
+            rt->phase = R_TRACK_OFF;
+            rt->ref_q[0] = 0.0f;
+            rt->ref_q[1] = 0.0f;
+            rt->id_expect_A = 0.0f;
+            rt->i_inj_A = 0.0f;
+        }
+    }
+    clear_cycle(rt);
+    return ev;
+}
+
+r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A)
+{
+    const r_track_cfg_t *c = &rt->cfg;
+    r_track_event_t ev = R_TRACK_NONE;
+    if (rt->phase == R_TRACK_OFF) {
+        return R_TRACK_NONE;
+    }
+    if (rt->wait > 0u) {
+        rt->wait--;
+        return R_TRACK_NONE;
+    }
+    /* the reference two periods back is in this sample (delay line, no modulo) */
+    rt->id_expect_A = rt->ref_q[0];
+    rt->ref_q[0] = rt->ref_q[1];
+    if (rt->j >= c->blank_periods) {
+        rt->s_zs += rt->s_now * z_V;
+        rt->s_is += rt->s_now * id_A;
+        if (rt->s_now > 0.0f) {
+            rt->s_iq_pos += iq_A;
+            rt->n_pos++;
+        } else {
+            rt->s_iq_neg += iq_A;
+            rt->n_neg++;
+        }
+    }
+    rt->j++;
+    if (rt->j >= c->seg_periods) {
+        rt->j = 0u;
+        rt->seg++;
+        if (rt->seg >= SEGMENTS) {
+            ev = end_cycle(rt); /* back to segment 0 */
+        }
+        rt->s_now = seg_sign(rt->seg);
+    }
+    rt->ref_q[1] = r_track_id_ref(rt); /* for the voltage computed this period */
+    return ev;
+}

@@ -1,0 +1,142 @@
+/*
+ * r_track.h - d-axis square-wave current injection with synchronous
+ * demodulation of the observer's f^_d (beyond the paper; derivation and
+ * figures: observer_design.md sec. 9).
+ *
+ * For an SPMSM (Ld = Lq) an i_d makes no torque (Te = 1.5 p psi_f iq, eq. 3),
+ * so a small i_d square wave +-I can run in service. In steady state the
+ * observer's d disturbance is (design sec. 1a, 6)
+ *   fd = -dR id + Ve id/|i| + dL w iq - dL did/dt
+ * dR = R^ - R0, Ve the inverter voltage error the controller does not model
+ * (dead time, device drop: a vector of magnitude Ve against the current).
+ * With z = fd^ - w L^ iq (invariant under param_est's L^ law) demodulated
+ * against the reference's sign s (pattern + - - + per cycle, so a linear
+ * drift of z cancels; the first blank_periods of every segment skipped, so
+ * the current's and observer's transients and dL did/dt stay out):
+ *   rho = -sum(z s) / sum(id s) = dR - Ve/|i|      [Ohm]
+ * Two uses, one per phase:
+ *   R_TRACK_IDENT  just after step 1 (R^ = R0, dR = 0), once step 2's L^
+ *                  and psi^ have settled (ident_delay_periods: their
+ *                  transient moves id and would leak into the
+ *                  demodulation), at amplitude i_ident_A for
+ *                  ident_cycles: Ve = -rho |i|, |i| =
+ *                  sqrt(I^2 + iq^2); the caller compensates it;
+ *   R_TRACK_TRACK  step 2, at amplitude i_track_A: with Ve compensated
+ *                  rho = dR, the caller moves R^ by -k_R rho per cycle.
+ * A cycle is held (no result) when |mean iq| < iq_min_A (the error's
+ * direction and the tilt model need a current) or when the mean iq of the
+ * + and - segments differ by more than iq_step_max_A (a load transient).
+ *
+ * Timing: r_track_step() once per period after smo_step(), with that
+ * period's measurements; r_track_id_ref() then gives the reference for the
+ * voltage computed in the same period (it reaches the current 2 periods
+ * later, inside the blanking).
+ */
+#ifndef R_TRACK_H
+#define R_TRACK_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+/* Design defaults (observer_design.md sec. 9). */
+#define R_TRACK_I_IDENT_DEFAULT_A    1.0f   /* identification: 4.5 W for 0.12 s at 3 ohm */
+#define R_TRACK_I_TRACK_DEFAULT_A    0.5f   /* in service: 1.5 R I^2 = 1.1 W at 3 ohm */
+#define R_TRACK_SEG_DEFAULT          100u   /* periods per segment: 10 ms, cycle 40 ms */
+#define R_TRACK_BLANK_DEFAULT        30u    /* periods skipped after a segment starts */
+#define R_TRACK_IDENT_CYCLES_DEFAULT 3u     /* 0.12 s */
+#define R_TRACK_IDENT_DELAY_DEFAULT  1000u  /* 0.1 s: L^, psi^ settle first (psi^: 6 time constants) */
+#define R_TRACK_IQ_MIN_DEFAULT_A     1.0f
+#define R_TRACK_IQ_STEP_DEFAULT_A    0.2f
+#define R_TRACK_K_R_DEFAULT          0.5f   /* per cycle: time constant 58 ms */
+#define R_TRACK_VE_MAX_DEFAULT_V     20.0f  /* |Ve| beyond this is no inverter error: refused */
+/* What the identification may leave, as a bound (SIL: within 2.3 % of the
+ * hand value, sec. 9), and the psi^ error it may cause: psi^ holds where
+ * |w| psi_f < (unc_frac |Ve| + unc_abs) / psi_tol. */
+#define R_TRACK_VE_UNC_FRAC_DEFAULT  0.05f
+#define R_TRACK_VE_UNC_ABS_DEFAULT_V 0.05f
+#define R_TRACK_PSI_TOL_DEFAULT      0.01f
+
+/* Periods from a d-current reference to the sampled current (deadbeat: the
+ * voltage computed at k acts over [k+1, k+2]). */
+#define R_TRACK_RESPONSE_PERIODS 2u
+
+typedef enum { R_TRACK_OFF = 0, R_TRACK_IDENT = 1, R_TRACK_TRACK = 2 } r_track_phase_t;
+
+/* Results of r_track_step(). */
+typedef enum {
+    R_TRACK_NONE = 0,         /* cycle under way */
+    R_TRACK_CYCLE = 1,        /* TRACK: a cycle's rho_Ohm is ready */
+    R_TRACK_HELD = 2,         /* a cycle was discarded (no current, transient) */
+    R_TRACK_IDENT_DONE = 3,   /* IDENT: Ve_V is ready (phase now OFF) */
+    R_TRACK_IDENT_REFUSED = 4 /* IDENT: no valid cycle or |Ve| too large; Ve_V = 0 (phase now OFF) */
+} r_track_event_t;
+
+typedef struct {
+    float i_ident_A;          /* injection amplitude while identifying Ve [A] */
+    float i_track_A;          /* injection amplitude while tracking R [A] */
+    uint16_t seg_periods;     /* periods per segment (4 per cycle) */
+    uint16_t blank_periods;   /* periods skipped at each segment's start, < seg_periods */
+    uint16_t ident_cycles;    /* cycles averaged for Ve */
+    uint16_t ident_delay_periods; /* IDENT waits this long, without injection, before its first cycle */
+    float iq_min_A;           /* |mean iq| below: cycle held */
+    float iq_step_max_A;      /* |mean iq(+) - mean iq(-)| above: cycle held */
+    float k_R;                /* fraction of rho corrected per cycle, (0, 1] */
+    float ve_max_V;           /* |Ve| above: identification refused */
+    float ve_unc_frac;        /* bound on what identification leaves: frac |Ve| + abs [1, V] */
+    float ve_unc_abs_V;
+    float psi_tol;            /* psi^ error that bound may cause where psi^ learns [1] */
+} r_track_cfg_t;
+
+typedef struct {
+    r_track_cfg_t cfg;
+    bool valid;
+    r_track_phase_t phase;
+    float i_inj_A;            /* amplitude of the phase */
+    uint16_t seg;             /* segment of the cycle, 0..3 (signs + - - +) */
+    uint16_t j;               /* period within the segment */
+    float s_now;              /* sign of the segment */
+    uint16_t wait;            /* periods left before the first cycle (IDENT) */
+    float ref_q[R_TRACK_RESPONSE_PERIODS]; /* references of the last periods, oldest first [A] */
+    float id_expect_A;        /* injected current the last sample carries (the reference
+                               * R_TRACK_RESPONSE_PERIODS earlier) [A] */
+    uint16_t cycles;          /* valid cycles summed (IDENT) */
+    uint16_t tried;           /* cycles ended (IDENT) */
+    uint16_t n_pos, n_neg;    /* samples used per sign this cycle */
+    float s_zs;               /* sum z s */
+    float s_is;               /* sum id s */
+    float s_iq_pos, s_iq_neg; /* sums of iq per sign */
+    float id_zs, id_is, id_iq;  /* IDENT: sums over the valid cycles */
+    float rho_Ohm;            /* last cycle's dR - Ve/|i| */
+    float Ve_V;               /* identified inverter error (IDENT) [V, dq magnitude] */
+} r_track_t;
+
+/* Design defaults. Background. */
+void r_track_cfg_defaults(r_track_cfg_t *cfg);
+
+/* Copies cfg (finite, amplitudes > 0, 0 < blank < seg, ident_cycles >= 1,
+ * iq limits > 0, 0 < k_R <= 1, ve_max > 0) and resets. Background. */
+bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg);
+
+/* Phase OFF, Ve = 0. Background or ISR. */
+void r_track_reset(r_track_t *rt);
+
+/* Starts phase (sums cleared, cycle from its start); nothing when invalid. ISR or background. */
+void r_track_start(r_track_t *rt, r_track_phase_t phase);
+
+/* One period: z_V = fd^ - w L^ iq [V], measured id_A, iq_A [A]. ISR. */
+r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A);
+
+/* d-current reference for the voltage computed this period [A] (0 when OFF). ISR. */
+float r_track_id_ref(const r_track_t *rt);
+
+/* Lowest |w| [rad/s el] at which psi^ may learn once the inverter error
+ * Ve_V was identified (0 when refused), for the nominal psi_f_Wb:
+ * (unc_frac |Ve| + unc_abs) / (psi_tol psi_f). Background or ISR once. */
+float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb);
+
+/* Flux reference with the injection: psi_d* = psi_f + L id* keeps the
+ * torque's psi_q*: sqrt(psi_s*^2 + L id* (2 psi_f + L id*)), psi_s_Wb
+ * unchanged when OFF or the result is not positive. ISR (1 square root). */
+float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H, float psi_f_Wb);
+
+#endif /* R_TRACK_H */

@@ -1,0 +1,239 @@
+/* Unit tests of control/r_track.c: the d-current square wave and its
+ * synchronous demodulation (observer_design.md sec. 9) on synthetic
+ * signals whose answer is known by hand. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+
+#include "r_track.h"
+
+#define SEG      100
+#define BLANK    30
+#define CYCLE    (4 * SEG)
+#define TOL      1e-4
+
+static r_track_cfg_t cfg_default(void)
+{
+    r_track_cfg_t c;
+    r_track_cfg_defaults(&c);
+    c.ident_delay_periods = 0u;
+    return c;
+}
+
+/* A plant whose z answers the reference: z = -rho id + offset + drift k,
+ * id follows the reference two periods late (as the deadbeat does). */
+typedef struct {
+    double rho, offset, drift_per_period, iq, iq_step;
+    double id_hist[3];
+    long k;
+} synth_t;
+
+static r_track_event_t synth_step(r_track_t *rt, synth_t *s)
+{
+    const double id = s->id_hist[0];
+    const double sgn = (id >= 0.0) ? 1.0 : -1.0;
+    const double z = -s->rho * id + s->offset + s->drift_per_period * (double)s->k;
+    const double iq = s->iq + ((sgn > 0.0) ? 0.5 : -0.5) * s->iq_step;
+    const r_track_event_t ev = r_track_step(rt, (float)z, (float)id, (float)iq);
+    s->id_hist[0] = s->id_hist[1];
+    s->id_hist[1] = s->id_hist[2];
+    s->id_hist[2] = (double)r_track_id_ref(rt);
+    s->k++;
+    return ev;
+}
+
+/* Reference: + - - + segments of seg_periods at the phase's amplitude; 0 when off. */
+static void reference_pattern(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    r_track_t rt;
+    synth_t s = { 0.0, 0.0, 0.0, 3.0, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    assert_true(r_track_init(&rt, &c));
+    assert_float_equal(r_track_id_ref(&rt), 0.0f, 0.0f);
+    r_track_start(&rt, R_TRACK_TRACK);
+    const float expect[4] = { 1.0f, -1.0f, -1.0f, 1.0f };
+    for (int seg = 0; seg < 4; seg++) {
+        for (int j = 0; j < SEG; j++) {
+            assert_float_equal(r_track_id_ref(&rt), expect[seg] * c.i_track_A, 0.0f);
+            (void)synth_step(&rt, &s);
+        }
+    }
+    assert_float_equal(r_track_id_ref(&rt), c.i_track_A, 0.0f); /* next cycle */
+    r_track_start(&rt, R_TRACK_IDENT);
+    assert_float_equal(r_track_id_ref(&rt), c.i_ident_A, 0.0f);
+    r_track_reset(&rt);
+    assert_float_equal(r_track_id_ref(&rt), 0.0f, 0.0f);
+}
+
+/* TRACK: rho from one cycle, exact for z = -rho id + offset + linear
+ * drift (the + - - + pattern cancels the drift). */
+static void tracking_cycle_measures_rho_despite_offset_and_drift(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    r_track_t rt;
+    synth_t s = { 0.12, 5.0, 1e-3, 3.0, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    assert_true(r_track_init(&rt, &c));
+    r_track_start(&rt, R_TRACK_TRACK);
+    for (int k = 0; k < CYCLE - 1; k++) {
+        assert_int_equal(synth_step(&rt, &s), R_TRACK_NONE);
+    }
+    assert_int_equal(synth_step(&rt, &s), R_TRACK_CYCLE);
+    assert_float_equal(rt.rho_Ohm, 0.12f, TOL);
+    /* without the drift cancellation a drift of 1 mV/period over 400 periods would add
+     * about 0.1 V / 0.5 A = 0.2 ohm */
+    s.rho = -0.3;
+    for (int k = 0; k < CYCLE; k++) {
+        (void)synth_step(&rt, &s);
+    }
+    assert_float_equal(rt.rho_Ohm, -0.3f, TOL);
+}
+
+/* Held: no current (|iq| < iq_min) or a load step between the signs. */
+static void cycle_held_without_current_or_in_transient(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    r_track_t rt;
+    synth_t s = { 0.1, 0.0, 0.0, 0.5, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    r_track_event_t ev = R_TRACK_NONE;
+    assert_true(r_track_init(&rt, &c));
+    r_track_start(&rt, R_TRACK_TRACK);
+    for (int k = 0; k < CYCLE; k++) {
+        ev = synth_step(&rt, &s);
+    }
+    assert_int_equal(ev, R_TRACK_HELD);
+    s.iq = 3.0;
+    s.iq_step = 0.5;
+    for (int k = 0; k < CYCLE; k++) {
+        ev = synth_step(&rt, &s);
+    }
+    assert_int_equal(ev, R_TRACK_HELD);
+    s.iq_step = 0.1;
+    for (int k = 0; k < CYCLE; k++) {
+        ev = synth_step(&rt, &s);
+    }
+    assert_int_equal(ev, R_TRACK_CYCLE);
+}
+
+/* IDENT: waits ident_delay_periods without injection, then ident_cycles
+ * cycles; with dR = 0, rho = -Ve/|i|, |i| = sqrt(I^2 + iq^2):
+ * Ve = 4 V, I = 1 A, iq = 3 A: rho = -4/sqrt(10). */
+static void identification_gives_the_inverter_error(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    c.ident_delay_periods = 50u;
+    r_track_t rt;
+    const double Ve = 4.0;
+    synth_t s = { -Ve / sqrt(10.0), 1.0, 0.0, 3.0, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    r_track_event_t ev = R_TRACK_NONE;
+    assert_true(r_track_init(&rt, &c));
+    r_track_start(&rt, R_TRACK_IDENT);
+    for (int k = 0; k < 50; k++) {
+        assert_float_equal(r_track_id_ref(&rt), 0.0f, 0.0f);
+        assert_float_equal(r_track_psi_ref(&rt, 0.25f, 0.011f, 0.24f), 0.25f, 0.0f);
+        assert_int_equal(synth_step(&rt, &s), R_TRACK_NONE);
+    }
+    long n = 0;
+    while (ev == R_TRACK_NONE && n < 10 * CYCLE) {
+        ev = synth_step(&rt, &s);
+        n++;
+    }
+    assert_int_equal(ev, R_TRACK_IDENT_DONE);
+    assert_int_equal(n, c.ident_cycles * CYCLE);
+    assert_float_equal(rt.Ve_V, (float)Ve, 1e-3);
+    assert_int_equal(rt.phase, R_TRACK_OFF);
+    /* tracking keeps what was identified */
+    r_track_start(&rt, R_TRACK_TRACK);
+    assert_float_equal(rt.Ve_V, (float)Ve, 1e-3);
+}
+
+/* IDENT refused: no current at the operating point (every cycle held,
+ * gives up after twice ident_cycles), or an implausible error. */
+static void identification_refused(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    r_track_t rt;
+    synth_t s = { -0.5, 0.0, 0.0, 0.2, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    r_track_event_t ev = R_TRACK_NONE;
+    long n = 0;
+    assert_true(r_track_init(&rt, &c));
+    r_track_start(&rt, R_TRACK_IDENT);
+    while (ev == R_TRACK_NONE && n < 10 * CYCLE) {
+        ev = synth_step(&rt, &s);
+        n++;
+    }
+    assert_int_equal(ev, R_TRACK_IDENT_REFUSED);
+    assert_int_equal(n, 2 * c.ident_cycles * CYCLE);
+    assert_float_equal(rt.Ve_V, 0.0f, 0.0f);
+
+    s.iq = 3.0;
+    s.rho = -30.0; /* Ve = 30 sqrt(10) V > ve_max */
+    ev = R_TRACK_NONE;
+    r_track_start(&rt, R_TRACK_IDENT);
+    while (ev == R_TRACK_NONE) {
+        ev = synth_step(&rt, &s);
+    }
+    assert_int_equal(ev, R_TRACK_IDENT_REFUSED);
+    assert_float_equal(rt.Ve_V, 0.0f, 0.0f);
+}
+
+/* Flux reference with the injection: psi_d* = psi_f + L id*, psi_q* kept. */
+static void flux_reference_carries_the_injection(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    r_track_t rt;
+    const float L = 0.011f;
+    const float psi_f = 0.24f;
+    const float psi_q = 0.04f;
+    const float psi_s = sqrtf(psi_f * psi_f + psi_q * psi_q);
+    assert_true(r_track_init(&rt, &c));
+    assert_float_equal(r_track_psi_ref(&rt, psi_s, L, psi_f), psi_s, 0.0f);
+    r_track_start(&rt, R_TRACK_TRACK);
+    const float psi_d = psi_f + L * c.i_track_A;
+    assert_float_equal(r_track_psi_ref(&rt, psi_s, L, psi_f), sqrtf(psi_d * psi_d + psi_q * psi_q), 1e-6);
+}
+
+static void init_refuses_bad_settings(void **state)
+{
+    (void)state;
+    r_track_t rt;
+    r_track_cfg_t c = cfg_default();
+    assert_true(r_track_init(&rt, &c));
+    c.blank_periods = c.seg_periods;
+    assert_false(r_track_init(&rt, &c));
+    c = cfg_default();
+    c.k_R = 1.5f;
+    assert_false(r_track_init(&rt, &c));
+    c = cfg_default();
+    c.i_track_A = NAN;
+    assert_false(r_track_init(&rt, &c));
+    c = cfg_default();
+    c.ident_cycles = 0u;
+    assert_false(r_track_init(&rt, &c));
+    /* refused: start does nothing, no injection */
+    r_track_start(&rt, R_TRACK_TRACK);
+    assert_int_equal(rt.phase, R_TRACK_OFF);
+    assert_float_equal(r_track_id_ref(&rt), 0.0f, 0.0f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(reference_pattern),
+        cmocka_unit_test(tracking_cycle_measures_rho_despite_offset_and_drift),
+        cmocka_unit_test(cycle_held_without_current_or_in_transient),
+        cmocka_unit_test(identification_gives_the_inverter_error),
+        cmocka_unit_test(identification_refused),
+        cmocka_unit_test(flux_reference_carries_the_injection),
+        cmocka_unit_test(init_refuses_bad_settings),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
