@@ -357,8 +357,8 @@ static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
         c->rt_flags = CTRL_FLAG_INV_UNIDENTIFIED; /* says so, and keeps the dead time as told */
         start_tracking(c);
     } else if (ev == R_TRACK_CYCLE) {
-        /* rho = dR with the inverter error compensated: R^ -= k_R rho, within the band */
-        if (smo_set_R(&c->smo, c->smo.R_Ohm - c->cfg.rtrack.k_R * c->rt.rho_Ohm)) {
+        /* rho = dR with the inverter error compensated: R^ += -k_R rho + rate, within the band */
+        if (smo_set_R(&c->smo, c->smo.R_Ohm + c->rt.dR_step_Ohm)) {
             c->rt_flags &= (uint16_t)~CTRL_FLAG_R_HELD;
             if (c->model_src == MODEL_OBSERVER) {
                 c->model_src = MODEL_STALE;
