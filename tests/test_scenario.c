@@ -12,6 +12,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "drive_params.h"
 #include "scenario.h"
 
 #define TOL 1e-12
@@ -77,6 +78,28 @@ static void defaults_are_table1(void **state)
     assert_float_equal(sc.controller.psif_Wb, 0.24, TOL);
     assert_int_equal(sc.run.log_every, 10);
     assert_float_equal(profile_eval(&sc.reference.speed_rpm, 0.5), 0.0, TOL);
+}
+
+/* The defaults marked "params" are the drive's parameter set (the board's,
+ * firmware/drive_params.h) as the decimals board_cfg.h spells: 0.011f
+ * reads exactly 0.011 in the double plant, not 0.0109999999. */
+static void defaults_come_from_the_parameter_set(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    drive_params_t p;
+    scenario_defaults(&sc);
+    drive_params_board(&p);
+    assert_true(sc.plant.L_H == 0.011);
+    assert_true(sc.plant.psif_Wb == 0.24);
+    assert_float_equal(sc.plant.L_H, p.motor.L_H, 1e-9);
+    assert_float_equal(sc.plant.J_kgm2, p.motor.J_kgm2, 1e-12);
+    assert_int_equal(sc.plant.encoder_lines, p.board.enc_lines);
+    assert_float_equal(sc.controller.pll_bw_rad_s, p.tuning.pll_bw_rad_s, 0.0);
+    assert_float_equal(sc.controller.i_max_A, p.limits.i_trip_A, 0.0);
+    assert_float_equal(sc.controller.te_max_Nm, p.limits.te_max_Nm, 0.0);
+    /* 2400 r/min, from rad/s back to the key's unit */
+    assert_float_equal(sc.controller.overspeed_rpm, 2400.0, 0.0);
 }
 
 static void parses_every_kind(void **state)
@@ -247,6 +270,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(defaults_are_table1),
+        cmocka_unit_test(defaults_come_from_the_parameter_set),
         cmocka_unit_test(parses_every_kind),
         cmocka_unit_test(profile_rules),
         cmocka_unit_test(set_overrides_and_replaces_profiles),

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "drive_params.h"
 #include "csv_num.h"
 #include "board_cfg.h"
 #include "hal_sim.h"
@@ -72,44 +73,43 @@ static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
     f->isr_overrun_run_s = sc->faults.isr_overrun_run_s;
 }
 
+/* The scenario's controller and board values as the drive's parameter set
+ * (defaults: the board's, tools/sil/scenario.c), mapped by the target's
+ * own drive_params_to_app_cfg(); then the start-up sequence's keys. */
 static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_t *ac)
 {
-    app_cfg_default(ac);   /* the board's protection, ISR timing and start-up sequence */
-    ctrl_cfg_t *c = &ac->ctrl;
-    c->Ts_s = (float)hc->inv.Ts_s;
-    c->Rs_Ohm = (float)sc->controller.R_ohm;
-    c->Ls_H = (float)sc->controller.L_H;
-    c->psi_f_Wb = (float)sc->controller.psif_Wb;
-    c->pole_pairs = (uint16_t)sc->plant.pole_pairs;
-    c->enc_lines = sc->plant.encoder_lines;
-    /* align off: told the plant's offset, as if measured; on: not told (0), the alignment finds it */
-    c->enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)sc->plant.encoder_offset_el_rad;
-    c->enc_pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
-    c->speed_kp_Nms_rad = (float)sc->controller.speed_kp_Nms_rad;
-    c->speed_ki_Nm_rad = (float)sc->controller.speed_ki_Nm_rad;
-    c->te_max_Nm = (float)sc->controller.te_max_Nm;
-    c->i_max_A = (float)(MODEL_I_BOUND_PER_TRIP * sc->controller.i_max_A);
-    c->u_max_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
-    c->omega_max_el_rad_s = (float)(MODEL_SPEED_BOUND_RPM / RPM_PER_RAD_S * (double)sc->plant.pole_pairs);
-    c->psi_max_Wb = (float)(MODEL_PSI_BOUND_PER_PSIF * sc->controller.psif_Wb);
+    drive_params_t p;
+    drive_params_board(&p);
+    p.motor.R_Ohm = (float)sc->controller.R_ohm;
+    p.motor.L_H = (float)sc->controller.L_H;
+    p.motor.psi_f_Wb = (float)sc->controller.psif_Wb;
+    p.motor.pole_pairs = (uint16_t)sc->plant.pole_pairs;
+    p.board.Ts_s = (float)hc->inv.Ts_s;
     /* the dead time as if measured, unless the scenario gives the controller another */
-    c->deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
-    ac->i_max_A = (float)sc->controller.i_max_A;
-    c->i_lim_A = (float)sc->controller.i_limit_A;
-    ac->speed_max_rad_s = (float)(sc->controller.overspeed_rpm / RPM_PER_RAD_S);
+    p.board.deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
+    p.board.u_bound_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
+    p.board.enc_lines = sc->plant.encoder_lines;
+    /* align off: told the plant's offset, as if measured; on: not told (0), the alignment finds it */
+    p.board.enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)sc->plant.encoder_offset_el_rad;
+    p.tuning.pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
+    p.tuning.speed_kp_Nms_rad = (float)sc->controller.speed_kp_Nms_rad;
+    p.tuning.speed_ki_Nm_rad = (float)sc->controller.speed_ki_Nm_rad;
+    p.tuning.R_min_Ohm = isnan(sc->controller.R_min_ohm) ? p.tuning.R_min_Ohm : (float)sc->controller.R_min_ohm;
+    p.tuning.R_max_Ohm = isnan(sc->controller.R_max_ohm) ? p.tuning.R_max_Ohm : (float)sc->controller.R_max_ohm;
+    p.limits.te_max_Nm = (float)sc->controller.te_max_Nm;
+    p.limits.i_trip_A = (float)sc->controller.i_max_A;
+    p.limits.i_limit_A = (float)sc->controller.i_limit_A;
+    p.limits.speed_max_rad_s = (float)(sc->controller.overspeed_rpm / RPM_PER_RAD_S);
     /* the board's bus limits relative to its nominal bus, at the scenario's bus */
-    const float bus_scale = (float)sc->plant.vdc_V / BOARD_VDC_NOMINAL_V;
-    ac->vdc_max_V = BOARD_VDC_MAX_V * bus_scale;
-    ac->vdc_min_V = BOARD_VDC_MIN_V * bus_scale;
+    const float bus_scale = (float)sc->plant.vdc_V / p.board.vdc_nominal_V;
+    p.limits.vdc_max_V = p.limits.vdc_max_V * bus_scale;
+    p.limits.vdc_min_V = p.limits.vdc_min_V * bus_scale;
+
+    app_cfg_default(ac);   /* the board's start-up sequence, watch and ISR timing */
+    drive_params_to_app_cfg(&p, ac);
+    ctrl_cfg_t *c = &ac->ctrl;
     ac->calibrate = (sc->run.calibrate == SC_ON);
     ac->align = (sc->run.align == SC_ON);
-    /* the proposed method's settings for the controller's values, R^ band in ohms */
-    float R_min = NAN;
-    float R_max = NAN;
-    ctrl_rsid_band_default(c, &R_min, &R_max);
-    R_min = isnan(sc->controller.R_min_ohm) ? R_min : (float)sc->controller.R_min_ohm;
-    R_max = isnan(sc->controller.R_max_ohm) ? R_max : (float)sc->controller.R_max_ohm;
-    ctrl_cfg_proposed_defaults(c, R_min, R_max);
     c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
     c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
     c->track_R = (sc->identify.track_R == SC_ON) ? 1u : 0u;
