@@ -3,19 +3,20 @@
  *
  * Cost per ctrl_step() in speed/torque mode, as measured by `make
  * bench-ctrl` (callgrind, x86-64 -O2):
- *   conventional: 1255 instructions; proposed (step 2 running): 1502 (+20 %)
- *            (with issue 12's current limit, weakening loop and step-2
- *            gate); about 100 are the dead-time feedforward (both methods);
+ *   conventional: 1165 instructions; proposed (step 2 running): 1577 (+35 %)
+ *            on the normal path (the bench closes the loop over a motor
+ *            model); about 100 are the dead-time feedforward (both methods);
  *            with track_R (observer_design.md sec. 9) see `make bench-ctrl`
  *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
  *            rotation by a short series), both methods;
  *   divisions: conventional 2 (MTPA's torque term, svpwm_duty's 1/Vdc);
- *            proposed 7: + 2 guarded ones in param_est's transfer laws,
- *            1 in the observer's gain (L^ moved), 2 in dbdtc_set_params
- *            (only in periods an estimate moved: in step 2 every period
- *            with |w iq| above the freeze threshold); plus 3 only in the
- *            periods the torque-first voltage limit acts, and 1 (+ 1 square
- *            root) only while the field is weakened (oplim.h);
+ *            proposed 3.6 on average: + 1 guarded one in the transfer law
+ *            whose turn it is (param_est: the laws alternate), 1 in the
+ *            observer's gain when L^ moved, 2 in dbdtc_set_params only
+ *            when L^ or psi^ moved by more than CTRL_MODEL_UPDATE_REL;
+ *            plus 3 only in the periods the torque-first voltage limit
+ *            acts, and 1 (+ 1 square root) only while the field is
+ *            weakened (oplim.h);
  *   square roots: 3 (MTPA, eq. 17, the monitor's |psi_s|), both methods.
  */
 #include "ctrl.h"
@@ -52,6 +53,11 @@
  * sec. 7): the rest is the deadbeat's headroom for torque changes. */
 #define CTRL_U_MARGIN_DEFAULT 0.92f
 
+/* The model takes the observer's L^, psi^ when they moved by more than
+ * this share since it last did: below it the change of the torque and
+ * flux targets is 1e-4 of theirs, and the 2 divisions of
+ * dbdtc_set_params are saved in the periods of steady state. */
+#define CTRL_MODEL_UPDATE_REL 1.0e-4f
 /* A per-leg square wave of amplitude dv (dead time, device drop) has the
  * rotor-frame fundamental (4/pi) dv against the current (design sec. 9). */
 #define FUNDAMENTAL_OF_SQUARE 1.27323954f
@@ -357,8 +363,8 @@ static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
         c->rt_flags = CTRL_FLAG_INV_UNIDENTIFIED; /* says so, and keeps the dead time as told */
         start_tracking(c);
     } else if (ev == R_TRACK_CYCLE) {
-        /* rho = dR with the inverter error compensated: R^ -= k_R rho, within the band */
-        if (smo_set_R(&c->smo, c->smo.R_Ohm - c->cfg.rtrack.k_R * c->rt.rho_Ohm)) {
+        /* rho = dR with the inverter error compensated: R^ += -k_R rho + rate, within the band */
+        if (smo_set_R(&c->smo, c->smo.R_Ohm + c->rt.dR_step_Ohm)) {
             c->rt_flags &= (uint16_t)~CTRL_FLAG_R_HELD;
             if (c->model_src == MODEL_OBSERVER) {
                 c->model_src = MODEL_STALE;
@@ -451,10 +457,19 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
                 c->psi_held = ((est_moved & PARAM_EST_PSI_MOVED) == 0u) ? CTRL_FLAG_PSI_HELD : 0u;
             }
             if (c->method == CTRL_METHOD_PROPOSED) {
-                /* 2 divisions, only when an estimate moved */
-                if ((moved != 0u) || (c->model_src != MODEL_OBSERVER)) {
+                /* 2 divisions, only when an estimate moved by more than
+                 * CTRL_MODEL_UPDATE_REL since the model took it */
+                const dbdtc_par_t *p = &c->db.par;
+                const bool far = (mathx_fabsf(c->smo.L_H - p->Ls_H) > CTRL_MODEL_UPDATE_REL * p->Ls_H) ||
+                                 (mathx_fabsf(c->smo.psi_f_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb);
+                if (((moved != 0u) && far) || (c->model_src != MODEL_OBSERVER)) {
                     dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->smo.psi_f_Wb);
                     c->model_src = MODEL_OBSERVER;
+                }
+                if (!est_gate_f_usable(&c->gate)) {
+                    /* f^ carries a current transient: eq. (10)-(12) with the
+                     * held estimates (design sec. 7) */
+                    return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s);
                 }
                 return dbdtc_state_from_currents(&c->db, i_hat); /* replaces eq. (10) */
             }
@@ -593,6 +608,12 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         psi_ref = tgt.psi_Wb;
         psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H, par->psi_f_Wb); /* + L id* (design sec. 9) */
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
+        if ((c->model_src == MODEL_OBSERVER) && est_gate_f_usable(&c->gate)) {
+            /* the disturbance the observer sees acts over [k+1, k+2] too:
+             * L^ di/dt = u - ... - f (design sec. 7) */
+            u.d += c->smo.fd_V;
+            u.q += c->smo.fq_V;
+        }
         oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
     }
 

@@ -9,7 +9,7 @@
  *   speed PI -> Te* (speed mode; |Te*| <= te_max_Nm, anti-windup fed by
  *          the torque the applied voltage achieves) | Te* from the
  *          reference (torque mode)
- *   MTPA -> psi_s*; DB-DTC (eq. 17) -> u_dq(k+1)
+ *   current limit, MTPA -> psi_s*, flux weakening (oplim.h); DB-DTC (eq. 17) -> u_dq(k+1)
  *   (open-loop mode: u_dq(k+1) from the reference)
  *   torque-first hexagon limit, inverse Park and SVPWM at the angle of the
  *   middle of the period the voltage is applied in: theta + 1.5*omega*Ts,
@@ -23,10 +23,13 @@
  *   3. step 1 (ctrl_rsid_begin .. ctrl_rsid_finish): conventional control
  *      with the nominal parameters whatever the method; the observer's
  *      fd^, fq^ and i(k), w(k) go into the window the caller selected
- *   4. step 2 (after ctrl_rsid_finish OK or ctrl_est_start): param_est on
- *      the observer state; with CTRL_METHOD_PROPOSED the model takes the
- *      estimates R^, L^, psi^ and x(k+1) from i^(k+1) (eq. 11, 12) instead
- *      of eq. (10); MTPA, eq. (17), limit, SVPWM as above
+ *   4. step 2 (after ctrl_rsid_finish OK or ctrl_est_start): est_gate
+ *      pauses/holds, param_est on the observer state; with
+ *      CTRL_METHOD_PROPOSED the model takes the estimates R^, L^, psi^ and
+ *      x(k+1) from i^(k+1) (eq. 11, 12) instead of eq. (10), and eq. (17)
+ *      adds f^; for 30 ms after a current transient eq. (10) with the held
+ *      estimates and no f^ (design sec. 7); targets (oplim), eq. (17),
+ *      limit, SVPWM as above
  *   5. monitor: fd^, fq^ and R^, L^, psi^ while the observer runs
  * Inverter error and warming winding (observer_design.md sec. 9, r_track.h):
  *   0.1 s into step 2, a 1 A square-wave i_d (no torque) for 0.12 s gives

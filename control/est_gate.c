@@ -6,6 +6,15 @@
 /* Longest hold / snap in periods (uint16_t counters). */
 #define EST_GATE_PERIODS_MAX 65535.0f
 #define ROUND_HALF 0.5f
+/* w_floor when accel_per_speed is 0: the floor applies at every speed */
+#define EST_GATE_W_FLOOR_NONE 3.0e38f
+
+/* The two copies within cfg.settled of each other (NaN: not). */
+static bool copies_agree(const est_gate_t *g)
+{
+    return (mathx_fabsf(g->L_new - g->L_old) <= g->cfg.settled * g->L_new) &&
+           (mathx_fabsf(g->psi_new - g->psi_old) <= g->cfg.settled * g->psi_new);
+}
 
 void est_gate_cfg_defaults(est_gate_cfg_t *cfg, float Ts_s)
 {
@@ -19,6 +28,7 @@ void est_gate_cfg_defaults(est_gate_cfg_t *cfg, float Ts_s)
     cfg->tau_accel_s = EST_GATE_TAU_ACCEL_DEFAULT_S;
     cfg->hold_s = EST_GATE_HOLD_DEFAULT_S;
     cfg->snap_s = EST_GATE_SNAP_DEFAULT_S;
+    cfg->f_hold_s = EST_GATE_F_HOLD_DEFAULT_S;
 }
 
 static bool periods_ok(float t_s, float Ts_s)
@@ -30,32 +40,41 @@ static bool periods_ok(float t_s, float Ts_s)
 bool est_gate_init(est_gate_t *g, const est_gate_cfg_t *cfg)
 {
     const float sum = cfg->Ts_s + cfg->accel_per_speed_1_s + cfg->accel_floor_rad_s2 + cfg->settled + cfg->di_max_A + cfg->dte_max_Nm +
-                      cfg->tau_s + cfg->tau_accel_s + cfg->hold_s + cfg->snap_s;
+                      cfg->tau_s + cfg->tau_accel_s + cfg->hold_s + cfg->snap_s + cfg->f_hold_s;
     g->cfg = *cfg;
     g->valid = mathx_isfinitef(sum) && (cfg->Ts_s > 0.0f) && (cfg->accel_per_speed_1_s >= 0.0f) &&
                (cfg->accel_floor_rad_s2 > 0.0f) && (cfg->settled > 0.0f) &&
                (cfg->di_max_A > 0.0f) && (cfg->dte_max_Nm > 0.0f) && (cfg->tau_s >= cfg->Ts_s) &&
                (cfg->tau_accel_s >= cfg->Ts_s) && periods_ok(cfg->hold_s, cfg->Ts_s) &&
-               periods_ok(cfg->snap_s, cfg->Ts_s);
+               periods_ok(cfg->snap_s, cfg->Ts_s) && periods_ok(cfg->f_hold_s, cfg->Ts_s);
     if (g->valid) {
         g->k_lp = cfg->Ts_s / cfg->tau_s;
         g->k_acc = cfg->Ts_s / cfg->tau_accel_s;
-        g->inv_Ts = 1.0f / cfg->Ts_s;
+        /* thresholds on the change of speed per period: a Ts */
+        g->k_dw = cfg->accel_per_speed_1_s * cfg->Ts_s;
+        g->dw_floor = cfg->accel_floor_rad_s2 * cfg->Ts_s;
+        g->w_floor = (cfg->accel_per_speed_1_s > 0.0f) ? (cfg->accel_floor_rad_s2 / cfg->accel_per_speed_1_s)
+                                                       : EST_GATE_W_FLOOR_NONE;
         g->hold_n = (uint16_t)(cfg->hold_s / cfg->Ts_s + ROUND_HALF);
         g->snap_n = (uint16_t)(cfg->snap_s / cfg->Ts_s + ROUND_HALF);
+        g->f_hold_n = (uint16_t)(cfg->f_hold_s / cfg->Ts_s + ROUND_HALF);
     } else {
         g->k_lp = 0.0f;
         g->k_acc = 0.0f;
-        g->inv_Ts = 0.0f;
+        g->k_dw = 0.0f;
+        g->dw_floor = 0.0f;
+        g->w_floor = 0.0f;
         g->hold_n = 1u;
         g->snap_n = 1u;
+        g->f_hold_n = 1u;
     }
     g->seeded = false;
     g->hold_cnt = g->hold_n;
     g->snap_cnt = 0u;
     g->reasons = EST_GATE_HOLD;
+    g->di_cnt = 0u;
     g->w_prev = 0.0f;
-    g->acc_lp = 0.0f;
+    g->dw_lp = 0.0f;
     g->i_lp.d = 0.0f;
     g->i_lp.q = 0.0f;
     g->te_lp = 0.0f;
@@ -63,20 +82,23 @@ bool est_gate_init(est_gate_t *g, const est_gate_cfg_t *cfg)
     g->psi_old = 0.0f;
     g->L_new = 0.0f;
     g->psi_new = 0.0f;
+    g->settled = false;
     return g->valid;
 }
 
 void est_gate_reset(est_gate_t *g, const smo_t *smo)
 {
     g->seeded = false;
-    g->hold_cnt = 0u; /* step 2 starts learning at once; the copy is the start value */
+    g->hold_cnt = 0u; /* step 2 starts learning at once */
     g->snap_cnt = 0u;
     g->reasons = 0u;
-    g->acc_lp = 0.0f;
-    g->L_old = smo->L_H;
-    g->psi_old = smo->psi_f_Wb;
+    g->di_cnt = 0u;
+    g->dw_lp = 0.0f;
+    g->L_old = 0.0f; /* no old copy yet: unsettled until two copies agree */
+    g->psi_old = 0.0f;
     g->L_new = smo->L_H;
     g->psi_new = smo->psi_f_Wb;
+    g->settled = false;
 }
 
 bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
@@ -96,31 +118,42 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
         g->te_lp = te_ref_Nm;
         g->seeded = true;
     }
-    /* low-passed acceleration of the speed estimate; the filters' states
-     * are bounded by their inputs (a NaN input is caught by ctrl_step's
-     * finiteness check, which stops the drive) */
-    g->acc_lp += g->k_acc * ((omega_el_rad_s - g->w_prev) * g->inv_Ts - g->acc_lp);
+    /* deviations from the low-passed values, then the filters; the
+     * acceleration as the low-passed change of the speed per period. The
+     * states are bounded by their inputs (a NaN input is caught by
+     * ctrl_step's finiteness check, which stops the drive). */
+    const float dw = omega_el_rad_s - g->w_prev;
+    const float dev_d = i_dq_A.d - g->i_lp.d;
+    const float dev_q = i_dq_A.q - g->i_lp.q;
+    const float dev_te = te_ref_Nm - g->te_lp;
+    const float w_abs = mathx_fabsf(omega_el_rad_s);
     g->w_prev = omega_el_rad_s;
-    g->i_lp.d += g->k_lp * (i_dq_A.d - g->i_lp.d);
-    g->i_lp.q += g->k_lp * (i_dq_A.q - g->i_lp.q);
-    g->te_lp += g->k_lp * (te_ref_Nm - g->te_lp);
+    g->dw_lp += g->k_acc * (dw - g->dw_lp);
+    g->i_lp.d += g->k_lp * dev_d;
+    g->i_lp.q += g->k_lp * dev_q;
+    g->te_lp += g->k_lp * dev_te;
 
-    const float a_max = c->accel_per_speed_1_s * mathx_fabsf(omega_el_rad_s);
-    if (!(mathx_fabsf(g->acc_lp) <= ((a_max > c->accel_floor_rad_s2) ? a_max : c->accel_floor_rad_s2))) {
-        why |= EST_GATE_ACCEL;
+    const float dw_max = (w_abs > g->w_floor) ? (g->k_dw * w_abs) : g->dw_floor;
+    if (!(mathx_fabsf(g->dw_lp) <= dw_max)) {
+        why = EST_GATE_ACCEL;
     }
-    if (!(mathx_fabsf(i_dq_A.d - g->i_lp.d) + mathx_fabsf(i_dq_A.q - g->i_lp.q) <= c->di_max_A)) {
+    if (!(mathx_fabsf(dev_d) + mathx_fabsf(dev_q) <= c->di_max_A)) {
         why |= EST_GATE_CURRENT;
     }
-    if (!(mathx_fabsf(te_ref_Nm - g->te_lp) <= c->dte_max_Nm)) {
+    if (!(mathx_fabsf(dev_te) <= c->dte_max_Nm)) {
         why |= EST_GATE_TORQUE;
     }
     if (v_limited) {
         why |= EST_GATE_VOLTAGE;
     }
-    if (!(mathx_fabsf(g->L_new - g->L_old) <= c->settled * g->L_new) ||
-        !(mathx_fabsf(g->psi_new - g->psi_old) <= c->settled * g->psi_new)) {
+    if ((why & (EST_GATE_CURRENT | EST_GATE_TORQUE)) != 0u) {
+        g->di_cnt = g->f_hold_n;
+    } else if (g->di_cnt > 0u) {
+        g->di_cnt--;
+    }
+    if (!g->settled) {
         why = 0u; /* still converging: learn on (header) */
+        g->di_cnt = 0u;
     }
 
     if (why != 0u) {
@@ -131,6 +164,7 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
             (void)smo_set_psi(smo, g->psi_old, omega_el_rad_s);
             g->L_new = g->L_old;
             g->psi_new = g->psi_old;
+            g->settled = true;
             restored = true;
         }
         g->hold_cnt = g->hold_n;
@@ -146,6 +180,7 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
             g->psi_old = g->psi_new;
             g->L_new = smo->L_H;
             g->psi_new = smo->psi_f_Wb;
+            g->settled = copies_agree(g);
         }
     }
     g->reasons = why;

@@ -45,6 +45,7 @@
 #define EST_GATE_TAU_ACCEL_DEFAULT_S      2.0e-3f /* low-pass of the acceleration */
 #define EST_GATE_HOLD_DEFAULT_S           20.0e-3f
 #define EST_GATE_SNAP_DEFAULT_S           5.0e-3f
+#define EST_GATE_F_HOLD_DEFAULT_S         30.0e-3f /* f^ after a current transient (design sec. 7) */
 
 /* Why the laws are paused (est_gate_t.reasons, bit set). */
 #define EST_GATE_ACCEL   0x0001u
@@ -65,6 +66,8 @@ typedef struct {
     float tau_accel_s;        /* low-pass time constant of the acceleration [s] */
     float hold_s;             /* pause kept this long after the last trip [s] */
     float snap_s;             /* age step of the delayed copy [s] */
+    float f_hold_s;           /* f^ not used by the deadbeat step this long after a
+                               * current or torque-command transient [s] */
 } est_gate_cfg_t;
 
 typedef struct {
@@ -73,18 +76,23 @@ typedef struct {
     bool seeded;
     float k_lp;               /* Ts/tau */
     float k_acc;              /* Ts/tau_accel */
-    float inv_Ts;             /* 1/Ts */
+    float k_dw;               /* accel_per_speed Ts: threshold of |dw| per |w| [1] */
+    float dw_floor;           /* accel_floor Ts [rad/s per period] */
+    float w_floor;            /* |w| below which the floor applies [rad/s] */
     uint16_t hold_n;          /* hold_s in periods */
     uint16_t snap_n;          /* snap_s in periods */
+    uint16_t f_hold_n;        /* f_hold_s in periods */
     uint16_t hold_cnt;        /* periods left of the pause */
     uint16_t snap_cnt;        /* periods since the last copy */
     uint16_t reasons;         /* EST_GATE_* of the last step; 0: the laws may run */
+    uint16_t di_cnt;          /* periods left in which f^ still carries a current transient */
     float w_prev;             /* omega_el(k-1) */
-    float acc_lp;             /* low-passed d omega_el/dt [rad/s^2] */
+    float dw_lp;              /* low-passed change of omega_el per period [rad/s] */
     dq_t i_lp;                /* low-passed i_dq [A] */
     float te_lp;              /* low-passed Te* [N m] */
     float L_old, psi_old;     /* delayed copy, snap_n .. 2 snap_n periods old */
     float L_new, psi_new;     /* copy of the last snap boundary */
+    bool settled;             /* the two copies agree within cfg.settled */
 } est_gate_t;
 
 /* Design defaults for period Ts_s [s]. Background. */
@@ -105,5 +113,14 @@ void est_gate_reset(est_gate_t *g, const smo_t *smo);
  * run when g->reasons == 0. ISR, no division. */
 bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
                    bool v_limited);
+
+/* True while f^ is a disturbance estimate the deadbeat step may use: no
+ * current or torque-command transient within f_hold_s (the observer's f^
+ * integrates its tracking lag during one, design sec. 7) and the gate
+ * acting (settled estimates). ISR. */
+static inline bool est_gate_f_usable(const est_gate_t *g)
+{
+    return g->di_cnt == 0u;
+}
 
 #endif /* EST_GATE_H */

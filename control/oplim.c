@@ -35,7 +35,7 @@ oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, uint16_t pole_pairs,
     o->dpsi_max_Wb = out.psi_Wb - (p->psi_f_Wb - Li);
     if (o->dpsi_Wb > 0.0f) {
         /* weakening: the flux the voltage allows, then the torque the current allows there */
-        const float psi = out.psi_Wb - mathx_clampf(o->dpsi_Wb, 0.0f, o->dpsi_max_Wb);
+        const float psi = mathx_clampf(out.psi_Wb - o->dpsi_Wb, p->psi_f_Wb - Li, out.psi_Wb);
         const float psid_min = (psi * psi + p->psi_f_Wb * p->psi_f_Wb - Li * Li) * HALF / p->psi_f_Wb;
         const float psid_lo = (psid_min > 0.0f) ? psid_min : 0.0f;
         const float te_fw = p->te_per_Wb * mathx_sqrtf(psi * psi - psid_lo * psid_lo);

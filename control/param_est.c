@@ -16,8 +16,9 @@ static bool cfg_valid(const param_est_cfg_t *c, const smo_t *smo)
         !(c->psi_rate_max_Wb_s > 0.0f)) {
         return false;
     }
-    /* gamma Ts < 1: one update never moves more than the whole of f^ */
-    if (!(c->gamma_L_1_s * c->Ts_s < 1.0f) || !(c->gamma_psi_1_s * c->Ts_s < 1.0f)) {
+    /* gamma Tu < 1: one update never moves more than the whole of f^ */
+    if (!(c->gamma_L_1_s * PARAM_EST_LAW_PERIODS * c->Ts_s < 1.0f) ||
+        !(c->gamma_psi_1_s * PARAM_EST_LAW_PERIODS * c->Ts_s < 1.0f)) {
         return false;
     }
     /* clamps inside the observer's ranges, so smo_set_L/psi never clip
@@ -46,10 +47,12 @@ bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *sm
 {
     pe->cfg = *cfg;
     pe->valid = cfg_valid(cfg, smo);
-    pe->kL = pe->valid ? cfg->gamma_L_1_s * cfg->Ts_s : 0.0f;
-    pe->kpsi = pe->valid ? cfg->gamma_psi_1_s * cfg->Ts_s : 0.0f;
-    pe->dL_max_H = pe->valid ? cfg->L_rate_max_H_s * cfg->Ts_s : 0.0f;
-    pe->dpsi_max_Wb = pe->valid ? cfg->psi_rate_max_Wb_s * cfg->Ts_s : 0.0f;
+    /* per update, every PARAM_EST_LAW_PERIODS periods */
+    const float Tu_s = PARAM_EST_LAW_PERIODS * cfg->Ts_s;
+    pe->kL = pe->valid ? cfg->gamma_L_1_s * Tu_s : 0.0f;
+    pe->kpsi = pe->valid ? cfg->gamma_psi_1_s * Tu_s : 0.0f;
+    pe->dL_max_H = pe->valid ? cfg->L_rate_max_H_s * Tu_s : 0.0f;
+    pe->dpsi_max_Wb = pe->valid ? cfg->psi_rate_max_Wb_s * Tu_s : 0.0f;
     param_est_reset(pe);
     return pe->valid;
 }
@@ -57,6 +60,8 @@ bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *sm
 void param_est_reset(param_est_t *pe)
 {
     pe->running = false;
+    pe->phase_psi = true; /* the first update is L^'s */
+    pe->flags_last = 0u;
 }
 
 void param_est_run(param_est_t *pe, bool run)
@@ -77,9 +82,15 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
     const float iq = mathx_clampf(iq_A, -smo->cfg.i_max_A, smo->cfg.i_max_A);
     const float wiq = w * iq;
 
+    /* The laws take turns, each every second period at twice the gain
+     * (PARAM_EST_LAW_PERIODS): the same slow rates at half the cost. The
+     * clamp bits of the law that rests keep their last value. */
+    pe->phase_psi = !pe->phase_psi;
+    flags = pe->flags_last & (pe->phase_psi ? PARAM_EST_L_CLAMPED : PARAM_EST_PSI_CLAMPED);
+
     /* Replaces (53)-(55): corrected steady state fd = dL w iq (design 1a, 1d),
      * applied as a slow transfer of fd^ into L^ instead of L + fd/(w iq). */
-    if (mathx_fabsf(wiq) > c->wiq_min_A_rad_s) {
+    if (!pe->phase_psi && (mathx_fabsf(wiq) > c->wiq_min_A_rad_s)) {
         const float delta_V = pe->kL * smo->fd_V;
         const float L_tgt = smo->L_H - mathx_clampf(delta_V / wiq, -pe->dL_max_H, pe->dL_max_H);
         const float L_new = mathx_clampf(L_tgt, c->L_min_H, c->L_max_H);
@@ -91,7 +102,7 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
     }
     /* Replaces (43)-(50): fq = -dpsi w at equilibrium (design 1e); psi^
      * takes fq^ at the speed-independent rate gamma_psi. */
-    if (mathx_fabsf(w) > c->w_min_rad_s) {
+    if (pe->phase_psi && (mathx_fabsf(w) > c->w_min_rad_s)) {
         const float delta_V = pe->kpsi * smo->fq_V;
         const float psi_tgt = smo->psi_f_Wb + mathx_clampf(delta_V / w, -pe->dpsi_max_Wb, pe->dpsi_max_Wb);
         const float psi_new = mathx_clampf(psi_tgt, c->psi_min_Wb, c->psi_max_Wb);
@@ -101,5 +112,6 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
             flags |= PARAM_EST_PSI_CLAMPED;
         }
     }
+    pe->flags_last = flags;
     return flags;
 }

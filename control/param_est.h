@@ -3,9 +3,10 @@
  * (paper sec. V-C, V-D), by transfer laws operating on the observer's
  * state (smo.h), which replace the paper's (43)-(50) and (53)-(55).
  *
- * Per period, after smo_step(), when running:
- *   |w iq| > wiq_min:  delta = gamma_L Ts fd^;   L^ -= delta/(w iq); fd^ -= delta
- *   |w|    > w_min:    delta = gamma_psi Ts fq^; psi^ += delta/w;   fq^ -= delta
+ * After smo_step(), when running, the laws taking turns (every
+ * Tu = PARAM_EST_LAW_PERIODS Ts each):
+ *   |w iq| > wiq_min:  delta = gamma_L Tu fd^;   L^ -= delta/(w iq); fd^ -= delta
+ *   |w|    > w_min:    delta = gamma_psi Tu fq^; psi^ += delta/w;   fq^ -= delta
  * (design sec. 1d, 1e). w L^ iq - fd^ and w psi^ + fq^ are unchanged, so the
  * fast observer never sees an update; f^ drains into the parameters at the
  * slow rates gamma until f^ = 0. Signed w iq and w keep braking and reversal
@@ -36,11 +37,16 @@
  * estimate by at most 1 % per ms. */
 #define PARAM_EST_RATE_MAX_FACTOR_1_S   20.0f
 
+/* Each law runs every this many periods (they take turns, L^ first), with
+ * its gain per update scaled by it: the same continuous rates (tau 6.7
+ * and 17 ms, 67 and 170 periods) at half the cost per period. */
+#define PARAM_EST_LAW_PERIODS 2.0f
+
 /* Bits returned by param_est_step(). */
 #define PARAM_EST_L_MOVED     0x0001u /* L^ law acted this period */
 #define PARAM_EST_PSI_MOVED   0x0002u /* psi^ law acted this period */
-#define PARAM_EST_L_CLAMPED   0x0004u /* L^ held at a clamp */
-#define PARAM_EST_PSI_CLAMPED 0x0008u /* psi^ held at a clamp */
+#define PARAM_EST_L_CLAMPED   0x0004u /* L^ held at a clamp (at its last update) */
+#define PARAM_EST_PSI_CLAMPED 0x0008u /* psi^ held at a clamp (at its last update) */
 
 typedef struct {
     float Ts_s;               /* sampling period [s] */
@@ -60,10 +66,12 @@ typedef struct {
     param_est_cfg_t cfg;
     bool valid;
     bool running;             /* run/freeze switch; false after init and reset */
-    float kL;                 /* gamma_L Ts [1] */
-    float kpsi;               /* gamma_psi Ts [1] */
-    float dL_max_H;           /* L_rate_max Ts: largest step of L^ per period [H] */
-    float dpsi_max_Wb;        /* psi_rate_max Ts [Wb] */
+    float kL;                 /* gamma_L Tu [1], Tu = PARAM_EST_LAW_PERIODS Ts */
+    float kpsi;               /* gamma_psi Tu [1] */
+    float dL_max_H;           /* L_rate_max Tu: largest step of L^ per update [H] */
+    float dpsi_max_Wb;        /* psi_rate_max Tu [Wb] */
+    bool phase_psi;           /* this period's law: psi^ (true) or L^ */
+    uint16_t flags_last;      /* bits of the last step (the resting law's clamp bits) */
 } param_est_t;
 
 /* Design defaults for Ts_s [s] and nominal L_H [H], psi_f_Wb [Wb]. Background. */

@@ -19,6 +19,7 @@ void r_track_cfg_defaults(r_track_cfg_t *cfg)
     cfg->iq_min_A = R_TRACK_IQ_MIN_DEFAULT_A;
     cfg->iq_step_max_A = R_TRACK_IQ_STEP_DEFAULT_A;
     cfg->k_R = R_TRACK_K_R_DEFAULT;
+    cfg->k_I = R_TRACK_K_I_DEFAULT;
     cfg->ve_max_V = R_TRACK_VE_MAX_DEFAULT_V;
     cfg->ve_unc_frac = R_TRACK_VE_UNC_FRAC_DEFAULT;
     cfg->ve_unc_abs_V = R_TRACK_VE_UNC_ABS_DEFAULT_V;
@@ -40,14 +41,14 @@ static void clear_cycle(r_track_t *rt)
 
 bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg)
 {
-    const float sum = cfg->i_ident_A + cfg->i_track_A + cfg->iq_min_A + cfg->iq_step_max_A + cfg->k_R +
+    const float sum = cfg->i_ident_A + cfg->i_track_A + cfg->iq_min_A + cfg->iq_step_max_A + cfg->k_R + cfg->k_I +
                       cfg->ve_max_V + cfg->ve_unc_frac + cfg->ve_unc_abs_V + cfg->psi_tol;
     rt->cfg = *cfg;
     rt->valid = mathx_isfinitef(sum) && (cfg->i_ident_A > 0.0f) && (cfg->i_track_A > 0.0f) &&
                 (cfg->blank_periods > 0u) && (cfg->blank_periods < cfg->seg_periods) &&
                 (cfg->seg_periods <= (uint16_t)(UINT16_MAX / SEGMENTS)) && (cfg->ident_cycles >= 1u) &&
                 (cfg->iq_min_A > 0.0f) && (cfg->iq_step_max_A > 0.0f) && (cfg->k_R > 0.0f) &&
-                (cfg->k_R <= 1.0f) && (cfg->ve_max_V > 0.0f) && (cfg->ve_unc_frac >= 0.0f) &&
+                (cfg->k_R <= 1.0f) && (cfg->k_I >= 0.0f) && (cfg->k_I < cfg->k_R) && (cfg->ve_max_V > 0.0f) && (cfg->ve_unc_frac >= 0.0f) &&
                 (cfg->ve_unc_abs_V >= 0.0f) && (cfg->psi_tol > 0.0f);
     r_track_reset(rt);
     return rt->valid;
@@ -67,6 +68,8 @@ void r_track_reset(r_track_t *rt)
     rt->id_is = 0.0f;
     rt->id_iq = 0.0f;
     rt->rho_Ohm = 0.0f;
+    rt->rate_Ohm = 0.0f;
+    rt->dR_step_Ohm = 0.0f;
     rt->Ve_V = 0.0f;
     clear_cycle(rt);
 }
@@ -127,6 +130,9 @@ static r_track_event_t end_cycle(r_track_t *rt)
 
     if (ok) {
         rt->rho_Ohm = -rt->s_zs / rt->s_is;
+        /* type 2: the rate integrates rho, so a steady warm-up leaves no lag */
+        rt->rate_Ohm -= c->k_I * rt->rho_Ohm;
+        rt->dR_step_Ohm = -c->k_R * rt->rho_Ohm + rt->rate_Ohm;
         ev = R_TRACK_CYCLE;
     }
     if (rt->phase == R_TRACK_IDENT) {

@@ -22,7 +22,9 @@
  *                  ident_cycles: Ve = -rho |i|, |i| =
  *                  sqrt(I^2 + iq^2); the caller compensates it;
  *   R_TRACK_TRACK  step 2, at amplitude i_track_A: with Ve compensated
- *                  rho = dR, the caller moves R^ by -k_R rho per cycle.
+ *                  rho = dR; per cycle the caller moves R^ by dR_step_Ohm =
+ *                  -k_R rho + rate, rate -= k_I rho (type 2: a winding
+ *                  warming at a steady rate is followed without lag).
  * A cycle is held (no result) when |mean iq| < iq_min_A (the error's
  * direction and the tilt model need a current) or when the mean iq of the
  * + and - segments differ by more than iq_step_max_A (a load transient).
@@ -47,7 +49,8 @@
 #define R_TRACK_IDENT_DELAY_DEFAULT  1000u  /* 0.1 s: L^, psi^ settle first (psi^: 6 time constants) */
 #define R_TRACK_IQ_MIN_DEFAULT_A     1.0f
 #define R_TRACK_IQ_STEP_DEFAULT_A    0.2f
-#define R_TRACK_K_R_DEFAULT          0.5f   /* per cycle: time constant 58 ms */
+#define R_TRACK_K_R_DEFAULT          0.5f   /* per cycle */
+#define R_TRACK_K_I_DEFAULT          0.1f   /* per cycle: poles 0.7 +- 0.1j, |z| 0.71, time constant 115 ms */
 #define R_TRACK_VE_MAX_DEFAULT_V     20.0f  /* |Ve| beyond this is no inverter error: refused */
 /* What the identification may leave, as a bound (SIL: within 2.3 % of the
  * hand value, sec. 9), and the psi^ error it may cause: psi^ holds where
@@ -81,6 +84,8 @@ typedef struct {
     float iq_min_A;           /* |mean iq| below: cycle held */
     float iq_step_max_A;      /* |mean iq(+) - mean iq(-)| above: cycle held */
     float k_R;                /* fraction of rho corrected per cycle, (0, 1] */
+    float k_I;                /* fraction of rho added to the rate per cycle, 0 <= k_I < k_R
+                               * (error poles: z^2 - (2 - k_R - k_I) z + 1 - k_R, sec. 9) */
     float ve_max_V;           /* |Ve| above: identification refused */
     float ve_unc_frac;        /* bound on what identification leaves: frac |Ve| + abs [1, V] */
     float ve_unc_abs_V;
@@ -107,6 +112,8 @@ typedef struct {
     float s_iq_pos, s_iq_neg; /* sums of iq per sign */
     float id_zs, id_is, id_iq;  /* IDENT: sums over the valid cycles */
     float rho_Ohm;            /* last cycle's dR - Ve/|i| */
+    float rate_Ohm;           /* TRACK: R's change per cycle, learned [Ohm] */
+    float dR_step_Ohm;        /* TRACK: R^ change the last valid cycle asks for [Ohm] */
     float Ve_V;               /* identified inverter error (IDENT) [V, dq magnitude] */
 } r_track_t;
 
@@ -114,7 +121,7 @@ typedef struct {
 void r_track_cfg_defaults(r_track_cfg_t *cfg);
 
 /* Copies cfg (finite, amplitudes > 0, 0 < blank < seg, ident_cycles >= 1,
- * iq limits > 0, 0 < k_R <= 1, ve_max > 0) and resets. Background. */
+ * iq limits > 0, 0 < k_R <= 1, 0 <= k_I < k_R, ve_max > 0) and resets. Background. */
 bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg);
 
 /* Phase OFF, Ve = 0. Background or ISR. */

@@ -41,14 +41,16 @@
 #define BOARD_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i| to judge by [A] */
 #define BOARD_OPEN_PHASE_RATIO     0.2f       /* mean |i_x| / mean |i| below it: no current in phase x [-] */
 #define BOARD_OPEN_PHASE_U_MIN_V   25.0f      /* ... while phase x was given this mean |u_x| [V] */
-/* Frozen current reading: half an ADC step is "unchanged". In a turn of
- * 30 deg el a field-oriented current |i| moves each reading by at least
- * |i| (1 - cos 15 deg) = 0.034 |i| and the other by at most 2 |i| sin 15 deg
- * = 0.52 |i|: the other sweeping 0.5 A means |i| >= 1 A, and a healthy
- * reading then moves >= 34 mA, nine ADC steps. A reading frozen near zero
- * is what an open phase gives too: OPEN_PHASE judges that one. */
+/* Frozen current reading: half an ADC step is "unchanged". In a net turn
+ * of 15 deg el a field-oriented current |i| moves each reading by at least
+ * |i| (1 - cos 7.5 deg) = 0.0086 |i| and the other by at most
+ * 2 |i| sin 7.5 deg = 0.26 |i|: the other sweeping 0.5 A means |i| >= 1.9 A,
+ * and a healthy reading then moves >= 16 mA, two ADC steps. 15 deg: at
+ * 100 r/min the frozen reading's runaway reaches the overcurrent trip in
+ * 13-21 ms, 15 deg takes 8 ms. A reading frozen near zero is what an open
+ * phase gives too: OPEN_PHASE judges that one. */
 #define BOARD_I_STUCK_DELTA_A    (0.5f * BOARD_I_GAIN_A_PER_V * BOARD_ADC_FULL_SCALE_V / BOARD_ADC_COUNTS) /* [A] */
-#define BOARD_I_STUCK_ANGLE_EL_DEG 30.0f      /* rotor turn with one reading unchanged [deg el] */
+#define BOARD_I_STUCK_ANGLE_EL_DEG 15.0f      /* net rotor turn with one reading unchanged [deg el] */
 #define BOARD_I_STUCK_SPAN_A     0.5f         /* ... while the other reading swept this [A] */
 #define BOARD_I_STUCK_ZERO_A     0.1f         /* ... and the frozen reading is beyond +- this [A] */
 /* Lost encoder: the PLL (500 rad/s) runs on past a count that stops from

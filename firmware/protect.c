@@ -179,7 +179,7 @@ static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
 {
     const protect_watch_cfg_t *w = &p->cfg.watch;
     const float rd[N_READINGS] = { in->ia_A, in->ib_A };
-    const float turn = mathx_fabsf((float)p->enc_delta) * p->el_rad_per_count;
+    const float turn = (float)p->enc_delta * p->el_rad_per_count; /* signed: a count jittering back and forth is no turn */
     uint32_t c;
 
     if (!in->ctrl_running) {
@@ -201,9 +201,10 @@ static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
     }
     p->st_seeded = true;
     for (c = 0u; c < N_READINGS; c++) {
-        if ((p->st_angle_el_rad[c] >= w->stuck_angle_el_rad) && (mathx_fabsf(p->st_last_A[c]) > w->stuck_zero_A) &&
+        if ((mathx_fabsf(p->st_angle_el_rad[c]) >= w->stuck_angle_el_rad) &&
+            (mathx_fabsf(p->st_last_A[c]) > w->stuck_zero_A) &&
             (p->st_other_max_A[c] - p->st_other_min_A[c] >= w->stuck_span_A)) {
-            return app_step_fault(APP_FAULT_CURRENT_SENSOR, p->st_angle_el_rad[c], w->stuck_angle_el_rad);
+            return app_step_fault(APP_FAULT_CURRENT_SENSOR, mathx_fabsf(p->st_angle_el_rad[c]), w->stuck_angle_el_rad);
         }
     }
     return app_step_running();

@@ -28,7 +28,7 @@
  *                     Not observable with no current asked for.
  *   CURRENT_SENSOR    in RUN and IDENTIFY_R: one current reading unchanged
  *                     (by less than stuck_delta_A, half an ADC step) and
- *                     beyond +- stuck_zero_A while the rotor turned
+ *                     beyond +- stuck_zero_A while the rotor turned (net)
  *                     stuck_angle_el_rad and the other reading moved over
  *                     stuck_span_A: a field-oriented current turns with
  *                     the rotor, so both readings move. A reading stuck
@@ -68,7 +68,7 @@ typedef struct {
     float op_ratio;             /* a phase's mean |i_x| below this x mean |i| [-] ... */
     float op_u_min_V;           /* ... while its mean |u_x| is at least this [V] */
     float stuck_delta_A;        /* a reading changing by less is unchanged [A] */
-    float stuck_angle_el_rad;   /* rotor turn with one reading unchanged [rad el] ... */
+    float stuck_angle_el_rad;   /* net rotor turn with one reading unchanged [rad el] ... */
     float stuck_span_A;         /* ... while the other one moved over this [A] */
     float stuck_zero_A;         /* ... and it is beyond +- this (near 0: OPEN_PHASE's) [A] */
     float enc_lost_counts;      /* counts the speed estimate says were missed [counts] */
@@ -136,7 +136,7 @@ typedef struct {
     uint16_t op_phase;             /* the phase found open (0 a, 1 b, 2 c), for the operator */
     /* protect_watch: CURRENT_SENSOR, per reading (0 ia, 1 ib) since it last changed */
     float st_last_A[2];
-    float st_angle_el_rad[2];
+    float st_angle_el_rad[2];      /* net turn, signed [rad el] */
     float st_other_min_A[2], st_other_max_A[2];
     bool st_seeded;
     /* protect_watch: ENCODER_LOST */

@@ -15,7 +15,7 @@
 
 static protect_cfg_t prot_cfg(void)
 {
-    const protect_watch_cfg_t w = { OP_WINDOW * 1e-4f, 1.0f, 0.2f, 25.0f, 3.662e-3f, PI_F / 6.0f, 0.5f, 0.1f,
+    const protect_watch_cfg_t w = { OP_WINDOW * 1e-4f, 1.0f, 0.2f, 25.0f, 3.662e-3f, PI_F / 12.0f, 0.5f, 0.1f,
                                     100.0f, STALL_N * 1e-4f, 0.9f, TE_MAX, POLES };
     const protect_cfg_t cfg = { I_MAX, VDC_MAX, VDC_MIN, SPEED_MAX, PERIOD_CYC, BUDGET_CYC, CPR, 1e-4f, w };
     return cfg;
@@ -428,35 +428,36 @@ static void open_phase_found_at_the_window_end(void **state)
     }
 }
 
-/* ia frozen at 1 A while the count moves 20 per period (20 x 2 pi x 3 /
- * 10000 = 0.0377 rad el) and ib sweeps 0.1 A per period: the turn since
- * the first period reaches 30 deg (0.5236 rad) after 14 periods (0.5278). */
-static void frozen_current_reading_found_after_30_deg(void **state)
+/* ia frozen at 1 A while the count moves 10 per period (10 x 2 pi x 3 /
+ * 10000 = 0.01885 rad el) and ib sweeps 0.1 A per period: the turn since
+ * the first period reaches 15 deg (0.2618 rad) after 14 periods (0.2639).
+ * A count jittering +-10 turns nothing. */
+static void frozen_current_reading_found_after_15_deg(void **state)
 {
     (void)state;
-    const float step_rad = 20.0f * 2.0f * PI_F * 3.0f / (float)CPR;
+    const float step_rad = 10.0f * 2.0f * PI_F * 3.0f / (float)CPR;
     protect_t p = prot_unit();
     uint32_t count = 0u;
     app_step_t r = app_step_running();
     int k;
     for (k = 0; (k < 20) && (r.status == APP_STEP_RUNNING); k++) {
         protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
-        count += 20u;
+        count += 10u;
         const protect_watch_in_t in = watch_in(1.0f, 0.1f * (float)k, NULL, true, 0.0f, 0.0f);
         r = protect_watch(&p, &in);
     }
     assert_int_equal(r.fault, APP_FAULT_CURRENT_SENSOR);
     assert_int_equal(k, 15); /* the 15th period: 14 turns after the first */
     assert_float_equal(r.value, 14.0f * step_rad, 1e-4);
-    assert_float_equal(r.limit, PI_F / 6.0f, 1e-6);
+    assert_float_equal(r.limit, PI_F / 12.0f, 1e-6);
 
-    /* the same near 0 A (an open phase's reading), or not in RUN, or at standstill: no fault */
-    for (int variant = 0; variant < 3; variant++) {
+    /* the same near 0 A (an open phase's reading), or not in RUN, or at standstill, or jittering: no fault */
+    for (int variant = 0; variant < 4; variant++) {
         p = prot_unit();
-        count = 0u;
+        count = 100u;
         for (k = 0; k < 40; k++) {
             protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
-            count += (variant == 2) ? 0u : 20u;
+            count = (variant == 2) ? count : ((variant == 3) ? ((k % 2 == 0) ? 110u : 100u) : count + 10u);
             const protect_watch_in_t in = watch_in((variant == 0) ? 0.05f : 1.0f, 0.1f * (float)k, NULL, variant != 1,
                                                    0.0f, 0.0f);
             assert_int_equal(protect_watch(&p, &in).status, APP_STEP_RUNNING);
@@ -523,7 +524,7 @@ int main(void)
         cmocka_unit_test(overrun_missed_period_latches),
         cmocka_unit_test(fault_holds_until_reset_and_cause_gone),
         cmocka_unit_test(open_phase_found_at_the_window_end),
-        cmocka_unit_test(frozen_current_reading_found_after_30_deg),
+        cmocka_unit_test(frozen_current_reading_found_after_15_deg),
         cmocka_unit_test(lost_encoder_found_moving_and_at_the_torque_limit),
     };
     return cmocka_run_group_tests_name("protect", tests, NULL, NULL);

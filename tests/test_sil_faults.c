@@ -130,7 +130,7 @@ static void phase_to_phase_short(void **state)
 }
 
 /* A current channel freezes at its reading: CURRENT_SENSOR once the rotor
- * turned 30 deg el (1000 r/min: 1.7 ms), when the reading was beyond
+ * turned 15 deg el (1000 r/min: 0.83 ms), when the reading was beyond
  * +-0.1 A; one frozen near 0 looks like an open phase and may be caught by
  * OPEN_PHASE or the overcurrent it leads to. Injected at 8 instants per
  * channel; every one latches, and the frozen value is the snapshot's. */
@@ -149,8 +149,10 @@ static void stuck_current_channel(void **state)
             const double frozen = (c == 0) ? res.fault_ia_A : res.fault_ib_A;
             if (fabs(frozen) > BOARD_I_STUCK_ZERO_A) {
                 const double dt = assert_latched(ch[c], &res, APP_FAULT_CURRENT_SENSOR);
-                /* 30 deg el at 1000 r/min (314 rad/s el) = 1.67 ms, a period of counting */
-                assert_true(dt <= BOARD_I_STUCK_ANGLE_EL_DEG * PI_D / 180.0 / (SPEED_RPM * PI_D / 30.0 * 3.0) + 2.0 * TS_S);
+                /* 15 deg el at 1000 r/min (314 rad/s el) = 0.83 ms; the other reading's 0.5 A
+                 * sweep takes at most 90 deg el at |i| = 2.8 A (3 N m): 2.8 x (1 - cos 45 deg)
+                 * = 0.82 A about its peak; 90 deg = 5 ms, plus a period of counting */
+                assert_true(dt <= 0.5 * PI_D / (SPEED_RPM * PI_D / 30.0 * 3.0) + 2.0 * TS_S);
                 assert_float_equal(res.fault_limit, BOARD_I_STUCK_ANGLE_EL_DEG * PI_D / 180.0, 1e-6);
                 assert_true(res.fault_value >= res.fault_limit);
                 named++;
@@ -255,10 +257,33 @@ static void no_fault_no_trip(void **state)
     assert_true(isnan(res.t_fault_s) && isnan(res.t_inject_s));
 }
 
+/* Healthy runs that come near the new rules trip nothing: a noisy ADC
+ * (0.1 A, offsets) through calibration and the alignment from the phase-a
+ * dead point, holding 0 r/min against 3 N m (a DC current: frozen-looking
+ * readings on a quiet ADC, no turn), 30 r/min, then full-torque reversals
+ * +-1500 r/min on the switching inverter with dead time; and the same on
+ * a noise-free ADC (readings that stay put at standstill). */
+static void healthy_runs_trip_nothing(void **state)
+{
+    (void)state;
+    for (int quiet = 0; quiet < 2; quiet++) {
+        const char *sets[] = { "run.calibrate=on", "run.align=on", "plant.encoder_offset_el_rad=3.14159265",
+                               quiet ? "plant.adc_noise_A=0" : "plant.adc_noise_A=0.1",
+                               "plant.adc_offset_a_A=0.2", "plant.adc_offset_b_A=-0.1",
+                               "reference.speed_rpm=0:0, 1.6:0, 1.9:30, 2.2:1500, 2.5:-1500, 2.8:0",
+                               "load.torque_Nm=0:0, 1.35:3, 2.1:0", "plant.model=switching", "plant.deadtime_s=1e-6" };
+        sil_result_t res;
+        run(sets, sizeof sets / sizeof sets[0], 3.0, &res);
+        assert_int_equal(res.final_state, APP_STATE_RUN);
+        assert_true(isnan(res.t_fault_s));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(no_fault_no_trip),
+        cmocka_unit_test(healthy_runs_trip_nothing),
         cmocka_unit_test(open_phase),
         cmocka_unit_test(phase_to_phase_short),
         cmocka_unit_test(stuck_current_channel),

@@ -15,7 +15,12 @@
  *  - the winding warms 3.0 -> 3.9 ohm over 5 s at 500 r/min, 4 N m: with
  *    track_R R^ within 3 % of the plant's R from 1 s after step 2 on,
  *    psi_f^ within 1 %, mean |Te - Te*| <= 0.01 N m; without it psi_f^
- *    takes the warm-up (the case the tracking exists for). */
+ *    takes the warm-up (the case the tracking exists for);
+ *  - the realistic scenarios of make sil (tools/scenarios/real_*.ini: ADC
+ *    noise 0.02 A, dead time 1 us compensated as 0.9 us, device drop
+ *    1.2 V, 1000-line encoder, winding 3.0 -> 3.9 ohm over the run): the
+ *    proposed method's mean |Te - Te*| in the paper's window at most half
+ *    the conventional one's in every mismatch case of the paper. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -47,6 +52,9 @@
 #define PSI_TOL_WARM    0.01
 #define TE_MAX_WARM_NM  0.01
 #define T_AFTER_STEP2   1.0
+#define REAL_RATIO_MAX  0.5
+#define WIN_T0          0.80     /* the paper's steady window */
+#define WIN_T1          0.95
 
 static const double POINT_RPM[N_POINTS] = { 1000, 1000, 500, 500, 200, 200, 100, 100 };
 static const double POINT_NM[N_POINTS] = { 3, 6, 3, 6, 3, 6, 3, 6 };
@@ -76,6 +84,18 @@ static int on_row_points(const sil_row_t *r, void *user)
             fig.psi[i] += r->psif_est_Wb;
             fig.n[i]++;
         }
+    }
+    return 0;
+}
+
+static int on_row_window(const sil_row_t *r, void *user)
+{
+    (void)user;
+    fig.state = (int)r->state;
+    fig.fault = (int)r->fault;
+    if (r->t_s >= WIN_T0 && r->t_s < WIN_T1) {
+        fig.te_sum += fabs(r->te_Nm - r->te_ref_Nm);
+        fig.n_warm++;
     }
     return 0;
 }
@@ -220,6 +240,25 @@ static void winding_warms(void **state)
     assert_true(fig.psi_dev > PSI_TOL_WARM);   /* the warm-up learned as flux */
 }
 
+static void realistic_board(void **state)
+{
+    (void)state;
+    static const char *const cases[] = { "R430", "L150", "L066", "psif200", "psif050", "L066_psif150" };
+    const char *const none[] = { NULL };
+    char stem[64];
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        snprintf(stem, sizeof stem, "real_conv_%s", cases[k]);
+        run(stem, none, on_row_window);
+        const double conv = fig.te_sum / (double)fig.n_warm;
+        snprintf(stem, sizeof stem, "real_prop_%s", cases[k]);
+        run(stem, none, on_row_window);
+        const double prop = fig.te_sum / (double)fig.n_warm;
+        print_message("realistic %-13s |Te-Te*| proposed %.4f, conventional %.4f N m (%.2f x)\n", cases[k], prop, conv,
+                      prop / conv);
+        assert_true(prop <= REAL_RATIO_MAX * conv);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -227,6 +266,7 @@ int main(void)
         cmocka_unit_test(deadtime_told_double),
         cmocka_unit_test(device_drop_uncompensated),
         cmocka_unit_test(winding_warms),
+        cmocka_unit_test(realistic_board),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

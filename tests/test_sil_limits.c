@@ -304,6 +304,27 @@ static void torque_mode_2200_more_is_more(void **state)
     }
 }
 
+/* ---- paper load step 4 -> 6 -> 4 N m, exact parameters --------------------- */
+
+static void paper_load_step_as_clean(void **state)
+{
+    double te[2];
+    double back[2];
+    static const char *const names[2] = { "conv_paper", "prop_paper" };
+    (void)state;
+    for (int m = 0; m < 2; m++) {
+        sil_result_t res;
+        run(names[m], METHODS[m], NULL, 1.05, 1.15, 0.0, &res);
+        back[m] = fig.te_abs / (double)fig.n;
+        run(names[m], METHODS[m], NULL, 0.95, 1.05, 0.0, &res);
+        te[m] = fig.te_abs / (double)fig.n;
+        assert_int_equal(res.final_fault, APP_FAULT_NONE);
+    }
+    print_message("paper load step, mean |Te - Te*| over 0.95-1.05 s: conventional %.5f, proposed %.5f N m "
+                  "(6 -> 4 N m over 1.05-1.15 s: %.5f, %.5f)\n", te[0], te[1], back[0], back[1]);
+    assert_true(te[1] <= te[0]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -315,6 +336,7 @@ int main(void)
         cmocka_unit_test(ramp_2050_rated_torque),
         cmocka_unit_test(speed_2800_weakens_field),
         cmocka_unit_test(torque_mode_2200_more_is_more),
+        cmocka_unit_test(paper_load_step_as_clean),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -123,19 +123,25 @@ class CaseTable(Tmp):
                                                             t2_L_ms=19.0, t2_psif_ms=None, speed_dip_rpm=75.88)}),
                  ("L066_psif150", {"conv": result(L_err_pct=-34.0, psif_err_pct=50.0, t2_L_ms=None),
                                    "prop": result(step_periods_95=2, step_overshoot_pct=0.23)})]
-        lines = sil_report.case_table(cases, self.dir)
+        real = {"real_conv_L066": result(te_err_Nm=0.08), "real_prop_L066": result(te_err_Nm=0.02),
+                "real_conv_L066_psif150": {"error": "failed"}, "real_prop_L066_psif150": result(te_err_Nm=0.03)}
+        lines = sil_report.case_table(cases, self.dir, real)
         n = len(cells(lines[0]))
-        self.assertEqual(n, 14)
+        self.assertEqual(n, 16)
         self.assertEqual(len(lines), 2 + 4)
         for line in lines[1:]:
             self.assertEqual(len(cells(line)), n, line)
         rows = [cells(line) for line in lines[2:]]
         self.assertEqual([r[:2] for r in rows], [["L066", "conventional"], ["L066", "proposed"],
                                                  ["L066_psif150", "conventional"], ["L066_psif150", "proposed"]])
-        self.assertEqual(rows[1][2:], ["0.0123", "1.000", "0.0234", "75.88", "+0.013", "+0.000", "-0.010",
-                                       "19.0", "-", "-", "-", "-"])
-        self.assertEqual(rows[2][7:9], ["-34.000", "+50.000"])
-        self.assertEqual(rows[3][11:13], ["2", "0.23"])
+        self.assertEqual(rows[1][2:], ["0.0123", "0.0200", "0.25", "1.000", "0.0234", "75.88", "+0.013", "+0.000",
+                                       "-0.010", "19.0", "-", "-", "-", "-"])
+        self.assertEqual(rows[0][3:5], ["0.0800", "-"])        # the conventional row has no ratio
+        self.assertEqual(rows[2][3:5], ["-", "-"])             # its realistic run failed: no ratio either
+        self.assertEqual(rows[3][3:5], ["0.0300", "-"])
+        self.assertEqual(rows[2][9:11], ["-34.000", "+50.000"])
+        self.assertEqual(rows[3][13:15], ["2", "0.23"])
+        self.assertEqual(cells(sil_report.case_table(cases[:1], self.dir)[2])[3:5], ["-", "-"])   # no real runs
         # L066 has no comparison figure: no link, and not L066_psif150's
         self.assertEqual([r[-1] for r in rows], ["-", "-", "[L066_psif150_compare.png](L066_psif150_compare.png)",
                                                  "[L066_psif150_compare.png](L066_psif150_compare.png)"])

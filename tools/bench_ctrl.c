@@ -1,11 +1,16 @@
 /* bench_ctrl.c STEPS [conventional|proposed|proposed_track_R] - drives ctrl_step() in speed
  * mode at 500 r/min with 4 N m worth of current, for tools/bench_ctrl.sh
- * (callgrind). Inputs are synthesised (a rotating current phasor and a
- * counting encoder), so the controller runs its normal path every period;
- * proposed: step 2 from the start (ctrl_est_start with the nominal R), so
- * every period runs observer, estimator and the observer-based model;
- * proposed_track_R: the same with R^ tracked by the d-current injection
- * (ctrl_cfg_t.track_R, observer_design.md sec. 9). Host only. */
+ * (callgrind). Inputs are synthesised: a counting encoder and the currents
+ * of a rotor-frame Euler model of the Table I motor, shaft held, fed the
+ * voltage the controller realises (a fixed current phasor that ignored the
+ * voltage kept both methods on the hexagon limit every period: flags 3).
+ * The first TORQUE_STEPS run in torque mode at 4 N m, so the speed PI
+ * starts from it (bumpless) and holds it at zero speed error: the normal
+ * path every period. proposed: step 2 from the start (ctrl_est_start with
+ * the nominal R), so every period runs observer, estimator and the
+ * observer-based model; proposed_track_R: the same with R^ tracked by the
+ * d-current injection (ctrl_cfg_t.track_R, observer_design.md sec. 9).
+ * Host only. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +23,11 @@
 #define LINES       2500u
 #define SPEED_RPM   500.0
 #define IQ_A        3.7
+#define TE_NM       4.0       /* 1.5 p psi_f IQ_A */
+#define PLANT_R_OHM       3.0
+#define PLANT_L_H         0.011
+#define PLANT_PSI_F_WB    0.24
+#define TORQUE_STEPS 200L
 #define PI_D        3.14159265358979323846
 #define R_MIN_OHM   0.6f   /* R^ band, [0.2, 2] x nominal */
 #define R_MAX_OHM   6.0f
@@ -52,20 +62,37 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_ctrl: proposed method unavailable\n");
         return 1;
     }
-    ctrl_set_mode(&c, CTRL_MODE_SPEED);
-    ctrl_set_ref(&c, &ref);
+    const ctrl_ref_t ref_te = { 0.0f, (float)TE_NM, 0.0f, 0.0f };
+    const double w_e = POLE_PAIRS * w_m;
+    double id = 0.0;
+    double iq = IQ_A;
+    ctrl_set_mode(&c, CTRL_MODE_TORQUE);
+    ctrl_set_ref(&c, &ref_te);
     for (long k = 0; k < n; k++) {
         const double th_m = fmod(w_m * TS_S * (double)k, 2.0 * PI_D);
         const double th = POLE_PAIRS * th_m;
+        const dq_t u = c.u_applied_V; /* computed last period, applied over [k, k+1] */
         ctrl_in_t in;
-        in.ia_A = (float)(-IQ_A * sin(th));
-        in.ib_A = (float)(-IQ_A * sin(th - 2.0 * PI_D / 3.0));
+        if (k == TORQUE_STEPS) {
+            ctrl_set_mode(&c, CTRL_MODE_SPEED);
+            ctrl_set_ref(&c, &ref);
+        }
+        /* i_ab = inverse Park of i_dq at th (amplitude-invariant) */
+        in.ia_A = (float)(id * cos(th) - iq * sin(th));
+        in.ib_A = (float)(id * cos(th - 2.0 * PI_D / 3.0) - iq * sin(th - 2.0 * PI_D / 3.0));
         in.vdc_V = 311.0f;
         in.enc_count = (uint32_t)(th_m / (2.0 * PI_D) * 4.0 * LINES) % (4u * LINES);
         ctrl_step(&c, &in, &out);
         sum += out.duty[0];
+        {
+            const double did = TS_S / PLANT_L_H * ((double)u.d - PLANT_R_OHM * id + w_e * PLANT_L_H * iq);
+            const double diq = TS_S / PLANT_L_H * ((double)u.q - PLANT_R_OHM * iq - w_e * PLANT_L_H * id - w_e * PLANT_PSI_F_WB);
+            id += did;
+            iq += diq;
+        }
     }
-    printf("bench_ctrl: %s, %ld steps, mean duty a %.4f, flags %u, L^ %.5f H\n",
-           proposed ? "proposed" : "conventional", n, sum / (double)n, out.flags, (double)c.mon.L_est_H);
+    printf("bench_ctrl: %s, %ld steps, mean duty a %.4f, flags %u, L^ %.5f H, Te* %.3f N m, iq %.3f A\n",
+           proposed ? "proposed" : "conventional", n, sum / (double)n, out.flags, (double)c.mon.L_est_H,
+           (double)c.mon.te_ref_Nm, iq);
     return 0;
 }
