@@ -10,6 +10,7 @@
 #include "csv_num.h"
 #include "board_cfg.h"
 #include "hal_sim.h"
+#include "summary.h"
 
 #define TWO_PI 6.283185307179586
 #define RPM_PER_RAD_S (60.0 / TWO_PI)
@@ -311,4 +312,62 @@ void sil_csv_row(FILE *f, const sil_row_t *row)
         line[n++] = (i + 1u < N_COLS) ? ',' : '\n';
     }
     fwrite(line, 1, n, f);
+}
+
+/* ---- resolved values (OUT.json) --------------------------------------------- */
+
+static void json_num(FILE *f, const char *key, double v, const char *sep)
+{
+    if (isfinite(v)) {
+        fprintf(f, "\"%s\": %.10g%s", key, v, sep);
+    } else {
+        fprintf(f, "\"%s\": null%s", key, sep);
+    }
+}
+
+/* A controller value (float) to the digits a float holds: 0.0165f reads 0.0165. */
+static void json_flt(FILE *f, const char *key, float v, const char *sep)
+{
+    if (isfinite(v)) {
+        fprintf(f, "\"%s\": %.7g%s", key, (double)v, sep);
+    } else {
+        fprintf(f, "\"%s\": null%s", key, sep);
+    }
+}
+
+void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path)
+{
+    const app_cfg_t *ac = &g_app.cfg;
+    const ctrl_cfg_t *c = &ac->ctrl;
+    static const char *const METHOD[] = { "conventional", "proposed" };
+    static const char *const MODE[] = { "speed", "torque", "open_loop" };
+
+    fputs("{\"scenario\": ", f);
+    summary_json_string(f, scenario_path);
+    fputs(",\n \"plant\": {", f);
+    json_num(f, "R_ohm", sc->plant.R_ohm, ", ");
+    json_num(f, "L_H", sc->plant.L_H, ", ");
+    json_num(f, "psif_Wb", sc->plant.psif_Wb, ", ");
+    json_num(f, "pole_pairs", (double)sc->plant.pole_pairs, ", ");
+    json_num(f, "J_kgm2", sc->plant.J_kgm2, ", ");
+    json_num(f, "vdc_V", sc->plant.vdc_V, ", ");
+    json_num(f, "deadtime_s", sc->plant.deadtime_s, ", ");
+    json_num(f, "encoder_lines", (double)sc->plant.encoder_lines, "},\n");
+    fprintf(f, " \"controller\": {\"method\": \"%s\", \"mode\": \"%s\", ",
+            METHOD[(sc->controller.method == SC_METHOD_PROPOSED) ? 1 : 0],
+            MODE[(sc->controller.mode <= SC_MODE_OPEN_LOOP) ? sc->controller.mode : 0u]);
+    json_flt(f, "R_ohm", c->Rs_Ohm, ", ");
+    json_flt(f, "L_H", c->Ls_H, ", ");
+    json_flt(f, "psif_Wb", c->psi_f_Wb, ", ");
+    json_flt(f, "R_min_ohm", c->R_min_Ohm, ", ");
+    json_flt(f, "R_max_ohm", c->R_max_Ohm, ", ");
+    json_flt(f, "deadtime_s", c->deadtime_s, ", ");
+    json_flt(f, "pll_bw_rad_s", c->enc_pll_bw_rad_s, ", ");
+    json_flt(f, "speed_kp_Nms_rad", c->speed_kp_Nms_rad, ", ");
+    json_flt(f, "speed_ki_Nm_rad", c->speed_ki_Nm_rad, ", ");
+    json_flt(f, "te_max_Nm", c->te_max_Nm, ", ");
+    json_flt(f, "i_max_A", ac->i_max_A, ", ");
+    json_flt(f, "i_limit_A", c->i_lim_A, ", ");
+    json_flt(f, "overspeed_rpm", (float)((double)ac->speed_max_rad_s * RPM_PER_RAD_S), ", ");
+    json_num(f, "config_status", (double)ctrl_status(&g_app.ctrl), "}}\n");
 }
