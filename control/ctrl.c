@@ -608,12 +608,6 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         psi_ref = tgt.psi_Wb;
         psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H, par->psi_f_Wb); /* + L id* (design sec. 9) */
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
-        if ((c->model_src == MODEL_OBSERVER) && est_gate_f_usable(&c->gate)) {
-            /* the disturbance the observer sees acts over [k+1, k+2] too:
-             * L^ di/dt = u - ... - f (design sec. 7) */
-            u.d += c->smo.fd_V;
-            u.q += c->smo.fq_V;
-        }
         oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
     }
 

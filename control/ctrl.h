@@ -26,10 +26,9 @@
  *   4. step 2 (after ctrl_rsid_finish OK or ctrl_est_start): est_gate
  *      pauses/holds, param_est on the observer state; with
  *      CTRL_METHOD_PROPOSED the model takes the estimates R^, L^, psi^ and
- *      x(k+1) from i^(k+1) (eq. 11, 12) instead of eq. (10), and eq. (17)
- *      adds f^; for 30 ms after a current transient eq. (10) with the held
- *      estimates and no f^ (design sec. 7); targets (oplim), eq. (17),
- *      limit, SVPWM as above
+ *      x(k+1) from i^(k+1) (eq. 11, 12) instead of eq. (10); for 30 ms
+ *      after a current transient eq. (10) with the held estimates (design
+ *      sec. 7); targets (oplim), eq. (17), limit, SVPWM as above
  *   5. monitor: fd^, fq^ and R^, L^, psi^ while the observer runs
  * Inverter error and warming winding (observer_design.md sec. 9, r_track.h):
  *   0.1 s into step 2, a 1 A square-wave i_d (no torque) for 0.12 s gives

@@ -66,8 +66,8 @@ typedef struct {
     float tau_accel_s;        /* low-pass time constant of the acceleration [s] */
     float hold_s;             /* pause kept this long after the last trip [s] */
     float snap_s;             /* age step of the delayed copy [s] */
-    float f_hold_s;           /* f^ not used by the deadbeat step this long after a
-                               * current or torque-command transient [s] */
+    float f_hold_s;           /* the prediction by eq. (10), not i^(k+1), this long
+                               * after a current or torque-command transient [s] */
 } est_gate_cfg_t;
 
 typedef struct {
@@ -114,8 +114,8 @@ void est_gate_reset(est_gate_t *g, const smo_t *smo);
 bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
                    bool v_limited);
 
-/* True while f^ is a disturbance estimate the deadbeat step may use: no
- * current or torque-command transient within f_hold_s (the observer's f^
+/* True while the observer's prediction i^(k+1) (through f^) may replace
+ * eq. (10): no current or torque-command transient within f_hold_s (f^
  * integrates its tracking lag during one, design sec. 7) and the gate
  * acting (settled estimates). ISR. */
 static inline bool est_gate_f_usable(const est_gate_t *g)
