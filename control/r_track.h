@@ -52,7 +52,7 @@
 #define R_TRACK_K_R_DEFAULT          0.5f   /* per cycle */
 #define R_TRACK_K_I_DEFAULT          0.1f   /* per cycle: poles 0.7 +- 0.1j, |z| 0.71, time constant 115 ms */
 #define R_TRACK_VE_MAX_DEFAULT_V     20.0f  /* |Ve| beyond this is no inverter error: refused */
-/* What the identification may leave, as a bound (SIL: within 2.3 % of the
+/* What the identification may leave, as a bound (SIL: within 2.9 % of the
  * hand value, sec. 9), and the psi^ error it may cause: psi^ holds where
  * |w| psi_f < (unc_frac |Ve| + unc_abs) / psi_tol. */
 #define R_TRACK_VE_UNC_FRAC_DEFAULT  0.05f

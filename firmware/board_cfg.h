@@ -33,14 +33,16 @@
 #define BOARD_ISR_BUDGET_CYCLES  12000UL      /* 80 % of the period for app_isr [cycles] */
 /* Checks on the periods' history (firmware/protect.h derives each rule;
  * detection times measured in SIL: tests/test_sil_faults.c). */
-/* Open phase: a window of 0.1 s covers an electrical half turn (where a
- * healthy phase carries 2/pi = 0.64 of |i|) from 100 r/min; below that the
- * back-EMF (7.5 V peak at 100 r/min), R i_x and the dead-time feedforward
- * stay below the voltage threshold when i_x < 0.2 |i| (< 2.8 A). */
+/* Open phase (protect.h): a window of 0.1 s covers half an electrical
+ * turn (where a healthy phase carries 2/pi = 0.64 of |i|) from 100 r/min;
+ * slower, the voltage on the phase decides: with i_x < 0.2 |i| (< 2.8 A)
+ * a healthy phase gets R i_x + back-EMF (7.5 V peak at 100 r/min) + the
+ * dead-time feedforward (3 V), below 25 V. The window slides by a quarter
+ * (PROTECT_OP_SUBWINDOWS): SIL 65-100 ms, noise 0-0.15 A, 0-2000 r/min. */
 #define BOARD_OPEN_PHASE_WINDOW_S  0.1f       /* [s] */
 #define BOARD_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i| to judge by [A] */
 #define BOARD_OPEN_PHASE_RATIO     0.2f       /* mean |i_x| / mean |i| below it: no current in phase x [-] */
-#define BOARD_OPEN_PHASE_U_MIN_V   25.0f      /* ... while phase x was given this mean |u_x| [V] */
+#define BOARD_OPEN_PHASE_U_MIN_V   25.0f      /* ... while phase x was given this mean |u_x| (below half a turn) [V] */
 /* Frozen current reading: half an ADC step is "unchanged". In a net turn
  * of 15 deg el a field-oriented current |i| moves each reading by at least
  * |i| (1 - cos 7.5 deg) = 0.0086 |i| and the other by at most

@@ -26,7 +26,7 @@ void protect_init(protect_t *p, const protect_cfg_t *cfg)
     p->isr_interval_cycles = 0u;
     p->isr_run_cycles = 0u;
     p->uv_armed = false;
-    p->op_window_ticks = app_periods_of(cfg->watch.op_window_s, cfg->Ts_s);
+    p->op_part_ticks = app_periods_of(cfg->watch.op_window_s / (float)PROTECT_OP_SUBWINDOWS, cfg->Ts_s);
     p->stall_ticks_max = app_periods_of(cfg->watch.enc_stall_s, cfg->Ts_s);
     p->el_rad_per_count = MATHX_TWO_PI_F * (float)cfg->watch.pole_pairs / (float)p->enc_cpr;
     p->counts_per_rad = (float)p->enc_cpr / MATHX_TWO_PI_F;
@@ -113,16 +113,24 @@ app_step_t protect_run_time(protect_t *p, uint32_t t_entry_cycles, uint32_t now_
 
 /* ---- checks on the periods' history (protect_watch) --------------------- */
 
-static void op_clear(protect_t *p)
+static void op_sums_clear(protect_op_sums_t *a)
 {
     uint32_t x;
 
-    p->op_ticks = 0u;
-    p->op_sum_i_A = 0.0f;
+    a->n = 0u;
+    a->i_A = 0.0f;
+    a->turn_counts = 0;
     for (x = 0u; x < N_PHASES; x++) {
-        p->op_sum_ix_A[x] = 0.0f;
-        p->op_sum_ux_V[x] = 0.0f;
+        a->ix_A[x] = 0.0f;
+        a->ux_V[x] = 0.0f;
     }
+}
+
+static void op_clear(protect_t *p)
+{
+    op_sums_clear(&p->op_part);
+    p->op_parts_n = 0u;
+    p->op_parts_next = 0u;
 }
 
 void protect_watch_reset(protect_t *p)
@@ -133,45 +141,75 @@ void protect_watch_reset(protect_t *p)
     p->stall_ticks = 0u;
 }
 
-/* OPEN_PHASE: one window's sums; at its end, the test of protect.h. */
-static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
+/* OPEN_PHASE: the test of protect.h on the window's sums; turn_el_rad the
+ * rotor's turn (net per part), ux_V[x] the sum over the parts of
+ * |part's sum of u_x|. */
+static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *win, float turn_el_rad)
 {
     const protect_watch_cfg_t *w = &p->cfg.watch;
-    const float ix[N_PHASES] = { in->ia_corr_A, in->ib_corr_A, -in->ia_corr_A - in->ib_corr_A };
-    const float i_beta = (in->ia_corr_A + 2.0f * in->ib_corr_A) * INV_SQRT3;
-    float d_mean;
+    const float n = (float)win->n;
+    const float i_mean = win->i_A / n;
+    const bool half_turn = (turn_el_rad >= MATHX_PI_F);
     uint32_t x;
 
-    if ((in->duty == NULL) || (p->op_window_ticks == 0u)) {
+    for (x = 0u; x < N_PHASES; x++) {
+        const float ix_mean = win->ix_A[x] / n;
+        const float limit = w->op_ratio * i_mean;
+        if ((i_mean >= w->op_i_min_A) && (ix_mean < limit) && (half_turn || (win->ux_V[x] / n >= w->op_u_min_V))) {
+            p->op_phase = (uint16_t)x;
+            return app_step_fault(APP_FAULT_OPEN_PHASE, ix_mean, limit);
+        }
+    }
+    return app_step_running();
+}
+
+/* OPEN_PHASE: this period into the window's part; at a part's end, the
+ * window of the last PROTECT_OP_SUBWINDOWS parts is judged. */
+static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
+{
+    const float ix[N_PHASES] = { in->ia_corr_A, in->ib_corr_A, -in->ia_corr_A - in->ib_corr_A };
+    const float i_beta = (in->ia_corr_A + 2.0f * in->ib_corr_A) * INV_SQRT3;
+    protect_op_sums_t *a = &p->op_part;
+    protect_op_sums_t win;
+    float turn = 0.0f;
+    float d_mean;
+    uint32_t x;
+    uint32_t k;
+
+    if ((in->duty == NULL) || (p->op_part_ticks == 0u)) {
         op_clear(p); /* outputs off: nothing to compare */
         return app_step_running();
     }
     d_mean = (in->duty[0] + in->duty[1] + in->duty[2]) * ONE_THIRD;
-    p->op_sum_i_A += mathx_sqrtf(in->ia_corr_A * in->ia_corr_A + i_beta * i_beta);
+    a->i_A += mathx_sqrtf(in->ia_corr_A * in->ia_corr_A + i_beta * i_beta);
     for (x = 0u; x < N_PHASES; x++) {
-        p->op_sum_ix_A[x] += mathx_fabsf(ix[x]);
-        p->op_sum_ux_V[x] += mathx_fabsf((in->duty[x] - d_mean) * in->vdc_V);
+        a->ix_A[x] += mathx_fabsf(ix[x]);
+        a->ux_V[x] += (in->duty[x] - d_mean) * in->vdc_V;
     }
-    p->op_ticks++;
-    if (p->op_ticks < p->op_window_ticks) {
+    a->turn_counts += p->enc_delta;
+    a->n++;
+    if (a->n < p->op_part_ticks) {
         return app_step_running();
     }
-    {
-        const float n = (float)p->op_ticks;
-        const float i_mean = p->op_sum_i_A / n;
-        app_step_t r = app_step_running();
-        for (x = 0u; x < N_PHASES; x++) {
-            const float ix_mean = p->op_sum_ix_A[x] / n;
-            const float limit = w->op_ratio * i_mean;
-            if ((i_mean >= w->op_i_min_A) && (ix_mean < limit) && (p->op_sum_ux_V[x] / n >= w->op_u_min_V) &&
-                (r.status != APP_STEP_FAULT)) {
-                p->op_phase = (uint16_t)x;
-                r = app_step_fault(APP_FAULT_OPEN_PHASE, ix_mean, limit);
-            }
-        }
-        op_clear(p);
-        return r;
+    p->op_parts[p->op_parts_next] = *a;
+    p->op_parts_next = (p->op_parts_next + 1u) % PROTECT_OP_SUBWINDOWS;
+    p->op_parts_n = (p->op_parts_n < PROTECT_OP_SUBWINDOWS) ? (p->op_parts_n + 1u) : PROTECT_OP_SUBWINDOWS;
+    op_sums_clear(a);
+    if (p->op_parts_n < PROTECT_OP_SUBWINDOWS) {
+        return app_step_running();
     }
+    op_sums_clear(&win);
+    for (k = 0u; k < PROTECT_OP_SUBWINDOWS; k++) {
+        const protect_op_sums_t *q = &p->op_parts[k];
+        win.n += q->n;
+        win.i_A += q->i_A;
+        for (x = 0u; x < N_PHASES; x++) {
+            win.ix_A[x] += q->ix_A[x];
+            win.ux_V[x] += mathx_fabsf(q->ux_V[x]);
+        }
+        turn += mathx_fabsf((float)q->turn_counts) * p->el_rad_per_count;
+    }
+    return open_phase_judge(p, &win, turn);
 }
 
 /* CURRENT_SENSOR: per reading, the turn and the other reading's span since it last changed. */

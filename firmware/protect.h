@@ -16,15 +16,25 @@
  *                     missed), or the last ISR run > isr_budget_cycles
  * and, from the history of the periods (protect_watch, after the checks
  * above pass; thresholds in protect_watch_cfg_t, values in board_cfg.h):
- *   OPEN_PHASE        over a window of op_window_s with the outputs on:
- *                     mean |i| >= op_i_min_A and, for one phase x, mean
- *                     |i_x| < op_ratio x mean |i| while the mean |u_x| it
- *                     was given >= op_u_min_V (u_x: the phase voltage of
- *                     the duties, zero sequence removed). A healthy phase
- *                     carries 2/pi = 0.64 of |i| over an electrical half
- *                     turn; at standstill its current follows u_x / R, so
- *                     a small i_x comes with a small u_x (a current vector
- *                     across the phase, as in the alignment's first step).
+ *   OPEN_PHASE        over a window of op_window_s with the outputs on
+ *                     (sliding: judged at the end of each of its
+ *                     PROTECT_OP_SUBWINDOWS parts, over the last whole
+ *                     window): mean |i| >= op_i_min_A and, for one phase
+ *                     x, mean |i_x| < op_ratio x mean |i|, and
+ *                       - the rotor turned (net, per part) half an
+ *                         electrical turn or more in the window: a healthy
+ *                         phase carries 2/pi = 0.64 of |i| over a half
+ *                         turn; or, slower,
+ *                       - the voltage phase x was given, averaged (signed)
+ *                         over each part, then |.| over the window, is
+ *                         >= op_u_min_V (u_x: the phase voltage of the
+ *                         duties, zero sequence removed). At standstill a
+ *                         healthy i_x follows u_x / R, so a small i_x
+ *                         comes with a small u_x (a current vector across
+ *                         the phase, as in the alignment's first step);
+ *                         averaging over a part first keeps the deadbeat's
+ *                         answer to ADC noise (L / Ts x noise, 16 V for
+ *                         0.15 A) out of it.
  *                     Not observable with no current asked for.
  *   CURRENT_SENSOR    in RUN and IDENTIFY_R: one current reading unchanged
  *                     (by less than stuck_delta_A, half an ADC step) and
@@ -66,7 +76,7 @@ typedef struct {
     float op_window_s;          /* OPEN_PHASE window [s] */
     float op_i_min_A;           /* mean |i| in the window at least [A] */
     float op_ratio;             /* a phase's mean |i_x| below this x mean |i| [-] ... */
-    float op_u_min_V;           /* ... while its mean |u_x| is at least this [V] */
+    float op_u_min_V;           /* ... while its mean |u_x| (per part) is at least this, below half a turn [V] */
     float stuck_delta_A;        /* a reading changing by less is unchanged [A] */
     float stuck_angle_el_rad;   /* net rotor turn with one reading unchanged [rad el] ... */
     float stuck_span_A;         /* ... while the other one moved over this [A] */
@@ -109,6 +119,19 @@ typedef struct {
     float limit;                /* the threshold it crossed */
 } app_snapshot_t;
 
+/* OPEN_PHASE's window slides in this many parts: it is judged every
+ * op_window_s / PROTECT_OP_SUBWINDOWS (25 ms with the board's 0.1 s). */
+#define PROTECT_OP_SUBWINDOWS 4u
+
+/* OPEN_PHASE's sums over a part of the window. */
+typedef struct {
+    uint32_t n;                 /* periods [-] */
+    float i_A;                  /* sum of |i| [A] */
+    float ix_A[3];              /* sums of |i_a|, |i_b|, |i_c| [A] */
+    float ux_V[3];              /* sums of u_a, u_b, u_c (signed) [V] */
+    int32_t turn_counts;        /* net count change [counts] */
+} protect_op_sums_t;
+
 typedef struct {
     protect_cfg_t cfg;
     /* derived by protect_init */
@@ -124,15 +147,15 @@ typedef struct {
     uint32_t isr_run_cycles;       /* entry to exit, last call [cycles] */
     bool uv_armed;                 /* undervoltage check active */
     /* protect_watch: derived */
-    uint32_t op_window_ticks;      /* OPEN_PHASE window [periods] */
+    uint32_t op_part_ticks;        /* OPEN_PHASE window part [periods] */
     uint32_t stall_ticks_max;      /* enc_stall_s [periods] */
     float el_rad_per_count;        /* electrical angle of one count [rad] */
     float counts_per_rad;          /* counts per mechanical radian [counts/rad] */
-    /* protect_watch: OPEN_PHASE window so far */
-    uint32_t op_ticks;
-    float op_sum_i_A;              /* sum of |i| [A] */
-    float op_sum_ix_A[3];          /* sums of |i_a|, |i_b|, |i_c| [A] */
-    float op_sum_ux_V[3];          /* sums of |u_a|, |u_b|, |u_c| [V] */
+    /* protect_watch: OPEN_PHASE window */
+    protect_op_sums_t op_part;     /* the part so far */
+    protect_op_sums_t op_parts[PROTECT_OP_SUBWINDOWS];  /* the last whole parts, a ring */
+    uint32_t op_parts_n;           /* whole parts in the ring (at most PROTECT_OP_SUBWINDOWS) */
+    uint32_t op_parts_next;        /* ring index the next whole part goes to */
     uint16_t op_phase;             /* the phase found open (0 a, 1 b, 2 c), for the operator */
     /* protect_watch: CURRENT_SENSOR, per reading (0 ia, 1 ib) since it last changed */
     float st_last_A[2];

@@ -8,7 +8,8 @@
 
 /* The history checks' thresholds of the unit tests: the board's, with
  * windows of a few periods. */
-#define OP_WINDOW   10           /* OPEN_PHASE window [periods] */
+#define OP_WINDOW   12           /* OPEN_PHASE window [periods]: 4 parts of 3 */
+#define OP_PART     3
 #define STALL_N     10           /* ENCODER_LOST at the torque limit [periods] */
 #define TE_MAX      12.0f
 #define POLES       3u
@@ -394,9 +395,14 @@ static protect_watch_in_t watch_in(float ia, float ib, const float *duty, bool r
 
 /* Phase a given 0.1 x 311 = 31.1 V (>= 25) but carrying 0 A while ib = 2 A:
  * |i| = |i_beta| = 2 x 2 / sqrt(3) = 2.309 A, the limit 0.2 x that = 0.462 A;
- * the window ends at its 10th period. The same current with phase a at
- * zero voltage (a vector across the phase, as in the alignment) is healthy,
- * and so is ia = 1 A (mean |i_a| / |i| = 1 / 2 = 0.5). */
+ * the first whole window ends at its 12th period. The same current with
+ * phase a at zero voltage (a vector across the phase, as in the alignment)
+ * is healthy, and so is ia = 1 A (mean |i_a| / |i| = 1 / 2 = 0.5). The
+ * window slides by a part (3 periods): after 12 healthy periods (ia = 1 A)
+ * phase a opens; the window of the last 4 parts is judged after each part:
+ * with 1, 2, 3 open parts mean |i_a| = 0.75, 0.5, 0.25 A against
+ * 0.2 x |i| (|i| from 2 to 2.309 A: limits 0.415, 0.431, 0.446 A): the
+ * third open part (9 periods) trips, value 0.25 A. */
 static void open_phase_found_at_the_window_end(void **state)
 {
     (void)state;
@@ -420,11 +426,60 @@ static void open_phase_found_at_the_window_end(void **state)
         const protect_watch_in_t carries = watch_in(1.0f, 1.0f, d_open, true, 0.0f, 0.0f);
         assert_int_equal(protect_watch(&p, (k < OP_WINDOW) ? &across : &carries).status, APP_STEP_RUNNING);
     }
-    /* outputs off (no duties) restart the window: 9 + off + 9 periods do not end one */
+    /* sliding: 12 healthy periods, then open: trips at the end of the third open part */
+    p = prot_unit();
+    for (int k = 0; k < OP_WINDOW; k++) {
+        const protect_watch_in_t carries = watch_in(1.0f, 1.0f, d_open, true, 0.0f, 0.0f);
+        assert_int_equal(protect_watch(&p, &carries).status, APP_STEP_RUNNING);
+    }
+    for (int k = 1; k < 3 * OP_PART; k++) {
+        const protect_watch_in_t open = watch_in(0.0f, 2.0f, d_open, true, 0.0f, 0.0f);
+        assert_int_equal(protect_watch(&p, &open).status, APP_STEP_RUNNING);
+    }
+    {
+        const protect_watch_in_t open = watch_in(0.0f, 2.0f, d_open, true, 0.0f, 0.0f);
+        r = protect_watch(&p, &open);
+        assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
+        assert_float_equal(r.value, 0.25f, 1e-6);
+        assert_float_equal(r.limit, 0.2f * (2.0f + 3.0f * 4.0f / sqrtf(3.0f)) / 4.0f, 1e-5);
+    }
+    /* outputs off (no duties) restart the window: 11 + off + 11 periods do not end one */
     p = prot_unit();
     for (int k = 0; k < 2 * OP_WINDOW - 1; k++) {
         const protect_watch_in_t in2 = watch_in(0.0f, 2.0f, (k == OP_WINDOW - 1) ? NULL : d_open, true, 0.0f, 0.0f);
         assert_int_equal(protect_watch(&p, &in2).status, APP_STEP_RUNNING);
+    }
+}
+
+/* Phase a at 0 A while its voltage flips +-31.1 V every period (the
+ * deadbeat's answer to ADC noise): each 3-period part averages to
+ * 31.1 / 3 V, the window to 10.4 V < 25 V: no fault at standstill. The
+ * same with the rotor turning 160 counts per period (0.3016 rad el; the
+ * first window 11 steps after the seeding period, 3.32 rad >= pi, half a
+ * turn): a healthy phase would have carried 0.64 |i|, fault at the first
+ * whole window without the voltage. */
+static void open_phase_voltage_averaged_per_part_and_half_turn(void **state)
+{
+    (void)state;
+    const float d_pos[3] = { 0.6f, 0.5f, 0.4f };
+    const float d_neg[3] = { 0.4f, 0.5f, 0.6f };
+    for (int turning = 0; turning < 2; turning++) {
+        protect_t p = prot_unit();
+        app_step_t r = app_step_running();
+        uint32_t count = 0u;
+        int k;
+        for (k = 0; (k < 3 * OP_WINDOW) && (r.status == APP_STEP_RUNNING); k++) {
+            protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
+            count += turning ? 160u : 0u;
+            const protect_watch_in_t in = watch_in(0.0f, 2.0f, (k % 2 == 0) ? d_pos : d_neg, true, 0.0f, 0.0f);
+            r = protect_watch(&p, &in);
+        }
+        if (turning) {
+            assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
+            assert_int_equal(k, OP_WINDOW);
+        } else {
+            assert_int_equal(r.status, APP_STEP_RUNNING);
+        }
     }
 }
 
@@ -524,6 +579,7 @@ int main(void)
         cmocka_unit_test(overrun_missed_period_latches),
         cmocka_unit_test(fault_holds_until_reset_and_cause_gone),
         cmocka_unit_test(open_phase_found_at_the_window_end),
+        cmocka_unit_test(open_phase_voltage_averaged_per_part_and_half_turn),
         cmocka_unit_test(frozen_current_reading_found_after_15_deg),
         cmocka_unit_test(lost_encoder_found_moving_and_at_the_torque_limit),
     };
