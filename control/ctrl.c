@@ -606,7 +606,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         const oplim_out_t tgt = oplim_targets(&c->lim, par, cfg->pole_pairs, c->i_lim_A, te_ref);
         te_ref = tgt.te_Nm;
         psi_ref = tgt.psi_Wb;
-        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H, par->psi_f_Wb); /* + L id* (design sec. 9) */
+        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H); /* + L id* (design sec. 9) */
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
         oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
     }

@@ -145,6 +145,39 @@ uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
     return flags;
 }
 
+/* Interval [lo, hi] of t where the line a_j t + b_j fixed meets the
+ * hexagon |a_j t + b_j fixed| <= r (j = the three side pairs); false when
+ * it misses. Two sides at least bound t: max |a_j| >= cos 30 deg for the
+ * unit vectors used here. Up to 3 divisions. */
+static bool hex_chord(const float a[3], const float b[3], float fixed, float r, float *lo_out, float *hi_out)
+{
+    float lo = -FLT_MAX;
+    float hi = FLT_MAX;
+    bool hit = true;
+    int16_t j;
+
+    for (j = 0; j < 3; j++) {
+        const float c = fixed * b[j];
+        if (mathx_fabsf(a[j]) > SIDE_PARALLEL_EPS) {
+            const float inv_a = 1.0f / a[j];
+            float t1 = (-r - c) * inv_a;
+            float t2 = (r - c) * inv_a;
+            if (a[j] < 0.0f) {
+                const float t = t1;
+                t1 = t2;
+                t2 = t;
+            }
+            lo = (t1 > lo) ? t1 : lo;
+            hi = (t2 < hi) ? t2 : hi;
+        } else if (mathx_fabsf(c) > r) {
+            hit = false;
+        }
+    }
+    *lo_out = lo;
+    *hi_out = hi;
+    return hit && (lo <= hi);
+}
+
 uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_in, float cos_in, float vdc_V)
 {
     const float sin_th = mathx_clampf(sin_in, -1.0f, 1.0f);
@@ -160,9 +193,10 @@ uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_in, float cos_in, float vdc_V)
     const float ud = u_dq_V->d;
     const float uq = u_dq_V->q;
     bool inside = true;
-    bool chord = true;
-    float lo = -FLT_MAX; /* two sides at least bound the interval: max |g_j| >= cos 30 deg */
-    float hi = FLT_MAX;
+    float lo;
+    float hi;
+    float qlo;
+    float qhi;
     int16_t j;
 
     for (j = 0; j < 3; j++) {
@@ -176,25 +210,15 @@ uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_in, float cos_in, float vdc_V)
     }
 
     /* Torque first: keep uq, the u_d interval where the line meets the hexagon. */
-    for (j = 0; j < 3; j++) {
-        const float c = uq * h[j];
-        if (mathx_fabsf(g[j]) > SIDE_PARALLEL_EPS) {
-            const float inv_g = 1.0f / g[j];
-            float t1 = (-r - c) * inv_g;
-            float t2 = (r - c) * inv_g;
-            if (g[j] < 0.0f) {
-                const float t = t1;
-                t1 = t2;
-                t2 = t;
-            }
-            lo = (t1 > lo) ? t1 : lo;
-            hi = (t2 < hi) ? t2 : hi;
-        } else if (mathx_fabsf(c) > r) {
-            chord = false;
-        }
-    }
-
-    if (chord && (lo <= hi)) {
+    const bool chord = hex_chord(g, h, uq, r, &lo, &hi);
+    if (chord && (ud < lo) && (ud >= -r) && hex_chord(h, g, ud, r, &qlo, &qhi)) {
+        /* The chord would push u_d up, psi_d above its target: at the
+         * voltage limit i_d then runs positive and the torque falls. Flux
+         * first instead: keep u_d, the u_q nearest the request on the
+         * hexagon at that u_d (the most torque the limit allows while the
+         * flux goes where the deadbeat step wants it). */
+        u_dq_V->q = mathx_clampf(uq, qlo, qhi);
+    } else if (chord) {
         u_dq_V->d = mathx_clampf(ud, lo, hi);
     } else {
         /* uq alone is out of reach: the vertex (2/3 Vdc on a phase axis at
@@ -216,8 +240,14 @@ uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_in, float cos_in, float vdc_V)
                 vq = s * q;
             }
         }
-        u_dq_V->d = vmag * vd;
-        u_dq_V->q = vmag * vq;
+        if ((vmag * vd > ud) && (ud >= -r) && hex_chord(h, g, ud, r, &qlo, &qhi)) {
+            /* that vertex would raise psi_d above its target: the most
+             * u_q along the request on the hexagon at the requested u_d */
+            u_dq_V->q = (uq >= 0.0f) ? qhi : qlo;
+        } else {
+            u_dq_V->d = vmag * vd;
+            u_dq_V->q = vmag * vq;
+        }
     }
     return DBDTC_FLAG_VOLTAGE_LIMIT;
 }

@@ -33,13 +33,20 @@
  * the vertex of the parabola, which gives the |psi_s(k+2)| closest to the
  * target while keeping the torque; DBDTC_FLAG_FLUX_UNREACHABLE is set.
  *
- * Voltage limit (dbdtc_limit): torque first. u_q is kept and u_d is moved
- * to the nearest point of the hexagon chord at that u_q (the flux error is
- * what gives, not the torque); when u_q alone is outside the hexagon, the
- * hexagon vertex with the largest q component in the direction of u_q is
- * taken (the most torque the inverter can make). Torque first because the
- * torque is what the speed loop and the load see; a flux shortfall of one
- * period costs a little extra current, a torque shortfall costs speed.
+ * Voltage limit (dbdtc_limit): torque first, unless that raises the flux.
+ * u_q is kept and u_d is moved to the nearest point of the hexagon chord at
+ * that u_q (the flux error is what gives, not the torque); when u_q alone
+ * is outside the hexagon, the hexagon vertex with the largest q component
+ * in the direction of u_q is taken (the most torque the inverter can
+ * make). Torque first because the torque is what the speed loop and the
+ * load see. But when either would put u_d above the request, psi_d(k+2) =
+ * X1 + Ts u_d rises above its target: at the voltage limit i_d then runs
+ * positive and the torque falls (SIL, 2200 r/min, Te* 3 -> 12 N m: i_d
+ * +7.8 A, Te 1.4 N m). Then flux first: u_d as requested and the most u_q
+ * along the request the hexagon has at that u_d (DB-DTFC at the voltage
+ * limit, the paper's refs [4], [5]; observer_design.md sec. 8). A u_d
+ * request below -Vdc/sqrt(3) is no flux target the deadbeat step can
+ * mean (an open phase asks for such): torque first there.
  */
 #ifndef DBDTC_H
 #define DBDTC_H

@@ -31,12 +31,11 @@ static void clear_cycle(r_track_t *rt)
     rt->seg = 0u;
     rt->j = 0u;
     rt->s_now = 1.0f;
-    rt->n_pos = 0u;
-    rt->n_neg = 0u;
+    rt->n = 0u;
     rt->s_zs = 0.0f;
     rt->s_is = 0.0f;
-    rt->s_iq_pos = 0.0f;
-    rt->s_iq_neg = 0.0f;
+    rt->s_iq = 0.0f;
+    rt->s_iqs = 0.0f;
 }
 
 bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg)
@@ -104,14 +103,10 @@ float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb)
     return (psi_f_Wb > 0.0f) ? unc / (rt->cfg.psi_tol * psi_f_Wb) : 0.0f;
 }
 
-float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H, float psi_f_Wb)
+float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H)
 {
-    if ((rt->phase == R_TRACK_OFF) || (rt->wait > 0u)) {
-        return psi_s_Wb;
-    }
-    const float Lid = L_H * r_track_id_ref(rt);
-    const float sq = psi_s_Wb * psi_s_Wb + Lid * (2.0f * psi_f_Wb + Lid);
-    return (sq > 0.0f) ? mathx_sqrtf(sq) : psi_s_Wb;
+    const float psi = psi_s_Wb + L_H * r_track_id_ref(rt);
+    return (psi > 0.0f) ? psi : psi_s_Wb;
 }
 
 /* End of a cycle: rho, or a hold. IDENT also sums the valid cycles and
@@ -119,13 +114,13 @@ float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H, float psi_
 static r_track_event_t end_cycle(r_track_t *rt)
 {
     const r_track_cfg_t *c = &rt->cfg;
-    const float iq_pos = rt->s_iq_pos / (float)rt->n_pos;
-    const float iq_neg = rt->s_iq_neg / (float)rt->n_neg;
-    const float iq_mean = 0.5f * (iq_pos + iq_neg);
+    const float inv_n = 1.0f / (float)rt->n;
+    const float iq_mean = rt->s_iq * inv_n;
+    const float iq_step = 2.0f * rt->s_iqs * inv_n; /* mean iq(+) - mean iq(-): equal counts */
     /* a demodulated current well below the injection: the current did not follow */
-    const bool followed = (rt->s_is > 0.5f * rt->i_inj_A * (float)(rt->n_pos + rt->n_neg));
+    const bool followed = (rt->s_is > 0.5f * rt->i_inj_A * (float)rt->n);
     const bool ok = followed && (mathx_fabsf(iq_mean) >= c->iq_min_A) &&
-                    (mathx_fabsf(iq_pos - iq_neg) <= c->iq_step_max_A);
+                    (mathx_fabsf(iq_step) <= c->iq_step_max_A);
     r_track_event_t ev = R_TRACK_HELD;
 
     if (ok) {
@@ -185,13 +180,9 @@ r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A)
     if (rt->j >= c->blank_periods) {
         rt->s_zs += rt->s_now * z_V;
         rt->s_is += rt->s_now * id_A;
-        if (rt->s_now > 0.0f) {
-            rt->s_iq_pos += iq_A;
-            rt->n_pos++;
-        } else {
-            rt->s_iq_neg += iq_A;
-            rt->n_neg++;
-        }
+        rt->s_iq += iq_A;
+        rt->s_iqs += rt->s_now * iq_A;
+        rt->n++;
     }
     rt->j++;
     if (rt->j >= c->seg_periods) {

@@ -52,7 +52,7 @@
 #define R_TRACK_K_R_DEFAULT          0.5f   /* per cycle */
 #define R_TRACK_K_I_DEFAULT          0.1f   /* per cycle: poles 0.7 +- 0.1j, |z| 0.71, time constant 115 ms */
 #define R_TRACK_VE_MAX_DEFAULT_V     20.0f  /* |Ve| beyond this is no inverter error: refused */
-/* What the identification may leave, as a bound (SIL: within 2.3 % of the
+/* What the identification may leave, as a bound (SIL: within 2.9 % of the
  * hand value, sec. 9), and the psi^ error it may cause: psi^ holds where
  * |w| psi_f < (unc_frac |Ve| + unc_abs) / psi_tol. */
 #define R_TRACK_VE_UNC_FRAC_DEFAULT  0.05f
@@ -106,10 +106,11 @@ typedef struct {
                                * R_TRACK_RESPONSE_PERIODS earlier) [A] */
     uint16_t cycles;          /* valid cycles summed (IDENT) */
     uint16_t tried;           /* cycles ended (IDENT) */
-    uint16_t n_pos, n_neg;    /* samples used per sign this cycle */
+    uint16_t n;               /* samples used this cycle (half of them per sign) */
     float s_zs;               /* sum z s */
     float s_is;               /* sum id s */
-    float s_iq_pos, s_iq_neg; /* sums of iq per sign */
+    float s_iq;               /* sum iq */
+    float s_iqs;              /* sum iq s: the + and - segments' difference */
     float id_zs, id_is, id_iq;  /* IDENT: sums over the valid cycles */
     float rho_Ohm;            /* last cycle's dR - Ve/|i| */
     float rate_Ohm;           /* TRACK: R's change per cycle, learned [Ohm] */
@@ -141,9 +142,11 @@ float r_track_id_ref(const r_track_t *rt);
  * (unc_frac |Ve| + unc_abs) / (psi_tol psi_f). Background or ISR once. */
 float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb);
 
-/* Flux reference with the injection: psi_d* = psi_f + L id* keeps the
- * torque's psi_q*: sqrt(psi_s*^2 + L id* (2 psi_f + L id*)), psi_s_Wb
- * unchanged when OFF or the result is not positive. ISR (1 square root). */
-float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H, float psi_f_Wb);
+/* Flux reference with the injection: psi_s* + L id*, first order in
+ * L id* of psi_d* = psi_f + L id* at the torque's psi_q* (the injected
+ * amplitude is psi_f/psi_s* of id*: 3 % less at 6 N m; the demodulation
+ * uses the measured id). psi_s_Wb unchanged when OFF or the result is not
+ * positive. ISR. */
+float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H);
 
 #endif /* R_TRACK_H */

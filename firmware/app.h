@@ -90,6 +90,7 @@ typedef struct {
     float rsid_accel_rad_s2;    /* SPEEDS: ramp rate of the commanded speed, handover included [rad/s^2] */
     float rsid_window_max_s;    /* window 2 lengthened up to this while se(R^) is too large [s] */
     app_rsid_refusal_t rsid_on_refusal; /* a refused step 1: fault, or conventional with a warning */
+    uint16_t rsid_repeats_max;  /* SPEEDS: both windows repeated at most this often (rsid_seq.h) */
 } app_cfg_t;
 
 /* The operator's input: references, mode, method (app_request_op). */

@@ -20,7 +20,7 @@ void app_init(app_t *app, const app_cfg_t *cfg)
                              cfg->align_settle_s };
     const rsid_seq_cfg_t rc = { cfg->rsid_mode, cfg->rsid_settle_1_s, cfg->rsid_window_s, cfg->rsid_settle_2_s,
                                 cfg->rsid_speed_1_rad_s, cfg->rsid_speed_2_rad_s, cfg->rsid_accel_rad_s2,
-                                cfg->rsid_window_max_s };
+                                cfg->rsid_window_max_s, cfg->rsid_repeats_max };
 
     pc.watch.te_max_Nm = cfg->ctrl.te_max_Nm;
     pc.watch.pole_pairs = cfg->ctrl.pole_pairs;

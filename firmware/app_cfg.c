@@ -75,5 +75,6 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->rsid_speed_2_rad_s = BOARD_RSID_SPEED_2_RPM * RAD_S_PER_RPM;
     cfg->rsid_accel_rad_s2 = BOARD_RSID_ACCEL_RPM_S * RAD_S_PER_RPM;
     cfg->rsid_window_max_s = BOARD_RSID_WINDOW_MAX_S;
+    cfg->rsid_repeats_max = (uint16_t)BOARD_RSID_REPEATS_MAX;
     cfg->rsid_on_refusal = (app_rsid_refusal_t)BOARD_RSID_ON_REFUSAL;
 }

@@ -8,12 +8,14 @@ void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
     q->cfg = *cfg;
     q->window_ticks = app_periods_of(cfg->window_s, Ts_s);
     q->win1_tick = app_periods_of(cfg->settle_1_s, Ts_s);
-    q->win2_tick = q->win1_tick + q->window_ticks + app_periods_of(cfg->settle_2_s, Ts_s);
+    q->settle_2_ticks = app_periods_of(cfg->settle_2_s, Ts_s);
+    q->win2_tick = q->win1_tick + q->window_ticks + q->settle_2_ticks;
     q->end_tick = q->win2_tick + q->window_ticks;
     q->win2_max_ticks = app_periods_of(cfg->window_max_s, Ts_s);
     q->check_ticks = 1u; /* set from the controller's batch at the first check */
     q->speed_step_rad_s = cfg->accel_rad_s2 * Ts_s;
     q->ticks = 0u;
+    q->repeats = 0u;
     q->speed_ref_rad_s = 0.0f;
     q->handover = false;
     q->result = RS_IDENT_OK;
@@ -22,6 +24,7 @@ void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
 void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
 {
     q->ticks = 0u;
+    q->repeats = 0u;
     q->speed_ref_rad_s = speed_now_rad_s; /* SPEEDS ramps from here */
     q->handover = false;
 }
@@ -78,10 +81,13 @@ static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
     }
 }
 
-/* At window 2's nominal end or later, at a batch boundary: true when
- * window 2 should go on - R^ refused only for its standard error, window
- * 1's share of it below the limit, window 2 not yet at its longest. */
-static bool lengthen(rsid_seq_t *q, const ctrl_t *c)
+typedef enum { AFTER_GO_ON = 0, AFTER_REPEAT = 1, AFTER_FINISH = 2 } after_t;
+
+/* At window 2's nominal end or later (rsid_seq.h): go on filling window 2
+ * (between checks, or R^ refused only for its standard error with window
+ * 1's share below the limit and room for another batch), repeat both
+ * windows (SPEEDS: window 1's share too large, repeats left), or finish. */
+static after_t after_window_2(rsid_seq_t *q, const ctrl_t *c)
 {
     rs_ident_out_t o;
     const uint32_t k = q->ticks;
@@ -89,12 +95,16 @@ static bool lengthen(rsid_seq_t *q, const ctrl_t *c)
 
     q->check_ticks = (batch > 0u) ? batch : 1u;
     if (mathx_umod_u32(k - q->end_tick, q->check_ticks) != 0u) { /* no 32-bit %: RTS call from flash */
-        return true; /* between checks */
+        return AFTER_GO_ON; /* between checks */
     }
-    if (k - q->win2_tick + q->check_ticks > q->win2_max_ticks) {
-        return false; /* no room for another batch */
+    if (ctrl_rsid_check(c, &o) != RS_IDENT_NOT_STEADY) {
+        return AFTER_FINISH;
     }
-    return (ctrl_rsid_check(c, &o) == RS_IDENT_NOT_STEADY) && (o.R_se_part_Ohm[0] <= o.R_se_max_Ohm);
+    if (o.R_se_part_Ohm[0] <= o.R_se_max_Ohm) {
+        /* a longer window 2 can help */
+        return (k - q->win2_tick + q->check_ticks > q->win2_max_ticks) ? AFTER_FINISH : AFTER_GO_ON;
+    }
+    return ((q->cfg.mode == APP_RSID_SPEEDS) && (q->repeats < q->cfg.repeats_max)) ? AFTER_REPEAT : AFTER_FINISH;
 }
 
 app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
@@ -126,7 +136,17 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
         return app_step_running();
     }
     q->ticks++;
-    if ((q->ticks < q->end_tick) || lengthen(q, c)) {
+    if (q->ticks < q->end_tick) {
+        return app_step_running();
+    }
+    const after_t next = after_window_2(q, c);
+    if (next == AFTER_REPEAT) {
+        /* back to point 1 (the target follows ticks), settle_2 after the
+         * ramp, both windows once more: their sums go on accumulating */
+        q->repeats++;
+        q->ticks = (q->win1_tick > q->settle_2_ticks) ? (q->win1_tick - q->settle_2_ticks) : 0u;
+    }
+    if (next != AFTER_FINISH) {
         return app_step_running();
     }
     q->result = ctrl_rsid_finish(c);

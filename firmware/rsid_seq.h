@@ -23,7 +23,11 @@
  * (NOT_STEADY), window 1's share of it is below the limit (so more of
  * window 2 can help) and window 2 is shorter than window_max_s, window 2
  * goes on. Window 2's operating point must hold that long (WINDOWS: the
- * outside's load and speed).
+ * outside's load and speed). In SPEEDS mode, when window 1's share alone
+ * is too large, both windows are repeated (back to speed 1, settle_2_s,
+ * window 1, speed 2, settle_2_s, window 2; the sums accumulate) up to
+ * repeats_max times; in WINDOWS mode the points are the outside's and
+ * cannot be repeated.
  */
 #ifndef RSID_SEQ_H
 #define RSID_SEQ_H
@@ -59,6 +63,7 @@ typedef struct {
     float speed_2_rad_s;        /*   and of point 2 [rad/s] */
     float accel_rad_s2;         /* SPEEDS: ramp rate of the commanded speed, handover included [rad/s^2] */
     float window_max_s;         /* window 2 lengthened up to this while se(R^) is too large [s] (<= window_s: never) */
+    uint16_t repeats_max;       /* SPEEDS: both windows repeated at most this often while window 1's share is too large */
 } rsid_seq_cfg_t;
 
 typedef struct {
@@ -66,6 +71,8 @@ typedef struct {
     uint32_t win1_tick, win2_tick, end_tick;  /* window starts and the end, periods from the start */
     uint32_t window_ticks;
     uint32_t win2_max_ticks;    /* window 2's longest */
+    uint32_t settle_2_ticks;    /* settle_2_s in periods */
+    uint16_t repeats;           /* SPEEDS: repeats of both windows so far */
     uint32_t check_ticks;       /* periods between checks while lengthening (one batch) */
     float speed_step_rad_s;     /* SPEEDS: ramp step per period [rad/s] */
     uint32_t ticks;             /* periods counted since rsid_seq_start (not while ramping) */

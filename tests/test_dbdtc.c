@@ -176,7 +176,9 @@ static double spread_dq(dq_t u, double th)
 }
 
 /* Inside: untouched. Outside with a reachable uq: uq kept, on the boundary,
- * ud the nearest feasible one. Unreachable uq: the vertex with most uq. */
+ * ud the nearest feasible one (unless that raises ud: flux first).
+ * Unreachable uq: the most uq on the hexagon with ud not above the
+ * request (flux first); a request beyond -Vdc/sqrt(3) on d: the vertex. */
 static void voltage_limit_torque_first(void **state)
 {
     (void)state;
@@ -202,14 +204,39 @@ static void voltage_limit_torque_first(void **state)
         for (int sg = -1; sg <= 1; sg += 2) {
             dq_t w = { 50.0f, (float)(sg * 260.0) }; /* beyond 2/3 Vdc = 200 V */
             assert_int_equal(dbdtc_limit(&w, s, c, (float)vdc), DBDTC_FLAG_VOLTAGE_LIMIT);
-            assert_float_equal(sqrt(w.d * w.d + w.q * w.q), 2.0 / 3.0 * vdc, 1e-3);
-            /* the most q the hexagon has: max over its six vertices */
-            double qmax = 0.0;
+            assert_float_equal(spread_dq(w, th), vdc, 1e-3); /* on the boundary */
+            /* the most q along the request on the hexagon without raising
+             * u_d above the request (flux first): brute force over the
+             * boundary, 6 edges x 4000 points */
+            double qmax = -1e9;
             for (int m = 0; m < 6; m++) {
-                const double q = 2.0 / 3.0 * vdc * sin(m * PI_D / 3.0 - th);
-                qmax = fmax(qmax, sg * q);
+                const double a0 = m * PI_D / 3.0;
+                const double a1 = a0 + PI_D / 3.0;
+                for (int t = 0; t <= 4000; t++) {
+                    const double f = t / 4000.0;
+                    const double x = 2.0 / 3.0 * vdc * ((1.0 - f) * cos(a0) + f * cos(a1));
+                    const double y = 2.0 / 3.0 * vdc * ((1.0 - f) * sin(a0) + f * sin(a1));
+                    const double d = x * cos(th) + y * sin(th);
+                    const double q = -x * sin(th) + y * cos(th);
+                    if (d <= 50.0 + 1e-6) {
+                        qmax = fmax(qmax, sg * q);
+                    }
+                }
             }
-            assert_float_equal(sg * w.q, qmax, 1e-3);
+            assert_true(w.d <= 50.0f + 1e-3f);
+            assert_float_equal(sg * w.q, qmax, 0.2); /* the sampling's resolution */
+        }
+        /* a d request beyond the inscribed radius (-Vdc/sqrt(3)) is no flux
+         * target: the vertex with the most q, as before */
+        for (int sg = -1; sg <= 1; sg += 2) {
+            dq_t w = { -190.0f, (float)(sg * 260.0) };
+            assert_int_equal(dbdtc_limit(&w, s, c, (float)vdc), DBDTC_FLAG_VOLTAGE_LIMIT);
+            assert_float_equal(sqrt(w.d * w.d + w.q * w.q), 2.0 / 3.0 * vdc, 1e-3);
+            double qv = 0.0;
+            for (int m = 0; m < 6; m++) {
+                qv = fmax(qv, sg * 2.0 / 3.0 * vdc * sin(m * PI_D / 3.0 - th));
+            }
+            assert_float_equal(sg * w.q, qv, 1e-3);
         }
     }
 }

@@ -136,7 +136,7 @@ static void identification_gives_the_inverter_error(void **state)
     r_track_start(&rt, R_TRACK_IDENT);
     for (int k = 0; k < 50; k++) {
         assert_float_equal(r_track_id_ref(&rt), 0.0f, 0.0f);
-        assert_float_equal(r_track_psi_ref(&rt, 0.25f, 0.011f, 0.24f), 0.25f, 0.0f);
+        assert_float_equal(r_track_psi_ref(&rt, 0.25f, 0.011f), 0.25f, 0.0f);
         assert_int_equal(synth_step(&rt, &s), R_TRACK_NONE);
     }
     long n = 0;
@@ -195,10 +195,15 @@ static void flux_reference_carries_the_injection(void **state)
     const float psi_q = 0.04f;
     const float psi_s = sqrtf(psi_f * psi_f + psi_q * psi_q);
     assert_true(r_track_init(&rt, &c));
-    assert_float_equal(r_track_psi_ref(&rt, psi_s, L, psi_f), psi_s, 0.0f);
+    assert_float_equal(r_track_psi_ref(&rt, psi_s, L), psi_s, 0.0f);
     r_track_start(&rt, R_TRACK_TRACK);
+    /* first order of sqrt((psi_f + L id*)^2 + psi_q^2): within (L id*)^2 / psi_s and the
+     * psi_q share (1 - psi_f/psi_s) L id* */
     const float psi_d = psi_f + L * c.i_track_A;
-    assert_float_equal(r_track_psi_ref(&rt, psi_s, L, psi_f), sqrtf(psi_d * psi_d + psi_q * psi_q), 1e-6);
+    const float exact = sqrtf(psi_d * psi_d + psi_q * psi_q);
+    const float bound = L * c.i_track_A * ((L * c.i_track_A) / psi_s + (1.0f - psi_f / psi_s));
+    assert_float_equal(r_track_psi_ref(&rt, psi_s, L), psi_s + L * c.i_track_A, 1e-7);
+    assert_true(fabsf(r_track_psi_ref(&rt, psi_s, L) - exact) <= bound);
 }
 
 static void init_refuses_bad_settings(void **state)

@@ -10,7 +10,7 @@
  *  - un-calibrated ADC offsets of 0.05 A, and J = 10 J0, with the default
  *    step-1 timing: step 1 completes, R^ within 2 %;
  *  - window 2 lengthened while se(R^) is too large, and refused when
- *    window 1's share alone is;
+ *    window 1's share alone is; in SPEEDS mode both windows repeated;
  *  - a refused step 1 with [identify] on_refusal = conventional: the
  *    conventional method runs on, the warning in the result and in the
  *    CSV's flags.
@@ -224,6 +224,30 @@ static void window_2_lengthened_then_taken_or_refused(void **state)
     assert_true(fabs(c.t_fault - 0.54) < 0.001);
 }
 
+/* SPEEDS mode (1000 then 500 r/min at 3 N m), 0.05 A noise seed 1, se(R^)
+ * held to 0.25 %: window 1's share alone is above the limit, so a longer
+ * window 2 cannot help; the app repeats both windows (back to 1000 r/min)
+ * and R^ is taken; with repeats_max = 0 it is refused at the first end. */
+static void speeds_mode_repeats_both_windows(void **state)
+{
+    const char *const base[] = { NOISE_A, "plant.seed=1", "identify.R_se_max_rel=0.0025", "identify.mode=speeds",
+                                 "identify.speed_1_rpm=1000", "identify.speed_2_rpm=500", "load.torque_Nm=3",
+                                 "reference.speed_rpm=500", "run.duration_s=3", NULL };
+    const char *const no_repeat[] = { NOISE_A, "plant.seed=1", "identify.R_se_max_rel=0.0025", "identify.mode=speeds",
+                                      "identify.speed_1_rpm=1000", "identify.speed_2_rpm=500", "load.torque_Nm=3",
+                                      "reference.speed_rpm=500", "run.duration_s=3", "identify.repeats_max=0", NULL };
+    (void)state;
+    const fig_t a = run("prop_L150", no_repeat);
+    const fig_t b = run("prop_L150", base);
+    print_message("speeds mode, se(R^) <= 0.25 %%: no repeat: fault %d at %.4f s; repeated: step 2 from %.4f s, "
+                  "R^ %+.3f %%\n", (int)a.fault, a.t_fault, b.t2, 100.0 * (b.R_first / R0 - 1.0));
+    assert_int_equal((int)a.fault, APP_FAULT_RSID_NOT_STEADY);
+    assert_int_equal((int)b.fault, APP_FAULT_NONE);
+    assert_int_equal((int)b.state, APP_STATE_RUN);
+    assert_true(b.t2 > a.t_fault + 0.06 + 0.14); /* at least both windows and a settle more */
+    assert_true(fabs(b.R_first / R0 - 1.0) <= R_TOL_NOISY);
+}
+
 /* Step 1 refused (a band that starts above the motor's 3 Ohm) with
  * on_refusal = conventional: RUN, no fault, the warning from step 1's
  * end in every row's flags and in the result; the torque is the
@@ -264,6 +288,7 @@ int main(void)
         cmocka_unit_test(uncalibrated_offsets),
         cmocka_unit_test(inertia_10x_default_timing),
         cmocka_unit_test(window_2_lengthened_then_taken_or_refused),
+        cmocka_unit_test(speeds_mode_repeats_both_windows),
         cmocka_unit_test(refusal_runs_conventional_with_the_warning),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -283,6 +283,7 @@ static double te_max_at(double w, double I)
 }
 
 #define HELD_TOL 0.05
+#define HELD_SHARE_MIN 0.85   /* steady torque at the limits / their maximum: u_margin 0.92 of the voltage */
 
 static void torque_mode_2200_more_is_more(void **state)
 {
@@ -301,6 +302,20 @@ static void torque_mode_2200_more_is_more(void **state)
         assert_int_equal(res.final_fault, APP_FAULT_NONE);
         assert_true(te6 >= te3);
         assert_true(te6 >= (1.0 - HELD_TOL) * fmin(6.0, t_max));
+        /* Te* = 12 N m, beyond the limits: the flux-first voltage limit
+         * keeps i_d negative through the step (the torque-first clamp ran
+         * it to +7.8 A and the torque down to 1.4 N m), and the torque
+         * settles at the weakening loop's u_margin of the voltage */
+        const char *const sets12[] = { "reference.torque_Nm=0:3, 0.2:12", NULL };
+        run("prop_fw_torque_2200", METHODS[m], sets12, 0.2, 0.4, 0.0, &res);
+        const double id_max = fig.id_max;
+        run("prop_fw_torque_2200", METHODS[m], sets12, 0.3, 0.4, 0.0, &res);
+        const double te12 = fig.te_mean / (double)fig.n;
+        print_message("held at 2200 r/min, %s: Te* 12 -> %.3f N m (%.1f %% of %.3f), largest id after the step %.2f A\n",
+                      METHODS[m], te12, 100.0 * te12 / t_max, t_max, id_max);
+        assert_int_equal(res.final_fault, APP_FAULT_NONE);
+        assert_true(id_max < 0.0);
+        assert_true(te12 >= HELD_SHARE_MIN * t_max);
     }
 }
 

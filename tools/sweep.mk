@@ -5,7 +5,9 @@
 #                         tools/sweep_check.py asserts the proposed method
 #                         is never faulted where the conventional one is
 #                         not and never worse than it + 0.005 N m
-#   make bench-sweep      points per second of a 1000-point sweep (bench)
+#   make bench-sweep      whole-process drive_sil on the paper's scenarios
+#                         (x real time) and points per second of a
+#                         1000-point sweep (part of make bench)
 .PHONY: sweep test-sweep-net bench-sweep
 
 SWEEP_DIR      := $(BUILD)/sweep
@@ -49,6 +51,7 @@ test-sweep-net: $(DRIVE_SIL)
 
 # 1000 points (25 x 20 x 2 methods) of the paper's 1.2 s switching scenario.
 bench-sweep: $(DRIVE_SIL)
+	@python3 tools/bench_drive_sil.py $(DRIVE_SIL)
 	@rm -rf $(OUT)/sweep_bench
 	@$(SWEEP_PY) --quiet --grid controller.L_factor=0.5:2:25 --grid controller.psif_factor=0.5:2:20 \
 	    --out $(OUT)/sweep_bench 2>&1 | sed -n 's/^sweep.py: \(.*points\/s.*\) ->.*/bench sweep 1000 points: \1/p'

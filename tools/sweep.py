@@ -60,7 +60,7 @@ TEMPLATE = re.compile(r"\{([A-Za-z_][A-Za-z0-9_]*)\}")
 # Figures and run results from drive_sil's summary, in results.csv's order.
 RESULT_COLS = ("plant.R_ohm", "plant.L_H", "plant.psif_Wb",
                "controller.R_ohm", "controller.L_H", "controller.psif_Wb",
-               "final_state_name", "fault_name", "max_abs_i_A", "t_run_s",
+               "final_state_name", "fault_name", "warning", "max_abs_i_A", "t_run_s",
                "te_err_Nm", "te_ripple_Nm", "psi_err_Wb", "psi_err_pct",
                "speed_err_rpm", "speed_err_max_rpm", "id_A", "iq_A",
                "R_err_pct", "L_err_pct", "psif_err_pct", "window_t0_s", "window_t1_s")
@@ -344,6 +344,8 @@ class Progress:
 def csv_cell(v):
     if v is None:
         return "nan"
+    if v == "":
+        return "-"             # no warning: a visible cell, not an empty field
     if isinstance(v, float):
         return repr(v)
     return str(v)

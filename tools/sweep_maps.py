@@ -44,6 +44,11 @@ def faulted(r):
     return r["fault_name"] != "NONE" or r["final_state_name"] == "FAULT"
 
 
+def warned(r):
+    """The run ended with a warning (e.g. step 1 refused, the drive fell back to conventional)."""
+    return r.get("warning", "-") not in ("-", "")
+
+
 def load(d):
     with open(os.path.join(d, sweep.RESULTS), newline="") as f:
         rows = [r for r in csv.DictReader(f) if r["status"] == sweep.STATUS_OK]
@@ -122,6 +127,9 @@ def plot_2d(plt, colors, rows, grid_cols, definition, name, out_dir):
             for i, y in enumerate(ys):
                 for j, x in enumerate(xs):
                     r = cell.get((m, x, y))
+                    if r is not None and warned(r) and not faulted(r):
+                        ax.fill_between([xe[j], xe[j + 1]], ye[i], ye[i + 1], facecolor="none",
+                                        edgecolor="k", hatch="..", linewidth=0)
                     if r is not None and faulted(r):
                         ax.fill_between([xe[j], xe[j + 1]], ye[i], ye[i + 1], facecolor="none",
                                         edgecolor="k", hatch="xx", linewidth=0)
@@ -153,7 +161,8 @@ def plot_2d(plt, colors, rows, grid_cols, definition, name, out_dir):
             for label, x, y in marks:
                 ax.plot([x], [y], marker="o", markersize=7, markerfacecolor="none", markeredgecolor="blue")
                 ax.annotate(label, (x, y), textcoords="offset points", xytext=(5, 5), fontsize=7, color="blue")
-        fig.suptitle(f"{name}: {fig_label}; hatched: run ended faulted (fault named); blue: the paper's cases")
+        fig.suptitle(f"{name}: {fig_label}; hatched: run ended faulted (fault named); dotted: a warning; "
+                     f"blue: the paper's cases")
         png = f"{name}_{fig_key}.png"
         fig.savefig(os.path.join(out_dir, png), dpi=FIG_DPI)
         plt.close(fig)
@@ -220,6 +229,12 @@ def summary_lines(name, rows, grid_cols, definition, pngs, worst_n):
     out.append("")
     for png in pngs:
         out.append(f"![{png}]({png})")
+        out.append("")
+    warn = {m: sum(1 for p in by_point.values() if m in p and warned(p[m])) for m in METHODS}
+    if any(warn.values()):
+        out.append(f"Runs ending with a warning (drive_sil's `warning`, e.g. step 1 refused and the drive "
+                   f"fell back to the conventional method): conventional {warn['conventional']}, "
+                   f"proposed {warn['proposed']}; their cells are dotted.")
         out.append("")
     head = ["method"] + grid_cols + ["te_err_Nm", "psi_err_Wb", "te_ripple_Nm", "max_abs_i_A", "fault_name"]
     out.append(f"Worst {worst_n} points per method (faulted first, then by mean |Te - Te*|):")

@@ -105,6 +105,10 @@ static void legs_to_ab(const double v_V[N_LEGS], double *ua_V, double *ub_V)
 static void integrate_piece(const inv_cfg_t *cfg, plant_t *plant, double ua_V, double ub_V,
                             double TL_Nm, double span_s)
 {
+    if (span_s <= cfg->substep_max_s) {
+        plant_step(plant, ua_V, ub_V, TL_Nm, span_s);   /* the default: one step per piece */
+        return;
+    }
     double n_steps = ceil(span_s / cfg->substep_max_s);
     if (n_steps < 1.0) {
         n_steps = 1.0;
@@ -184,13 +188,16 @@ static void period_switching(const inv_cfg_t *cfg, const double duty[3], double 
             continue;   /* coinciding edges of different legs */
         }
         double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
-        if (needs_current(cfg)) {
+        const bool with_current = needs_current(cfg);
+        if (with_current) {
             plant_iabc_A(plant, i_abc);
         }
         double v[N_LEGS];
         for (int k = 0; k < N_LEGS; k++) {
-            v[k] = leg_voltage(cfg, leg_state_at(&lt[k], 0.5 * (t0 + t1)), i_abc[k]) -
-                   cfg->device_drop_V * sign_of(i_abc[k]);
+            v[k] = leg_voltage(cfg, leg_state_at(&lt[k], 0.5 * (t0 + t1)), i_abc[k]);
+            if (with_current) {
+                v[k] -= cfg->device_drop_V * sign_of(i_abc[k]);
+            }
         }
         double ua;
         double ub;

@@ -108,6 +108,8 @@ static const sc_key_t KEYS[] = {
     POS("identify", "batch_s", identify.batch_s, "0.005", "batch of the standard error's batch means [s]"),
     NN("identify", "window_max_s", identify.window_max_s, "0.3",
        "window 2 is lengthened up to this while the standard error of R^ is too large [s]"),
+    UINT("identify", "repeats_max", identify.repeats_max, "2", 0.0, 100.0,
+         "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large"),
     ENUM("identify", "on_refusal", identify.on_refusal, "fault", REFUSAL_NAMES,
          "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
     ENUM("identify", "track_R", identify.track_R, "off", ONOFF_NAMES,

@@ -64,6 +64,7 @@ typedef struct {
         double speed_1_rpm, speed_2_rpm, accel_rpm_s;
         /* issue 13 part A: step 1 on a real ADC */
         double R_se_max_rel, batch_s, window_max_s;
+        uint32_t repeats_max;
         uint32_t on_refusal;       /* sc_refusal_t */
         uint32_t track_R;          /* sc_onoff_t: R^ tracked in step 2 (ctrl_cfg_t.track_R) */
     } identify;

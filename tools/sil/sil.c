@@ -121,6 +121,7 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->rsid_speed_2_rad_s = (float)(sc->identify.speed_2_rpm / RPM_PER_RAD_S);
     ac->rsid_accel_rad_s2 = (float)(sc->identify.accel_rpm_s / RPM_PER_RAD_S);
     ac->rsid_window_max_s = (float)sc->identify.window_max_s;
+    ac->rsid_repeats_max = (uint16_t)sc->identify.repeats_max;
     ac->rsid_on_refusal = (sc->identify.on_refusal == SC_REFUSAL_CONVENTIONAL) ? APP_RSID_REFUSAL_CONVENTIONAL
                                                                                : APP_RSID_REFUSAL_FAULT;
 }
