@@ -542,6 +542,20 @@ static int check_identify(const scenario_t *sc, char *err, size_t errlen)
     return -1;
 }
 
+/* [faults] encoder_jump_counts: a count is whole, and within a 32-bit jump. */
+static int check_faults(const scenario_t *sc, char *err, size_t errlen)
+{
+    int known = 0;
+    const int i = find_key("faults", "encoder_jump_counts", &known);
+    const double n = sc->faults.encoder_jump_counts;
+    if (n == floor(n) && fabs(n) <= 2147483647.0) {
+        return 0;
+    }
+    snprintf(err, errlen, "%s: [faults] encoder_jump_counts: %g is not a whole number of counts (|n| < 2^31)",
+             sc->origin[i], n);
+    return -1;
+}
+
 int scenario_finish(scenario_t *sc, char *err, size_t errlen)
 {
     if (resolve(sc, "R_ohm", "R_factor", sc->plant.R_ohm, &sc->controller.R_ohm,
@@ -550,6 +564,9 @@ int scenario_finish(scenario_t *sc, char *err, size_t errlen)
                 sc->controller.L_factor, err, errlen) != 0 ||
         resolve(sc, "psif_Wb", "psif_factor", sc->plant.psif_Wb, &sc->controller.psif_Wb,
                 sc->controller.psif_factor, err, errlen) != 0) {
+        return -1;
+    }
+    if (check_faults(sc, err, errlen) != 0) {
         return -1;
     }
     return check_identify(sc, err, errlen);
