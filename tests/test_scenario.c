@@ -12,6 +12,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "drive_params.h"
 #include "scenario.h"
 
 #define TOL 1e-12
@@ -77,6 +78,28 @@ static void defaults_are_table1(void **state)
     assert_float_equal(sc.controller.psif_Wb, 0.24, TOL);
     assert_int_equal(sc.run.log_every, 10);
     assert_float_equal(profile_eval(&sc.reference.speed_rpm, 0.5), 0.0, TOL);
+}
+
+/* The defaults marked "params" are the drive's parameter set (the board's,
+ * firmware/drive_params.h) as the decimals board_cfg.h spells: 0.011f
+ * reads exactly 0.011 in the double plant, not 0.0109999999. */
+static void defaults_come_from_the_parameter_set(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    drive_params_t p;
+    scenario_defaults(&sc);
+    drive_params_board(&p);
+    assert_true(sc.plant.L_H == 0.011);
+    assert_true(sc.plant.psif_Wb == 0.24);
+    assert_float_equal(sc.plant.L_H, p.motor.L_H, 1e-9);
+    assert_float_equal(sc.plant.J_kgm2, p.motor.J_kgm2, 1e-12);
+    assert_int_equal(sc.plant.encoder_lines, p.board.enc_lines);
+    assert_float_equal(sc.controller.pll_bw_rad_s, p.tuning.pll_bw_rad_s, 0.0);
+    assert_float_equal(sc.controller.i_max_A, p.limits.i_trip_A, 0.0);
+    assert_float_equal(sc.controller.te_max_Nm, p.limits.te_max_Nm, 0.0);
+    /* 2400 r/min, from rad/s back to the key's unit */
+    assert_float_equal(sc.controller.overspeed_rpm, 2400.0, 0.0);
 }
 
 static void parses_every_kind(void **state)
@@ -243,15 +266,50 @@ static void bad_inputs_name_file_line_key(void **state)
     assert_non_null(strstr(err, "/nonexistent/x.ini"));
 }
 
+/* [faults]: every time unset (never) by default, the parts' defaults, a
+ * full section parsed, and bad values named. */
+static void faults_section(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN];
+    scenario_defaults(&sc);
+    assert_true(isnan(sc.faults.open_phase_s) && isnan(sc.faults.short_s) && isnan(sc.faults.adc_stuck_s) &&
+                isnan(sc.faults.encoder_lost_s) && isnan(sc.faults.encoder_jump_s) && isnan(sc.faults.vdc_sag_s) &&
+                isnan(sc.faults.vdc_surge_s) && isnan(sc.faults.gate_trip_s) && isnan(sc.faults.isr_overrun_s));
+    assert_int_equal(sc.faults.short_phases, 1); /* bc */
+    assert_float_equal(sc.faults.vdc_sag_V, 150.0, TOL);
+    assert_int_equal(load_text(&sc,
+                               "[faults]\nopen_phase_s = 0\nopen_phase = c\nshort_s = 0.2\nshort_phases = ca\n"
+                               "adc_stuck_s = 0.3\nadc_stuck = b\nencoder_jump_s = 0.4\nencoder_jump_counts = -7\n"
+                               "vdc_surge_V = 500\nisr_overrun_run_s = 2e-4\n",
+                               err),
+                     0);
+    assert_float_equal(sc.faults.open_phase_s, 0.0, TOL);
+    assert_int_equal(sc.faults.open_phase, 2);
+    assert_int_equal(sc.faults.short_phases, 2);
+    assert_int_equal(sc.faults.adc_stuck, 1);
+    assert_float_equal(sc.faults.encoder_jump_counts, -7.0, TOL);
+    assert_float_equal(sc.faults.vdc_surge_V, 500.0, TOL);
+    assert_float_equal(sc.faults.isr_overrun_run_s, 2e-4, TOL);
+    expect_error("[faults]\nopen_phase = d\n", 2, "open_phase");
+    expect_error("[faults]\nshort_s = -0.1\n", 2, "short_s");
+    expect_error("[faults]\nadc_stuck = c\n", 2, "adc_stuck");
+    expect_error("[faults]\nshort_ohm = 0\n", 2, "short_ohm");
+    expect_error("[faults]\nencoder_jump_s = 0.1\nencoder_jump_counts = 2.5\n", 3, "encoder_jump_counts");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(defaults_are_table1),
+        cmocka_unit_test(defaults_come_from_the_parameter_set),
         cmocka_unit_test(parses_every_kind),
         cmocka_unit_test(profile_rules),
         cmocka_unit_test(set_overrides_and_replaces_profiles),
         cmocka_unit_test(plant_resistance_profile),
         cmocka_unit_test(bad_inputs_name_file_line_key),
+        cmocka_unit_test(faults_section),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

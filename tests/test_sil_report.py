@@ -6,6 +6,7 @@ only: sil_report imports matplotlib only inside load_matplotlib(), and the
 end-to-end run below replaces that with "not available"."""
 import contextlib
 import io
+import json
 import os
 import subprocess
 import sys
@@ -156,21 +157,30 @@ class WindowsAndTruth(Tmp):
         self.assertAlmostEqual(b, 0.2 + 1e-9, places=15)
         self.assertIsNone(load)
 
+    def write_resolved(self, stem, plant):
+        with open(os.path.join(self.dir, stem + ".resolved.json"), "w") as f:
+            json.dump({"scenario": stem + ".ini", "plant": plant, "controller": {"R_ohm": 3.0}}, f)
+
     def test_truth_of(self):
+        # the run's resolved plant (drive_sil's OUT.resolved.json), --set included; not the INI
+        self.write_resolved("x", {"R_ohm": 12.9, "L_H": 0.0165, "psif_Wb": 0.24})
         with open(os.path.join(self.dir, "x.ini"), "w") as f:
-            f.write("; comment\n[plant]\n# another\nR_ohm = 12.9\nL_H = 0.0165 ; 1.5 L0\n"
-                    "[controller]\npsif_Wb = 0.5\n")
+            f.write("[plant]\nR_ohm = 1.0\n")
         self.assertEqual(sil_report.truth_of(self.dir, "x"), (12.9, 0.0165, 0.24))
-        self.assertEqual(sil_report.truth_of(self.dir, "none"), (3.0, 0.011, 0.24))
-        with open(os.path.join(self.dir, "warm.ini"), "w") as f:
-            f.write("[plant]\nR_ohm = 0:3.0, 1.2:3.9~\n")
-        self.assertEqual(sil_report.truth_of(self.dir, "warm"), (3.0, 0.011, 0.24))
+        with self.assertRaisesRegex(ValueError, r"none\.resolved\.json: no resolved values"):
+            sil_report.truth_of(self.dir, "none")
+        with open(os.path.join(self.dir, "bad.resolved.json"), "w") as f:
+            f.write('{"plant": {"R_ohm": 3.0}}')
+        with self.assertRaisesRegex(ValueError, r"bad\.resolved\.json: not drive_sil's resolved values"):
+            sil_report.truth_of(self.dir, "bad")
 
 
 class Main(Tmp):
     """End to end without matplotlib: CSVs in, report.md out."""
 
     def write_run(self, name, te_off, n=120, te_ref=4.0):
+        with open(os.path.join(self.dir, name + ".resolved.json"), "w") as f:
+            json.dump({"plant": {"R_ohm": 3.0, "L_H": 0.011, "psif_Wb": 0.24}}, f)
         with open(os.path.join(self.dir, name + ".csv"), "w") as f:
             f.write(",".join(HEADER) + "\n")
             for k in range(n):

@@ -15,19 +15,20 @@
                          over time, conventional | proposed side by side;
      prop_<case>_step1.png  i_q, f^_q and R^ during step 1 (like Fig. 3).
 
-True parameters for the estimates' errors come from the scenario file
-(tools/scenarios/<stem>.ini, [plant] R_ohm, L_H, psif_Wb; the defaults of
-hal/sim when absent).
+True parameters for the estimates' errors come from the run itself: the
+resolved values drive_sil writes beside each CSV (<stem>.resolved.json, "plant":
+R_ohm, L_H, psif_Wb; --set overrides included).
 
 Windows: a run that reaches 1.05 s is measured over 0.8..0.95 s (steady,
 before the paper's load step) and its speed recovery and dip over
 0.95..1.05 s; a shorter run over its last quarter.
 
-Usage: sil_report.py [--dir build/sil] [--scenarios tools/scenarios] [--out build/sil/report.md]
+Usage: sil_report.py [--dir build/sil] [--out build/sil/report.md]
+(--scenarios DIR is still accepted and ignored: the truth is in <stem>.resolved.json.)
 """
 import argparse
-import configparser
 import glob
+import json
 import math
 import os
 import sys
@@ -38,7 +39,6 @@ import metrics  # noqa: E402
 PAPER_WINDOW = (0.8, 0.95)
 LOAD_WINDOW = (0.95, 1.05)
 SHORT_RUN_TAIL = 0.25
-PLANT_DEFAULTS = {"R_ohm": 3.0, "L_H": 0.011, "psif_Wb": 0.24}   # tools/sil/scenario.c
 METHODS = (("conv", "conventional"), ("prop", "proposed"))
 STEP1_TAIL_S = 0.05       # the step-1 figure runs this far past step 2's start
 FIG_DPI = 110
@@ -51,26 +51,19 @@ def windows(col):
     return ((1.0 - SHORT_RUN_TAIL) * t_end, t_end + 1e-9), None
 
 
-def plant_value(text):
-    """A plant key's value: a number, or a profile's value at t = 0
-    ([plant] R_ohm = "0:3.0, 2:3.9~"; the CSV's R_ohm column has the rest)."""
-    first = text.split(",")[0].strip()
-    return float(first.split(":", 1)[1].rstrip("~ ")) if ":" in first else float(first)
-
-
-def truth_of(scen_dir, stem):
-    """(R, L, psif) of the plant in tools/scenarios/<stem>.ini."""
-    vals = dict(PLANT_DEFAULTS)
-    path = os.path.join(scen_dir, stem + ".ini")
-    if os.path.exists(path):
-        cp = configparser.ConfigParser(inline_comment_prefixes=(";",), comment_prefixes=(";", "#"),
-                                       strict=False)
-        cp.read(path)
-        if cp.has_section("plant"):
-            for k in vals:
-                if cp.has_option("plant", k):
-                    vals[k] = plant_value(cp.get("plant", k))
-    return vals["R_ohm"], vals["L_H"], vals["psif_Wb"]
+def truth_of(run_dir, stem):
+    """(R, L, psif) of the plant of run <stem>: the resolved values drive_sil
+    wrote beside its CSV (<run_dir>/<stem>.resolved.json; R at t = 0: the CSV's R_ohm
+    column has the rest of a warming winding)."""
+    path = os.path.join(run_dir, stem + ".resolved.json")
+    try:
+        with open(path) as f:
+            plant = json.load(f)["plant"]
+        return float(plant["R_ohm"]), float(plant["L_H"]), float(plant["psif_Wb"])
+    except OSError as e:
+        raise ValueError(f"{path}: no resolved values ({e.strerror}); run drive_sil --out {stem}.csv") from None
+    except (ValueError, KeyError, TypeError) as e:
+        raise ValueError(f"{path}: not drive_sil's resolved values ({e})") from None
 
 
 def cell(v, spec):
@@ -230,7 +223,7 @@ def load_matplotlib():
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--dir", default="build/sil")
-    ap.add_argument("--scenarios", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenarios"))
+    ap.add_argument("--scenarios", default=None, help="ignored (old command lines): the truth is in <stem>.resolved.json")
     ap.add_argument("--out", default=None)
     a = ap.parse_args(argv)
     out = a.out or os.path.join(a.dir, "report.md")
@@ -247,7 +240,7 @@ def main(argv=None):
         try:
             col = metrics.load_csv(path)
             win, load_win = windows(col)
-            truths[stem] = truth_of(a.scenarios, stem)
+            truths[stem] = truth_of(a.dir, stem)
             r = metrics.compute(path, win, load_win, truth=truths[stem])
             cols[stem] = col
         except (OSError, ValueError, KeyError) as e:

@@ -53,6 +53,15 @@ if "$bin" --help > /dev/null && "$bin" --scenario "$good" --out "$dir/out.csv" >
 else
     echo "FAIL drive_sil CLI good run"; fail=1
 fi
+# beside the CSV: the run's resolved values, --set included (the report reads them, not the INI)
+rm -f "$dir/res.resolved.json"
+if "$bin" --scenario "$good" --set plant.L_H=0.0165 --set controller.L_factor=0.5 --out "$dir/res.csv" > /dev/null &&
+        python3 -c 'import json, sys; d = json.load(open(sys.argv[1]));
+sys.exit(0 if d["plant"]["L_H"] == 0.0165 and abs(d["controller"]["L_H"] - 0.00825) < 1e-9 else 1)' "$dir/res.resolved.json"; then
+    echo "ok   drive_sil CLI good run: res.resolved.json with the --set plant and controller values"
+else
+    echo "FAIL drive_sil CLI resolved values beside the CSV"; fail=1
+fi
 # a refused step 1 with on_refusal = conventional: exit 0, the warning in the summary line
 refused=$(printf '[plant]\nmodel = averaged\n[controller]\nmethod = proposed\nR_factor = 2\nR_min_ohm = 4\n[identify]\nmode = windows\non_refusal = conventional\n[reference]\nspeed_rpm = 0:0, 0.2:500~\n[load]\ntorque_Nm = 0:2, 0.35:4\n[run]\nduration_s = 0.6\n' > "$dir/refused.ini"; echo "$dir/refused.ini")
 if line=$("$bin" --scenario "$refused" --out "$dir/out.csv") && echo "$line" | grep -q "state 5 (RUN), fault 0 (NONE).*warning STEP1_REFUSED (RSID_OUT_OF_BAND)"; then

@@ -2,8 +2,9 @@
  * fuzz_app.c - libFuzzer harness for the control ISR: app_isr() on the
  * fuzz HAL stub (fuzz_hal.h) through arbitrary sample sequences and
  * operator commands (cmd_apply, the path the operator's block takes).
- * The stub aborts on a broken output rule; ASan and UBSan (float casts
- * included) catch the rest. `make fuzz` runs it for >= 10^8 ISR steps,
+ * The stub aborts on a broken output rule, the harness on a state out of
+ * app_state_t or a fault code that disagrees with FAULT; ASan and UBSan
+ * (float casts included) catch the rest. `make fuzz` runs it for >= 10^8 ISR steps,
  * `make test` a short seeded pass (tests/module.mk, tools/fuzz.sh).
  *
  * Input: an 8-byte header, then 16-byte records (a short tail is dropped).
@@ -164,6 +165,12 @@ static void isr_step(const hal_sample_t *s, const uint8_t *r)
         g_faults[(uint32_t)g_h.app.fault % N_FAULTS]++;
     }
     g_state_steps[(uint32_t)g_h.app.state % N_STATES]++;
+    if ((uint32_t)g_h.app.state >= N_STATES) {
+        fuzz_hal_fail("state out of app_state_t");
+    }
+    if ((g_h.app.state == APP_STATE_FAULT) != (g_h.app.fault != APP_FAULT_NONE)) {
+        fuzz_hal_fail("a fault code without FAULT, or FAULT without one");
+    }
     if (fuzz_hal_end_isr()) {
         const app_state_t st = g_h.app.state;
         if ((st == APP_STATE_FAULT) || (st == APP_STATE_INIT) || (st == APP_STATE_IDLE) ||

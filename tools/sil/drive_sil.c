@@ -3,7 +3,8 @@
  *   drive_sil --scenario FILE [--set section.key=value ...]
  *             [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]
  * Runs the firmware application on the simulated board (sil.h) and writes
- * one CSV row per logged period (--out) and/or the steady window's figures
+ * one CSV row per logged period (--out; beside it OUT.resolved.json, the run's
+ * resolved plant and controller values) and/or the steady window's figures
  * as JSON (--summary, summary.h; "-" is stdout), or with --check only
  * validates the scenario and overrides. --batch is the sweep's worker
  * (tools/sweep.py): one run per stdin line "ID<TAB>section.key=value<TAB>..."
@@ -26,6 +27,7 @@
 #define MAX_SETS 64
 #define TMP_SUFFIX_LEN 32
 #define NAME_LEN 64
+#define RESOLVED_SUFFIX ".resolved.json"   /* beside the CSV: the run's resolved values */
 #define BATCH_LINE_LEN 8192
 #define BATCH_FIELD_SEP "\t"
 
@@ -253,6 +255,34 @@ static int out_commit(out_file_t *o, const char *flag)
     return 0;
 }
 
+/* OUT.resolved.json beside the CSV (--out OUT.csv, or OUT + that suffix
+ * for another name; not OUT.json, a --summary's usual name): the resolved
+ * truth and controller values of the run (sil_write_resolved), for the
+ * report instead of the INI. */
+static int resolved_write(const args_t *a, const scenario_t *sc)
+{
+    if (a->out_path == NULL) {
+        return 0;
+    }
+    const size_t n = strlen(a->out_path);
+    const size_t stem = (n > 4u && strcmp(a->out_path + n - 4u, ".csv") == 0) ? n - 4u : n;
+    char *path = malloc(stem + sizeof RESOLVED_SUFFIX);
+    if (path == NULL) {
+        fprintf(stderr, "drive_sil: out of memory\n");
+        return -1;
+    }
+    memcpy(path, a->out_path, stem);
+    memcpy(path + stem, RESOLVED_SUFFIX, sizeof RESOLVED_SUFFIX);
+    out_file_t o;
+    int rc = out_open(&o, path, "--out");
+    if (rc == 0) {
+        sil_write_resolved(o.f, sc, a->scenario_path);
+        rc = out_commit(&o, "--out");
+    }
+    free(path);
+    return rc;
+}
+
 static int on_row(const sil_row_t *row, void *user)
 {
     sink_t *k = user;
@@ -380,7 +410,7 @@ int main(int argc, char **argv)
     if (js.f != NULL) {
         summary_write_json(js.f, &sum, &sc, &res, a.scenario_path, NULL);
     }
-    if (out_commit(&csv, "--out") != 0) {
+    if (out_commit(&csv, "--out") != 0 || resolved_write(&a, &sc) != 0) {
         out_abandon(&js);
         return EXIT_FAILURE;
     }

@@ -9,11 +9,11 @@ HOST_PROGRAMS += $(DRIVE_SIL)
 # (libfirmware), which calls the HAL (libsim) - one pass of "firmware sim
 # control" resolves that. Tests calling sil_run() do the same:
 #   TEST_SRCS_test_x := tools/sil/sil.c   TEST_LIBS_test_x := silrun firmware sim control
-$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/sil.c tools/sil/summary.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(LDLIBS)
 
-TEST_LIBS_test_scenario := silrun
+TEST_LIBS_test_scenario := silrun firmware control
 TEST_LIBS_test_sil      := silrun firmware sim control
 TEST_SRCS_test_sil      := tools/sil/sil.c
 # The app's start-up sequence (calibrate, align, run) in SIL.

@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "drive_params.h"
+
 /* K_RPROFILE: a positive profile starting at t = 0 (a bare number is a
  * constant); its value at t = 0 also goes to the double at offset_t0. */
 typedef enum { K_REAL, K_UINT, K_ENUM, K_PROFILE, K_RPROFILE } key_kind_t;
@@ -36,6 +38,10 @@ static const char *const PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
 static const char *const CHANNEL_NAMES[] = { "a", "b", NULL };
 static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 
+/* Keys whose default is the drive's parameter set (firmware/drive_params.h,
+ * the board's values), not text of this table: see params_default(). */
+static const char PARAMS[] = "(drive_params)";
+
 #define UINT32_MAX_D 4294967295.0
 #define F(field) offsetof(scenario_t, field)
 /* One line per key. POS: > 0, NN: >= 0, ANY: finite, OPT: like POS, default unset. */
@@ -50,23 +56,23 @@ static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 #define WHEN(k, f, h) { "faults", k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, false, NULL, h, 0 }
 
 static const sc_key_t KEYS[] = {
-    { "plant", "R_ohm", K_RPROFILE, F(plant.R_profile), "3", 0.0, HUGE_VAL, true, NULL,
+    { "plant", "R_ohm", K_RPROFILE, F(plant.R_profile), PARAMS, 0.0, HUGE_VAL, true, NULL,
       "true stator resistance R0 [ohm]; a profile from t = 0 warms the winding (\"0:3.0, 2:3.9~\")",
       F(plant.R_ohm) },
-    POS("plant", "L_H", plant.L_H, "0.011", "true inductance L0 = Ld = Lq [H]"),
-    POS("plant", "psif_Wb", plant.psif_Wb, "0.24", "true PM flux linkage psi_f0 [Wb]"),
-    UINT("plant", "pole_pairs", plant.pole_pairs, "3", 1.0, 64.0, "pole pairs"),
-    POS("plant", "J_kgm2", plant.J_kgm2, "0.00129", "inertia [kg m^2]"),
+    POS("plant", "L_H", plant.L_H, PARAMS, "true inductance L0 = Ld = Lq [H]"),
+    POS("plant", "psif_Wb", plant.psif_Wb, PARAMS, "true PM flux linkage psi_f0 [Wb]"),
+    UINT("plant", "pole_pairs", plant.pole_pairs, PARAMS, 1.0, 64.0, "pole pairs"),
+    POS("plant", "J_kgm2", plant.J_kgm2, PARAMS, "inertia [kg m^2]"),
     NN("plant", "B_Nms", plant.B_Nms, "0", "viscous friction [N m s/rad]"),
     UINT("plant", "speed_held", plant.speed_held, "0", 0.0, 1.0, "1: shaft held at speed0_rpm (0: free)"),
     ANY("plant", "speed0_rpm", plant.speed0_rpm, "0", "initial (or held) speed [r/min]"),
-    POS("plant", "vdc_V", plant.vdc_V, "311", "DC-bus voltage [V]"),
+    POS("plant", "vdc_V", plant.vdc_V, PARAMS, "DC-bus voltage [V]"),
     ENUM("plant", "model", plant.model, "averaged", MODEL_NAMES, "inverter model: averaged | switching"),
     NN("plant", "deadtime_s", plant.deadtime_s, "0", "inverter dead time [s]"),
     NN("plant", "device_drop_V", plant.device_drop_V, "0",
        "on-state drop of the conducting switch or diode [V], by the current's sign"),
     POS("plant", "substep_s", plant.substep_s, "1e-4", "longest RK4 step inside a constant-voltage piece [s]"),
-    UINT("plant", "encoder_lines", plant.encoder_lines, "2500", 1.0, 1.0e6, "encoder lines (x4 counts)"),
+    UINT("plant", "encoder_lines", plant.encoder_lines, PARAMS, 1.0, 1.0e6, "encoder lines (x4 counts)"),
     ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, "0",
         "electrical angle of the d axis at count 0 [rad]; the controller is told the same unless run.align = on"),
     POS("plant", "adc_full_scale_A", plant.adc_full_scale_A, "15", "current ADC range +-[A] (12 bit)"),
@@ -84,14 +90,14 @@ static const sc_key_t KEYS[] = {
     OPT("controller", "psif_factor", controller.psif_factor, "controller's psi_f / plant psi_f (default 1)"),
     ENUM("controller", "method", controller.method, "conventional", METHOD_NAMES, "conventional | proposed"),
     ENUM("controller", "mode", controller.mode, "speed", MODE_NAMES, "speed | torque | open_loop"),
-    POS("controller", "speed_kp_Nms_rad", controller.speed_kp_Nms_rad, "0.5", "speed PI proportional gain"),
-    POS("controller", "speed_ki_Nm_rad", controller.speed_ki_Nm_rad, "20", "speed PI integral gain"),
-    POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, "500", "speed estimator bandwidth [rad/s]"),
-    POS("controller", "te_max_Nm", controller.te_max_Nm, "12", "torque reference limit [N m]"),
-    POS("controller", "i_max_A", controller.i_max_A, "14", "software overcurrent threshold [A] (BOARD_OVERCURRENT_A)"),
+    POS("controller", "speed_kp_Nms_rad", controller.speed_kp_Nms_rad, PARAMS, "speed PI proportional gain"),
+    POS("controller", "speed_ki_Nm_rad", controller.speed_ki_Nm_rad, PARAMS, "speed PI integral gain"),
+    POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, PARAMS, "speed estimator bandwidth [rad/s]"),
+    POS("controller", "te_max_Nm", controller.te_max_Nm, PARAMS, "torque reference limit [N m]"),
+    POS("controller", "i_max_A", controller.i_max_A, PARAMS, "software overcurrent threshold [A] (BOARD_OVERCURRENT_A)"),
     /* operating limits (issue 12) */
-    POS("controller", "i_limit_A", controller.i_limit_A, "12", "stator-current limit the targets respect [A] (BOARD_I_LIMIT_A)"),
-    POS("controller", "overspeed_rpm", controller.overspeed_rpm, "2400", "overspeed trip [r/min] (BOARD_OVERSPEED_RPM)"),
+    POS("controller", "i_limit_A", controller.i_limit_A, PARAMS, "stator-current limit the targets respect [A] (BOARD_I_LIMIT_A)"),
+    POS("controller", "overspeed_rpm", controller.overspeed_rpm, PARAMS, "overspeed trip [r/min] (BOARD_OVERSPEED_RPM)"),
     { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
     OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.2 x controller's R)"),
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 2 x controller's R)"),
@@ -283,15 +289,76 @@ static int set_value(scenario_t *sc, int i, const char *v, bool append, char *er
     return -1;
 }
 
+/* The parameter set's value of each PARAMS key, in the key's unit. */
+typedef struct {
+    const char *section, *name;
+    size_t offset;             /* of the value in drive_params_t */
+    int kind;                  /* 0 float, 1 uint16_t, 2 uint32_t */
+    double scale;              /* key unit per parameter unit */
+} sc_param_t;
+
+#define P(s, k, f, kind, scale) { s, k, offsetof(drive_params_t, f), kind, scale }
+static const sc_param_t PARAM_KEYS[] = {
+    P("plant", "R_ohm", motor.R_Ohm, 0, 1.0),
+    P("plant", "L_H", motor.L_H, 0, 1.0),
+    P("plant", "psif_Wb", motor.psi_f_Wb, 0, 1.0),
+    P("plant", "pole_pairs", motor.pole_pairs, 1, 1.0),
+    P("plant", "J_kgm2", motor.J_kgm2, 0, 1.0),
+    P("plant", "vdc_V", board.vdc_nominal_V, 0, 1.0),
+    P("plant", "encoder_lines", board.enc_lines, 2, 1.0),
+    P("controller", "speed_kp_Nms_rad", tuning.speed_kp_Nms_rad, 0, 1.0),
+    P("controller", "speed_ki_Nm_rad", tuning.speed_ki_Nm_rad, 0, 1.0),
+    P("controller", "pll_bw_rad_s", tuning.pll_bw_rad_s, 0, 1.0),
+    P("controller", "te_max_Nm", limits.te_max_Nm, 0, 1.0),
+    P("controller", "i_max_A", limits.i_trip_A, 0, 1.0),
+    P("controller", "i_limit_A", limits.i_limit_A, 0, 1.0),
+    P("controller", "overspeed_rpm", limits.speed_max_rad_s, 0, 60.0 / 6.283185307179586),
+};
+#undef P
+
+/* The default of a PARAMS key as text: the board's value in the key's
+ * unit, to 6 significant digits (the decimal board_cfg.h spells: 0.011f
+ * reads 0.011, not 0.0109999999). "" for a key not in PARAM_KEYS. */
+static const char *params_default(const sc_key_t *k, char *buf, size_t len)
+{
+    drive_params_t p;
+    drive_params_board(&p);
+    buf[0] = '\0';
+    for (size_t j = 0; j < sizeof PARAM_KEYS / sizeof PARAM_KEYS[0]; j++) {
+        const sc_param_t *q = &PARAM_KEYS[j];
+        if (strcmp(q->section, k->section) == 0 && strcmp(q->name, k->name) == 0) {
+            const char *at = (const char *)&p + q->offset;
+            double v = 0.0;
+            if (q->kind == 1) {
+                v = (double)*(const uint16_t *)(const void *)at;
+            } else if (q->kind == 2) {
+                v = (double)*(const uint32_t *)(const void *)at;
+            } else {
+                v = (double)*(const float *)(const void *)at;
+            }
+            snprintf(buf, len, "%.6g", v * q->scale);
+        }
+    }
+    return buf;
+}
+
+/* A key's default as text: the table's, or the parameter set's; NULL: unset. */
+static const char *default_text(const sc_key_t *k, char *buf, size_t len)
+{
+    return (k->def == PARAMS) ? params_default(k, buf, len) : k->def;
+}
+
 void scenario_defaults(scenario_t *sc)
 {
     memset(sc, 0, sizeof *sc);
     char err[SCENARIO_ERR_LEN];
+    char buf[32];
     for (int i = 0; i < N_KEYS; i++) {
-        if (KEYS[i].def == NULL) {
+        const char *def = default_text(&KEYS[i], buf, sizeof buf);
+        if (def == NULL) {
             *(double *)field(sc, &KEYS[i]) = NAN;
         } else {
-            (void)set_value(sc, i, KEYS[i].def, false, err, sizeof err);   /* the table's own defaults parse */
+            (void)set_value(sc, i, def, false, err, sizeof err);   /* the defaults parse */
         }
     }
 }
@@ -475,6 +542,20 @@ static int check_identify(const scenario_t *sc, char *err, size_t errlen)
     return -1;
 }
 
+/* [faults] encoder_jump_counts: a count is whole, and within a 32-bit jump. */
+static int check_faults(const scenario_t *sc, char *err, size_t errlen)
+{
+    int known = 0;
+    const int i = find_key("faults", "encoder_jump_counts", &known);
+    const double n = sc->faults.encoder_jump_counts;
+    if (n == floor(n) && fabs(n) <= 2147483647.0) {
+        return 0;
+    }
+    snprintf(err, errlen, "%s: [faults] encoder_jump_counts: %g is not a whole number of counts (|n| < 2^31)",
+             sc->origin[i], n);
+    return -1;
+}
+
 int scenario_finish(scenario_t *sc, char *err, size_t errlen)
 {
     if (resolve(sc, "R_ohm", "R_factor", sc->plant.R_ohm, &sc->controller.R_ohm,
@@ -483,6 +564,9 @@ int scenario_finish(scenario_t *sc, char *err, size_t errlen)
                 sc->controller.L_factor, err, errlen) != 0 ||
         resolve(sc, "psif_Wb", "psif_factor", sc->plant.psif_Wb, &sc->controller.psif_Wb,
                 sc->controller.psif_factor, err, errlen) != 0) {
+        return -1;
+    }
+    if (check_faults(sc, err, errlen) != 0) {
         return -1;
     }
     return check_identify(sc, err, errlen);
@@ -497,7 +581,9 @@ void scenario_print_keys(FILE *f)
             section = k->section;
             fprintf(f, "  [%s]\n", section);
         }
-        const char *def = (k->def == NULL) ? "-" : ((k->kind == K_PROFILE) ? "0" : k->def);
+        char buf[32];
+        const char *text = default_text(k, buf, sizeof buf);
+        const char *def = (text == NULL) ? "-" : ((k->kind == K_PROFILE) ? "0" : text);
         fprintf(f, "    %-22s %-13s %s\n", k->name, def, k->help);
     }
 }

@@ -6,9 +6,11 @@
 #include <string.h>
 
 #include "app.h"
+#include "drive_params.h"
 #include "csv_num.h"
 #include "board_cfg.h"
 #include "hal_sim.h"
+#include "summary.h"
 
 #define TWO_PI 6.283185307179586
 #define RPM_PER_RAD_S (60.0 / TWO_PI)
@@ -72,44 +74,43 @@ static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
     f->isr_overrun_run_s = sc->faults.isr_overrun_run_s;
 }
 
+/* The scenario's controller and board values as the drive's parameter set
+ * (defaults: the board's, tools/sil/scenario.c), mapped by the target's
+ * own drive_params_to_app_cfg(); then the start-up sequence's keys. */
 static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_t *ac)
 {
-    app_cfg_default(ac);   /* the board's protection, ISR timing and start-up sequence */
-    ctrl_cfg_t *c = &ac->ctrl;
-    c->Ts_s = (float)hc->inv.Ts_s;
-    c->Rs_Ohm = (float)sc->controller.R_ohm;
-    c->Ls_H = (float)sc->controller.L_H;
-    c->psi_f_Wb = (float)sc->controller.psif_Wb;
-    c->pole_pairs = (uint16_t)sc->plant.pole_pairs;
-    c->enc_lines = sc->plant.encoder_lines;
-    /* align off: told the plant's offset, as if measured; on: not told (0), the alignment finds it */
-    c->enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)sc->plant.encoder_offset_el_rad;
-    c->enc_pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
-    c->speed_kp_Nms_rad = (float)sc->controller.speed_kp_Nms_rad;
-    c->speed_ki_Nm_rad = (float)sc->controller.speed_ki_Nm_rad;
-    c->te_max_Nm = (float)sc->controller.te_max_Nm;
-    c->i_max_A = (float)(MODEL_I_BOUND_PER_TRIP * sc->controller.i_max_A);
-    c->u_max_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
-    c->omega_max_el_rad_s = (float)(MODEL_SPEED_BOUND_RPM / RPM_PER_RAD_S * (double)sc->plant.pole_pairs);
-    c->psi_max_Wb = (float)(MODEL_PSI_BOUND_PER_PSIF * sc->controller.psif_Wb);
+    drive_params_t p;
+    drive_params_board(&p);
+    p.motor.R_Ohm = (float)sc->controller.R_ohm;
+    p.motor.L_H = (float)sc->controller.L_H;
+    p.motor.psi_f_Wb = (float)sc->controller.psif_Wb;
+    p.motor.pole_pairs = (uint16_t)sc->plant.pole_pairs;
+    p.board.Ts_s = (float)hc->inv.Ts_s;
     /* the dead time as if measured, unless the scenario gives the controller another */
-    c->deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
-    ac->i_max_A = (float)sc->controller.i_max_A;
-    c->i_lim_A = (float)sc->controller.i_limit_A;
-    ac->speed_max_rad_s = (float)(sc->controller.overspeed_rpm / RPM_PER_RAD_S);
+    p.board.deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
+    p.board.u_bound_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
+    p.board.enc_lines = sc->plant.encoder_lines;
+    /* align off: told the plant's offset, as if measured; on: not told (0), the alignment finds it */
+    p.board.enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)sc->plant.encoder_offset_el_rad;
+    p.tuning.pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
+    p.tuning.speed_kp_Nms_rad = (float)sc->controller.speed_kp_Nms_rad;
+    p.tuning.speed_ki_Nm_rad = (float)sc->controller.speed_ki_Nm_rad;
+    p.tuning.R_min_Ohm = isnan(sc->controller.R_min_ohm) ? p.tuning.R_min_Ohm : (float)sc->controller.R_min_ohm;
+    p.tuning.R_max_Ohm = isnan(sc->controller.R_max_ohm) ? p.tuning.R_max_Ohm : (float)sc->controller.R_max_ohm;
+    p.limits.te_max_Nm = (float)sc->controller.te_max_Nm;
+    p.limits.i_trip_A = (float)sc->controller.i_max_A;
+    p.limits.i_limit_A = (float)sc->controller.i_limit_A;
+    p.limits.speed_max_rad_s = (float)(sc->controller.overspeed_rpm / RPM_PER_RAD_S);
     /* the board's bus limits relative to its nominal bus, at the scenario's bus */
-    const float bus_scale = (float)sc->plant.vdc_V / BOARD_VDC_NOMINAL_V;
-    ac->vdc_max_V = BOARD_VDC_MAX_V * bus_scale;
-    ac->vdc_min_V = BOARD_VDC_MIN_V * bus_scale;
+    const float bus_scale = (float)sc->plant.vdc_V / p.board.vdc_nominal_V;
+    p.limits.vdc_max_V = p.limits.vdc_max_V * bus_scale;
+    p.limits.vdc_min_V = p.limits.vdc_min_V * bus_scale;
+
+    app_cfg_default(ac);   /* the board's start-up sequence, watch and ISR timing */
+    drive_params_to_app_cfg(&p, ac);
+    ctrl_cfg_t *c = &ac->ctrl;
     ac->calibrate = (sc->run.calibrate == SC_ON);
     ac->align = (sc->run.align == SC_ON);
-    /* the proposed method's settings for the controller's values, R^ band in ohms */
-    float R_min = NAN;
-    float R_max = NAN;
-    ctrl_rsid_band_default(c, &R_min, &R_max);
-    R_min = isnan(sc->controller.R_min_ohm) ? R_min : (float)sc->controller.R_min_ohm;
-    R_max = isnan(sc->controller.R_max_ohm) ? R_max : (float)sc->controller.R_max_ohm;
-    ctrl_cfg_proposed_defaults(c, R_min, R_max);
     c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
     c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
     c->track_R = (sc->identify.track_R == SC_ON) ? 1u : 0u;
@@ -312,4 +313,62 @@ void sil_csv_row(FILE *f, const sil_row_t *row)
         line[n++] = (i + 1u < N_COLS) ? ',' : '\n';
     }
     fwrite(line, 1, n, f);
+}
+
+/* ---- resolved values (OUT.json) --------------------------------------------- */
+
+static void json_num(FILE *f, const char *key, double v, const char *sep)
+{
+    if (isfinite(v)) {
+        fprintf(f, "\"%s\": %.10g%s", key, v, sep);
+    } else {
+        fprintf(f, "\"%s\": null%s", key, sep);
+    }
+}
+
+/* A controller value (float) to the digits a float holds: 0.0165f reads 0.0165. */
+static void json_flt(FILE *f, const char *key, float v, const char *sep)
+{
+    if (isfinite(v)) {
+        fprintf(f, "\"%s\": %.7g%s", key, (double)v, sep);
+    } else {
+        fprintf(f, "\"%s\": null%s", key, sep);
+    }
+}
+
+void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path)
+{
+    const app_cfg_t *ac = &g_app.cfg;
+    const ctrl_cfg_t *c = &ac->ctrl;
+    static const char *const METHOD[] = { "conventional", "proposed" };
+    static const char *const MODE[] = { "speed", "torque", "open_loop" };
+
+    fputs("{\"scenario\": ", f);
+    summary_json_string(f, scenario_path);
+    fputs(",\n \"plant\": {", f);
+    json_num(f, "R_ohm", sc->plant.R_ohm, ", ");
+    json_num(f, "L_H", sc->plant.L_H, ", ");
+    json_num(f, "psif_Wb", sc->plant.psif_Wb, ", ");
+    json_num(f, "pole_pairs", (double)sc->plant.pole_pairs, ", ");
+    json_num(f, "J_kgm2", sc->plant.J_kgm2, ", ");
+    json_num(f, "vdc_V", sc->plant.vdc_V, ", ");
+    json_num(f, "deadtime_s", sc->plant.deadtime_s, ", ");
+    json_num(f, "encoder_lines", (double)sc->plant.encoder_lines, "},\n");
+    fprintf(f, " \"controller\": {\"method\": \"%s\", \"mode\": \"%s\", ",
+            METHOD[(sc->controller.method == SC_METHOD_PROPOSED) ? 1 : 0],
+            MODE[(sc->controller.mode <= SC_MODE_OPEN_LOOP) ? sc->controller.mode : 0u]);
+    json_flt(f, "R_ohm", c->Rs_Ohm, ", ");
+    json_flt(f, "L_H", c->Ls_H, ", ");
+    json_flt(f, "psif_Wb", c->psi_f_Wb, ", ");
+    json_flt(f, "R_min_ohm", c->R_min_Ohm, ", ");
+    json_flt(f, "R_max_ohm", c->R_max_Ohm, ", ");
+    json_flt(f, "deadtime_s", c->deadtime_s, ", ");
+    json_flt(f, "pll_bw_rad_s", c->enc_pll_bw_rad_s, ", ");
+    json_flt(f, "speed_kp_Nms_rad", c->speed_kp_Nms_rad, ", ");
+    json_flt(f, "speed_ki_Nm_rad", c->speed_ki_Nm_rad, ", ");
+    json_flt(f, "te_max_Nm", c->te_max_Nm, ", ");
+    json_flt(f, "i_max_A", ac->i_max_A, ", ");
+    json_flt(f, "i_limit_A", c->i_lim_A, ", ");
+    json_flt(f, "overspeed_rpm", (float)((double)ac->speed_max_rad_s * RPM_PER_RAD_S), ", ");
+    json_num(f, "config_status", (double)ctrl_status(&g_app.ctrl), "}}\n");
 }

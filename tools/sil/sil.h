@@ -74,4 +74,11 @@ void sil_csv_header(FILE *f);
 /* One row as a CSV line to f; NaN is written "nan". */
 void sil_csv_row(FILE *f, const sil_row_t *row);
 
+/* The resolved truth and controller values of the last sil_run(), as one
+ * JSON object (drive_sil writes it beside the CSV as OUT.resolved.json): the
+ * plant's parameters (R at t = 0) from the scenario, and the values the
+ * controller was configured with (the app's configuration after the
+ * parameter set's mapping). Keys as the scenario's. */
+void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path);
+
 #endif /* SIL_H */
