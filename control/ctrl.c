@@ -42,7 +42,6 @@
  * still leaves the linear region a pole margin. */
 #define OBS_L_MIN_STABILITY_MARGIN 1.25f
 #define HALF 0.5f
-#define TWO_THIRDS 0.666666667f
 /* The default R^ band's top stays this fraction of the largest R that
  * meets (36) with the observer's default gains (18 Ohm for Table I). */
 #define RSID_BAND_KS_MARGIN 0.9f
@@ -489,19 +488,13 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
  * crossing the real error is smaller (left in f^ for those periods). */
 static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
 {
-    const ab_t i = park_inv(i_dq_A, sin_a, cos_a);
+    const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
     const float dv_sum = c->deadtime_frac * vdc_V + c->inv_dv_V;
     const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
-    const float ia = i.a;
-    const float ib = -HALF * i.a + HALF * MATHX_SQRT3_F * i.b;
-    const float ic = -HALF * i.a - HALF * MATHX_SQRT3_F * i.b;
-    const float va = (ia > 0.0f) ? -dv : ((ia < 0.0f) ? dv : 0.0f);
-    const float vb = (ib > 0.0f) ? -dv : ((ib < 0.0f) ? dv : 0.0f);
-    const float vc = (ic > 0.0f) ? -dv : ((ic < 0.0f) ? dv : 0.0f);
-    ab_t e;
-    e.a = TWO_THIRDS * (va - HALF * (vb + vc)); /* amplitude-invariant Clarke */
-    e.b = MATHX_INV_SQRT3_F * (vb - vc);
-    return park(e, sin_a, cos_a);
+    const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
+    const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);
+    const float vc = (i.c > 0.0f) ? -dv : ((i.c < 0.0f) ? dv : 0.0f);
+    return park(clarke_3ph(va, vb, vc), sin_a, cos_a);
 }
 
 /* sin/cos of theta + delta from those of theta: rotation by a series in
