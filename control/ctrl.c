@@ -174,7 +174,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 
     ec.counts_per_rev = 4u * cfg->enc_lines;
     ec.pole_pairs = cfg->pole_pairs;
-    ec.offset_elec_rad = cfg->enc_offset_el_rad;
+    ec.offset_el_rad = cfg->enc_offset_el_rad;
     ec.Ts_s = cfg->Ts_s;
     ec.pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
     status = refused_if(encoder_init(&c->enc, &ec), CTRL_CFG_ENCODER, status); /* refused: angle 0, speed 0 */
@@ -258,8 +258,8 @@ void ctrl_reset(ctrl_t *c)
     c->mon.R_est_Ohm = c->db.par.Rs_Ohm;
     c->mon.L_est_H = c->db.par.Ls_H;
     c->mon.psi_f_est_Wb = c->db.par.psi_f_Wb;
-    c->mon.fd_est = 0.0f;
-    c->mon.fq_est = 0.0f;
+    c->mon.fd_est_V = 0.0f;
+    c->mon.fq_est_V = 0.0f;
     c->mon.est = CTRL_EST_OFF;
     c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
@@ -641,14 +641,14 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         c->mon.R_est_Ohm = c->smo.R_Ohm;
         c->mon.L_est_H = c->smo.L_H;
         c->mon.psi_f_est_Wb = c->smo.psi_f_Wb;
-        c->mon.fd_est = c->smo.fd_V;
-        c->mon.fq_est = c->smo.fq_V;
+        c->mon.fd_est_V = c->smo.fd_V;
+        c->mon.fq_est_V = c->smo.fq_V;
     } else {
         c->mon.R_est_Ohm = par->Rs_Ohm;
         c->mon.L_est_H = par->Ls_H;
         c->mon.psi_f_est_Wb = par->psi_f_Wb;
-        c->mon.fd_est = 0.0f;
-        c->mon.fq_est = 0.0f;
+        c->mon.fd_est_V = 0.0f;
+        c->mon.fq_est_V = 0.0f;
     }
     c->mon.est = c->est;
     c->mon.est_hold = c->gate.reasons;
