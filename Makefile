@@ -5,6 +5,7 @@
 #   make sil        the paper's scenarios in SIL: CSV, plots, metrics report
 #   make check      portability and static gates (float-only, 16-bit int, cppcheck)
 #   make bench      speed and cost figures (printed, never asserted)
+#   make sweep      sensitivity maps of both methods into build/sweep/
 #   make firmware   the F28335 image (needs CG_TOOL_ROOT and C2000WARE_ROOT)
 #   make flash      program it with TI UniFlash (dslite.sh)
 
@@ -113,7 +114,7 @@ $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 all: $(TEST_BINS) $(HOST_PROGRAMS)
 
 help:
-	@sed -n '1,10p' Makefile
+	@sed -n '1,11p' Makefile
 
 # Debian packages the host build needs; installed when running as root.
 host-deps:

@@ -3,7 +3,7 @@
  *
  * Cost per ctrl_step() in speed/torque mode, as measured by `make
  * bench-ctrl` (callgrind, x86-64 -O2):
- *   conventional: 1165 instructions; proposed (step 2 running): 1577 (+35 %)
+ *   conventional: 1178 instructions; proposed (step 2 running): 1586 (+35 %)
  *            on the normal path (the bench closes the loop over a motor
  *            model); about 100 are the dead-time feedforward (both methods);
  *            with track_R (observer_design.md sec. 9) see `make bench-ctrl`

@@ -44,18 +44,3 @@ oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, uint16_t pole_pairs,
     }
     return out;
 }
-
-void oplim_fw_update(oplim_t *o, dq_t u_req_V, float u_lim_V)
-{
-    const float u_sq = u_req_V.d * u_req_V.d + u_req_V.q * u_req_V.q;
-    const float lim_sq = u_lim_V * u_lim_V;
-    float d = o->dpsi_Wb;
-
-    if (u_sq > lim_sq) {
-        d += o->dpsi_step_Wb;
-    } else if (u_sq < o->hyst_sq * lim_sq) {
-        d -= o->dpsi_step_Wb;
-    }
-    /* a NaN stays out: the bounds win */
-    o->dpsi_Wb = mathx_clampf(d, 0.0f, o->dpsi_max_Wb);
-}

@@ -30,6 +30,7 @@
 #define OPLIM_H
 
 #include "dbdtc.h"
+#include "mathx.h"
 
 /* Design defaults (observer_design.md sec. 8). */
 #define OPLIM_FW_RATE_DEFAULT_WB_S 5.0f  /* follows 3x the 2050 r/min in 0.2 s ramp's flux change */
@@ -65,7 +66,21 @@ oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, uint16_t pole_pairs,
                           float te_req_Nm);
 
 /* The weakening loop, after the deadbeat step: u_req_V [V] = its voltage
- * before the hexagon, u_lim_V [V] = the steady-state limit. ISR, no division. */
-void oplim_fw_update(oplim_t *o, dq_t u_req_V, float u_lim_V);
+ * before the hexagon, u_lim_V [V] = the steady-state limit. ISR, no
+ * division; inline (every period). */
+static inline void oplim_fw_update(oplim_t *o, dq_t u_req_V, float u_lim_V)
+{
+    const float u_sq = u_req_V.d * u_req_V.d + u_req_V.q * u_req_V.q;
+    const float lim_sq = u_lim_V * u_lim_V;
+    float d = o->dpsi_Wb;
+
+    if (u_sq > lim_sq) {
+        d += o->dpsi_step_Wb;
+    } else if (u_sq < o->hyst_sq * lim_sq) {
+        d -= o->dpsi_step_Wb;
+    }
+    /* a NaN stays out: the bounds win */
+    o->dpsi_Wb = mathx_clampf(d, 0.0f, o->dpsi_max_Wb);
+}
 
 #endif /* OPLIM_H */

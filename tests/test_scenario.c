@@ -238,6 +238,7 @@ static void bad_inputs_name_file_line_key(void **state)
     expect_error("[plant]\nmodel = pwm\n", 2, "model");
     expect_error("[controller]\nmethod = better\n", 2, "method");
     expect_error("[controller]\nmode = position\n", 2, "mode");
+    expect_error("[controller]\ni_limit_A = 14\n", 2, "i_limit_A"); /* = the 14 A trip */
     expect_error("[reference]\nspeed_rpm = 0:0, 0.1 500\n", 2, "speed_rpm");
     expect_error("[reference]\nspeed_rpm = 0:0, 0.1:500, 0.05:0\n", 2, "speed_rpm");
     expect_error("[load]\ntorque_Nm = 0:abc\n", 2, "torque_Nm");

@@ -341,6 +341,17 @@ class Progress:
             self.bar.close()
 
 
+def children_cpu_s():
+    """CPU seconds (user + system) of the finished drive_sil workers: a figure the machine's load
+    moves far less than the wall time."""
+    try:
+        import resource
+    except ImportError:
+        return math.nan
+    ru = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return ru.ru_utime + ru.ru_stime
+
+
 def csv_cell(v):
     if v is None:
         return "nan"
@@ -407,6 +418,7 @@ def sweep(a):
     fd = os.open(path, os.O_WRONLY | os.O_APPEND)
     bar = Progress(len(todo), a.quiet)
     t0 = time.monotonic()
+    cpu0 = children_cpu_s()
     try:
         for key, summary in Workers(a, min(a.jobs, max(1, len(todo)))).run(todo):
             row = row_of(key[0], [float(x) for x in key[1:]], summary)
@@ -420,8 +432,10 @@ def sweep(a):
     wall = time.monotonic() - t0
     write_sorted(path, cols, [rows[k] for k in order if k in rows])
     if todo:
+        cpu = children_cpu_s() - cpu0
         print(f"sweep.py: {len(todo)} points in {wall:.2f} s ({len(todo) / max(wall, 1e-9):.0f} points/s, "
-              f"{a.jobs} jobs) -> {path}", file=sys.stderr)
+              f"{a.jobs} jobs; drive_sil CPU {cpu:.2f} s, {1e3 * cpu / len(todo):.1f} ms a point) -> {path}",
+              file=sys.stderr)
     if failed:
         print(f"sweep.py: {failed} point(s) failed to run (status column of {path})", file=sys.stderr)
         return 1

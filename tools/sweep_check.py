@@ -17,8 +17,46 @@ import sys
 
 
 
+TOL_NM = 0.005               # the rule's margin on mean |Te - Te*|
+
+
 def faulted(r):
     return r["fault_name"] != "NONE" or r["final_state_name"] == "FAULT"
+
+
+def grid_points(rows, result_cols):
+    """(grid column names, {grid values: {method: row}}) of results.csv's rows."""
+    grid_cols = [c for c in rows[0] if c not in result_cols and c not in ("method", "status")]
+    points = {}
+    for r in rows:
+        points.setdefault(tuple(r[c] for c in grid_cols), {})[r["method"]] = r
+    return grid_cols, points
+
+
+def violations(points, tol_Nm):
+    """([(grid values, problem)], largest proposed - conventional mean |Te - Te*| where both ran)."""
+    bad = []
+    worst = -math.inf
+    for key, m in sorted(points.items(), key=lambda kv: [float(x) for x in kv[0]]):
+        conv, prop = m.get("conventional"), m.get("proposed")
+        if conv is None or prop is None or conv["status"] != "ok" or prop["status"] != "ok":
+            bad.append((key, "not both methods ran"))
+            continue
+        if faulted(prop) and not faulted(conv):
+            bad.append((key, f"proposed faulted ({prop['fault_name']}), conventional did not"))
+            continue
+        if faulted(prop) or faulted(conv):
+            continue
+        d = float(prop["te_err_Nm"]) - float(conv["te_err_Nm"])
+        worst = max(worst, d)
+        if not d <= tol_Nm:
+            bad.append((key, f"proposed mean |Te - Te*| {float(prop['te_err_Nm']):.4f} N m > conventional "
+                             f"{float(conv['te_err_Nm']):.4f} N m + {tol_Nm:g}"))
+    return bad, worst
+
+
+def at_text(grid_cols, key):
+    return ", ".join(f"{c}={float(v):.4g}" for c, v in zip(grid_cols, key))
 
 
 def check(path, tol_Nm):
@@ -28,30 +66,10 @@ def check(path, tol_Nm):
         rows = list(csv.DictReader(f))
     if not rows:
         raise ValueError(f"{path}: no rows")
-    grid_cols = [c for c in rows[0] if c not in sweep.RESULT_COLS and c not in ("method", "status")]
-    points = {}
-    for r in rows:
-        points.setdefault(tuple(r[c] for c in grid_cols), {})[r["method"]] = r
-    bad = []
-    worst = -math.inf
-    for key, m in sorted(points.items(), key=lambda kv: [float(x) for x in kv[0]]):
-        at = ", ".join(f"{c}={float(v):.4g}" for c, v in zip(grid_cols, key))
-        conv, prop = m.get("conventional"), m.get("proposed")
-        if conv is None or prop is None or conv["status"] != "ok" or prop["status"] != "ok":
-            bad.append(f"{at}: not both methods ran")
-            continue
-        if faulted(prop) and not faulted(conv):
-            bad.append(f"{at}: proposed faulted ({prop['fault_name']}), conventional did not")
-            continue
-        if faulted(prop) or faulted(conv):
-            continue
-        d = float(prop["te_err_Nm"]) - float(conv["te_err_Nm"])
-        worst = max(worst, d)
-        if not d <= tol_Nm:
-            bad.append(f"{at}: proposed mean |Te - Te*| {float(prop['te_err_Nm']):.4f} N m > conventional "
-                       f"{float(conv['te_err_Nm']):.4f} N m + {tol_Nm:g}")
-    for b in bad:
-        print(f"FAIL sweep net {b}")
+    grid_cols, points = grid_points(rows, sweep.RESULT_COLS)
+    bad, worst = violations(points, tol_Nm)
+    for key, problem in bad:
+        print(f"FAIL sweep net {at_text(grid_cols, key)}: {problem}")
     print(f"sweep net: {len(points)} points, {len(bad)} violations; largest proposed - conventional "
           f"mean |Te - Te*| {worst:+.4f} N m (allowed +{tol_Nm:g})")
     return 1 if bad else 0
@@ -60,7 +78,7 @@ def check(path, tol_Nm):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dir")
-    ap.add_argument("--tol-Nm", type=float, default=0.005)
+    ap.add_argument("--tol-Nm", type=float, default=TOL_NM)
     a = ap.parse_args(argv)
     try:
         return check(os.path.join(a.dir, "results.csv"), a.tol_Nm)

@@ -23,6 +23,8 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import sweep  # noqa: E402
+import sweep_check  # noqa: E402
+from sweep_check import faulted  # noqa: E402
 
 FIGURES = (("te_err_Nm", "mean |Te - Te*| [N m]"), ("psi_err_Wb", "mean |psi_s - psi_s*| [Wb]"))
 METHODS = ("conventional", "proposed")
@@ -40,10 +42,6 @@ FIG_DPI = 110
 SHORT_FAULT = 16                    # characters of a fault name written in a cell
 
 
-def faulted(r):
-    return r["fault_name"] != "NONE" or r["final_state_name"] == "FAULT"
-
-
 def warned(r):
     """The run ended with a warning (e.g. step 1 refused, the drive fell back to conventional)."""
     return r.get("warning", "-") not in ("-", "")
@@ -57,7 +55,7 @@ def load(d):
             definition = json.load(f)
     except (OSError, ValueError):
         definition = {}
-    grid_cols = [c for c in (rows[0] if rows else {}) if c not in sweep.RESULT_COLS and c not in ("method", "status")]
+    grid_cols = sweep_check.grid_points(rows, sweep.RESULT_COLS)[0] if rows else []
     return rows, grid_cols, definition
 
 
@@ -211,9 +209,7 @@ def summary_lines(name, rows, grid_cols, definition, pngs, worst_n):
                    ("; overrides: " + ", ".join(f"`{s}`" for s in definition.get("set", []))
                     if definition.get("set") else "") + ".")
         out.append("")
-    by_point = {}
-    for r in rows:
-        by_point.setdefault(tuple(r[c] for c in grid_cols), {})[r["method"]] = r
+    by_point = sweep_check.grid_points(rows, sweep.RESULT_COLS)[1]
     n = len(by_point)
     fault = {m: sum(1 for p in by_point.values() if m in p and faulted(p[m])) for m in METHODS}
     only_prop = sum(1 for p in by_point.values() if len(p) == 2 and faulted(p["proposed"]) and not faulted(p["conventional"]))
@@ -221,6 +217,13 @@ def summary_lines(name, rows, grid_cols, definition, pngs, worst_n):
              for p in by_point.values() if len(p) == 2 and not faulted(p["conventional"]) and not faulted(p["proposed"])]
     wins = sum(1 for c, p in pairs if p <= c)
     ratios = sorted(p / c for c, p in pairs if c > 0)
+    bad, _ = sweep_check.violations(by_point, sweep_check.TOL_NM)
+    out.append(f"**The rule** (proposed never faulted where the conventional method is not, never worse "
+               f"than it + {sweep_check.TOL_NM:g} N m; `tools/sweep_check.py`) **"
+               f"{'holds' if not bad else 'broken'}** here" +
+               (": " + "; ".join(f"{sweep_check.at_text(grid_cols, k)}: {why}" for k, why in bad) if bad else "") +
+               ".")
+    out.append("")
     out.append(f"{n} points. Faulted: conventional {fault['conventional']}, proposed {fault['proposed']} "
                f"(proposed only: {only_prop}). Where both ran, the proposed method's mean |Te - Te*| is "
                f"lower or equal at {wins} of {len(pairs)} points" +

@@ -556,6 +556,20 @@ static int check_faults(const scenario_t *sc, char *err, size_t errlen)
     return -1;
 }
 
+/* [controller] i_limit_A (issue 12): the targets' current limit must stay
+ * below the overcurrent trip, or the drive would trip where it should limit. */
+static int check_limits(const scenario_t *sc, char *err, size_t errlen)
+{
+    int known = 0;
+    const int i = find_key("controller", "i_limit_A", &known);
+    if (sc->controller.i_limit_A < sc->controller.i_max_A) {
+        return 0;
+    }
+    snprintf(err, errlen, "%s: [controller] i_limit_A: %g A is not below the overcurrent trip i_max_A (%g A)",
+             sc->origin[i], sc->controller.i_limit_A, sc->controller.i_max_A);
+    return -1;
+}
+
 int scenario_finish(scenario_t *sc, char *err, size_t errlen)
 {
     if (resolve(sc, "R_ohm", "R_factor", sc->plant.R_ohm, &sc->controller.R_ohm,
@@ -566,7 +580,7 @@ int scenario_finish(scenario_t *sc, char *err, size_t errlen)
                 sc->controller.psif_factor, err, errlen) != 0) {
         return -1;
     }
-    if (check_faults(sc, err, errlen) != 0) {
+    if (check_faults(sc, err, errlen) != 0 || check_limits(sc, err, errlen) != 0) {
         return -1;
     }
     return check_identify(sc, err, errlen);
