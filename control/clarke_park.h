@@ -20,12 +20,42 @@ typedef struct {
     float q;
 } dq_t;
 
+typedef struct {
+    float a;
+    float b;
+    float c;
+} abc_t;
+
+/* The transforms' constants, here only (amplitude-invariant Clarke). */
+#define CLARKE_HALF        0.5f                  /* the other phases' share: cos 120 deg = -1/2 */
+#define CLARKE_HALF_SQRT3  (0.5f * MATHX_SQRT3_F) /* sin 120 deg = sqrt(3)/2 */
+#define CLARKE_TWO_THIRDS  0.666666667f          /* amplitude-invariant scale */
+
 /* Clarke from two measured phase currents (ic = -ia - ib). Any context. */
 static inline ab_t clarke_2ph(float ia, float ib)
 {
     ab_t out;
     out.a = ia;
     out.b = (ia + 2.0f * ib) * MATHX_INV_SQRT3_F;
+    return out;
+}
+
+/* Clarke from three phase quantities (any zero sequence drops out). Any context. */
+static inline ab_t clarke_3ph(float a, float b, float c)
+{
+    ab_t out;
+    out.a = CLARKE_TWO_THIRDS * (a - CLARKE_HALF * (b + c));
+    out.b = MATHX_INV_SQRT3_F * (b - c);
+    return out;
+}
+
+/* Inverse Clarke: alpha-beta to the three phases (no zero sequence). Any context. */
+static inline abc_t clarke_inv(ab_t x)
+{
+    abc_t out;
+    out.a = x.a;
+    out.b = -CLARKE_HALF * x.a + CLARKE_HALF_SQRT3 * x.b;
+    out.c = -CLARKE_HALF * x.a - CLARKE_HALF_SQRT3 * x.b;
     return out;
 }
 

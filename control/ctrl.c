@@ -42,7 +42,6 @@
  * still leaves the linear region a pole margin. */
 #define OBS_L_MIN_STABILITY_MARGIN 1.25f
 #define HALF 0.5f
-#define TWO_THIRDS 0.666666667f
 /* The default R^ band's top stays this fraction of the largest R that
  * meets (36) with the observer's default gains (18 Ohm for Table I). */
 #define RSID_BAND_KS_MARGIN 0.9f
@@ -175,7 +174,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 
     ec.counts_per_rev = 4u * cfg->enc_lines;
     ec.pole_pairs = cfg->pole_pairs;
-    ec.offset_elec_rad = cfg->enc_offset_el_rad;
+    ec.offset_el_rad = cfg->enc_offset_el_rad;
     ec.Ts_s = cfg->Ts_s;
     ec.pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
     status = refused_if(encoder_init(&c->enc, &ec), CTRL_CFG_ENCODER, status); /* refused: angle 0, speed 0 */
@@ -259,8 +258,8 @@ void ctrl_reset(ctrl_t *c)
     c->mon.R_est_Ohm = c->db.par.Rs_Ohm;
     c->mon.L_est_H = c->db.par.Ls_H;
     c->mon.psi_f_est_Wb = c->db.par.psi_f_Wb;
-    c->mon.fd_est = 0.0f;
-    c->mon.fq_est = 0.0f;
+    c->mon.fd_est_V = 0.0f;
+    c->mon.fq_est_V = 0.0f;
     c->mon.est = CTRL_EST_OFF;
     c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
@@ -489,19 +488,13 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
  * crossing the real error is smaller (left in f^ for those periods). */
 static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
 {
-    const ab_t i = park_inv(i_dq_A, sin_a, cos_a);
+    const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
     const float dv_sum = c->deadtime_frac * vdc_V + c->inv_dv_V;
     const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
-    const float ia = i.a;
-    const float ib = -HALF * i.a + HALF * MATHX_SQRT3_F * i.b;
-    const float ic = -HALF * i.a - HALF * MATHX_SQRT3_F * i.b;
-    const float va = (ia > 0.0f) ? -dv : ((ia < 0.0f) ? dv : 0.0f);
-    const float vb = (ib > 0.0f) ? -dv : ((ib < 0.0f) ? dv : 0.0f);
-    const float vc = (ic > 0.0f) ? -dv : ((ic < 0.0f) ? dv : 0.0f);
-    ab_t e;
-    e.a = TWO_THIRDS * (va - HALF * (vb + vc)); /* amplitude-invariant Clarke */
-    e.b = MATHX_INV_SQRT3_F * (vb - vc);
-    return park(e, sin_a, cos_a);
+    const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
+    const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);
+    const float vc = (i.c > 0.0f) ? -dv : ((i.c < 0.0f) ? dv : 0.0f);
+    return park(clarke_3ph(va, vb, vc), sin_a, cos_a);
 }
 
 /* sin/cos of theta + delta from those of theta: rotation by a series in
@@ -648,14 +641,14 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         c->mon.R_est_Ohm = c->smo.R_Ohm;
         c->mon.L_est_H = c->smo.L_H;
         c->mon.psi_f_est_Wb = c->smo.psi_f_Wb;
-        c->mon.fd_est = c->smo.fd_V;
-        c->mon.fq_est = c->smo.fq_V;
+        c->mon.fd_est_V = c->smo.fd_V;
+        c->mon.fq_est_V = c->smo.fq_V;
     } else {
         c->mon.R_est_Ohm = par->Rs_Ohm;
         c->mon.L_est_H = par->Ls_H;
         c->mon.psi_f_est_Wb = par->psi_f_Wb;
-        c->mon.fd_est = 0.0f;
-        c->mon.fq_est = 0.0f;
+        c->mon.fd_est_V = 0.0f;
+        c->mon.fq_est_V = 0.0f;
     }
     c->mon.est = c->est;
     c->mon.est_hold = c->gate.reasons;

@@ -153,7 +153,7 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float te_ref_Nm, te_est_Nm;           /* torque reference and the controller's torque estimate (at k+1) */
     float psi_ref_Wb, psi_est_Wb;         /* stator-flux reference and estimate (at k+1) */
     float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* observer estimates while it runs, else the nominal parameters */
-    float fd_est, fq_est;                 /* observer disturbances (0 while the observer is stopped) */
+    float fd_est_V, fq_est_V;             /* observer disturbances [V] (0 while the observer is stopped) */
     ctrl_est_t est;                       /* step of the proposed method */
     uint16_t est_hold;                    /* EST_GATE_* why step 2's laws are paused (0: learning) */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
@@ -300,7 +300,7 @@ static inline float ctrl_speed_m_rad_s(const ctrl_t *c)
 /* Electrical angle at encoder count 0 [rad el], told or aligned, in [0, 2 pi). */
 static inline float ctrl_enc_offset_el_rad(const ctrl_t *c)
 {
-    return c->enc.offset_rad;
+    return c->enc.offset_el_rad;
 }
 
 /* ctrl_init's refusals (CTRL_CFG_*). */

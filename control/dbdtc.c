@@ -11,8 +11,8 @@
 #define PARAM_FACTOR_MAX 10.0f
 
 #define ONE_AND_HALF 1.5f      /* 3/2 of the amplitude-invariant torque, eq. (3) */
-#define TWO_THIRDS   0.666666667f /* hexagon vertex = 2/3 Vdc */
-#define HALF_SQRT3   0.866025404f /* cos 30 deg */
+#define TWO_THIRDS   CLARKE_TWO_THIRDS /* hexagon vertex = 2/3 Vdc */
+#define HALF_SQRT3   CLARKE_HALF_SQRT3 /* cos 30 deg */
 
 /* Below this |e_d . n| a hexagon side is parallel to the d axis: its
  * constraint does not depend on u_d (avoids dividing by ~0). */

@@ -64,7 +64,7 @@ static bool encoder_cfg_valid(const encoder_cfg_t *cfg)
     if (cfg->counts_per_rev > (UINT32_MAX / (uint32_t)cfg->pole_pairs)) {
         return false;
     }
-    if (!mathx_isfinitef(cfg->offset_elec_rad) || !mathx_isfinitef(cfg->Ts_s)
+    if (!mathx_isfinitef(cfg->offset_el_rad) || !mathx_isfinitef(cfg->Ts_s)
         || !mathx_isfinitef(cfg->pll_bw_rad_s) || !(cfg->Ts_s > 0.0f)
         || !(cfg->pll_bw_rad_s > 0.0f)) {
         return false;
@@ -83,14 +83,14 @@ bool encoder_init(encoder_t *enc, const encoder_cfg_t *cfg)
         enc->kp_Ts = ENCODER_KP_PER_BW * bw * cfg->Ts_s;
         enc->ki_Ts = bw * bw * cfg->Ts_s;
         enc->vel_max = ENCODER_HALF * enc->cpr / cfg->Ts_s;
-        enc->offset_rad = mathx_wrap_2pi(cfg->offset_elec_rad);
+        enc->offset_el_rad = mathx_wrap_2pi(cfg->offset_el_rad);
     } else {
         enc->cpr = 0.0f;
         enc->rad_per_count = 0.0f;
         enc->kp_Ts = 0.0f;
         enc->ki_Ts = 0.0f;
         enc->vel_max = 0.0f;
-        enc->offset_rad = 0.0f;
+        enc->offset_el_rad = 0.0f;
     }
     encoder_reset(enc);
     return enc->valid;
@@ -112,7 +112,7 @@ void encoder_step(encoder_t *enc, uint32_t count)
     }
     const uint32_t c = mathx_umod_u32(count, enc->cfg.counts_per_rev);
     const float cf = (float)c;
-    enc->theta_e_rad = mathx_wrap_2pi(encoder_elec_angle(enc, c) + enc->offset_rad);
+    enc->theta_e_rad = mathx_wrap_2pi(encoder_elec_angle(enc, c) + enc->offset_el_rad);
 
     if (!enc->seeded) {
         /* Start where the rotor is, at rest: no step in position, no spike. */
@@ -135,10 +135,10 @@ void encoder_step(encoder_t *enc, uint32_t count)
     enc->omega_e_rad_s = enc->omega_m_rad_s * (float)enc->cfg.pole_pairs;
 }
 
-void encoder_set_offset(encoder_t *enc, float offset_elec_rad)
+void encoder_set_offset(encoder_t *enc, float offset_el_rad)
 {
-    if (mathx_isfinitef(offset_elec_rad)) {
-        enc->offset_rad = mathx_wrap_2pi(offset_elec_rad);
+    if (mathx_isfinitef(offset_el_rad)) {
+        enc->offset_el_rad = mathx_wrap_2pi(offset_el_rad);
     }
 }
 
@@ -148,5 +148,5 @@ void encoder_align(encoder_t *enc, uint32_t count)
         return;
     }
     const float theta = encoder_elec_angle(enc, mathx_umod_u32(count, enc->cfg.counts_per_rev));
-    enc->offset_rad = mathx_wrap_2pi(-theta);
+    enc->offset_el_rad = mathx_wrap_2pi(-theta);
 }

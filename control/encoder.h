@@ -24,7 +24,7 @@
 typedef struct {
     uint32_t counts_per_rev; /* quadrature counts per mechanical turn (4 * lines) */
     uint16_t pole_pairs;
-    float offset_elec_rad;   /* electrical angle at count 0 [rad] */
+    float offset_el_rad;   /* electrical angle at count 0 [rad] */
     float Ts_s;              /* sampling period [s] */
     float pll_bw_rad_s;      /* speed PLL bandwidth [rad/s] */
 } encoder_cfg_t;
@@ -38,7 +38,7 @@ typedef struct {
     float kp_Ts;          /* 2*bw*Ts [1] */
     float ki_Ts;          /* bw^2*Ts [1/s] */
     float vel_max;        /* half a turn per period [counts/s]: beyond it counts alias */
-    float offset_rad;     /* electrical offset in use, in [0, 2*pi) */
+    float offset_el_rad;  /* electrical offset in use, in [0, 2*pi) */
     float pos;            /* PLL position [counts], in [0, cpr) */
     float vel;            /* PLL speed [counts/s] */
     float theta_e_rad;    /* output: electrical angle [rad], in [0, 2*pi) */
@@ -64,7 +64,7 @@ void encoder_reset(encoder_t *enc);
 void encoder_step(encoder_t *enc, uint32_t count);
 
 /* Sets the electrical angle at count 0 [rad] (non-finite is ignored). Background. */
-void encoder_set_offset(encoder_t *enc, float offset_elec_rad);
+void encoder_set_offset(encoder_t *enc, float offset_el_rad);
 
 /* Rotor alignment: sets the offset so that count reads as electrical angle 0
  * (the d axis was locked on phase a). Background. */

@@ -105,6 +105,7 @@ static inline float mathx_clampf(float x, float lo, float hi)
 #define MATHX_TWO_PI_F    6.28318530717959f
 #define MATHX_SQRT3_F     1.73205080756888f
 #define MATHX_INV_SQRT3_F 0.577350269189626f
+#define MATHX_RAD_S_PER_RPM_F (MATHX_TWO_PI_F / 60.0f) /* r/min -> rad/s: the one conversion */
 
 /* Beyond this |angle| [rad] a float has no useful fraction of a turn left
  * (spacing 0.06 rad); mathx_wrap_2pi() gives 0 there. */

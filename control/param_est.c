@@ -33,7 +33,7 @@ void param_est_cfg_defaults(param_est_cfg_t *cfg, float Ts_s, float L_H, float p
     cfg->Ts_s = Ts_s;
     cfg->gamma_L_1_s = PARAM_EST_GAMMA_L_DEFAULT_1_S;
     cfg->gamma_psi_1_s = PARAM_EST_GAMMA_PSI_DEFAULT_1_S;
-    cfg->wiq_min_A_rad_s = PARAM_EST_WIQ_MIN_DEFAULT;
+    cfg->wiq_min_A_rad_s = PARAM_EST_WIQ_MIN_DEFAULT_A_RAD_S;
     cfg->w_min_rad_s = PARAM_EST_W_MIN_DEFAULT_RAD_S;
     cfg->L_min_H = PARAM_EST_CLAMP_MIN_FACTOR * L_H;
     cfg->L_max_H = PARAM_EST_CLAMP_MAX_FACTOR * L_H;
@@ -49,7 +49,7 @@ bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *sm
     pe->valid = cfg_valid(cfg, smo);
     /* per update, every PARAM_EST_LAW_PERIODS periods */
     const float Tu_s = PARAM_EST_LAW_PERIODS * cfg->Ts_s;
-    pe->kL = pe->valid ? cfg->gamma_L_1_s * Tu_s : 0.0f;
+    pe->gamma_L_Tu = pe->valid ? cfg->gamma_L_1_s * Tu_s : 0.0f;
     pe->kpsi = pe->valid ? cfg->gamma_psi_1_s * Tu_s : 0.0f;
     pe->dL_max_H = pe->valid ? cfg->L_rate_max_H_s * Tu_s : 0.0f;
     pe->dpsi_max_Wb = pe->valid ? cfg->psi_rate_max_Wb_s * Tu_s : 0.0f;
@@ -91,7 +91,7 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
     /* Replaces (53)-(55): corrected steady state fd = dL w iq (design 1a, 1d),
      * applied as a slow transfer of fd^ into L^ instead of L + fd/(w iq). */
     if (!pe->phase_psi && (mathx_fabsf(wiq) > c->wiq_min_A_rad_s)) {
-        const float delta_V = pe->kL * smo->fd_V;
+        const float delta_V = pe->gamma_L_Tu * smo->fd_V;
         const float L_tgt = smo->L_H - mathx_clampf(delta_V / wiq, -pe->dL_max_H, pe->dL_max_H);
         const float L_new = mathx_clampf(L_tgt, c->L_min_H, c->L_max_H);
         (void)smo_set_L(smo, L_new, w, iq); /* fd^ -= delta (less when clamped) */

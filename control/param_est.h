@@ -28,7 +28,7 @@
 /* Design defaults (observer_design.md sec. 3). */
 #define PARAM_EST_GAMMA_L_DEFAULT_1_S   150.0f /* tau 6.7 ms, 13x slower than the observer */
 #define PARAM_EST_GAMMA_PSI_DEFAULT_1_S 60.0f  /* tau 17 ms */
-#define PARAM_EST_WIQ_MIN_DEFAULT       30.0f  /* [A rad/s] */
+#define PARAM_EST_WIQ_MIN_DEFAULT_A_RAD_S       30.0f  /* [A rad/s] */
 #define PARAM_EST_W_MIN_DEFAULT_RAD_S   30.0f  /* electrical, ~95 r/min at p = 3 */
 #define PARAM_EST_CLAMP_MIN_FACTOR      0.3f   /* L^, psi^ clamps, x nominal */
 #define PARAM_EST_CLAMP_MAX_FACTOR      3.0f
@@ -66,7 +66,7 @@ typedef struct {
     param_est_cfg_t cfg;
     bool valid;
     bool running;             /* run/freeze switch; false after init and reset */
-    float kL;                 /* gamma_L Tu [1], Tu = PARAM_EST_LAW_PERIODS Ts */
+    float gamma_L_Tu;         /* gamma_L Tu, per law step [1], Tu = PARAM_EST_LAW_PERIODS Ts */
     float kpsi;               /* gamma_psi Tu [1] */
     float dL_max_H;           /* L_rate_max Tu: largest step of L^ per update [H] */
     float dpsi_max_Wb;        /* psi_rate_max Tu [Wb] */

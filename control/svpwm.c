@@ -18,10 +18,6 @@
 /* Exact power-of-two prescale of the phase voltages, so that their spread
  * stays finite even for commands near FLT_MAX. */
 #define SVPWM_PRESCALE 0.25f
-/* Inverse Clarke (amplitude-invariant): beta weight on phases b and c. */
-#define SVPWM_HALF_SQRT3 (0.5f * MATHX_SQRT3_F)
-/* Clarke (amplitude-invariant): alpha = 2/3 * (va - (vb + vc)/2). */
-#define SVPWM_TWO_THIRDS (2.0f / 3.0f)
 
 static float max3f(float x, float y, float z)
 {
@@ -50,7 +46,7 @@ uint16_t svpwm_duty(ab_t u_ab_V, float vdc_V, svpwm_duty_t *duty, ab_t *u_real_V
 
     const float xa = SVPWM_PRESCALE * u_ab_V.a;
     const float half_a = SVPWM_DUTY_MID * xa;
-    const float sb = (SVPWM_PRESCALE * SVPWM_HALF_SQRT3) * u_ab_V.b;
+    const float sb = (SVPWM_PRESCALE * CLARKE_HALF_SQRT3) * u_ab_V.b;
     const float xb = sb - half_a;
     const float xc = -sb - half_a;
 
@@ -77,7 +73,8 @@ uint16_t svpwm_duty(ab_t u_ab_V, float vdc_V, svpwm_duty_t *duty, ab_t *u_real_V
 
     /* Realised voltage from the final duties (zero sequence drops out of
      * Clarke); in duty units first so that a huge Vdc cannot overflow. */
-    u_real_V->a = vdc_V * (SVPWM_TWO_THIRDS * (duty->a - SVPWM_DUTY_MID * (duty->b + duty->c)));
-    u_real_V->b = vdc_V * ((duty->b - duty->c) * MATHX_INV_SQRT3_F);
+    const ab_t u_pu = clarke_3ph(duty->a, duty->b, duty->c);
+    u_real_V->a = vdc_V * u_pu.a;
+    u_real_V->b = vdc_V * u_pu.b;
     return flags;
 }

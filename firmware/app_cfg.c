@@ -6,7 +6,6 @@
 #include "drive_params.h"
 #include "mathx.h"
 
-#define RAD_S_PER_RPM (MATHX_TWO_PI_F / 60.0f)
 #define RAD_PER_DEG (MATHX_PI_F / 180.0f)
 
 void app_cfg_default(app_cfg_t *cfg)
@@ -45,9 +44,9 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->rsid_settle_1_s = BOARD_RSID_SETTLE_1_S;
     cfg->rsid_window_s = BOARD_RSID_WINDOW_S;
     cfg->rsid_settle_2_s = BOARD_RSID_SETTLE_2_S;
-    cfg->rsid_speed_1_rad_s = BOARD_RSID_SPEED_1_RPM * RAD_S_PER_RPM;
-    cfg->rsid_speed_2_rad_s = BOARD_RSID_SPEED_2_RPM * RAD_S_PER_RPM;
-    cfg->rsid_accel_rad_s2 = BOARD_RSID_ACCEL_RPM_S * RAD_S_PER_RPM;
+    cfg->rsid_speed_1_rad_s = BOARD_RSID_SPEED_1_RPM * MATHX_RAD_S_PER_RPM_F;
+    cfg->rsid_speed_2_rad_s = BOARD_RSID_SPEED_2_RPM * MATHX_RAD_S_PER_RPM_F;
+    cfg->rsid_accel_rad_s2 = BOARD_RSID_ACCEL_RPM_S * MATHX_RAD_S_PER_RPM_F;
     cfg->rsid_window_max_s = BOARD_RSID_WINDOW_MAX_S;
     cfg->rsid_repeats_max = (uint16_t)BOARD_RSID_REPEATS_MAX;
     cfg->rsid_on_refusal = (app_rsid_refusal_t)BOARD_RSID_ON_REFUSAL;

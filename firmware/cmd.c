@@ -3,7 +3,6 @@
 
 #include "mathx.h"
 
-#define RPM_TO_RAD_S (MATHX_TWO_PI_F / 60.0f)
 
 void cmd_init(volatile cmd_t *cmd)
 {
@@ -53,7 +52,7 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
 
     /* Each reference is taken only when valid; a refused one keeps its old value. */
     if (within(c.speed_ref_rpm, lim->speed_max_rpm)) {
-        op.ref.speed_ref_rad_s = c.speed_ref_rpm * RPM_TO_RAD_S;
+        op.ref.speed_ref_rad_s = c.speed_ref_rpm * MATHX_RAD_S_PER_RPM_F;
     } else {
         err = CMD_ERR_SPEED;
     }

@@ -4,7 +4,6 @@
 #include "board_cfg.h"
 #include "mathx.h"
 
-#define RAD_S_PER_RPM (MATHX_TWO_PI_F / 60.0f)
 #define S_PER_NS 1.0e-9f
 #define DEFAULT_BAND (-1.0f) /* R^ band end: ctrl_rsid_band_default()'s */
 
@@ -30,7 +29,7 @@ void drive_params_board(drive_params_t *p)
     p->limits.i_limit_A = BOARD_I_LIMIT_A;
     p->limits.vdc_max_V = BOARD_VDC_MAX_V;
     p->limits.vdc_min_V = BOARD_VDC_MIN_V;
-    p->limits.speed_max_rad_s = BOARD_OVERSPEED_RPM * RAD_S_PER_RPM;
+    p->limits.speed_max_rad_s = BOARD_OVERSPEED_RPM * MATHX_RAD_S_PER_RPM_F;
     p->limits.te_max_Nm = TUNE_TE_MAX_PER_RATED * MOTOR_RATED_TORQUE_NM;
 
     p->tuning.speed_kp_Nms_rad = TUNE_SPEED_KP_NMS_RAD;
@@ -61,7 +60,7 @@ void drive_params_to_app_cfg(const drive_params_t *p, app_cfg_t *cfg)
     /* the model's bounds: generous, never the active limit */
     c->i_max_A = MODEL_I_BOUND_PER_TRIP * p->limits.i_trip_A;
     c->u_max_V = p->board.u_bound_V;
-    c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * RAD_S_PER_RPM * (float)p->motor.pole_pairs;
+    c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * MATHX_RAD_S_PER_RPM_F * (float)p->motor.pole_pairs;
     c->psi_max_Wb = MODEL_PSI_BOUND_PER_PSIF * p->motor.psi_f_Wb;
     c->deadtime_s = p->board.deadtime_s;
     c->i_lim_A = p->limits.i_limit_A;

@@ -3,12 +3,12 @@
 
 #include <stddef.h>
 
+#include "clarke_park.h"
 #include "mathx.h"
 
 #define N_PHASES 3u
 #define N_READINGS 2u                /* ia, ib */
 #define ONE_THIRD (1.0f / 3.0f)
-#define INV_SQRT3 0.577350269f       /* i_beta = (ia + 2 ib) / sqrt(3), amplitude-invariant Clarke */
 
 void protect_init(protect_t *p, const protect_cfg_t *cfg)
 {
@@ -168,7 +168,7 @@ static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *win, f
 static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
 {
     const float ix[N_PHASES] = { in->ia_corr_A, in->ib_corr_A, -in->ia_corr_A - in->ib_corr_A };
-    const float i_beta = (in->ia_corr_A + 2.0f * in->ib_corr_A) * INV_SQRT3;
+    const float i_beta = clarke_2ph(in->ia_corr_A, in->ib_corr_A).b;
     protect_op_sums_t *a = &p->op_part;
     protect_op_sums_t win;
     float turn = 0.0f;

@@ -109,7 +109,7 @@ static void sequence_calibrates_aligns_runs(void **state)
     assert_true(app.aligned);
     /* offset = -(electrical angle of COUNT0) = -((1234 * 3 mod 10000) + 1.5) * 2 pi / 10000:
      * 3702 electrical counts plus the centre of the count's interval (p/2) */
-    assert_true(wrap_dist(app.ctrl.enc.offset_rad, -3703.5f * 2.0f * PI_F / CPR) < 1e-5f);
+    assert_true(wrap_dist(app.ctrl.enc.offset_el_rad, -3703.5f * 2.0f * PI_F / CPR) < 1e-5f);
 
     /* RUN: the aligned count reads 0 rad; the controller gets ia - 0.11, ib + 0.04 */
     hal_sample_t r = sample(0.61f, -0.34f, VDC);

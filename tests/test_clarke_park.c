@@ -74,9 +74,34 @@ static void park_preserves_magnitude(void **state)
     assert_float_equal(sqrt((double)(dq.d * dq.d + dq.q * dq.q)), 5.0, 1e-5);
 }
 
+/* Inverse Clarke by hand (alpha alone: a = 1, b = c = -1/2; beta alone:
+ * b, c = +/- sqrt(3)/2), Clarke of three phases back, a zero sequence
+ * dropping out. */
+static void clarke_inverse_and_three_phase(void **state)
+{
+    (void)state;
+    const ab_t alpha = { 1.0f, 0.0f };
+    const ab_t beta = { 0.0f, 1.0f };
+    abc_t p = clarke_inv(alpha);
+    assert_float_equal(p.a, 1.0, 1e-7);
+    assert_float_equal(p.b, -0.5, 1e-7);
+    assert_float_equal(p.c, -0.5, 1e-7);
+    p = clarke_inv(beta);
+    assert_float_equal(p.a, 0.0, 1e-7);
+    assert_float_equal(p.b, 0.8660254037844386, 1e-7);
+    assert_float_equal(p.c, -0.8660254037844386, 1e-7);
+    const ab_t x = { 2.5f, -1.25f };
+    p = clarke_inv(x);
+    const ab_t back = clarke_3ph(p.a + 7.0f, p.b + 7.0f, p.c + 7.0f); /* + a zero sequence */
+    assert_float_equal(back.a, 2.5, 1e-5);
+    assert_float_equal(back.b, -1.25, 1e-5);
+    assert_float_equal(p.a + p.b + p.c, 0.0, 1e-6);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(clarke_inverse_and_three_phase),
         cmocka_unit_test(clarke_of_balanced_set_is_unit_phasor),
         cmocka_unit_test(clarke_hand_value),
         cmocka_unit_test(park_at_quarter_turn_hand_value),

@@ -293,7 +293,7 @@ static void monitor_filled(void **state)
     /* from rest with zero voltage applied: nothing moves, psi = psi_f */
     assert_float_equal(c.mon.te_est_Nm, 0.0, 1e-6);
     assert_float_equal(c.mon.psi_est_Wb, PSIF, 1e-6);
-    assert_float_equal(c.mon.fd_est, 0.0, 0.0);
+    assert_float_equal(c.mon.fd_est_V, 0.0, 0.0);
 }
 
 /* ctrl_init reports every block's refusal as its own bit; a valid

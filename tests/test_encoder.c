@@ -244,7 +244,7 @@ static void invalid_cfg_rejected(void **state)
     bad[1].pole_pairs = 0u;
     bad[2].Ts_s = 0.0f;
     bad[3].pll_bw_rad_s = 6000.0f; /* bw*Ts = 0.6 > 0.5 */
-    bad[4].offset_elec_rad = NAN;
+    bad[4].offset_el_rad = NAN;
     bad[5].counts_per_rev = ENCODER_CPR_MAX + 1u;
     bad[6].counts_per_rev = ENCODER_CPR_MAX;
     bad[6].pole_pairs = 300u; /* 2^24 * 300 > 2^32 */

@@ -217,9 +217,9 @@ static void switching_matches_averaged_at_500rpm_4Nm(void **state)
     plant_default_cfg(&pc);
     g_pole_pairs = (double)pc.pole_pairs;
     g_w_el = g_pole_pairs * SPEED_RPM * TWO_PI / 60.0;
-    double iq = TE_NM / (1.5 * (double)pc.pole_pairs * pc.psif_Wb);
+    double iq = TE_NM / (1.5 * (double)pc.pole_pairs * pc.psi_f_Wb);
     g_ud_V = -g_w_el * pc.L_H * iq;
-    g_uq_V = pc.R_ohm * iq + g_w_el * pc.psif_Wb;
+    g_uq_V = pc.R_Ohm * iq + g_w_el * pc.psi_f_Wb;
 
     double id_av;
     double iq_av;

@@ -38,7 +38,7 @@ static void locked_rotor_d_step_is_first_order(void **state)
     cfg.speed_held = true;
     plant_t p;
     plant_init(&p, &cfg, 0.0);
-    const double tau_s = cfg.L_H / cfg.R_ohm;
+    const double tau_s = cfg.L_H / cfg.R_Ohm;
     const double check_every_s = 0.5e-3;
     const int n = (int)lround(5.0 * tau_s / STEP_S);
     double worst = 0.0;
@@ -46,7 +46,7 @@ static void locked_rotor_d_step_is_first_order(void **state)
         step_dq(&p, U_V, 0.0, 0.0, STEP_S);
         double t = (double)k * STEP_S;
         if (fmod(t, check_every_s) < STEP_S / 2.0) {
-            double expect = U_V / cfg.R_ohm * (1.0 - exp(-t / tau_s));
+            double expect = U_V / cfg.R_Ohm * (1.0 - exp(-t / tau_s));
             double e = rel_err(p.x.id_A, expect);
             worst = (e > worst) ? e : worst;
             assert_true(e < REL_TOL);
@@ -69,18 +69,18 @@ static void resistance_change_takes_effect(void **state)
     cfg.speed_held = true;
     plant_t p;
     plant_init(&p, &cfg, 0.0);
-    p.x.id_A = U_V / cfg.R_ohm;
-    plant_set_R_ohm(&p, 0.0);
-    plant_set_R_ohm(&p, NAN);
-    assert_float_equal(p.cfg.R_ohm, cfg.R_ohm, 0.0);
-    plant_set_R_ohm(&p, R2_ohm);
+    p.x.id_A = U_V / cfg.R_Ohm;
+    plant_set_R_Ohm(&p, 0.0);
+    plant_set_R_Ohm(&p, NAN);
+    assert_float_equal(p.cfg.R_Ohm, cfg.R_Ohm, 0.0);
+    plant_set_R_Ohm(&p, R2_ohm);
     const double tau_s = cfg.L_H / R2_ohm;
     const int n = (int)lround(tau_s / STEP_S);
     for (int k = 0; k < n; k++) {
         step_dq(&p, U_V, 0.0, 0.0, STEP_S);
     }
     const double t = (double)n * STEP_S;
-    const double expect = U_V / R2_ohm + (U_V / cfg.R_ohm - U_V / R2_ohm) * exp(-t / tau_s);
+    const double expect = U_V / R2_ohm + (U_V / cfg.R_Ohm - U_V / R2_ohm) * exp(-t / tau_s);
     assert_true(rel_err(p.x.id_A, expect) < REL_TOL);
 }
 
@@ -102,12 +102,12 @@ static void steady_state_under_load_matches_analytic(void **state)
         step_dq(&p, 0.0, uq_V, TL_Nm, h_s);
     }
     const double pp = (double)cfg.pole_pairs;
-    const double iq = TL_Nm / (1.5 * pp * cfg.psif_Wb);
-    const double a = cfg.L_H * cfg.L_H * iq / cfg.R_ohm;
-    const double b = cfg.psif_Wb;
-    const double c = cfg.R_ohm * iq - uq_V;
+    const double iq = TL_Nm / (1.5 * pp * cfg.psi_f_Wb);
+    const double a = cfg.L_H * cfg.L_H * iq / cfg.R_Ohm;
+    const double b = cfg.psi_f_Wb;
+    const double c = cfg.R_Ohm * iq - uq_V;
     const double w_el = (-b + sqrt(b * b - 4.0 * a * c)) / (2.0 * a);
-    const double id = w_el * cfg.L_H * iq / cfg.R_ohm;
+    const double id = w_el * cfg.L_H * iq / cfg.R_Ohm;
     const double w_m = w_el / pp;
     print_message("steady state: w_m %.4f (analytic %.4f), id %.4f (%.4f), iq %.4f (%.4f)\n",
                   p.x.omega_m_rad_s, w_m, p.x.id_A, id, p.x.iq_A, iq);
@@ -136,7 +136,7 @@ static void energy_balance_over_transient(void **state)
     double e_in = 0.0;
     double e_cu = 0.0;
     double e_mech = 0.0;
-    const double R = cfg.R_ohm;
+    const double R = cfg.R_Ohm;
     for (int k = 0; k < (int)lround(run_s / STEP_S); k++) {
         double th = plant_theta_el_rad(&p) + 0.5 * STEP_S * (double)cfg.pole_pairs * p.x.omega_m_rad_s;
         double ua = ud_V * cos(th) - uq_V * sin(th);
@@ -187,7 +187,7 @@ static void angle_wraps_and_outputs_follow_state(void **state)
     double expect = fmod(angle, TWO_PI) + TWO_PI;
     assert_float_equal(p.x.theta_m_rad, expect, 1e-9);
     assert_float_equal(plant_te_Nm(&p), 1.5 * 3.0 * 0.24 * p.x.iq_A, 1e-12);
-    double psi_d = cfg.L_H * p.x.id_A + cfg.psif_Wb;
+    double psi_d = cfg.L_H * p.x.id_A + cfg.psi_f_Wb;
     double psi_q = cfg.L_H * p.x.iq_A;
     assert_float_equal(plant_psi_s_Wb(&p), sqrt(psi_d * psi_d + psi_q * psi_q), 1e-12);
 }

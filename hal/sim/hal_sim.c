@@ -63,7 +63,7 @@ void hal_sim_default_cfg(hal_sim_cfg_t *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     plant_default_cfg(&cfg->plant);
-    cfg->theta_offset_el_rad = 0.0;
+    cfg->enc_offset_el_rad = 0.0;
     cfg->inv.model = INV_AVERAGED;
     cfg->inv.vdc_V = TABLE1_VDC_V;
     cfg->inv.Ts_s = PWM_PERIOD_S;
@@ -77,7 +77,7 @@ void hal_sim_configure(const hal_sim_cfg_t *cfg)
 {
     memset(&g_sim, 0, sizeof g_sim);
     g_sim.cfg = *cfg;
-    plant_init(&g_sim.plant, &cfg->plant, cfg->theta_offset_el_rad);
+    plant_init(&g_sim.plant, &cfg->plant, cfg->enc_offset_el_rad);
     prng_seed(&g_sim.prng, cfg->sens.seed);
     g_sim.cycles_per_period = (uint32_t)llround(fmod(cfg->inv.Ts_s * CPU_CLOCK_HZ, ldexp(1.0, CYCLE_COUNTER_BITS)));
     for (int k = 0; k < N_PHASES; k++) {
@@ -92,9 +92,9 @@ void hal_sim_set_load(double TL_Nm)
     g_sim.load_Nm = TL_Nm;
 }
 
-void hal_sim_set_R_ohm(double R_ohm)
+void hal_sim_set_R_Ohm(double R_Ohm)
 {
-    plant_set_R_ohm(&g_sim.plant, R_ohm);
+    plant_set_R_Ohm(&g_sim.plant, R_Ohm);
 }
 
 void hal_sim_force_trip(void)
@@ -264,7 +264,7 @@ static void sample_at_period_start(void)
     tr->i_short_A = g_sim.i_short_A;
     tr->id_A = g_sim.plant.x.id_A;
     tr->iq_A = g_sim.plant.x.iq_A;
-    tr->R_ohm = g_sim.plant.cfg.R_ohm;
+    tr->R_Ohm = g_sim.plant.cfg.R_Ohm;
     tr->ia_A = i_abc[0];
     tr->ib_A = i_abc[1];
     tr->ic_A = i_abc[2];

@@ -28,7 +28,7 @@
 
 typedef struct {
     plant_cfg_t plant;           /* the TRUE motor and shaft */
-    double theta_offset_el_rad;  /* electrical angle of the d axis at encoder count 0 */
+    double enc_offset_el_rad;  /* electrical angle of the d axis at encoder count 0 */
     inv_cfg_t inv;               /* inverter model, bus, period, dead time */
     sensors_cfg_t sens;          /* encoder, ADC */
     double trip_current_A;       /* hardware overcurrent comparator on |ia|, |ib|, |ic| */
@@ -72,7 +72,7 @@ typedef struct {
     double t_s;                  /* t_k, the period's start and sample instant */
     /* at t_k */
     double id_A, iq_A;           /* true rotor frame */
-    double R_ohm;                /* stator resistance in the plant */
+    double R_Ohm;                /* stator resistance in the plant */
     double ia_A, ib_A, ic_A;
     double speed_m_rad_s;        /* mechanical */
     double theta_el_rad;
@@ -103,8 +103,8 @@ void hal_sim_configure(const hal_sim_cfg_t *cfg);
 /* Load torque [N m] opposing positive speed, from the next period on. */
 void hal_sim_set_load(double TL_Nm);
 
-/* Stator resistance of the plant [ohm] from the next period on (plant_set_R_ohm). */
-void hal_sim_set_R_ohm(double R_ohm);
+/* Stator resistance of the plant [ohm] from the next period on (plant_set_R_Ohm). */
+void hal_sim_set_R_Ohm(double R_Ohm);
 
 /* No fault: every time NaN, the other fields at their defaults. */
 void hal_sim_faults_none(hal_sim_faults_t *f);

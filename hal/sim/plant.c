@@ -26,9 +26,9 @@ typedef struct {
 
 void plant_default_cfg(plant_cfg_t *cfg)
 {
-    cfg->R_ohm = TABLE1_R_OHM;
+    cfg->R_Ohm = TABLE1_R_OHM;
     cfg->L_H = TABLE1_L_H;
-    cfg->psif_Wb = TABLE1_PSIF_WB;
+    cfg->psi_f_Wb = TABLE1_PSIF_WB;
     cfg->pole_pairs = TABLE1_POLE_PAIRS;
     cfg->J_kgm2 = TABLE1_J_KGM2;
     cfg->B_Nms = 0.0;
@@ -43,18 +43,18 @@ static void anchor_at(plant_t *p, double theta_el_rad)
     p->anchor_cos = cos(theta_el_rad);
 }
 
-void plant_init(plant_t *p, const plant_cfg_t *cfg, double theta_offset_el_rad)
+void plant_init(plant_t *p, const plant_cfg_t *cfg, double enc_offset_el_rad)
 {
     p->cfg = *cfg;
     p->x.id_A = 0.0;
     p->x.iq_A = 0.0;
     p->x.omega_m_rad_s = cfg->omega0_m_rad_s;
     p->x.theta_m_rad = 0.0;
-    p->theta_offset_el_rad = theta_offset_el_rad;
+    p->enc_offset_el_rad = enc_offset_el_rad;
     p->inv_L_per_H = 1.0 / cfg->L_H;
     p->inv_J_per_kgm2 = 1.0 / cfg->J_kgm2;
     plant_acc_clear(p);
-    anchor_at(p, theta_offset_el_rad);
+    anchor_at(p, enc_offset_el_rad);
 }
 
 /* The step's inner functions are inlined into plant_step() (host-only code
@@ -69,7 +69,7 @@ void plant_init(plant_t *p, const plant_cfg_t *cfg, double theta_offset_el_rad)
 
 /* What a step reads: the motor's constants and the sin/cos anchor (written back by plant_step). */
 typedef struct {
-    double pp, R_ohm, L_H, psif_Wb, B_Nms, inv_L_per_H, inv_J_per_kgm2, theta_offset_el_rad;
+    double pp, R_Ohm, L_H, psi_f_Wb, B_Nms, inv_L_per_H, inv_J_per_kgm2, enc_offset_el_rad;
     bool speed_held;
     double anchor_el_rad, anchor_sin, anchor_cos;
     bool anchor_moved;
@@ -99,15 +99,15 @@ PLANT_INLINE void deriv(step_ctx_t *k, const plant_state_t *x, double ua_V, doub
     double pp = k->pp;
     double s;
     double co;
-    sincos_el(k, pp * x->theta_m_rad + k->theta_offset_el_rad, &s, &co);
+    sincos_el(k, pp * x->theta_m_rad + k->enc_offset_el_rad, &s, &co);
     double ud = ua_V * co + ub_V * s;
     double uq = -ua_V * s + ub_V * co;
     double w_el = pp * x->omega_m_rad_s;
     out->ud_V = ud;
     out->uq_V = uq;
-    out->dx.id_A = (ud - k->R_ohm * x->id_A + w_el * k->L_H * x->iq_A) * k->inv_L_per_H;
-    out->dx.iq_A = (uq - k->R_ohm * x->iq_A - w_el * (k->L_H * x->id_A + k->psif_Wb)) * k->inv_L_per_H;
-    double te = TORQUE_FACTOR * pp * k->psif_Wb * x->iq_A;
+    out->dx.id_A = (ud - k->R_Ohm * x->id_A + w_el * k->L_H * x->iq_A) * k->inv_L_per_H;
+    out->dx.iq_A = (uq - k->R_Ohm * x->iq_A - w_el * (k->L_H * x->id_A + k->psi_f_Wb)) * k->inv_L_per_H;
+    double te = TORQUE_FACTOR * pp * k->psi_f_Wb * x->iq_A;
     out->dx.omega_m_rad_s = k->speed_held ? 0.0 : (te - TL_Nm - k->B_Nms * x->omega_m_rad_s) * k->inv_J_per_kgm2;
     out->dx.theta_m_rad = x->omega_m_rad_s;
 }
@@ -145,8 +145,8 @@ void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, dou
 {
     const plant_state_t x0 = p->x;
     const plant_cfg_t *c = &p->cfg;
-    step_ctx_t k = { (double)c->pole_pairs, c->R_ohm, c->L_H, c->psif_Wb, c->B_Nms, p->inv_L_per_H,
-                     p->inv_J_per_kgm2, p->theta_offset_el_rad, c->speed_held,
+    step_ctx_t k = { (double)c->pole_pairs, c->R_Ohm, c->L_H, c->psi_f_Wb, c->B_Nms, p->inv_L_per_H,
+                     p->inv_J_per_kgm2, p->enc_offset_el_rad, c->speed_held,
                      p->anchor_el_rad, p->anchor_sin, p->anchor_cos, false };
     deriv_t k1;
     deriv_t k2;
@@ -205,28 +205,28 @@ void plant_step_open(plant_t *p, double TL_Nm, double h_s)
     wrap_theta(p);
 }
 
-void plant_set_R_ohm(plant_t *p, double R_ohm)
+void plant_set_R_Ohm(plant_t *p, double R_Ohm)
 {
-    if (isfinite(R_ohm) && R_ohm > 0.0) {
-        p->cfg.R_ohm = R_ohm;
+    if (isfinite(R_Ohm) && R_Ohm > 0.0) {
+        p->cfg.R_Ohm = R_Ohm;
     }
 }
 
 double plant_theta_el_rad(const plant_t *p)
 {
-    double th = (double)p->cfg.pole_pairs * p->x.theta_m_rad + p->theta_offset_el_rad;
+    double th = (double)p->cfg.pole_pairs * p->x.theta_m_rad + p->enc_offset_el_rad;
     th = fmod(th, TWO_PI);
     return (th < 0.0) ? th + TWO_PI : th;
 }
 
 double plant_te_Nm(const plant_t *p)
 {
-    return TORQUE_FACTOR * (double)p->cfg.pole_pairs * p->cfg.psif_Wb * p->x.iq_A;
+    return TORQUE_FACTOR * (double)p->cfg.pole_pairs * p->cfg.psi_f_Wb * p->x.iq_A;
 }
 
 double plant_psi_s_Wb(const plant_t *p)
 {
-    double psi_d = p->cfg.L_H * p->x.id_A + p->cfg.psif_Wb;
+    double psi_d = p->cfg.L_H * p->x.id_A + p->cfg.psi_f_Wb;
     double psi_q = p->cfg.L_H * p->x.iq_A;
     return sqrt(psi_d * psi_d + psi_q * psi_q);
 }

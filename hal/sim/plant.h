@@ -17,9 +17,9 @@
 #include <stdint.h>
 
 typedef struct {
-    double R_ohm;          /* stator phase resistance */
+    double R_Ohm;          /* stator phase resistance */
     double L_H;            /* stator inductance, Ld = Lq */
-    double psif_Wb;        /* permanent-magnet flux linkage */
+    double psi_f_Wb;        /* permanent-magnet flux linkage */
     uint32_t pole_pairs;
     double J_kgm2;         /* rotor + load inertia */
     double B_Nms;          /* viscous friction */
@@ -46,7 +46,7 @@ typedef struct {
 typedef struct {
     plant_cfg_t cfg;
     plant_state_t x;
-    double theta_offset_el_rad;  /* electrical angle of the d axis at theta_m = 0 */
+    double enc_offset_el_rad;  /* electrical angle of the d axis at theta_m = 0 */
     double inv_L_per_H;          /* 1/L and 1/J: the step multiplies, divisions are slow */
     double inv_J_per_kgm2;
     plant_acc_t acc;
@@ -59,8 +59,8 @@ typedef struct {
 /* Table I of the paper: R 3 ohm, L 11 mH, psi_f 0.24 Wb, p 3, J 0.00129 kg m^2, B 0. Any context. */
 void plant_default_cfg(plant_cfg_t *cfg);
 
-/* Plant with zero currents and angle at speed omega0, d axis at theta_offset_el_rad for theta_m = 0. */
-void plant_init(plant_t *p, const plant_cfg_t *cfg, double theta_offset_el_rad);
+/* Plant with zero currents and angle at speed omega0, d axis at enc_offset_el_rad for theta_m = 0. */
+void plant_init(plant_t *p, const plant_cfg_t *cfg, double enc_offset_el_rad);
 
 /* One RK4 step of h_s with the stator-frame voltage (u_alpha_V, u_beta_V) and load TL_Nm held. */
 void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s);
@@ -70,7 +70,7 @@ void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, dou
 void plant_step_open(plant_t *p, double TL_Nm, double h_s);
 
 /* Stator resistance from now on [ohm] (a winding warming up); > 0 and finite, else ignored. Any context. */
-void plant_set_R_ohm(plant_t *p, double R_ohm);
+void plant_set_R_Ohm(plant_t *p, double R_Ohm);
 
 /* Electrical angle of the d axis [rad], in [0, 2 pi). */
 double plant_theta_el_rad(const plant_t *p);

@@ -28,15 +28,15 @@ static void sil_isr(void)
 static void board_cfg_from(const scenario_t *sc, hal_sim_cfg_t *hc)
 {
     hal_sim_default_cfg(hc);
-    hc->plant.R_ohm = sc->plant.R_ohm;
+    hc->plant.R_Ohm = sc->plant.R_ohm;
     hc->plant.L_H = sc->plant.L_H;
-    hc->plant.psif_Wb = sc->plant.psif_Wb;
+    hc->plant.psi_f_Wb = sc->plant.psif_Wb;
     hc->plant.pole_pairs = sc->plant.pole_pairs;
     hc->plant.J_kgm2 = sc->plant.J_kgm2;
     hc->plant.B_Nms = sc->plant.B_Nms;
     hc->plant.speed_held = (sc->plant.speed_held != 0u);
     hc->plant.omega0_m_rad_s = sc->plant.speed0_rpm / RPM_PER_RAD_S;
-    hc->theta_offset_el_rad = sc->plant.encoder_offset_el_rad;
+    hc->enc_offset_el_rad = sc->plant.encoder_offset_el_rad;
     hc->inv.model = (sc->plant.model == SC_MODEL_SWITCHING) ? INV_SWITCHING : INV_AVERAGED;
     hc->inv.vdc_V = sc->plant.vdc_V;
     hc->inv.deadtime_s = sc->plant.deadtime_s;
@@ -164,11 +164,11 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->R_est_ohm = (double)m->R_est_Ohm;
     r->L_est_H = (double)m->L_est_H;
     r->psif_est_Wb = (double)m->psi_f_est_Wb;
-    r->fd_est = (double)m->fd_est;
-    r->fq_est = (double)m->fq_est;
+    r->fd_est = (double)m->fd_est_V;
+    r->fq_est = (double)m->fq_est_V;
     r->est = (double)m->est;
     r->est_hold = (double)m->est_hold;
-    r->R_ohm = tr.R_ohm;
+    r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)m->inv_err_V;
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
@@ -243,7 +243,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
         app_request_op(&g_app, &op);   /* taken at the start of this period's ISR */
         hal_sim_set_load(profile_eval(&sc->load.torque_Nm, t));
         if (sc->plant.R_profile.n > 1u) {
-            hal_sim_set_R_ohm(profile_eval(&sc->plant.R_profile, t));   /* the winding warms */
+            hal_sim_set_R_Ohm(profile_eval(&sc->plant.R_profile, t));   /* the winding warms */
         }
 
         const bool was_faulted = (g_app.state == APP_STATE_FAULT);
