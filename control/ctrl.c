@@ -82,7 +82,7 @@ static uint16_t map_dbdtc_flags(uint16_t f)
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm)
 {
     smo_cfg_t *sc = &cfg->smo;
-    param_est_cfg_t *ec = &cfg->est;
+    param_est_cfg_t *ec = &cfg->pe;
 
     cfg->R_min_Ohm = R_min_Ohm;
     cfg->R_max_Ohm = R_max_Ohm;
@@ -118,7 +118,7 @@ void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_ma
 static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
 {
     smo_cfg_t sc = cfg->smo;
-    param_est_cfg_t ec = cfg->est;
+    param_est_cfg_t ec = cfg->pe;
     rs_ident_cfg_t rc = cfg->rsid;
     est_gate_cfg_t gc = cfg->gate;
 
@@ -231,12 +231,12 @@ void ctrl_reset(ctrl_t *c)
     param_est_reset(&c->pe);
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
-    c->est = CTRL_EST_OFF;
+    c->ident = CTRL_IDENT_OFF;
     r_track_reset(&c->rt);
     c->inv_dv_V = 0.0f;
     c->rt_flags = 0u;
     c->psi_held = 0u;
-    c->pe.cfg.w_min_rad_s = c->cfg.est.w_min_rad_s;
+    c->pe.cfg.w_min_rad_s = c->cfg.pe.w_min_rad_s;
     est_gate_reset(&c->gate, &c->smo);
     oplim_reset(&c->lim);
     c->flags_last = 0u;
@@ -260,7 +260,7 @@ void ctrl_reset(ctrl_t *c)
     c->mon.psi_f_est_Wb = c->db.par.psi_f_Wb;
     c->mon.fd_est_V = 0.0f;
     c->mon.fq_est_V = 0.0f;
-    c->mon.est = CTRL_EST_OFF;
+    c->mon.ident = CTRL_IDENT_OFF;
     c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
     c->mon.inv_err_V = 0.0f;
@@ -300,10 +300,10 @@ bool ctrl_rsid_begin(ctrl_t *c)
     param_est_run(&c->pe, false);
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
-    c->est = CTRL_EST_STEP1;
+    c->ident = CTRL_IDENT_STEP1;
     r_track_reset(&c->rt); /* identified again after this step 1 */
     c->inv_dv_V = 0.0f;
-    c->pe.cfg.w_min_rad_s = c->cfg.est.w_min_rad_s;
+    c->pe.cfg.w_min_rad_s = c->cfg.pe.w_min_rad_s;
     c->rt_flags = 0u;
     return true;
 }
@@ -318,7 +318,7 @@ static void start_tracking(ctrl_t *c)
 {
     /* psi^ learns only where w psi_f dominates what the identification may have left */
     const float w_min = r_track_w_psi_min(&c->rt, c->cfg.psi_f_Wb);
-    c->pe.cfg.w_min_rad_s = (w_min > c->cfg.est.w_min_rad_s) ? w_min : c->cfg.est.w_min_rad_s;
+    c->pe.cfg.w_min_rad_s = (w_min > c->cfg.pe.w_min_rad_s) ? w_min : c->cfg.pe.w_min_rad_s;
     r_track_start(&c->rt, (c->cfg.track_R != 0u) ? R_TRACK_TRACK : R_TRACK_OFF);
 }
 
@@ -327,7 +327,7 @@ static void start_step2(ctrl_t *c)
 {
     param_est_run(&c->pe, true);
     est_gate_reset(&c->gate, &c->smo);
-    c->est = CTRL_EST_STEP2;
+    c->ident = CTRL_IDENT_STEP2;
     if (c->model_src == MODEL_OBSERVER) {
         c->model_src = MODEL_STALE;
     }
@@ -389,7 +389,7 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 
     rs_ident_reset(&c->ri); /* a second finish without a begin finds no data */
     c->rsid_win = RS_IDENT_WINDOW_NONE;
-    if (c->est != CTRL_EST_STEP1) {
+    if (c->ident != CTRL_IDENT_STEP1) {
         r = RS_IDENT_TOO_FEW; /* no step 1 under way */
     } else if ((r == RS_IDENT_OK) && !smo_set_R(&c->smo, c->rsid_out.R_est_Ohm)) {
         r = RS_IDENT_OUT_OF_BAND; /* same band as rs_ident's: not expected */
@@ -399,7 +399,7 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
         /* first the inverter error, at R^ = R0 (design sec. 9) */
         r_track_start(&c->rt, R_TRACK_IDENT);
     } else {
-        c->est = CTRL_EST_OFF;
+        c->ident = CTRL_IDENT_OFF;
     }
     return r;
 }
@@ -411,7 +411,7 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
         !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
         return false;
     }
-    if (c->est == CTRL_EST_OFF) {
+    if (c->ident == CTRL_IDENT_OFF) {
         smo_reset(&c->smo); /* seeded with i(k) at the next step, f^ = 0 */
     }
     (void)smo_set_R(&c->smo, R_Ohm); /* in band: accepted */
@@ -433,13 +433,13 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
  */
 static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s, float sin_el, float cos_el)
 {
-    if (c->est != CTRL_EST_OFF) {
+    if (c->ident != CTRL_IDENT_OFF) {
         /* u(k) is the clamped voltage the last step realised, as the observer needs */
         const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
         if (c->rt.phase != R_TRACK_OFF) {
             ctrl_r_track_step(c, i_dq_A, omega_el_rad_s); /* may end step 1 */
         }
-        if (c->est == CTRL_EST_STEP1) {
+        if (c->ident == CTRL_IDENT_STEP1) {
             /* the angle for the fit of the electrical-frequency ripple (design sec. 6e) */
             rs_ident_step_el(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
                              omega_el_rad_s, cos_el, sin_el);
@@ -637,7 +637,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     c->mon.te_est_Nm = x.te_Nm;
     c->mon.psi_ref_Wb = psi_ref;
     c->mon.psi_est_Wb = mathx_sqrtf(x.psi_dq_Wb.d * x.psi_dq_Wb.d + x.psi_dq_Wb.q * x.psi_dq_Wb.q);
-    if (c->est != CTRL_EST_OFF) { /* the observer's estimates, used or not */
+    if (c->ident != CTRL_IDENT_OFF) { /* the observer's estimates, used or not */
         c->mon.R_est_Ohm = c->smo.R_Ohm;
         c->mon.L_est_H = c->smo.L_H;
         c->mon.psi_f_est_Wb = c->smo.psi_f_Wb;
@@ -650,7 +650,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         c->mon.fd_est_V = 0.0f;
         c->mon.fq_est_V = 0.0f;
     }
-    c->mon.est = c->est;
+    c->mon.ident = c->ident;
     c->mon.est_hold = c->gate.reasons;
     c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
     c->mon.inv_err_V = FUNDAMENTAL_OF_SQUARE * c->inv_dv_V;
@@ -663,5 +663,5 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
           duty.c + c->u_applied_V.d + c->u_applied_V.q + c->smo.fd_V + c->smo.fq_V +
           c->smo.i_hat_A.d + c->smo.i_hat_A.q + c->smo.L_H + c->smo.psi_f_Wb;
     c->flags_last = flags; /* before any NONFINITE: the gate's voltage check */
-    output_duties(c, duty, mathx_isfinitef(chk), flags | c->rt_flags | ((c->est == CTRL_EST_STEP2) ? c->psi_held : 0u), out);
+    output_duties(c, duty, mathx_isfinitef(chk), flags | c->rt_flags | ((c->ident == CTRL_IDENT_STEP2) ? c->psi_held : 0u), out);
 }

@@ -166,7 +166,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->psif_est_Wb = (double)m->psi_f_est_Wb;
     r->fd_est = (double)m->fd_est_V;
     r->fq_est = (double)m->fq_est_V;
-    r->est = (double)m->est;
+    r->est = (double)m->ident;
     r->est_hold = (double)m->est_hold;
     r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)m->inv_err_V;
