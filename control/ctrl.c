@@ -86,17 +86,17 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
 
     cfg->R_min_Ohm = R_min_Ohm;
     cfg->R_max_Ohm = R_max_Ohm;
-    smo_cfg_defaults(sc, cfg->Ts_s, cfg->Rs_Ohm, cfg->Ls_H, cfg->psi_f_Wb);
+    smo_cfg_defaults(sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
     const float L_stable_H = OBS_L_MIN_STABILITY_MARGIN * HALF * cfg->Ts_s *
                              (sc->Ks_V / sc->phi_A + R_max_Ohm);
     sc->L_min_H = mathx_clampf(sc->L_min_H, L_stable_H, sc->L_max_H);
     sc->f_max_V = cfg->u_max_V; /* a disturbance beyond the voltage bound is no estimate */
-    param_est_cfg_defaults(ec, cfg->Ts_s, cfg->Ls_H, cfg->psi_f_Wb);
+    param_est_cfg_defaults(ec, cfg->Ts_s, cfg->L_H, cfg->psi_f_Wb);
     ec->L_min_H = sc->L_min_H;  /* clamps = the observer's ranges */
     ec->L_max_H = sc->L_max_H;
     ec->psi_min_Wb = sc->psi_min_Wb;
     ec->psi_max_Wb = sc->psi_max_Wb;
-    rs_ident_cfg_defaults(&cfg->rsid, cfg->Rs_Ohm);
+    rs_ident_cfg_defaults(&cfg->rsid, cfg->R_Ohm);
     r_track_cfg_defaults(&cfg->rtrack);
     cfg->track_R = 0u;
     est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
@@ -105,13 +105,13 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
 {
     smo_cfg_t sc;
-    smo_cfg_defaults(&sc, cfg->Ts_s, cfg->Rs_Ohm, cfg->Ls_H, cfg->psi_f_Wb);
+    smo_cfg_defaults(&sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
     /* (36): Ks > ef_max + R_max phi, with a margin */
     const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (sc.Ks_V - sc.ef_max_V) / sc.phi_A;
-    const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->Rs_Ohm;
-    *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->Rs_Ohm;
+    const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->R_Ohm;
+    *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->R_Ohm;
     *R_max_Ohm = (R_top_Ohm < R_ks_Ohm) ? R_top_Ohm : R_ks_Ohm;
-    *R_max_Ohm = (*R_max_Ohm > cfg->Rs_Ohm) ? *R_max_Ohm : cfg->Rs_Ohm;
+    *R_max_Ohm = (*R_max_Ohm > cfg->R_Ohm) ? *R_max_Ohm : cfg->R_Ohm;
 }
 
 /* The proposed method's blocks, with the fields that repeat ctrl_cfg_t taken from it. */
@@ -123,8 +123,8 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     est_gate_cfg_t gc = cfg->gate;
 
     sc.Ts_s = cfg->Ts_s;
-    sc.R_Ohm = cfg->Rs_Ohm;
-    sc.L_H = cfg->Ls_H;
+    sc.R_Ohm = cfg->R_Ohm;
+    sc.L_H = cfg->L_H;
     sc.psi_f_Wb = cfg->psi_f_Wb;
     sc.R_min_Ohm = cfg->R_min_Ohm;
     sc.R_max_Ohm = cfg->R_max_Ohm;
@@ -132,7 +132,7 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     sc.u_max_V = cfg->u_max_V;
     sc.omega_max_rad_s = cfg->omega_max_el_rad_s;
     ec.Ts_s = cfg->Ts_s;
-    rc.R_nom_Ohm = cfg->Rs_Ohm;
+    rc.R_nom_Ohm = cfg->R_Ohm;
     rc.Ts_s = cfg->Ts_s;
     rc.R_min_Ohm = cfg->R_min_Ohm;
     rc.R_max_Ohm = cfg->R_max_Ohm;
@@ -181,8 +181,8 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 
     dc.Ts_s = cfg->Ts_s;
     dc.pole_pairs = cfg->pole_pairs;
-    dc.Rs_Ohm = cfg->Rs_Ohm;
-    dc.Ls_H = cfg->Ls_H;
+    dc.R_Ohm = cfg->R_Ohm;
+    dc.L_H = cfg->L_H;
     dc.psi_f_Wb = cfg->psi_f_Wb;
     dc.i_max_A = cfg->i_max_A;
     dc.omega_max_rad_s = cfg->omega_max_el_rad_s;
@@ -210,7 +210,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
     c->status = (ctrl_status_t)(status | init_proposed(c, cfg));
     c->rsid_out = no_result;
-    c->rsid_out.R_est_Ohm = cfg->Rs_Ohm;
+    c->rsid_out.R_est_Ohm = cfg->R_Ohm;
     c->mode = CTRL_MODE_TORQUE;
     c->mode_req = CTRL_MODE_TORQUE;
     c->method = CTRL_METHOD_CONVENTIONAL;
@@ -255,8 +255,8 @@ void ctrl_reset(ctrl_t *c)
     c->mon.te_est_Nm = 0.0f;
     c->mon.psi_ref_Wb = 0.0f;
     c->mon.psi_est_Wb = 0.0f;
-    c->mon.R_est_Ohm = c->db.par.Rs_Ohm;
-    c->mon.L_est_H = c->db.par.Ls_H;
+    c->mon.R_est_Ohm = c->db.par.R_Ohm;
+    c->mon.L_est_H = c->db.par.L_H;
     c->mon.psi_f_est_Wb = c->db.par.psi_f_Wb;
     c->mon.fd_est_V = 0.0f;
     c->mon.fq_est_V = 0.0f;
@@ -459,7 +459,7 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
                 /* 2 divisions, only when an estimate moved by more than
                  * CTRL_MODEL_UPDATE_REL since the model took it */
                 const dbdtc_par_t *p = &c->db.par;
-                const bool far = (mathx_fabsf(c->smo.L_H - p->Ls_H) > CTRL_MODEL_UPDATE_REL * p->Ls_H) ||
+                const bool far = (mathx_fabsf(c->smo.L_H - p->L_H) > CTRL_MODEL_UPDATE_REL * p->L_H) ||
                                  (mathx_fabsf(c->smo.psi_f_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb);
                 if (((moved != 0u) && far) || (c->model_src != MODEL_OBSERVER)) {
                     dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->smo.psi_f_Wb);
@@ -599,7 +599,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         const oplim_out_t tgt = oplim_targets(&c->lim, par, cfg->pole_pairs, c->i_lim_A, te_ref);
         te_ref = tgt.te_Nm;
         psi_ref = tgt.psi_Wb;
-        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H); /* + L id* (design sec. 9) */
+        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->L_H); /* + L id* (design sec. 9) */
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
         oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
     }
@@ -644,8 +644,8 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         c->mon.fd_est_V = c->smo.fd_V;
         c->mon.fq_est_V = c->smo.fq_V;
     } else {
-        c->mon.R_est_Ohm = par->Rs_Ohm;
-        c->mon.L_est_H = par->Ls_H;
+        c->mon.R_est_Ohm = par->R_Ohm;
+        c->mon.L_est_H = par->L_H;
         c->mon.psi_f_est_Wb = par->psi_f_Wb;
         c->mon.fd_est_V = 0.0f;
         c->mon.fq_est_V = 0.0f;

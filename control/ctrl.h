@@ -76,8 +76,8 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
-    float Rs_Ohm;               /* controller's stator resistance (may differ from the motor's) */
-    float Ls_H;                 /* controller's inductance, Ld = Lq */
+    float R_Ohm;               /* controller's stator resistance (may differ from the motor's) */
+    float L_H;                 /* controller's inductance, Ld = Lq */
     float psi_f_Wb;             /* controller's PM flux linkage */
     uint16_t pole_pairs;
     uint32_t enc_lines;         /* encoder lines; counts per revolution = 4 * lines */
@@ -199,10 +199,10 @@ typedef struct {
  * Background, before ctrl_init. */
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
 
-/* The default R^ band for cfg->Rs_Ohm (set it first): rs_ident.h's
- * RS_IDENT_BAND_*_FACTOR x Rs_Ohm, the top kept below the largest R^ the
+/* The default R^ band for cfg->R_Ohm (set it first): rs_ident.h's
+ * RS_IDENT_BAND_*_FACTOR x R_Ohm, the top kept below the largest R^ the
  * observer's default gains take under condition (36) (observer_design.md
- * sec. 6), and not below Rs_Ohm. Background, before ctrl_cfg_proposed_defaults. */
+ * sec. 6), and not below R_Ohm. Background, before ctrl_cfg_proposed_defaults. */
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
 
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method

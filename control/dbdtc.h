@@ -63,8 +63,8 @@
 typedef struct {
     float Ts_s;            /* control period [s] */
     uint16_t pole_pairs;   /* p */
-    float Rs_Ohm;          /* initial model resistance */
-    float Ls_H;            /* initial model inductance, Ld = Lq */
+    float R_Ohm;          /* initial model resistance */
+    float L_H;            /* initial model inductance, Ld = Lq */
     float psi_f_Wb;        /* initial model PM flux linkage */
     float i_max_A;         /* bound on |id|, |iq| used by the model */
     float omega_max_rad_s; /* bound on |omega_el| used by the model */
@@ -74,8 +74,8 @@ typedef struct {
 } dbdtc_cfg_t;
 
 typedef struct {           /* model parameters in use and what follows from them */
-    float Rs_Ohm;
-    float Ls_H;
+    float R_Ohm;
+    float L_H;
     float psi_f_Wb;
     float a;               /* Ts*R/L, eq. (4) */
     float one_minus_a;     /* 1 - Ts*R/L */
@@ -99,7 +99,7 @@ typedef struct {
 
 /* Start-up: copy *cfg and set the model parameters from it. False (the
  * configuration refused; the caller must not run it) when a value is not
- * finite, Ts_s, Rs_Ohm, Ls_H, psi_f_Wb or a bound is not positive, or
+ * finite, Ts_s, R_Ohm, L_H, psi_f_Wb or a bound is not positive, or
  * pole_pairs is 0. */
 bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg);
 
@@ -108,7 +108,7 @@ void dbdtc_reset(dbdtc_t *db);
 
 /* Model parameters [Ohm, H, Wb], bounded to 0.1..10 x the configured value;
  * recomputes the derived constants (2 divisions). ISR or background. */
-void dbdtc_set_params(dbdtc_t *db, float Rs_Ohm, float Ls_H, float psi_f_Wb);
+void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb);
 
 /* Torque Te(k+2) [N m] the model expects from the state *x at k+1 when
  * u_q_V [V] is applied over [k+1, k+2] (eq. 4, 5): what a voltage-limited

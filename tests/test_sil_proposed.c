@@ -455,7 +455,7 @@ static ctrl_status_t c_setup(double L_factor, float R_max_Ohm)
     hc.plant.omega0_m_rad_s = 500.0 * RPM;
     hal_sim_configure(&hc);
     ctrl_cfg_t cfg = {
-        .Ts_s = (float)TS, .Rs_Ohm = (float)R0, .Ls_H = (float)(L_factor * L0), .psi_f_Wb = (float)PSI0,
+        .Ts_s = (float)TS, .R_Ohm = (float)R0, .L_H = (float)(L_factor * L0), .psi_f_Wb = (float)PSI0,
         .pole_pairs = 3u, .enc_lines = hc.sens.enc_lines, .enc_offset_el_rad = 0.0f,
         .enc_pll_bw_rad_s = 500.0f, .speed_kp_Nms_rad = 0.3f, .speed_ki_Nm_rad = 20.0f,
         .te_max_Nm = 12.0f, .i_max_A = 60.0f, .u_max_V = 311.0f, .omega_max_el_rad_s = 3000.0f,

@@ -357,8 +357,8 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path
     fprintf(f, " \"controller\": {\"method\": \"%s\", \"mode\": \"%s\", ",
             METHOD[(sc->controller.method == SC_METHOD_PROPOSED) ? 1 : 0],
             MODE[(sc->controller.mode <= SC_MODE_OPEN_LOOP) ? sc->controller.mode : 0u]);
-    json_flt(f, "R_ohm", c->Rs_Ohm, ", ");
-    json_flt(f, "L_H", c->Ls_H, ", ");
+    json_flt(f, "R_ohm", c->R_Ohm, ", ");
+    json_flt(f, "L_H", c->L_H, ", ");
     json_flt(f, "psif_Wb", c->psi_f_Wb, ", ");
     json_flt(f, "R_min_ohm", c->R_min_Ohm, ", ");
     json_flt(f, "R_max_ohm", c->R_max_Ohm, ", ");
