@@ -14,19 +14,10 @@
  * prediction (its own i(k+1)) and the parameters (its estimates) through
  * dbdtc_set_params() and dbdtc_state_from_currents().
  *
- * Derivation of the deadbeat solution (eq. 4 written from k+1 to k+2, with
- * a = Ts*R/L and w = omega*Ts):
- *   psi_d(k+2) = Ts*u_d + X1,   X1 = (1 - a)*psi_d + w*psi_q + a*psi_f
- *   psi_q(k+2) = Ts*u_q + Y,    Y  = (1 - a)*psi_q - w*psi_d
- * Torque (eq. 5) fixes the q flux:  psi_q* = 2*L*Te* / (3*p*psi_f),
- *   so Ts*u_q = psi_q* - Y = B'                              (eq. 17, u_q)
- * and the flux magnitude fixes the d flux on the magnet side (> 0):
- *   psi_d* = sqrt(psi_s*^2 - psi_q*^2),  Ts*u_d = psi_d* - X1  (eq. 17, u_d)
- * which equals the paper's (-X1' + sqrt(X1'^2 - X2')) / Ts, because
- * X1'^2 - X2' = psi_s*^2 - (B' + Y)^2 = psi_s*^2 - psi_q*^2; the printed
- * X2' expands X1'^2 + Y^2 term by term. This form needs no division and
- * one square root per step; 1/Ts, 2L/(3p psi_f), 1.5 p psi_f, Ts*R/L and
- * Ts/L are precomputed in dbdtc_set_params().
+ * The deadbeat solution (eq. 17) in a form with no division and one
+ * square root per step (1/Ts, 2L/(3p psi_f), 1.5 p psi_f, Ts*R/L and Ts/L
+ * precomputed in dbdtc_set_params()): derived in observer_design.md
+ * sec. 1f.
  *
  * Negative discriminant (psi_q*^2 > psi_s*^2: the torque asks for more
  * q flux than the whole flux target): psi_d(k+2) = 0, i.e. u_d = -X1/Ts,
