@@ -82,22 +82,22 @@ static uint16_t map_dbdtc_flags(uint16_t f)
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm)
 {
     smo_cfg_t *sc = &cfg->smo;
-    param_est_cfg_t *ec = &cfg->est;
+    param_est_cfg_t *ec = &cfg->pe;
 
     cfg->R_min_Ohm = R_min_Ohm;
     cfg->R_max_Ohm = R_max_Ohm;
-    smo_cfg_defaults(sc, cfg->Ts_s, cfg->Rs_Ohm, cfg->Ls_H, cfg->psi_f_Wb);
+    smo_cfg_defaults(sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
     const float L_stable_H = OBS_L_MIN_STABILITY_MARGIN * HALF * cfg->Ts_s *
                              (sc->Ks_V / sc->phi_A + R_max_Ohm);
     /* not capped at L_max: a floor above it is refused by smo_init */
     sc->L_min_H = (sc->L_min_H >= L_stable_H) ? sc->L_min_H : L_stable_H;
     sc->f_max_V = cfg->u_max_V; /* a disturbance beyond the voltage bound is no estimate */
-    param_est_cfg_defaults(ec, cfg->Ts_s, cfg->Ls_H, cfg->psi_f_Wb);
+    param_est_cfg_defaults(ec, cfg->Ts_s, cfg->L_H, cfg->psi_f_Wb);
     ec->L_min_H = sc->L_min_H;  /* clamps = the observer's ranges */
     ec->L_max_H = sc->L_max_H;
     ec->psi_min_Wb = sc->psi_min_Wb;
     ec->psi_max_Wb = sc->psi_max_Wb;
-    rs_ident_cfg_defaults(&cfg->rsid, cfg->Rs_Ohm);
+    rs_ident_cfg_defaults(&cfg->rsid, cfg->R_Ohm);
     r_track_cfg_defaults(&cfg->rtrack);
     cfg->track_R = 0u;
     est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
@@ -106,26 +106,26 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
 {
     smo_cfg_t sc;
-    smo_cfg_defaults(&sc, cfg->Ts_s, cfg->Rs_Ohm, cfg->Ls_H, cfg->psi_f_Wb);
+    smo_cfg_defaults(&sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
     /* (36): Ks > ef_max + R_max phi, with a margin */
     const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (sc.Ks_V - sc.ef_max_V) / sc.phi_A;
-    const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->Rs_Ohm;
-    *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->Rs_Ohm;
+    const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->R_Ohm;
+    *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->R_Ohm;
     *R_max_Ohm = (R_top_Ohm < R_ks_Ohm) ? R_top_Ohm : R_ks_Ohm;
-    *R_max_Ohm = (*R_max_Ohm > cfg->Rs_Ohm) ? *R_max_Ohm : cfg->Rs_Ohm;
+    *R_max_Ohm = (*R_max_Ohm > cfg->R_Ohm) ? *R_max_Ohm : cfg->R_Ohm;
 }
 
 /* The proposed method's blocks, with the fields that repeat ctrl_cfg_t taken from it. */
 static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
 {
     smo_cfg_t sc = cfg->smo;
-    param_est_cfg_t ec = cfg->est;
+    param_est_cfg_t ec = cfg->pe;
     rs_ident_cfg_t rc = cfg->rsid;
     est_gate_cfg_t gc = cfg->gate;
 
     sc.Ts_s = cfg->Ts_s;
-    sc.R_Ohm = cfg->Rs_Ohm;
-    sc.L_H = cfg->Ls_H;
+    sc.R_Ohm = cfg->R_Ohm;
+    sc.L_H = cfg->L_H;
     sc.psi_f_Wb = cfg->psi_f_Wb;
     sc.R_min_Ohm = cfg->R_min_Ohm;
     sc.R_max_Ohm = cfg->R_max_Ohm;
@@ -133,7 +133,7 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
     sc.u_max_V = cfg->u_max_V;
     sc.omega_max_rad_s = cfg->omega_max_el_rad_s;
     ec.Ts_s = cfg->Ts_s;
-    rc.R_nom_Ohm = cfg->Rs_Ohm;
+    rc.R_nom_Ohm = cfg->R_Ohm;
     rc.Ts_s = cfg->Ts_s;
     rc.R_min_Ohm = cfg->R_min_Ohm;
     rc.R_max_Ohm = cfg->R_max_Ohm;
@@ -182,8 +182,8 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 
     dc.Ts_s = cfg->Ts_s;
     dc.pole_pairs = cfg->pole_pairs;
-    dc.Rs_Ohm = cfg->Rs_Ohm;
-    dc.Ls_H = cfg->Ls_H;
+    dc.R_Ohm = cfg->R_Ohm;
+    dc.L_H = cfg->L_H;
     dc.psi_f_Wb = cfg->psi_f_Wb;
     dc.i_max_A = cfg->i_max_A;
     dc.omega_max_rad_s = cfg->omega_max_el_rad_s;
@@ -211,7 +211,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
     c->status = (ctrl_status_t)(status | init_proposed(c, cfg));
     c->rsid_out = no_result;
-    c->rsid_out.R_est_Ohm = cfg->Rs_Ohm;
+    c->rsid_out.R_est_Ohm = cfg->R_Ohm;
     c->mode = CTRL_MODE_TORQUE;
     c->mode_req = CTRL_MODE_TORQUE;
     c->method = CTRL_METHOD_CONVENTIONAL;
@@ -232,12 +232,12 @@ void ctrl_reset(ctrl_t *c)
     param_est_reset(&c->pe);
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
-    c->est = CTRL_EST_OFF;
+    c->ident = CTRL_IDENT_OFF;
     r_track_reset(&c->rt);
     c->inv_dv_V = 0.0f;
     c->rt_flags = 0u;
     c->psi_held = 0u;
-    c->pe.cfg.w_min_rad_s = c->cfg.est.w_min_rad_s;
+    c->pe.cfg.w_min_rad_s = c->cfg.pe.w_min_rad_s;
     est_gate_reset(&c->gate, &c->smo);
     oplim_reset(&c->lim);
     c->flags_last = 0u;
@@ -256,12 +256,12 @@ void ctrl_reset(ctrl_t *c)
     c->mon.te_est_Nm = 0.0f;
     c->mon.psi_ref_Wb = 0.0f;
     c->mon.psi_est_Wb = 0.0f;
-    c->mon.R_est_Ohm = c->db.par.Rs_Ohm;
-    c->mon.L_est_H = c->db.par.Ls_H;
+    c->mon.R_est_Ohm = c->db.par.R_Ohm;
+    c->mon.L_est_H = c->db.par.L_H;
     c->mon.psi_f_est_Wb = c->db.par.psi_f_Wb;
     c->mon.fd_est_V = 0.0f;
     c->mon.fq_est_V = 0.0f;
-    c->mon.est = CTRL_EST_OFF;
+    c->mon.ident = CTRL_IDENT_OFF;
     c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
     c->mon.inv_err_V = 0.0f;
@@ -301,10 +301,10 @@ bool ctrl_rsid_begin(ctrl_t *c)
     param_est_run(&c->pe, false);
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
-    c->est = CTRL_EST_STEP1;
+    c->ident = CTRL_IDENT_STEP1;
     r_track_reset(&c->rt); /* identified again after this step 1 */
     c->inv_dv_V = 0.0f;
-    c->pe.cfg.w_min_rad_s = c->cfg.est.w_min_rad_s;
+    c->pe.cfg.w_min_rad_s = c->cfg.pe.w_min_rad_s;
     c->rt_flags = 0u;
     return true;
 }
@@ -319,7 +319,7 @@ static void start_tracking(ctrl_t *c)
 {
     /* psi^ learns only where w psi_f dominates what the identification may have left */
     const float w_min = r_track_w_psi_min(&c->rt, c->cfg.psi_f_Wb);
-    c->pe.cfg.w_min_rad_s = (w_min > c->cfg.est.w_min_rad_s) ? w_min : c->cfg.est.w_min_rad_s;
+    c->pe.cfg.w_min_rad_s = (w_min > c->cfg.pe.w_min_rad_s) ? w_min : c->cfg.pe.w_min_rad_s;
     r_track_start(&c->rt, (c->cfg.track_R != 0u) ? R_TRACK_TRACK : R_TRACK_OFF);
 }
 
@@ -328,7 +328,7 @@ static void start_step2(ctrl_t *c)
 {
     param_est_run(&c->pe, true);
     est_gate_reset(&c->gate, &c->smo);
-    c->est = CTRL_EST_STEP2;
+    c->ident = CTRL_IDENT_STEP2;
     if (c->model_src == MODEL_OBSERVER) {
         c->model_src = MODEL_STALE;
     }
@@ -390,7 +390,7 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 
     rs_ident_reset(&c->ri); /* a second finish without a begin finds no data */
     c->rsid_win = RS_IDENT_WINDOW_NONE;
-    if (c->est != CTRL_EST_STEP1) {
+    if (c->ident != CTRL_IDENT_STEP1) {
         r = RS_IDENT_TOO_FEW; /* no step 1 under way */
     } else if ((r == RS_IDENT_OK) && !smo_set_R(&c->smo, c->rsid_out.R_est_Ohm)) {
         r = RS_IDENT_OUT_OF_BAND; /* same band as rs_ident's: not expected */
@@ -400,7 +400,7 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
         /* first the inverter error, at R^ = R0 (design sec. 9) */
         r_track_start(&c->rt, R_TRACK_IDENT);
     } else {
-        c->est = CTRL_EST_OFF;
+        c->ident = CTRL_IDENT_OFF;
     }
     return r;
 }
@@ -412,7 +412,7 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
         !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
         return false;
     }
-    if (c->est == CTRL_EST_OFF) {
+    if (c->ident == CTRL_IDENT_OFF) {
         smo_reset(&c->smo); /* seeded with i(k) at the next step, f^ = 0 */
     }
     (void)smo_set_R(&c->smo, R_Ohm); /* in band: accepted */
@@ -434,13 +434,13 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
  */
 static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s, float sin_el, float cos_el)
 {
-    if (c->est != CTRL_EST_OFF) {
+    if (c->ident != CTRL_IDENT_OFF) {
         /* u(k) is the clamped voltage the last step realised, as the observer needs */
         const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
         if (c->rt.phase != R_TRACK_OFF) {
             ctrl_r_track_step(c, i_dq_A, omega_el_rad_s); /* may end step 1 */
         }
-        if (c->est == CTRL_EST_STEP1) {
+        if (c->ident == CTRL_IDENT_STEP1) {
             /* the angle for the fit of the electrical-frequency ripple (design sec. 6e) */
             rs_ident_step_el(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
                              omega_el_rad_s, cos_el, sin_el);
@@ -460,7 +460,7 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
                 /* 2 divisions, only when an estimate moved by more than
                  * CTRL_MODEL_UPDATE_REL since the model took it */
                 const dbdtc_par_t *p = &c->db.par;
-                const bool far = (mathx_fabsf(c->smo.L_H - p->Ls_H) > CTRL_MODEL_UPDATE_REL * p->Ls_H) ||
+                const bool far = (mathx_fabsf(c->smo.L_H - p->L_H) > CTRL_MODEL_UPDATE_REL * p->L_H) ||
                                  (mathx_fabsf(c->smo.psi_f_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb);
                 if (((moved != 0u) && far) || (c->model_src != MODEL_OBSERVER)) {
                     dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->smo.psi_f_Wb);
@@ -600,7 +600,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
         const oplim_out_t tgt = oplim_targets(&c->lim, par, cfg->pole_pairs, c->i_lim_A, te_ref);
         te_ref = tgt.te_Nm;
         psi_ref = tgt.psi_Wb;
-        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->Ls_H); /* + L id* (design sec. 9) */
+        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->L_H); /* + L id* (design sec. 9) */
         flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
         oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
     }
@@ -638,20 +638,20 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     c->mon.te_est_Nm = x.te_Nm;
     c->mon.psi_ref_Wb = psi_ref;
     c->mon.psi_est_Wb = mathx_sqrtf(x.psi_dq_Wb.d * x.psi_dq_Wb.d + x.psi_dq_Wb.q * x.psi_dq_Wb.q);
-    if (c->est != CTRL_EST_OFF) { /* the observer's estimates, used or not */
+    if (c->ident != CTRL_IDENT_OFF) { /* the observer's estimates, used or not */
         c->mon.R_est_Ohm = c->smo.R_Ohm;
         c->mon.L_est_H = c->smo.L_H;
         c->mon.psi_f_est_Wb = c->smo.psi_f_Wb;
         c->mon.fd_est_V = c->smo.fd_V;
         c->mon.fq_est_V = c->smo.fq_V;
     } else {
-        c->mon.R_est_Ohm = par->Rs_Ohm;
-        c->mon.L_est_H = par->Ls_H;
+        c->mon.R_est_Ohm = par->R_Ohm;
+        c->mon.L_est_H = par->L_H;
         c->mon.psi_f_est_Wb = par->psi_f_Wb;
         c->mon.fd_est_V = 0.0f;
         c->mon.fq_est_V = 0.0f;
     }
-    c->mon.est = c->est;
+    c->mon.ident = c->ident;
     c->mon.est_hold = c->gate.reasons;
     c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
     c->mon.inv_err_V = FUNDAMENTAL_OF_SQUARE * c->inv_dv_V;
@@ -664,5 +664,5 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
           duty.c + c->u_applied_V.d + c->u_applied_V.q + c->smo.fd_V + c->smo.fq_V +
           c->smo.i_hat_A.d + c->smo.i_hat_A.q + c->smo.L_H + c->smo.psi_f_Wb;
     c->flags_last = flags; /* before any NONFINITE: the gate's voltage check */
-    output_duties(c, duty, mathx_isfinitef(chk), flags | c->rt_flags | ((c->est == CTRL_EST_STEP2) ? c->psi_held : 0u), out);
+    output_duties(c, duty, mathx_isfinitef(chk), flags | c->rt_flags | ((c->ident == CTRL_IDENT_STEP2) ? c->psi_held : 0u), out);
 }

@@ -76,8 +76,8 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
-    float Rs_Ohm;               /* controller's stator resistance (may differ from the motor's) */
-    float Ls_H;                 /* controller's inductance, Ld = Lq */
+    float R_Ohm;               /* controller's stator resistance (may differ from the motor's) */
+    float L_H;                 /* controller's inductance, Ld = Lq */
     float psi_f_Wb;             /* controller's PM flux linkage */
     uint16_t pole_pairs;
     uint32_t enc_lines;         /* encoder lines; counts per revolution = 4 * lines */
@@ -98,12 +98,12 @@ typedef struct {
     float u_margin;             /* share of the inscribed circle Vdc/sqrt(3) the flux
                                  * reference leaves for steady state (flux weakening) [-] */
     /* Proposed method; ctrl_cfg_proposed_defaults() fills all of it. The
-     * fields of smo/est/rsid that repeat the ones above (Ts, nominal R, L,
+     * fields of smo/pe/rsid that repeat the ones above (Ts, nominal R, L,
      * psi_f, the bounds, the R band) are taken from here by ctrl_init(). */
     float R_min_Ohm;            /* accepted R^ band [Ohm], absolute: rs_ident's */
     float R_max_Ohm;            /*   plausibility check and smo's setter range */
     smo_cfg_t smo;              /* observer gains and ranges */
-    param_est_cfg_t est;        /* step-2 rates, thresholds, clamps */
+    param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
     uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection (design sec. 9) */
@@ -128,13 +128,13 @@ typedef uint16_t ctrl_status_t;
 /* ...and by the proposed method's steps 1 and 2. */
 #define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID | CTRL_CFG_GATE | CTRL_CFG_RTRACK))
 
-/* Where the proposed method's steps stand (ctrl_t.est, monitor). */
+/* Where the proposed method's steps stand (ctrl_t.ident, monitor). */
 typedef enum {
-    CTRL_EST_OFF = 0,           /* observer stopped */
-    CTRL_EST_STEP1 = 1,         /* observer runs, R^ (then the inverter error) being identified,
+    CTRL_IDENT_OFF = 0,           /* observer stopped */
+    CTRL_IDENT_STEP1 = 1,         /* observer runs, R^ (then the inverter error) being identified,
                                  * conventional control */
-    CTRL_EST_STEP2 = 2          /* observer and L^, psi^ estimator run */
-} ctrl_est_t;
+    CTRL_IDENT_STEP2 = 2          /* observer and L^, psi^ estimator run */
+} ctrl_ident_t;
 
 typedef struct { float ia_A; float ib_A; float vdc_V; uint32_t enc_count; } ctrl_in_t; /* one period's samples */
 
@@ -154,7 +154,7 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float psi_ref_Wb, psi_est_Wb;         /* stator-flux reference and estimate (at k+1) */
     float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* observer estimates while it runs, else the nominal parameters */
     float fd_est_V, fq_est_V;             /* observer disturbances [V] (0 while the observer is stopped) */
-    ctrl_est_t est;                       /* step of the proposed method */
+    ctrl_ident_t ident;                     /* step of the proposed method */
     uint16_t est_hold;                    /* EST_GATE_* why step 2's laws are paused (0: learning) */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
     float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 9) */
@@ -175,7 +175,7 @@ typedef struct {
     float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */
     oplim_t lim;                /* current limit and flux weakening (oplim.h) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */
-    ctrl_est_t est;
+    ctrl_ident_t ident;         /* step of the proposed method */
     smo_t smo;                  /* observer: R^, L^, psi^, f^, i^ */
     param_est_t pe;             /* step 2 */
     rs_ident_t ri;              /* step 1 windows */
@@ -199,10 +199,10 @@ typedef struct {
  * Background, before ctrl_init. */
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
 
-/* The default R^ band for cfg->Rs_Ohm (set it first): rs_ident.h's
- * RS_IDENT_BAND_*_FACTOR x Rs_Ohm, the top kept below the largest R^ the
+/* The default R^ band for cfg->R_Ohm (set it first): rs_ident.h's
+ * RS_IDENT_BAND_*_FACTOR x R_Ohm, the top kept below the largest R^ the
  * observer's default gains take under condition (36) (observer_design.md
- * sec. 6), and not below Rs_Ohm. Background, before ctrl_cfg_proposed_defaults. */
+ * sec. 6), and not below R_Ohm. Background, before ctrl_cfg_proposed_defaults. */
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
 
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method

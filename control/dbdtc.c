@@ -26,7 +26,7 @@ static bool positive(float x)
 
 bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg)
 {
-    const bool ok = positive(cfg->Ts_s) && positive(cfg->Rs_Ohm) && positive(cfg->Ls_H) &&
+    const bool ok = positive(cfg->Ts_s) && positive(cfg->R_Ohm) && positive(cfg->L_H) &&
                     positive(cfg->psi_f_Wb) && (cfg->pole_pairs > 0u) && positive(cfg->i_max_A) &&
                     positive(cfg->omega_max_rad_s) && positive(cfg->u_max_V) && positive(cfg->te_max_Nm) &&
                     positive(cfg->psi_max_Wb);
@@ -39,26 +39,26 @@ bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg)
 
 void dbdtc_reset(dbdtc_t *db)
 {
-    dbdtc_set_params(db, db->cfg.Rs_Ohm, db->cfg.Ls_H, db->cfg.psi_f_Wb);
+    dbdtc_set_params(db, db->cfg.R_Ohm, db->cfg.L_H, db->cfg.psi_f_Wb);
 }
 
-void dbdtc_set_params(dbdtc_t *db, float Rs_Ohm, float Ls_H, float psi_f_Wb)
+void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb)
 {
     const dbdtc_cfg_t *cfg = &db->cfg;
     dbdtc_par_t *p = &db->par;
 
-    p->Rs_Ohm = mathx_clampf(Rs_Ohm, PARAM_FACTOR_MIN * cfg->Rs_Ohm, PARAM_FACTOR_MAX * cfg->Rs_Ohm);
-    p->Ls_H = mathx_clampf(Ls_H, PARAM_FACTOR_MIN * cfg->Ls_H, PARAM_FACTOR_MAX * cfg->Ls_H);
+    p->R_Ohm = mathx_clampf(R_Ohm, PARAM_FACTOR_MIN * cfg->R_Ohm, PARAM_FACTOR_MAX * cfg->R_Ohm);
+    p->L_H = mathx_clampf(L_H, PARAM_FACTOR_MIN * cfg->L_H, PARAM_FACTOR_MAX * cfg->L_H);
     p->psi_f_Wb = mathx_clampf(psi_f_Wb, PARAM_FACTOR_MIN * cfg->psi_f_Wb,
                                PARAM_FACTOR_MAX * cfg->psi_f_Wb);
 
-    const float inv_L = 1.0f / p->Ls_H;                                  /* division 1 */
+    const float inv_L = 1.0f / p->L_H;                                  /* division 1 */
     p->Ts_over_L = cfg->Ts_s * inv_L;
-    p->a = p->Rs_Ohm * p->Ts_over_L;
+    p->a = p->R_Ohm * p->Ts_over_L;
     p->one_minus_a = 1.0f - p->a;
     p->kt_Nm_per_A = ONE_AND_HALF * (float)cfg->pole_pairs * p->psi_f_Wb;
     p->te_per_Wb = p->kt_Nm_per_A * inv_L;
-    p->psiq_per_Nm = p->Ls_H / p->kt_Nm_per_A;                           /* division 2 */
+    p->psiq_per_Nm = p->L_H / p->kt_Nm_per_A;                           /* division 2 */
 }
 
 dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A)
@@ -69,8 +69,8 @@ dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A)
 
     x.i_dq_A.d = mathx_clampf(i_dq_A.d, -i_max, i_max);
     x.i_dq_A.q = mathx_clampf(i_dq_A.q, -i_max, i_max);
-    x.psi_dq_Wb.d = p->Ls_H * x.i_dq_A.d + p->psi_f_Wb;   /* eq. (11) */
-    x.psi_dq_Wb.q = p->Ls_H * x.i_dq_A.q;                 /* eq. (11) */
+    x.psi_dq_Wb.d = p->L_H * x.i_dq_A.d + p->psi_f_Wb;   /* eq. (11) */
+    x.psi_dq_Wb.q = p->L_H * x.i_dq_A.q;                 /* eq. (11) */
     x.te_Nm = p->kt_Nm_per_A * x.i_dq_A.q;                /* eq. (12) */
     return x;
 }
@@ -98,7 +98,7 @@ float dbdtc_torque_after(const dbdtc_t *db, const dbdtc_state_t *x, float u_q_V,
 {
     const dbdtc_cfg_t *cfg = &db->cfg;
     const dbdtc_par_t *p = &db->par;
-    const float psi_bound = p->Ls_H * cfg->i_max_A + p->psi_f_Wb;
+    const float psi_bound = p->L_H * cfg->i_max_A + p->psi_f_Wb;
     const float psi_d = mathx_clampf(x->psi_dq_Wb.d, -psi_bound, psi_bound);
     const float psi_q = mathx_clampf(x->psi_dq_Wb.q, -psi_bound, psi_bound);
     const float uq = mathx_clampf(u_q_V, -cfg->u_max_V, cfg->u_max_V);
@@ -114,7 +114,7 @@ uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
     const dbdtc_cfg_t *cfg = &db->cfg;
     const dbdtc_par_t *p = &db->par;
     /* The state is bounded as dbdtc_state_from_currents() makes it. */
-    const float psi_bound = p->Ls_H * cfg->i_max_A + p->psi_f_Wb;
+    const float psi_bound = p->L_H * cfg->i_max_A + p->psi_f_Wb;
     const float psi_d = mathx_clampf(x->psi_dq_Wb.d, -psi_bound, psi_bound);
     const float psi_q = mathx_clampf(x->psi_dq_Wb.q, -psi_bound, psi_bound);
     const float te_ref = mathx_clampf(te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);

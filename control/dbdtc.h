@@ -14,19 +14,10 @@
  * prediction (its own i(k+1)) and the parameters (its estimates) through
  * dbdtc_set_params() and dbdtc_state_from_currents().
  *
- * Derivation of the deadbeat solution (eq. 4 written from k+1 to k+2, with
- * a = Ts*R/L and w = omega*Ts):
- *   psi_d(k+2) = Ts*u_d + X1,   X1 = (1 - a)*psi_d + w*psi_q + a*psi_f
- *   psi_q(k+2) = Ts*u_q + Y,    Y  = (1 - a)*psi_q - w*psi_d
- * Torque (eq. 5) fixes the q flux:  psi_q* = 2*L*Te* / (3*p*psi_f),
- *   so Ts*u_q = psi_q* - Y = B'                              (eq. 17, u_q)
- * and the flux magnitude fixes the d flux on the magnet side (> 0):
- *   psi_d* = sqrt(psi_s*^2 - psi_q*^2),  Ts*u_d = psi_d* - X1  (eq. 17, u_d)
- * which equals the paper's (-X1' + sqrt(X1'^2 - X2')) / Ts, because
- * X1'^2 - X2' = psi_s*^2 - (B' + Y)^2 = psi_s*^2 - psi_q*^2; the printed
- * X2' expands X1'^2 + Y^2 term by term. This form needs no division and
- * one square root per step; 1/Ts, 2L/(3p psi_f), 1.5 p psi_f, Ts*R/L and
- * Ts/L are precomputed in dbdtc_set_params().
+ * The deadbeat solution (eq. 17) in a form with no division and one
+ * square root per step (1/Ts, 2L/(3p psi_f), 1.5 p psi_f, Ts*R/L and Ts/L
+ * precomputed in dbdtc_set_params()): derived in observer_design.md
+ * sec. 1f.
  *
  * Negative discriminant (psi_q*^2 > psi_s*^2: the torque asks for more
  * q flux than the whole flux target): psi_d(k+2) = 0, i.e. u_d = -X1/Ts,
@@ -63,8 +54,8 @@
 typedef struct {
     float Ts_s;            /* control period [s] */
     uint16_t pole_pairs;   /* p */
-    float Rs_Ohm;          /* initial model resistance */
-    float Ls_H;            /* initial model inductance, Ld = Lq */
+    float R_Ohm;          /* initial model resistance */
+    float L_H;            /* initial model inductance, Ld = Lq */
     float psi_f_Wb;        /* initial model PM flux linkage */
     float i_max_A;         /* bound on |id|, |iq| used by the model */
     float omega_max_rad_s; /* bound on |omega_el| used by the model */
@@ -74,8 +65,8 @@ typedef struct {
 } dbdtc_cfg_t;
 
 typedef struct {           /* model parameters in use and what follows from them */
-    float Rs_Ohm;
-    float Ls_H;
+    float R_Ohm;
+    float L_H;
     float psi_f_Wb;
     float a;               /* Ts*R/L, eq. (4) */
     float one_minus_a;     /* 1 - Ts*R/L */
@@ -99,7 +90,7 @@ typedef struct {
 
 /* Start-up: copy *cfg and set the model parameters from it. False (the
  * configuration refused; the caller must not run it) when a value is not
- * finite, Ts_s, Rs_Ohm, Ls_H, psi_f_Wb or a bound is not positive, or
+ * finite, Ts_s, R_Ohm, L_H, psi_f_Wb or a bound is not positive, or
  * pole_pairs is 0. */
 bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg);
 
@@ -108,7 +99,7 @@ void dbdtc_reset(dbdtc_t *db);
 
 /* Model parameters [Ohm, H, Wb], bounded to 0.1..10 x the configured value;
  * recomputes the derived constants (2 divisions). ISR or background. */
-void dbdtc_set_params(dbdtc_t *db, float Rs_Ohm, float Ls_H, float psi_f_Wb);
+void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb);
 
 /* Torque Te(k+2) [N m] the model expects from the state *x at k+1 when
  * u_q_V [V] is applied over [k+1, k+2] (eq. 4, 5): what a voltage-limited

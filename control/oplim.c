@@ -28,10 +28,10 @@ oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, uint16_t pole_pairs,
     oplim_out_t out;
     /* current limit at id = 0 (MTPA): |Te*| <= kt i_lim */
     const float te_i = p->kt_Nm_per_A * i_lim_A;
-    const float Li = p->Ls_H * i_lim_A;
+    const float Li = p->L_H * i_lim_A;
 
     out.te_Nm = mathx_clampf(te_req_Nm, -te_i, te_i);
-    out.psi_Wb = mtpa_psi_s_ref(p->Ls_H, p->psi_f_Wb, pole_pairs, out.te_Nm); /* sec. III */
+    out.psi_Wb = mtpa_psi_s_ref(p->L_H, p->psi_f_Wb, pole_pairs, out.te_Nm); /* sec. III */
     o->dpsi_max_Wb = out.psi_Wb - (p->psi_f_Wb - Li);
     if (o->dpsi_Wb > 0.0f) {
         /* weakening: the flux the voltage allows, then the torque the current allows there */

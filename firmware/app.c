@@ -65,7 +65,7 @@ static void leave_align(app_t *app)
         enter_run(app);
     } else if (app->cfg.rsid_mode == APP_RSID_TRUSTED) {
         enter_run(app);
-        (void)ctrl_est_start(&app->ctrl, app->cfg.ctrl.Rs_Ohm); /* nominal R is in its own band */
+        (void)ctrl_est_start(&app->ctrl, app->cfg.ctrl.R_Ohm); /* nominal R is in its own band */
     } else {
         ctrl_reset(&app->ctrl);
         (void)ctrl_rsid_begin(&app->ctrl); /* status checked by leave_calibrate */

@@ -47,8 +47,8 @@ void drive_params_to_app_cfg(const drive_params_t *p, app_cfg_t *cfg)
     float R_max_Ohm;
 
     c->Ts_s = p->board.Ts_s;
-    c->Rs_Ohm = p->motor.R_Ohm;
-    c->Ls_H = p->motor.L_H;
+    c->R_Ohm = p->motor.R_Ohm;
+    c->L_H = p->motor.L_H;
     c->psi_f_Wb = p->motor.psi_f_Wb;
     c->pole_pairs = p->motor.pole_pairs;
     c->enc_lines = p->board.enc_lines;

@@ -48,7 +48,7 @@ static inline app_cfg_t make_cfg(bool calibrate, bool align)
     app_cfg_t cfg;
     app_cfg_default(&cfg);
     cfg.ctrl = (ctrl_cfg_t){
-        .Ts_s = 1e-4f, .Rs_Ohm = 3.0f, .Ls_H = 0.011f, .psi_f_Wb = 0.24f, .pole_pairs = 3u,
+        .Ts_s = 1e-4f, .R_Ohm = 3.0f, .L_H = 0.011f, .psi_f_Wb = 0.24f, .pole_pairs = 3u,
         .enc_lines = 2500u, .enc_offset_el_rad = 0.0f, .enc_pll_bw_rad_s = 500.0f,
         .speed_kp_Nms_rad = 0.5f, .speed_ki_Nm_rad = 20.0f, .te_max_Nm = 12.0f,
         .i_max_A = 60.0f, .u_max_V = 5000.0f, .omega_max_el_rad_s = 3000.0f, .psi_max_Wb = 1.0f,

@@ -13,7 +13,7 @@ static void cfg_default_is_the_board(void **state)
     app_cfg_t cfg;
     app_cfg_default(&cfg);
     assert_float_equal(cfg.ctrl.Ts_s, 1e-4, 1e-9);
-    assert_float_equal(cfg.ctrl.Rs_Ohm, MOTOR_R_OHM, 0.0);
+    assert_float_equal(cfg.ctrl.R_Ohm, MOTOR_R_OHM, 0.0);
     assert_int_equal(cfg.ctrl.enc_lines, BOARD_ENC_LINES);
     assert_float_equal(cfg.i_max_A, BOARD_OVERCURRENT_A, 0.0);
     assert_float_equal(cfg.vdc_max_V, BOARD_VDC_MAX_V, 0.0);

@@ -23,7 +23,7 @@
 static ctrl_cfg_t make_cfg(void)
 {
     ctrl_cfg_t cfg = {
-        .Ts_s = (float)TS, .Rs_Ohm = (float)RS, .Ls_H = (float)LS, .psi_f_Wb = (float)PSIF,
+        .Ts_s = (float)TS, .R_Ohm = (float)RS, .L_H = (float)LS, .psi_f_Wb = (float)PSIF,
         .pole_pairs = PP, .enc_lines = LINES, .enc_offset_el_rad = 0.0f,
         .enc_pll_bw_rad_s = 500.0f, .speed_kp_Nms_rad = 0.5f, .speed_ki_Nm_rad = 20.0f,
         .te_max_Nm = 12.0f, .i_max_A = 60.0f, .u_max_V = 5000.0f,
@@ -275,7 +275,7 @@ static void monitor_filled(void **state)
 {
     (void)state;
     ctrl_cfg_t cfg = make_cfg();
-    cfg.Ls_H = (float)(1.5 * LS);
+    cfg.L_H = (float)(1.5 * LS);
     ctrl_t c;
     ctrl_init(&c, &cfg);
     ctrl_ref_t ref = { 0.0f, 2.0f, 0.0f, 0.0f };
@@ -322,7 +322,7 @@ static void init_reports_each_refusal(void **state)
         case 1: bad.enc_lines = 0u; break;
         case 2: bad.speed_kp_Nms_rad = 0.0f; break;
         case 3: bad.speed_ki_Nm_rad = 1.0e5f; break;
-        case 4: bad.Ls_H = 0.0f; break;
+        case 4: bad.L_H = 0.0f; break;
         case 5: bad.deadtime_s = 2.0e-5f; break;
         case 6: bad.deadtime_s = NAN; break;
         default: bad.deadtime_s = -1.0e-6f; break;
@@ -355,7 +355,7 @@ static void default_band_holds_the_motor_r(void **state)
         ctrl_t c;
         float R_min;
         float R_max;
-        cfg.Rs_Ohm = (float)(factors[i] * RS);
+        cfg.R_Ohm = (float)(factors[i] * RS);
         ctrl_rsid_band_default(&cfg, &R_min, &R_max);
         print_message("controller R %.2f x: band [%.3f, %.3f] Ohm\n", factors[i], R_min, R_max);
         assert_float_equal(R_min, 0.1 * factors[i] * RS, 1e-5);

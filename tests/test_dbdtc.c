@@ -22,7 +22,7 @@
 static dbdtc_t make(void)
 {
     dbdtc_cfg_t cfg = {
-        .Ts_s = (float)TS, .pole_pairs = PP, .Rs_Ohm = (float)RS, .Ls_H = (float)LS,
+        .Ts_s = (float)TS, .pole_pairs = PP, .R_Ohm = (float)RS, .L_H = (float)LS,
         .psi_f_Wb = (float)PSIF, .i_max_A = 60.0f, .omega_max_rad_s = 3000.0f,
         .u_max_V = 5000.0f, .te_max_Nm = 24.0f, .psi_max_Wb = 1.0f,
     };
@@ -289,15 +289,15 @@ static void parameters_bounded_and_reset(void **state)
     (void)state;
     dbdtc_t db = make();
     dbdtc_set_params(&db, 2.0f * (float)RS, 0.5f * (float)LS, 1.5f * (float)PSIF);
-    assert_float_equal(db.par.Rs_Ohm, 2.0 * RS, 1e-6);
+    assert_float_equal(db.par.R_Ohm, 2.0 * RS, 1e-6);
     assert_float_equal(db.par.a, TS * 2.0 * RS / (0.5 * LS), 1e-7);
     assert_float_equal(db.par.psiq_per_Nm, 0.5 * LS / (1.5 * PP * 1.5 * PSIF), 1e-7);
     dbdtc_set_params(&db, -1.0f, 0.0f, 100.0f);
-    assert_float_equal(db.par.Rs_Ohm, 0.1 * RS, 1e-6);
-    assert_float_equal(db.par.Ls_H, 0.1 * LS, 1e-8);
+    assert_float_equal(db.par.R_Ohm, 0.1 * RS, 1e-6);
+    assert_float_equal(db.par.L_H, 0.1 * LS, 1e-8);
     assert_float_equal(db.par.psi_f_Wb, 10.0 * PSIF, 1e-6);
     dbdtc_reset(&db);
-    assert_float_equal(db.par.Ls_H, LS, 1e-9);
+    assert_float_equal(db.par.L_H, LS, 1e-9);
     assert_float_equal(db.par.psi_f_Wb, PSIF, 1e-9);
 }
 
@@ -311,8 +311,8 @@ static void init_refuses_unusable_model(void **state)
         dbdtc_cfg_t cfg = good.cfg;
         switch (k) {
         case 0: cfg.Ts_s = 0.0f; break;
-        case 1: cfg.Rs_Ohm = -1.0f; break;
-        case 2: cfg.Ls_H = 0.0f; break;
+        case 1: cfg.R_Ohm = -1.0f; break;
+        case 2: cfg.L_H = 0.0f; break;
         case 3: cfg.psi_f_Wb = NAN; break;
         case 4: cfg.pole_pairs = 0u; break;
         case 5: cfg.i_max_A = 0.0f; break;

@@ -43,8 +43,8 @@ static void setup(inv_model_t model, double vdc_V, bool speed_held, mismatch_t m
     app_cfg_t cfg;
     app_cfg_default(&cfg); /* the board's protection and ISR timing */
     cfg.ctrl = (ctrl_cfg_t){
-        .Ts_s = (float)TS, .Rs_Ohm = (float)(mm.R_factor * sc.plant.R_Ohm),
-        .Ls_H = (float)(mm.L_factor * sc.plant.L_H), .psi_f_Wb = (float)(mm.psif_factor * sc.plant.psi_f_Wb),
+        .Ts_s = (float)TS, .R_Ohm = (float)(mm.R_factor * sc.plant.R_Ohm),
+        .L_H = (float)(mm.L_factor * sc.plant.L_H), .psi_f_Wb = (float)(mm.psif_factor * sc.plant.psi_f_Wb),
         .pole_pairs = (uint16_t)sc.plant.pole_pairs, .enc_lines = sc.sens.enc_lines,
         .enc_offset_el_rad = 0.0f, .enc_pll_bw_rad_s = 500.0f, .speed_kp_Nms_rad = 0.3f,
         .speed_ki_Nm_rad = 20.0f, .te_max_Nm = 12.0f, .i_max_A = 60.0f, .u_max_V = 5000.0f,

@@ -53,7 +53,7 @@ static int on_row(const sil_row_t *r, void *user)
     const bool warn = (((unsigned)r->flags) & APP_WARN_STEP1_REFUSED) != 0u;
     f->state = r->state;
     f->fault = r->fault;
-    if (isnan(f->R_first) && (int)r->est == CTRL_EST_STEP2) {
+    if (isnan(f->R_first) && (int)r->est == CTRL_IDENT_STEP2) {
         f->R_first = r->R_est_ohm;
         f->t2 = r->t_s;
     }

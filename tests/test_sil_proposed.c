@@ -85,7 +85,7 @@ static int on_row(const sil_row_t *r, void *user)
     fig.R = r->R_est_ohm;
     fig.L = r->L_est_H;
     fig.psi = r->psif_est_Wb;
-    if (isnan(fig.t2) && (int)r->est == CTRL_EST_STEP2) {
+    if (isnan(fig.t2) && (int)r->est == CTRL_IDENT_STEP2) {
         fig.t2 = r->t_s;
     }
     if (r->t_s < WIN_T1) {
@@ -455,7 +455,7 @@ static ctrl_status_t c_setup(double L_factor, float R_max_Ohm)
     hc.plant.omega0_m_rad_s = 500.0 * RPM;
     hal_sim_configure(&hc);
     ctrl_cfg_t cfg = {
-        .Ts_s = (float)TS, .Rs_Ohm = (float)R0, .Ls_H = (float)(L_factor * L0), .psi_f_Wb = (float)PSI0,
+        .Ts_s = (float)TS, .R_Ohm = (float)R0, .L_H = (float)(L_factor * L0), .psi_f_Wb = (float)PSI0,
         .pole_pairs = 3u, .enc_lines = hc.sens.enc_lines, .enc_offset_el_rad = 0.0f,
         .enc_pll_bw_rad_s = 500.0f, .speed_kp_Nms_rad = 0.3f, .speed_ki_Nm_rad = 20.0f,
         .te_max_Nm = 12.0f, .i_max_A = 60.0f, .u_max_V = 311.0f, .omega_max_el_rad_s = 3000.0f,
@@ -526,7 +526,7 @@ static void method_switch_bumpless(void **state)
     print_message("method switching at 4 N m, L = 1.5 L0: max |Te - Te*| proposed %.4f, after -> conventional %.4f, "
                   "after -> proposed %.4f N m; L^ %+.3f %%\n",
                   dev_prop, dev_conv, dev_back, 100.0 * (c.smo.L_H / L0 - 1.0));
-    assert_int_equal(c.est, CTRL_EST_STEP2);
+    assert_int_equal(c.ident, CTRL_IDENT_STEP2);
     assert_true(dev_conv <= SWITCH_TE_DEV_MAX_NM);
     assert_true(dev_back <= SWITCH_TE_DEV_MAX_NM);
     assert_true(fabs(c.smo.L_H / L0 - 1.0) <= EST_TOL);
@@ -540,13 +540,13 @@ static void step2_without_step1(void **state)
     assert_int_equal(c_setup(1.5, 2.0f * (float)R0), CTRL_CFG_OK);
     assert_true(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
     c_run(4.0, 100, NULL);
-    assert_int_equal(c.est, CTRL_EST_OFF);
+    assert_int_equal(c.ident, CTRL_IDENT_OFF);
     assert_int_equal(c.mon.model_from_observer, 0u);
     assert_false(ctrl_est_start(&c, 100.0f));   /* outside the band */
     assert_false(ctrl_est_start(&c, NAN));
     assert_true(ctrl_est_start(&c, (float)R0));
     c_run(4.0, 2000, NULL);
-    assert_int_equal(c.est, CTRL_EST_STEP2);
+    assert_int_equal(c.ident, CTRL_IDENT_STEP2);
     assert_int_equal(c.mon.model_from_observer, 1u);
     assert_true(fabs(c.smo.L_H / L0 - 1.0) <= EST_TOL);
 }
@@ -558,7 +558,7 @@ static void step1_failures(void **state)
     (void)state;
     assert_int_equal(c_setup(1.0, 2.0f * (float)R0), CTRL_CFG_OK);
     assert_int_equal(c_step1(3.0, 3.0), RS_IDENT_DEGENERATE);
-    assert_int_equal(c.est, CTRL_EST_OFF);
+    assert_int_equal(c.ident, CTRL_IDENT_OFF);
     assert_int_equal(ctrl_rsid_finish(&c), RS_IDENT_TOO_FEW); /* no step 1 under way */
     assert_true(ctrl_rsid_begin(&c));
     assert_int_equal(ctrl_rsid_finish(&c), RS_IDENT_TOO_FEW);

@@ -38,7 +38,7 @@ int main(int argc, char **argv)
 {
     const long n = (argc > 1) ? atol(argv[1]) : 10000;
     const ctrl_cfg_t cfg = {
-        .Ts_s = (float)TS_S, .Rs_Ohm = 3.0f, .Ls_H = 0.011f, .psi_f_Wb = 0.24f,
+        .Ts_s = (float)TS_S, .R_Ohm = 3.0f, .L_H = 0.011f, .psi_f_Wb = 0.24f,
         .pole_pairs = POLE_PAIRS, .enc_lines = LINES, .enc_offset_el_rad = 0.0f,
         .enc_pll_bw_rad_s = 500.0f, .speed_kp_Nms_rad = 0.3f, .speed_ki_Nm_rad = 20.0f,
         .te_max_Nm = 12.0f, .i_max_A = 30.0f, .u_max_V = 311.0f,
@@ -58,7 +58,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_ctrl: ctrl_init refused the proposed method's settings\n");
         return 1;
     }
-    if (proposed && (!ctrl_set_method(&c, CTRL_METHOD_PROPOSED) || !ctrl_est_start(&c, full.Rs_Ohm))) {
+    if (proposed && (!ctrl_set_method(&c, CTRL_METHOD_PROPOSED) || !ctrl_est_start(&c, full.R_Ohm))) {
         fprintf(stderr, "bench_ctrl: proposed method unavailable\n");
         return 1;
     }

@@ -70,5 +70,19 @@ else
     echo "FAIL drive_sil CLI step 1 refused, conventional: ${line:-no summary line}"; fail=1
 fi
 
+# summary mode (i11): bad input exits 2 and leaves no file; a good run's JSON names the fault
+expect_bad "unwritable summary" --scenario "$good" --summary "$dir/no/such/dir/s.json"
+expect_bad "bad --window" --scenario "$good" --summary "$dir/out.csv.json" --window 0.9:0.1
+expect_bad "--batch with --out" --scenario "$good" --batch --out "$dir/out.csv"
+if "$bin" --scenario "$good" --summary - | python3 -c 'import json, sys; d = json.load(sys.stdin);
+sys.exit(0 if d["fault_name"] == "NONE" and d["window_rows"] > 0 else 1)' &&
+        printf 'p1\tplant.nokey=1\np2\trun.duration_s=0.02\n' | "$bin" --scenario "$good" --batch |
+        python3 -c 'import json, sys; a, b = (json.loads(l) for l in sys.stdin);
+sys.exit(0 if "nokey" in a["error"] and b["id"] == "p2" and b["periods"] == 200 else 1)'; then
+    echo "ok   drive_sil CLI summary to stdout, and --batch: a refused point named, the next one run"
+else
+    echo "FAIL drive_sil CLI summary/batch"; fail=1
+fi
+
 [ $fail -eq 0 ] && echo "drive_sil CLI: all passed"
 exit $fail

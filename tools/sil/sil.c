@@ -166,7 +166,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->psif_est_Wb = (double)m->psi_f_est_Wb;
     r->fd_est = (double)m->fd_est_V;
     r->fq_est = (double)m->fq_est_V;
-    r->est = (double)m->est;
+    r->est = (double)m->ident;
     r->est_hold = (double)m->est_hold;
     r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)m->inv_err_V;
@@ -357,8 +357,8 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path
     fprintf(f, " \"controller\": {\"method\": \"%s\", \"mode\": \"%s\", ",
             METHOD[(sc->controller.method == SC_METHOD_PROPOSED) ? 1 : 0],
             MODE[(sc->controller.mode <= SC_MODE_OPEN_LOOP) ? sc->controller.mode : 0u]);
-    json_flt(f, "R_ohm", c->Rs_Ohm, ", ");
-    json_flt(f, "L_H", c->Ls_H, ", ");
+    json_flt(f, "R_ohm", c->R_Ohm, ", ");
+    json_flt(f, "L_H", c->L_H, ", ");
     json_flt(f, "psif_Wb", c->psi_f_Wb, ", ");
     json_flt(f, "R_min_ohm", c->R_min_Ohm, ", ");
     json_flt(f, "R_max_ohm", c->R_max_Ohm, ", ");
