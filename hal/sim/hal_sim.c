@@ -246,7 +246,7 @@ static void sample_at_period_start(void)
     double i_abc[N_PHASES];
     double i_leg[N_PHASES];
     const double th_el = plant_theta_el_rad(&g_sim.plant);
-    plant_iabc_at_A(&g_sim.plant, th_el, i_abc);
+    plant_iabc_A(&g_sim.plant, i_abc);
     memcpy(i_leg, i_abc, sizeof i_leg);
     faults_leg_currents(i_leg);
     for (int k = 0; k < N_PHASES; k++) {

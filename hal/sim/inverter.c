@@ -106,7 +106,7 @@ static void integrate_piece(const inv_cfg_t *cfg, plant_t *plant, double ua_V, d
                             double TL_Nm, double span_s)
 {
     if (span_s <= cfg->substep_max_s) {
-        plant_step(plant, ua_V, ub_V, TL_Nm, span_s);   /* the default: one step per piece */
+        plant_piece(plant, ua_V, ub_V, TL_Nm, span_s);   /* the default: one step per piece */
         return;
     }
     double n_steps = ceil(span_s / cfg->substep_max_s);
@@ -115,7 +115,7 @@ static void integrate_piece(const inv_cfg_t *cfg, plant_t *plant, double ua_V, d
     }
     double h = span_s / n_steps;
     for (int k = 0; k < (int)n_steps; k++) {
-        plant_step(plant, ua_V, ub_V, TL_Nm, h);
+        plant_piece(plant, ua_V, ub_V, TL_Nm, h);
     }
 }
 
@@ -154,7 +154,7 @@ static void period_averaged(const inv_cfg_t *cfg, const double duty[3], double T
 {
     double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
     if (needs_current(cfg)) {
-        plant_iabc_A(plant, i_abc);
+        plant_piece_iabc_A(plant, i_abc);
     }
     double v[N_LEGS];
     for (int k = 0; k < N_LEGS; k++) {
@@ -265,7 +265,7 @@ static void period_switching(const inv_cfg_t *cfg, const double duty[3], double 
         double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
         const bool with_current = needs_current(cfg);
         if (with_current) {
-            plant_iabc_A(plant, i_abc);
+            plant_piece_iabc_A(plant, i_abc);
         }
         double v[N_LEGS];
         for (int k = 0; k < N_LEGS; k++) {
@@ -284,9 +284,11 @@ static void period_switching(const inv_cfg_t *cfg, const double duty[3], double 
 
 void inv_period(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
 {
+    plant_pieces_begin(plant);
     if (cfg->model == INV_SWITCHING) {
         period_switching(cfg, duty, TL_Nm, plant);
     } else {
         period_averaged(cfg, duty, TL_Nm, plant);
     }
+    plant_pieces_end(plant);
 }

@@ -70,10 +70,13 @@ PLANT_INLINE void sincos_el(plant_t *p, double theta_el_rad, double *s, double *
         anchor_at(p, theta_el_rad);
         d = 0.0;
     }
-    /* Taylor series to d^6 and d^7, nested; constant reciprocals fold, so no division. */
+    /* Taylor series to d^8 and d^9, nested (truncation below 3e-17 at the
+     * span); constant reciprocals fold, so no division. */
     double d2 = d * d;
-    double cd = 1.0 - d2 * (1.0 / 2.0) * (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0)));
-    double sd = d * (1.0 - d2 * (1.0 / 6.0) * (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0))));
+    double cd = 1.0 - d2 * (1.0 / 2.0) *
+                          (1.0 - d2 * (1.0 / 12.0) * (1.0 - d2 * (1.0 / 30.0) * (1.0 - d2 * (1.0 / 56.0))));
+    double sd = d * (1.0 - d2 * (1.0 / 6.0) *
+                               (1.0 - d2 * (1.0 / 20.0) * (1.0 - d2 * (1.0 / 42.0) * (1.0 - d2 * (1.0 / 72.0)))));
     *s = p->anchor_sin * cd + p->anchor_cos * sd;
     *c = p->anchor_cos * cd - p->anchor_sin * sd;
 }
@@ -103,13 +106,13 @@ static double rk4_sum(double a, double b, double c, double d)
     return (a + 2.0 * b + 2.0 * c + d) * (1.0 / 6.0);
 }
 
-/* State of a step in the stator frame: currents (alpha, beta), speed, angle
- * and the d axis's phasor z = e^(j theta_el), which obeys dz/dt = j w_el z. */
+/* State of a piece in the stator frame: currents (alpha, beta), speed and
+ * the d axis's phasor z = e^(j theta_el), which obeys dz/dt = j w_el z. */
 typedef struct {
-    double ia, ib, w, th, zc, zs;
+    double ia, ib, w, zc, zs;
 } stat_t;
 
-/* What a stage needs from the step: constants, voltage, load. */
+/* What a stage needs from the piece: constants, voltage, load. */
 typedef struct {
     double pp, R_Ohm, psi_f_Wb, B_Nms, inv_L_per_H, inv_J_per_kgm2, kt_Nm_A, ua_V, ub_V, TL_Nm;
 } stage_ctx_t;
@@ -127,7 +130,6 @@ PLANT_INLINE void deriv_ab(const stage_ctx_t *k, const stat_t *x, stat_t *dx, do
     dx->ia = (k->ua_V - k->R_Ohm * x->ia + emf * x->zs) * k->inv_L_per_H;
     dx->ib = (k->ub_V - k->R_Ohm * x->ib - emf * x->zc) * k->inv_L_per_H;
     dx->w = (k->kt_Nm_A * iq - k->TL_Nm - k->B_Nms * x->w) * k->inv_J_per_kgm2;   /* 1/J = 0: speed held */
-    dx->th = x->w;
     dx->zc = -w_el * x->zs;
     dx->zs = w_el * x->zc;
 }
@@ -137,27 +139,29 @@ PLANT_INLINE void axpy_ab(const stat_t *x, double h, const stat_t *dx, stat_t *y
     y->ia = x->ia + h * dx->ia;
     y->ib = x->ib + h * dx->ib;
     y->w = x->w + h * dx->w;
-    y->th = x->th + h * dx->th;
     y->zc = x->zc + h * dx->zc;
     y->zs = x->zs + h * dx->zs;
 }
 
+void plant_pieces_begin(plant_t *p)
+{
+    p->i_alpha_A = p->z_cos * p->x.id_A - p->z_sin * p->x.iq_A;
+    p->i_beta_A = p->z_sin * p->x.id_A + p->z_cos * p->x.iq_A;
+}
+
 /* One RK4 step in the stator frame: the voltage needs no turning at the
- * stages and the back-EMF's angle rides along as the phasor z, so a step
- * takes no sin/cos at its stages (the series runs once, at the step's end,
- * for the rotor-frame state). Fourth order as before; z's own error is
- * (w_el h)^5/120, below 1e-8 at one 100 us step at 2200 r/min. */
-void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s)
+ * stages and the back-EMF's angle rides along as the phasor z, so a piece
+ * takes no sin/cos (plant_pieces_end() puts z back on the exact angle).
+ * Fourth order; z's own error is (w_el h)^5/120, below 1e-8 at one 100 us
+ * step at 2200 r/min. */
+void plant_piece(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s)
 {
     const plant_cfg_t *c = &p->cfg;
     const double pp = (double)c->pole_pairs;
     const stage_ctx_t k = { pp, c->R_Ohm, c->psi_f_Wb, c->B_Nms, p->inv_L_per_H,
                             c->speed_held ? 0.0 : p->inv_J_per_kgm2,
                             TORQUE_FACTOR * pp * c->psi_f_Wb, u_alpha_V, u_beta_V, TL_Nm };
-    const double zc0 = p->z_cos;
-    const double zs0 = p->z_sin;
-    const stat_t x0 = { zc0 * p->x.id_A - zs0 * p->x.iq_A, zs0 * p->x.id_A + zc0 * p->x.iq_A,
-                        p->x.omega_m_rad_s, p->x.theta_m_rad, zc0, zs0 };
+    const stat_t x0 = { p->i_alpha_A, p->i_beta_A, p->x.omega_m_rad_s, p->z_cos, p->z_sin };
     stat_t k1, k2, k3, k4, x1, x2, x3;
     double id0, id1, id2, id3, iq0, iq1, iq2, iq3;
     deriv_ab(&k, &x0, &k1, &id0, &iq0);
@@ -168,14 +172,12 @@ void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, dou
     axpy_ab(&x0, h_s, &k3, &x3);
     deriv_ab(&k, &x3, &k4, &id3, &iq3);
 
-    const double ia = x0.ia + h_s * rk4_sum(k1.ia, k2.ia, k3.ia, k4.ia);
-    const double ib = x0.ib + h_s * rk4_sum(k1.ib, k2.ib, k3.ib, k4.ib);
+    p->i_alpha_A = x0.ia + h_s * rk4_sum(k1.ia, k2.ia, k3.ia, k4.ia);
+    p->i_beta_A = x0.ib + h_s * rk4_sum(k1.ib, k2.ib, k3.ib, k4.ib);
     p->x.omega_m_rad_s = x0.w + h_s * rk4_sum(k1.w, k2.w, k3.w, k4.w);
-    p->x.theta_m_rad = x0.th + h_s * rk4_sum(k1.th, k2.th, k3.th, k4.th);
-    wrap_theta(p);
-    phasor_update(p);
-    p->x.id_A = p->z_cos * ia + p->z_sin * ib;
-    p->x.iq_A = p->z_cos * ib - p->z_sin * ia;
+    p->x.theta_m_rad += h_s * rk4_sum(x0.w, x1.w, x2.w, x3.w);
+    p->z_cos = x0.zc + h_s * rk4_sum(k1.zc, k2.zc, k3.zc, k4.zc);
+    p->z_sin = x0.zs + h_s * rk4_sum(k1.zs, k2.zs, k3.zs, k4.zs);
 
     /* Quadratures with the same stages: the RK4 weights are Simpson's rule;
      * u is constant, so the mean rotor-frame voltage is u turned by the mean of conj(z). */
@@ -186,6 +188,21 @@ void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, dou
     p->acc.iq_As += h_s * rk4_sum(iq0, iq1, iq2, iq3);
     p->acc.ud_Vs += u_alpha_V * zc_s + u_beta_V * zs_s;
     p->acc.uq_Vs += u_beta_V * zc_s - u_alpha_V * zs_s;
+}
+
+void plant_pieces_end(plant_t *p)
+{
+    wrap_theta(p);
+    phasor_update(p);
+    p->x.id_A = p->z_cos * p->i_alpha_A + p->z_sin * p->i_beta_A;
+    p->x.iq_A = p->z_cos * p->i_beta_A - p->z_sin * p->i_alpha_A;
+}
+
+void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s)
+{
+    plant_pieces_begin(p);
+    plant_piece(p, u_alpha_V, u_beta_V, TL_Nm, h_s);
+    plant_pieces_end(p);
 }
 
 void plant_step_open(plant_t *p, double TL_Nm, double h_s)
@@ -238,20 +255,22 @@ double plant_psi_s_Wb(const plant_t *p)
     return sqrt(psi_d * psi_d + psi_q * psi_q);
 }
 
-void plant_iabc_A(const plant_t *p, double i_abc_A[3])
+/* Phase currents of stator-frame currents; the zero sequence is 0 (isolated star). */
+static void ab_to_abc(double i_alpha_A, double i_beta_A, double i_abc_A[3])
 {
-    plant_iabc_at_A(p, plant_theta_el_rad(p), i_abc_A);
+    i_abc_A[0] = i_alpha_A;
+    i_abc_A[1] = -0.5 * i_alpha_A + 0.5 * SQRT3 * i_beta_A;
+    i_abc_A[2] = -0.5 * i_alpha_A - 0.5 * SQRT3 * i_beta_A;
 }
 
-void plant_iabc_at_A(const plant_t *p, double th, double i_abc_A[3])
+void plant_iabc_A(const plant_t *p, double i_abc_A[3])
 {
-    double s = sin(th);
-    double c = cos(th);
-    double i_alpha = p->x.id_A * c - p->x.iq_A * s;
-    double i_beta = p->x.id_A * s + p->x.iq_A * c;
-    i_abc_A[0] = i_alpha;
-    i_abc_A[1] = -0.5 * i_alpha + 0.5 * SQRT3 * i_beta;
-    i_abc_A[2] = -0.5 * i_alpha - 0.5 * SQRT3 * i_beta;
+    ab_to_abc(p->z_cos * p->x.id_A - p->z_sin * p->x.iq_A, p->z_sin * p->x.id_A + p->z_cos * p->x.iq_A, i_abc_A);
+}
+
+void plant_piece_iabc_A(const plant_t *p, double i_abc_A[3])
+{
+    ab_to_abc(p->i_alpha_A, p->i_beta_A, i_abc_A);
 }
 
 void plant_acc_clear(plant_t *p)

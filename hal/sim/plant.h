@@ -56,9 +56,13 @@ typedef struct {
     double anchor_el_rad;
     double anchor_sin;
     double anchor_cos;
-    /* cos and sin of the present electrical angle (the d axis's phasor), kept by every step */
+    /* cos and sin of the present electrical angle (the d axis's phasor): exact
+     * between steps, carried by the RK4 stages inside a period in pieces */
     double z_cos;
     double z_sin;
+    /* stator-frame currents inside a period in pieces (plant_pieces_begin .. _end) */
+    double i_alpha_A;
+    double i_beta_A;
 } plant_t;
 
 /* Table I of the paper: R 3 ohm, L 11 mH, psi_f 0.24 Wb, p 3, J 0.00129 kg m^2, B 0. Any context. */
@@ -69,6 +73,15 @@ void plant_init(plant_t *p, const plant_cfg_t *cfg, double enc_offset_el_rad);
 
 /* One RK4 step of h_s with the stator-frame voltage (u_alpha_V, u_beta_V) and load TL_Nm held. */
 void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s);
+
+/* A period in constant-voltage pieces, in the stator frame: plant_pieces_begin(), one
+ * plant_piece() (an RK4 step as plant_step's) per piece, plant_pieces_end(). In between,
+ * x.id_A/iq_A are stale; plant_piece_iabc_A() gives the phase currents. plant_step() is
+ * the three in one; the split saves the frame change and the angle's sin/cos per piece. */
+void plant_pieces_begin(plant_t *p);
+void plant_piece(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s);
+void plant_pieces_end(plant_t *p);
+void plant_piece_iabc_A(const plant_t *p, double i_abc_A[3]);
 
 /* One RK4 step of h_s with the stator open (outputs off): currents forced to zero, only the shaft moves.
  * Valid while the back-EMF stays below the bus, so no freewheeling diode conducts. */
@@ -88,8 +101,6 @@ double plant_psi_s_Wb(const plant_t *p);
 
 /* Phase currents [A], positive into the motor, of the present state. */
 void plant_iabc_A(const plant_t *p, double i_abc_A[3]);
-/* The same at the electrical angle theta_el_rad = plant_theta_el_rad(p), when the caller has it. */
-void plant_iabc_at_A(const plant_t *p, double theta_el_rad, double i_abc_A[3]);
 
 /* Zero the integrals of plant_acc_t. */
 void plant_acc_clear(plant_t *p);
