@@ -89,7 +89,8 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     smo_cfg_defaults(sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
     const float L_stable_H = OBS_L_MIN_STABILITY_MARGIN * HALF * cfg->Ts_s *
                              (sc->Ks_V / sc->phi_A + R_max_Ohm);
-    sc->L_min_H = mathx_clampf(sc->L_min_H, L_stable_H, sc->L_max_H);
+    /* not capped at L_max: a floor above it is refused by smo_init */
+    sc->L_min_H = (sc->L_min_H >= L_stable_H) ? sc->L_min_H : L_stable_H;
     sc->f_max_V = cfg->u_max_V; /* a disturbance beyond the voltage bound is no estimate */
     param_est_cfg_defaults(ec, cfg->Ts_s, cfg->L_H, cfg->psi_f_Wb);
     ec->L_min_H = sc->L_min_H;  /* clamps = the observer's ranges */

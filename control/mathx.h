@@ -89,16 +89,15 @@ static inline uint32_t mathx_umod_u32(uint32_t x, uint32_t m)
     return r;
 }
 
-/* x limited to [lo, hi]; NaN maps to lo. Any context. */
+/* x limited to [lo, hi] (lo <= hi); NaN maps to lo. Any context.
+ * Written as max then min, each a select on one comparison, so that
+ * compilers emit the FPU's max/min instructions (C28x MAXF32/MINF32,
+ * SSE maxss/minss; the unordered case takes the bound) instead of two
+ * branches: the most frequent operation of the ISR path. */
 static inline float mathx_clampf(float x, float lo, float hi)
 {
-    if (x > hi) {
-        return hi;
-    }
-    if (x >= lo) {
-        return x;
-    }
-    return lo;
+    const float above_lo = (x > lo) ? x : lo;
+    return (above_lo < hi) ? above_lo : hi;
 }
 
 #define MATHX_PI_F        3.14159265358979f

@@ -100,6 +100,13 @@ static void defaults_come_from_the_parameter_set(void **state)
     assert_float_equal(sc.controller.te_max_Nm, p.limits.te_max_Nm, 0.0);
     /* 2400 r/min, from rad/s back to the key's unit */
     assert_float_equal(sc.controller.overspeed_rpm, 2400.0, 0.0);
+    /* step 1's timing: the app's start-up settings (app_cfg_default) */
+    static app_cfg_t ac;
+    app_cfg_default(&ac);
+    assert_true(sc.identify.settle_1_s == 0.28);
+    assert_float_equal(sc.identify.window_s, ac.rsid_window_s, 1e-9);
+    assert_float_equal(sc.identify.speed_2_rpm, 1000.0, 0.0);
+    assert_int_equal(sc.identify.repeats_max, ac.rsid_repeats_max);
 }
 
 static void parses_every_kind(void **state)

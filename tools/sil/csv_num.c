@@ -8,28 +8,25 @@
 #include <string.h>
 
 #define SIG 9                       /* significant digits */
-#define SIG_LO 1e8L                 /* 10^(SIG-1): a scaled value holds SIG digits in [SIG_LO, SIG_HI) */
-#define SIG_HI 1e9L
+#define SIG_LO 1e8                  /* 10^(SIG-1): a scaled value holds SIG digits in [SIG_LO, SIG_HI) */
+#define SIG_HI 1e9
 #define SIG_HI_U 1000000000u
-#define TIE_BAND 1e-6L              /* closer than this to x.5: libc decides */
+#define TIE_BAND 1e-6               /* closer than this to x.5: libc decides */
 #define EXP_FIXED_MIN (-4)          /* %g's fixed notation for -4 <= exponent < precision */
 #define LOG10_2 0.30102999566398120
 
-/* Powers of ten exact in long double (x87 64-bit mantissa: 5^27 < 2^63). */
-static const long double P10[] = {
-    1e0L, 1e1L, 1e2L, 1e3L, 1e4L, 1e5L, 1e6L, 1e7L, 1e8L, 1e9L, 1e10L, 1e11L, 1e12L, 1e13L,
-    1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L, 1e20L, 1e21L, 1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L,
+/* Powers of ten exact in double (5^22 < 2^53). */
+static const double P10[] = {
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11,
+    1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
 };
 #define N_P10 ((int)(sizeof P10 / sizeof P10[0]))
 
-/* v x 10^k, rounded once where the power is exact. */
-static long double scale10(double v, int k)
+/* v x 10^k rounded once (the power is exact): within 2^-53 relative of the true product, i.e.
+ * within 1.2e-7 of it in units of the last of SIG digits, far inside TIE_BAND. */
+static double scale10(double v, int k)
 {
-    long double x = (long double)v;
-    if (k >= 0) {
-        return (k < N_P10) ? x * P10[k] : x * powl(10.0L, (long double)k);
-    }
-    return (-k < N_P10) ? x / P10[-k] : x / powl(10.0L, (long double)-k);
+    return (k >= 0) ? v * P10[k] : v / P10[-k];
 }
 
 static char *put_digits(char *p, const char *d, int from, int to)
@@ -63,20 +60,23 @@ int csv_num_g9(char *out, double v)
     int e2 = 0;
     (void)frexp(v, &e2);   /* v in [2^(e2-1), 2^e2) */
     int e = (int)floor((double)(e2 - 1) * LOG10_2);   /* the decimal exponent, or one below: corrected here */
-    long double s = scale10(v, SIG - 1 - e);
-    while (s >= SIG_HI) {
+    if (SIG - 1 - e >= N_P10 - 1 || e - (SIG - 1) >= N_P10 - 1) {   /* beyond 1e-13 .. 1e29 (with the
+                                                                      * correction below): no exact power */
+        return (int)(p - out) + snprintf(p, CSV_NUM_MAX - (size_t)(p - out), "%.9g", v);
+    }
+    double s = scale10(v, SIG - 1 - e);
+    if (s >= SIG_HI) {
         e++;
         s = scale10(v, SIG - 1 - e);
-    }
-    while (s < SIG_LO) {
+    } else if (s < SIG_LO) {
         e--;
         s = scale10(v, SIG - 1 - e);
     }
-    long double whole = floorl(s);
-    if (fabsl(s - whole - 0.5L) < TIE_BAND) {
+    double whole = floor(s);
+    if (fabs(s - whole - 0.5) < TIE_BAND) {
         return (int)(p - out) + snprintf(p, CSV_NUM_MAX - (size_t)(p - out), "%.9g", v);
     }
-    uint64_t m = (uint64_t)whole + ((s - whole > 0.5L) ? 1u : 0u);
+    uint32_t m = (uint32_t)whole + ((s - whole > 0.5) ? 1u : 0u);
     if (m >= SIG_HI_U) {   /* rounded up to the next power of ten */
         m /= 10u;
         e++;

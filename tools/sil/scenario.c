@@ -103,18 +103,18 @@ static const sc_key_t KEYS[] = {
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 2 x controller's R)"),
 
     ENUM("identify", "mode", identify.mode, "off", RSID_NAMES, "step 1 of the proposed method: off | windows | speeds | trusted"),
-    NN("identify", "settle_1_s", identify.settle_1_s, "0.28", "start of IDENTIFY_R to window 1 [s]"),
-    POS("identify", "window_s", identify.window_s, "0.06", "each averaging window [s]"),
-    NN("identify", "settle_2_s", identify.settle_2_s, "0.14", "end of window 1 to window 2 [s]"),
-    ANY("identify", "speed_1_rpm", identify.speed_1_rpm, "500", "speeds mode: speed of point 1 [r/min]"),
-    ANY("identify", "speed_2_rpm", identify.speed_2_rpm, "1000", "speeds mode: speed of point 2 [r/min]"),
-    POS("identify", "accel_rpm_s", identify.accel_rpm_s, "2500", "speeds mode: ramp of the commanded speed [r/min/s]"),
+    NN("identify", "settle_1_s", identify.settle_1_s, PARAMS, "start of IDENTIFY_R to window 1 [s]"),
+    POS("identify", "window_s", identify.window_s, PARAMS, "each averaging window [s]"),
+    NN("identify", "settle_2_s", identify.settle_2_s, PARAMS, "end of window 1 to window 2 [s]"),
+    ANY("identify", "speed_1_rpm", identify.speed_1_rpm, PARAMS, "speeds mode: speed of point 1 [r/min]"),
+    ANY("identify", "speed_2_rpm", identify.speed_2_rpm, PARAMS, "speeds mode: speed of point 2 [r/min]"),
+    POS("identify", "accel_rpm_s", identify.accel_rpm_s, PARAMS, "speeds mode: ramp of the commanded speed [r/min/s]"),
     /* step 1 on a real ADC (issue 13 part A; rs_ident.h, observer_design.md sec. 6) */
     POS("identify", "R_se_max_rel", identify.R_se_max_rel, "0.015", "largest standard error of R^ accepted, x R^"),
     POS("identify", "batch_s", identify.batch_s, "0.005", "batch of the standard error's batch means [s]"),
-    NN("identify", "window_max_s", identify.window_max_s, "0.3",
+    NN("identify", "window_max_s", identify.window_max_s, PARAMS,
        "window 2 is lengthened up to this while the standard error of R^ is too large [s]"),
-    UINT("identify", "repeats_max", identify.repeats_max, "2", 0.0, 100.0,
+    UINT("identify", "repeats_max", identify.repeats_max, PARAMS, 0.0, 100.0,
          "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large"),
     ENUM("identify", "on_refusal", identify.on_refusal, "fault", REFUSAL_NAMES,
          "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
@@ -289,15 +289,20 @@ static int set_value(scenario_t *sc, int i, const char *v, bool append, char *er
     return -1;
 }
 
-/* The parameter set's value of each PARAMS key, in the key's unit. */
+/* The board's value of each PARAMS key, in the key's unit: from the
+ * parameter set (motor, board, limits, tuning) or, for step 1's timing,
+ * from the app's start-up settings (app_cfg_default). */
 typedef struct {
     const char *section, *name;
-    size_t offset;             /* of the value in drive_params_t */
+    int src;                   /* 0 drive_params_t, 1 app_cfg_t */
+    size_t offset;             /* of the value in it */
     int kind;                  /* 0 float, 1 uint16_t, 2 uint32_t */
     double scale;              /* key unit per parameter unit */
 } sc_param_t;
 
-#define P(s, k, f, kind, scale) { s, k, offsetof(drive_params_t, f), kind, scale }
+#define RPM_PER_RAD_S (60.0 / 6.283185307179586)
+#define P(s, k, f, kind, scale) { s, k, 0, offsetof(drive_params_t, f), kind, scale }
+#define A(s, k, f, kind, scale) { s, k, 1, offsetof(app_cfg_t, f), kind, scale }
 static const sc_param_t PARAM_KEYS[] = {
     P("plant", "R_ohm", motor.R_Ohm, 0, 1.0),
     P("plant", "L_H", motor.L_H, 0, 1.0),
@@ -312,9 +317,18 @@ static const sc_param_t PARAM_KEYS[] = {
     P("controller", "te_max_Nm", limits.te_max_Nm, 0, 1.0),
     P("controller", "i_max_A", limits.i_trip_A, 0, 1.0),
     P("controller", "i_limit_A", limits.i_limit_A, 0, 1.0),
-    P("controller", "overspeed_rpm", limits.speed_max_rad_s, 0, 60.0 / 6.283185307179586),
+    P("controller", "overspeed_rpm", limits.speed_max_rad_s, 0, RPM_PER_RAD_S),
+    A("identify", "settle_1_s", rsid_settle_1_s, 0, 1.0),
+    A("identify", "window_s", rsid_window_s, 0, 1.0),
+    A("identify", "settle_2_s", rsid_settle_2_s, 0, 1.0),
+    A("identify", "speed_1_rpm", rsid_speed_1_rad_s, 0, RPM_PER_RAD_S),
+    A("identify", "speed_2_rpm", rsid_speed_2_rad_s, 0, RPM_PER_RAD_S),
+    A("identify", "accel_rpm_s", rsid_accel_rad_s2, 0, RPM_PER_RAD_S),
+    A("identify", "window_max_s", rsid_window_max_s, 0, 1.0),
+    A("identify", "repeats_max", rsid_repeats_max, 1, 1.0),
 };
 #undef P
+#undef A
 
 /* The default of a PARAMS key as text: the board's value in the key's
  * unit, to 6 significant digits (the decimal board_cfg.h spells: 0.011f
@@ -322,12 +336,14 @@ static const sc_param_t PARAM_KEYS[] = {
 static const char *params_default(const sc_key_t *k, char *buf, size_t len)
 {
     drive_params_t p;
+    static app_cfg_t ac; /* large: not on the stack */
     drive_params_board(&p);
+    app_cfg_default(&ac);
     buf[0] = '\0';
     for (size_t j = 0; j < sizeof PARAM_KEYS / sizeof PARAM_KEYS[0]; j++) {
         const sc_param_t *q = &PARAM_KEYS[j];
         if (strcmp(q->section, k->section) == 0 && strcmp(q->name, k->name) == 0) {
-            const char *at = (const char *)&p + q->offset;
+            const char *at = ((q->src == 0) ? (const char *)&p : (const char *)&ac) + q->offset;
             double v = 0.0;
             if (q->kind == 1) {
                 v = (double)*(const uint16_t *)(const void *)at;
