@@ -611,7 +611,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
             te_ref = mathx_clampf(c->ref.te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
         }
         /* current limit, MTPA (sec. III), flux weakening (oplim.h) */
-        const oplim_out_t tgt = oplim_targets(&c->lim, par, cfg->pole_pairs, c->i_lim_A, te_ref);
+        const oplim_out_t tgt = oplim_targets(&c->lim, par, c->i_lim_A, te_ref);
         te_ref = tgt.te_Nm;
         psi_ref = tgt.psi_Wb;
         psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->L_H); /* + L id* (design sec. 9) */

@@ -18,6 +18,12 @@
  * constraint does not depend on u_d (avoids dividing by ~0). */
 #define SIDE_PARALLEL_EPS 1.0e-6f
 
+/* Inside this share of the hexagon's inscribed circle (radius
+ * Vdc/sqrt(3), squared here) no side can bind, whatever the angle: the
+ * normal period's one test instead of three projections. Below 1 by far
+ * more than the projections' rounding and |(sin, cos)| - 1 (1e-6). */
+#define INSCRIBED_SAFE_SQ 0.998f
+
 /* x finite and > 0 (a NaN fails). */
 static bool positive(float x)
 {
@@ -59,6 +65,7 @@ void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb)
     p->kt_Nm_per_A = ONE_AND_HALF * (float)cfg->pole_pairs * p->psi_f_Wb;
     p->te_per_Wb = p->kt_Nm_per_A * inv_L;
     p->psiq_per_Nm = p->L_H / p->kt_Nm_per_A;                           /* division 2 */
+    p->inv_psi_f_1_Wb = ONE_AND_HALF * (float)cfg->pole_pairs * p->psiq_per_Nm * inv_L; /* 1.5 p / kt */
 }
 
 dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A)
@@ -178,14 +185,13 @@ static bool hex_chord(const float a[3], const float b[3], float fixed, float r, 
     return hit && (lo <= hi);
 }
 
-uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_in, float cos_in, float vdc_V)
+/* dbdtc_limit outside the inscribed circle: vdc >= 0 [V], r = vdc/sqrt(3). */
+static uint16_t limit_to_hexagon(dq_t *u_dq_V, float sin_in, float cos_in, float vdc, float r)
 {
     const float sin_th = mathx_clampf(sin_in, -1.0f, 1.0f);
     const float cos_th = mathx_clampf(cos_in, -1.0f, 1.0f);
     /* Hexagon sides: |u . n_j| <= Vdc/sqrt(3), n_j at 30, 90, 150 deg.
      * g_j = e_d . n_j and h_j = e_q . n_j with e_d = (c, s), e_q = (-s, c). */
-    const float vdc = (vdc_V > 0.0f) ? vdc_V : 0.0f; /* NaN too */
-    const float r = vdc * MATHX_INV_SQRT3_F;
     const float g[3] = { HALF_SQRT3 * cos_th + 0.5f * sin_th, sin_th,
                          -HALF_SQRT3 * cos_th + 0.5f * sin_th };
     const float h[3] = { -HALF_SQRT3 * sin_th + 0.5f * cos_th, cos_th,
@@ -250,4 +256,15 @@ uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_in, float cos_in, float vdc_V)
         }
     }
     return DBDTC_FLAG_VOLTAGE_LIMIT;
+}
+
+uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_in, float cos_in, float vdc_V)
+{
+    const float vdc = (vdc_V > 0.0f) ? vdc_V : 0.0f; /* NaN too */
+    const float r = vdc * MATHX_INV_SQRT3_F;
+
+    if ((u_dq_V->d * u_dq_V->d + u_dq_V->q * u_dq_V->q) <= INSCRIBED_SAFE_SQ * r * r) {
+        return 0u;
+    }
+    return limit_to_hexagon(u_dq_V, sin_in, cos_in, vdc, r);
 }

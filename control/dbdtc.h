@@ -74,6 +74,7 @@ typedef struct {           /* model parameters in use and what follows from them
     float te_per_Wb;       /* 1.5*p*psi_f/L [N m/Wb], eq. (5) */
     float kt_Nm_per_A;     /* 1.5*p*psi_f, eq. (12) */
     float psiq_per_Nm;     /* 2L/(3p psi_f) [Wb/(N m)], eq. (5) inverted */
+    float inv_psi_f_1_Wb;  /* 1/psi_f [1/Wb] (oplim's weakened flux) */
 } dbdtc_par_t;
 
 typedef struct {           /* predicted state at k+1, eq. (10)-(12) */
@@ -122,8 +123,9 @@ uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
 
 /* Torque-first limit of *u_dq_V [V] (in/out) to the inverter hexagon at
  * vdc_V [V], for a rotor frame at the angle whose sin/cos are given;
- * returns DBDTC_FLAG_VOLTAGE_LIMIT when it moved the vector. No division
- * when inside; 3 when limiting. ISR context. */
+ * returns DBDTC_FLAG_VOLTAGE_LIMIT when it moved the vector. One test
+ * inside the inscribed circle (the normal period), no division when
+ * inside; 3 when limiting. ISR context. */
 uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_th, float cos_th, float vdc_V);
 
 #endif /* DBDTC_H */

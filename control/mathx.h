@@ -40,10 +40,16 @@ static inline float mathx_atan2f(float y, float x)
     return atan2f(y, x);
 }
 
-/* Absolute value. Any context. */
+/* Absolute value. Any context. gcc's builtin clears the sign bit in one
+ * instruction (andps, vabs.f32) where the select compared and branched;
+ * cl2000 keeps the select. */
 static inline float mathx_fabsf(float x)
 {
+#if defined(__TMS320C28XX__)
     return (x < 0.0f) ? -x : x;
+#else
+    return fabsf(x);
+#endif
 }
 
 /* IEEE-754 binary32: an exponent field of all ones is Inf or NaN. */

@@ -22,23 +22,42 @@
 /* Te = 1.5 * p * psi_f * iq (amplitude-invariant dq). */
 #define MTPA_TORQUE_FACTOR 1.5f
 
+/* psi_f_Wb [Wb] as the reference uses it: within [MTPA_PSI_F_MIN_WB,
+ * MTPA_PSI_MAX_WB], non-finite -> the floor. Any context. */
+static inline float mtpa_psi_f_bounded(float psi_f_Wb)
+{
+    return (mathx_isfinitef(psi_f_Wb) && (psi_f_Wb > MTPA_PSI_F_MIN_WB))
+               ? mathx_clampf(psi_f_Wb, MTPA_PSI_F_MIN_WB, MTPA_PSI_MAX_WB)
+               : MTPA_PSI_F_MIN_WB;
+}
+
+/*
+ * Stator-flux reference [Wb] from the q flux psi_q_Wb = L*iq [Wb] the
+ * torque reference needs (sign ignored) and the magnet flux psi_f_Wb
+ * [Wb], for a caller that has the torque constant (oplim: the model's
+ * dbdtc_par_t.kt_Nm_per_A). Result in [MTPA_PSI_F_MIN_WB,
+ * MTPA_PSI_MAX_WB]. Any context.
+ */
+static inline float mtpa_psi_s_of_psi_q(float psi_f_Wb, float psi_q_Wb)
+{
+    const float psi_f = mtpa_psi_f_bounded(psi_f_Wb);
+    /* NaN (from NaN inputs) clamps to 0, Inf to the ceiling. */
+    const float psi_q = mathx_clampf(mathx_fabsf(psi_q_Wb), 0.0f, MTPA_PSI_MAX_WB);
+    return mathx_clampf(mathx_sqrtf(psi_f * psi_f + psi_q * psi_q), MTPA_PSI_F_MIN_WB,
+                        MTPA_PSI_MAX_WB);
+}
+
 /*
  * Stator-flux reference [Wb] for torque reference Te_ref_Nm [N*m], with
  * inductance L_H [H], magnet flux psi_f_Wb [Wb] and pole_pairs (0 counts
  * as 1). Non-finite L or Te drop the torque term (result psi_f). Result in
- * [MTPA_PSI_F_MIN_WB, MTPA_PSI_MAX_WB]. Any context.
+ * [MTPA_PSI_F_MIN_WB, MTPA_PSI_MAX_WB]. 1 division. Any context.
  */
 static inline float mtpa_psi_s_ref(float L_H, float psi_f_Wb, uint16_t pole_pairs, float Te_ref_Nm)
 {
-    const float psi_f = (mathx_isfinitef(psi_f_Wb) && (psi_f_Wb > MTPA_PSI_F_MIN_WB))
-                            ? mathx_clampf(psi_f_Wb, MTPA_PSI_F_MIN_WB, MTPA_PSI_MAX_WB)
-                            : MTPA_PSI_F_MIN_WB;
+    const float psi_f = mtpa_psi_f_bounded(psi_f_Wb);
     const float p = (pole_pairs > 0u) ? (float)pole_pairs : 1.0f;
-    /* psi_q = L*iq; NaN (from NaN inputs) clamps to 0, Inf to the ceiling. */
-    const float psi_q = mathx_clampf(mathx_fabsf(L_H * Te_ref_Nm / (MTPA_TORQUE_FACTOR * p * psi_f)),
-                                     0.0f, MTPA_PSI_MAX_WB);
-    return mathx_clampf(mathx_sqrtf(psi_f * psi_f + psi_q * psi_q), MTPA_PSI_F_MIN_WB,
-                        MTPA_PSI_MAX_WB);
+    return mtpa_psi_s_of_psi_q(psi_f, L_H * Te_ref_Nm / (MTPA_TORQUE_FACTOR * p * psi_f)); /* psi_q = L*iq */
 }
 
 #endif /* MTPA_H */

@@ -58,12 +58,11 @@ void oplim_reset(oplim_t *o);
 /*
  * Targets for a requested torque te_req_Nm [N m] (already within
  * +-te_max): MTPA flux (sec. III) less dpsi, and the current limit
- * i_lim_A [A] above, with the parameters *p and pole_pairs. 1 division
- * (MTPA) and 1 square root; while weakening 1 division and 1 square root
- * more. ISR.
+ * i_lim_A [A] above, with the parameters *p (their kt and 1/psi_f).
+ * 1 division (MTPA's q flux) and 1 square root; while weakening 1 square
+ * root more. ISR.
  */
-oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, uint16_t pole_pairs, float i_lim_A,
-                          float te_req_Nm);
+oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, float i_lim_A, float te_req_Nm);
 
 /* The weakening loop, after the deadbeat step: u_req_V [V] = its voltage
  * before the hexagon, u_lim_V [V] = the steady-state limit. ISR, no

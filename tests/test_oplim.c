@@ -46,7 +46,7 @@ static void mtpa_below_the_limits(void **state)
 {
     (void)state;
     setup();
-    const oplim_out_t t = oplim_targets(&o, &db.par, PP, (float)I_LIM, 6.0f);
+    const oplim_out_t t = oplim_targets(&o, &db.par, (float)I_LIM, 6.0f);
     const double iq = 6.0 / KT0;
     assert_float_equal(t.te_Nm, 6.0f, 1e-6f);
     assert_float_equal(t.psi_Wb, (float)sqrt(PSI0 * PSI0 + L0 * L0 * iq * iq), 1e-6f);
@@ -58,7 +58,7 @@ static void current_limit_at_mtpa(void **state)
 {
     (void)state;
     setup();
-    const oplim_out_t t = oplim_targets(&o, &db.par, PP, (float)I_LIM, -20.0f);
+    const oplim_out_t t = oplim_targets(&o, &db.par, (float)I_LIM, -20.0f);
     assert_float_equal(t.te_Nm, (float)(-KT0 * I_LIM), 1e-4f);
     assert_float_equal((float)i_aimed(t), (float)I_LIM, 1e-3f);
 }
@@ -72,12 +72,12 @@ static void weakening_keeps_current_at_limit(void **state)
     const int n = 100;                    /* 100 x 5e-4 Wb = 0.05 Wb */
     (void)state;
     setup();
-    (void)oplim_targets(&o, &db.par, PP, (float)I_LIM, 12.0f);
+    (void)oplim_targets(&o, &db.par, (float)I_LIM, 12.0f);
     for (int k = 0; k < n; k++) {
         oplim_fw_update(&o, u_big, 180.0f);
     }
     assert_float_equal(o.dpsi_Wb, (float)(n * RATE * TS), 1e-5f);
-    const oplim_out_t t = oplim_targets(&o, &db.par, PP, (float)I_LIM, 12.0f);
+    const oplim_out_t t = oplim_targets(&o, &db.par, (float)I_LIM, 12.0f);
     const double iq = 12.0 / KT0;
     const double psi_mtpa = sqrt(PSI0 * PSI0 + L0 * L0 * iq * iq);
     assert_float_equal(t.psi_Wb, (float)(psi_mtpa - n * RATE * TS), 1e-5f);
@@ -86,7 +86,7 @@ static void weakening_keeps_current_at_limit(void **state)
     const double psiq = L0 * (double)t.te_Nm / KT0;
     assert_true(sqrt((double)t.psi_Wb * t.psi_Wb - psiq * psiq) < PSI0); /* id < 0 */
     /* a small torque at that flux is not cut */
-    const oplim_out_t s = oplim_targets(&o, &db.par, PP, (float)I_LIM, 1.0f);
+    const oplim_out_t s = oplim_targets(&o, &db.par, (float)I_LIM, 1.0f);
     assert_float_equal(s.te_Nm, 1.0f, 1e-6f);
 }
 
@@ -99,14 +99,14 @@ static void weakening_floor_and_recovery(void **state)
     const dq_t u_low = { 0.0f, 100.0f };
     (void)state;
     setup();
-    (void)oplim_targets(&o, &db.par, PP, (float)I_LIM, 0.0f);
+    (void)oplim_targets(&o, &db.par, (float)I_LIM, 0.0f);
     for (int k = 0; k < 1000; k++) {
         oplim_fw_update(&o, u_big, 180.0f);
     }
-    const oplim_out_t t = oplim_targets(&o, &db.par, PP, (float)I_LIM, 0.0f);
+    const oplim_out_t t = oplim_targets(&o, &db.par, (float)I_LIM, 0.0f);
     assert_float_equal(t.psi_Wb, (float)(PSI0 - L0 * I_LIM), 1e-5f);
     /* asking for torque there: no more than the limit's current */
-    const oplim_out_t t5 = oplim_targets(&o, &db.par, PP, (float)I_LIM, 5.0f);
+    const oplim_out_t t5 = oplim_targets(&o, &db.par, (float)I_LIM, 5.0f);
     assert_true(t5.psi_Wb >= (float)(PSI0 - L0 * I_LIM));
     assert_true(t5.te_Nm < 5.0f);
     assert_float_equal((float)i_aimed(t5), (float)I_LIM, 2e-3f);
@@ -117,7 +117,7 @@ static void weakening_floor_and_recovery(void **state)
         oplim_fw_update(&o, u_low, 180.0f);
     }
     assert_float_equal(o.dpsi_Wb, 0.0f, 1e-9f);
-    const oplim_out_t m = oplim_targets(&o, &db.par, PP, (float)I_LIM, 0.0f);
+    const oplim_out_t m = oplim_targets(&o, &db.par, (float)I_LIM, 0.0f);
     assert_float_equal(m.psi_Wb, (float)PSI0, 1e-6f);
 }
 
@@ -128,10 +128,10 @@ static void refused_loop_never_weakens(void **state)
     (void)state;
     setup();
     oplim_init(&o, (float)TS, 0.0f, (float)HYST);
-    (void)oplim_targets(&o, &db.par, PP, (float)I_LIM, 0.0f);
+    (void)oplim_targets(&o, &db.par, (float)I_LIM, 0.0f);
     oplim_fw_update(&o, u_big, 180.0f);
     assert_float_equal(o.dpsi_Wb, 0.0f, 1e-9f);
-    assert_float_equal(oplim_targets(&o, &db.par, PP, (float)I_LIM, 20.0f).te_Nm, (float)(KT0 * I_LIM), 1e-4f);
+    assert_float_equal(oplim_targets(&o, &db.par, (float)I_LIM, 20.0f).te_Nm, (float)(KT0 * I_LIM), 1e-4f);
 }
 
 int main(void)
