@@ -1,23 +1,25 @@
 /*
  * ctrl.c - the drive controller; see ctrl.h.
  *
- * Cost per ctrl_step() in speed/torque mode, as measured by `make
- * bench-ctrl` (callgrind, x86-64 -O2):
- *   conventional: 1178 instructions; proposed (step 2 running): 1586 (+35 %)
- *            on the normal path (the bench closes the loop over a motor
- *            model); about 100 are the dead-time feedforward (both methods);
- *            with track_R (observer_design.md sec. 9) see `make bench-ctrl`
+ * Cost per ctrl_step() in speed mode on the normal path, as measured by
+ * `make bench-ctrl` (callgrind, x86-64 -O2; the bench closes the loop over
+ * a motor model; how it was brought down: observer_design.md sec. 10):
+ *   instructions: conventional 994; proposed (step 2 running) 1343
+ *            (+35 %); proposed with track_R (observer_design.md sec. 9)
+ *            1405; the dead-time feedforward is about 100 of them (both);
  *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
  *            rotation by a short series), both methods;
- *   divisions: conventional 2 (MTPA's torque term, svpwm_duty's 1/Vdc);
- *            proposed 3.6 on average: + 1 guarded one in the transfer law
- *            whose turn it is (param_est: the laws alternate), 1 in the
- *            observer's gain when L^ moved, 2 in dbdtc_set_params only
- *            when L^ or psi^ moved by more than CTRL_MODEL_UPDATE_REL;
- *            plus 3 only in the periods the torque-first voltage limit
- *            acts, and 1 (+ 1 square root) only while the field is
- *            weakened (oplim.h);
- *   square roots: 3 (MTPA, eq. 17, the monitor's |psi_s|), both methods.
+ *   divisions: conventional 2 (MTPA's q flux L Te* / kt, svpwm_duty's
+ *            1/Vdc); proposed 3.62 on average: + 1 guarded one in the
+ *            transfer law whose turn it is (param_est: the laws
+ *            alternate), 0.5 in the observer's gain (L^'s turns), 2 in
+ *            dbdtc_set_params only when L^ or psi^ moved by more than
+ *            CTRL_MODEL_UPDATE_REL (0.12 per step); with track_R 3.84
+ *            (the injection moves the estimates past it in 17 % of the
+ *            periods: 0.34); plus 3 only in the periods the hexagon limit
+ *            acts; none more while the field is weakened (oplim.h);
+ *   square roots: 3 (MTPA, eq. 17, the monitor's |psi_s|), both methods,
+ *            + 1 while the field is weakened.
  */
 #include "ctrl.h"
 

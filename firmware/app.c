@@ -61,9 +61,9 @@ static void enter_run(app_t *app)
 /* After ALIGN, done or skipped: step 1 of the proposed method, or RUN. */
 static void leave_align(app_t *app)
 {
-    if (app->cfg.rsid_mode == APP_RSID_OFF) {
+    if (app->cfg.rsid.mode == APP_RSID_OFF) {
         enter_run(app);
-    } else if (app->cfg.rsid_mode == APP_RSID_TRUSTED) {
+    } else if (app->cfg.rsid.mode == APP_RSID_TRUSTED) {
         enter_run(app);
         (void)ctrl_est_start(&app->ctrl, app->cfg.ctrl.R_Ohm); /* nominal R is in its own band */
     } else {
@@ -77,7 +77,7 @@ static void leave_align(app_t *app)
 /* The controller's blocks this start needs (ctrl.h CTRL_CFG_NEEDED_*). */
 static ctrl_status_t config_needed(const app_t *app)
 {
-    return (app->cfg.rsid_mode == APP_RSID_OFF) ? CTRL_CFG_NEEDED_ALWAYS
+    return (app->cfg.rsid.mode == APP_RSID_OFF) ? CTRL_CFG_NEEDED_ALWAYS
                                                 : (ctrl_status_t)(CTRL_CFG_NEEDED_ALWAYS | CTRL_CFG_NEEDED_PROPOSED);
 }
 
@@ -88,8 +88,8 @@ static ctrl_status_t config_needed(const app_t *app)
 static void leave_calibrate(app_t *app, const hal_sample_t *s)
 {
     protect_arm_uv(&app->prot);
-    if (s->vdc_V < app->cfg.vdc_min_V) {
-        const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.vdc_min_V);
+    if (s->vdc_V < app->cfg.prot.vdc_min_V) {
+        const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.prot.vdc_min_V);
         latch_fault(app, &f, s);
     } else if ((ctrl_status(&app->ctrl) & config_needed(app)) != 0u) {
         const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)ctrl_status(&app->ctrl), 0.0f);
@@ -169,7 +169,7 @@ static void identify_state(app_t *app, const hal_sample_t *s)
     app_step_t r = rsid_seq_step(&app->rsid, &app->ctrl, &in, &app->out);
 
     if ((r.status == APP_STEP_FAULT) && is_rsid_refusal(r.fault) &&
-        (app->cfg.rsid_on_refusal == APP_RSID_REFUSAL_CONVENTIONAL)) {
+        (app->cfg.rsid.on_refusal == APP_RSID_REFUSAL_CONVENTIONAL)) {
         /* no silent fallback: the method says so, the warning names why;
          * the observer is stopped (ctrl_rsid_finish), so control is the
          * conventional method's either way */

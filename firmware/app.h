@@ -7,7 +7,7 @@
  *   CALIBRATE, ALIGN, IDENTIFY_R, RUN --stop--> IDLE
  *   INIT, IDLE, CALIBRATE, ALIGN, IDENTIFY_R, RUN --protection--> FAULT
  *   IDENTIFY_R --R^ refused--> FAULT (the reason in the code), or with
- *              rsid_on_refusal = CONVENTIONAL --> RUN, conventional method,
+ *              rsid.on_refusal = CONVENTIONAL --> RUN, conventional method,
  *              warning APP_WARN_STEP1_REFUSED (the reason in rsid_refusal)
  *   FAULT --fault reset, cause gone--> IDLE
  *
@@ -60,37 +60,16 @@
  * `flags` carries both. Cleared at the next start. */
 #define APP_WARN_STEP1_REFUSED 0x1000u /* step 1 refused R^ (rsid_refusal says why): conventional method */
 
+/* The app's configuration: the controller's, and each piece's own (the
+ * step's init takes it as it is: one home per value). */
 typedef struct {
     ctrl_cfg_t ctrl;
-    /* protection */
-    float i_max_A;              /* software overcurrent on |ia|, |ib|, |ic| [A] */
-    float vdc_max_V;            /* overvoltage trip [V] */
-    float vdc_min_V;            /* undervoltage trip, armed after calibration [V] */
-    float speed_max_rad_s;      /* overspeed trip, mechanical [rad/s]; also sets the encoder jump limit */
-    uint32_t isr_period_cycles; /* control period in hal_cycles() counts [cycles] */
-    uint32_t isr_budget_cycles; /* longest allowed app_isr run [cycles] */
-    protect_watch_cfg_t watch;  /* open phase, frozen current reading, lost encoder (protect.h); te_max_Nm and pole_pairs are taken from ctrl */
-    /* start-up sequence */
+    protect_cfg_t prot;         /* protection limits and the watch checks (protect.h); Ts, counts, te_max and pole pairs from ctrl */
     bool calibrate;             /* measure the current offsets at every start */
-    float cal_settle_s;         /* PWM off this long before averaging [s] */
-    uint32_t cal_samples;       /* periods averaged [-] */
-    float offset_max_A;         /* accepted |offset| of ia and ib [A] */
+    calib_cfg_t cal;            /* CALIBRATE (calib.h) */
     bool align;                 /* encoder offset unknown: align the rotor once per power-up */
-    float align_u_V;            /* magnitude of the alignment's voltage vectors [V] */
-    float align_prepos_el_rad;  /* step 1's vector, from phase a: sin != 0 (align.h) [rad el] */
-    float align_ramp_s;         /* ramp from 0 at the pre-position, and the turn onto phase a [s] */
-    float align_prepos_s;       /* hold at the pre-position after its ramp [s] */
-    float align_settle_s;       /* hold on phase a after the turn [s] */
-    app_rsid_mode_t rsid_mode;  /* step 1 of the proposed method (IDENTIFY_R) */
-    float rsid_settle_1_s;      /* IDENTIFY_R entry to window 1 [s] */
-    float rsid_window_s;        /* each averaging window [s] */
-    float rsid_settle_2_s;      /* window 1's end to window 2: the operating point changes in it [s] */
-    float rsid_speed_1_rad_s;   /* SPEEDS: mechanical speed of point 1 [rad/s] */
-    float rsid_speed_2_rad_s;   /*   and of point 2 [rad/s] */
-    float rsid_accel_rad_s2;    /* SPEEDS: ramp rate of the commanded speed, handover included [rad/s^2] */
-    float rsid_window_max_s;    /* window 2 lengthened up to this while se(R^) is too large [s] */
-    app_rsid_refusal_t rsid_on_refusal; /* a refused step 1: fault, or conventional with a warning */
-    uint16_t rsid_repeats_max;  /* SPEEDS: both windows repeated at most this often (rsid_seq.h) */
+    align_cfg_t aln;            /* ALIGN (align.h) */
+    rsid_seq_cfg_t rsid;        /* IDENTIFY_R: step 1 of the proposed method and its refusal policy (rsid_seq.h) */
 } app_cfg_t;
 
 /* The operator's input: references, mode, method (app_request_op). */

@@ -12,18 +12,9 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     const float Ts = cfg->ctrl.Ts_s;
     const app_snapshot_t no_snapshot = { { 0.0f, 0.0f, 0.0f, 0u }, APP_STATE_INIT, 0.0f, 0.0f };
     const ctrl_out_t zero_voltage = { { DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE }, 0u };
-    protect_cfg_t pc = { cfg->i_max_A, cfg->vdc_max_V, cfg->vdc_min_V, cfg->speed_max_rad_s,
-                         cfg->isr_period_cycles, cfg->isr_budget_cycles,
-                         ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, Ts, cfg->watch };
-    const calib_cfg_t cc = { cfg->cal_settle_s, cfg->cal_samples, cfg->offset_max_A };
-    const align_cfg_t ac = { cfg->align_u_V, cfg->align_prepos_el_rad, cfg->align_ramp_s, cfg->align_prepos_s,
-                             cfg->align_settle_s };
-    const rsid_seq_cfg_t rc = { cfg->rsid_mode, cfg->rsid_settle_1_s, cfg->rsid_window_s, cfg->rsid_settle_2_s,
-                                cfg->rsid_speed_1_rad_s, cfg->rsid_speed_2_rad_s, cfg->rsid_accel_rad_s2,
-                                cfg->rsid_window_max_s, cfg->rsid_repeats_max };
+    const protect_drive_t drv = { Ts, ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.te_max_Nm,
+                                  cfg->ctrl.pole_pairs };
 
-    pc.watch.te_max_Nm = cfg->ctrl.te_max_Nm;
-    pc.watch.pole_pairs = cfg->ctrl.pole_pairs;
     hal_pwm_disable();
     app->cfg = *cfg;
     app->state = APP_STATE_INIT;
@@ -36,10 +27,10 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->offset_ib_A = 0.0f;
     app->aligned = false;
     app->pwm_on = false;
-    protect_init(&app->prot, &pc);
-    calib_init(&app->cal, &cc, Ts);
-    align_init(&app->aln, &ac, Ts);
-    rsid_seq_init(&app->rsid, &rc, Ts);
+    protect_init(&app->prot, &cfg->prot, &drv);
+    calib_init(&app->cal, &cfg->cal, Ts);
+    align_init(&app->aln, &cfg->aln, Ts);
+    rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
     app->warnings = 0u;
     app->rsid_refusal = app_step_running();
     app->req_start = 0u;

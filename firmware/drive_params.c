@@ -66,12 +66,12 @@ void drive_params_to_app_cfg(const drive_params_t *p, app_cfg_t *cfg)
     c->i_lim_A = p->limits.i_limit_A;
     c->u_margin = p->tuning.u_margin;
 
-    cfg->i_max_A = p->limits.i_trip_A;
-    cfg->vdc_max_V = p->limits.vdc_max_V;
-    cfg->vdc_min_V = p->limits.vdc_min_V;
-    cfg->speed_max_rad_s = p->limits.speed_max_rad_s;
-    cfg->isr_period_cycles = p->board.isr_period_cycles;
-    cfg->isr_budget_cycles = p->board.isr_budget_cycles;
+    cfg->prot.i_max_A = p->limits.i_trip_A;
+    cfg->prot.vdc_max_V = p->limits.vdc_max_V;
+    cfg->prot.vdc_min_V = p->limits.vdc_min_V;
+    cfg->prot.speed_max_rad_s = p->limits.speed_max_rad_s;
+    cfg->prot.isr_period_cycles = p->board.isr_period_cycles;
+    cfg->prot.isr_budget_cycles = p->board.isr_budget_cycles;
 
     /* the proposed method's settings for these values; the R^ band in ohms */
     ctrl_rsid_band_default(c, &R_min_Ohm, &R_max_Ohm);

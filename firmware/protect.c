@@ -10,11 +10,12 @@
 #define N_READINGS 2u                /* ia, ib */
 #define ONE_THIRD (1.0f / 3.0f)
 
-void protect_init(protect_t *p, const protect_cfg_t *cfg)
+void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t *drv)
 {
     p->cfg = *cfg;
-    p->enc_cpr = (cfg->enc_cpr > 0u) ? cfg->enc_cpr : 1u;
-    p->enc_jump_max = PROTECT_ENC_JUMP_MARGIN * cfg->speed_max_rad_s * cfg->Ts_s * (float)p->enc_cpr /
+    p->drv = *drv;
+    p->enc_cpr = (drv->enc_cpr > 0u) ? drv->enc_cpr : 1u;
+    p->enc_jump_max = PROTECT_ENC_JUMP_MARGIN * cfg->speed_max_rad_s * drv->Ts_s * (float)p->enc_cpr /
                           MATHX_TWO_PI_F +
                       1.0f; /* + one count of quantisation */
     /* 1.5 periods: the entry jitter is a few cycles, a missed period adds a whole one */
@@ -26,9 +27,9 @@ void protect_init(protect_t *p, const protect_cfg_t *cfg)
     p->isr_interval_cycles = 0u;
     p->isr_run_cycles = 0u;
     p->uv_armed = false;
-    p->op_part_ticks = app_periods_of(cfg->watch.op_window_s / (float)PROTECT_OP_SUBWINDOWS, cfg->Ts_s);
-    p->stall_ticks_max = app_periods_of(cfg->watch.enc_stall_s, cfg->Ts_s);
-    p->el_rad_per_count = MATHX_TWO_PI_F * (float)cfg->watch.pole_pairs / (float)p->enc_cpr;
+    p->op_part_ticks = app_periods_of(cfg->watch.op_window_s / (float)PROTECT_OP_SUBWINDOWS, drv->Ts_s);
+    p->stall_ticks_max = app_periods_of(cfg->watch.enc_stall_s, drv->Ts_s);
+    p->el_rad_per_count = MATHX_TWO_PI_F * (float)drv->pole_pairs / (float)p->enc_cpr;
     p->counts_per_rad = (float)p->enc_cpr / MATHX_TWO_PI_F;
     p->op_phase = 0u;
     protect_watch_reset(p);
@@ -256,17 +257,17 @@ static app_step_t encoder_lost_check(protect_t *p, const protect_watch_in_t *in)
     const bool moved = (p->enc_delta != 0);
 
     p->enc_missed_counts = moved ? 0.0f
-                                 : p->enc_missed_counts + mathx_fabsf(in->speed_m_rad_s) * p->cfg.Ts_s * p->counts_per_rad;
+                                 : p->enc_missed_counts + mathx_fabsf(in->speed_m_rad_s) * p->drv.Ts_s * p->counts_per_rad;
     if (!(p->enc_missed_counts < w->enc_lost_counts)) { /* a NaN speed trips too */
         return app_step_fault(APP_FAULT_ENCODER_LOST, p->enc_missed_counts, w->enc_lost_counts);
     }
-    if (moved || !in->ctrl_running || !(mathx_fabsf(in->te_ref_Nm) >= w->enc_stall_te_frac * w->te_max_Nm)) {
+    if (moved || !in->ctrl_running || !(mathx_fabsf(in->te_ref_Nm) >= w->enc_stall_te_frac * p->drv.te_max_Nm)) {
         p->stall_ticks = 0u;
     } else {
         p->stall_ticks++;
     }
     if ((p->stall_ticks_max > 0u) && (p->stall_ticks >= p->stall_ticks_max)) {
-        return app_step_fault(APP_FAULT_ENCODER_LOST, (float)p->stall_ticks * p->cfg.Ts_s, w->enc_stall_s);
+        return app_step_fault(APP_FAULT_ENCODER_LOST, (float)p->stall_ticks * p->drv.Ts_s, w->enc_stall_s);
     }
     return app_step_running();
 }

@@ -83,9 +83,7 @@ typedef struct {
     float stuck_zero_A;         /* ... and it is beyond +- this (near 0: OPEN_PHASE's) [A] */
     float enc_lost_counts;      /* counts the speed estimate says were missed [counts] */
     float enc_stall_s;          /* no count change this long ... [s] */
-    float enc_stall_te_frac;    /* ... at |te_ref| >= this x te_max_Nm [-] */
-    float te_max_Nm;            /* the controller's torque limit [N m] */
-    uint16_t pole_pairs;        /* [-] */
+    float enc_stall_te_frac;    /* ... at |te_ref| >= this x the controller's torque limit [-] */
 } protect_watch_cfg_t;
 
 /* One period's inputs to protect_watch. */
@@ -106,10 +104,17 @@ typedef struct {
     float speed_max_rad_s;      /* overspeed trip, mechanical [rad/s]; also sets the encoder jump limit */
     uint32_t isr_period_cycles; /* control period in hal_cycles() counts [cycles] */
     uint32_t isr_budget_cycles; /* longest allowed ISR run [cycles] */
-    uint32_t enc_cpr;           /* encoder counts per revolution [counts] */
-    float Ts_s;                 /* control period [s] */
     protect_watch_cfg_t watch;  /* the checks on the periods' history */
 } protect_cfg_t;
+
+/* The drive's values the checks need, from the controller's configuration
+ * (app_init): not set twice. */
+typedef struct {
+    float Ts_s;                 /* control period [s] */
+    uint32_t enc_cpr;           /* encoder counts per revolution [counts] */
+    float te_max_Nm;            /* the controller's torque limit [N m] */
+    uint16_t pole_pairs;        /* [-] */
+} protect_drive_t;
 
 /* What was known in the period a fault was detected. */
 typedef struct {
@@ -134,6 +139,7 @@ typedef struct {
 
 typedef struct {
     protect_cfg_t cfg;
+    protect_drive_t drv;
     /* derived by protect_init */
     uint32_t enc_cpr;              /* counts per revolution, at least 1 */
     float enc_jump_max;            /* largest plausible |enc_delta| [counts] */
@@ -167,8 +173,9 @@ typedef struct {
     uint32_t stall_ticks;          /* periods at the torque limit with no count change */
 } protect_t;
 
-/* Start-up: copy *cfg, derive the limits; nothing tracked, undervoltage off. */
-void protect_init(protect_t *p, const protect_cfg_t *cfg);
+/* Start-up: copy *cfg and *drv, derive the limits; nothing tracked,
+ * undervoltage off. */
+void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t *drv);
 
 /* ISR, every call first: the count change and the entry-to-entry time. */
 void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles);

@@ -64,6 +64,7 @@ typedef struct {
     float accel_rad_s2;         /* SPEEDS: ramp rate of the commanded speed, handover included [rad/s^2] */
     float window_max_s;         /* window 2 lengthened up to this while se(R^) is too large [s] (<= window_s: never) */
     uint16_t repeats_max;       /* SPEEDS: both windows repeated at most this often while window 1's share is too large */
+    app_rsid_refusal_t on_refusal; /* a refused step 1: fault, or conventional with a warning (app.c) */
 } rsid_seq_cfg_t;
 
 typedef struct {

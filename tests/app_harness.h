@@ -53,22 +53,22 @@ static inline app_cfg_t make_cfg(bool calibrate, bool align)
         .speed_kp_Nms_rad = 0.5f, .speed_ki_Nm_rad = 20.0f, .te_max_Nm = 12.0f,
         .i_max_A = 60.0f, .u_max_V = 5000.0f, .omega_max_el_rad_s = 3000.0f, .psi_max_Wb = 1.0f,
     };
-    cfg.i_max_A = I_MAX;
-    cfg.vdc_max_V = VDC_MAX;
-    cfg.vdc_min_V = VDC_MIN;
-    cfg.speed_max_rad_s = SPEED_MAX;
-    cfg.isr_period_cycles = PERIOD_CYC;
-    cfg.isr_budget_cycles = BUDGET_CYC;
+    cfg.prot.i_max_A = I_MAX;
+    cfg.prot.vdc_max_V = VDC_MAX;
+    cfg.prot.vdc_min_V = VDC_MIN;
+    cfg.prot.speed_max_rad_s = SPEED_MAX;
+    cfg.prot.isr_period_cycles = PERIOD_CYC;
+    cfg.prot.isr_budget_cycles = BUDGET_CYC;
     cfg.calibrate = calibrate;
-    cfg.cal_settle_s = CAL_SETTLE * 1e-4f;
-    cfg.cal_samples = CAL_N;
-    cfg.offset_max_A = OFFSET_MAX;
+    cfg.cal.settle_s = CAL_SETTLE * 1e-4f;
+    cfg.cal.samples = CAL_N;
+    cfg.cal.offset_max_A = OFFSET_MAX;
     cfg.align = align;
-    cfg.align_u_V = ALIGN_U_V;
-    cfg.align_prepos_el_rad = 0.5f * PI_F;
-    cfg.align_ramp_s = ALIGN_RAMP * 1e-4f;
-    cfg.align_prepos_s = ALIGN_PREPOS * 1e-4f;
-    cfg.align_settle_s = ALIGN_HOLD * 1e-4f;
+    cfg.aln.u_V = ALIGN_U_V;
+    cfg.aln.prepos_el_rad = 0.5f * PI_F;
+    cfg.aln.ramp_s = ALIGN_RAMP * 1e-4f;
+    cfg.aln.prepos_s = ALIGN_PREPOS * 1e-4f;
+    cfg.aln.settle_s = ALIGN_HOLD * 1e-4f;
     return cfg;
 }
 
@@ -273,10 +273,10 @@ static inline app_cfg_t rsid_cfg(app_rsid_mode_t mode, bool align)
 {
     app_cfg_t cfg = make_cfg(false, align);
     ctrl_cfg_proposed_defaults(&cfg.ctrl, R_BAND_MIN, R_BAND_MAX);
-    cfg.rsid_mode = mode;
-    cfg.rsid_settle_1_s = RSID_SETTLE_1 * 1e-4f;
-    cfg.rsid_window_s = RSID_WIN * 1e-4f;
-    cfg.rsid_settle_2_s = RSID_SETTLE_2 * 1e-4f;
+    cfg.rsid.mode = mode;
+    cfg.rsid.settle_1_s = RSID_SETTLE_1 * 1e-4f;
+    cfg.rsid.window_s = RSID_WIN * 1e-4f;
+    cfg.rsid.settle_2_s = RSID_SETTLE_2 * 1e-4f;
     return cfg;
 }
 

@@ -51,7 +51,7 @@ static int setup(void **state)
     app_cfg_default(&cfg);
     cfg.calibrate = false;
     cfg.align = false;
-    cfg.rsid_mode = APP_RSID_OFF;
+    cfg.rsid.mode = APP_RSID_OFF;
     app_init(&app, &cfg);
     cmd_init(&cmd);
     samples(COUNTS_0A);

@@ -138,26 +138,26 @@ static void unknown_method_or_mode_is_refused(void **state)
 static void proposed_method_without_step1_is_refused(void **state)
 {
     (void)state;
-    assert_int_equal(app.cfg.rsid_mode, APP_RSID_OFF);
+    assert_int_equal(app.cfg.rsid.mode, APP_RSID_OFF);
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
     /* trusted R is an explicit choice: taken */
-    app.cfg.rsid_mode = APP_RSID_TRUSTED;
+    app.cfg.rsid.mode = APP_RSID_TRUSTED;
     apply();
     assert_int_equal(cmd.error, CMD_OK);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_PROPOSED);
     /* and refused again once step 1 is off */
     cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
     apply();
-    app.cfg.rsid_mode = APP_RSID_OFF;
+    app.cfg.rsid.mode = APP_RSID_OFF;
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
     /* step 1 configured but refused at this start (on_refusal = conventional): refused too */
-    app.cfg.rsid_mode = APP_RSID_WINDOWS;
+    app.cfg.rsid.mode = APP_RSID_WINDOWS;
     app.warnings = APP_WARN_STEP1_REFUSED;
     cmd_apply(&cmd, &LIM, &app);
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
@@ -167,7 +167,7 @@ static void proposed_method_without_step1_is_refused(void **state)
 static void proposed_method_is_taken_or_refused_by_its_configuration(void **state)
 {
     (void)state;
-    app.cfg.rsid_mode = APP_RSID_WINDOWS; /* step 1 configured */
+    app.cfg.rsid.mode = APP_RSID_WINDOWS; /* step 1 configured */
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     apply();
     assert_int_equal(app.ctrl.status, CTRL_CFG_OK); /* board defaults pass (36) and the stability bound */

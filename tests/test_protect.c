@@ -17,16 +17,17 @@
 static protect_cfg_t prot_cfg(void)
 {
     const protect_watch_cfg_t w = { OP_WINDOW * 1e-4f, 1.0f, 0.2f, 25.0f, 3.662e-3f, PI_F / 12.0f, 0.5f, 0.1f,
-                                    100.0f, STALL_N * 1e-4f, 0.9f, TE_MAX, POLES };
-    const protect_cfg_t cfg = { I_MAX, VDC_MAX, VDC_MIN, SPEED_MAX, PERIOD_CYC, BUDGET_CYC, CPR, 1e-4f, w };
+                                    100.0f, STALL_N * 1e-4f, 0.9f };
+    const protect_cfg_t cfg = { I_MAX, VDC_MAX, VDC_MIN, SPEED_MAX, PERIOD_CYC, BUDGET_CYC, w };
     return cfg;
 }
 
 static protect_t prot_unit(void)
 {
     const protect_cfg_t cfg = prot_cfg();
+    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES };
     protect_t p;
-    protect_init(&p, &cfg);
+    protect_init(&p, &cfg, &drv);
     return p;
 }
 

@@ -14,7 +14,7 @@ static void rsid_seq_timeline_by_hand(void **state)
 {
     (void)state;
     const rsid_seq_cfg_t cfg = { APP_RSID_SPEEDS, RSID_SETTLE_1 * 1e-4f, RSID_WIN * 1e-4f, RSID_SETTLE_2 * 1e-4f,
-                                 52.36f, 104.72f, 261.799f, 0.3f, 2u };
+                                 52.36f, 104.72f, 261.799f, 0.3f, 2u, APP_RSID_REFUSAL_FAULT };
     rsid_seq_t q;
     rsid_seq_init(&q, &cfg, 1e-4f);
     assert_int_equal(q.window_ticks, RSID_WIN);

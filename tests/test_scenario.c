@@ -104,9 +104,9 @@ static void defaults_come_from_the_parameter_set(void **state)
     static app_cfg_t ac;
     app_cfg_default(&ac);
     assert_true(sc.identify.settle_1_s == 0.28);
-    assert_float_equal(sc.identify.window_s, ac.rsid_window_s, 1e-9);
+    assert_float_equal(sc.identify.window_s, ac.rsid.window_s, 1e-9);
     assert_float_equal(sc.identify.speed_2_rpm, 1000.0, 0.0);
-    assert_int_equal(sc.identify.repeats_max, ac.rsid_repeats_max);
+    assert_int_equal(sc.identify.repeats_max, ac.rsid.repeats_max);
 }
 
 static void parses_every_kind(void **state)

@@ -72,8 +72,10 @@ for name, cg in zip(("conventional", "proposed", "proposed_track_R"), cgs):
     print(f"ctrl_step {name} (speed mode, x86-64 -O2, callgrind): {total / n:.0f} instructions per step")
     print(f"  per step: {tally['div'] / n:.2f} divisions, {tally['sqrt'] / n:.2f} square roots, "
           f"{tally['sincos'] / n:.2f} sin/cos calls (sinf+cosf of one angle count 2)")
-(ic, tc), (ip, tp) = res["conventional"], res["proposed"]
-print(f"proposed - conventional: {ip - ic:+.0f} instructions ({100.0 * (ip - ic) / ic:+.0f} %), "
-      f"{tp['div'] - tc['div']:+.2f} divisions, {tp['sqrt'] - tc['sqrt']:+.2f} square roots, "
-      f"{tp['sincos'] - tc['sincos']:+.2f} sin/cos")
+(ic, tc) = res["conventional"]
+for name in ("proposed", "proposed_track_R"):
+    ip, tp = res[name]
+    print(f"{name} - conventional: {ip - ic:+.0f} instructions ({100.0 * (ip - ic) / ic:+.0f} %), "
+          f"{tp['div'] - tc['div']:+.2f} divisions, {tp['sqrt'] - tc['sqrt']:+.2f} square roots, "
+          f"{tp['sincos'] - tc['sincos']:+.2f} sin/cos")
 PY

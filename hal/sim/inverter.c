@@ -167,8 +167,83 @@ static void period_averaged(const inv_cfg_t *cfg, const double duty[3], double T
     integrate_piece(cfg, plant, ua, ub, TL_Nm, cfg->Ts_s);
 }
 
+/* The stator voltage of each of the 8 leg patterns (bit k: leg k high) at
+ * the bus vdc_V, from legs_to_ab() itself so the pieces get the same bits
+ * as the general path; rebuilt when the bus changes (a sag or surge). */
+typedef struct {
+    double vdc_V;
+    double ua_V[1 << N_LEGS];
+    double ub_V[1 << N_LEGS];
+} pattern_table_t;
+
+static const pattern_table_t *pattern_table(double vdc_V)
+{
+    static pattern_table_t tab = { -1.0, { 0.0 }, { 0.0 } };
+    if (tab.vdc_V != vdc_V) {
+        for (unsigned m = 0u; m < (1u << N_LEGS); m++) {
+            double v[N_LEGS];
+            for (int k = 0; k < N_LEGS; k++) {
+                v[k] = ((m >> k) & 1u) ? vdc_V : 0.0;
+            }
+            legs_to_ab(v, &tab.ua_V[m], &tab.ub_V[m]);
+        }
+        tab.vdc_V = vdc_V;
+    }
+    return &tab;
+}
+
+/* Ideal switches (no dead time, no device drop): the legs' states need no
+ * current, so the period is walked as a list of edges, each toggling one
+ * leg of a bit pattern. Same pieces, same voltages as the general path
+ * (edges sorted, zero-length pieces skipped), without the per-piece state
+ * search. */
+static void period_switching_ideal(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
+{
+    double t_ev[2 * N_LEGS];
+    unsigned bit_ev[2 * N_LEGS];
+    int n = 0;
+    unsigned mask = 0u;
+    for (int k = 0; k < N_LEGS; k++) {
+        leg_times_t lt;
+        leg_times(cfg, duty[k], &lt);
+        if (lt.held == LEG_HIGH) {
+            mask |= 1u << k;
+        } else if (lt.held == LEG_DEAD) {
+            /* insertion by time: at most 6 events */
+            const double ev[2] = { lt.on_s, lt.off_s };
+            for (int e = 0; e < 2; e++) {
+                int j = n - 1;
+                while (j >= 0 && t_ev[j] > ev[e]) {
+                    t_ev[j + 1] = t_ev[j];
+                    bit_ev[j + 1] = bit_ev[j];
+                    j--;
+                }
+                t_ev[j + 1] = ev[e];
+                bit_ev[j + 1] = 1u << k;
+                n++;
+            }
+        }
+    }
+    const pattern_table_t *tab = pattern_table(cfg->vdc_V);
+    double t0 = 0.0;
+    for (int j = 0; j <= n; j++) {
+        double t1 = (j < n) ? t_ev[j] : cfg->Ts_s;
+        if (t1 > t0) {
+            integrate_piece(cfg, plant, tab->ua_V[mask], tab->ub_V[mask], TL_Nm, t1 - t0);
+            t0 = t1;
+        }
+        if (j < n) {
+            mask ^= bit_ev[j];
+        }
+    }
+}
+
 static void period_switching(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
 {
+    if (!needs_current(cfg)) {
+        period_switching_ideal(cfg, duty, TL_Nm, plant);
+        return;
+    }
     double br[MAX_BREAKS];
     int n = 0;
     for (int k = 0; k < N_LEGS; k++) {

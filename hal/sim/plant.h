@@ -9,6 +9,8 @@
  * The stator voltage is given in the stator frame (alpha-beta), held
  * constant over a step, as an inverter applies it; the step is one
  * classical RK4 step, so callers split a period at every switching instant.
+ * The step integrates in the stator frame with the d axis's phasor as a
+ * state (no sin/cos at its stages); the state kept is the rotor frame's.
  */
 #ifndef PLANT_H
 #define PLANT_H
@@ -50,10 +52,13 @@ typedef struct {
     double inv_L_per_H;          /* 1/L and 1/J: the step multiplies, divisions are slow */
     double inv_J_per_kgm2;
     plant_acc_t acc;
-    /* sin/cos anchor: stage angles are rotated from it by a short series (see plant.c) */
+    /* sin/cos anchor: angles near it are turned from it by a short series (see plant.c) */
     double anchor_el_rad;
     double anchor_sin;
     double anchor_cos;
+    /* cos and sin of the present electrical angle (the d axis's phasor), kept by every step */
+    double z_cos;
+    double z_sin;
 } plant_t;
 
 /* Table I of the paper: R 3 ohm, L 11 mH, psi_f 0.24 Wb, p 3, J 0.00129 kg m^2, B 0. Any context. */

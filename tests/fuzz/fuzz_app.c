@@ -105,15 +105,15 @@ static void configure(const uint8_t *h)
     app_cfg_default(&cfg);
     cfg.calibrate = (h[0] & 1u) != 0u;
     cfg.align = (h[0] & 2u) != 0u;
-    cfg.rsid_mode = (app_rsid_mode_t)((h[0] >> 2) & 3u);
-    cfg.cal_settle_s = t_s;
-    cfg.cal_samples = h[1] + 1u;
-    cfg.align_ramp_s = t_s;
-    cfg.align_prepos_s = t_s;
-    cfg.align_settle_s = t_s;
-    cfg.rsid_settle_1_s = t_s;
-    cfg.rsid_window_s = t_s;
-    cfg.rsid_settle_2_s = t_s;
+    cfg.rsid.mode = (app_rsid_mode_t)((h[0] >> 2) & 3u);
+    cfg.cal.settle_s = t_s;
+    cfg.cal.samples = h[1] + 1u;
+    cfg.aln.ramp_s = t_s;
+    cfg.aln.prepos_s = t_s;
+    cfg.aln.settle_s = t_s;
+    cfg.rsid.settle_1_s = t_s;
+    cfg.rsid.window_s = t_s;
+    cfg.rsid.settle_2_s = t_s;
 
     fuzz_hal_reset();
     app_init(&g_h.app, &cfg);

@@ -318,14 +318,14 @@ static const sc_param_t PARAM_KEYS[] = {
     P("controller", "i_max_A", limits.i_trip_A, 0, 1.0),
     P("controller", "i_limit_A", limits.i_limit_A, 0, 1.0),
     P("controller", "overspeed_rpm", limits.speed_max_rad_s, 0, RPM_PER_RAD_S),
-    A("identify", "settle_1_s", rsid_settle_1_s, 0, 1.0),
-    A("identify", "window_s", rsid_window_s, 0, 1.0),
-    A("identify", "settle_2_s", rsid_settle_2_s, 0, 1.0),
-    A("identify", "speed_1_rpm", rsid_speed_1_rad_s, 0, RPM_PER_RAD_S),
-    A("identify", "speed_2_rpm", rsid_speed_2_rad_s, 0, RPM_PER_RAD_S),
-    A("identify", "accel_rpm_s", rsid_accel_rad_s2, 0, RPM_PER_RAD_S),
-    A("identify", "window_max_s", rsid_window_max_s, 0, 1.0),
-    A("identify", "repeats_max", rsid_repeats_max, 1, 1.0),
+    A("identify", "settle_1_s", rsid.settle_1_s, 0, 1.0),
+    A("identify", "window_s", rsid.window_s, 0, 1.0),
+    A("identify", "settle_2_s", rsid.settle_2_s, 0, 1.0),
+    A("identify", "speed_1_rpm", rsid.speed_1_rad_s, 0, RPM_PER_RAD_S),
+    A("identify", "speed_2_rpm", rsid.speed_2_rad_s, 0, RPM_PER_RAD_S),
+    A("identify", "accel_rpm_s", rsid.accel_rad_s2, 0, RPM_PER_RAD_S),
+    A("identify", "window_max_s", rsid.window_max_s, 0, 1.0),
+    A("identify", "repeats_max", rsid.repeats_max, 1, 1.0),
 };
 #undef P
 #undef A

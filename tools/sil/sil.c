@@ -114,16 +114,16 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
     c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
     c->track_R = (sc->identify.track_R == SC_ON) ? 1u : 0u;
-    ac->rsid_mode = (app_rsid_mode_t)sc->identify.mode;
-    ac->rsid_settle_1_s = (float)sc->identify.settle_1_s;
-    ac->rsid_window_s = (float)sc->identify.window_s;
-    ac->rsid_settle_2_s = (float)sc->identify.settle_2_s;
-    ac->rsid_speed_1_rad_s = (float)(sc->identify.speed_1_rpm / RPM_PER_RAD_S);
-    ac->rsid_speed_2_rad_s = (float)(sc->identify.speed_2_rpm / RPM_PER_RAD_S);
-    ac->rsid_accel_rad_s2 = (float)(sc->identify.accel_rpm_s / RPM_PER_RAD_S);
-    ac->rsid_window_max_s = (float)sc->identify.window_max_s;
-    ac->rsid_repeats_max = (uint16_t)sc->identify.repeats_max;
-    ac->rsid_on_refusal = (sc->identify.on_refusal == SC_REFUSAL_CONVENTIONAL) ? APP_RSID_REFUSAL_CONVENTIONAL
+    ac->rsid.mode = (app_rsid_mode_t)sc->identify.mode;
+    ac->rsid.settle_1_s = (float)sc->identify.settle_1_s;
+    ac->rsid.window_s = (float)sc->identify.window_s;
+    ac->rsid.settle_2_s = (float)sc->identify.settle_2_s;
+    ac->rsid.speed_1_rad_s = (float)(sc->identify.speed_1_rpm / RPM_PER_RAD_S);
+    ac->rsid.speed_2_rad_s = (float)(sc->identify.speed_2_rpm / RPM_PER_RAD_S);
+    ac->rsid.accel_rad_s2 = (float)(sc->identify.accel_rpm_s / RPM_PER_RAD_S);
+    ac->rsid.window_max_s = (float)sc->identify.window_max_s;
+    ac->rsid.repeats_max = (uint16_t)sc->identify.repeats_max;
+    ac->rsid.on_refusal = (sc->identify.on_refusal == SC_REFUSAL_CONVENTIONAL) ? APP_RSID_REFUSAL_CONVENTIONAL
                                                                                : APP_RSID_REFUSAL_FAULT;
 }
 
@@ -369,8 +369,8 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path
     json_flt(f, "speed_kp_Nms_rad", c->speed_kp_Nms_rad, ", ");
     json_flt(f, "speed_ki_Nm_rad", c->speed_ki_Nm_rad, ", ");
     json_flt(f, "te_max_Nm", c->te_max_Nm, ", ");
-    json_flt(f, "i_max_A", ac->i_max_A, ", ");
+    json_flt(f, "i_max_A", ac->prot.i_max_A, ", ");
     json_flt(f, "i_limit_A", c->i_lim_A, ", ");
-    json_flt(f, "overspeed_rpm", (float)((double)ac->speed_max_rad_s * RPM_PER_RAD_S), ", ");
+    json_flt(f, "overspeed_rpm", (float)((double)ac->prot.speed_max_rad_s * RPM_PER_RAD_S), ", ");
     json_num(f, "config_status", (double)ctrl_status(&g_app.ctrl), "}}\n");
 }
