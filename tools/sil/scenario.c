@@ -39,7 +39,8 @@ static const char *const CHANNEL_NAMES[] = { "a", "b", NULL };
 static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 
 /* Keys whose default is the drive's parameter set (firmware/drive_params.h,
- * the board's values), not text of this table: see params_default(). */
+ * the board's values) or the app's configuration of the board
+ * (app_cfg_default), not text of this table: see params_default(). */
 static const char PARAMS[] = "(drive_params)";
 
 #define UINT32_MAX_D 4294967295.0
@@ -73,7 +74,7 @@ static const sc_key_t KEYS[] = {
        "on-state drop of the conducting switch or diode [V], by the current's sign"),
     POS("plant", "substep_s", plant.substep_s, "1e-4", "longest RK4 step inside a constant-voltage piece [s]"),
     UINT("plant", "encoder_lines", plant.encoder_lines, PARAMS, 1.0, 1.0e6, "encoder lines (x4 counts)"),
-    ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, "0",
+    ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, PARAMS,
         "electrical angle of the d axis at count 0 [rad]; the controller is told the same unless run.align = on"),
     POS("plant", "adc_full_scale_A", plant.adc_full_scale_A, "15", "current ADC range +-[A] (12 bit)"),
     ANY("plant", "adc_offset_a_A", plant.adc_offset_a_A, "0", "phase-a ADC offset [A]"),
@@ -102,7 +103,7 @@ static const sc_key_t KEYS[] = {
     OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.2 x controller's R)"),
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 2 x controller's R)"),
 
-    ENUM("identify", "mode", identify.mode, "off", RSID_NAMES, "step 1 of the proposed method: off | windows | speeds | trusted"),
+    ENUM("identify", "mode", identify.mode, PARAMS, RSID_NAMES, "step 1 of the proposed method: off | windows | speeds | trusted"),
     NN("identify", "settle_1_s", identify.settle_1_s, PARAMS, "start of IDENTIFY_R to window 1 [s]"),
     POS("identify", "window_s", identify.window_s, PARAMS, "each averaging window [s]"),
     NN("identify", "settle_2_s", identify.settle_2_s, PARAMS, "end of window 1 to window 2 [s]"),
@@ -110,15 +111,15 @@ static const sc_key_t KEYS[] = {
     ANY("identify", "speed_2_rpm", identify.speed_2_rpm, PARAMS, "speeds mode: speed of point 2 [r/min]"),
     POS("identify", "accel_rpm_s", identify.accel_rpm_s, PARAMS, "speeds mode: ramp of the commanded speed [r/min/s]"),
     /* step 1 on a real ADC (issue 13 part A; rs_ident.h, observer_design.md sec. 6) */
-    POS("identify", "R_se_max_rel", identify.R_se_max_rel, "0.015", "largest standard error of R^ accepted, x R^"),
-    POS("identify", "batch_s", identify.batch_s, "0.005", "batch of the standard error's batch means [s]"),
+    POS("identify", "R_se_max_rel", identify.R_se_max_rel, PARAMS, "largest standard error of R^ accepted, x R^"),
+    POS("identify", "batch_s", identify.batch_s, PARAMS, "batch of the standard error's batch means [s]"),
     NN("identify", "window_max_s", identify.window_max_s, PARAMS,
        "window 2 is lengthened up to this while the standard error of R^ is too large [s]"),
     UINT("identify", "repeats_max", identify.repeats_max, PARAMS, 0.0, 100.0,
          "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large"),
-    ENUM("identify", "on_refusal", identify.on_refusal, "fault", REFUSAL_NAMES,
+    ENUM("identify", "on_refusal", identify.on_refusal, PARAMS, REFUSAL_NAMES,
          "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
-    ENUM("identify", "track_R", identify.track_R, "off", ONOFF_NAMES,
+    ENUM("identify", "track_R", identify.track_R, PARAMS, ONOFF_NAMES,
          "off | on: R^ tracked in step 2 by a d-current injection (a warming winding)"),
 
     PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
@@ -290,13 +291,21 @@ static int set_value(scenario_t *sc, int i, const char *v, bool append, char *er
 }
 
 /* The board's value of each PARAMS key, in the key's unit: from the
- * parameter set (motor, board, limits, tuning) or, for step 1's timing,
- * from the app's start-up settings (app_cfg_default). */
+ * parameter set (motor, board, limits, tuning) or, for step 1's settings,
+ * from the app's configuration (app_cfg_default). */
+typedef enum {
+    PK_FLOAT,                  /* float [parameter unit] */
+    PK_U16,                    /* uint16_t */
+    PK_U32,                    /* uint32_t */
+    PK_ENUM,                   /* an enum: the key's names[value] */
+    PK_PERIODS                 /* uint32_t periods of the app's ctrl.Ts_s: in seconds */
+} sc_param_kind_t;
+
 typedef struct {
     const char *section, *name;
     int src;                   /* 0 drive_params_t, 1 app_cfg_t */
     size_t offset;             /* of the value in it */
-    int kind;                  /* 0 float, 1 uint16_t, 2 uint32_t */
+    sc_param_kind_t kind;
     double scale;              /* key unit per parameter unit */
 } sc_param_t;
 
@@ -304,35 +313,61 @@ typedef struct {
 #define P(s, k, f, kind, scale) { s, k, 0, offsetof(drive_params_t, f), kind, scale }
 #define A(s, k, f, kind, scale) { s, k, 1, offsetof(app_cfg_t, f), kind, scale }
 static const sc_param_t PARAM_KEYS[] = {
-    P("plant", "R_ohm", motor.R_Ohm, 0, 1.0),
-    P("plant", "L_H", motor.L_H, 0, 1.0),
-    P("plant", "psif_Wb", motor.psi_f_Wb, 0, 1.0),
-    P("plant", "pole_pairs", motor.pole_pairs, 1, 1.0),
-    P("plant", "J_kgm2", motor.J_kgm2, 0, 1.0),
-    P("plant", "vdc_V", board.vdc_nominal_V, 0, 1.0),
-    P("plant", "encoder_lines", board.enc_lines, 2, 1.0),
-    P("controller", "speed_kp_Nms_rad", tuning.speed_kp_Nms_rad, 0, 1.0),
-    P("controller", "speed_ki_Nm_rad", tuning.speed_ki_Nm_rad, 0, 1.0),
-    P("controller", "pll_bw_rad_s", tuning.pll_bw_rad_s, 0, 1.0),
-    P("controller", "te_max_Nm", limits.te_max_Nm, 0, 1.0),
-    P("controller", "i_max_A", limits.i_trip_A, 0, 1.0),
-    P("controller", "i_limit_A", limits.i_limit_A, 0, 1.0),
-    P("controller", "overspeed_rpm", limits.speed_max_rad_s, 0, RPM_PER_RAD_S),
-    A("identify", "settle_1_s", rsid.settle_1_s, 0, 1.0),
-    A("identify", "window_s", rsid.window_s, 0, 1.0),
-    A("identify", "settle_2_s", rsid.settle_2_s, 0, 1.0),
-    A("identify", "speed_1_rpm", rsid.speed_1_rad_s, 0, RPM_PER_RAD_S),
-    A("identify", "speed_2_rpm", rsid.speed_2_rad_s, 0, RPM_PER_RAD_S),
-    A("identify", "accel_rpm_s", rsid.accel_rad_s2, 0, RPM_PER_RAD_S),
-    A("identify", "window_max_s", rsid.window_max_s, 0, 1.0),
-    A("identify", "repeats_max", rsid.repeats_max, 1, 1.0),
+    P("plant", "R_ohm", motor.R_Ohm, PK_FLOAT, 1.0),
+    P("plant", "L_H", motor.L_H, PK_FLOAT, 1.0),
+    P("plant", "psif_Wb", motor.psi_f_Wb, PK_FLOAT, 1.0),
+    P("plant", "pole_pairs", motor.pole_pairs, PK_U16, 1.0),
+    P("plant", "J_kgm2", motor.J_kgm2, PK_FLOAT, 1.0),
+    P("plant", "vdc_V", board.vdc_nominal_V, PK_FLOAT, 1.0),
+    P("plant", "encoder_lines", board.enc_lines, PK_U32, 1.0),
+    P("plant", "encoder_offset_el_rad", board.enc_offset_el_rad, PK_FLOAT, 1.0),
+    P("controller", "speed_kp_Nms_rad", tuning.speed_kp_Nms_rad, PK_FLOAT, 1.0),
+    P("controller", "speed_ki_Nm_rad", tuning.speed_ki_Nm_rad, PK_FLOAT, 1.0),
+    P("controller", "pll_bw_rad_s", tuning.pll_bw_rad_s, PK_FLOAT, 1.0),
+    P("controller", "te_max_Nm", limits.te_max_Nm, PK_FLOAT, 1.0),
+    P("controller", "i_max_A", limits.i_trip_A, PK_FLOAT, 1.0),
+    P("controller", "i_limit_A", limits.i_limit_A, PK_FLOAT, 1.0),
+    P("controller", "overspeed_rpm", limits.speed_max_rad_s, PK_FLOAT, RPM_PER_RAD_S),
+    A("identify", "mode", rsid.mode, PK_ENUM, 1.0),
+    A("identify", "settle_1_s", rsid.settle_1_s, PK_FLOAT, 1.0),
+    A("identify", "window_s", rsid.window_s, PK_FLOAT, 1.0),
+    A("identify", "settle_2_s", rsid.settle_2_s, PK_FLOAT, 1.0),
+    A("identify", "speed_1_rpm", rsid.speed_1_rad_s, PK_FLOAT, RPM_PER_RAD_S),
+    A("identify", "speed_2_rpm", rsid.speed_2_rad_s, PK_FLOAT, RPM_PER_RAD_S),
+    A("identify", "accel_rpm_s", rsid.accel_rad_s2, PK_FLOAT, RPM_PER_RAD_S),
+    A("identify", "R_se_max_rel", ctrl.rsid.R_se_max_rel, PK_FLOAT, 1.0),
+    A("identify", "batch_s", ctrl.rsid.n_batch, PK_PERIODS, 1.0),
+    A("identify", "window_max_s", rsid.window_max_s, PK_FLOAT, 1.0),
+    A("identify", "repeats_max", rsid.repeats_max, PK_U16, 1.0),
+    A("identify", "on_refusal", rsid.on_refusal, PK_ENUM, 1.0),
+    A("identify", "track_R", ctrl.track_R, PK_U16, 1.0),
 };
 #undef P
 #undef A
 
+/* The value at q in its kind, in the key's unit. */
+static double param_value(const sc_param_t *q, const char *at, const app_cfg_t *ac)
+{
+    switch (q->kind) {
+    case PK_U16:
+        return (double)*(const uint16_t *)(const void *)at;
+    case PK_U32:
+        return (double)*(const uint32_t *)(const void *)at;
+    case PK_ENUM:
+        return (double)*(const unsigned int *)(const void *)at;
+    case PK_PERIODS:
+        return (double)*(const uint32_t *)(const void *)at * (double)ac->ctrl.Ts_s;
+    case PK_FLOAT:
+        break;
+    }
+    return (double)*(const float *)(const void *)at * q->scale;
+}
+
 /* The default of a PARAMS key as text: the board's value in the key's
  * unit, to 6 significant digits (the decimal board_cfg.h spells: 0.011f
- * reads 0.011, not 0.0109999999). "" for a key not in PARAM_KEYS. */
+ * reads 0.011, not 0.0109999999); an enum key's value (or an on/off
+ * key's 0/1) by its name. "" for a key not in PARAM_KEYS or a value
+ * with no name. */
 static const char *params_default(const sc_key_t *k, char *buf, size_t len)
 {
     drive_params_t p;
@@ -344,15 +379,16 @@ static const char *params_default(const sc_key_t *k, char *buf, size_t len)
         const sc_param_t *q = &PARAM_KEYS[j];
         if (strcmp(q->section, k->section) == 0 && strcmp(q->name, k->name) == 0) {
             const char *at = ((q->src == 0) ? (const char *)&p : (const char *)&ac) + q->offset;
-            double v = 0.0;
-            if (q->kind == 1) {
-                v = (double)*(const uint16_t *)(const void *)at;
-            } else if (q->kind == 2) {
-                v = (double)*(const uint32_t *)(const void *)at;
-            } else {
-                v = (double)*(const float *)(const void *)at;
+            const double v = param_value(q, at, &ac);
+            if (k->kind != K_ENUM) {
+                snprintf(buf, len, "%.6g", v);
+                continue;
             }
-            snprintf(buf, len, "%.6g", v * q->scale);
+            for (size_t n = 0; k->names[n] != NULL; n++) {
+                if ((double)n == v) {
+                    snprintf(buf, len, "%s", k->names[n]);
+                }
+            }
         }
     }
     return buf;

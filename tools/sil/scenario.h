@@ -1,9 +1,11 @@
 /*
  * scenario.h - SIL scenarios: INI files (parsed with libinih) and
  * "section.key=value" overrides into one scenario_t. Every key is
- * optional; defaults are the paper's Table I. The keys are one table in
- * scenario.c (a new key is one field here and one line there); the
- * format is documented in hal/sim/README.md and by scenario_print_keys().
+ * optional; the drive's keys default to its parameter set and the app's
+ * configuration of the board (Table I; scenario.c, PARAMS). The keys are
+ * one table in scenario.c (a new key is one field here and one line
+ * there); the format is documented in hal/sim/README.md and by
+ * scenario_print_keys().
  *
  * Errors name the source and key: "FILE:LINE: [section] key: problem"
  * (or "--set section.key=value: problem").
