@@ -152,7 +152,9 @@ static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
         (void)rs_ident_init(&c->ri, &rc);
         return CTRL_CFG_RTRACK;
     }
-    if (!param_est_init(&c->pe, &ec, &c->smo)) {
+    psi_band_cfg_t bc;
+    psi_band_cfg_defaults(&bc, cfg->Ts_s, ec.w_min_rad_s, ec.psi_min_Wb, ec.psi_max_Wb);
+    if (!param_est_init(&c->pe, &ec, &c->smo) || !psi_band_init(&c->pb, &bc)) {
         (void)rs_ident_init(&c->ri, &rc);
         return (ctrl_status_t)(CTRL_CFG_ESTIMATOR | gate);
     }
@@ -267,6 +269,7 @@ void ctrl_reset(ctrl_t *c)
     c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
     c->mon.inv_err_V = 0.0f;
+    c->mon.psi_f_model_Wb = c->db.par.psi_f_Wb;
 }
 
 void ctrl_track(ctrl_t *c, uint32_t enc_count)
@@ -330,6 +333,7 @@ static void start_step2(ctrl_t *c)
 {
     param_est_run(&c->pe, true);
     est_gate_reset(&c->gate, &c->smo);
+    psi_band_start(&c->pb, c->smo.psi_f_Wb); /* the model's value then (design sec. 9f) */
     c->ident = CTRL_IDENT_STEP2;
     if (c->model_src == MODEL_OBSERVER) {
         c->model_src = MODEL_STALE;
@@ -340,15 +344,18 @@ static void start_step2(ctrl_t *c)
 /* Per-leg voltage error dv_V [V] of the dead time's shape added to the
  * compensation, bumplessly: f^ takes the fundamental -(4/pi) dv i/|i| it
  * no longer has to explain (design sec. 9). 1 square root, 1 division, once. */
-static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A)
+static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A, float omega_el_rad_s)
 {
     const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
+    float dfq = 0.0f;
     c->inv_dv_V += dv_V;
     if (i_abs > 0.0f) {
         const float k = -FUNDAMENTAL_OF_SQUARE * dv_V / i_abs;
+        dfq = k * i_dq_A.q;
         c->smo.fd_V += k * i_dq_A.d;
-        c->smo.fq_V += k * i_dq_A.q;
+        c->smo.fq_V += dfq;
     }
+    psi_band_rebase(&c->pb, dfq, omega_el_rad_s); /* the fine bound from here (design sec. 9f) */
 }
 
 /* The injection's period: after step 1 the inverter error, in step 2 R^. */
@@ -358,7 +365,7 @@ static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
     const r_track_event_t ev = r_track_step(&c->rt, z, i_dq_A.d, i_dq_A.q);
 
     if (ev == R_TRACK_IDENT_DONE) {
-        add_inverter_error(c, QUARTER_PI * c->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */
+        add_inverter_error(c, QUARTER_PI * c->rt.Ve_V, i_dq_A, omega_el_rad_s); /* per leg: (pi/4) Ve */
         c->rt_flags = 0u;
         start_tracking(c);
     } else if (ev == R_TRACK_IDENT_REFUSED) {
@@ -434,7 +441,8 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
  * compensates the one-period delay; the one place the methods differ
  * (steps 2-4 of the header's sequence).
  */
-static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s, float sin_el, float cos_el)
+static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s, float sin_el, float cos_el,
+                                      float vdc_V)
 {
     if (c->ident != CTRL_IDENT_OFF) {
         /* u(k) is the clamped voltage the last step realised, as the observer needs */
@@ -453,19 +461,25 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
             i_gate.d -= c->rt.id_expect_A;
             uint16_t moved = est_gate_step(&c->gate, &c->smo, omega_el_rad_s, i_gate, c->mon.te_ref_Nm,
                                            (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u) ? 1u : 0u;
+            c->psi_held = CTRL_FLAG_PSI_HELD;
             if (c->gate.reasons == 0u) {
-                const uint16_t est_moved = param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
-                moved |= est_moved;
-                c->psi_held = ((est_moved & PARAM_EST_PSI_MOVED) == 0u) ? CTRL_FLAG_PSI_HELD : 0u;
+                moved |= param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
+                /* the model's psi_f: only what the voltage it cannot explain
+                 * (the inverter error compensated, noise) cannot fake (design sec. 9f) */
+                const float ve_comp = FUNDAMENTAL_OF_SQUARE * (c->deadtime_frac * vdc_V + mathx_fabsf(c->inv_dv_V));
+                if (psi_band_step(&c->pb, c->smo.psi_f_Wb, c->smo.fq_V, omega_el_rad_s, ve_comp)) {
+                    moved = 1u;
+                    c->psi_held = 0u;
+                }
             }
             if (c->method == CTRL_METHOD_PROPOSED) {
                 /* 2 divisions, only when an estimate moved by more than
                  * CTRL_MODEL_UPDATE_REL since the model took it */
                 const dbdtc_par_t *p = &c->db.par;
                 const bool far = (mathx_fabsf(c->smo.L_H - p->L_H) > CTRL_MODEL_UPDATE_REL * p->L_H) ||
-                                 (mathx_fabsf(c->smo.psi_f_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb);
+                                 (mathx_fabsf(c->pb.psi_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb);
                 if (((moved != 0u) && far) || (c->model_src != MODEL_OBSERVER)) {
-                    dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->smo.psi_f_Wb);
+                    dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->pb.psi_Wb);
                     c->model_src = MODEL_OBSERVER;
                 }
                 if (!est_gate_f_usable(&c->gate)) {
@@ -586,7 +600,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     const dq_t i_dq = park(clarke_2ph(in->ia_A, in->ib_A), s, co);
 
     /* delay compensation and the parameters in use */
-    const dbdtc_state_t x = ctrl_model_step(c, i_dq, omega, s, co);
+    const dbdtc_state_t x = ctrl_model_step(c, i_dq, omega, s, co, in->vdc_V);
     const dbdtc_par_t *par = &c->db.par;
 
     if (c->mode == CTRL_MODE_OPEN_LOOP) {
@@ -657,6 +671,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     c->mon.est_hold = c->gate.reasons;
     c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
     c->mon.inv_err_V = FUNDAMENTAL_OF_SQUARE * c->inv_dv_V;
+    c->mon.psi_f_model_Wb = par->psi_f_Wb;
 
     /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
      * are in it because the blocks clamp (a NaN would become a bound); the

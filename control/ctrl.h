@@ -58,6 +58,7 @@
 #include "oplim.h"
 #include "param_est.h"
 #include "pi.h"
+#include "psi_band.h"
 #include "r_track.h"
 #include "rs_ident.h"
 #include "smo.h"
@@ -72,7 +73,7 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 /* Inverter error and R tracking (observer_design.md sec. 9); high bits, set while it lasts: */
 #define CTRL_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
 #define CTRL_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
-#define CTRL_FLAG_PSI_HELD         0x0400u /* step 2: psi^ holds (|w| below what the voltage error allows) */
+#define CTRL_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f holds (within what the voltage it cannot explain allows; design sec. 9f) */
 
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
@@ -158,6 +159,7 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     uint16_t est_hold;                    /* EST_GATE_* why step 2's laws are paused (0: learning) */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
     float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 9) */
+    float psi_f_model_Wb;                 /* the psi_f the deadbeat model uses [Wb] (design sec. 9f) */
 } ctrl_mon_t;
 
 typedef struct {
@@ -184,7 +186,8 @@ typedef struct {
     r_track_t rt;               /* d-axis injection (inverter error, R tracking) */
     float inv_dv_V;             /* per-leg voltage error identified on top of the dead time's [V] */
     uint16_t rt_flags;          /* CTRL_FLAG_INV_UNIDENTIFIED, CTRL_FLAG_R_HELD while they last */
-    uint16_t psi_held;          /* CTRL_FLAG_PSI_HELD when psi^'s law did not act in the last step-2 period */
+    uint16_t psi_held;          /* CTRL_FLAG_PSI_HELD when the model's psi_f did not move in the last step-2 period */
+    psi_band_t pb;              /* the model's psi_f: the observer's through a dead band (design sec. 9f) */
     est_gate_t gate;            /* pause and hold of step 2 */
     uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the gate's voltage check) */
     uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */

@@ -36,6 +36,7 @@ typedef struct {
     double inj;                             /* hal_sim_fault_bit_t of the injected faults active ([faults]) */
     double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; 0 unless in FAULT */
     double inv_err_est_V;                   /* inverter voltage error the controller identified (ctrl_mon_t.inv_err_V) */
+    double psif_model_Wb;                   /* psi_f the deadbeat model uses (ctrl_mon_t.psi_f_model_Wb; design sec. 9f) */
 } sil_row_t;
 
 typedef struct {

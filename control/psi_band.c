@@ -1,0 +1,88 @@
+/* psi_band.c - the model's psi_f through a dead band; see psi_band.h. */
+#include "psi_band.h"
+
+#include "mathx.h"
+
+void psi_band_cfg_defaults(psi_band_cfg_t *cfg, float Ts_s, float w_min_rad_s, float psi_min_Wb, float psi_max_Wb)
+{
+    cfg->Ts_s = Ts_s;
+    cfg->tau_s = PSI_BAND_TAU_DEFAULT_S;
+    cfg->w_min_rad_s = w_min_rad_s;
+    cfg->psi_min_Wb = psi_min_Wb;
+    cfg->psi_max_Wb = psi_max_Wb;
+    cfg->unc_told_frac = PSI_BAND_UNC_TOLD_FRAC_DEFAULT;
+    cfg->unc_ident_frac = PSI_BAND_UNC_IDENT_FRAC_DEFAULT;
+    cfg->unc_abs_V = PSI_BAND_UNC_ABS_DEFAULT_V;
+    cfg->settle_s = PSI_BAND_SETTLE_DEFAULT_S;
+    cfg->settle_frac = PSI_BAND_SETTLE_FRAC_DEFAULT;
+}
+
+bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg)
+{
+    const float sum = cfg->Ts_s + cfg->tau_s + cfg->w_min_rad_s + cfg->psi_min_Wb + cfg->psi_max_Wb +
+                      cfg->unc_told_frac + cfg->unc_ident_frac + cfg->unc_abs_V + cfg->settle_s + cfg->settle_frac;
+    const bool ok = mathx_isfinitef(sum) && (cfg->Ts_s > 0.0f) && (cfg->tau_s > cfg->Ts_s) &&
+                    (cfg->w_min_rad_s > 0.0f) && (cfg->psi_min_Wb > 0.0f) && (cfg->psi_min_Wb <= cfg->psi_max_Wb) &&
+                    (cfg->unc_told_frac >= 0.0f) && (cfg->unc_ident_frac >= 0.0f) && (cfg->unc_abs_V >= 0.0f) &&
+                    (cfg->settle_s >= cfg->Ts_s) && (cfg->settle_s <= 1.0f) && (cfg->settle_frac >= 0.0f);
+
+    pb->cfg = *cfg;
+    pb->a = ok ? (cfg->Ts_s / cfg->tau_s) : 0.0f;
+    pb->settle_n = ok ? (uint16_t)(cfg->settle_s / cfg->Ts_s + 0.5f) : 1u;
+    psi_band_start(pb, ok ? cfg->psi_min_Wb : 1.0f);
+    return ok;
+}
+
+void psi_band_start(psi_band_t *pb, float psi_Wb)
+{
+    pb->frac = pb->cfg.unc_told_frac;
+    pb->track = false;
+    pb->n = 0u;
+    pb->anchor_Wb = psi_Wb;
+    pb->h_Wb = psi_Wb;
+    pb->P_Wb = psi_Wb;
+    pb->P_snap_Wb = psi_Wb;
+    pb->psi_Wb = psi_Wb;
+}
+
+void psi_band_rebase(psi_band_t *pb, float dfq_V, float omega_el_rad_s)
+{
+    if (mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s) {
+        pb->P_Wb += dfq_V / omega_el_rad_s;
+    }
+    pb->frac = pb->cfg.unc_ident_frac;
+    pb->track = false;
+    pb->h_Wb = pb->anchor_Wb;
+}
+
+bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_comp_V)
+{
+    const float w_abs = mathx_fabsf(omega_el_rad_s);
+
+    if (!(w_abs > pb->cfg.w_min_rad_s)) {
+        return false; /* psi_eq ill-conditioned: hold */
+    }
+    const float inv_w = 1.0f / omega_el_rad_s;
+    pb->P_Wb += pb->a * (psi_obs_Wb + fq_V * inv_w - pb->P_Wb);
+    /* Vb/|w|: the flux the voltage nobody can explain may fake at this speed */
+    const float band = (pb->frac * mathx_fabsf(ve_comp_V) + pb->cfg.unc_abs_V) * mathx_fabsf(inv_w);
+    if (!pb->track && (mathx_fabsf(pb->P_Wb - pb->h_Wb) > 2.0f * band)) {
+        pb->track = true; /* h is off by more than P can be */
+        pb->n = 0u;
+        pb->P_snap_Wb = pb->P_Wb;
+    }
+    if (pb->track) {
+        pb->n++;
+        if (pb->n >= pb->settle_n) {
+            if (mathx_fabsf(pb->P_Wb - pb->P_snap_Wb) <= pb->cfg.settle_frac * band) {
+                pb->track = false; /* settled: hold it */
+            }
+            pb->n = 0u;
+            pb->P_snap_Wb = pb->P_Wb;
+        }
+        pb->h_Wb = mathx_clampf(pb->P_Wb, pb->cfg.psi_min_Wb, pb->cfg.psi_max_Wb);
+    }
+    const bool moved = (pb->h_Wb < pb->psi_Wb) || (pb->h_Wb > pb->psi_Wb);
+    pb->psi_Wb = pb->h_Wb;
+    return moved;
+}

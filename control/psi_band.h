@@ -1,0 +1,94 @@
+/*
+ * psi_band.h - the PM flux the proposed method's deadbeat model takes in
+ * step 2: the observer's equilibrium flux seen through a dead band of the
+ * q-axis voltage nobody can explain (observer_design.md sec. 9f).
+ *
+ * The observer's q axis explains w psi^ + fq^, so its equilibrium flux is
+ * psi_eq = psi^ + fq^/w, and any q voltage Vu the model does not know (the
+ * inverter error left after compensation, noise, encoder) sits in it as
+ * Vu/w. P low-passes psi_eq (a = Ts/tau, while learning and |w| > w_min):
+ *
+ *   P += a (psi^ + fq^/w - P)
+ *
+ * With |Vu| <= Vb, the model's psi_f holds its value h until
+ * |P - h| > 2 Vb/|w|: then h is wrong by more than Vb/|w|, more than P can
+ * be, and the model tracks P until P settles (moves by less than
+ * settle_frac Vb/|w| in settle_s), then holds again. Every change thus
+ * brings the model closer to the motor's psi_f: never worse than where it
+ * was, so never worse than the nominal value it starts from; where it
+ * cannot tell (low speed, little evidence) it holds what it knows.
+ * Vb = frac x Ve_comp + abs_V (Ve_comp: the fundamental of the inverter
+ * error compensated) takes the coarse fraction until the inverter error is
+ * identified, the fine one after (psi_band_rebase).
+ *
+ * Calling context: ISR (psi_band_step, psi_band_rebase, psi_band_start),
+ * background (psi_band_init).
+ */
+#ifndef PSI_BAND_H
+#define PSI_BAND_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+/* Design defaults (observer_design.md sec. 9f). */
+#define PSI_BAND_TAU_DEFAULT_S         0.02f /* low-pass of psi_eq: 0.14 V rms of fq^ noise -> 0.006 V */
+#define PSI_BAND_UNC_TOLD_FRAC_DEFAULT 0.25f /* before identification: of the told dead time's fundamental */
+#define PSI_BAND_UNC_IDENT_FRAC_DEFAULT 0.05f /* after: of the whole compensated fundamental */
+#define PSI_BAND_UNC_ABS_DEFAULT_V     0.05f /* noise and encoder left in the low-passed fq^ */
+#define PSI_BAND_SETTLE_DEFAULT_S      0.01f /* P settled: moved by less than ... */
+#define PSI_BAND_SETTLE_FRAC_DEFAULT   0.1f  /* ... this x Vb/|w| in that time */
+
+typedef struct {
+    float Ts_s;            /* control period [s] */
+    float tau_s;           /* low-pass of the equilibrium flux [s] */
+    float w_min_rad_s;     /* no update at or below this |w| [rad/s electrical] */
+    float psi_min_Wb;      /* clamps of the model's psi_f [Wb] */
+    float psi_max_Wb;
+    float unc_told_frac;   /* Vb before identification, x the compensated fundamental [1] */
+    float unc_ident_frac;  /* Vb after identification [1] */
+    float unc_abs_V;       /* Vb's absolute part [V] */
+    float settle_s;        /* P settled: moved by less than settle_frac Vb/|w| in this time [s] */
+    float settle_frac;     /* [1] */
+} psi_band_cfg_t;
+
+typedef struct {
+    psi_band_cfg_t cfg;
+    float a;               /* Ts/tau [1] */
+    uint16_t settle_n;     /* settle_s in learning periods */
+    uint16_t n;            /* learning periods since P_snap */
+    bool track;            /* the model follows P (else it holds h) */
+    float frac;            /* Vb's fraction in use */
+    float anchor_Wb;       /* the model's psi_f when step 2 started */
+    float h_Wb;            /* the value held */
+    float P_Wb;            /* low-passed equilibrium flux [Wb] */
+    float P_snap_Wb;       /* P settle_s ago (while tracking) */
+    float psi_Wb;          /* the model's psi_f [Wb] */
+} psi_band_t;
+
+/* Design defaults into cfg for Ts_s [s], the freeze speed w_min [rad/s]
+ * and the clamps [Wb]. Background. */
+void psi_band_cfg_defaults(psi_band_cfg_t *cfg, float Ts_s, float w_min_rad_s, float psi_min_Wb, float psi_max_Wb);
+
+/* Copies cfg; false (and a = 0: nothing moves) unless 0 < Ts < tau,
+ * Ts <= settle_s <= 1 s, w_min > 0, 0 < psi_min <= psi_max, fractions and
+ * abs_V >= 0, all finite. Background. */
+bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg);
+
+/* Step 2 starts from psi_Wb [Wb] (the model's value then): anchor, P and
+ * the model's psi_f; the coarse bound. ISR or background. */
+void psi_band_start(psi_band_t *pb, float psi_Wb);
+
+/* The inverter error was identified and compensated: f^_q moved by dfq_V
+ * [V] (bumpless in the observer), so psi_eq by dfq/w; the model holds the
+ * anchor again unless P is far from it under the fine bound (what it took
+ * under the coarse bound may have been the error). It changes at the next
+ * psi_band_step. ISR. */
+void psi_band_rebase(psi_band_t *pb, float dfq_V, float omega_el_rad_s);
+
+/* One learning period (not during the step-2 gate's pauses): the
+ * observer's psi^ [Wb] and fq^ [V], w [rad/s electrical], Ve_comp_V [V]
+ * the fundamental of the inverter error compensated. True when the
+ * model's psi_f moved. 1 division. ISR. */
+bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_comp_V);
+
+#endif /* PSI_BAND_H */
