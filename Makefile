@@ -60,7 +60,8 @@ inc_for    = $(if $(filter control/%,$1),$(INC_CONTROL),$(if $(filter firmware/%
 CONTROL_SRCS  := $(wildcard control/*.c)
 FIRMWARE_SRCS := $(filter-out firmware/main.c,$(wildcard firmware/*.c))
 SIM_SRCS      := $(wildcard hal/sim/*.c)
-SILRUN_SRCS   := tools/sil/scenario.c tools/sil/profile.c tools/sil/csv_num.c tools/sil/summary.c
+SILRUN_SRCS   := tools/sil/scenario.c tools/sil/profile.c tools/sil/csv_num.c tools/sil/summary.c \
+                 tools/sil/sil_board.c
 F28335_SRCS   := $(wildcard hal/f28335/*.c) $(wildcard tests/c2000_fake/*.c)
 
 objs = $(patsubst %.c,$(OUT)/obj/%.o,$1)

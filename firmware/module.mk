@@ -4,7 +4,7 @@ TEST_LIBS_test_app := firmware control
 TEST_SRCS_test_app := tests/mock_hal.c
 
 # Closed-loop acceptance of the conventional DB-DTC on the simulated board.
-TEST_LIBS_test_sil_conventional := firmware sim control
+TEST_LIBS_test_sil_conventional := silrun firmware sim control
 
 # The operator's command block, against the same HAL mock.
 TEST_LIBS_test_cmd := firmware control

@@ -11,6 +11,7 @@
 
 #include "hal_sim.h"
 #include "inverter.h"
+#include "table1.h"
 
 #define TS_S 1.0e-4
 #define VDC_V 311.0
@@ -59,8 +60,7 @@ static void centre_aligned_edges(void **state)
 static void period_mean_u_drop(inv_model_t model, double deadtime_s, double drop_V, const double duty[3],
                                double id0_A, double *ua, double *ub)
 {
-    plant_cfg_t pc;
-    plant_default_cfg(&pc);
+    plant_cfg_t pc = table1_plant();
     pc.speed_held = true;
     plant_t p;
     plant_init(&p, &pc, 0.0);
@@ -182,7 +182,7 @@ static void open_loop_isr(void)
 static void run_open_loop(inv_model_t model, double substep_s, double speed_rpm, double *id_A, double *iq_A)
 {
     hal_sim_cfg_t c;
-    hal_sim_default_cfg(&c);
+    sil_board_default(&c);
     c.inv.model = model;
     if (substep_s > 0.0) {
         c.inv.substep_max_s = substep_s;
@@ -213,8 +213,7 @@ static void run_open_loop(inv_model_t model, double substep_s, double speed_rpm,
 static void switching_matches_averaged_at_500rpm_4Nm(void **state)
 {
     (void)state;
-    plant_cfg_t pc;
-    plant_default_cfg(&pc);
+    plant_cfg_t pc = table1_plant();
     g_pole_pairs = (double)pc.pole_pairs;
     g_w_el = g_pole_pairs * SPEED_RPM * TWO_PI / 60.0;
     double iq = TE_NM / (1.5 * (double)pc.pole_pairs * pc.psi_f_Wb);

@@ -9,6 +9,7 @@
 #include <math.h>
 
 #include "plant.h"
+#include "table1.h"
 
 #define REL_TOL 0.005            /* 0.5 % */
 #define STEP_S 1.0e-6
@@ -33,8 +34,7 @@ static void locked_rotor_d_step_is_first_order(void **state)
 {
     (void)state;
     const double U_V = 30.0;
-    plant_cfg_t cfg;
-    plant_default_cfg(&cfg);
+    plant_cfg_t cfg = table1_plant();
     cfg.speed_held = true;
     plant_t p;
     plant_init(&p, &cfg, 0.0);
@@ -64,8 +64,7 @@ static void resistance_change_takes_effect(void **state)
     (void)state;
     const double U_V = 30.0;
     const double R2_ohm = 3.9;
-    plant_cfg_t cfg;
-    plant_default_cfg(&cfg);
+    plant_cfg_t cfg = table1_plant();
     cfg.speed_held = true;
     plant_t p;
     plant_init(&p, &cfg, 0.0);
@@ -94,8 +93,7 @@ static void steady_state_under_load_matches_analytic(void **state)
     const double TL_Nm = 2.0;
     const double run_s = 0.5;
     const double h_s = 10.0e-6;
-    plant_cfg_t cfg;
-    plant_default_cfg(&cfg);
+    plant_cfg_t cfg = table1_plant();
     plant_t p;
     plant_init(&p, &cfg, 0.0);
     for (int k = 0; k < (int)lround(run_s / h_s); k++) {
@@ -127,8 +125,7 @@ static void energy_balance_over_transient(void **state)
     const double uq_V = 50.0;
     const double TL_Nm = 1.0;
     const double run_s = 0.05;
-    plant_cfg_t cfg;
-    plant_default_cfg(&cfg);
+    plant_cfg_t cfg = table1_plant();
     cfg.B_Nms = 1.0e-3;
     plant_t p;
     plant_init(&p, &cfg, 0.3);
@@ -170,8 +167,7 @@ static void energy_balance_over_transient(void **state)
 static void angle_wraps_and_outputs_follow_state(void **state)
 {
     (void)state;
-    plant_cfg_t cfg;
-    plant_default_cfg(&cfg);
+    plant_cfg_t cfg = table1_plant();
     cfg.speed_held = true;
     cfg.omega0_m_rad_s = -200.0;
     plant_t p;
@@ -192,9 +188,27 @@ static void angle_wraps_and_outputs_follow_state(void **state)
     assert_float_equal(plant_psi_s_Wb(&p), sqrt(psi_d * psi_d + psi_q * psi_q), 1e-12);
 }
 
+/* The motor the tests (and drive_sil) give the plant is the paper's Table I
+ * in exactly the doubles of its decimals: the parameter set's floats reach
+ * the double plant as the decimals board_cfg.h spells (0.011f as 0.011). */
+static void table1_plant_is_the_papers_table(void **state)
+{
+    (void)state;
+    const plant_cfg_t cfg = table1_plant();
+    assert_true(cfg.R_Ohm == 3.0);
+    assert_true(cfg.L_H == 0.011);
+    assert_true(cfg.psi_f_Wb == 0.24);
+    assert_int_equal(cfg.pole_pairs, 3u);
+    assert_true(cfg.J_kgm2 == 0.00129);
+    assert_true(cfg.B_Nms == 0.0);
+    assert_false(cfg.speed_held);
+    assert_true(cfg.omega0_m_rad_s == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(table1_plant_is_the_papers_table),
         cmocka_unit_test(locked_rotor_d_step_is_first_order),
         cmocka_unit_test(resistance_change_takes_effect),
         cmocka_unit_test(steady_state_under_load_matches_analytic),

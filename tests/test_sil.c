@@ -13,6 +13,7 @@
 #include "app.h"
 #include "hal_sim.h"
 #include "sil.h"
+#include "table1.h"
 
 #define TS_S 1.0e-4
 #define REL_TOL 0.005
@@ -180,7 +181,7 @@ static void duty_pattern_isr(void)
 static void board_setup(void)
 {
     hal_sim_cfg_t c;
-    hal_sim_default_cfg(&c);
+    sil_board_default(&c);
     hal_sim_configure(&c);
     hal_init();
     g_isr_calls = 0;

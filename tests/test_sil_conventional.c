@@ -14,6 +14,7 @@
 #include "app.h"
 #include "board_cfg.h"
 #include "hal_sim.h"
+#include "table1.h"
 
 #define PI_D     3.14159265358979323846
 #define TS       1e-4
@@ -33,7 +34,7 @@ static void sil_isr(void) { app_isr(&app); }
 static void setup(inv_model_t model, double vdc_V, bool speed_held, mismatch_t mm, ctrl_mode_t mode)
 {
     hal_sim_cfg_t sc;
-    hal_sim_default_cfg(&sc);
+    sil_board_default(&sc);
     sc.inv.model = model;
     sc.inv.vdc_V = vdc_V;
     sc.plant.speed_held = speed_held;

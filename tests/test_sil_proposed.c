@@ -25,6 +25,7 @@
 #include "hal_sim.h"
 #include "mathx.h"
 #include "sil.h"
+#include "table1.h"
 
 #define PI_D      3.14159265358979323846
 #define TS        1e-4
@@ -449,7 +450,7 @@ static void c_isr(void)
 static ctrl_status_t c_setup(double L_factor, float R_max_Ohm)
 {
     hal_sim_cfg_t hc;
-    hal_sim_default_cfg(&hc);
+    sil_board_default(&hc);
     hc.inv.model = INV_SWITCHING;
     hc.plant.speed_held = true;
     hc.plant.omega0_m_rad_s = 500.0 * RPM;

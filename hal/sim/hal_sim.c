@@ -4,7 +4,6 @@
 #include <math.h>
 #include <string.h>
 
-#define TABLE1_VDC_V 311.0
 #define PWM_PERIOD_S 1.0e-4          /* 10 kHz, the paper's sampling frequency */
 /* RK4 step bound inside a constant-voltage piece: by default a piece (at most
  * one period) is one step. Its error is below 1e-8 of the current at the
@@ -62,10 +61,14 @@ static struct {
 void hal_sim_default_cfg(hal_sim_cfg_t *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
-    plant_default_cfg(&cfg->plant);
+    /* the motor and the bus: the caller's (hal_sim.h) */
+    cfg->plant.R_Ohm = NAN;
+    cfg->plant.L_H = NAN;
+    cfg->plant.psi_f_Wb = NAN;
+    cfg->plant.J_kgm2 = NAN;
     cfg->enc_offset_el_rad = 0.0;
     cfg->inv.model = INV_AVERAGED;
-    cfg->inv.vdc_V = TABLE1_VDC_V;
+    cfg->inv.vdc_V = NAN;
     cfg->inv.Ts_s = PWM_PERIOD_S;
     cfg->inv.deadtime_s = 0.0;
     cfg->inv.substep_max_s = DEFAULT_SUBSTEP_S;

@@ -91,9 +91,13 @@ typedef struct {
     double i_short_A;            /* current in the injected short at t_k (0 without one) */
 } hal_sim_truth_t;
 
-/* Defaults: Table I motor at rest, averaged inverter at 311 V, 10 kHz, no dead time, one RK4 step
- * per constant-voltage piece,
- * 2500-line encoder aligned (offset 0), ideal 12-bit ADC over +-15 A, trip at 15 A. */
+/* Defaults of the board around the motor: shaft at rest and free, averaged
+ * inverter at 10 kHz, no dead time, one RK4 step per constant-voltage
+ * piece, 2500-line encoder aligned (offset 0), ideal 12-bit ADC over
+ * +-15 A, trip at 15 A. The motor (plant R_Ohm, L_H, psi_f_Wb,
+ * pole_pairs, J_kgm2) and the bus (inv.vdc_V) are the caller's: NaN and
+ * 0 here. tools/sil/sil_board.h fills them from the drive's parameter
+ * set (the paper's Table I); hal/sim keeps no copy of the motor data. */
 void hal_sim_default_cfg(hal_sim_cfg_t *cfg);
 
 /* Power-on state of the board with *cfg: plant at omega0 and angle 0, t = 0, outputs off,

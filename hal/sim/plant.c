@@ -7,29 +7,10 @@
 #define SQRT3 1.7320508075688772
 #define TORQUE_FACTOR 1.5   /* amplitude-invariant dq: Te = 1.5 p psi_f iq */
 
-/* Table I of the paper. */
-#define TABLE1_R_OHM 3.0
-#define TABLE1_L_H 0.011
-#define TABLE1_PSIF_WB 0.24
-#define TABLE1_POLE_PAIRS 3u
-#define TABLE1_J_KGM2 0.00129
-
 /* Stage angles within this distance of the anchor use the series below;
  * its truncation error is below 1e-13 there, so libm sin/cos is called
  * about once per 0.1 rad instead of four times per step (bench target). */
 #define ANCHOR_SPAN_RAD 0.1
-
-void plant_default_cfg(plant_cfg_t *cfg)
-{
-    cfg->R_Ohm = TABLE1_R_OHM;
-    cfg->L_H = TABLE1_L_H;
-    cfg->psi_f_Wb = TABLE1_PSIF_WB;
-    cfg->pole_pairs = TABLE1_POLE_PAIRS;
-    cfg->J_kgm2 = TABLE1_J_KGM2;
-    cfg->B_Nms = 0.0;
-    cfg->speed_held = false;
-    cfg->omega0_m_rad_s = 0.0;
-}
 
 static void anchor_at(plant_t *p, double theta_el_rad)
 {

@@ -61,9 +61,6 @@ typedef struct {
     double z_sin;
 } plant_t;
 
-/* Table I of the paper: R 3 ohm, L 11 mH, psi_f 0.24 Wb, p 3, J 0.00129 kg m^2, B 0. Any context. */
-void plant_default_cfg(plant_cfg_t *cfg);
-
 /* Plant with zero currents and angle at speed omega0, d axis at enc_offset_el_rad for theta_m = 0. */
 void plant_init(plant_t *p, const plant_cfg_t *cfg, double enc_offset_el_rad);
 
