@@ -344,7 +344,7 @@ static void start_step2(ctrl_t *c)
 /* Per-leg voltage error dv_V [V] of the dead time's shape added to the
  * compensation, bumplessly: f^ takes the fundamental -(4/pi) dv i/|i| it
  * no longer has to explain (design sec. 9). 1 square root, 1 division, once. */
-static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A, float omega_el_rad_s)
+static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A)
 {
     const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
     float dfq = 0.0f;
@@ -355,7 +355,7 @@ static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A, float omega_e
         c->smo.fd_V += k * i_dq_A.d;
         c->smo.fq_V += dfq;
     }
-    psi_band_rebase(&c->pb, dfq, omega_el_rad_s); /* the fine bound from here (design sec. 9f) */
+    psi_band_rebase(&c->pb, dfq); /* the fine bound from here (design sec. 9f) */
 }
 
 /* The injection's period: after step 1 the inverter error, in step 2 R^. */
@@ -365,7 +365,7 @@ static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
     const r_track_event_t ev = r_track_step(&c->rt, z, i_dq_A.d, i_dq_A.q);
 
     if (ev == R_TRACK_IDENT_DONE) {
-        add_inverter_error(c, QUARTER_PI * c->rt.Ve_V, i_dq_A, omega_el_rad_s); /* per leg: (pi/4) Ve */
+        add_inverter_error(c, QUARTER_PI * c->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */
         c->rt_flags = 0u;
         start_tracking(c);
     } else if (ev == R_TRACK_IDENT_REFUSED) {
@@ -471,6 +471,8 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
                     moved = 1u;
                     c->psi_held = 0u;
                 }
+            } else {
+                psi_band_pause(&c->pb);
             }
             if (c->method == CTRL_METHOD_PROPOSED) {
                 /* 2 divisions, only when an estimate moved by more than

@@ -24,11 +24,12 @@ bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg)
     const bool ok = mathx_isfinitef(sum) && (cfg->Ts_s > 0.0f) && (cfg->tau_s > cfg->Ts_s) &&
                     (cfg->w_min_rad_s > 0.0f) && (cfg->psi_min_Wb > 0.0f) && (cfg->psi_min_Wb <= cfg->psi_max_Wb) &&
                     (cfg->unc_told_frac >= 0.0f) && (cfg->unc_ident_frac >= 0.0f) && (cfg->unc_abs_V >= 0.0f) &&
-                    (cfg->settle_s >= cfg->Ts_s) && (cfg->settle_s <= 1.0f) && (cfg->settle_frac >= 0.0f);
+                    (cfg->settle_s >= cfg->Ts_s * (float)PSI_BAND_DECIDE_PERIODS) &&
+                    (cfg->settle_s <= 1.0f) && (cfg->settle_frac >= 0.0f);
 
     pb->cfg = *cfg;
     pb->a = ok ? (cfg->Ts_s / cfg->tau_s) : 0.0f;
-    pb->settle_n = ok ? (uint16_t)(cfg->settle_s / cfg->Ts_s + 0.5f) : 1u;
+    pb->settle_n = ok ? (uint16_t)(cfg->settle_s / (cfg->Ts_s * (float)PSI_BAND_DECIDE_PERIODS) + 0.5f) : 1u;
     psi_band_start(pb, ok ? cfg->psi_min_Wb : 1.0f);
     return ok;
 }
@@ -38,32 +39,45 @@ void psi_band_start(psi_band_t *pb, float psi_Wb)
     pb->frac = pb->cfg.unc_told_frac;
     pb->track = false;
     pb->n = 0u;
+    pb->k = 0u;
     pb->anchor_Wb = psi_Wb;
     pb->h_Wb = psi_Wb;
+    pb->inv_w_s_rad = 0.0f;
     pb->P_Wb = psi_Wb;
     pb->P_snap_Wb = psi_Wb;
     pb->psi_Wb = psi_Wb;
 }
 
-void psi_band_rebase(psi_band_t *pb, float dfq_V, float omega_el_rad_s)
+void psi_band_rebase(psi_band_t *pb, float dfq_V)
 {
-    if (mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s) {
-        pb->P_Wb += dfq_V / omega_el_rad_s;
-    }
+    pb->P_Wb += dfq_V * pb->inv_w_s_rad;
     pb->frac = pb->cfg.unc_ident_frac;
     pb->track = false;
     pb->h_Wb = pb->anchor_Wb;
 }
 
+void psi_band_pause(psi_band_t *pb)
+{
+    pb->k = 0u;
+}
+
 bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_comp_V)
 {
-    const float w_abs = mathx_fabsf(omega_el_rad_s);
-
-    if (!(w_abs > pb->cfg.w_min_rad_s)) {
+    if (!(mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s)) {
+        pb->k = 0u;
+        pb->inv_w_s_rad = 0.0f;
         return false; /* psi_eq ill-conditioned: hold */
     }
-    const float inv_w = 1.0f / omega_el_rad_s;
+    if (pb->k == 0u) {
+        pb->inv_w_s_rad = 1.0f / omega_el_rad_s;
+    }
+    const float inv_w = pb->inv_w_s_rad;
     pb->P_Wb += pb->a * (psi_obs_Wb + fq_V * inv_w - pb->P_Wb);
+    pb->k++;
+    if (pb->k < PSI_BAND_DECIDE_PERIODS) {
+        return false;
+    }
+    pb->k = 0u;
     /* Vb/|w|: the flux the voltage nobody can explain may fake at this speed */
     const float band = (pb->frac * mathx_fabsf(ve_comp_V) + pb->cfg.unc_abs_V) * mathx_fabsf(inv_w);
     if (!pb->track && (mathx_fabsf(pb->P_Wb - pb->h_Wb) > 2.0f * band)) {

@@ -6,7 +6,10 @@
  * The observer's q axis explains w psi^ + fq^, so its equilibrium flux is
  * psi_eq = psi^ + fq^/w, and any q voltage Vu the model does not know (the
  * inverter error left after compensation, noise, encoder) sits in it as
- * Vu/w. P low-passes psi_eq (a = Ts/tau, while learning and |w| > w_min):
+ * Vu/w. P low-passes psi_eq (a = Ts/tau, while learning and |w| > w_min)
+ * with 1/w taken once per decision (every PSI_BAND_DECIDE_PERIODS periods,
+ * 1 ms: the step-2 gate pauses learning while w moves by more than
+ * 0.1 % in that time):
  *
  *   P += a (psi^ + fq^/w - P)
  *
@@ -35,8 +38,9 @@
 #define PSI_BAND_UNC_TOLD_FRAC_DEFAULT 0.25f /* before identification: of the told dead time's fundamental */
 #define PSI_BAND_UNC_IDENT_FRAC_DEFAULT 0.05f /* after: of the whole compensated fundamental */
 #define PSI_BAND_UNC_ABS_DEFAULT_V     0.05f /* noise and encoder left in the low-passed fq^ */
-#define PSI_BAND_SETTLE_DEFAULT_S      0.01f /* P settled: moved by less than ... */
-#define PSI_BAND_SETTLE_FRAC_DEFAULT   0.1f  /* ... this x Vb/|w| in that time */
+#define PSI_BAND_SETTLE_DEFAULT_S      0.02f /* P settled: moved by less than ... */
+#define PSI_BAND_SETTLE_FRAC_DEFAULT   0.05f /* ... this x Vb/|w| in that time: within 0.08 Vb/|w| of its end */
+#define PSI_BAND_DECIDE_PERIODS        10u   /* learning periods per decision (1 division) */
 
 typedef struct {
     float Ts_s;            /* control period [s] */
@@ -54,12 +58,14 @@ typedef struct {
 typedef struct {
     psi_band_cfg_t cfg;
     float a;               /* Ts/tau [1] */
-    uint16_t settle_n;     /* settle_s in learning periods */
-    uint16_t n;            /* learning periods since P_snap */
+    uint16_t settle_n;     /* settle_s in decisions */
+    uint16_t n;            /* decisions since P_snap */
+    uint16_t k;            /* learning periods since the last decision */
     bool track;            /* the model follows P (else it holds h) */
     float frac;            /* Vb's fraction in use */
     float anchor_Wb;       /* the model's psi_f when step 2 started */
     float h_Wb;            /* the value held */
+    float inv_w_s_rad;     /* 1/w of this decision's periods [s/rad] */
     float P_Wb;            /* low-passed equilibrium flux [Wb] */
     float P_snap_Wb;       /* P settle_s ago (while tracking) */
     float psi_Wb;          /* the model's psi_f [Wb] */
@@ -83,12 +89,16 @@ void psi_band_start(psi_band_t *pb, float psi_Wb);
  * anchor again unless P is far from it under the fine bound (what it took
  * under the coarse bound may have been the error). It changes at the next
  * psi_band_step. ISR. */
-void psi_band_rebase(psi_band_t *pb, float dfq_V, float omega_el_rad_s);
+void psi_band_rebase(psi_band_t *pb, float dfq_V);
+
+/* Learning paused (the step-2 gate): the next psi_band_step takes 1/w
+ * afresh. ISR. */
+void psi_band_pause(psi_band_t *pb);
 
 /* One learning period (not during the step-2 gate's pauses): the
  * observer's psi^ [Wb] and fq^ [V], w [rad/s electrical], Ve_comp_V [V]
  * the fundamental of the inverter error compensated. True when the
- * model's psi_f moved. 1 division. ISR. */
+ * model's psi_f moved. 1 division every PSI_BAND_DECIDE_PERIODS. ISR. */
 bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_comp_V);
 
 #endif /* PSI_BAND_H */
