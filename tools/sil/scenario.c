@@ -437,8 +437,12 @@ void scenario_defaults(scenario_t *sc)
         const char *def = default_text(&KEYS[i], buf, sizeof buf);
         if (def == NULL) {
             *(double *)field(sc, &KEYS[i]) = NAN;
-        } else {
-            (void)set_value(sc, i, def, false, err, sizeof err);   /* the defaults parse */
+        } else if (set_value(sc, i, def, false, err, sizeof err) != 0) {
+            /* a PARAMS key missing from PARAM_KEYS, or a value with no
+             * name: a bug of this table, not of the user's input */
+            fprintf(stderr, "scenario.c: the default of [%s] %s does not parse: %s\n", KEYS[i].section,
+                    KEYS[i].name, err);
+            abort();
         }
     }
 }
