@@ -466,8 +466,8 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
                 moved |= param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
                 /* the model's psi_f: only what the voltage it cannot explain
                  * (the inverter error compensated, noise) cannot fake (design sec. 9f) */
-                const float ve_comp = FUNDAMENTAL_OF_SQUARE * (c->deadtime_frac * vdc_V + mathx_fabsf(c->inv_dv_V));
-                if (psi_band_step(&c->pb, c->smo.psi_f_Wb, c->smo.fq_V, omega_el_rad_s, ve_comp)) {
+                if (psi_band_step(&c->pb, c->smo.psi_f_Wb, c->smo.fq_V, omega_el_rad_s,
+                                  FUNDAMENTAL_OF_SQUARE * c->deadtime_frac * vdc_V, FUNDAMENTAL_OF_SQUARE * c->inv_dv_V)) {
                     moved = 1u;
                     c->psi_held = 0u;
                 }

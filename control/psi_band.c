@@ -12,6 +12,7 @@ void psi_band_cfg_defaults(psi_band_cfg_t *cfg, float Ts_s, float w_min_rad_s, f
     cfg->psi_max_Wb = psi_max_Wb;
     cfg->unc_told_frac = PSI_BAND_UNC_TOLD_FRAC_DEFAULT;
     cfg->unc_ident_frac = PSI_BAND_UNC_IDENT_FRAC_DEFAULT;
+    cfg->unc_found_frac = PSI_BAND_UNC_FOUND_FRAC_DEFAULT;
     cfg->unc_abs_V = PSI_BAND_UNC_ABS_DEFAULT_V;
     cfg->settle_s = PSI_BAND_SETTLE_DEFAULT_S;
     cfg->settle_frac = PSI_BAND_SETTLE_FRAC_DEFAULT;
@@ -20,10 +21,11 @@ void psi_band_cfg_defaults(psi_band_cfg_t *cfg, float Ts_s, float w_min_rad_s, f
 bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg)
 {
     const float sum = cfg->Ts_s + cfg->tau_s + cfg->w_min_rad_s + cfg->psi_min_Wb + cfg->psi_max_Wb +
-                      cfg->unc_told_frac + cfg->unc_ident_frac + cfg->unc_abs_V + cfg->settle_s + cfg->settle_frac;
+                      cfg->unc_told_frac + cfg->unc_ident_frac + cfg->unc_found_frac + cfg->unc_abs_V + cfg->settle_s + cfg->settle_frac;
     const bool ok = mathx_isfinitef(sum) && (cfg->Ts_s > 0.0f) && (cfg->tau_s > cfg->Ts_s) &&
                     (cfg->w_min_rad_s > 0.0f) && (cfg->psi_min_Wb > 0.0f) && (cfg->psi_min_Wb <= cfg->psi_max_Wb) &&
-                    (cfg->unc_told_frac >= 0.0f) && (cfg->unc_ident_frac >= 0.0f) && (cfg->unc_abs_V >= 0.0f) &&
+                    (cfg->unc_told_frac >= 0.0f) && (cfg->unc_ident_frac >= 0.0f) &&
+                    (cfg->unc_found_frac >= 0.0f) && (cfg->unc_abs_V >= 0.0f) &&
                     (cfg->settle_s >= cfg->Ts_s * (float)PSI_BAND_DECIDE_PERIODS) &&
                     (cfg->settle_s <= 1.0f) && (cfg->settle_frac >= 0.0f);
 
@@ -61,7 +63,8 @@ void psi_band_pause(psi_band_t *pb)
     pb->k = 0u;
 }
 
-bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_comp_V)
+bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_told_V,
+                   float ve_found_V)
 {
     if (!(mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s)) {
         pb->k = 0u;
@@ -79,7 +82,8 @@ bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_
     }
     pb->k = 0u;
     /* Vb/|w|: the flux the voltage nobody can explain may fake at this speed */
-    const float band = (pb->frac * mathx_fabsf(ve_comp_V) + pb->cfg.unc_abs_V) * mathx_fabsf(inv_w);
+    const float band = (pb->frac * mathx_fabsf(ve_told_V) + pb->cfg.unc_found_frac * mathx_fabsf(ve_found_V) +
+                        pb->cfg.unc_abs_V) * mathx_fabsf(inv_w);
     if (!pb->track && (mathx_fabsf(pb->P_Wb - pb->h_Wb) > 2.0f * band)) {
         pb->track = true; /* h is off by more than P can be */
         pb->n = 0u;

@@ -20,8 +20,9 @@
  * brings the model closer to the motor's psi_f: never worse than where it
  * was, so never worse than the nominal value it starts from; where it
  * cannot tell (low speed, little evidence) it holds what it knows.
- * Vb = frac x Ve_comp + abs_V (Ve_comp: the fundamental of the inverter
- * error compensated) takes the coarse fraction until the inverter error is
+ * Vb = frac x Ve_told + found_frac x |Ve_found| + abs_V (the fundamentals
+ * of the dead-time error the controller is told and of the error r_track
+ * identified on top) takes the coarse frac until the inverter error is
  * identified, the fine one after (psi_band_rebase).
  *
  * Calling context: ISR (psi_band_step, psi_band_rebase, psi_band_start),
@@ -35,8 +36,9 @@
 
 /* Design defaults (observer_design.md sec. 9f). */
 #define PSI_BAND_TAU_DEFAULT_S         0.02f /* low-pass of psi_eq: 0.14 V rms of fq^ noise -> 0.006 V */
-#define PSI_BAND_UNC_TOLD_FRAC_DEFAULT 0.25f /* before identification: of the told dead time's fundamental */
-#define PSI_BAND_UNC_IDENT_FRAC_DEFAULT 0.05f /* after: of the whole compensated fundamental */
+#define PSI_BAND_UNC_TOLD_FRAC_DEFAULT 0.5f  /* before identification: of the told dead time's fundamental (an untold device drop too) */
+#define PSI_BAND_UNC_IDENT_FRAC_DEFAULT 0.05f /* after: of the told dead time's fundamental ... */
+#define PSI_BAND_UNC_FOUND_FRAC_DEFAULT 0.3f  /* ... + this of the identified one (low-speed identification) */
 #define PSI_BAND_UNC_ABS_DEFAULT_V     0.05f /* noise and encoder left in the low-passed fq^ */
 #define PSI_BAND_SETTLE_DEFAULT_S      0.02f /* P settled: moved by less than ... */
 #define PSI_BAND_SETTLE_FRAC_DEFAULT   0.05f /* ... this x Vb/|w| in that time: within 0.08 Vb/|w| of its end */
@@ -49,7 +51,8 @@ typedef struct {
     float psi_min_Wb;      /* clamps of the model's psi_f [Wb] */
     float psi_max_Wb;
     float unc_told_frac;   /* Vb before identification, x the compensated fundamental [1] */
-    float unc_ident_frac;  /* Vb after identification [1] */
+    float unc_ident_frac;  /* Vb after identification, x the told fundamental [1] */
+    float unc_found_frac;  /* Vb, x the identified fundamental [1] */
     float unc_abs_V;       /* Vb's absolute part [V] */
     float settle_s;        /* P settled: moved by less than settle_frac Vb/|w| in this time [s] */
     float settle_frac;     /* [1] */
@@ -96,9 +99,11 @@ void psi_band_rebase(psi_band_t *pb, float dfq_V);
 void psi_band_pause(psi_band_t *pb);
 
 /* One learning period (not during the step-2 gate's pauses): the
- * observer's psi^ [Wb] and fq^ [V], w [rad/s electrical], Ve_comp_V [V]
- * the fundamental of the inverter error compensated. True when the
+ * observer's psi^ [Wb] and fq^ [V], w [rad/s electrical], the fundamentals
+ * [V] of the dead-time error told (ve_told_V) and of the one identified
+ * on top (ve_found_V). True when the
  * model's psi_f moved. 1 division every PSI_BAND_DECIDE_PERIODS. ISR. */
-bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_comp_V);
+bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_told_V,
+                   float ve_found_V);
 
 #endif /* PSI_BAND_H */

@@ -29,23 +29,23 @@ static void setup(void)
 
 /* n learning periods with the observer's psi^ = psi_obs and fq^ = fq_V at w;
  * returns how many moved the model. */
-static int run(long n, float psi_obs, float fq_V, float w, float ve_comp)
+static int run(long n, float psi_obs, float fq_V, float w, float ve_told, float ve_found)
 {
     int moved = 0;
     for (long k = 0; k < n; k++) {
-        moved += psi_band_step(&pb, psi_obs, fq_V, w, ve_comp) ? 1 : 0;
+        moved += psi_band_step(&pb, psi_obs, fq_V, w, ve_told, ve_found) ? 1 : 0;
     }
     return moved;
 }
 
 /* 0.40 V left unexplained (the 0.1 us the compensation misses) at
- * 100 r/min: 5 % of psi_f in psi_eq, within 2 Vb = 2 (0.25 x 3.56 + 0.05) V:
+ * 100 r/min: 5 % of psi_f in psi_eq, within 2 Vb = 2 (0.5 x 3.56 + 0.05) V:
  * the model keeps the nominal value. */
 static void test_holds_an_error_the_bound_explains(void **state)
 {
     (void)state;
     setup();
-    assert_int_equal(run(5000, PSI0, 0.40f, 31.4f, VE_TOLD), 0);
+    assert_int_equal(run(5000, PSI0, 0.40f, 31.4f, VE_TOLD, 0.0f), 0);
     assert_true(fabsf(pb.psi_Wb - PSI0) < 1e-7f);
     assert_false(pb.track);
 }
@@ -53,36 +53,36 @@ static void test_holds_an_error_the_bound_explains(void **state)
 /* A real 20 % error at 500 r/min (fq^ = -0.2 psi0 w = -7.5 V): tracked
  * towards the equilibrium, settled and held once P moved by less than
  * 0.05 band in 20 ms, i.e. within 0.05 / (1 - exp(-20/20)) = 0.079 band
- * of it, band = (0.25 x 3.56 + 0.05) V / w. */
+ * of it, band = (0.5 x 3.56 + 0.05) V / w. */
 static void test_tracks_a_clear_error_then_settles(void **state)
 {
     (void)state;
     setup();
     const float fq = -0.2f * PSI0 * W_EL;
-    assert_true(run(10000, PSI0, fq, W_EL, VE_TOLD) > 0);
-    const float band = (0.25f * VE_TOLD + 0.05f) / W_EL;
+    assert_true(run(10000, PSI0, fq, W_EL, VE_TOLD, 0.0f) > 0);
+    const float band = (0.5f * VE_TOLD + 0.05f) / W_EL;
     assert_true(pb.psi_Wb < 0.8f * PSI0 + 0.08f * band);
     assert_true(pb.psi_Wb > 0.8f * PSI0);
     assert_false(pb.track);
     /* at 100 r/min afterwards the unexplained 0.4 V no longer moves it */
     const float psi_held = pb.psi_Wb;
-    assert_int_equal(run(5000, 0.8f * PSI0, 0.40f, 31.4f, VE_TOLD), 0);
+    assert_int_equal(run(5000, 0.8f * PSI0, 0.40f, 31.4f, VE_TOLD, 0.0f), 0);
     assert_true(fabsf(pb.psi_Wb - psi_held) < 1e-7f);
 }
 
 /* What the model took under the coarse bound goes back at the
- * identification; with the fine bound 0.05 x 3.96 + 0.05 = 0.248 V, a
- * 0.15 V residual at 100 r/min leaves it at the anchor. */
+ * identification: the fine bound 0.05 x 3.56 + 0.3 x 3.85 + 0.05 = 1.38 V
+ * covers the 0.15 V left. */
 static void test_rebase_returns_to_the_anchor(void **state)
 {
     (void)state;
     setup();
-    /* an untold 2 V error before the identification, beyond 2 x 0.94 V */
-    assert_true(run(10000, PSI0, 2.0f, W_EL, VE_TOLD) > 0);
-    assert_true(pb.psi_Wb > PSI0 + 1.9f / W_EL);
-    /* identified and compensated: f^_q moves by -1.85 V */
-    psi_band_rebase(&pb, -1.85f);
-    assert_true(run(10000, PSI0, 2.0f - 1.85f, W_EL, VE_TOLD + 1.85f) == 1);
+    /* an untold 4 V error before the identification, beyond 2 x 1.83 V */
+    assert_true(run(10000, PSI0, 4.0f, W_EL, VE_TOLD, 0.0f) > 0);
+    assert_true(pb.psi_Wb > PSI0 + 3.9f / W_EL);
+    /* identified and compensated: f^_q moves by -3.85 V */
+    psi_band_rebase(&pb, -3.85f);
+    assert_true(run(10000, PSI0, 4.0f - 3.85f, W_EL, VE_TOLD, 3.85f) == 1);
     assert_true(fabsf(pb.psi_Wb - PSI0) < 1e-7f);
 }
 
@@ -91,7 +91,7 @@ static void test_holds_below_w_min(void **state)
 {
     (void)state;
     setup();
-    assert_int_equal(run(2000, 2.0f * PSI0, -30.0f, 20.0f, 0.0f), 0);
+    assert_int_equal(run(2000, 2.0f * PSI0, -30.0f, 20.0f, 0.0f, 0.0f), 0);
     assert_true(fabsf(pb.P_Wb - PSI0) < 1e-7f);
 }
 

@@ -116,6 +116,14 @@ static void defaults_come_from_the_parameter_set(void **state)
     assert_int_equal(sc.identify.on_refusal, ac.rsid.on_refusal);
     assert_int_equal(sc.identify.track_R, ac.ctrl.track_R);
     assert_float_equal(sc.plant.encoder_offset_el_rad, p.board.enc_offset_el_rad, 0.0);
+    /* the simulated board's own settings: hal_sim_default_cfg()'s (hal_sim.h) */
+    assert_true(sc.plant.substep_s == 1e-4);
+    assert_true(sc.plant.trip_A == 15.0);
+    assert_true(sc.plant.adc_full_scale_A == 15.0);
+    assert_int_equal(sc.plant.seed, 1u);
+    assert_int_equal(sc.plant.model, SC_MODEL_AVERAGED);
+    assert_true(sc.plant.deadtime_s == 0.0);
+    assert_true(sc.plant.adc_noise_A == 0.0);
 }
 
 static void parses_every_kind(void **state)

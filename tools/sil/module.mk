@@ -13,7 +13,7 @@ $(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/sil.c) $(LIB_silrun) $
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(LDLIBS)
 
-TEST_LIBS_test_scenario := silrun firmware control
+TEST_LIBS_test_scenario := silrun firmware sim control
 TEST_LIBS_test_sil      := silrun firmware sim control
 TEST_SRCS_test_sil      := tools/sil/sil.c
 # The app's start-up sequence (calibrate, align, run) in SIL.

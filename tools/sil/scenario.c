@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "drive_params.h"
+#include "hal_sim.h"
 
 /* K_RPROFILE: a positive profile starting at t = 0 (a bare number is a
  * constant); its value at t = 0 also goes to the double at offset_t0. */
@@ -38,9 +39,11 @@ static const char *const PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
 static const char *const CHANNEL_NAMES[] = { "a", "b", NULL };
 static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 
-/* Keys whose default is the drive's parameter set (firmware/drive_params.h,
- * the board's values) or the app's configuration of the board
- * (app_cfg_default), not text of this table: see params_default(). */
+/* Keys whose default is not text of this table but a configuration's
+ * value: the drive's parameter set (firmware/drive_params.h, the board's
+ * values), the app's configuration of the board (app_cfg_default), or,
+ * for the simulated board's own settings (ideal inverter and ADC), its
+ * defaults (hal_sim_default_cfg). See params_default(). */
 static const char PARAMS[] = "(drive_params)";
 
 #define UINT32_MAX_D 4294967295.0
@@ -64,24 +67,24 @@ static const sc_key_t KEYS[] = {
     POS("plant", "psif_Wb", plant.psif_Wb, PARAMS, "true PM flux linkage psi_f0 [Wb]"),
     UINT("plant", "pole_pairs", plant.pole_pairs, PARAMS, 1.0, 64.0, "pole pairs"),
     POS("plant", "J_kgm2", plant.J_kgm2, PARAMS, "inertia [kg m^2]"),
-    NN("plant", "B_Nms", plant.B_Nms, "0", "viscous friction [N m s/rad]"),
-    UINT("plant", "speed_held", plant.speed_held, "0", 0.0, 1.0, "1: shaft held at speed0_rpm (0: free)"),
-    ANY("plant", "speed0_rpm", plant.speed0_rpm, "0", "initial (or held) speed [r/min]"),
+    NN("plant", "B_Nms", plant.B_Nms, PARAMS, "viscous friction [N m s/rad]"),
+    UINT("plant", "speed_held", plant.speed_held, PARAMS, 0.0, 1.0, "1: shaft held at speed0_rpm (0: free)"),
+    ANY("plant", "speed0_rpm", plant.speed0_rpm, PARAMS, "initial (or held) speed [r/min]"),
     POS("plant", "vdc_V", plant.vdc_V, PARAMS, "DC-bus voltage [V]"),
-    ENUM("plant", "model", plant.model, "averaged", MODEL_NAMES, "inverter model: averaged | switching"),
-    NN("plant", "deadtime_s", plant.deadtime_s, "0", "inverter dead time [s]"),
-    NN("plant", "device_drop_V", plant.device_drop_V, "0",
+    ENUM("plant", "model", plant.model, PARAMS, MODEL_NAMES, "inverter model: averaged | switching"),
+    NN("plant", "deadtime_s", plant.deadtime_s, PARAMS, "inverter dead time [s]"),
+    NN("plant", "device_drop_V", plant.device_drop_V, PARAMS,
        "on-state drop of the conducting switch or diode [V], by the current's sign"),
-    POS("plant", "substep_s", plant.substep_s, "1e-4", "longest RK4 step inside a constant-voltage piece [s]"),
+    POS("plant", "substep_s", plant.substep_s, PARAMS, "longest RK4 step inside a constant-voltage piece [s]"),
     UINT("plant", "encoder_lines", plant.encoder_lines, PARAMS, 1.0, 1.0e6, "encoder lines (x4 counts)"),
     ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, PARAMS,
         "electrical angle of the d axis at count 0 [rad]; the controller is told the same unless run.align = on"),
-    POS("plant", "adc_full_scale_A", plant.adc_full_scale_A, "15", "current ADC range +-[A] (12 bit)"),
-    ANY("plant", "adc_offset_a_A", plant.adc_offset_a_A, "0", "phase-a ADC offset [A]"),
-    ANY("plant", "adc_offset_b_A", plant.adc_offset_b_A, "0", "phase-b ADC offset [A]"),
-    NN("plant", "adc_noise_A", plant.adc_noise_A, "0", "current ADC Gaussian noise, std dev [A]"),
-    UINT("plant", "seed", plant.seed, "1", 0.0, UINT32_MAX_D, "noise seed"),
-    POS("plant", "trip_A", plant.trip_A, "15", "hardware overcurrent trip level [A]"),
+    POS("plant", "adc_full_scale_A", plant.adc_full_scale_A, PARAMS, "current ADC range +-[A] (12 bit)"),
+    ANY("plant", "adc_offset_a_A", plant.adc_offset_a_A, PARAMS, "phase-a ADC offset [A]"),
+    ANY("plant", "adc_offset_b_A", plant.adc_offset_b_A, PARAMS, "phase-b ADC offset [A]"),
+    NN("plant", "adc_noise_A", plant.adc_noise_A, PARAMS, "current ADC Gaussian noise, std dev [A]"),
+    UINT("plant", "seed", plant.seed, PARAMS, 0.0, UINT32_MAX_D, "noise seed"),
+    POS("plant", "trip_A", plant.trip_A, PARAMS, "hardware overcurrent trip level [A]"),
 
     OPT("controller", "R_ohm", controller.R_ohm, "controller's R [ohm] (default R_factor x plant)"),
     OPT("controller", "L_H", controller.L_H, "controller's L [H] (default L_factor x plant)"),
@@ -100,8 +103,8 @@ static const sc_key_t KEYS[] = {
     POS("controller", "i_limit_A", controller.i_limit_A, PARAMS, "stator-current limit the targets respect [A] (BOARD_I_LIMIT_A)"),
     POS("controller", "overspeed_rpm", controller.overspeed_rpm, PARAMS, "overspeed trip [r/min] (BOARD_OVERSPEED_RPM)"),
     { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
-    OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.2 x controller's R)"),
-    OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 2 x controller's R)"),
+    OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.1 x controller's R: ctrl_rsid_band_default)"),
+    OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 6 x controller's R, at most the observer's eq. (36) bound)"),
 
     ENUM("identify", "mode", identify.mode, PARAMS, RSID_NAMES, "step 1 of the proposed method: off | windows | speeds | trusted"),
     NN("identify", "settle_1_s", identify.settle_1_s, PARAMS, "start of IDENTIFY_R to window 1 [s]"),
@@ -290,20 +293,23 @@ static int set_value(scenario_t *sc, int i, const char *v, bool append, char *er
     return -1;
 }
 
-/* The board's value of each PARAMS key, in the key's unit: from the
- * parameter set (motor, board, limits, tuning) or, for step 1's settings,
- * from the app's configuration (app_cfg_default). */
+/* The value of each PARAMS key, in the key's unit: from the parameter
+ * set (motor, board, limits, tuning), for step 1's settings from the app's
+ * configuration (app_cfg_default), for the simulated board's own from
+ * hal_sim_default_cfg(). */
 typedef enum {
     PK_FLOAT,                  /* float [parameter unit] */
     PK_U16,                    /* uint16_t */
     PK_U32,                    /* uint32_t */
     PK_ENUM,                   /* an enum: the key's names[value] */
-    PK_PERIODS                 /* uint32_t periods of the app's ctrl.Ts_s: in seconds */
+    PK_PERIODS,                /* uint32_t periods of the app's ctrl.Ts_s: in seconds */
+    PK_DOUBLE,                 /* double [parameter unit] */
+    PK_BOOL                    /* bool: 0 or 1 */
 } sc_param_kind_t;
 
 typedef struct {
     const char *section, *name;
-    int src;                   /* 0 drive_params_t, 1 app_cfg_t */
+    int src;                   /* 0 drive_params_t, 1 app_cfg_t, 2 hal_sim_cfg_t */
     size_t offset;             /* of the value in it */
     sc_param_kind_t kind;
     double scale;              /* key unit per parameter unit */
@@ -312,6 +318,7 @@ typedef struct {
 #define RPM_PER_RAD_S (60.0 / 6.283185307179586)
 #define P(s, k, f, kind, scale) { s, k, 0, offsetof(drive_params_t, f), kind, scale }
 #define A(s, k, f, kind, scale) { s, k, 1, offsetof(app_cfg_t, f), kind, scale }
+#define S(s, k, f, kind, scale) { s, k, 2, offsetof(hal_sim_cfg_t, f), kind, scale }
 static const sc_param_t PARAM_KEYS[] = {
     P("plant", "R_ohm", motor.R_Ohm, PK_FLOAT, 1.0),
     P("plant", "L_H", motor.L_H, PK_FLOAT, 1.0),
@@ -321,6 +328,19 @@ static const sc_param_t PARAM_KEYS[] = {
     P("plant", "vdc_V", board.vdc_nominal_V, PK_FLOAT, 1.0),
     P("plant", "encoder_lines", board.enc_lines, PK_U32, 1.0),
     P("plant", "encoder_offset_el_rad", board.enc_offset_el_rad, PK_FLOAT, 1.0),
+    S("plant", "B_Nms", plant.B_Nms, PK_DOUBLE, 1.0),
+    S("plant", "speed_held", plant.speed_held, PK_BOOL, 1.0),
+    S("plant", "speed0_rpm", plant.omega0_m_rad_s, PK_DOUBLE, RPM_PER_RAD_S),
+    S("plant", "model", inv.model, PK_ENUM, 1.0),
+    S("plant", "deadtime_s", inv.deadtime_s, PK_DOUBLE, 1.0),
+    S("plant", "device_drop_V", inv.device_drop_V, PK_DOUBLE, 1.0),
+    S("plant", "substep_s", inv.substep_max_s, PK_DOUBLE, 1.0),
+    S("plant", "adc_full_scale_A", sens.adc_full_scale_A, PK_DOUBLE, 1.0),
+    S("plant", "adc_offset_a_A", sens.adc_offset_a_A, PK_DOUBLE, 1.0),
+    S("plant", "adc_offset_b_A", sens.adc_offset_b_A, PK_DOUBLE, 1.0),
+    S("plant", "adc_noise_A", sens.adc_noise_A, PK_DOUBLE, 1.0),
+    S("plant", "seed", sens.seed, PK_U32, 1.0),
+    S("plant", "trip_A", trip_current_A, PK_DOUBLE, 1.0),
     P("controller", "speed_kp_Nms_rad", tuning.speed_kp_Nms_rad, PK_FLOAT, 1.0),
     P("controller", "speed_ki_Nm_rad", tuning.speed_ki_Nm_rad, PK_FLOAT, 1.0),
     P("controller", "pll_bw_rad_s", tuning.pll_bw_rad_s, PK_FLOAT, 1.0),
@@ -344,6 +364,7 @@ static const sc_param_t PARAM_KEYS[] = {
 };
 #undef P
 #undef A
+#undef S
 
 /* The value at q in its kind, in the key's unit. */
 static double param_value(const sc_param_t *q, const char *at, const app_cfg_t *ac)
@@ -357,6 +378,10 @@ static double param_value(const sc_param_t *q, const char *at, const app_cfg_t *
         return (double)*(const unsigned int *)(const void *)at;
     case PK_PERIODS:
         return (double)*(const uint32_t *)(const void *)at * (double)ac->ctrl.Ts_s;
+    case PK_DOUBLE:
+        return *(const double *)(const void *)at * q->scale;
+    case PK_BOOL:
+        return *(const bool *)(const void *)at ? 1.0 : 0.0;
     case PK_FLOAT:
         break;
     }
@@ -372,13 +397,16 @@ static const char *params_default(const sc_key_t *k, char *buf, size_t len)
 {
     drive_params_t p;
     static app_cfg_t ac; /* large: not on the stack */
+    static hal_sim_cfg_t hs;
     drive_params_board(&p);
     app_cfg_default(&ac);
+    hal_sim_default_cfg(&hs);
     buf[0] = '\0';
     for (size_t j = 0; j < sizeof PARAM_KEYS / sizeof PARAM_KEYS[0]; j++) {
         const sc_param_t *q = &PARAM_KEYS[j];
         if (strcmp(q->section, k->section) == 0 && strcmp(q->name, k->name) == 0) {
-            const char *at = ((q->src == 0) ? (const char *)&p : (const char *)&ac) + q->offset;
+            const char *const src[] = { (const char *)&p, (const char *)&ac, (const char *)&hs };
+            const char *at = src[q->src] + q->offset;
             const double v = param_value(q, at, &ac);
             if (k->kind != K_ENUM) {
                 snprintf(buf, len, "%.6g", v);
@@ -409,8 +437,12 @@ void scenario_defaults(scenario_t *sc)
         const char *def = default_text(&KEYS[i], buf, sizeof buf);
         if (def == NULL) {
             *(double *)field(sc, &KEYS[i]) = NAN;
-        } else {
-            (void)set_value(sc, i, def, false, err, sizeof err);   /* the defaults parse */
+        } else if (set_value(sc, i, def, false, err, sizeof err) != 0) {
+            /* a PARAMS key missing from PARAM_KEYS, or a value with no
+             * name: a bug of this table, not of the user's input */
+            fprintf(stderr, "scenario.c: the default of [%s] %s does not parse: %s\n", KEYS[i].section,
+                    KEYS[i].name, err);
+            abort();
         }
     }
 }
