@@ -101,8 +101,12 @@ static void legs_to_ab(const double v_V[N_LEGS], double *ua_V, double *ub_V)
     *ub_V = (v_V[1] - v_V[2]) / SQRT3;
 }
 
-/* Integrate over [0, span_s] in equal RK4 steps no longer than substep_max_s. */
-static void integrate_piece(const inv_cfg_t *cfg, plant_t *plant, double ua_V, double ub_V,
+/* Integrate over [0, span_s] in equal RK4 steps no longer than substep_max_s
+ * (inlined: it runs 7 times a period). */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void integrate_piece(const inv_cfg_t *cfg, plant_t *plant, double ua_V, double ub_V,
                             double TL_Nm, double span_s)
 {
     if (span_s <= cfg->substep_max_s) {
@@ -193,47 +197,54 @@ static const pattern_table_t *pattern_table(double vdc_V)
 }
 
 /* Ideal switches (no dead time, no device drop): the legs' states need no
- * current, so the period is walked as a list of edges, each toggling one
- * leg of a bit pattern. Same pieces, same voltages as the general path
- * (edges sorted, zero-length pieces skipped), without the per-piece state
- * search. */
+ * current. A switching leg goes high at on_s and low at off_s, both
+ * monotone in its duty, and every on_s <= Ts/2 <= every off_s: with the
+ * legs sorted by duty, widest first, the edges in time order are the
+ * ons in that order, then the offs in the reverse order. Each edge
+ * toggles one bit of the legs' pattern; zero-length pieces (equal edges)
+ * are skipped. Same pieces, same voltages as the general path. */
 static void period_switching_ideal(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
 {
-    double t_ev[2 * N_LEGS];
-    unsigned bit_ev[2 * N_LEGS];
+    leg_times_t lt[N_LEGS];
+    double d_sw[N_LEGS];
+    int order[N_LEGS];
     int n = 0;
     unsigned mask = 0u;
     for (int k = 0; k < N_LEGS; k++) {
-        leg_times_t lt;
-        leg_times(cfg, duty[k], &lt);
-        if (lt.held == LEG_HIGH) {
+        leg_times(cfg, duty[k], &lt[k]);
+        if (lt[k].held == LEG_HIGH) {
             mask |= 1u << k;
-        } else if (lt.held == LEG_DEAD) {
-            /* insertion by time: at most 6 events */
-            const double ev[2] = { lt.on_s, lt.off_s };
-            for (int e = 0; e < 2; e++) {
-                int j = n - 1;
-                while (j >= 0 && t_ev[j] > ev[e]) {
-                    t_ev[j + 1] = t_ev[j];
-                    bit_ev[j + 1] = bit_ev[j];
-                    j--;
-                }
-                t_ev[j + 1] = ev[e];
-                bit_ev[j + 1] = 1u << k;
-                n++;
+        } else if (lt[k].held == LEG_DEAD) {
+            const double d = clamp01(duty[k]);
+            int j = n - 1;
+            while (j >= 0 && d_sw[j] < d) {
+                d_sw[j + 1] = d_sw[j];
+                order[j + 1] = order[j];
+                j--;
             }
+            d_sw[j + 1] = d;
+            order[j + 1] = k;
+            n++;
         }
     }
     const pattern_table_t *tab = pattern_table(cfg->vdc_V);
     double t0 = 0.0;
-    for (int j = 0; j <= n; j++) {
-        double t1 = (j < n) ? t_ev[j] : cfg->Ts_s;
+    for (int e = 0; e <= 2 * n; e++) {
+        double t1 = cfg->Ts_s;
+        int leg = -1;
+        if (e < n) {
+            leg = order[e];
+            t1 = lt[leg].on_s;
+        } else if (e < 2 * n) {
+            leg = order[2 * n - 1 - e];
+            t1 = lt[leg].off_s;
+        }
         if (t1 > t0) {
             integrate_piece(cfg, plant, tab->ua_V[mask], tab->ub_V[mask], TL_Nm, t1 - t0);
             t0 = t1;
         }
-        if (j < n) {
-            mask ^= bit_ev[j];
+        if (leg >= 0) {
+            mask ^= 1u << leg;
         }
     }
 }
