@@ -1,6 +1,6 @@
 /* Unit tests for hal/sim/inverter.c: centre-aligned edge timing, the
  * period-average voltage of both models against the duty formula, the
- * dead-time error, and switching vs averaged currents at 500 r/min, 4 N m
+ * ideal-switch path against the general one, the dead-time error, and switching vs averaged currents at 500 r/min, 4 N m
  * under the analytic steady-state voltage, through the HAL of the board. */
 #include <stdarg.h>
 #include <stddef.h>
@@ -77,6 +77,40 @@ static void period_mean_u(inv_model_t model, double deadtime_s, const double dut
                           double *ua, double *ub)
 {
     period_mean_u_drop(model, deadtime_s, 0.0, duty, id0_A, ua, ub);
+}
+
+/* The ideal-switch path (no dead time, no drop) against the general path,
+ * forced by a dead time too short to move an edge (t + 1e-300 s rounds to
+ * t): both must give the same pieces and voltages, so the same state to
+ * the bit, over every order of the legs, ties, rails and a duty whose two
+ * edges coincide. */
+static void ideal_switch_path_equals_general_path(void **state)
+{
+    (void)state;
+    static const double duties[][3] = {
+        { 0.8, 0.35, 0.1 }, { 0.1, 0.35, 0.8 }, { 0.35, 0.8, 0.1 }, { 0.5, 0.5, 0.5 },
+        { 0.7, 0.7, 0.2 }, { 0.2, 0.7, 0.2 }, { 1.0, 0.4, 0.0 }, { 0.0, 0.0, 1.0 },
+        { 0.6, 1.0, 0.3 }, { 1.0e-17, 0.5, 0.999999 },
+    };
+    const size_t n_duties = sizeof duties / sizeof duties[0];
+    plant_cfg_t pc = table1_plant();
+    plant_t a;
+    plant_t b;
+    plant_init(&a, &pc, 0.3);
+    plant_init(&b, &pc, 0.3);
+    inv_cfg_t ideal = inv_cfg(INV_SWITCHING, 0.0);
+    ideal.substep_max_s = TS_S;
+    inv_cfg_t general = ideal;
+    general.deadtime_s = 1.0e-300;
+    for (int rep = 0; rep < 30; rep++) {
+        for (size_t k = 0; k < n_duties; k++) {
+            inv_period(&ideal, duties[k], 1.0, &a);
+            inv_period(&general, duties[k], 1.0, &b);
+        }
+    }
+    assert_true(fabs(a.x.iq_A) > 0.1);   /* the duties drove a current */
+    assert_memory_equal(&a.x, &b.x, sizeof a.x);
+    assert_memory_equal(&a.acc, &b.acc, sizeof a.acc);
 }
 
 /* Both models: mean alpha-beta voltage = Clarke of duty x Vdc (common mode removed). */
@@ -263,6 +297,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(centre_aligned_edges),
         cmocka_unit_test(period_mean_voltage_is_duty_times_vdc),
+        cmocka_unit_test(ideal_switch_path_equals_general_path),
         cmocka_unit_test(deadtime_error_follows_current_sign),
         cmocka_unit_test(device_drop_follows_current_sign),
         cmocka_unit_test(switching_matches_averaged_at_500rpm_4Nm),
