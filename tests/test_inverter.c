@@ -1,7 +1,8 @@
 /* Unit tests for hal/sim/inverter.c: centre-aligned edge timing, the
  * period-average voltage of both models against the duty formula, the
- * ideal-switch path against the general one, the dead-time error, and switching vs averaged currents at 500 r/min, 4 N m
- * under the analytic steady-state voltage, through the HAL of the board. */
+ * ideal-switch path against the general one, the dead-time error, and
+ * switching vs averaged currents at 500 r/min, 4 N m under the analytic
+ * steady-state voltage, through the HAL of the board. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
