@@ -27,6 +27,7 @@
 
 #include "app.h"
 #include "sil.h"
+#include "sil_scenario.h"
 
 #define R0        3.0
 #define WIN_T0    0.80      /* the paper's steady window */
@@ -79,24 +80,13 @@ static sil_result_t last_res;
 static fig_t run(const char *name, const char *const *sets)
 {
     scenario_t sc;
-    char path[128];
-    char err[SCENARIO_ERR_LEN];
+    static const char *const log_every_1[] = { "run.log_every=1", NULL };
     fig_t f = { 0.0, 0.0, NAN, NAN, NAN, NAN, 0, 0.0, 0 };
 
-    scenario_defaults(&sc);
-    snprintf(path, sizeof path, "tools/scenarios/%s.ini", name);
-    if (scenario_load(&sc, path, err, sizeof err) != 0) {
-        fail_msg("%s", err);
-    }
-    assert_int_equal(scenario_set(&sc, "run.log_every=1", err, sizeof err), 0);
-    for (const char *const *s = sets; s != NULL && *s != NULL; s++) {
-        if (scenario_set(&sc, *s, err, sizeof err) != 0) {
-            fail_msg("%s", err);
-        }
-    }
-    if (scenario_finish(&sc, err, sizeof err) != 0) {
-        fail_msg("%s", err);
-    }
+    sil_scenario_open(&sc, name);
+    sil_scenario_set(&sc, log_every_1);
+    sil_scenario_set(&sc, sets);
+    sil_scenario_finish(&sc);
     assert_int_equal(sil_run(&sc, on_row, &f, &last_res), 0);
     return f;
 }

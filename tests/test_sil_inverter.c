@@ -32,6 +32,7 @@
 
 #include "app.h"
 #include "sil.h"
+#include "sil_scenario.h"
 
 #define PSI0       0.24
 #define PI_D       3.14159265358979323846
@@ -121,23 +122,11 @@ static void run(const char *stem, const char *const *sets, sil_row_fn fn)
 {
     scenario_t sc;
     sil_result_t res;
-    char err[SCENARIO_ERR_LEN];
-    char path[128];
     memset(&fig, 0, sizeof fig);
     fig.t2 = NAN;
-    snprintf(path, sizeof path, "tools/scenarios/%s.ini", stem);
-    scenario_defaults(&sc);
-    if (scenario_load(&sc, path, err, sizeof err) != 0) {
-        fail_msg("%s", err);
-    }
-    for (const char *const *s = sets; *s != NULL; s++) {
-        if (scenario_set(&sc, *s, err, sizeof err) != 0) {
-            fail_msg("%s", err);
-        }
-    }
-    if (scenario_finish(&sc, err, sizeof err) != 0) {
-        fail_msg("%s", err);
-    }
+    sil_scenario_open(&sc, stem);
+    sil_scenario_set(&sc, sets);
+    sil_scenario_finish(&sc);
     assert_int_equal(sil_run(&sc, fn, NULL, &res), 0);
     assert_int_equal(fig.state, APP_STATE_RUN);
     assert_int_equal(fig.fault, APP_FAULT_NONE);

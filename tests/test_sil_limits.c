@@ -16,6 +16,7 @@
 
 #include "app.h"
 #include "sil.h"
+#include "sil_scenario.h"
 
 #define PI_D      3.14159265358979323846
 #define RPM       (2.0 * PI_D / 60.0)
@@ -71,9 +72,9 @@ static void run(const char *name, const char *method, const char *const *sets, d
                 double t_est, sil_result_t *res)
 {
     scenario_t sc;
-    char path[128];
     char m[64];
-    char err[SCENARIO_ERR_LEN];
+    const char *const method_sets[] = { m, "run.log_every=1", NULL };
+    static const char *const no_step1[] = { "identify.mode=off", NULL };
 
     memset(&fig, 0, sizeof fig);
     fig.w0 = w0;
@@ -82,25 +83,14 @@ static void run(const char *name, const char *method, const char *const *sets, d
     fig.spd_min = 1e9;
     fig.spd_max = -1e9;
     fig.id_max = -1e9;
-    scenario_defaults(&sc);
-    snprintf(path, sizeof path, "tools/scenarios/%s.ini", name);
-    if (scenario_load(&sc, path, err, sizeof err) != 0) {
-        fail_msg("%s", err);
-    }
     snprintf(m, sizeof m, "controller.method=%s", method);
-    assert_int_equal(scenario_set(&sc, m, err, sizeof err), 0);
-    assert_int_equal(scenario_set(&sc, "run.log_every=1", err, sizeof err), 0);
+    sil_scenario_open(&sc, name);
+    sil_scenario_set(&sc, method_sets);
     if (strcmp(method, "conventional") == 0) {
-        assert_int_equal(scenario_set(&sc, "identify.mode=off", err, sizeof err), 0);
+        sil_scenario_set(&sc, no_step1);
     }
-    for (const char *const *s = sets; s != NULL && *s != NULL; s++) {
-        if (scenario_set(&sc, *s, err, sizeof err) != 0) {
-            fail_msg("%s", err);
-        }
-    }
-    if (scenario_finish(&sc, err, sizeof err) != 0) {
-        fail_msg("%s", err);
-    }
+    sil_scenario_set(&sc, sets);
+    sil_scenario_finish(&sc);
     assert_int_equal(sil_run(&sc, on_row, NULL, res), 0);
 }
 

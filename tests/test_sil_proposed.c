@@ -25,6 +25,7 @@
 #include "hal_sim.h"
 #include "mathx.h"
 #include "sil.h"
+#include "sil_scenario.h"
 #include "table1.h"
 
 #define PI_D      3.14159265358979323846
@@ -124,28 +125,17 @@ static int on_row(const sil_row_t *r, void *user)
 static void run_scenario(const char *name, const char *const *sets, double step_t)
 {
     scenario_t sc;
-    char path[128];
-    char err[SCENARIO_ERR_LEN];
+    static const char *const log_every_1[] = { "run.log_every=1", NULL };
     sil_result_t res;
 
     memset(&fig, 0, sizeof fig);
     fig.t2 = NAN;
     fig.t_fault = NAN;
     fig.step_t = step_t;
-    scenario_defaults(&sc);
-    snprintf(path, sizeof path, "tools/scenarios/%s.ini", name);
-    if (scenario_load(&sc, path, err, sizeof err) != 0) {
-        fail_msg("%s", err);
-    }
-    assert_int_equal(scenario_set(&sc, "run.log_every=1", err, sizeof err), 0);
-    for (const char *const *s = sets; s != NULL && *s != NULL; s++) {
-        if (scenario_set(&sc, *s, err, sizeof err) != 0) {
-            fail_msg("%s", err);
-        }
-    }
-    if (scenario_finish(&sc, err, sizeof err) != 0) {
-        fail_msg("%s", err);
-    }
+    sil_scenario_open(&sc, name);
+    sil_scenario_set(&sc, log_every_1);
+    sil_scenario_set(&sc, sets);
+    sil_scenario_finish(&sc);
     assert_int_equal(sil_run(&sc, on_row, NULL, &res), 0);
 }
 
