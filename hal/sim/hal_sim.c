@@ -1,5 +1,6 @@
 /* hal_sim.c - hal/hal.h on the simulated board; see hal_sim.h. */
 #include "hal_sim.h"
+#include "sim_units.h"
 
 #include <math.h>
 #include <string.h>
@@ -15,7 +16,6 @@
 #define CPU_CLOCK_HZ 150.0e6         /* F28335 SYSCLKOUT: hal_cycles() counts simulated time in it */
 #define CYCLE_COUNTER_BITS 32
 #define N_PHASES 3
-#define TWO_PI 6.283185307179586
 #define SQRT3_2 0.8660254037844386
 /* A fault time t_f starts the fault at the first t_k >= t_f; t_k is a sum of
  * periods, so t_f = k Ts must not miss period k by rounding. */
@@ -218,7 +218,7 @@ static void faults_after_period(bool gates_on)
     if ((g_sim.faults_active & SIM_FAULT_OPEN_PHASE) != 0u) {
         plant_t *p = &g_sim.plant;
         const double th = plant_theta_el_rad(p);
-        const double ax = TWO_PI / 3.0 * (double)(g_sim.faults.open_phase % N_PHASES);
+        const double ax = SIM_TWO_PI / 3.0 * (double)(g_sim.faults.open_phase % N_PHASES);
         const double c = cos(th), s = sin(th);
         double ia = p->x.id_A * c - p->x.iq_A * s;   /* alpha-beta */
         double ib = p->x.id_A * s + p->x.iq_A * c;

@@ -1,9 +1,9 @@
 /* plant.c - true SPMSM and shaft; see plant.h for the model. */
 #include "plant.h"
+#include "sim_units.h"
 
 #include <math.h>
 
-#define TWO_PI 6.283185307179586
 #define SQRT3 1.7320508075688772
 #define TORQUE_FACTOR 1.5   /* amplitude-invariant dq: Te = 1.5 p psi_f iq */
 
@@ -71,12 +71,12 @@ PLANT_INLINE void phasor_update(plant_t *p)
 /* Keep theta_m in [0, 2 pi); the anchor follows so the series stays valid. */
 static void wrap_theta(plant_t *p)
 {
-    double turn_el = TWO_PI * (double)p->cfg.pole_pairs;
-    if (p->x.theta_m_rad >= TWO_PI) {
-        p->x.theta_m_rad -= TWO_PI;
+    double turn_el = SIM_TWO_PI * (double)p->cfg.pole_pairs;
+    if (p->x.theta_m_rad >= SIM_TWO_PI) {
+        p->x.theta_m_rad -= SIM_TWO_PI;
         p->anchor_el_rad -= turn_el;
     } else if (p->x.theta_m_rad < 0.0) {
-        p->x.theta_m_rad += TWO_PI;
+        p->x.theta_m_rad += SIM_TWO_PI;
         p->anchor_el_rad += turn_el;
     }
 }
@@ -220,8 +220,8 @@ void plant_set_R_Ohm(plant_t *p, double R_Ohm)
 double plant_theta_el_rad(const plant_t *p)
 {
     double th = (double)p->cfg.pole_pairs * p->x.theta_m_rad + p->enc_offset_el_rad;
-    th = fmod(th, TWO_PI);
-    return (th < 0.0) ? th + TWO_PI : th;
+    th = fmod(th, SIM_TWO_PI);
+    return (th < 0.0) ? th + SIM_TWO_PI : th;
 }
 
 double plant_te_Nm(const plant_t *p)

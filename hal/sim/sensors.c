@@ -1,9 +1,9 @@
 /* sensors.c - encoder, ADC and PRNG of the simulated board; see sensors.h. */
 #include "sensors.h"
+#include "sim_units.h"
 
 #include <math.h>
 
-#define TWO_PI 6.283185307179586
 #define QUAD_COUNTS_PER_LINE 4u
 
 #define DEFAULT_ENC_LINES 2500u
@@ -47,7 +47,7 @@ double prng_gauss(prng_t *g)
         return g->spare;
     }
     double r = sqrt(-2.0 * log(prng_uniform(g)));
-    double phi = TWO_PI * prng_uniform(g);
+    double phi = SIM_TWO_PI * prng_uniform(g);
     g->spare = r * sin(phi);
     g->has_spare = 1;
     return r * cos(phi);
@@ -68,7 +68,7 @@ void sensors_default_cfg(sensors_cfg_t *cfg)
 uint32_t sensor_encoder_count(const sensors_cfg_t *cfg, double theta_m_rad)
 {
     uint32_t cpr = QUAD_COUNTS_PER_LINE * cfg->enc_lines;
-    double turns = theta_m_rad / TWO_PI;
+    double turns = theta_m_rad / SIM_TWO_PI;
     double frac = turns - floor(turns);
     uint32_t n = (uint32_t)floor(frac * (double)cpr);
     return (n >= cpr) ? n - cpr : n;   /* frac * cpr may round up to cpr */

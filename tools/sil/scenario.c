@@ -1,5 +1,6 @@
 /* scenario.c - the scenario key table, INI loading (libinih) and overrides; see scenario.h. */
 #include "scenario.h"
+#include "sim_units.h"
 
 #include <errno.h>
 #include <ini.h>
@@ -315,7 +316,6 @@ typedef struct {
     double scale;              /* key unit per parameter unit */
 } sc_param_t;
 
-#define RPM_PER_RAD_S (60.0 / 6.283185307179586)
 #define P(s, k, f, kind, scale) { s, k, 0, offsetof(drive_params_t, f), kind, scale }
 #define A(s, k, f, kind, scale) { s, k, 1, offsetof(app_cfg_t, f), kind, scale }
 #define S(s, k, f, kind, scale) { s, k, 2, offsetof(hal_sim_cfg_t, f), kind, scale }
@@ -330,7 +330,7 @@ static const sc_param_t PARAM_KEYS[] = {
     P("plant", "encoder_offset_el_rad", board.enc_offset_el_rad, PK_FLOAT, 1.0),
     S("plant", "B_Nms", plant.B_Nms, PK_DOUBLE, 1.0),
     S("plant", "speed_held", plant.speed_held, PK_BOOL, 1.0),
-    S("plant", "speed0_rpm", plant.omega0_m_rad_s, PK_DOUBLE, RPM_PER_RAD_S),
+    S("plant", "speed0_rpm", plant.omega0_m_rad_s, PK_DOUBLE, SIM_RPM_PER_RAD_S),
     S("plant", "model", inv.model, PK_ENUM, 1.0),
     S("plant", "deadtime_s", inv.deadtime_s, PK_DOUBLE, 1.0),
     S("plant", "device_drop_V", inv.device_drop_V, PK_DOUBLE, 1.0),
@@ -347,14 +347,14 @@ static const sc_param_t PARAM_KEYS[] = {
     P("controller", "te_max_Nm", limits.te_max_Nm, PK_FLOAT, 1.0),
     P("controller", "i_max_A", limits.i_trip_A, PK_FLOAT, 1.0),
     P("controller", "i_limit_A", limits.i_limit_A, PK_FLOAT, 1.0),
-    P("controller", "overspeed_rpm", limits.speed_max_rad_s, PK_FLOAT, RPM_PER_RAD_S),
+    P("controller", "overspeed_rpm", limits.speed_max_rad_s, PK_FLOAT, SIM_RPM_PER_RAD_S),
     A("identify", "mode", rsid.mode, PK_ENUM, 1.0),
     A("identify", "settle_1_s", rsid.settle_1_s, PK_FLOAT, 1.0),
     A("identify", "window_s", rsid.window_s, PK_FLOAT, 1.0),
     A("identify", "settle_2_s", rsid.settle_2_s, PK_FLOAT, 1.0),
-    A("identify", "speed_1_rpm", rsid.speed_1_rad_s, PK_FLOAT, RPM_PER_RAD_S),
-    A("identify", "speed_2_rpm", rsid.speed_2_rad_s, PK_FLOAT, RPM_PER_RAD_S),
-    A("identify", "accel_rpm_s", rsid.accel_rad_s2, PK_FLOAT, RPM_PER_RAD_S),
+    A("identify", "speed_1_rpm", rsid.speed_1_rad_s, PK_FLOAT, SIM_RPM_PER_RAD_S),
+    A("identify", "speed_2_rpm", rsid.speed_2_rad_s, PK_FLOAT, SIM_RPM_PER_RAD_S),
+    A("identify", "accel_rpm_s", rsid.accel_rad_s2, PK_FLOAT, SIM_RPM_PER_RAD_S),
     A("identify", "R_se_max_rel", ctrl.rsid.R_se_max_rel, PK_FLOAT, 1.0),
     A("identify", "batch_s", ctrl.rsid.n_batch, PK_PERIODS, 1.0),
     A("identify", "window_max_s", rsid.window_max_s, PK_FLOAT, 1.0),

@@ -1,5 +1,6 @@
 /* sil.c - the SIL runner core: scenario -> board + app, period loop, rows; see sil.h. */
 #include "sil.h"
+#include "sim_units.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -13,8 +14,6 @@
 #include "sil_board.h"
 #include "summary.h"
 
-#define TWO_PI 6.283185307179586
-#define RPM_PER_RAD_S (60.0 / TWO_PI)
 /* Bounds the controller's model clamps to (ctrl_cfg_t): generous, never the active limit.
  * The current, speed and flux bounds are the board's (board_cfg.h MODEL_*). */
 #define MODEL_U_BOUND_PER_VDC 1.0        /* |ud|, |uq| bound / bus (the hexagon clamps at 2/3) */
@@ -75,7 +74,7 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     p.limits.te_max_Nm = (float)sc->controller.te_max_Nm;
     p.limits.i_trip_A = (float)sc->controller.i_max_A;
     p.limits.i_limit_A = (float)sc->controller.i_limit_A;
-    p.limits.speed_max_rad_s = (float)(sc->controller.overspeed_rpm / RPM_PER_RAD_S);
+    p.limits.speed_max_rad_s = (float)(sc->controller.overspeed_rpm / SIM_RPM_PER_RAD_S);
     /* the board's bus limits relative to its nominal bus, at the scenario's bus */
     const float bus_scale = (float)sc->plant.vdc_V / p.board.vdc_nominal_V;
     p.limits.vdc_max_V = p.limits.vdc_max_V * bus_scale;
@@ -93,9 +92,9 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->rsid.settle_1_s = (float)sc->identify.settle_1_s;
     ac->rsid.window_s = (float)sc->identify.window_s;
     ac->rsid.settle_2_s = (float)sc->identify.settle_2_s;
-    ac->rsid.speed_1_rad_s = (float)(sc->identify.speed_1_rpm / RPM_PER_RAD_S);
-    ac->rsid.speed_2_rad_s = (float)(sc->identify.speed_2_rpm / RPM_PER_RAD_S);
-    ac->rsid.accel_rad_s2 = (float)(sc->identify.accel_rpm_s / RPM_PER_RAD_S);
+    ac->rsid.speed_1_rad_s = (float)(sc->identify.speed_1_rpm / SIM_RPM_PER_RAD_S);
+    ac->rsid.speed_2_rad_s = (float)(sc->identify.speed_2_rpm / SIM_RPM_PER_RAD_S);
+    ac->rsid.accel_rad_s2 = (float)(sc->identify.accel_rpm_s / SIM_RPM_PER_RAD_S);
     ac->rsid.window_max_s = (float)sc->identify.window_max_s;
     ac->rsid.repeats_max = (uint16_t)sc->identify.repeats_max;
     ac->rsid.on_refusal = (sc->identify.on_refusal == SC_REFUSAL_CONVENTIONAL) ? APP_RSID_REFUSAL_CONVENTIONAL
@@ -121,8 +120,8 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->fault = (double)g_app.fault;
     r->flags = (double)(g_app.out.flags | g_app.warnings); /* app.h: APP_WARN_* above CTRL_FLAG_* */
     r->speed_ref_rpm = (sc->controller.mode == SC_MODE_SPEED) ? speed_ref_rpm : NAN;
-    r->speed_rpm = tr.speed_m_rad_s * RPM_PER_RAD_S;
-    r->speed_est_rpm = (double)m->speed_mech_rad_s * RPM_PER_RAD_S;
+    r->speed_rpm = tr.speed_m_rad_s * SIM_RPM_PER_RAD_S;
+    r->speed_est_rpm = (double)m->speed_mech_rad_s * SIM_RPM_PER_RAD_S;
     r->te_ref_Nm = closed ? (double)m->te_ref_Nm : NAN;
     r->te_Nm = tr.te_Nm;
     r->te_est_Nm = (double)m->te_est_Nm;
@@ -212,7 +211,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     for (uint32_t k = 0; k < n && rc == 0; k++) {
         const double t = (double)k * Ts;
         const double speed_ref_rpm = profile_eval(&sc->reference.speed_rpm, t);
-        op.ref.speed_ref_rad_s = (float)(speed_ref_rpm / RPM_PER_RAD_S);
+        op.ref.speed_ref_rad_s = (float)(speed_ref_rpm / SIM_RPM_PER_RAD_S);
         op.ref.te_ref_Nm = (float)profile_eval(&sc->reference.torque_Nm, t);
         op.ref.ud_ref_V = (float)profile_eval(&sc->reference.ud_V, t);
         op.ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
@@ -346,6 +345,6 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path
     json_flt(f, "te_max_Nm", c->te_max_Nm, ", ");
     json_flt(f, "i_max_A", ac->prot.i_max_A, ", ");
     json_flt(f, "i_limit_A", c->i_lim_A, ", ");
-    json_flt(f, "overspeed_rpm", (float)((double)ac->prot.speed_max_rad_s * RPM_PER_RAD_S), ", ");
+    json_flt(f, "overspeed_rpm", (float)((double)ac->prot.speed_max_rad_s * SIM_RPM_PER_RAD_S), ", ");
     json_num(f, "config_status", (double)ctrl_status(&g_app.ctrl), "}}\n");
 }

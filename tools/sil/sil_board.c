@@ -1,7 +1,7 @@
 /* sil_board.c - the simulated board from a scenario; see sil_board.h. */
 #include "sil_board.h"
+#include "sim_units.h"
 
-#define RPM_PER_RAD_S (60.0 / 6.283185307179586)
 
 void sil_board_from(const scenario_t *sc, hal_sim_cfg_t *hc)
 {
@@ -13,7 +13,7 @@ void sil_board_from(const scenario_t *sc, hal_sim_cfg_t *hc)
     hc->plant.J_kgm2 = sc->plant.J_kgm2;
     hc->plant.B_Nms = sc->plant.B_Nms;
     hc->plant.speed_held = (sc->plant.speed_held != 0u);
-    hc->plant.omega0_m_rad_s = sc->plant.speed0_rpm / RPM_PER_RAD_S;
+    hc->plant.omega0_m_rad_s = sc->plant.speed0_rpm / SIM_RPM_PER_RAD_S;
     hc->enc_offset_el_rad = sc->plant.encoder_offset_el_rad;
     hc->inv.model = (sc->plant.model == SC_MODEL_SWITCHING) ? INV_SWITCHING : INV_AVERAGED;
     hc->inv.vdc_V = sc->plant.vdc_V;
