@@ -11,7 +11,7 @@ HOST_PROGRAMS += $(DRIVE_SIL)
 #   TEST_SRCS_test_x := tools/sil/sil.c   TEST_LIBS_test_x := silrun firmware sim control
 $(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(LDLIBS)
+	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
 TEST_LIBS_test_scenario := silrun firmware sim control
 TEST_LIBS_test_sil      := silrun firmware sim control
