@@ -179,6 +179,46 @@ static void parses_every_kind(void **state)
     assert_int_equal(sc.run.log_every, 1);
 }
 
+/* Bits of a double, so NaN compares to NaN. */
+static int same_bits(double a, double b)
+{
+    return memcmp(&a, &b, sizeof a) == 0;
+}
+
+/* The cursor answers profile_eval's value bit for bit, forwards on a
+ * period's grid, backwards, at the points' own times and for NaN. */
+static void profile_cursor_equals_eval(void **state)
+{
+    (void)state;
+    profile_t p = { 0 };
+    char err[SCENARIO_ERR_LEN];
+    assert_int_equal(profile_parse_append(&p, "0.1:2, 0.3:5~, 0.5:5, 0.6:-1~, 0.8:3", err, sizeof err), 0);
+    profile_cursor_t c;
+    profile_cursor_init(&c, &p);
+    assert_float_equal(profile_cursor_eval(&c, 0.05), 0.0, TOL);   /* hand values */
+    assert_float_equal(profile_cursor_eval(&c, 0.2), 3.5, TOL);    /* halfway up 2 -> 5 */
+    assert_float_equal(profile_cursor_eval(&c, 0.55), 2.0, TOL);   /* halfway down 5 -> -1 */
+    assert_float_equal(profile_cursor_eval(&c, 0.9), 3.0, TOL);
+    assert_float_equal(profile_cursor_eval(&c, 0.15), 2.75, TOL);  /* backwards */
+    const double Ts = 1e-4;
+    for (int k = -100; k < 10000; k++) {
+        const double t = (double)k * Ts;
+        assert_true(same_bits(profile_cursor_eval(&c, t), profile_eval(&p, t)));
+    }
+    for (int k = 10000; k > -100; k -= 7) {
+        const double t = (double)k * Ts;
+        assert_true(same_bits(profile_cursor_eval(&c, t), profile_eval(&p, t)));
+    }
+    for (uint32_t k = 0; k < p.n; k++) {
+        assert_true(same_bits(profile_cursor_eval(&c, p.pt[k].t_s), profile_eval(&p, p.pt[k].t_s)));
+    }
+    assert_true(same_bits(profile_cursor_eval(&c, NAN), profile_eval(&p, NAN)));
+    assert_true(same_bits(profile_cursor_eval(&c, 0.2), profile_eval(&p, 0.2)));
+    profile_t empty = { 0 };
+    profile_cursor_init(&c, &empty);
+    assert_true(same_bits(profile_cursor_eval(&c, 0.3), 0.0));
+}
+
 static void profile_rules(void **state)
 {
     (void)state;
@@ -331,6 +371,7 @@ int main(void)
         cmocka_unit_test(defaults_come_from_the_parameter_set),
         cmocka_unit_test(parses_every_kind),
         cmocka_unit_test(profile_rules),
+        cmocka_unit_test(profile_cursor_equals_eval),
         cmocka_unit_test(set_overrides_and_replaces_profiles),
         cmocka_unit_test(plant_resistance_profile),
         cmocka_unit_test(bad_inputs_name_file_line_key),

@@ -21,41 +21,52 @@ static sensors_cfg_t cfg(void)
     return c;
 }
 
+/* The chain of *c, ready to sample. */
+static sensors_t chain(const sensors_cfg_t *c)
+{
+    sensors_t s;
+    sensors_init(&s, c);
+    return s;
+}
+
 static void encoder_counts_and_wraps(void **state)
 {
     (void)state;
     sensors_cfg_t c = cfg();
+    sensors_t s = chain(&c);
     const double count_rad = TWO_PI / CPR;
-    assert_int_equal(sensor_encoder_count(&c, 0.0), 0);
-    assert_int_equal(sensor_encoder_count(&c, 0.4 * count_rad), 0);
-    assert_int_equal(sensor_encoder_count(&c, 1.6 * count_rad), 1);
-    assert_int_equal(sensor_encoder_count(&c, 0.25 * TWO_PI), CPR / 4u);
-    assert_int_equal(sensor_encoder_count(&c, TWO_PI - 0.5 * count_rad), CPR - 1u);
-    assert_int_equal(sensor_encoder_count(&c, TWO_PI), 0);
-    assert_int_equal(sensor_encoder_count(&c, TWO_PI + 2.5 * count_rad), 2);
-    assert_int_equal(sensor_encoder_count(&c, -0.5 * count_rad), CPR - 1u);
-    assert_int_equal(sensor_encoder_count(&c, -3.0 * TWO_PI + 0.5 * TWO_PI), CPR / 2u);
-    assert_int_equal(sensor_encoder_count(&c, -1e-300), 0);   /* rounds to a full turn: wraps to 0 */
+    assert_int_equal(sensor_encoder_count(&s, 0.0), 0);
+    assert_int_equal(sensor_encoder_count(&s, 0.4 * count_rad), 0);
+    assert_int_equal(sensor_encoder_count(&s, 1.6 * count_rad), 1);
+    assert_int_equal(sensor_encoder_count(&s, 0.25 * TWO_PI), CPR / 4u);
+    assert_int_equal(sensor_encoder_count(&s, TWO_PI - 0.5 * count_rad), CPR - 1u);
+    assert_int_equal(sensor_encoder_count(&s, TWO_PI), 0);
+    assert_int_equal(sensor_encoder_count(&s, TWO_PI + 2.5 * count_rad), 2);
+    assert_int_equal(sensor_encoder_count(&s, -0.5 * count_rad), CPR - 1u);
+    assert_int_equal(sensor_encoder_count(&s, -3.0 * TWO_PI + 0.5 * TWO_PI), CPR / 2u);
+    assert_int_equal(sensor_encoder_count(&s, -1e-300), 0);   /* rounds to a full turn: wraps to 0 */
     c.enc_lines = 1000u;
-    assert_int_equal(sensor_encoder_count(&c, 0.5 * TWO_PI), 2000u);
+    s = chain(&c);
+    assert_int_equal(sensor_encoder_count(&s, 0.5 * TWO_PI), 2000u);
 }
 
 static void adc_rounds_clamps_and_offsets(void **state)
 {
     (void)state;
-    sensors_cfg_t c = cfg();
+    const sensors_cfg_t c = cfg();
+    const sensors_t s = chain(&c);
     prng_t g;
     prng_seed(&g, 1u);
-    assert_float_equal(sensor_adc_current_A(&c, &g, 0.0, 0.0), 0.0, 1e-15);
-    assert_float_equal(sensor_adc_current_A(&c, &g, 0.4 * LSB_A, 0.0), 0.0, 1e-15);
-    assert_float_equal(sensor_adc_current_A(&c, &g, 0.6 * LSB_A, 0.0), LSB_A, 1e-15);
-    assert_float_equal(sensor_adc_current_A(&c, &g, 3.0, 0.0), 410.0 * LSB_A, 1e-12);   /* 3/LSB = 409.6 */
-    assert_float_equal(sensor_adc_current_A(&c, &g, -3.0, 0.0), -410.0 * LSB_A, 1e-12);
-    assert_float_equal(sensor_adc_current_A(&c, &g, 100.0, 0.0), 2047.0 * LSB_A, 1e-12);
-    assert_float_equal(sensor_adc_current_A(&c, &g, -100.0, 0.0), -15.0, 1e-12);
-    assert_float_equal(sensor_adc_current_A(&c, &g, 1.0, 0.5), 205.0 * LSB_A, 1e-12);   /* 1.5/LSB = 204.8 */
-    assert_float_equal(sensor_adc_vdc_V(&c, 311.0), 2123.0 * 600.0 / 4096.0, 1e-9);     /* 311/LSB = 2123.1 */
-    assert_float_equal(sensor_adc_vdc_V(&c, 900.0), 4095.0 * 600.0 / 4096.0, 1e-9);
+    assert_float_equal(sensor_adc_current_A(&s, &g, 0.0, 0.0), 0.0, 1e-15);
+    assert_float_equal(sensor_adc_current_A(&s, &g, 0.4 * LSB_A, 0.0), 0.0, 1e-15);
+    assert_float_equal(sensor_adc_current_A(&s, &g, 0.6 * LSB_A, 0.0), LSB_A, 1e-15);
+    assert_float_equal(sensor_adc_current_A(&s, &g, 3.0, 0.0), 410.0 * LSB_A, 1e-12);   /* 3/LSB = 409.6 */
+    assert_float_equal(sensor_adc_current_A(&s, &g, -3.0, 0.0), -410.0 * LSB_A, 1e-12);
+    assert_float_equal(sensor_adc_current_A(&s, &g, 100.0, 0.0), 2047.0 * LSB_A, 1e-12);
+    assert_float_equal(sensor_adc_current_A(&s, &g, -100.0, 0.0), -15.0, 1e-12);
+    assert_float_equal(sensor_adc_current_A(&s, &g, 1.0, 0.5), 205.0 * LSB_A, 1e-12);   /* 1.5/LSB = 204.8 */
+    assert_float_equal(sensor_adc_vdc_V(&s, 311.0), 2123.0 * 600.0 / 4096.0, 1e-9);     /* 311/LSB = 2123.1 */
+    assert_float_equal(sensor_adc_vdc_V(&s, 900.0), 4095.0 * 600.0 / 4096.0, 1e-9);
 }
 
 static void noise_is_reproducible_for_a_seed(void **state)
@@ -63,6 +74,7 @@ static void noise_is_reproducible_for_a_seed(void **state)
     (void)state;
     sensors_cfg_t c = cfg();
     c.adc_noise_A = 0.1;
+    const sensors_t s = chain(&c);
     prng_t g1;
     prng_t g2;
     prng_t g3;
@@ -71,9 +83,9 @@ static void noise_is_reproducible_for_a_seed(void **state)
     prng_seed(&g3, 43u);
     int differ = 0;
     for (int k = 0; k < 1000; k++) {
-        double a = sensor_adc_current_A(&c, &g1, 1.0, 0.0);
-        double b = sensor_adc_current_A(&c, &g2, 1.0, 0.0);
-        double d = sensor_adc_current_A(&c, &g3, 1.0, 0.0);
+        double a = sensor_adc_current_A(&s, &g1, 1.0, 0.0);
+        double b = sensor_adc_current_A(&s, &g2, 1.0, 0.0);
+        double d = sensor_adc_current_A(&s, &g3, 1.0, 0.0);
         assert_true(a == b);
         differ += (a != d);
     }

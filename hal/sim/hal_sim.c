@@ -31,6 +31,7 @@
 static struct {
     hal_sim_cfg_t cfg;
     plant_t plant;
+    sensors_t sens;
     prng_t prng;
     double t_s;
     double load_Nm;
@@ -46,16 +47,22 @@ static struct {
     uint32_t cycles;                /* hal_cycles(): CPU clock cycles of simulated time, mod 2^32 */
     uint32_t cycles_per_period;
     hal_sample_t sample;
-    hal_sim_truth_t truth;
+    float vdc_reading_V;            /* the bus ADC's reading of cfg.inv.vdc_V (set_bus) */
+    hal_sim_truth_t truth;          /* the derived fields NaN (truth_derive) */
+    plant_state_t x_k;              /* the plant's state at t_k */
+    plant_t probe;                  /* the motor's constants (never R) with x_k, for truth_derive */
+    bool stepped;                   /* a period ran since hal_sim_configure() */
     /* fault injection */
     hal_sim_faults_t faults;
     uint32_t faults_active;
     uint32_t faults_new;            /* the bits that started at this t_k */
+    double faults_next_s;           /* the earliest time of a fault not yet due (faults_due) */
     float stuck_value_A;            /* ADC_STUCK: the frozen reading */
     uint32_t enc_frozen;            /* ENC_LOST: the frozen count */
     double i_short_A;               /* SHORT: current from the first output into the second */
     bool in_isr;
     uint32_t isr_cycles_calls;      /* hal_cycles() calls in this ISR call */
+    uint32_t overrun_cycles;        /* isr_overrun_run_s in hal_cycles() counts */
 } g_sim;
 
 void hal_sim_default_cfg(hal_sim_cfg_t *cfg)
@@ -76,18 +83,38 @@ void hal_sim_default_cfg(hal_sim_cfg_t *cfg)
     cfg->trip_current_A = DEFAULT_TRIP_A;
 }
 
+/* The bus steps to vdc_V (power-on, an injected sag or surge); the bus ADC reads it. */
+static void set_bus(double vdc_V)
+{
+    g_sim.cfg.inv.vdc_V = vdc_V;
+    g_sim.vdc_reading_V = (float)sensor_adc_vdc_V(&g_sim.sens, vdc_V);
+}
+
 void hal_sim_configure(const hal_sim_cfg_t *cfg)
 {
+    hal_sim_truth_t *tr = &g_sim.truth;
     memset(&g_sim, 0, sizeof g_sim);
     g_sim.cfg = *cfg;
     plant_init(&g_sim.plant, &cfg->plant, cfg->enc_offset_el_rad);
+    g_sim.probe = g_sim.plant;
+    sensors_init(&g_sim.sens, &cfg->sens);
     prng_seed(&g_sim.prng, cfg->sens.seed);
+    set_bus(cfg->inv.vdc_V);
+    tr->theta_el_rad = NAN;
+    tr->te_Nm = NAN;
+    tr->psi_s_Wb = NAN;
+    tr->ud_mean_V = NAN;
+    tr->uq_mean_V = NAN;
+    tr->id_mean_A = NAN;
+    tr->iq_mean_A = NAN;
     g_sim.cycles_per_period = (uint32_t)llround(fmod(cfg->inv.Ts_s * CPU_CLOCK_HZ, ldexp(1.0, CYCLE_COUNTER_BITS)));
     for (int k = 0; k < N_PHASES; k++) {
         g_sim.duty_shadow[k] = DUTY_ZERO_VOLTAGE;
         g_sim.duty_active[k] = DUTY_ZERO_VOLTAGE;
     }
-    hal_sim_faults_none(&g_sim.faults);
+    hal_sim_faults_t none;
+    hal_sim_faults_none(&none);
+    hal_sim_set_faults(&none);
 }
 
 void hal_sim_set_load(double TL_Nm)
@@ -137,38 +164,60 @@ void hal_sim_set_faults(const hal_sim_faults_t *f)
 {
     g_sim.faults = *f;
     g_sim.faults_active = 0u;
+    g_sim.overrun_cycles = (uint32_t)llround(f->isr_overrun_run_s * CPU_CLOCK_HZ);
+    g_sim.faults_next_s = -INFINITY;   /* judged at the next t_k */
 }
 
-/* The bits of the faults whose time has come by t_k (NaN never comes). */
+/* Fault time f_s is due at t (NaN never comes); if not, it bounds *next_s. */
+static uint32_t fault_due(double t, double f_s, uint32_t bit, double *next_s)
+{
+    if (t >= f_s) {
+        return bit;
+    }
+    if (f_s < *next_s) {
+        *next_s = f_s;
+    }
+    return 0u;
+}
+
+/* The bits of the faults whose time has come by t_k, and in faults_next_s
+ * the earliest time of one that has not (+inf: none). */
 static uint32_t faults_due(double t_s)
 {
     const hal_sim_faults_t *f = &g_sim.faults;
     const double t = t_s + FAULT_TIME_TOL_PER_TS * g_sim.cfg.inv.Ts_s;
+    double next_s = INFINITY;
     uint32_t m = 0u;
-    m |= (t >= f->open_phase_s) ? (uint32_t)SIM_FAULT_OPEN_PHASE : 0u;
-    m |= (t >= f->short_s) ? (uint32_t)SIM_FAULT_SHORT : 0u;
-    m |= (t >= f->adc_stuck_s) ? (uint32_t)SIM_FAULT_ADC_STUCK : 0u;
-    m |= (t >= f->enc_lost_s) ? (uint32_t)SIM_FAULT_ENC_LOST : 0u;
-    m |= (t >= f->enc_jump_s) ? (uint32_t)SIM_FAULT_ENC_JUMP : 0u;
-    m |= (t >= f->vdc_sag_s) ? (uint32_t)SIM_FAULT_VDC_SAG : 0u;
-    m |= (t >= f->vdc_surge_s) ? (uint32_t)SIM_FAULT_VDC_SURGE : 0u;
-    m |= (t >= f->gate_trip_s) ? (uint32_t)SIM_FAULT_GATE_TRIP : 0u;
-    m |= (t >= f->isr_overrun_s) ? (uint32_t)SIM_FAULT_ISR_OVERRUN : 0u;
+    m |= fault_due(t, f->open_phase_s, SIM_FAULT_OPEN_PHASE, &next_s);
+    m |= fault_due(t, f->short_s, SIM_FAULT_SHORT, &next_s);
+    m |= fault_due(t, f->adc_stuck_s, SIM_FAULT_ADC_STUCK, &next_s);
+    m |= fault_due(t, f->enc_lost_s, SIM_FAULT_ENC_LOST, &next_s);
+    m |= fault_due(t, f->enc_jump_s, SIM_FAULT_ENC_JUMP, &next_s);
+    m |= fault_due(t, f->vdc_sag_s, SIM_FAULT_VDC_SAG, &next_s);
+    m |= fault_due(t, f->vdc_surge_s, SIM_FAULT_VDC_SURGE, &next_s);
+    m |= fault_due(t, f->gate_trip_s, SIM_FAULT_GATE_TRIP, &next_s);
+    m |= fault_due(t, f->isr_overrun_s, SIM_FAULT_ISR_OVERRUN, &next_s);
+    g_sim.faults_next_s = next_s;
     return m;
 }
 
-/* At t_k, before the samples: the faults that start now change the board. */
+/* At t_k, before the samples: the faults that start now change the board.
+ * Time only grows, so the due set changes only once faults_next_s is reached. */
 static void faults_start(void)
 {
+    if (!(g_sim.t_s + FAULT_TIME_TOL_PER_TS * g_sim.cfg.inv.Ts_s >= g_sim.faults_next_s)) {
+        g_sim.faults_new = 0u;
+        return;
+    }
     const uint32_t due = faults_due(g_sim.t_s);
     const uint32_t new_bits = due & ~g_sim.faults_active;
     g_sim.faults_active = due;
     g_sim.faults_new = new_bits;
     if ((new_bits & SIM_FAULT_VDC_SAG) != 0u) {
-        g_sim.cfg.inv.vdc_V = g_sim.faults.vdc_sag_V;
+        set_bus(g_sim.faults.vdc_sag_V);
     }
     if ((new_bits & SIM_FAULT_VDC_SURGE) != 0u) {
-        g_sim.cfg.inv.vdc_V = g_sim.faults.vdc_surge_V;
+        set_bus(g_sim.faults.vdc_surge_V);
     }
     if ((new_bits & SIM_FAULT_GATE_TRIP) != 0u) {
         hal_sim_force_trip();
@@ -188,9 +237,12 @@ static void faults_leg_currents(double i_abc[N_PHASES])
 /* The samples after the sensors: a stuck channel, a lost or jumping count. */
 static void faults_samples(hal_sample_t *s, uint32_t new_bits)
 {
-    const uint32_t cpr = 4u * g_sim.cfg.sens.enc_lines;
+    const uint32_t cpr = g_sim.sens.enc_cpr;
     float *ch = (g_sim.faults.adc_stuck_channel == 0u) ? &s->ia_A : &s->ib_A;
 
+    if (g_sim.faults_active == 0u) {
+        return;   /* new_bits are active ones */
+    }
     if ((new_bits & SIM_FAULT_ADC_STUCK) != 0u) {
         g_sim.stuck_value_A = *ch;
     }
@@ -215,6 +267,9 @@ static void faults_samples(hal_sample_t *s, uint32_t new_bits)
  * equations do not couple); the short's current over the period. */
 static void faults_after_period(bool gates_on)
 {
+    if (g_sim.faults_active == 0u) {
+        return;
+    }
     if ((g_sim.faults_active & SIM_FAULT_OPEN_PHASE) != 0u) {
         plant_t *p = &g_sim.plant;
         const double th = plant_theta_el_rad(p);
@@ -238,7 +293,8 @@ static void faults_after_period(bool gates_on)
     }
 }
 
-/* Step 1 of hal_sim_period(): shadow load, samples, comparator, truth at t_k. */
+/* Step 1 of hal_sim_period(): shadow load, samples, comparator, truth at
+ * t_k (what truth_derive() needs of it: the state). */
 static void sample_at_period_start(void)
 {
     const hal_sim_cfg_t *c = &g_sim.cfg;
@@ -248,7 +304,7 @@ static void sample_at_period_start(void)
 
     double i_abc[N_PHASES];
     double i_leg[N_PHASES];
-    const double th_el = plant_theta_el_rad(&g_sim.plant);
+    g_sim.x_k = g_sim.plant.x;
     plant_iabc_A(&g_sim.plant, i_abc);
     memcpy(i_leg, i_abc, sizeof i_leg);
     faults_leg_currents(i_leg);
@@ -257,10 +313,10 @@ static void sample_at_period_start(void)
             hal_sim_force_trip();
         }
     }
-    g_sim.sample.ia_A = (float)sensor_adc_current_A(&c->sens, &g_sim.prng, i_leg[0], c->sens.adc_offset_a_A);
-    g_sim.sample.ib_A = (float)sensor_adc_current_A(&c->sens, &g_sim.prng, i_leg[1], c->sens.adc_offset_b_A);
-    g_sim.sample.vdc_V = (float)sensor_adc_vdc_V(&c->sens, c->inv.vdc_V);
-    g_sim.sample.enc_count = sensor_encoder_count(&c->sens, g_sim.plant.x.theta_m_rad);
+    g_sim.sample.ia_A = (float)sensor_adc_current_A(&g_sim.sens, &g_sim.prng, i_leg[0], c->sens.adc_offset_a_A);
+    g_sim.sample.ib_A = (float)sensor_adc_current_A(&g_sim.sens, &g_sim.prng, i_leg[1], c->sens.adc_offset_b_A);
+    g_sim.sample.vdc_V = g_sim.vdc_reading_V;
+    g_sim.sample.enc_count = sensor_encoder_count(&g_sim.sens, g_sim.plant.x.theta_m_rad);
     faults_samples(&g_sim.sample, g_sim.faults_new);
 
     tr->t_s = g_sim.t_s;
@@ -272,9 +328,23 @@ static void sample_at_period_start(void)
     tr->ib_A = i_abc[1];
     tr->ic_A = i_abc[2];
     tr->speed_m_rad_s = g_sim.plant.x.omega_m_rad_s;
-    tr->theta_el_rad = th_el;
-    tr->te_Nm = plant_te_Nm(&g_sim.plant);
-    tr->psi_s_Wb = plant_psi_s_Wb(&g_sim.plant);
+}
+
+/* The truth's fields derived on demand (hal_sim_truth): at t_k from the
+ * state then (x_k) and the motor's constants (R, which may change, is not
+ * among their inputs); the period means from the plant's integrals, kept
+ * until the next period clears them. */
+static void truth_derive(hal_sim_truth_t *tr)
+{
+    const plant_acc_t *acc = &g_sim.plant.acc;
+    g_sim.probe.x = g_sim.x_k;
+    tr->theta_el_rad = plant_theta_el_rad(&g_sim.probe);
+    tr->te_Nm = plant_te_Nm(&g_sim.probe);
+    tr->psi_s_Wb = plant_psi_s_Wb(&g_sim.probe);
+    tr->ud_mean_V = acc->ud_Vs / acc->time_s;
+    tr->uq_mean_V = acc->uq_Vs / acc->time_s;
+    tr->id_mean_A = acc->id_As / acc->time_s;
+    tr->iq_mean_A = acc->iq_As / acc->time_s;
 }
 
 void hal_sim_period(void)
@@ -301,11 +371,6 @@ void hal_sim_period(void)
         plant_step_open(&g_sim.plant, g_sim.load_Nm, c->inv.Ts_s);
     }
     faults_after_period(gates_on);
-    const plant_acc_t *acc = &g_sim.plant.acc;
-    tr->ud_mean_V = acc->ud_Vs / acc->time_s;
-    tr->uq_mean_V = acc->uq_Vs / acc->time_s;
-    tr->id_mean_A = acc->id_As / acc->time_s;
-    tr->iq_mean_A = acc->iq_As / acc->time_s;
     tr->load_Nm = g_sim.load_Nm;
     memcpy(tr->duty, g_sim.duty_active, sizeof tr->duty);
     tr->pwm_enabled = gates_on;
@@ -315,11 +380,28 @@ void hal_sim_period(void)
     tr->faults_active = g_sim.faults_active;
     g_sim.t_s += c->inv.Ts_s;
     g_sim.cycles += g_sim.cycles_per_period;
+    g_sim.stepped = true;
 }
 
 void hal_sim_truth(hal_sim_truth_t *out)
 {
     *out = g_sim.truth;
+    if (g_sim.stepped) {
+        truth_derive(out);
+    } else {
+        out->theta_el_rad = 0.0;   /* power-on: all zero */
+        out->te_Nm = 0.0;
+        out->psi_s_Wb = 0.0;
+        out->ud_mean_V = 0.0;
+        out->uq_mean_V = 0.0;
+        out->id_mean_A = 0.0;
+        out->iq_mean_A = 0.0;
+    }
+}
+
+const hal_sim_truth_t *hal_sim_truth_view(void)
+{
+    return &g_sim.truth;
 }
 
 /* ---- hal.h ---------------------------------------------------------------- */
@@ -341,12 +423,19 @@ void hal_sample_read(hal_sample_t *out)
     *out = g_sim.sample;
 }
 
+/* A duty into [0, 1]; NaN maps to 0. */
+static double duty_clamp(float duty)
+{
+    const double d = (double)duty;
+    const double lo = (d >= 0.0) ? d : 0.0;
+    return (lo <= 1.0) ? lo : 1.0;
+}
+
 void hal_pwm_write(const float duty[3])
 {
-    for (int k = 0; k < N_PHASES; k++) {
-        double d = (double)duty[k];
-        g_sim.duty_shadow[k] = (d > 1.0) ? 1.0 : ((d >= 0.0) ? d : 0.0);   /* NaN maps to 0 */
-    }
+    g_sim.duty_shadow[0] = duty_clamp(duty[0]);
+    g_sim.duty_shadow[1] = duty_clamp(duty[1]);
+    g_sim.duty_shadow[2] = duty_clamp(duty[2]);
 }
 
 void hal_pwm_enable(void)
@@ -382,14 +471,14 @@ uint32_t hal_cycles(void)
      * (unsigned arithmetic of the period count). It stands still inside the
      * ISR, except in an injected overrun: every call after the ISR's first
      * is isr_overrun_run_s later. */
-    uint32_t extra = 0u;
-    if (g_sim.in_isr && (g_sim.isr_cycles_calls > 0u) && ((g_sim.faults_new & SIM_FAULT_ISR_OVERRUN) != 0u)) {
-        extra = (uint32_t)llround(g_sim.faults.isr_overrun_run_s * CPU_CLOCK_HZ);
-    }
+    uint32_t now = g_sim.cycles;
     if (g_sim.in_isr) {
+        if ((g_sim.isr_cycles_calls > 0u) && ((g_sim.faults_new & SIM_FAULT_ISR_OVERRUN) != 0u)) {
+            now += g_sim.overrun_cycles;
+        }
         g_sim.isr_cycles_calls++;
     }
-    return g_sim.cycles + extra;
+    return now;
 }
 
 void hal_watchdog_kick(void)

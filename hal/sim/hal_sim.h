@@ -122,6 +122,11 @@ void hal_sim_period(void);
 /* Ground truth of the last simulated period into *out. */
 void hal_sim_truth(hal_sim_truth_t *out);
 
+/* The same in place, for a check every period: no copy, and the fields
+ * hal_sim_truth() derives on demand (theta_el_rad, te_Nm, psi_s_Wb and
+ * the period means ud/uq_mean_V, id/iq_mean_A) read NaN. */
+const hal_sim_truth_t *hal_sim_truth_view(void);
+
 /* Latch a hardware trip now, as the trip-zone input would (fault-injection for tests). */
 void hal_sim_force_trip(void);
 

@@ -65,12 +65,28 @@ void sensors_default_cfg(sensors_cfg_t *cfg)
     cfg->seed = DEFAULT_SEED;
 }
 
-uint32_t sensor_encoder_count(const sensors_cfg_t *cfg, double theta_m_rad)
+void sensors_init(sensors_t *s, const sensors_cfg_t *cfg)
 {
-    uint32_t cpr = QUAD_COUNTS_PER_LINE * cfg->enc_lines;
-    double turns = theta_m_rad / SIM_TWO_PI;
-    double frac = turns - floor(turns);
-    uint32_t n = (uint32_t)floor(frac * (double)cpr);
+    const double half_codes = (double)((uint64_t)1u << (cfg->adc_bits - 1u));   /* mid-scale code = zero current */
+    const double codes = (double)((uint64_t)1u << cfg->adc_bits);
+
+    s->cfg = *cfg;
+    s->enc_cpr = QUAD_COUNTS_PER_LINE * cfg->enc_lines;
+    s->i_lsb_A = cfg->adc_full_scale_A / half_codes;
+    s->i_code_min = -half_codes;
+    s->i_code_max = half_codes - 1.0;
+    s->vdc_lsb_V = cfg->vdc_full_scale_V / codes;
+    s->vdc_code_max = codes - 1.0;
+}
+
+uint32_t sensor_encoder_count(const sensors_t *s, double theta_m_rad)
+{
+    const uint32_t cpr = s->enc_cpr;
+    double frac = theta_m_rad / SIM_TWO_PI;   /* turns */
+    if (!((frac >= 0.0) && (frac < 1.0))) {
+        frac -= floor(frac);                  /* the plant's angle is in [0, 2 pi): seldom */
+    }
+    uint32_t n = (uint32_t)(frac * (double)cpr);   /* >= 0: truncation is floor() */
     return (n >= cpr) ? n - cpr : n;   /* frac * cpr may round up to cpr */
 }
 
@@ -86,20 +102,16 @@ static double quantize(double x, double lsb, double lo_code, double hi_code)
     return code * lsb;
 }
 
-double sensor_adc_current_A(const sensors_cfg_t *cfg, prng_t *g, double i_A, double offset_A)
+double sensor_adc_current_A(const sensors_t *s, prng_t *g, double i_A, double offset_A)
 {
     double x = i_A + offset_A;
-    if (cfg->adc_noise_A > 0.0) {
-        x += cfg->adc_noise_A * prng_gauss(g);
+    if (s->cfg.adc_noise_A > 0.0) {
+        x += s->cfg.adc_noise_A * prng_gauss(g);
     }
-    double half_codes = (double)((uint64_t)1u << (cfg->adc_bits - 1u));   /* mid-scale code = zero current */
-    double lsb = cfg->adc_full_scale_A / half_codes;
-    return quantize(x, lsb, -half_codes, half_codes - 1.0);
+    return quantize(x, s->i_lsb_A, s->i_code_min, s->i_code_max);
 }
 
-double sensor_adc_vdc_V(const sensors_cfg_t *cfg, double vdc_V)
+double sensor_adc_vdc_V(const sensors_t *s, double vdc_V)
 {
-    double codes = (double)((uint64_t)1u << cfg->adc_bits);
-    double lsb = cfg->vdc_full_scale_V / codes;
-    return quantize(vdc_V, lsb, 0.0, codes - 1.0);
+    return quantize(vdc_V, s->vdc_lsb_V, 0.0, s->vdc_code_max);
 }

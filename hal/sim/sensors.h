@@ -20,6 +20,18 @@ typedef struct {
     uint64_t seed;             /* PRNG seed, any value (0 is remapped) */
 } sensors_cfg_t;
 
+/* A measurement chain ready to sample: its cfg and the scales derived from
+ * it once (sensors_init), so a sample divides once and shifts nothing. */
+typedef struct {
+    sensors_cfg_t cfg;
+    uint32_t enc_cpr;          /* counts per turn, 4 x lines */
+    double i_lsb_A;            /* current ADC step */
+    double i_code_min;         /* its code range, zero current at code 0 */
+    double i_code_max;
+    double vdc_lsb_V;          /* DC-bus ADC step */
+    double vdc_code_max;       /* its code range starts at 0 */
+} sensors_t;
+
 typedef struct {
     uint64_t s;                /* xorshift64* state, never 0 */
     double spare;              /* second Box-Muller deviate */
@@ -38,13 +50,16 @@ double prng_gauss(prng_t *g);
 /* Board defaults: 2500 lines, 12 bits over +-15 A, no offset, no noise, 600 V bus range, seed 1. */
 void sensors_default_cfg(sensors_cfg_t *cfg);
 
+/* The chain of *cfg (copied) with its scales derived; the PRNG is the caller's. */
+void sensors_init(sensors_t *s, const sensors_cfg_t *cfg);
+
 /* Encoder count 0 .. 4 lines - 1 at mechanical angle theta_m_rad (any value, wrapped). */
-uint32_t sensor_encoder_count(const sensors_cfg_t *cfg, double theta_m_rad);
+uint32_t sensor_encoder_count(const sensors_t *s, double theta_m_rad);
 
 /* The ADC's reading [A] of current i_A: offset, noise from *g, 12-bit rounding, range clamp. */
-double sensor_adc_current_A(const sensors_cfg_t *cfg, prng_t *g, double i_A, double offset_A);
+double sensor_adc_current_A(const sensors_t *s, prng_t *g, double i_A, double offset_A);
 
 /* The ADC's reading [V] of the DC-bus voltage vdc_V: rounding to the bus channel's LSB, range clamp. */
-double sensor_adc_vdc_V(const sensors_cfg_t *cfg, double vdc_V);
+double sensor_adc_vdc_V(const sensors_t *s, double vdc_V);
 
 #endif /* SENSORS_H */

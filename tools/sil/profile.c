@@ -97,22 +97,61 @@ int profile_parse_append(profile_t *p, const char *text, char *err, size_t errle
     return 0;
 }
 
-double profile_eval(const profile_t *p, double t_s)
+/* The value at t_s on segment k of *p: before point k, or past the last for k = n. */
+static double segment_value(const profile_t *p, uint32_t k, double t_s)
 {
-    double t_prev = 0.0;
-    double v_prev = 0.0;
-    for (uint32_t k = 0; k < p->n; k++) {
-        const profile_point_t *pt = &p->pt[k];
-        if (t_s < pt->t_s) {
-            if (pt->ramp) {
-                return v_prev + (pt->value - v_prev) * (t_s - t_prev) / (pt->t_s - t_prev);
-            }
-            return v_prev;
-        }
-        t_prev = pt->t_s;
-        v_prev = pt->value;
+    const double t_prev = (k > 0u) ? p->pt[k - 1u].t_s : 0.0;
+    const double v_prev = (k > 0u) ? p->pt[k - 1u].value : 0.0;
+    if ((k < p->n) && p->pt[k].ramp) {
+        return v_prev + (p->pt[k].value - v_prev) * (t_s - t_prev) / (p->pt[k].t_s - t_prev);
     }
     return v_prev;
+}
+
+/* The segment of t_s: the first point with t_s before it, searched from
+ * point k on (the points before k are not after t_s); n if none. */
+static uint32_t segment_from(const profile_t *p, uint32_t k, double t_s)
+{
+    while ((k < p->n) && !(t_s < p->pt[k].t_s)) {
+        k++;
+    }
+    return k;
+}
+
+double profile_eval(const profile_t *p, double t_s)
+{
+    return segment_value(p, segment_from(p, 0u, t_s), t_s);
+}
+
+void profile_cursor_init(profile_cursor_t *c, const profile_t *p)
+{
+    c->p = p;
+    c->k = 0u;
+    c->hold_from_s = INFINITY;   /* empty: the first eval seeks */
+    c->hold_until_s = -INFINITY;
+    c->hold_value = 0.0;
+}
+
+double profile_cursor_seek(profile_cursor_t *c, double t_s)
+{
+    const profile_t *p = c->p;
+    uint32_t k = c->k;
+
+    if ((k > 0u) && !(t_s >= p->pt[k - 1u].t_s)) {
+        k = 0u;   /* back before the segment (or NaN): from the start */
+    }
+    k = segment_from(p, k, t_s);
+    c->k = k;
+    const double v = segment_value(p, k, t_s);
+    if ((k < p->n) && p->pt[k].ramp) {
+        c->hold_from_s = INFINITY;
+        c->hold_until_s = -INFINITY;
+    } else {
+        c->hold_from_s = (k > 0u) ? p->pt[k - 1u].t_s : -INFINITY;
+        c->hold_until_s = (k < p->n) ? p->pt[k].t_s : INFINITY;
+        c->hold_value = v;
+    }
+    return v;
 }
 
 void profile_const(profile_t *p, double v)

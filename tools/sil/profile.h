@@ -39,4 +39,30 @@ double profile_eval(const profile_t *p, double t_s);
 /* The constant profile v from t = 0. */
 void profile_const(profile_t *p, double v);
 
+/* A reader of one profile for times that mostly grow (a run's periods):
+ * it keeps the segment of the last time asked and, on a step's segment,
+ * the value held there, so a period costs two compares. */
+typedef struct {
+    const profile_t *p;
+    uint32_t k;             /* segment: the first point after the last time asked (n: past the last) */
+    double hold_from_s;     /* the value hold_value holds on [hold_from_s, hold_until_s) (empty on a ramp) */
+    double hold_until_s;
+    double hold_value;
+} profile_cursor_t;
+
+/* A cursor on *p (kept, not copied: *p must outlive it), at no segment yet. */
+void profile_cursor_init(profile_cursor_t *c, const profile_t *p);
+
+/* profile_eval(c->p, t_s), found from the cursor's segment (any t_s; slower backwards). */
+double profile_cursor_seek(profile_cursor_t *c, double t_s);
+
+/* profile_eval(c->p, t_s), bit for bit. */
+static inline double profile_cursor_eval(profile_cursor_t *c, double t_s)
+{
+    if ((t_s >= c->hold_from_s) && (t_s < c->hold_until_s)) {
+        return c->hold_value;
+    }
+    return profile_cursor_seek(c, t_s);
+}
+
 #endif /* PROFILE_H */

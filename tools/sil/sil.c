@@ -152,6 +152,12 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->fault_limit = faulted ? (double)g_app.snapshot.limit : 0.0;
 }
 
+/* fmax(a, b) without the library call: the larger; NaN only if both are. */
+static double max_or_nonnan(double a, double b)
+{
+    return ((a >= b) || isnan(b)) ? a : b;
+}
+
 /* The fault bookkeeping of sil_result_t after one period. */
 static void track_faults(const hal_sim_truth_t *tr, bool was_faulted, sil_result_t *res)
 {
@@ -207,40 +213,51 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
 
     const double Ts = hc.inv.Ts_s;
     const uint32_t n = (uint32_t)llround(sc->run.duration_s / Ts);
+    profile_cursor_t speed_ref, te_ref, ud_ref, uq_ref, load, R_plant;
+    profile_cursor_init(&speed_ref, &sc->reference.speed_rpm);
+    profile_cursor_init(&te_ref, &sc->reference.torque_Nm);
+    profile_cursor_init(&ud_ref, &sc->reference.ud_V);
+    profile_cursor_init(&uq_ref, &sc->reference.uq_V);
+    profile_cursor_init(&load, &sc->load.torque_Nm);
+    profile_cursor_init(&R_plant, &sc->plant.R_profile);
+    const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
+    uint32_t periods_to_row = 0u;                       /* a row every log_every periods, from k = 0 */
     int rc = 0;
     for (uint32_t k = 0; k < n && rc == 0; k++) {
         const double t = (double)k * Ts;
-        const double speed_ref_rpm = profile_eval(&sc->reference.speed_rpm, t);
+        const double speed_ref_rpm = profile_cursor_eval(&speed_ref, t);
         op.ref.speed_ref_rad_s = (float)(speed_ref_rpm / SIM_RPM_PER_RAD_S);
-        op.ref.te_ref_Nm = (float)profile_eval(&sc->reference.torque_Nm, t);
-        op.ref.ud_ref_V = (float)profile_eval(&sc->reference.ud_V, t);
-        op.ref.uq_ref_V = (float)profile_eval(&sc->reference.uq_V, t);
+        op.ref.te_ref_Nm = (float)profile_cursor_eval(&te_ref, t);
+        op.ref.ud_ref_V = (float)profile_cursor_eval(&ud_ref, t);
+        op.ref.uq_ref_V = (float)profile_cursor_eval(&uq_ref, t);
         app_request_op(&g_app, &op);   /* taken at the start of this period's ISR */
-        hal_sim_set_load(profile_eval(&sc->load.torque_Nm, t));
+        hal_sim_set_load(profile_cursor_eval(&load, t));
         if (sc->plant.R_profile.n > 1u) {
-            hal_sim_set_R_Ohm(profile_eval(&sc->plant.R_profile, t));   /* the winding warms */
+            hal_sim_set_R_Ohm(profile_cursor_eval(&R_plant, t));   /* the winding warms */
         }
 
         const bool was_faulted = (g_app.state == APP_STATE_FAULT);
         hal_sim_period();
         app_background(&g_app);
 
-        hal_sim_truth_t tr;
-        hal_sim_truth(&tr);
-        track_faults(&tr, was_faulted, res);
+        track_faults(tr, was_faulted, res);
         if (isnan(res->t_run_s) && g_app.state == APP_STATE_RUN) {
-            res->t_run_s = tr.t_s;
+            res->t_run_s = tr->t_s;
         }
-        double i_max = fmax(fabs(tr.ia_A), fmax(fabs(tr.ib_A), fabs(tr.ic_A)));
-        res->max_abs_i_A = fmax(res->max_abs_i_A, i_max);
-        res->pwm_periods += tr.pwm_enabled ? 1u : 0u;
+        const double i_max = max_or_nonnan(fabs(tr->ia_A), max_or_nonnan(fabs(tr->ib_A), fabs(tr->ic_A)));
+        res->max_abs_i_A = max_or_nonnan(res->max_abs_i_A, i_max);
+        res->pwm_periods += tr->pwm_enabled ? 1u : 0u;
         res->periods = k + 1u;
-        if (on_row != NULL && k % sc->run.log_every == 0u) {
-            sil_row_t row;
-            fill_row(sc, speed_ref_rpm, &row);
-            rc = on_row(&row, user);
-            res->rows++;
+        if (periods_to_row == 0u) {
+            periods_to_row = sc->run.log_every;
+            if (on_row != NULL) {
+                sil_row_t row;
+                fill_row(sc, speed_ref_rpm, &row);
+                rc = on_row(&row, user);
+                res->rows++;
+            }
         }
+        periods_to_row--;
     }
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
