@@ -23,12 +23,27 @@ CC := gcc
 endif
 AR ?= ar
 
+# OPT compiles every object of the variant; LDOPT links the tests,
+# PROG_LDOPT the programs (drive_sil, sil_bench).
 ifeq ($(VARIANT),san)
-OPT    := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
-LDOPT  := -fsanitize=address,undefined
+OPT        := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+LDOPT      := -fsanitize=address,undefined
+PROG_LDOPT := $(LDOPT)
+else ifeq ($(VARIANT),o2)
+# `make bench-ctrl`: the controller's cost as documented, at plain -O2.
+OPT        := -O2 -g
+LDOPT      :=
+PROG_LDOPT :=
 else
-OPT    := -O2 -g
-LDOPT  :=
+# The host build: -O3; objects carry machine code and GIMPLE (fat LTO), the
+# tests link the machine code, the programs are optimised again across
+# files at link time and linked statically (no dynamic loader: 0.25 ms
+# less start-up). Results stay bit-identical to -O2: no -ffast-math,
+# baseline x86-64 has no FMA and -std=c99 contracts nothing;
+# -fno-math-errno lets libm built-ins (sqrt) skip their errno path.
+OPT        := -O3 -g -fno-math-errno -flto=auto -ffat-lto-objects
+LDOPT      := -fno-lto
+PROG_LDOPT := -flto=auto -static
 endif
 
 # Warning sets. Portable sources (control/, firmware/, hal/f28335/) are
@@ -83,7 +98,13 @@ $(OUT)/lib/%.a:
 	@rm -f $@
 	$(AR) rcs $@ $^
 
-$(OUT)/obj/%.o: %.c | host-deps
+# Objects are rebuilt when OPT changes (the stamp's text changes only then).
+OPT_STAMP := $(OUT)/obj/opt.stamp
+$(OPT_STAMP): FORCE
+	@mkdir -p $(@D)
+	@echo '$(OPT)' | cmp -s - $@ || echo '$(OPT)' > $@
+
+$(OUT)/obj/%.o: %.c $(OPT_STAMP) | host-deps
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(call cflags_for,$<) $(call inc_for,$<) -MMD -MP -c $< -o $@
 
@@ -95,7 +116,8 @@ $(OUT)/obj/%.o: %.c | host-deps
 TEST_SRCS  := $(wildcard tests/test_*.c)
 TEST_NAMES := $(basename $(notdir $(TEST_SRCS)))
 TEST_BINS  := $(addprefix $(OUT)/tests/,$(TEST_NAMES))
-LDLIBS     := -lcmocka -linih -lm
+LDLIBS     := -lcmocka -linih -lm -pthread
+PROG_LDLIBS := -linih -lm -pthread
 
 test_libs = $(foreach l,$(or $(TEST_LIBS_$1),control),$(LIB_$l))
 
@@ -110,9 +132,11 @@ endef
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 
-.PHONY: all test test-host test-san run-tests check firmware flash host-deps check-deps help
+.PHONY: all test test-host test-san run-tests check firmware flash host-deps check-deps help FORCE
 
 all: $(TEST_BINS) $(HOST_PROGRAMS)
+
+FORCE:
 
 help:
 	@sed -n '1,11p' Makefile

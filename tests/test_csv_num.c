@@ -1,11 +1,14 @@
 /* csv_num_g9() against snprintf("%.9g"): special values, values next to
  * powers of ten and rounding ties, and random values of every magnitude
- * (random bit patterns, scaled uniforms, short decimals). */
+ * (random bit patterns, scaled uniforms, short decimals); then the edges of
+ * its fast paths: whole numbers, signed zero, powers of ten and their
+ * neighbours, exact ties of the 10th digit, subnormals, inf and NaN. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <setjmp.h>
 #include <cmocka.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -75,11 +78,115 @@ static void random_values_print_as_printf(void **state)
     }
 }
 
+/* v and its two neighbouring doubles. */
+static void check_around(double v)
+{
+    check(v);
+    check(nextafter(v, INFINITY));
+    check(nextafter(v, -INFINITY));
+}
+
+static void whole_numbers_print_as_printf(void **state)
+{
+    (void)state;
+    for (int i = -2000; i <= 2000; i++) {
+        check((double)i);
+    }
+    for (int k = 0; k <= 62; k++) {   /* the fast path ends at 2^30 and 10^9 */
+        check_around(ldexp(1.0, k));
+        check_around(-ldexp(1.0, k));
+        check(ldexp(1.0, k) - 1.0);
+        check(ldexp(1.0, k) + 1.0);
+    }
+    for (int k = 0; k <= 15; k++) {
+        check(pow(10.0, k) - 1.0);
+        check(pow(10.0, k) + 1.0);
+        check(-pow(10.0, k) - 1.0);
+    }
+    const double v[] = { 999999999.0, 1000000000.0, 1000000001.0, 999999998.0, 536870911.0, 536870912.0,
+                         1073741823.0, 1073741824.0, 123456789.0, 1234567891.0, 4294967295.0, 4294967296.0,
+                         65535.0, 0x7fffffff.0p0, 2.0 * 0x7fffffff.0p0 };
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
+        check(v[i]);
+        check(-v[i]);
+    }
+}
+
+static void zero_infinity_nan_print_as_printf(void **state)
+{
+    (void)state;
+    check(0.0);
+    check(-0.0);
+    check(INFINITY);
+    check(-INFINITY);
+    check(NAN);
+    check(-NAN);
+    uint64_t payload = 0x7ff0000000000001ull;   /* a signalling NaN's bits */
+    double snan;
+    memcpy(&snan, &payload, sizeof snan);
+    check(snan);
+    check(nan("12345"));
+}
+
+static void powers_of_ten_print_as_printf(void **state)
+{
+    (void)state;
+    for (int k = -40; k <= 40; k++) {
+        const double p = pow(10.0, k);
+        check_around(p);
+        check_around(-p);
+        check_around(1.23456789 * p);
+        check_around(9.99999999 * p);
+        check_around(9.999999995 * p);
+        check_around(9.9999999949 * p);
+    }
+}
+
+/* Exact decimal ties of the 10th significant digit: (10 m + 5) x 10^j is a
+ * whole number, (10 m + 5) / 2 ends in .5; both exact in double. */
+static void rounding_ties_print_as_printf(void **state)
+{
+    (void)state;
+    const uint64_t m9[] = { 100000000u, 123456789u, 999999999u, 500000000u, 314159265u, 100000001u };
+    for (size_t i = 0; i < sizeof m9 / sizeof m9[0]; i++) {
+        const double tie = (double)(10u * m9[i] + 5u);
+        for (int j = 0; j <= 8; j++) {
+            check_around(tie * pow(10.0, j));
+            check_around(-tie * pow(10.0, j));
+        }
+        check_around(tie / 2.0);
+        check_around((double)m9[i] + 0.5);
+        check_around(-((double)m9[i] + 0.5));
+    }
+}
+
+static void subnormals_print_as_printf(void **state)
+{
+    (void)state;
+    check_around(DBL_MIN);
+    check_around(-DBL_MIN);
+    const double true_min = nextafter(0.0, 1.0);
+    check(true_min);
+    check(-true_min);
+    check(DBL_MIN - true_min);   /* the largest subnormal */
+    for (int k = 0; k < 1000; k++) {
+        uint64_t u = next_u64() & 0x800FFFFFFFFFFFFFull;   /* exponent field 0 */
+        double v;
+        memcpy(&v, &u, sizeof v);
+        check(v);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(special_values_print_as_printf),
         cmocka_unit_test(random_values_print_as_printf),
+        cmocka_unit_test(whole_numbers_print_as_printf),
+        cmocka_unit_test(zero_infinity_nan_print_as_printf),
+        cmocka_unit_test(powers_of_ten_print_as_printf),
+        cmocka_unit_test(rounding_ties_print_as_printf),
+        cmocka_unit_test(subnormals_print_as_printf),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -7,7 +7,7 @@ HOST_PROGRAMS += $(SIL_BENCH)
 
 $(SIL_BENCH): $(call objs,tools/sil_bench.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(LDLIBS)
+	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
 .PHONY: bench sil
 

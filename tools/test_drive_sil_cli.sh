@@ -70,6 +70,32 @@ else
     echo "FAIL drive_sil CLI step 1 refused, conventional: ${line:-no summary line}"; fail=1
 fi
 
+# a write error (a full disk; here a file-size limit) exits 1 naming the file, and leaves no CSV
+rm -f "$dir"/out.csv*
+(trap '' XFSZ; ulimit -f 4; "$bin" --scenario "$good" --set run.log_every=1 --out "$dir/out.csv" > /dev/null 2> "$dir/err")
+rc=$?
+if [ $rc -eq 1 ] && grep -q -- "--out $dir/out.csv: write error" "$dir/err" && ! compgen -G "$dir/out.csv*" > /dev/null; then
+    echo "ok   drive_sil CLI write error: $(head -n 1 "$dir/err")"
+else
+    echo "FAIL drive_sil CLI write error: exit $rc, $(head -n 1 "$dir/err"), files: $(ls "$dir")"; fail=1
+fi
+# a device is written in place, never renamed over: /dev/full fails, /dev/null takes the run
+if [ -c /dev/full ]; then
+    "$bin" --scenario "$good" --out /dev/full > /dev/null 2> "$dir/err"
+    rc=$?
+    if [ $rc -eq 1 ] && grep -q -- "--out /dev/full: write error" "$dir/err" && [ -c /dev/full ] &&
+            ! compgen -G "/dev/full.*" > /dev/null; then
+        echo "ok   drive_sil CLI --out /dev/full: $(head -n 1 "$dir/err")"
+    else
+        echo "FAIL drive_sil CLI --out /dev/full: exit $rc, $(head -n 1 "$dir/err")"; fail=1
+    fi
+fi
+if "$bin" --scenario "$good" --out /dev/null > /dev/null && [ -c /dev/null ] && ! compgen -G "/dev/null.*" > /dev/null; then
+    echo "ok   drive_sil CLI --out /dev/null: exit 0, /dev/null still a device"
+else
+    echo "FAIL drive_sil CLI --out /dev/null"; fail=1
+fi
+
 # summary mode (i11): bad input exits 2 and leaves no file; a good run's JSON names the fault
 expect_bad "unwritable summary" --scenario "$good" --summary "$dir/no/such/dir/s.json"
 expect_bad "bad --window" --scenario "$good" --summary "$dir/out.csv.json" --window 0.9:0.1

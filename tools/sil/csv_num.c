@@ -1,10 +1,8 @@
 /* csv_num.c - "%.9g" without printf; see csv_num.h. */
 #include "csv_num.h"
 
-#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #define SIG 9                       /* significant digits */
@@ -13,7 +11,18 @@
 #define SIG_HI_U 1000000000u
 #define TIE_BAND 1e-6               /* closer than this to x.5: libc decides */
 #define EXP_FIXED_MIN (-4)          /* %g's fixed notation for -4 <= exponent < precision */
-#define LOG10_2 0.30102999566398120
+
+/* IEEE 754 binary64 fields. */
+#define F64_SIGN 0x8000000000000000ull
+#define F64_MANT_BITS 52
+#define F64_MANT_MASK 0x000FFFFFFFFFFFFFull
+#define F64_HIDDEN (1ull << F64_MANT_BITS)
+#define F64_EXP_MASK 0x7FFu
+#define F64_BIAS 1023
+#define INT_FAST_E2_MAX 29          /* 2^30 > 1e9: integers below this binary exponent may print whole */
+/* floor(e2 log10 2) = (e2 * LOG10_2_Q18) >> 18 for |e2| < 1650 (the correction below absorbs an error of 1) */
+#define LOG10_2_Q18 78913
+#define LOG10_2_SHIFT 18
 
 /* Powers of ten exact in double (5^22 < 2^53). */
 static const double P10[] = {
@@ -22,48 +31,96 @@ static const double P10[] = {
 };
 #define N_P10 ((int)(sizeof P10 / sizeof P10[0]))
 
-/* v x 10^k rounded once (the power is exact): within 2^-53 relative of the true product, i.e.
- * within 1.2e-7 of it in units of the last of SIG digits, far inside TIE_BAND. */
+/* "00" .. "99": two digits per division by 100. */
+static const char PAIRS[] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
+/* The SIG decimal digits of m < 10^SIG, zero-padded, into d[0..SIG-1]. */
+static inline void digits9(char *d, uint32_t m)
+{
+    const uint32_t hi = m / 10000u;           /* 5 digits */
+    const uint32_t lo = m - 10000u * hi;      /* 4 digits */
+    const uint32_t h1 = hi / 100u;
+    const uint32_t h0 = h1 / 100u;
+    const uint32_t l1 = lo / 100u;
+    d[0] = (char)('0' + h0);
+    memcpy(d + 1, &PAIRS[2u * (h1 - 100u * h0)], 2);
+    memcpy(d + 3, &PAIRS[2u * (hi - 100u * h1)], 2);
+    memcpy(d + 5, &PAIRS[2u * l1], 2);
+    memcpy(d + 7, &PAIRS[2u * (lo - 100u * l1)], 2);
+}
+
 static double scale10(double v, int k)
 {
     return (k >= 0) ? v * P10[k] : v / P10[-k];
 }
 
-static char *put_digits(char *p, const char *d, int from, int to)
+static int fallback(char *out, char *p, double v)
 {
-    for (int i = from; i < to; i++) {
-        *p++ = d[i];
-    }
-    return p;
+    return (int)(p - out) + snprintf(p, CSV_NUM_MAX - (size_t)(p - out), "%.9g", v);
 }
 
 int csv_num_g9(char *out, double v)
 {
+    uint64_t bits;
+    memcpy(&bits, &v, sizeof bits);
+    const unsigned ef = (unsigned)(bits >> F64_MANT_BITS) & F64_EXP_MASK;
+    const uint64_t mant = bits & F64_MANT_MASK;
     char *p = out;
-    if (isnan(v)) {
-        strcpy(out, "nan");
+    if (ef == F64_EXP_MASK && mant != 0u) {
+        memcpy(out, "nan", 4);
         return 3;
     }
-    if (signbit(v)) {
+    if ((bits & F64_SIGN) != 0u) {
         *p++ = '-';
         v = -v;
     }
-    if (isinf(v)) {
-        strcpy(p, "inf");
+    if (ef == F64_EXP_MASK) {
+        memcpy(p, "inf", 4);
         return (int)(p - out) + 3;
     }
-    if (v == 0.0) {
+    if (ef == 0u) {
+        if (mant != 0u) {   /* subnormal */
+            return fallback(out, p, v);
+        }
         *p++ = '0';
         *p = '\0';
         return (int)(p - out);
     }
-    int e2 = 0;
-    (void)frexp(v, &e2);   /* v in [2^(e2-1), 2^e2) */
-    int e = (int)floor((double)(e2 - 1) * LOG10_2);   /* the decimal exponent, or one below: corrected here */
+    const int e2 = (int)ef - F64_BIAS;   /* v in [2^e2, 2^(e2+1)) */
+    char d[2 * SIG] = { 0 };   /* the digits, and room for the fixed-size copies below to read */
+    /* a whole number below 10^9 prints as itself (state, fault, flags, counts) */
+    if (e2 >= 0 && e2 <= INT_FAST_E2_MAX && (mant & (F64_MANT_MASK >> e2)) == 0u) {
+        const uint32_t m = (uint32_t)((mant | F64_HIDDEN) >> (F64_MANT_BITS - e2));
+        if (m < 100u) {   /* the flags and counts: one or two digits */
+            memcpy(p, &PAIRS[2u * m + ((m < 10u) ? 1u : 0u)], 2);
+            p += (m < 10u) ? 1 : 2;
+            *p = '\0';
+            return (int)(p - out);
+        }
+        if (m < SIG_HI_U) {
+            digits9(d, m);
+            int lead = 0;   /* leading zeros; m >= 100 */
+            while (d[lead] == '0') {
+                lead++;
+            }
+            memcpy(p, d + lead, SIG);   /* within out[]: the NUL below ends it */
+            p += SIG - lead;
+            *p = '\0';
+            return (int)(p - out);
+        }
+    }
+    /* the decimal exponent, or one below: corrected after scaling */
+    int e = (e2 >= 0) ? (e2 * LOG10_2_Q18) >> LOG10_2_SHIFT
+                      : -((-e2 * LOG10_2_Q18 + (1 << LOG10_2_SHIFT) - 1) >> LOG10_2_SHIFT);
     if (SIG - 1 - e >= N_P10 - 1 || e - (SIG - 1) >= N_P10 - 1) {   /* beyond 1e-13 .. 1e29 (with the
                                                                       * correction below): no exact power */
-        return (int)(p - out) + snprintf(p, CSV_NUM_MAX - (size_t)(p - out), "%.9g", v);
+        return fallback(out, p, v);
     }
+    /* v x 10^k rounded once (the power is exact): within 2^-53 relative of the true product, i.e.
+     * within 1.2e-7 of it in units of the last of SIG digits, far inside TIE_BAND. */
     double s = scale10(v, SIG - 1 - e);
     if (s >= SIG_HI) {
         e++;
@@ -72,56 +129,47 @@ int csv_num_g9(char *out, double v)
         e--;
         s = scale10(v, SIG - 1 - e);
     }
-    double whole = floor(s);
-    if (fabs(s - whole - 0.5) < TIE_BAND) {
-        return (int)(p - out) + snprintf(p, CSV_NUM_MAX - (size_t)(p - out), "%.9g", v);
+    uint32_t m = (uint32_t)s;   /* s > 0: truncation is floor */
+    const double frac = s - (double)m;
+    if (frac > 0.5 - TIE_BAND && frac < 0.5 + TIE_BAND) {
+        return fallback(out, p, v);
     }
-    uint32_t m = (uint32_t)whole + ((s - whole > 0.5) ? 1u : 0u);
+    m += (frac > 0.5) ? 1u : 0u;
     if (m >= SIG_HI_U) {   /* rounded up to the next power of ten */
         m /= 10u;
         e++;
     }
-    char d[SIG];
-    for (int i = SIG - 1; i >= 0; i--) {
-        d[i] = (char)('0' + (int)(m % 10u));
-        m /= 10u;
-    }
+    digits9(d, m);
     int nd = SIG;   /* %g drops trailing zeros */
-    while (nd > 1 && d[nd - 1] == '0') {
+    while (d[nd - 1] == '0') {
         nd--;
     }
+    /* Fixed-size copies (a few bytes past the text, within out[CSV_NUM_MAX]; the NUL ends it). */
     if (e >= EXP_FIXED_MIN && e < SIG) {
-        if (e >= 0) {
-            for (int i = 0; i <= e; i++) {
-                *p++ = (i < nd) ? d[i] : '0';
-            }
-            if (nd > e + 1) {
-                *p++ = '.';
-                p = put_digits(p, d, e + 1, nd);
-            }
-        } else {
-            *p++ = '0';
-            *p++ = '.';
-            for (int i = 0; i < -e - 1; i++) {
-                *p++ = '0';
-            }
-            p = put_digits(p, d, 0, nd);
+        if (e < 0) {   /* 0.000ddd */
+            memcpy(p, "0.000", 5);
+            p += 1 - e;
+            memcpy(p, d, SIG);
+            p += nd;
+        } else if (nd <= e + 1) {   /* ddd000: whole, the zeros are d's */
+            memcpy(p, d, SIG);
+            p += e + 1;
+        } else {   /* ddd.ddd (e < SIG - 1 here) */
+            memcpy(p, d, SIG - 1);
+            p[e + 1] = '.';
+            memcpy(p + e + 2, d + e + 1, SIG - 1);
+            p += nd + 1;
         }
-    } else {
-        *p++ = d[0];
-        if (nd > 1) {
-            *p++ = '.';
-            p = put_digits(p, d, 1, nd);
-        }
+    } else {   /* d.ddde+XX (|e| < 100 here: larger went to snprintf) */
+        p[0] = d[0];
+        p[1] = '.';
+        memcpy(p + 2, d + 1, SIG - 1);
+        p += (nd > 1) ? nd + 1 : 1;
         *p++ = 'e';
         *p++ = (e < 0) ? '-' : '+';
-        int a = abs(e);
-        if (a >= 100) {
-            *p++ = (char)('0' + a / 100);
-            a %= 100;
-        }
-        *p++ = (char)('0' + a / 10);
-        *p++ = (char)('0' + a % 10);
+        const int a = (e < 0) ? -e : e;
+        memcpy(p, &PAIRS[2 * a], 2);
+        p += 2;
     }
     *p = '\0';
     return (int)(p - out);

@@ -9,9 +9,9 @@ HOST_PROGRAMS += $(DRIVE_SIL)
 # (libfirmware), which calls the HAL (libsim) - one pass of "firmware sim
 # control" resolves that. Tests calling sil_run() do the same:
 #   TEST_SRCS_test_x := tools/sil/sil.c   TEST_LIBS_test_x := silrun firmware sim control
-$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(LDLIBS)
+	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
 TEST_LIBS_test_scenario := silrun firmware sim control
 TEST_LIBS_test_sil      := silrun firmware sim control
@@ -49,3 +49,6 @@ TEST_LIBS_test_sil_inverter := silrun firmware sim control
 TEST_SRCS_test_sil_inverter := tools/sil/sil.c
 # The CSV's number format (csv_num.c, in libsilrun) against printf.
 TEST_LIBS_test_csv_num := silrun
+# drive_sil's CSV writer thread: bytes as sil_csv_row(), write errors.
+TEST_LIBS_test_csv_writer := silrun firmware sim control
+TEST_SRCS_test_csv_writer := tools/sil/csv_writer.c tools/sil/sil.c

@@ -447,6 +447,16 @@ void scenario_defaults(scenario_t *sc)
     }
 }
 
+/* After n = snprintf(err, errlen, ...): a message cut to errlen ends in
+ * "..." so that it does not read as complete. */
+static void err_mark_cut(int n, char *err, size_t errlen)
+{
+    static const char CUT[] = "...";
+    if (n >= 0 && (size_t)n >= errlen && errlen >= sizeof CUT) {
+        memcpy(err + errlen - sizeof CUT, CUT, sizeof CUT);
+    }
+}
+
 /* Apply one key; on failure write "WHERE: [section] key: problem" to err. */
 static int apply(scenario_t *sc, const char *where, const char *section, const char *name,
                  const char *value, bool append, char *err, size_t errlen)
@@ -460,7 +470,8 @@ static int apply(scenario_t *sc, const char *where, const char *section, const c
         return -1;
     }
     if (set_value(sc, i, value, append, why, sizeof why) != 0) {
-        snprintf(err, errlen, "%s: [%s] %s: %s", where, section, name, why);
+        /* where and why may each fill their buffers: err takes what fits */
+        err_mark_cut(snprintf(err, errlen, "%s: [%s] %s: %s", where, section, name, why), err, errlen);
         return -1;
     }
     snprintf(sc->origin[i], SCENARIO_ORIGIN_LEN, "%s", where);

@@ -326,6 +326,8 @@ static const sil_col_t COLS[] = {
     COL(psif_model_Wb),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
+/* SIL_CSV_LINE_MAX counts one column per double of sil_row_t */
+typedef char sil_csv_cols_fit[(N_COLS <= sizeof(sil_row_t) / sizeof(double)) ? 1 : -1];
 
 void sil_csv_header(FILE *f)
 {
@@ -334,16 +336,21 @@ void sil_csv_header(FILE *f)
     }
 }
 
-void sil_csv_row(FILE *f, const sil_row_t *row)
+size_t sil_csv_format(char *line, const sil_row_t *row)
 {
-    char line[N_COLS * CSV_NUM_MAX];   /* each number and its separator fit in CSV_NUM_MAX */
     size_t n = 0;
     for (size_t i = 0; i < N_COLS; i++) {
         double v = *(const double *)((const char *)row + COLS[i].offset);
         n += (size_t)csv_num_g9(line + n, v);   /* "%.9g"; one spelling "nan" for any NaN */
         line[n++] = (i + 1u < N_COLS) ? ',' : '\n';
     }
-    fwrite(line, 1, n, f);
+    return n;
+}
+
+void sil_csv_row(FILE *f, const sil_row_t *row)
+{
+    char line[SIL_CSV_LINE_MAX];
+    fwrite(line, 1, sil_csv_format(line, row), f);
 }
 
 /* ---- resolved values (OUT.json) --------------------------------------------- */

@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "csv_num.h"
 #include "scenario.h"
 
 typedef struct {
@@ -69,10 +70,18 @@ typedef int (*sil_row_fn)(const sil_row_t *row, void *user);
  * start it, simulate run.duration_s. on_row may be NULL. Returns 0, or the callback's nonzero value. */
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res);
 
+/* Longest CSV line of a row, with its newline: every column is one of sil_row_t's doubles,
+ * at most CSV_NUM_MAX characters with its separator. */
+#define SIL_CSV_LINE_MAX (sizeof(sil_row_t) / sizeof(double) * CSV_NUM_MAX)
+
 /* The CSV header line (with newline) to f. */
 void sil_csv_header(FILE *f);
 
-/* One row as a CSV line to f; NaN is written "nan". */
+/* One row as a CSV line (with newline, no NUL) into line[SIL_CSV_LINE_MAX]; returns its length.
+ * Numbers as "%.9g", NaN as "nan" (csv_num.h). */
+size_t sil_csv_format(char *line, const sil_row_t *row);
+
+/* One row as a CSV line to f (sil_csv_format). */
 void sil_csv_row(FILE *f, const sil_row_t *row);
 
 /* The resolved truth and controller values of the last sil_run(), as one
