@@ -180,11 +180,12 @@ static double min_until(double until_s, const profile_cursor_t *c)
 }
 
 /* The references into *op and the plant's load and R at t_s (a period's
- * start, never earlier than the last): read only when one may change. */
-static void refs_at(sil_refs_t *r, double t_s, app_op_t *op)
+ * start, never earlier than the last): read only when one may change;
+ * true when read (*op may have changed). */
+static bool refs_at(sil_refs_t *r, double t_s, app_op_t *op)
 {
     if (t_s < r->until_s) {
-        return;   /* op, load and R hold what they were set to */
+        return false;   /* op, load and R hold what they were set to */
     }
     r->speed_ref_rpm = profile_cursor_eval(&r->speed_rpm, t_s);
     op->ref.speed_ref_rad_s = (float)(r->speed_ref_rpm / SIM_RPM_PER_RAD_S);
@@ -202,6 +203,7 @@ static void refs_at(sil_refs_t *r, double t_s, app_op_t *op)
         until_s = min_until(until_s, &r->R_Ohm);
     }
     r->until_s = until_s;
+    return true;
 }
 
 /* fmax(a, b) without the library call: the larger; NaN only if both are. */
@@ -271,8 +273,11 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     uint32_t periods_to_row = 0u;                       /* a row every log_every periods, from k = 0 */
     int rc = 0;
     for (uint32_t k = 0; k < n && rc == 0; k++) {
-        refs_at(&refs, (double)k * Ts, &op);
-        app_request_op(&g_app, &op);   /* taken at the start of this period's ISR */
+        if (refs_at(&refs, (double)k * Ts, &op)) {
+            /* taken at the start of this period's ISR; an unchanged request
+             * would only set the controller's reference to what it is */
+            app_request_op(&g_app, &op);
+        }
 
         const bool was_faulted = (g_app.state == APP_STATE_FAULT);
         hal_sim_period();
