@@ -60,8 +60,8 @@ static struct {
     float stuck_value_A;            /* ADC_STUCK: the frozen reading */
     uint32_t enc_frozen;            /* ENC_LOST: the frozen count */
     double i_short_A;               /* SHORT: current from the first output into the second */
-    bool in_isr;
-    uint32_t isr_cycles_calls;      /* hal_cycles() calls in this ISR call */
+    uint32_t cycles_extra;          /* hal_cycles(): added to its next answer ... */
+    uint32_t cycles_extra_later;    /* ... and to every one after it (the ISR's overrun) */
     uint32_t overrun_cycles;        /* isr_overrun_run_s in hal_cycles() counts */
 } g_sim;
 
@@ -237,12 +237,12 @@ static void faults_leg_currents(double i_abc[N_PHASES])
 /* The samples after the sensors: a stuck channel, a lost or jumping count. */
 static void faults_samples(hal_sample_t *s, uint32_t new_bits)
 {
-    const uint32_t cpr = g_sim.sens.enc_cpr;
-    float *ch = (g_sim.faults.adc_stuck_channel == 0u) ? &s->ia_A : &s->ib_A;
-
     if (g_sim.faults_active == 0u) {
         return;   /* new_bits are active ones */
     }
+    const uint32_t cpr = g_sim.sens.enc_cpr;
+    float *ch = (g_sim.faults.adc_stuck_channel == 0u) ? &s->ia_A : &s->ib_A;
+
     if ((new_bits & SIM_FAULT_ADC_STUCK) != 0u) {
         g_sim.stuck_value_A = *ch;
     }
@@ -356,10 +356,11 @@ void hal_sim_period(void)
     if (g_sim.isr != NULL && !g_sim.isr_stalled) {
         g_sim.ack_pending = true;
         g_sim.isr_calls++;
-        g_sim.in_isr = true;
-        g_sim.isr_cycles_calls = 0u;
+        /* an injected overrun: every hal_cycles() call after the ISR's first is later */
+        g_sim.cycles_extra_later = ((g_sim.faults_new & SIM_FAULT_ISR_OVERRUN) != 0u) ? g_sim.overrun_cycles : 0u;
         g_sim.isr();
-        g_sim.in_isr = false;
+        g_sim.cycles_extra = 0u;
+        g_sim.cycles_extra_later = 0u;
         g_sim.isr_stalled = g_sim.ack_pending;
     }
 
@@ -471,13 +472,8 @@ uint32_t hal_cycles(void)
      * (unsigned arithmetic of the period count). It stands still inside the
      * ISR, except in an injected overrun: every call after the ISR's first
      * is isr_overrun_run_s later. */
-    uint32_t now = g_sim.cycles;
-    if (g_sim.in_isr) {
-        if ((g_sim.isr_cycles_calls > 0u) && ((g_sim.faults_new & SIM_FAULT_ISR_OVERRUN) != 0u)) {
-            now += g_sim.overrun_cycles;
-        }
-        g_sim.isr_cycles_calls++;
-    }
+    const uint32_t now = g_sim.cycles + g_sim.cycles_extra;
+    g_sim.cycles_extra = g_sim.cycles_extra_later;
     return now;
 }
 

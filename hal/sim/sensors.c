@@ -90,28 +90,7 @@ uint32_t sensor_encoder_count(const sensors_t *s, double theta_m_rad)
     return (n >= cpr) ? n - cpr : n;   /* frac * cpr may round up to cpr */
 }
 
-/* Round x / lsb to the nearest code in [lo, hi], return code x lsb. */
-static double quantize(double x, double lsb, double lo_code, double hi_code)
-{
-    double code = floor(x / lsb + 0.5);
-    if (code < lo_code) {
-        code = lo_code;
-    } else if (code > hi_code) {
-        code = hi_code;
-    }
-    return code * lsb;
-}
-
-double sensor_adc_current_A(const sensors_t *s, prng_t *g, double i_A, double offset_A)
-{
-    double x = i_A + offset_A;
-    if (s->cfg.adc_noise_A > 0.0) {
-        x += s->cfg.adc_noise_A * prng_gauss(g);
-    }
-    return quantize(x, s->i_lsb_A, s->i_code_min, s->i_code_max);
-}
-
 double sensor_adc_vdc_V(const sensors_t *s, double vdc_V)
 {
-    return quantize(vdc_V, s->vdc_lsb_V, 0.0, s->vdc_code_max);
+    return sensor_quantize(vdc_V, s->vdc_lsb_V, 0.0, s->vdc_code_max);
 }

@@ -7,6 +7,7 @@
 #ifndef SENSORS_H
 #define SENSORS_H
 
+#include <math.h>
 #include <stdint.h>
 
 typedef struct {
@@ -56,8 +57,28 @@ void sensors_init(sensors_t *s, const sensors_cfg_t *cfg);
 /* Encoder count 0 .. 4 lines - 1 at mechanical angle theta_m_rad (any value, wrapped). */
 uint32_t sensor_encoder_count(const sensors_t *s, double theta_m_rad);
 
-/* The ADC's reading [A] of current i_A: offset, noise from *g, 12-bit rounding, range clamp. */
-double sensor_adc_current_A(const sensors_t *s, prng_t *g, double i_A, double offset_A);
+/* Round x / lsb to the nearest code in [lo_code, hi_code], return code x lsb. */
+static inline double sensor_quantize(double x, double lsb, double lo_code, double hi_code)
+{
+    double code = floor(x / lsb + 0.5);
+    if (code < lo_code) {
+        code = lo_code;
+    } else if (code > hi_code) {
+        code = hi_code;
+    }
+    return code * lsb;
+}
+
+/* The ADC's reading [A] of current i_A: offset, noise from *g, 12-bit rounding, range clamp.
+ * Inline: twice a period, the noise's call the exception. */
+static inline double sensor_adc_current_A(const sensors_t *s, prng_t *g, double i_A, double offset_A)
+{
+    double x = i_A + offset_A;
+    if (s->cfg.adc_noise_A > 0.0) {
+        x += s->cfg.adc_noise_A * prng_gauss(g);
+    }
+    return sensor_quantize(x, s->i_lsb_A, s->i_code_min, s->i_code_max);
+}
 
 /* The ADC's reading [V] of the DC-bus voltage vdc_V: rounding to the bus channel's LSB, range clamp. */
 double sensor_adc_vdc_V(const sensors_t *s, double vdc_V);

@@ -56,6 +56,13 @@ void profile_cursor_init(profile_cursor_t *c, const profile_t *p);
 /* profile_eval(c->p, t_s), found from the cursor's segment (any t_s; slower backwards). */
 double profile_cursor_seek(profile_cursor_t *c, double t_s);
 
+/* The value of the last eval holds up to this time (exclusive) for later
+ * times; -inf after one on a ramp. */
+static inline double profile_cursor_until_s(const profile_cursor_t *c)
+{
+    return c->hold_until_s;
+}
+
 /* profile_eval(c->p, t_s), bit for bit. */
 static inline double profile_cursor_eval(profile_cursor_t *c, double t_s)
 {

@@ -152,6 +152,60 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->fault_limit = faulted ? (double)g_app.snapshot.limit : 0.0;
 }
 
+/* The scenario's profiles of a run, read by cursors at its periods' times. */
+typedef struct {
+    profile_cursor_t speed_rpm, te_Nm, ud_V, uq_V, load_Nm, R_Ohm;
+    bool R_varies;           /* the plant's R has a profile: set every change */
+    double until_s;          /* every value read last holds for t < until_s */
+    double speed_ref_rpm;    /* the speed reference read last */
+} sil_refs_t;
+
+static void refs_init(sil_refs_t *r, const scenario_t *sc)
+{
+    profile_cursor_init(&r->speed_rpm, &sc->reference.speed_rpm);
+    profile_cursor_init(&r->te_Nm, &sc->reference.torque_Nm);
+    profile_cursor_init(&r->ud_V, &sc->reference.ud_V);
+    profile_cursor_init(&r->uq_V, &sc->reference.uq_V);
+    profile_cursor_init(&r->load_Nm, &sc->load.torque_Nm);
+    profile_cursor_init(&r->R_Ohm, &sc->plant.R_profile);
+    r->R_varies = (sc->plant.R_profile.n > 1u);
+    r->until_s = -INFINITY;
+    r->speed_ref_rpm = 0.0;
+}
+
+static double min_until(double until_s, const profile_cursor_t *c)
+{
+    const double u = profile_cursor_until_s(c);
+    return (u < until_s) ? u : until_s;
+}
+
+/* The references into *op and the plant's load and R at t_s (a period's
+ * start, never earlier than the last): read only when one may change;
+ * true when read (*op may have changed). */
+static bool refs_at(sil_refs_t *r, double t_s, app_op_t *op)
+{
+    if (t_s < r->until_s) {
+        return false;   /* op, load and R hold what they were set to */
+    }
+    r->speed_ref_rpm = profile_cursor_eval(&r->speed_rpm, t_s);
+    op->ref.speed_ref_rad_s = (float)(r->speed_ref_rpm / SIM_RPM_PER_RAD_S);
+    op->ref.te_ref_Nm = (float)profile_cursor_eval(&r->te_Nm, t_s);
+    op->ref.ud_ref_V = (float)profile_cursor_eval(&r->ud_V, t_s);
+    op->ref.uq_ref_V = (float)profile_cursor_eval(&r->uq_V, t_s);
+    hal_sim_set_load(profile_cursor_eval(&r->load_Nm, t_s));
+    double until_s = profile_cursor_until_s(&r->speed_rpm);
+    until_s = min_until(until_s, &r->te_Nm);
+    until_s = min_until(until_s, &r->ud_V);
+    until_s = min_until(until_s, &r->uq_V);
+    until_s = min_until(until_s, &r->load_Nm);
+    if (r->R_varies) {
+        hal_sim_set_R_Ohm(profile_cursor_eval(&r->R_Ohm, t_s));   /* the winding warms */
+        until_s = min_until(until_s, &r->R_Ohm);
+    }
+    r->until_s = until_s;
+    return true;
+}
+
 /* fmax(a, b) without the library call: the larger; NaN only if both are. */
 static double max_or_nonnan(double a, double b)
 {
@@ -213,27 +267,16 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
 
     const double Ts = hc.inv.Ts_s;
     const uint32_t n = (uint32_t)llround(sc->run.duration_s / Ts);
-    profile_cursor_t speed_ref, te_ref, ud_ref, uq_ref, load, R_plant;
-    profile_cursor_init(&speed_ref, &sc->reference.speed_rpm);
-    profile_cursor_init(&te_ref, &sc->reference.torque_Nm);
-    profile_cursor_init(&ud_ref, &sc->reference.ud_V);
-    profile_cursor_init(&uq_ref, &sc->reference.uq_V);
-    profile_cursor_init(&load, &sc->load.torque_Nm);
-    profile_cursor_init(&R_plant, &sc->plant.R_profile);
+    sil_refs_t refs;
+    refs_init(&refs, sc);
     const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
     uint32_t periods_to_row = 0u;                       /* a row every log_every periods, from k = 0 */
     int rc = 0;
     for (uint32_t k = 0; k < n && rc == 0; k++) {
-        const double t = (double)k * Ts;
-        const double speed_ref_rpm = profile_cursor_eval(&speed_ref, t);
-        op.ref.speed_ref_rad_s = (float)(speed_ref_rpm / SIM_RPM_PER_RAD_S);
-        op.ref.te_ref_Nm = (float)profile_cursor_eval(&te_ref, t);
-        op.ref.ud_ref_V = (float)profile_cursor_eval(&ud_ref, t);
-        op.ref.uq_ref_V = (float)profile_cursor_eval(&uq_ref, t);
-        app_request_op(&g_app, &op);   /* taken at the start of this period's ISR */
-        hal_sim_set_load(profile_cursor_eval(&load, t));
-        if (sc->plant.R_profile.n > 1u) {
-            hal_sim_set_R_Ohm(profile_cursor_eval(&R_plant, t));   /* the winding warms */
+        if (refs_at(&refs, (double)k * Ts, &op)) {
+            /* taken at the start of this period's ISR; an unchanged request
+             * would only set the controller's reference to what it is */
+            app_request_op(&g_app, &op);
         }
 
         const bool was_faulted = (g_app.state == APP_STATE_FAULT);
@@ -252,7 +295,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
             periods_to_row = sc->run.log_every;
             if (on_row != NULL) {
                 sil_row_t row;
-                fill_row(sc, speed_ref_rpm, &row);
+                fill_row(sc, refs.speed_ref_rpm, &row);
                 rc = on_row(&row, user);
                 res->rows++;
             }
