@@ -272,13 +272,15 @@ static void switching_matches_averaged_at_500rpm_4Nm(void **state)
     assert_true(fabs(id_av) < rel_tol * iq);
 }
 
-/* The default RK4 step (one per constant-voltage piece) against 1 us steps,
- * switching model. The speed is off 500 r/min, where the angle lands on an
- * encoder edge every 6 periods and rounding alone would flip the count. */
+/* The default (the period solved at once) against 1 us sub-periods,
+ * switching model. At n/m counts per period the angle lands exactly on an
+ * encoder edge every m periods, where rounding alone would flip the count:
+ * 500 r/min is 25/3 counts, 511.3 r/min 5113/600 (an edge at period 600);
+ * 511.37 r/min is 51137/6000, no edge in the 700 periods run. */
 static void default_substep_agrees_with_1us(void **state)
 {
     (void)state;
-    const double speed_rpm = 511.3;
+    const double speed_rpm = 511.37;
     const double fine_s = 1.0e-6;
     const double rel_tol = 1.0e-6;
     double id_def;

@@ -1,12 +1,15 @@
 /* Unit tests for hal/sim/plant.c against closed-form expectations:
  * the locked-rotor RL step, the analytic dq steady state under load, and
- * the energy balance over a transient (integrated here, by trapezoid). */
+ * the energy balance over a transient (integrated here, by trapezoid);
+ * the period solver against an independent fine RK4 of eqs. (1)-(3) in
+ * the rotor frame, through switching periods with large accelerations. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <setjmp.h>
 #include <cmocka.h>
 #include <math.h>
+#include <stdlib.h>
 
 #include "plant.h"
 #include "table1.h"
@@ -205,6 +208,188 @@ static void table1_plant_is_the_papers_table(void **state)
     assert_true(cfg.omega0_m_rad_s == 0.0);
 }
 
+
+/* ---- the period solver against a fine RK4 of the dq model -------------- */
+
+#define REF_TS_S 1.0e-4
+#define REF_VDC_V 311.0
+#define REF_STEP_S 5.0e-8   /* RK4's local error (|c| h)^5 / 120 is below 1e-20 */
+#define REF_PERIODS 300
+#define REF_OFFSET_EL_RAD 0.3   /* the d axis's electrical angle at theta_m = 0 */
+
+/* The dq model, eqs. (1)-(3), the stator voltage turned into the rotor frame at theta_el. */
+typedef struct {
+    double id, iq, w_m, th_m;
+} ref_x_t;
+
+static void ref_deriv(const plant_cfg_t *c, const ref_x_t *x, double ua, double ub, double TL, ref_x_t *dx)
+{
+    const double pp = (double)c->pole_pairs;
+    const double th = pp * x->th_m + REF_OFFSET_EL_RAD;
+    const double w = pp * x->w_m;
+    const double ud = ua * cos(th) + ub * sin(th);
+    const double uq = -ua * sin(th) + ub * cos(th);
+    dx->id = (ud - c->R_Ohm * x->id + w * c->L_H * x->iq) / c->L_H;
+    dx->iq = (uq - c->R_Ohm * x->iq - w * (c->L_H * x->id + c->psi_f_Wb)) / c->L_H;
+    dx->w_m = (1.5 * pp * c->psi_f_Wb * x->iq - TL - c->B_Nms * x->w_m) / c->J_kgm2;
+    dx->th_m = x->w_m;
+}
+
+static void ref_axpy(const ref_x_t *x, double h, const ref_x_t *d, ref_x_t *y)
+{
+    y->id = x->id + h * d->id;
+    y->iq = x->iq + h * d->iq;
+    y->w_m = x->w_m + h * d->w_m;
+    y->th_m = x->th_m + h * d->th_m;
+}
+
+/* One RK4 step; also the step's integrals of id, iq (Simpson on the stages). */
+static void ref_rk4(const plant_cfg_t *c, ref_x_t *x, double ua, double ub, double TL, double h, double *id_s, double *iq_s)
+{
+    ref_x_t k1, k2, k3, k4, y;
+    ref_deriv(c, x, ua, ub, TL, &k1);
+    ref_axpy(x, 0.5 * h, &k1, &y);
+    const double id2 = y.id, iq2 = y.iq;
+    ref_deriv(c, &y, ua, ub, TL, &k2);
+    ref_axpy(x, 0.5 * h, &k2, &y);
+    const double id3 = y.id, iq3 = y.iq;
+    ref_deriv(c, &y, ua, ub, TL, &k3);
+    ref_axpy(x, h, &k3, &y);
+    *id_s += h * (x->id + 2.0 * id2 + 2.0 * id3 + y.id) / 6.0;
+    *iq_s += h * (x->iq + 2.0 * iq2 + 2.0 * iq3 + y.iq) / 6.0;
+    ref_deriv(c, &y, ua, ub, TL, &k4);
+    x->id += h * (k1.id + 2.0 * k2.id + 2.0 * k3.id + k4.id) / 6.0;
+    x->iq += h * (k1.iq + 2.0 * k2.iq + 2.0 * k3.iq + k4.iq) / 6.0;
+    x->w_m += h * (k1.w_m + 2.0 * k2.w_m + 2.0 * k3.w_m + k4.w_m) / 6.0;
+    x->th_m += h * (k1.th_m + 2.0 * k2.th_m + 2.0 * k3.th_m + k4.th_m) / 6.0;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a;
+    const double y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Leg k's stator voltage at the bus, the others at 0. */
+static void leg_ab(int k, double *ua, double *ub)
+{
+    static const double ca[3] = { 2.0 / 3.0, -1.0 / 3.0, -1.0 / 3.0 };
+    static const double cb[3] = { 0.0, 0.5773502691896258, -0.5773502691896258 };
+    *ua = ca[k] * REF_VDC_V;
+    *ub = cb[k] * REF_VDC_V;
+}
+
+/* Stator voltage at time t of a period whose legs are high over |t - Ts/2| < d Ts/2. */
+static void legs_voltage(const double d[3], double t, double *ua, double *ub)
+{
+    *ua = 0.0;
+    *ub = 0.0;
+    for (int k = 0; k < 3; k++) {
+        if (fabs(t - 0.5 * REF_TS_S) < d[k] * 0.5 * REF_TS_S) {
+            double a, b;
+            leg_ab(k, &a, &b);
+            *ua += a;
+            *ub += b;
+        }
+    }
+}
+
+/* From rest, a rotating voltage of rising amplitude in switching periods
+ * (three centred leg pulses), the load stepping 0.5 -> 3 N m: the shaft
+ * accelerates at up to 2000 rad/s^2. Error bound (hal/sim/plant_design.md
+ * sec. 5): the terms the solver neglects are second order in the
+ * acceleration's change, below (psi_f/L) |d alpha_el/dt| tau^4 ~ 1e-8 A per
+ * period here, forgotten with the time constant L/R (37 periods): under
+ * 4e-7 A. The tolerances are that with a margin: 1e-6 A (currents, means),
+ * and what it does to the shaft over the run. */
+static void period_solver_matches_fine_rk4(void **state)
+{
+    (void)state;
+    const double tol_i_A = 1.0e-6;
+    const double tol_w_rad_s = 1.0e-5;
+    const double tol_th_rad = 1.0e-7;
+    /* the walker holds the acceleration of the period's start: its error is
+     * (psi_f/L) |d alpha_el/dt| tau^3 / 6 <= 21.8 A/rad x (3 x 837 x 28000) rad/s^3 x
+     * 1.25e-13 s^3 / 6 = 3.2e-5 A (|diq/dt| <= Vdc/L); it only decides current signs */
+    const double tol_walk_A = 5.0e-5;
+    plant_cfg_t cfg = table1_plant();
+    cfg.omega0_m_rad_s = 20.0;
+    plant_t p;
+    plant_init(&p, &cfg, REF_OFFSET_EL_RAD);
+    ref_x_t x = { 0.0, 0.0, cfg.omega0_m_rad_s, 0.0 };
+    double worst_i = 0.0, worst_w = 0.0, worst_th = 0.0, worst_mean = 0.0, worst_walk = 0.0;
+    const double pp = (double)cfg.pole_pairs;
+    for (int n = 0; n < REF_PERIODS; n++) {
+        /* duties of a rotor-frame voltage (ud, uq) at the mid-period angle */
+        const double th = pp * x.th_m + REF_OFFSET_EL_RAD + 1.5 * pp * x.w_m * REF_TS_S;
+        const double ud = -20.0 + 5.0 * sin(0.1 * n);
+        const double uq = 40.0 + 0.4 * n;
+        const double ua = ud * cos(th) - uq * sin(th);
+        const double ub = ud * sin(th) + uq * cos(th);
+        const double v[3] = { ua, -0.5 * ua + 0.8660254037844386 * ub, -0.5 * ua - 0.8660254037844386 * ub };
+        double d[3];
+        for (int k = 0; k < 3; k++) {
+            d[k] = fmin(fmax(0.5 + v[k] / REF_VDC_V, 0.0), 1.0);
+        }
+        const double TL = (n < REF_PERIODS / 2) ? 0.5 : 3.0;
+
+        plant_acc_clear(&p);
+        plant_period_begin(&p, REF_TS_S, TL);
+        for (int k = 0; k < 3; k++) {
+            double a, b;
+            leg_ab(k, &a, &b);
+            assert_true(plant_period_pulse(&p, a, b, 0.0, d[k] * 0.5 * REF_TS_S));
+        }
+        /* the pieces between the legs' edges, each in RK4 steps of at most 50 ns;
+         * the walker checked at each piece's start */
+        double br[7];
+        int nb = 0;
+        for (int k = 0; k < 3; k++) {
+            br[nb++] = (1.0 - d[k]) * 0.5 * REF_TS_S;
+            br[nb++] = (1.0 + d[k]) * 0.5 * REF_TS_S;
+        }
+        br[nb++] = REF_TS_S;
+        qsort(br, (size_t)nb, sizeof br[0], cmp_double);
+        double id_s = 0.0, iq_s = 0.0;
+        double t0 = 0.0;
+        for (int j = 0; j < nb; j++) {
+            const double t1 = br[j];
+            if (!(t1 > t0)) {
+                continue;
+            }
+            double i_abc[3];
+            plant_walk_iabc_A(&p, i_abc);
+            const double thr = pp * x.th_m + REF_OFFSET_EL_RAD;
+            worst_walk = fmax(worst_walk, fabs(i_abc[0] - (x.id * cos(thr) - x.iq * sin(thr))));
+            double u_a, u_b;
+            legs_voltage(d, 0.5 * (t0 + t1), &u_a, &u_b);
+            plant_walk_advance(&p, u_a, u_b, t1);
+            const int steps = (int)ceil((t1 - t0) / REF_STEP_S);
+            for (int s = 0; s < steps; s++) {
+                ref_rk4(&cfg, &x, u_a, u_b, TL, (t1 - t0) / steps, &id_s, &iq_s);
+            }
+            t0 = t1;
+        }
+        plant_period_end(&p);
+        worst_i = fmax(worst_i, fmax(fabs(p.x.id_A - x.id), fabs(p.x.iq_A - x.iq)));
+        worst_w = fmax(worst_w, fabs(p.x.omega_m_rad_s - x.w_m));
+        double dth = p.x.theta_m_rad - fmod(x.th_m, TWO_PI);
+        dth -= TWO_PI * round(dth / TWO_PI);
+        worst_th = fmax(worst_th, fabs(dth));
+        worst_mean = fmax(worst_mean, fmax(fabs(p.acc.id_As - id_s), fabs(p.acc.iq_As - iq_s)) / REF_TS_S);
+    }
+    print_message("period solver vs RK4 at 50 ns steps: |di| %.3g A, |dw| %.3g rad/s, |dtheta| %.3g rad, "
+                  "|d mean i| %.3g A, walker %.3g A; final speed %.1f rad/s, iq %.2f A\n",
+                  worst_i, worst_w, worst_th, worst_mean, worst_walk, x.w_m, x.iq);
+    assert_true(x.w_m > 100.0);   /* a real run-up */
+    assert_true(worst_i < tol_i_A);
+    assert_true(worst_mean < tol_i_A);
+    assert_true(worst_w < tol_w_rad_s);
+    assert_true(worst_th < tol_th_rad);
+    assert_true(worst_walk < tol_walk_A);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -214,6 +399,7 @@ int main(void)
         cmocka_unit_test(steady_state_under_load_matches_analytic),
         cmocka_unit_test(energy_balance_over_transient),
         cmocka_unit_test(angle_wraps_and_outputs_follow_state),
+        cmocka_unit_test(period_solver_matches_fine_rk4),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

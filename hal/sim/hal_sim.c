@@ -6,10 +6,9 @@
 #include <string.h>
 
 #define PWM_PERIOD_S 1.0e-4          /* 10 kHz, the paper's sampling frequency */
-/* RK4 step bound inside a constant-voltage piece: by default a piece (at most
- * one period) is one step. Its error is below 1e-8 of the current at the
- * paper's speeds (|omega_el| Ts, R Ts / L < 0.07), and tests/test_inverter.c
- * checks it against 1 us steps; the bench targets need the long step. */
+/* Longest time the plant solves at once: by default the whole period
+ * (hal/sim/plant_design.md: exact at a held speed, 7e-8 A against a fine
+ * RK4 with the shaft free); tests/test_inverter.c checks it against 1 us. */
 #define DEFAULT_SUBSTEP_S PWM_PERIOD_S
 #define DEFAULT_TRIP_A 15.0          /* comparators at the end of the current ADC range */
 #define DUTY_ZERO_VOLTAGE 0.5        /* all legs at half duty: zero line-to-line voltage */
@@ -263,7 +262,7 @@ static void faults_samples(hal_sample_t *s, uint32_t new_bits)
 
 /* After the plant's period: an open phase carries no current (the component
  * of the stator current along its axis is removed, once per period: exact
- * with the default one RK4 step per period, as the SPMSM's alpha and beta
+ * with the period solved at once, as the SPMSM's alpha and beta
  * equations do not couple); the short's current over the period. */
 static void faults_after_period(bool gates_on)
 {

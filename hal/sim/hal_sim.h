@@ -92,10 +92,10 @@ typedef struct {
 } hal_sim_truth_t;
 
 /* Defaults of the board around the motor: shaft at rest and free, averaged
- * inverter at 10 kHz, no dead time, one RK4 step per constant-voltage
- * piece, 2500-line encoder aligned (offset 0), ideal 12-bit ADC over
- * +-15 A, trip at 15 A. The motor (plant R_Ohm, L_H, psi_f_Wb,
- * pole_pairs, J_kgm2) and the bus (inv.vdc_V) are the caller's: NaN and
+ * inverter at 10 kHz, no dead time, the period solved at once,
+ * 2500-line encoder aligned (offset 0), ideal 12-bit ADC over +-15 A,
+ * trip at 15 A. The motor (plant R_Ohm, L_H, psi_f_Wb, pole_pairs,
+ * J_kgm2) and the bus (inv.vdc_V) are the caller's: NaN and
  * 0 here. tools/sil/sil_board.h fills them from the drive's parameter
  * set (the paper's Table I); hal/sim keeps no copy of the motor data. */
 void hal_sim_default_cfg(hal_sim_cfg_t *cfg);

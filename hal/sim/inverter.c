@@ -101,28 +101,6 @@ static void legs_to_ab(const double v_V[N_LEGS], double *ua_V, double *ub_V)
     *ub_V = (v_V[1] - v_V[2]) / SQRT3;
 }
 
-/* Integrate over [0, span_s] in equal RK4 steps no longer than substep_max_s
- * (inlined: it runs 7 times a period). */
-#if defined(__GNUC__)
-__attribute__((always_inline))
-#endif
-static inline void integrate_piece(const inv_cfg_t *cfg, plant_t *plant, double ua_V, double ub_V,
-                            double TL_Nm, double span_s)
-{
-    if (span_s <= cfg->substep_max_s) {
-        plant_piece(plant, ua_V, ub_V, TL_Nm, span_s);   /* the default: one step per piece */
-        return;
-    }
-    double n_steps = ceil(span_s / cfg->substep_max_s);
-    if (n_steps < 1.0) {
-        n_steps = 1.0;
-    }
-    double h = span_s / n_steps;
-    for (int k = 0; k < (int)n_steps; k++) {
-        plant_piece(plant, ua_V, ub_V, TL_Nm, h);
-    }
-}
-
 /* Sort the period's few edges in place (insertion sort: at most MAX_BREAKS values). */
 static void sort_edges(double *t_s, int n)
 {
@@ -154,152 +132,220 @@ static double leg_high_time(const inv_cfg_t *cfg, double duty, double i_A)
     return fmax(lt.off_s - (lt.on_s + lt.deadtime_s), 0.0);
 }
 
-static void period_averaged(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
+/* Stator voltage of leg k alone at v_V, the others at 0. */
+static void leg_ab(int k, double v_V, double *ua_V, double *ub_V)
 {
-    double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
-    if (needs_current(cfg)) {
-        plant_piece_iabc_A(plant, i_abc);
-    }
-    double v[N_LEGS];
-    for (int k = 0; k < N_LEGS; k++) {
-        v[k] = cfg->vdc_V * leg_high_time(cfg, duty[k], i_abc[k]) / cfg->Ts_s -
-               cfg->device_drop_V * sign_of(i_abc[k]);
-    }
-    double ua;
-    double ub;
-    legs_to_ab(v, &ua, &ub);
-    integrate_piece(cfg, plant, ua, ub, TL_Nm, cfg->Ts_s);
+    double v[N_LEGS] = { 0.0, 0.0, 0.0 };
+    v[k] = v_V;
+    legs_to_ab(v, ua_V, ub_V);
 }
 
-/* The stator voltage of each of the 8 leg patterns (bit k: leg k high) at
- * the bus vdc_V, from legs_to_ab() itself so the pieces get the same bits
- * as the general path; rebuilt when the bus changes (a sag or surge). */
-typedef struct {
-    double vdc_V;
-    double ua_V[1 << N_LEGS];
-    double ub_V[1 << N_LEGS];
-} pattern_table_t;
-
-static const pattern_table_t *pattern_table(double vdc_V)
+/* A constant voltage over [t1_s, t2_s) of a period of 2 tau_s (nothing if empty). */
+static void pulse_between(plant_t *plant, double ua_V, double ub_V, double t1_s, double t2_s, double tau_s)
 {
-    static pattern_table_t tab = { -1.0, { 0.0 }, { 0.0 } };
-    if (tab.vdc_V != vdc_V) {
-        for (unsigned m = 0u; m < (1u << N_LEGS); m++) {
-            double v[N_LEGS];
-            for (int k = 0; k < N_LEGS; k++) {
-                v[k] = ((m >> k) & 1u) ? vdc_V : 0.0;
-            }
-            legs_to_ab(v, &tab.ua_V[m], &tab.ub_V[m]);
-        }
-        tab.vdc_V = vdc_V;
-    }
-    return &tab;
-}
-
-/* Ideal switches (no dead time, no device drop): the legs' states need no
- * current. A switching leg goes high at on_s and low at off_s, both
- * monotone in its duty, and every on_s <= Ts/2 <= every off_s: with the
- * legs sorted by duty, widest first, the edges in time order are the
- * ons in that order, then the offs in the reverse order. Each edge
- * toggles one bit of the legs' pattern; zero-length pieces (equal edges)
- * are skipped. Same pieces, same voltages as the general path. */
-static void period_switching_ideal(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
-{
-    leg_times_t lt[N_LEGS];
-    double d_sw[N_LEGS];
-    int order[N_LEGS];
-    int n = 0;
-    unsigned mask = 0u;
-    for (int k = 0; k < N_LEGS; k++) {
-        leg_times(cfg, duty[k], &lt[k]);
-        if (lt[k].held == LEG_HIGH) {
-            mask |= 1u << k;
-        } else if (lt[k].held == LEG_DEAD) {
-            const double d = clamp01(duty[k]);
-            int j = n - 1;
-            while (j >= 0 && d_sw[j] < d) {
-                d_sw[j + 1] = d_sw[j];
-                order[j + 1] = order[j];
-                j--;
-            }
-            d_sw[j + 1] = d;
-            order[j + 1] = k;
-            n++;
-        }
-    }
-    const pattern_table_t *tab = pattern_table(cfg->vdc_V);
-    double t0 = 0.0;
-    for (int e = 0; e <= 2 * n; e++) {
-        double t1 = cfg->Ts_s;
-        int leg = -1;
-        if (e < n) {
-            leg = order[e];
-            t1 = lt[leg].on_s;
-        } else if (e < 2 * n) {
-            leg = order[2 * n - 1 - e];
-            t1 = lt[leg].off_s;
-        }
-        if (t1 > t0) {
-            integrate_piece(cfg, plant, tab->ua_V[mask], tab->ub_V[mask], TL_Nm, t1 - t0);
-            t0 = t1;
-        }
-        if (leg >= 0) {
-            mask ^= 1u << leg;
-        }
+    if (t2_s > t1_s) {
+        (void)plant_period_pulse(plant, ua_V, ub_V, 0.5 * (t1_s + t2_s) - tau_s, 0.5 * (t2_s - t1_s));
     }
 }
 
-static void period_switching(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
+/* The leg voltage [V] of state st whose current has the sign s_i (-1, 0, 1),
+ * device drop included. */
+static double leg_voltage_sign(const inv_cfg_t *cfg, leg_state_t st, double s_i)
 {
-    if (!needs_current(cfg)) {
-        period_switching_ideal(cfg, duty, TL_Nm, plant);
-        return;
-    }
-    double br[MAX_BREAKS];
+    return leg_voltage(cfg, st, s_i) - cfg->device_drop_V * s_i;
+}
+
+/* The period's edges in (0, Ts), sorted, then Ts: returns the count. */
+static int period_breaks(const inv_cfg_t *cfg, const double duty[3], double br[MAX_BREAKS])
+{
     int n = 0;
     for (int k = 0; k < N_LEGS; k++) {
         n += inv_leg_edges(cfg, duty[k], &br[n]);
     }
     sort_edges(br, n);
     br[n++] = cfg->Ts_s;
+    return n;
+}
+
+/* The averaged model's stator voltage over the period: the legs' mean, dead
+ * time and drop by the current's sign at the period's start. */
+static void averaged_voltage(const inv_cfg_t *cfg, const double duty[3], plant_t *plant, double *ua_V, double *ub_V)
+{
+    double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
+    if (needs_current(cfg)) {
+        plant_walk_iabc_A(plant, i_abc);
+    }
+    double v[N_LEGS];
+    for (int k = 0; k < N_LEGS; k++) {
+        v[k] = cfg->vdc_V * leg_high_time(cfg, duty[k], i_abc[k]) / cfg->Ts_s -
+               cfg->device_drop_V * sign_of(i_abc[k]);
+    }
+    legs_to_ab(v, ua_V, ub_V);
+}
+
+/* Ideal switches: each leg's pulse is centred in the period, high over
+ * |t - Ts/2| < d Ts/2 (a held-high leg over the whole period); the plant
+ * superposes the three (linear in the voltage). */
+static void legs_ideal(const inv_cfg_t *cfg, const double duty[3], plant_t *plant)
+{
+    const double tau = 0.5 * cfg->Ts_s;
+    for (int k = 0; k < N_LEGS; k++) {
+        const double d = clamp01(duty[k]);
+        if (d > 0.0) {
+            double ua;
+            double ub;
+            leg_ab(k, cfg->vdc_V, &ua, &ub);
+            (void)plant_period_pulse(plant, ua, ub, 0.0, d * tau);
+        }
+    }
+}
+
+/* A piece of the period and its stator voltage. */
+typedef struct {
+    double t0_s, t1_s, ua_V, ub_V;
+} piece_t;
+
+/* Dead time or device drop: with each leg's current sign held from the
+ * period's start, a leg is its centred pulse, minus the turn-on dead band
+ * (i >= 0: the lower diode) or plus the turn-off one (i < 0, cut at Ts),
+ * minus the drop over the whole period. The walker then checks that held
+ * sign against the current at every piece's start; where it would change
+ * a piece's voltage, the period is given piece by piece instead. */
+static void period_switching_general(const inv_cfg_t *cfg, const double duty[3], plant_t *plant)
+{
+    const double Ts = cfg->Ts_s;
+    const double tau = 0.5 * Ts;
+    const double td = cfg->deadtime_s;
+    double i0[N_LEGS];
+    plant_walk_iabc_A(plant, i0);
+    leg_times_t lt[N_LEGS];
+    double s0[N_LEGS];
+    legs_ideal(cfg, duty, plant);
+    for (int k = 0; k < N_LEGS; k++) {
+        leg_times(cfg, duty[k], &lt[k]);
+        s0[k] = sign_of(i0[k]);
+        double ua;
+        double ub;
+        if (lt[k].held == LEG_DEAD) {
+            leg_ab(k, cfg->vdc_V, &ua, &ub);
+            if (i0[k] < 0.0) {
+                pulse_between(plant, ua, ub, lt[k].off_s, fmin(lt[k].off_s + td, Ts), tau);
+            } else {
+                pulse_between(plant, -ua, -ub, lt[k].on_s, fmin(lt[k].on_s + td, lt[k].off_s), tau);
+            }
+        }
+        if (cfg->device_drop_V > 0.0 && s0[k] != 0.0) {
+            leg_ab(k, -cfg->device_drop_V * s0[k], &ua, &ub);
+            (void)plant_period_pulse(plant, ua, ub, 0.0, tau);
+        }
+    }
+
+    double br[MAX_BREAKS];
+    const int n = period_breaks(cfg, duty, br);
+    piece_t pc[MAX_BREAKS];
+    int n_pc = 0;
+    bool held_ok = true;
+    double t0 = 0.0;
+    for (int j = 0; j < n; j++) {
+        const double t1 = br[j];
+        if (t1 <= t0) {
+            continue;   /* coinciding edges of different legs */
+        }
+        double i_abc[N_LEGS];
+        plant_walk_iabc_A(plant, i_abc);
+        double v[N_LEGS];
+        for (int k = 0; k < N_LEGS; k++) {
+            const leg_state_t st = leg_state_at(&lt[k], 0.5 * (t0 + t1));
+            const double s = sign_of(i_abc[k]);
+            v[k] = leg_voltage_sign(cfg, st, s);
+            if ((cfg->device_drop_V > 0.0 && s != s0[k]) || (st == LEG_DEAD && (s < 0.0) != (s0[k] < 0.0))) {
+                held_ok = false;
+            }
+        }
+        piece_t *q = &pc[n_pc++];
+        q->t0_s = t0;
+        q->t1_s = t1;
+        legs_to_ab(v, &q->ua_V, &q->ub_V);
+        plant_walk_advance(plant, q->ua_V, q->ub_V, t1);
+        t0 = t1;
+    }
+    if (!held_ok) {
+        plant_period_clear(plant);
+        for (int j = 0; j < n_pc; j++) {
+            pulse_between(plant, pc[j].ua_V, pc[j].ub_V, pc[j].t0_s, pc[j].t1_s, tau);
+        }
+    }
+}
+
+/* plant.substep_s below Ts: the period in n_sub equal sub-periods, each
+ * solved at once, its pieces' voltages from the current at their start. */
+static void period_substeps(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant, int n_sub)
+{
+    const double Ts = cfg->Ts_s;
+    const double h = Ts / (double)n_sub;
     leg_times_t lt[N_LEGS];
     for (int k = 0; k < N_LEGS; k++) {
         leg_times(cfg, duty[k], &lt[k]);
     }
-
-    double t0 = 0.0;
-    for (int j = 0; j < n; j++) {
-        double t1 = br[j];
-        if (t1 <= t0) {
-            continue;   /* coinciding edges of different legs */
-        }
-        double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
-        const bool with_current = needs_current(cfg);
-        if (with_current) {
-            plant_piece_iabc_A(plant, i_abc);
-        }
-        double v[N_LEGS];
-        for (int k = 0; k < N_LEGS; k++) {
-            v[k] = leg_voltage(cfg, leg_state_at(&lt[k], 0.5 * (t0 + t1)), i_abc[k]);
-            if (with_current) {
-                v[k] -= cfg->device_drop_V * sign_of(i_abc[k]);
+    double br[MAX_BREAKS];
+    const int n = period_breaks(cfg, duty, br);
+    double ua_avg = 0.0;
+    double ub_avg = 0.0;
+    int j = 0;
+    for (int m = 0; m < n_sub; m++) {
+        const double lo = h * (double)m;
+        const double hi = (m == n_sub - 1) ? Ts : h * (double)(m + 1);
+        const double tau = 0.5 * (hi - lo);
+        plant_period_begin(plant, hi - lo, TL_Nm);
+        if (cfg->model != INV_SWITCHING) {
+            if (m == 0) {   /* the averaged voltage holds over the period */
+                averaged_voltage(cfg, duty, plant, &ua_avg, &ub_avg);
             }
+            (void)plant_period_pulse(plant, ua_avg, ub_avg, 0.0, tau);
+            plant_period_end(plant);
+            continue;
         }
-        double ua;
-        double ub;
-        legs_to_ab(v, &ua, &ub);
-        integrate_piece(cfg, plant, ua, ub, TL_Nm, t1 - t0);
-        t0 = t1;
+        double t0 = lo;
+        while (t0 < hi) {
+            while (j < n && br[j] <= t0) {
+                j++;
+            }
+            const double t1 = (j < n && br[j] < hi) ? br[j] : hi;
+            double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
+            if (needs_current(cfg)) {
+                plant_walk_iabc_A(plant, i_abc);
+            }
+            double v[N_LEGS];
+            for (int k = 0; k < N_LEGS; k++) {
+                v[k] = leg_voltage_sign(cfg, leg_state_at(&lt[k], 0.5 * (t0 + t1)), sign_of(i_abc[k]));
+            }
+            double ua;
+            double ub;
+            legs_to_ab(v, &ua, &ub);
+            pulse_between(plant, ua, ub, t0 - lo, t1 - lo, tau);
+            plant_walk_advance(plant, ua, ub, t1 - lo);
+            t0 = t1;
+        }
+        plant_period_end(plant);
     }
 }
 
 void inv_period(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
 {
-    plant_pieces_begin(plant);
-    if (cfg->model == INV_SWITCHING) {
-        period_switching(cfg, duty, TL_Nm, plant);
-    } else {
-        period_averaged(cfg, duty, TL_Nm, plant);
+    if (cfg->substep_max_s > 0.0 && cfg->substep_max_s < cfg->Ts_s) {
+        period_substeps(cfg, duty, TL_Nm, plant, (int)ceil(cfg->Ts_s / cfg->substep_max_s));
+        return;
     }
-    plant_pieces_end(plant);
+    plant_period_begin(plant, cfg->Ts_s, TL_Nm);
+    if (cfg->model != INV_SWITCHING) {
+        double ua;
+        double ub;
+        averaged_voltage(cfg, duty, plant, &ua, &ub);
+        (void)plant_period_pulse(plant, ua, ub, 0.0, 0.5 * cfg->Ts_s);
+    } else if (needs_current(cfg)) {
+        period_switching_general(cfg, duty, plant);
+    } else {
+        legs_ideal(cfg, duty, plant);
+    }
+    plant_period_end(plant);
 }

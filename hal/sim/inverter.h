@@ -22,7 +22,10 @@
  *                 dead-time error, current sign at the period start) held
  *                 over the whole period.
  *   INV_SWITCHING the leg states between switching instants, piecewise
- *                 constant, the plant integrated across each piece.
+ *                 constant: each switching leg a pulse centred in the
+ *                 period, which the plant superposes (plant.h); with dead
+ *                 time or drop the current's sign at each piece's start
+ *                 decides (the plant's walker, plant_design.md sec. 6).
  * The zero-sequence voltage does not drive a current (isolated star), so
  * only the alpha-beta part of the phase voltages reaches the plant.
  */
@@ -41,7 +44,7 @@ typedef struct {
     double Ts_s;            /* PWM period */
     double deadtime_s;      /* 0: ideal switches */
     double device_drop_V;   /* on-state drop of the conducting switch or diode [V]; 0: ideal */
-    double substep_max_s;   /* longest RK4 step inside a constant-voltage piece */
+    double substep_max_s;   /* longest time the plant solves at once (< Ts: equal sub-periods) */
 } inv_cfg_t;
 
 /* Leg state over a piece of the period. */

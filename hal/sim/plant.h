@@ -6,11 +6,12 @@
  *   L did/dt = ud - R id + w_el L iq
  *   L diq/dt = uq - R iq - w_el (L id + psi_f)
  *   J dw_m/dt = Te - TL - B w_m,   Te = 1.5 p psi_f iq,   w_el = p w_m
- * The stator voltage is given in the stator frame (alpha-beta), held
- * constant over a step, as an inverter applies it; the step is one
- * classical RK4 step, so callers split a period at every switching instant.
- * The step integrates in the stator frame with the d axis's phasor as a
- * state (no sin/cos at its stages); the state kept is the rotor frame's.
+ * The stator voltage is given in the stator frame (alpha-beta) over a
+ * period as a sum of constant pulses, as an inverter applies it. The
+ * period is solved in closed form: the currents exactly at the period's
+ * mean speed (linear ODE, exponentials as short series), the shaft from
+ * the torque's integral and first moment, one correction pass; derivation,
+ * error bounds and series orders in hal/sim/plant_design.md.
  */
 #ifndef PLANT_H
 #define PLANT_H
@@ -45,6 +46,34 @@ typedef struct {
     double uq_Vs;
 } plant_acc_t;
 
+/* A constant stator voltage over |t - T/2 - centre_s| < half_s of a period of T. */
+typedef struct {
+    double ua_V, ub_V;
+    double centre_s;   /* from the period's middle */
+    double half_s;
+} plant_pulse_t;
+
+/* Room for the pulses of one period: 3 legs + 3 dead-band corrections + 3
+ * device drops, or up to 13 pieces between the edges of 3 legs. */
+#define PLANT_MAX_PULSES 16
+#define PLANT_N_MOMENTS 6
+
+/* Working data of one period (plant.c; times from the period's middle). */
+typedef struct {
+    double T_s, tau_s, TL_Nm;
+    double ia0_A, ib0_A;       /* stator-frame current at the start */
+    double w_el_rad_s;         /* predicted mean electrical speed (pass 1) */
+    double alpha_el_rad_s2;    /* its acceleration */
+    double E;                  /* e^(-a tau), a = R/L */
+    double zc_c, zc_s;         /* the d axis's phasor at the middle, speed w_el */
+    double S_a, S_b;           /* int e^(a s) u ds over the pulses [V s] */
+    double M_a[PLANT_N_MOMENTS], M_b[PLANT_N_MOMENTS];   /* centred pulses: sum of u 2 r^(2n+1) */
+    int n_pulses;
+    plant_pulse_t pulse[PLANT_MAX_PULSES];
+    double walk_s, walk_g;     /* walker: time, e^(a s) */
+    double walk_Pa, walk_Pb;   /* walker: integral of e^(a s) u from -tau [V s] */
+} plant_period_t;
+
 typedef struct {
     plant_cfg_t cfg;
     plant_state_t x;
@@ -56,29 +85,34 @@ typedef struct {
     double anchor_el_rad;
     double anchor_sin;
     double anchor_cos;
-    /* cos and sin of the present electrical angle (the d axis's phasor): exact
-     * between steps, carried by the RK4 stages inside a period in pieces */
+    /* cos and sin of the present electrical angle (the d axis's phasor) */
     double z_cos;
     double z_sin;
-    /* stator-frame currents inside a period in pieces (plant_pieces_begin .. _end) */
-    double i_alpha_A;
-    double i_beta_A;
+    plant_period_t per;   /* the period in hand, plant_period_begin() .. plant_period_end() */
 } plant_t;
 
 /* Plant with zero currents and angle at speed omega0, d axis at enc_offset_el_rad for theta_m = 0. */
 void plant_init(plant_t *p, const plant_cfg_t *cfg, double enc_offset_el_rad);
 
-/* One RK4 step of h_s with the stator-frame voltage (u_alpha_V, u_beta_V) and load TL_Nm held. */
+/* One period of h_s with the stator-frame voltage (u_alpha_V, u_beta_V) and load TL_Nm held. */
 void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s);
 
-/* A period in constant-voltage pieces, in the stator frame: plant_pieces_begin(), one
- * plant_piece() (an RK4 step as plant_step's) per piece, plant_pieces_end(). In between,
- * x.id_A/iq_A are stale; plant_piece_iabc_A() gives the phase currents. plant_step() is
- * the three in one; the split saves the frame change and the angle's sin/cos per piece. */
-void plant_pieces_begin(plant_t *p);
-void plant_piece(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s);
-void plant_pieces_end(plant_t *p);
-void plant_piece_iabc_A(const plant_t *p, double i_abc_A[3]);
+/* A period of T_s > 0 with load TL_Nm held: plant_period_begin(), the voltage as pulses
+ * (plant_period_pulse(), superposed), plant_period_end() advances the state and adds to acc.
+ * In between, the walker gives the currents at instants of the period in time order under
+ * a voltage it is told piece by piece (plant_walk_iabc_A(), plant_walk_advance()): an
+ * inverter whose voltage depends on the current uses it; it does not change the pulses. */
+void plant_period_begin(plant_t *p, double T_s, double TL_Nm);
+/* Voltage (u_alpha_V, u_beta_V) for |t - T/2 - centre_s| < half_s; half_s <= 0 adds nothing.
+ * Returns false (nothing added) when PLANT_MAX_PULSES are given. */
+bool plant_period_pulse(plant_t *p, double u_alpha_V, double u_beta_V, double centre_s, double half_s);
+/* Forget the pulses given since plant_period_begin(). */
+void plant_period_clear(plant_t *p);
+void plant_period_end(plant_t *p);
+/* Phase currents [A] at the walker's instant (the period's start after plant_period_begin()). */
+void plant_walk_iabc_A(const plant_t *p, double i_abc_A[3]);
+/* The walker applies (u_alpha_V, u_beta_V) from its instant to t_s (from the period's start). */
+void plant_walk_advance(plant_t *p, double u_alpha_V, double u_beta_V, double t_s);
 
 /* One RK4 step of h_s with the stator open (outputs off): currents forced to zero, only the shaft moves.
  * Valid while the back-EMF stays below the bus, so no freewheeling diode conducts. */

@@ -76,7 +76,7 @@ static const sc_key_t KEYS[] = {
     NN("plant", "deadtime_s", plant.deadtime_s, PARAMS, "inverter dead time [s]"),
     NN("plant", "device_drop_V", plant.device_drop_V, PARAMS,
        "on-state drop of the conducting switch or diode [V], by the current's sign"),
-    POS("plant", "substep_s", plant.substep_s, PARAMS, "longest RK4 step inside a constant-voltage piece [s]"),
+    POS("plant", "substep_s", plant.substep_s, PARAMS, "longest time the plant solves at once; below the PWM period it splits it [s]"),
     UINT("plant", "encoder_lines", plant.encoder_lines, PARAMS, 1.0, 1.0e6, "encoder lines (x4 counts)"),
     ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, PARAMS,
         "electrical angle of the d axis at count 0 [rad]; the controller is told the same unless run.align = on"),
