@@ -7,7 +7,7 @@
 
 #define PWM_PERIOD_S 1.0e-4          /* 10 kHz, the paper's sampling frequency */
 /* Longest time the plant solves at once: by default the whole period
- * (hal/sim/plant_design.md: exact at a held speed, 7e-8 A against a fine
+ * (hal/sim/plant_design.md: exact at a held speed, 1e-7 A against a fine
  * RK4 with the shaft free); tests/test_inverter.c checks it against 1 us. */
 #define DEFAULT_SUBSTEP_S PWM_PERIOD_S
 #define DEFAULT_TRIP_A 15.0          /* comparators at the end of the current ADC range */

@@ -169,11 +169,12 @@ static int period_breaks(const inv_cfg_t *cfg, const double duty[3], double br[M
 
 /* The averaged model's stator voltage over the period: the legs' mean, dead
  * time and drop by the current's sign at the period's start. */
-static void averaged_voltage(const inv_cfg_t *cfg, const double duty[3], plant_t *plant, double *ua_V, double *ub_V)
+static void averaged_voltage(const inv_cfg_t *cfg, const double duty[3], const plant_t *plant, double *ua_V,
+                             double *ub_V)
 {
     double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
     if (needs_current(cfg)) {
-        plant_walk_iabc_A(plant, i_abc);
+        plant_iabc_A(plant, i_abc);
     }
     double v[N_LEGS];
     for (int k = 0; k < N_LEGS; k++) {
@@ -189,15 +190,8 @@ static void averaged_voltage(const inv_cfg_t *cfg, const double duty[3], plant_t
 static void legs_ideal(const inv_cfg_t *cfg, const double duty[3], plant_t *plant)
 {
     const double tau = 0.5 * cfg->Ts_s;
-    for (int k = 0; k < N_LEGS; k++) {
-        const double d = clamp01(duty[k]);
-        if (d > 0.0) {
-            double ua;
-            double ub;
-            leg_ab(k, cfg->vdc_V, &ua, &ub);
-            (void)plant_period_pulse(plant, ua, ub, 0.0, d * tau);
-        }
-    }
+    const double half_s[N_LEGS] = { clamp01(duty[0]) * tau, clamp01(duty[1]) * tau, clamp01(duty[2]) * tau };
+    plant_period_legs(plant, cfg->vdc_V, half_s);
 }
 
 /* A piece of the period and its stator voltage. */
@@ -277,8 +271,9 @@ static void period_switching_general(const inv_cfg_t *cfg, const double duty[3],
     }
 }
 
-/* plant.substep_s below Ts: the period in n_sub equal sub-periods, each
- * solved at once, its pieces' voltages from the current at their start. */
+/* plant.substep_s below Ts, switching model: the period in n_sub equal
+ * sub-periods, each solved at once; a piece's voltage from the current at its start holds
+ * across the sub-periods it spans. */
 static void period_substeps(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant, int n_sub)
 {
     const double Ts = cfg->Ts_s;
@@ -289,41 +284,38 @@ static void period_substeps(const inv_cfg_t *cfg, const double duty[3], double T
     }
     double br[MAX_BREAKS];
     const int n = period_breaks(cfg, duty, br);
-    double ua_avg = 0.0;
-    double ub_avg = 0.0;
+    double ua = 0.0;
+    double ub = 0.0;
+    bool piece_open = false;
     int j = 0;
     for (int m = 0; m < n_sub; m++) {
         const double lo = h * (double)m;
         const double hi = (m == n_sub - 1) ? Ts : h * (double)(m + 1);
         const double tau = 0.5 * (hi - lo);
         plant_period_begin(plant, hi - lo, TL_Nm);
-        if (cfg->model != INV_SWITCHING) {
-            if (m == 0) {   /* the averaged voltage holds over the period */
-                averaged_voltage(cfg, duty, plant, &ua_avg, &ub_avg);
-            }
-            (void)plant_period_pulse(plant, ua_avg, ub_avg, 0.0, tau);
-            plant_period_end(plant);
-            continue;
-        }
         double t0 = lo;
         while (t0 < hi) {
             while (j < n && br[j] <= t0) {
                 j++;
             }
             const double t1 = (j < n && br[j] < hi) ? br[j] : hi;
-            double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
-            if (needs_current(cfg)) {
-                plant_walk_iabc_A(plant, i_abc);
+            if (!piece_open) {   /* a piece's voltage from the current at its start */
+                double i_abc[N_LEGS] = { 0.0, 0.0, 0.0 };
+                if (needs_current(cfg)) {
+                    plant_walk_iabc_A(plant, i_abc);
+                }
+                double v[N_LEGS];
+                for (int k = 0; k < N_LEGS; k++) {
+                    v[k] = leg_voltage_sign(cfg, leg_state_at(&lt[k], 0.5 * (t0 + t1)), sign_of(i_abc[k]));
+                }
+                legs_to_ab(v, &ua, &ub);
+                piece_open = true;
             }
-            double v[N_LEGS];
-            for (int k = 0; k < N_LEGS; k++) {
-                v[k] = leg_voltage_sign(cfg, leg_state_at(&lt[k], 0.5 * (t0 + t1)), sign_of(i_abc[k]));
-            }
-            double ua;
-            double ub;
-            legs_to_ab(v, &ua, &ub);
             pulse_between(plant, ua, ub, t0 - lo, t1 - lo, tau);
             plant_walk_advance(plant, ua, ub, t1 - lo);
+            if (j < n && br[j] <= t1) {
+                piece_open = false;   /* the piece ends at an edge; else it runs on into the next sub-period */
+            }
             t0 = t1;
         }
         plant_period_end(plant);
@@ -332,17 +324,20 @@ static void period_substeps(const inv_cfg_t *cfg, const double duty[3], double T
 
 void inv_period(const inv_cfg_t *cfg, const double duty[3], double TL_Nm, plant_t *plant)
 {
-    if (cfg->substep_max_s > 0.0 && cfg->substep_max_s < cfg->Ts_s) {
+    const bool split = cfg->substep_max_s > 0.0 && cfg->substep_max_s < cfg->Ts_s;
+    if (cfg->model != INV_SWITCHING) {   /* one voltage over the period: one RK4 step is cheapest */
+        double ua;
+        double ub;
+        averaged_voltage(cfg, duty, plant, &ua, &ub);
+        plant_step_rk4(plant, ua, ub, TL_Nm, cfg->Ts_s, split ? (int)ceil(cfg->Ts_s / cfg->substep_max_s) : 1);
+        return;
+    }
+    if (split) {
         period_substeps(cfg, duty, TL_Nm, plant, (int)ceil(cfg->Ts_s / cfg->substep_max_s));
         return;
     }
     plant_period_begin(plant, cfg->Ts_s, TL_Nm);
-    if (cfg->model != INV_SWITCHING) {
-        double ua;
-        double ub;
-        averaged_voltage(cfg, duty, plant, &ua, &ub);
-        (void)plant_period_pulse(plant, ua, ub, 0.0, 0.5 * cfg->Ts_s);
-    } else if (needs_current(cfg)) {
+    if (needs_current(cfg)) {
         period_switching_general(cfg, duty, plant);
     } else {
         legs_ideal(cfg, duty, plant);

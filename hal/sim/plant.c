@@ -31,6 +31,8 @@ void plant_init(plant_t *p, const plant_cfg_t *cfg, double enc_offset_el_rad)
     p->inv_J_per_kgm2 = 1.0 / cfg->J_kgm2;
     plant_acc_clear(p);
     p->per.n_pulses = 0;
+    p->per.E_key = -1.0;
+    p->shaft_prev_valid = false;
     anchor_at(p, enc_offset_el_rad);
     p->z_cos = p->anchor_cos;
     p->z_sin = p->anchor_sin;
@@ -90,10 +92,110 @@ static void ab_to_abc(double i_alpha_A, double i_beta_A, double i_abc_A[3])
     i_abc_A[2] = -0.5 * i_alpha_A - 0.5 * SQRT3 * i_beta_A;
 }
 
-/* RK4 weights 1, 2, 2, 1 over 6 (the open stator's shaft). */
+/* RK4 weights 1, 2, 2, 1 over 6. */
 static double rk4_sum(double a, double b, double c, double d)
 {
     return (a + 2.0 * b + 2.0 * c + d) * (1.0 / 6.0);
+}
+
+/* ---- one RK4 step (plant_step_rk4: the averaged inverter's one piece) ---- */
+
+/* State of a piece in the stator frame: currents (alpha, beta), speed and
+ * the d axis's phasor z = e^(j theta_el), which obeys dz/dt = j w_el z. */
+typedef struct {
+    double ia, ib, w, zc, zs;
+} stat_t;
+
+/* What a stage needs from the piece: constants, voltage, load. */
+typedef struct {
+    double pp, R_Ohm, psi_f_Wb, B_Nms, inv_L_per_H, inv_J_per_kgm2, kt_Nm_A, ua_V, ub_V, TL_Nm;
+} stage_ctx_t;
+
+/* Derivative of the stator-frame state, eqs. (1)-(3) turned by z:
+ * L di_ab/dt = u_ab - R i_ab - j w_el psi_f z; the stage's iq for the torque
+ * and id for the mean come out too. */
+PLANT_INLINE void deriv_ab(const stage_ctx_t *k, const stat_t *x, stat_t *dx, double *id_A, double *iq_A)
+{
+    double w_el = k->pp * x->w;
+    double emf = w_el * k->psi_f_Wb;
+    double iq = x->zc * x->ib - x->zs * x->ia;
+    *id_A = x->zc * x->ia + x->zs * x->ib;
+    *iq_A = iq;
+    dx->ia = (k->ua_V - k->R_Ohm * x->ia + emf * x->zs) * k->inv_L_per_H;
+    dx->ib = (k->ub_V - k->R_Ohm * x->ib - emf * x->zc) * k->inv_L_per_H;
+    dx->w = (k->kt_Nm_A * iq - k->TL_Nm - k->B_Nms * x->w) * k->inv_J_per_kgm2;   /* 1/J = 0: speed held */
+    dx->zc = -w_el * x->zs;
+    dx->zs = w_el * x->zc;
+}
+
+PLANT_INLINE void axpy_ab(const stat_t *x, double h, const stat_t *dx, stat_t *y)
+{
+    y->ia = x->ia + h * dx->ia;
+    y->ib = x->ib + h * dx->ib;
+    y->w = x->w + h * dx->w;
+    y->zc = x->zc + h * dx->zc;
+    y->zs = x->zs + h * dx->zs;
+}
+
+/* One RK4 step in the stator frame: the voltage needs no turning at the
+ * stages and the back-EMF's angle rides along as the phasor z, so a step
+ * takes no sin/cos (plant_step_rk4() puts z back on the exact angle).
+ * Fourth order; z's own error is (w_el h)^5/120, below 1e-8 at one 100 us
+ * step at 2200 r/min. */
+static void rk4_piece(plant_t *p, double *i_alpha_A, double *i_beta_A, double u_alpha_V, double u_beta_V, double TL_Nm,
+                      double h_s)
+{
+    const plant_cfg_t *c = &p->cfg;
+    const double pp = (double)c->pole_pairs;
+    const stage_ctx_t k = { pp, c->R_Ohm, c->psi_f_Wb, c->B_Nms, p->inv_L_per_H,
+                            c->speed_held ? 0.0 : p->inv_J_per_kgm2,
+                            TORQUE_FACTOR * pp * c->psi_f_Wb, u_alpha_V, u_beta_V, TL_Nm };
+    const stat_t x0 = { *i_alpha_A, *i_beta_A, p->x.omega_m_rad_s, p->z_cos, p->z_sin };
+    stat_t k1, k2, k3, k4, x1, x2, x3;
+    double id0, id1, id2, id3, iq0, iq1, iq2, iq3;
+    deriv_ab(&k, &x0, &k1, &id0, &iq0);
+    axpy_ab(&x0, 0.5 * h_s, &k1, &x1);
+    deriv_ab(&k, &x1, &k2, &id1, &iq1);
+    axpy_ab(&x0, 0.5 * h_s, &k2, &x2);
+    deriv_ab(&k, &x2, &k3, &id2, &iq2);
+    axpy_ab(&x0, h_s, &k3, &x3);
+    deriv_ab(&k, &x3, &k4, &id3, &iq3);
+
+    *i_alpha_A = x0.ia + h_s * rk4_sum(k1.ia, k2.ia, k3.ia, k4.ia);
+    *i_beta_A = x0.ib + h_s * rk4_sum(k1.ib, k2.ib, k3.ib, k4.ib);
+    p->x.omega_m_rad_s = x0.w + h_s * rk4_sum(k1.w, k2.w, k3.w, k4.w);
+    p->x.theta_m_rad += h_s * rk4_sum(x0.w, x1.w, x2.w, x3.w);
+    p->z_cos = x0.zc + h_s * rk4_sum(k1.zc, k2.zc, k3.zc, k4.zc);
+    p->z_sin = x0.zs + h_s * rk4_sum(k1.zs, k2.zs, k3.zs, k4.zs);
+
+    /* Quadratures with the same stages: the RK4 weights are Simpson's rule;
+     * u is constant, so the mean rotor-frame voltage is u turned by the mean of conj(z). */
+    const double zc_s = h_s * rk4_sum(x0.zc, x1.zc, x2.zc, x3.zc);
+    const double zs_s = h_s * rk4_sum(x0.zs, x1.zs, x2.zs, x3.zs);
+    p->acc.time_s += h_s;
+    p->acc.id_As += h_s * rk4_sum(id0, id1, id2, id3);
+    p->acc.iq_As += h_s * rk4_sum(iq0, iq1, iq2, iq3);
+    p->acc.ud_Vs += u_alpha_V * zc_s + u_beta_V * zs_s;
+    p->acc.uq_Vs += u_beta_V * zc_s - u_alpha_V * zs_s;
+}
+
+void plant_step_rk4(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s, int n_steps)
+{
+    double ia = p->z_cos * p->x.id_A - p->z_sin * p->x.iq_A;
+    double ib = p->z_sin * p->x.id_A + p->z_cos * p->x.iq_A;
+    if (n_steps > 1) {
+        const double h = h_s / (double)n_steps;
+        for (int k = 0; k < n_steps; k++) {
+            rk4_piece(p, &ia, &ib, u_alpha_V, u_beta_V, TL_Nm, h);
+        }
+    } else {
+        rk4_piece(p, &ia, &ib, u_alpha_V, u_beta_V, TL_Nm, h_s);
+    }
+    wrap_theta(p);
+    phasor_update(p);
+    p->x.id_A = p->z_cos * ia + p->z_sin * ib;
+    p->x.iq_A = p->z_cos * ib - p->z_sin * ia;
+    p->shaft_prev_valid = false;   /* the period solver's speed predictor starts again */
 }
 
 /* ---- the period solver (hal/sim/plant_design.md) ---------------------------
@@ -192,6 +294,13 @@ PLANT_INLINE cpx_t ser_cshc(cpx_t y)
     return r;
 }
 
+/* Net accelerating force of the shaft at the period's start [N m]. */
+static double shaft_force_Nm(const plant_t *p, double TL_Nm)
+{
+    const plant_cfg_t *c = &p->cfg;
+    return TORQUE_FACTOR * (double)c->pole_pairs * c->psi_f_Wb * p->x.iq_A - TL_Nm - c->B_Nms * p->x.omega_m_rad_s;
+}
+
 void plant_period_begin(plant_t *p, double T_s, double TL_Nm)
 {
     plant_period_t *q = &p->per;
@@ -202,15 +311,25 @@ void plant_period_begin(plant_t *p, double T_s, double TL_Nm)
     q->TL_Nm = TL_Nm;
     q->ia0_A = p->z_cos * p->x.id_A - p->z_sin * p->x.iq_A;
     q->ib0_A = p->z_sin * p->x.id_A + p->z_cos * p->x.iq_A;
-    /* pass 1's speed: the middle's, from the torque at the start */
+    /* The speed held: the middle's at a predicted mean acceleration, the last
+     * period's plus the change of the start's force since (the ripple's share
+     * of the start's torque cancels); the first period from the start's force. */
     const double inv_J = c->speed_held ? 0.0 : p->inv_J_per_kgm2;
-    const double alpha_m = (TORQUE_FACTOR * pp * c->psi_f_Wb * p->x.iq_A - TL_Nm - c->B_Nms * p->x.omega_m_rad_s) * inv_J;
-    q->alpha_el_rad_s2 = pp * alpha_m;
-    q->w_el_rad_s = pp * (p->x.omega_m_rad_s + alpha_m * q->tau_s);
-    q->E = ser_exp(-c->R_Ohm * p->inv_L_per_H * q->tau_s);
-    const cpx_t ew = ser_cis(q->w_el_rad_s * q->tau_s);
-    q->zc_c = p->z_cos * ew.re - p->z_sin * ew.im;
-    q->zc_s = p->z_sin * ew.re + p->z_cos * ew.im;
+    const double F = shaft_force_Nm(p, TL_Nm);
+    if (!p->shaft_prev_valid) {
+        p->alpha_prev_el_rad_s2 = pp * F * inv_J;
+        p->F_prev_Nm = F;
+        p->shaft_prev_valid = true;
+    }
+    q->alpha_el_rad_s2 = p->alpha_prev_el_rad_s2 + pp * (F - p->F_prev_Nm) * inv_J;
+    p->F_prev_Nm = F;
+    q->w_el_rad_s = pp * p->x.omega_m_rad_s + q->alpha_el_rad_s2 * q->tau_s;
+    const double at = c->R_Ohm * p->inv_L_per_H * q->tau_s;
+    if (at != q->E_key) {   /* e^(-a tau) only when R or the period changed */
+        q->E_key = at;
+        q->E = ser_exp(-at);
+    }
+    q->walk_zc_ok = false;
     plant_period_clear(p);
 }
 
@@ -224,6 +343,8 @@ void plant_period_clear(plant_t *p)
         q->M_b[n] = 0.0;
     }
     q->n_pulses = 0;
+    q->n_off = 0;
+    q->legs_given = false;
     q->walk_s = -q->tau_s;
     q->walk_g = q->E;
     q->walk_Pa = 0.0;
@@ -254,6 +375,7 @@ bool plant_period_pulse(plant_t *p, double u_alpha_V, double u_beta_V, double ce
             f *= r2;
         }
     } else {
+        q->n_off++;
         /* int e^(a s) u ds, the speed-free sum */
         const double a = p->cfg.R_Ohm * p->inv_L_per_H;
         const double f = 2.0 * half_s * ser_shc(a * half_s) * ser_exp(a * centre_s);
@@ -263,15 +385,51 @@ bool plant_period_pulse(plant_t *p, double u_alpha_V, double u_beta_V, double ce
     return true;
 }
 
-/* What one pass gives: the current at the end (stator frame), the
- * rotor-frame integrals of current and voltage, the shaft at the end. */
-typedef struct {
-    cpx_t i_end;     /* [A] */
-    cpx_t I_r;       /* [A s] */
-    cpx_t U_r;       /* [V s] */
-    double w1_m;     /* [rad/s] */
-    double dtheta_m; /* [rad] */
-} pass_t;
+void plant_period_legs(plant_t *p, double vdc_V, const double half_s[3])
+{
+    plant_period_t *q = &p->per;
+    double f[3];
+    double r2[3];
+    for (int k = 0; k < 3; k++) {
+        const double h = (half_s[k] > 0.0) ? half_s[k] : 0.0;
+        q->leg_half_s[k] = h;
+        f[k] = 2.0 * h;
+        r2[k] = h * h;
+    }
+    q->leg_vdc_V = vdc_V;
+    q->legs_given = true;
+    /* leg k alone at vdc_V: (2/3, 0), (-1/3, 1/sqrt3), (-1/3, -1/sqrt3) times vdc_V;
+     * M_n = sum of u 2 r^(2n+1) */
+    const double ka = vdc_V * (1.0 / 3.0);
+    const double kb = vdc_V * (1.0 / SQRT3);
+    for (int n = 0; n < PLANT_N_MOMENTS; n++) {
+        q->M_a[n] += ka * (2.0 * f[0] - f[1] - f[2]);
+        q->M_b[n] += kb * (f[1] - f[2]);
+        f[0] *= r2[0];
+        f[1] *= r2[1];
+        f[2] *= r2[2];
+    }
+}
+
+/* The legs of plant_period_legs() as pulses, for arguments beyond the series. */
+static void legs_to_pulses(plant_period_t *q)
+{
+    static const double LEG_A[3] = { 2.0 / 3.0, -1.0 / 3.0, -1.0 / 3.0 };
+    static const double LEG_B[3] = { 0.0, 1.0 / SQRT3, -1.0 / SQRT3 };
+    if (!q->legs_given) {
+        return;
+    }
+    for (int k = 0; k < 3; k++) {
+        if (q->leg_half_s[k] > 0.0 && q->n_pulses < PLANT_MAX_PULSES) {
+            plant_pulse_t *pu = &q->pulse[q->n_pulses++];
+            pu->ua_V = LEG_A[k] * q->leg_vdc_V;
+            pu->ub_V = LEG_B[k] * q->leg_vdc_V;
+            pu->centre_s = 0.0;
+            pu->half_s = q->leg_half_s[k];
+        }
+    }
+    q->legs_given = false;
+}
 
 /* sum over n of k_n x^n M_n (n = n0 .. n0 + 4), k_n = prod of f[j], j < n - n0, nested */
 PLANT_INLINE cpx_t moment_series(const plant_period_t *q, int n0, double x, const double f[4])
@@ -289,9 +447,32 @@ static const double SHC_RATIO[4] = { 1.0 / 6.0, 1.0 / 20.0, 1.0 / 42.0, 1.0 / 72
 static const double SINC_RATIO[4] = { -1.0 / 6.0, -1.0 / 20.0, -1.0 / 42.0, -1.0 / 72.0 };
 static const double Q_RATIO[4] = { -1.0 / 10.0, -1.0 / 28.0, -1.0 / 54.0, -1.0 / 88.0 };
 
-/* One pass at the held electrical speed w with the acceleration alpha for
- * the first-order corrections (plant_design.md sec. 2-3). */
-static void period_pass(const plant_t *p, double w, double alpha, pass_t *o)
+/* One pass at the held electrical speed w (plant_design.md sec. 2-4): the
+ * held solution, its parts linear in the acceleration (per rad/s^2) and
+ * its derivatives in w; the first moment for the shaft. */
+typedef struct {
+    cpx_t zc;               /* the held phasor at the middle */
+    cpx_t ih;               /* end current [A], held, in zc's frame */
+    cpx_t Ih, U;            /* int ir [A s], int u conj(z) [V s], held */
+    cpx_t Is;               /* int s ir [A s^2], held */
+    cpx_t d1, i1, u1;       /* per unit of acceleration */
+    cpx_t dih, dIh, dU;     /* per unit of speed */
+} pass_t;
+
+PLANT_INLINE cpx_t cj(cpx_t a)
+{
+    cpx_t r = { a.re, -a.im };
+    return r;
+}
+
+/* j a */
+PLANT_INLINE cpx_t jm(cpx_t a)
+{
+    cpx_t r = { -a.im, a.re };
+    return r;
+}
+
+static void period_pass(const plant_t *p, double w, pass_t *o)
 {
     const plant_period_t *q = &p->per;
     const plant_cfg_t *c = &p->cfg;
@@ -299,9 +480,15 @@ static void period_pass(const plant_t *p, double w, double alpha, pass_t *o)
     const double R = c->R_Ohm;
     const double a = R * p->inv_L_per_H;
     const double tau = q->tau_s;
+    const double T = q->T_s;
+    const double E = q->E;
+    const double kp = c->psi_f_Wb * p->inv_L_per_H;
     const cpx_t ew = ser_cis(w * tau);
+    const cpx_t ewc = cj(ew);
     const cpx_t z0 = { p->z_cos, p->z_sin };
     const cpx_t zc = cmul(z0, ew);
+    const cpx_t zcc = cj(zc);
+    o->zc = zc;
 
     /* Over the pulses: W = int e^(-j w s) u ds, Ws = int s e^(-j w s) u ds,
      * Wq = int (s^2 - tau^2) e^(-j w s) u ds; the centred ones from the
@@ -313,112 +500,123 @@ static void period_pass(const plant_t *p, double w, double alpha, pass_t *o)
     if (by_moments) {
         const double w2 = w * w;
         W = moment_series(q, 0, w2, SINC_RATIO);
-        const cpx_t G = moment_series(q, 1, w2, Q_RATIO);   /* x/3 - x^3/30 ...: w G/3 = int s e^(-jws) u j */
+        const cpx_t G = moment_series(q, 1, w2, Q_RATIO);   /* Ws = -j (w/3) G */
         Ws.re = w * (1.0 / 3.0) * G.im;
         Ws.im = -w * (1.0 / 3.0) * G.re;
         Wq.re = (1.0 / 3.0) * q->M_a[1] - 0.1 * w2 * q->M_a[2];
         Wq.im = (1.0 / 3.0) * q->M_b[1] - 0.1 * w2 * q->M_b[2];
     }
-    for (int k = 0; k < q->n_pulses; k++) {
-        const plant_pulse_t *pu = &q->pulse[k];
-        const double m = pu->centre_s;
-        if (by_moments && m == 0.0) {
-            continue;
+    if (!by_moments || q->n_off > 0) {
+        for (int k = 0; k < q->n_pulses; k++) {
+            const plant_pulse_t *pu = &q->pulse[k];
+            const double m = pu->centre_s;
+            if (by_moments && m == 0.0) {
+                continue;
+            }
+            const double r = pu->half_s;
+            const double x = w * r;
+            const double f = 2.0 * r * ser_sinc(x);                 /* int e^(-j w s) over [-r, r] */
+            const double g = 2.0 * r * r * ser_q(x);                /* its first moment / (-j) */
+            const double h = (2.0 / 3.0) * r * r * r * (1.0 - 0.3 * x * x) + m * m * f;
+            cpx_t u = { pu->ua_V, pu->ub_V };
+            if (m != 0.0) {
+                u = cmul(u, ser_cis(-w * m));
+                Ws.re += m * f * u.re;
+                Ws.im += m * f * u.im;
+                Wq.re += 2.0 * m * g * u.im;   /* u (-2j m g) */
+                Wq.im -= 2.0 * m * g * u.re;
+            }
+            W.re += f * u.re;
+            W.im += f * u.im;
+            Ws.re += g * u.im;   /* u (-j g) */
+            Ws.im -= g * u.re;
+            Wq.re += h * u.re;
+            Wq.im += h * u.im;
         }
-        const double r = pu->half_s;
-        const double x = w * r;
-        const double f = 2.0 * r * ser_sinc(x);                 /* int e^(-j w s) over [-r, r] */
-        const double g = 2.0 * r * r * ser_q(x);                /* its first moment / (-j) */
-        const double h = (2.0 / 3.0) * r * r * r * (1.0 - 0.3 * x * x) + m * m * f;
-        cpx_t u = { pu->ua_V, pu->ub_V };
-        if (m != 0.0) {
-            u = cmul(u, ser_cis(-w * m));
-            Ws.re += m * f * u.re;
-            Ws.im += m * f * u.im;
-            Wq.re += 2.0 * m * g * u.im;   /* u (-2j m g) */
-            Wq.im -= 2.0 * m * g * u.re;
-        }
-        W.re += f * u.re;
-        W.im += f * u.im;
-        Ws.re += g * u.im;   /* u (-j g) */
-        Ws.im -= g * u.re;
-        Wq.re += h * u.re;
-        Wq.im += h * u.im;
     }
     Wq.re -= tau * tau * W.re;
     Wq.im -= tau * tau * W.im;
 
-    /* i(tau) = E [E i0 + S/L - j w (psi_f/L) zc K] + di, K = 2 tau shc(c tau),
-     * di = j (psi_f/L) a D zc E, D = int dtheta ds = -(2/3) alpha tau^3 */
+    /* In the frame of the held phasor at the middle (stator quantities times
+     * conj(zc)): ih = E [E ir0 conj(ew) + conj(zc) S/L] - j w (psi_f/L) E K,
+     * K = 2 tau shc(c tau); the stator current is zc ih. */
     const cpx_t ct = { a * tau, w * tau };
     const cpx_t sh = ser_cshc(ct);
-    const cpx_t zk = cmul(zc, sh);
-    const double kp = c->psi_f_Wb * p->inv_L_per_H;
-    const double E = q->E;
-    const double kw = kp * w * 2.0 * tau;
-    const cpx_t ih = { E * (E * q->ia0_A + q->S_a * p->inv_L_per_H + kw * zk.im),
-                       E * (E * q->ib0_A + q->S_b * p->inv_L_per_H - kw * zk.re) };
-    const double kd = kp * a * E * (-(2.0 / 3.0) * alpha * tau * tau * tau);
-    o->i_end.re = ih.re - kd * zc.im;
-    o->i_end.im = ih.im + kd * zc.re;
+    const cpx_t K = { 2.0 * tau * sh.re, 2.0 * tau * sh.im };
+    const double ke = kp * E;
+    const cpx_t ir0 = { p->x.id_A, p->x.iq_A };
+    const cpx_t i0c = cmul(ir0, ewc);
+    const cpx_t Sc = cmul(zcc, (cpx_t){ q->S_a, q->S_b });
+    o->ih.re = E * (E * i0c.re + Sc.re * p->inv_L_per_H) + ke * w * K.im;
+    o->ih.im = E * (E * i0c.im + Sc.im * p->inv_L_per_H) - ke * w * K.re;
+    /* the acceleration's end current: j (psi_f/L) a D E, D = -(2/3) alpha tau^3 */
+    const double kd = ke * a * (-(2.0 / 3.0)) * tau * tau * tau;
+    o->d1.re = 0.0;
+    o->d1.im = kd;
 
-    /* Rotor-frame integrals from the rotor-frame equation integrated over the
-     * period: L (ir1 - ir0) = int u conj(z) - R int ir - j L int w ir - j psi_f int w.
-     * Held frame (for the shaft's first moment): w constant. True frame (the
-     * means): the voltage turned by the true angle, the end current with di,
-     * int w ir = w int ir + alpha int s ir. */
-    const cpx_t ezc = cmul(zc, ew);
-    const cpx_t zec = { ezc.re, -ezc.im };
-    const cpx_t z0c = { z0.re, -z0.im };
-    const cpx_t zcc = { zc.re, -zc.im };
-    const cpx_t i0 = { q->ia0_A, q->ib0_A };
-    const cpx_t ir0 = cmul(i0, z0c);
-    const cpx_t ir1h = cmul(ih, zec);
-    const cpx_t ir1 = cmul(o->i_end, zec);
-    const cpx_t U = cmul(zcc, W);
+    /* Rotor-frame integrals (sec. 2): L (ir1 - ir0) = U - (R + j w L) I - j w psi_f T;
+     * the first moment from the same times s. */
+    const cpx_t ir1 = cmul(o->ih, ewc);
+    o->U = cmul(zcc, W);
+    const cpx_t Us = cmul(zcc, Ws);
+    const double inv_rc2 = 1.0 / (R * R + w * w * L * L);
+    const cpx_t inv_rc = { R * inv_rc2, -w * L * inv_rc2 };
+    const double emf = w * c->psi_f_Wb * T;
+    const cpx_t n1 = { o->U.re - L * (ir1.re - ir0.re), o->U.im - emf - L * (ir1.im - ir0.im) };
+    o->Ih = cmul(n1, inv_rc);
+    const cpx_t n2 = { Us.re - L * tau * (ir1.re + ir0.re) + L * o->Ih.re,
+                       Us.im - L * tau * (ir1.im + ir0.im) + L * o->Ih.im };
+    o->Is = cmul(n2, inv_rc);
+    /* per unit of acceleration (sec. 4): the voltage turned by dtheta, the end
+     * current's d1, the equation's - j L alpha Is */
     const cpx_t UQ = cmul(zcc, Wq);
-    const double ha = 0.5 * alpha;
-    o->U_r.re = U.re + ha * UQ.im;   /* U - j (alpha/2) UQ */
-    o->U_r.im = U.im - ha * UQ.re;
-    const double emf = w * c->psi_f_Wb * 2.0 * tau;
-    cpx_t Is;
-    const double rc2 = R * R + w * w * L * L;
-    if (rc2 > 0.0) {
-        const cpx_t inv_rc = { R / rc2, -w * L / rc2 };
-        const cpx_t nh = { U.re - L * (ir1h.re - ir0.re), U.im - emf - L * (ir1h.im - ir0.im) };
-        const cpx_t Ih = cmul(nh, inv_rc);
-        const cpx_t Us = cmul(zcc, Ws);
-        const cpx_t n2 = { Us.re - L * tau * (ir1h.re + ir0.re) + L * Ih.re,
-                           Us.im - L * tau * (ir1h.im + ir0.im) + L * Ih.im };
-        Is = cmul(n2, inv_rc);
-        const double la = L * alpha;   /* - j L alpha Is */
-        const cpx_t n1 = { o->U_r.re - L * (ir1.re - ir0.re) + la * Is.im,
-                           o->U_r.im - emf - L * (ir1.im - ir0.im) - la * Is.re };
-        o->I_r = cmul(n1, inv_rc);
-    } else {   /* R = 0 at standstill: trapezoid */
-        o->I_r.re = tau * (ir0.re + ir1.re);
-        o->I_r.im = tau * (ir0.im + ir1.im);
-        Is.re = tau * tau * (ir1.re - ir0.re) * (1.0 / 3.0);
-        Is.im = tau * tau * (ir1.im - ir0.im) * (1.0 / 3.0);
-    }
+    o->u1.re = 0.5 * UQ.im;   /* -(j/2) UQ */
+    o->u1.im = -0.5 * UQ.re;
+    const cpx_t d1r = { kd * ew.im, kd * ew.re };   /* d1 conj(ew) */
+    const cpx_t n3 = { o->u1.re - L * d1r.re + L * o->Is.im, o->u1.im - L * d1r.im - L * o->Is.re };
+    o->i1 = cmul(n3, inv_rc);
+    /* per unit of speed (sec. 4): dW/dw = -j Ws, dzc/dw = j tau zc,
+     * dK/dw = j int s e^(c s) ds = j (2/3) tau^3 c (1 + (c tau)^2/10) */
+    o->dU.re = tau * o->U.im + Us.im;   /* -j (tau U + Us) */
+    o->dU.im = -tau * o->U.re - Us.re;
+    const cpx_t c2 = cmul(ct, ct);
+    const cpx_t cq = cmul(ct, (cpx_t){ 1.0 + 0.1 * c2.re, 0.1 * c2.im });
+    const double k3 = (2.0 / 3.0) * tau * tau;   /* dK/dw = j k3 cq */
+    const cpx_t br = { K.re - w * tau * K.im - w * k3 * cq.im, K.im + w * tau * K.re + w * k3 * cq.re };
+    o->dih.re = ke * br.im;   /* -j (psi_f/L) E br */
+    o->dih.im = -ke * br.re;
+    const cpx_t dir1 = cmul(o->dih, ewc);
+    /* d(ir1)/dw = dih conj(ew) - 2j tau ir1; dI/dw = (dU - j psi_f T - L d(ir1)/dw - j L I)/(R + j w L) */
+    const cpx_t n4 = { o->dU.re - L * (dir1.re + 2.0 * tau * ir1.im) + L * o->Ih.im,
+                       o->dU.im - c->psi_f_Wb * T - L * (dir1.im - 2.0 * tau * ir1.re) - L * o->Ih.re };
+    o->dIh = cmul(n4, inv_rc);
+}
 
-    /* the shaft: J dw/dt = kt iq - TL - B w, from the torque's integral and first moment */
-    const double pp = (double)c->pole_pairs;
+/* The shaft over the period from the torque's integral Iq [A s] and first
+ * moment Isq [A s^2] about the middle (sec. 3): speed at the end, angle turned. */
+static void shaft_period(const plant_t *p, double Iq, double Isq, double *w1_m, double *dtheta_m)
+{
+    const plant_cfg_t *c = &p->cfg;
+    const plant_period_t *q = &p->per;
     const double w0 = p->x.omega_m_rad_s;
     const double T = q->T_s;
     if (c->speed_held) {
-        o->w1_m = w0;
-        o->dtheta_m = w0 * T;
+        *w1_m = w0;
+        *dtheta_m = w0 * T;
         return;
     }
-    const double kt = TORQUE_FACTOR * pp * c->psi_f_Wb;
-    const double F0 = kt * o->I_r.im - q->TL_Nm * T;
-    const double F1 = kt * (tau * o->I_r.im - Is.im) - q->TL_Nm * T * T * 0.5;
+    const double kt = TORQUE_FACTOR * (double)c->pole_pairs * c->psi_f_Wb;
+    const double F0 = kt * Iq - q->TL_Nm * T;
+    const double F1 = kt * (q->tau_s * Iq - Isq) - q->TL_Nm * T * T * 0.5;
     const double inv_J = p->inv_J_per_kgm2;
     const double w1f = w0 + F0 * inv_J;
-    o->dtheta_m = w0 * T + (F1 - c->B_Nms * T * T * (2.0 * w0 + w1f) * (1.0 / 6.0)) * inv_J;
-    o->w1_m = w1f - c->B_Nms * o->dtheta_m * inv_J;
+    *dtheta_m = w0 * T + (F1 - c->B_Nms * T * T * (2.0 * w0 + w1f) * (1.0 / 6.0)) * inv_J;
+    *w1_m = w1f - c->B_Nms * *dtheta_m * inv_J;
 }
+
+/* Largest |w - w_held| tau the linear update in the speed covers: its
+ * neglected term, (psi_f/L) (2 (w - w_held) tau)^2, stays below 1e-8 A. */
+#define LINEAR_SPEED_MAX 1.0e-5
 
 void plant_period_end(plant_t *p)
 {
@@ -431,6 +629,7 @@ void plant_period_end(plant_t *p)
         q->S_a += S.re;
         q->S_b += S.im;
     } else {
+        legs_to_pulses(q);   /* beyond the series: pulse by pulse */
         for (int k = 0; k < q->n_pulses; k++) {
             const plant_pulse_t *pu = &q->pulse[k];
             if (pu->centre_s == 0.0) {
@@ -440,33 +639,71 @@ void plant_period_end(plant_t *p)
             }
         }
     }
-    pass_t o;
-    period_pass(p, q->w_el_rad_s, q->alpha_el_rad_s2, &o);
-    if (!p->cfg.speed_held) {
-        /* pass 2 at the mean speed and acceleration pass 1 found */
-        const double w0 = p->x.omega_m_rad_s;
-        const double w_mean = pp * o.dtheta_m / q->T_s;
-        const double alpha = pp * (o.w1_m - w0) / q->T_s;
-        period_pass(p, w_mean, alpha, &o);
+    q->ir0_d_A = p->x.id_A;   /* the rotor-frame start: the state itself */
+    q->ir0_q_A = p->x.iq_A;
+
+    /* the held speed, then the shaft, then the mean speed and acceleration it gives */
+    double w = q->w_el_rad_s;
+    if (fabs(w) * q->tau_s > SERIES_MAX) {
+        legs_to_pulses(q);
     }
-    p->x.omega_m_rad_s = o.w1_m;
-    p->x.theta_m_rad += o.dtheta_m;
+    pass_t o;
+    period_pass(p, w, &o);
+    double alpha = q->alpha_el_rad_s2;
+    double w1 = 0.0;
+    double dth = 0.0;
+    shaft_period(p, o.Ih.im + alpha * o.i1.im, o.Is.im, &w1, &dth);
+    const double pp_T = pp / q->T_s;
+    const double w_mean = pp_T * dth;
+    alpha = pp_T * (w1 - p->x.omega_m_rad_s);
+    double dw = w_mean - w;
+    if (fabs(dw) * q->tau_s > LINEAR_SPEED_MAX) {   /* too far for the linear update: once more */
+        w = w_mean;
+        if (fabs(w) * q->tau_s > SERIES_MAX) {
+            legs_to_pulses(q);
+        }
+        period_pass(p, w, &o);
+        dw = 0.0;
+    }
+    const cpx_t ihc = { o.ih.re + dw * o.dih.re + alpha * o.d1.re, o.ih.im + dw * o.dih.im + alpha * o.d1.im };
+    const cpx_t i_end = cmul(o.zc, ihc);
+    const cpx_t I = { o.Ih.re + dw * o.dIh.re + alpha * o.i1.re, o.Ih.im + dw * o.dIh.im + alpha * o.i1.im };
+    const cpx_t U = { o.U.re + dw * o.dU.re + alpha * o.u1.re, o.U.im + dw * o.dU.im + alpha * o.u1.im };
+    shaft_period(p, I.im, o.Is.im, &w1, &dth);
+    p->alpha_prev_el_rad_s2 = pp_T * (w1 - p->x.omega_m_rad_s);
+
+    p->x.omega_m_rad_s = w1;
+    p->x.theta_m_rad += dth;
     wrap_theta(p);
     phasor_update(p);
-    p->x.id_A = p->z_cos * o.i_end.re + p->z_sin * o.i_end.im;
-    p->x.iq_A = p->z_cos * o.i_end.im - p->z_sin * o.i_end.re;
+    p->x.id_A = p->z_cos * i_end.re + p->z_sin * i_end.im;
+    p->x.iq_A = p->z_cos * i_end.im - p->z_sin * i_end.re;
     p->acc.time_s += q->T_s;
-    p->acc.id_As += o.I_r.re;
-    p->acc.iq_As += o.I_r.im;
-    p->acc.ud_Vs += o.U_r.re;
-    p->acc.uq_Vs += o.U_r.im;
+    p->acc.id_As += I.re;
+    p->acc.iq_As += I.im;
+    p->acc.ud_Vs += U.re;
+    p->acc.uq_Vs += U.im;
+}
+
+/* The phasor at the middle for the walker, at pass 1's speed. */
+static void walk_phasor(plant_t *p)
+{
+    plant_period_t *q = &p->per;
+    const cpx_t ew = ser_cis(q->w_el_rad_s * q->tau_s);
+    q->zc_c = p->z_cos * ew.re - p->z_sin * ew.im;
+    q->zc_s = p->z_sin * ew.re + p->z_cos * ew.im;
+    q->walk_zc_ok = true;
 }
 
 /* Walker: i(s) = e^(-a s) [E i0 + P(s)/L - j w (psi_f/L) zc int_{-tau}^{s} e^(c s') ds'],
- * P(s) = int_{-tau}^{s} e^(a s') u ds', at pass 1's speed and acceleration. */
+ * P(s) = int_{-tau}^{s} e^(a s') u ds', at the held speed and the predicted acceleration. */
 void plant_walk_iabc_A(const plant_t *p, double i_abc_A[3])
 {
     const plant_period_t *q = &p->per;
+    if (!q->walk_zc_ok) {   /* at the period's start */
+        ab_to_abc(q->ia0_A, q->ib0_A, i_abc_A);
+        return;
+    }
     const double a = p->cfg.R_Ohm * p->inv_L_per_H;
     const double w = q->w_el_rad_s;
     const double s = q->walk_s;
@@ -494,6 +731,9 @@ void plant_walk_advance(plant_t *p, double u_alpha_V, double u_beta_V, double t_
     if (!(s1 > q->walk_s)) {
         return;
     }
+    if (!q->walk_zc_ok) {
+        walk_phasor(p);
+    }
     const double a = p->cfg.R_Ohm * p->inv_L_per_H;
     const double m = 0.5 * (s1 + q->walk_s);
     const double r = 0.5 * (s1 - q->walk_s);
@@ -513,6 +753,7 @@ void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, dou
 
 void plant_step_open(plant_t *p, double TL_Nm, double h_s)
 {
+    p->shaft_prev_valid = false;   /* the speed's predictor starts again with the next period */
     p->x.id_A = 0.0;
     p->x.iq_A = 0.0;
     const plant_cfg_t *c = &p->cfg;

@@ -8,10 +8,12 @@
  *   J dw_m/dt = Te - TL - B w_m,   Te = 1.5 p psi_f iq,   w_el = p w_m
  * The stator voltage is given in the stator frame (alpha-beta) over a
  * period as a sum of constant pulses, as an inverter applies it. The
- * period is solved in closed form: the currents exactly at the period's
- * mean speed (linear ODE, exponentials as short series), the shaft from
- * the torque's integral and first moment, one correction pass; derivation,
- * error bounds and series orders in hal/sim/plant_design.md.
+ * period is solved in closed form: the currents exactly at a held speed
+ * (linear ODE, exponentials as short series), the shaft from the torque's
+ * integral and first moment, the outputs carried to the mean speed by
+ * their derivatives, the acceleration to first order; derivation, error
+ * bounds and series orders in hal/sim/plant_design.md. One constant
+ * voltage over a period may take one RK4 step instead (plant_step_rk4).
  */
 #ifndef PLANT_H
 #define PLANT_H
@@ -65,10 +67,16 @@ typedef struct {
     double w_el_rad_s;         /* predicted mean electrical speed (pass 1) */
     double alpha_el_rad_s2;    /* its acceleration */
     double E;                  /* e^(-a tau), a = R/L */
-    double zc_c, zc_s;         /* the d axis's phasor at the middle, speed w_el */
+    double E_key;              /* a tau it was computed for */
+    double ir0_d_A, ir0_q_A;   /* rotor-frame current at the start */
+    double zc_c, zc_s;         /* walker: the d axis's phasor at the middle, speed w_el */
+    bool walk_zc_ok;           /* zc_c/zc_s computed for this period */
     double S_a, S_b;           /* int e^(a s) u ds over the pulses [V s] */
     double M_a[PLANT_N_MOMENTS], M_b[PLANT_N_MOMENTS];   /* centred pulses: sum of u 2 r^(2n+1) */
     int n_pulses;
+    int n_off;                 /* pulses not centred */
+    bool legs_given;           /* plant_period_legs(): in the moments, not yet in pulse[] */
+    double leg_vdc_V, leg_half_s[3];
     plant_pulse_t pulse[PLANT_MAX_PULSES];
     double walk_s, walk_g;     /* walker: time, e^(a s) */
     double walk_Pa, walk_Pb;   /* walker: integral of e^(a s) u from -tau [V s] */
@@ -89,6 +97,10 @@ typedef struct {
     double z_cos;
     double z_sin;
     plant_period_t per;   /* the period in hand, plant_period_begin() .. plant_period_end() */
+    /* the speed's predictor: the last period's mean acceleration and start's force */
+    bool shaft_prev_valid;
+    double alpha_prev_el_rad_s2;
+    double F_prev_Nm;
 } plant_t;
 
 /* Plant with zero currents and angle at speed omega0, d axis at enc_offset_el_rad for theta_m = 0. */
@@ -96,6 +108,11 @@ void plant_init(plant_t *p, const plant_cfg_t *cfg, double enc_offset_el_rad);
 
 /* One period of h_s with the stator-frame voltage (u_alpha_V, u_beta_V) and load TL_Nm held. */
 void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s);
+
+/* h_s in n_steps equal classical RK4 steps (the old integrator, and the cheapest for one
+ * constant voltage over a period: the averaged inverter's; error 4e-7 A at one 100 us step,
+ * plant_design.md sec. 5), with (u_alpha_V, u_beta_V) and TL_Nm held; adds to acc. */
+void plant_step_rk4(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, double h_s, int n_steps);
 
 /* A period of T_s > 0 with load TL_Nm held: plant_period_begin(), the voltage as pulses
  * (plant_period_pulse(), superposed), plant_period_end() advances the state and adds to acc.
@@ -106,6 +123,9 @@ void plant_period_begin(plant_t *p, double T_s, double TL_Nm);
 /* Voltage (u_alpha_V, u_beta_V) for |t - T/2 - centre_s| < half_s; half_s <= 0 adds nothing.
  * Returns false (nothing added) when PLANT_MAX_PULSES are given. */
 bool plant_period_pulse(plant_t *p, double u_alpha_V, double u_beta_V, double centre_s, double half_s);
+/* The three legs of a two-level inverter on a bus of vdc_V, leg k high for |t - T/2| <
+ * half_s[k] (a pulse each, centred; <= 0: low all period), as three plant_period_pulse(). */
+void plant_period_legs(plant_t *p, double vdc_V, const double half_s[3]);
 /* Forget the pulses given since plant_period_begin(). */
 void plant_period_clear(plant_t *p);
 void plant_period_end(plant_t *p);
