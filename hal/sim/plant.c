@@ -309,8 +309,6 @@ void plant_period_begin(plant_t *p, double T_s, double TL_Nm)
     q->T_s = T_s;
     q->tau_s = 0.5 * T_s;
     q->TL_Nm = TL_Nm;
-    q->ia0_A = p->z_cos * p->x.id_A - p->z_sin * p->x.iq_A;
-    q->ib0_A = p->z_sin * p->x.id_A + p->z_cos * p->x.iq_A;
     /* The speed held: the middle's at a predicted mean acceleration, the last
      * period's plus the change of the start's force since (the ripple's share
      * of the start's torque cancels); the first period from the start's force. */
@@ -614,6 +612,24 @@ static void shaft_period(const plant_t *p, double Iq, double Isq, double *w1_m, 
     *w1_m = w1f - c->B_Nms * *dtheta_m * inv_J;
 }
 
+/* How the shaft's end speed and angle move with the torque's integral Iq (the
+ * first moment held): shaft_period() is linear in it. */
+static void shaft_sensitivity(const plant_t *p, double *dw1_dIq, double *dth_dIq)
+{
+    const plant_cfg_t *c = &p->cfg;
+    if (c->speed_held) {
+        *dw1_dIq = 0.0;
+        *dth_dIq = 0.0;
+        return;
+    }
+    const double T = p->per.T_s;
+    const double inv_J = p->inv_J_per_kgm2;
+    const double kt = TORQUE_FACTOR * (double)c->pole_pairs * c->psi_f_Wb;
+    const double dw1f = kt * inv_J;
+    *dth_dIq = (kt * p->per.tau_s - c->B_Nms * T * T * dw1f * (1.0 / 6.0)) * inv_J;
+    *dw1_dIq = dw1f - c->B_Nms * *dth_dIq * inv_J;
+}
+
 /* Largest |w - w_held| tau the linear update in the speed covers: its
  * neglected term, (psi_f/L) (2 (w - w_held) tau)^2, stays below 1e-8 A. */
 #define LINEAR_SPEED_MAX 1.0e-5
@@ -652,11 +668,13 @@ void plant_period_end(plant_t *p)
     double alpha = q->alpha_el_rad_s2;
     double w1 = 0.0;
     double dth = 0.0;
-    shaft_period(p, o.Ih.im + alpha * o.i1.im, o.Is.im, &w1, &dth);
+    const double Iq_p = o.Ih.im + alpha * o.i1.im;
+    shaft_period(p, Iq_p, o.Is.im, &w1, &dth);
     const double pp_T = pp / q->T_s;
     const double w_mean = pp_T * dth;
     alpha = pp_T * (w1 - p->x.omega_m_rad_s);
     double dw = w_mean - w;
+    double Iq_ref = Iq_p;
     if (fabs(dw) * q->tau_s > LINEAR_SPEED_MAX) {   /* too far for the linear update: once more */
         w = w_mean;
         if (fabs(w) * q->tau_s > SERIES_MAX) {
@@ -664,12 +682,18 @@ void plant_period_end(plant_t *p)
         }
         period_pass(p, w, &o);
         dw = 0.0;
+        shaft_period(p, o.Ih.im + alpha * o.i1.im, o.Is.im, &w1, &dth);
+        Iq_ref = o.Ih.im + alpha * o.i1.im;
     }
     const cpx_t ihc = { o.ih.re + dw * o.dih.re + alpha * o.d1.re, o.ih.im + dw * o.dih.im + alpha * o.d1.im };
     const cpx_t i_end = cmul(o.zc, ihc);
     const cpx_t I = { o.Ih.re + dw * o.dIh.re + alpha * o.i1.re, o.Ih.im + dw * o.dIh.im + alpha * o.i1.im };
     const cpx_t U = { o.U.re + dw * o.dU.re + alpha * o.u1.re, o.U.im + dw * o.dU.im + alpha * o.u1.im };
-    shaft_period(p, I.im, o.Is.im, &w1, &dth);
+    double dw1_dIq;
+    double dth_dIq;
+    shaft_sensitivity(p, &dw1_dIq, &dth_dIq);
+    w1 += dw1_dIq * (I.im - Iq_ref);   /* the shaft with the corrected torque integral */
+    dth += dth_dIq * (I.im - Iq_ref);
     p->alpha_prev_el_rad_s2 = pp_T * (w1 - p->x.omega_m_rad_s);
 
     p->x.omega_m_rad_s = w1;
@@ -692,6 +716,8 @@ static void walk_phasor(plant_t *p)
     const cpx_t ew = ser_cis(q->w_el_rad_s * q->tau_s);
     q->zc_c = p->z_cos * ew.re - p->z_sin * ew.im;
     q->zc_s = p->z_sin * ew.re + p->z_cos * ew.im;
+    q->ia0_A = p->z_cos * p->x.id_A - p->z_sin * p->x.iq_A;
+    q->ib0_A = p->z_sin * p->x.id_A + p->z_cos * p->x.iq_A;
     q->walk_zc_ok = true;
 }
 
@@ -700,8 +726,8 @@ static void walk_phasor(plant_t *p)
 void plant_walk_iabc_A(const plant_t *p, double i_abc_A[3])
 {
     const plant_period_t *q = &p->per;
-    if (!q->walk_zc_ok) {   /* at the period's start */
-        ab_to_abc(q->ia0_A, q->ib0_A, i_abc_A);
+    if (!q->walk_zc_ok) {   /* at the period's start: the state's */
+        plant_iabc_A(p, i_abc_A);
         return;
     }
     const double a = p->cfg.R_Ohm * p->inv_L_per_H;
