@@ -148,6 +148,35 @@ class CaseTable(Tmp):
                                                  "[L066_psif150_compare.png](L066_psif150_compare.png)"])
 
 
+class SeedTable(Tmp):
+    def write_seeds(self, stem, lines):
+        os.makedirs(os.path.join(self.dir, "seeds"), exist_ok=True)
+        with open(os.path.join(self.dir, "seeds", stem + ".jsonl"), "w") as f:
+            f.write("\n".join(lines) + "\n")
+
+    def test_rows(self):
+        self.assertEqual(sil_report.seed_table(self.dir), [])          # no seeds/: no section
+        # median of 0.010, 0.012, 0.013, 0.031 (the two middle ones): 0.0125
+        self.write_seeds("real_prop_A", [json.dumps({"id": "seed%d" % k, "te_err_Nm": v})
+                                         for k, v in enumerate((0.013, 0.012, 0.031, 0.010), 1)])
+        self.write_seeds("real_conv_A", [
+            json.dumps({"id": "seed1", "te_err_Nm": 0.06}),
+            json.dumps({"id": "seed2", "error": "--set plant.seed=x: not a whole number"}),
+            json.dumps({"id": "seed3", "te_err_Nm": None}),
+            "not json",
+            json.dumps({"id": "seed5", "te_err_Nm": 0.05})])
+        self.write_seeds("real_prop_B", [json.dumps({"id": "seed1", "error": "failed"})])
+        lines = sil_report.seed_table(self.dir)
+        self.assertEqual(len(lines), 2 + 3)
+        n = len(cells(lines[0]))
+        for line in lines[1:]:
+            self.assertEqual(len(cells(line)), n, line)
+        rows = [cells(line) for line in lines[2:]]
+        self.assertEqual(rows[0], ["real_conv_A", "5", "0.0500", "0.0550", "0.0600", "seed1", "seed2 seed3 ?"])
+        self.assertEqual(rows[1], ["real_prop_A", "4", "0.0100", "0.0125", "0.0310", "seed3", "-"])
+        self.assertEqual(rows[2], ["real_prop_B", "1", "-", "-", "-", "-", "seed1"])
+
+
 class WindowsAndTruth(Tmp):
     def test_windows(self):
         self.assertEqual(sil_report.windows({"t_s": [0.0, 1.0, 1.05]}), ((0.8, 0.95), (0.95, 1.05)))
@@ -209,6 +238,22 @@ class Main(Tmp):
         self.assertIn("(matplotlib not available: comparison and step-1 figures not drawn)", lines)
         scen = [cells(x)[:2] for x in lines if x.startswith(("| conv_", "| prop_"))]
         self.assertEqual(scen, [["conv_A", "0.0100"], ["conv_B", "0.0100"], ["prop_A", "0.0020"]])
+        self.assertNotIn("## Realistic board over noise seeds", lines)   # no seeds/ runs
+
+    def test_report_with_seeds(self):
+        self.write_run("conv_A", 0.01)
+        self.write_run("prop_A", 0.002)
+        os.makedirs(os.path.join(self.dir, "seeds"))
+        with open(os.path.join(self.dir, "seeds", "real_prop_A.jsonl"), "w") as f:
+            f.write(json.dumps({"id": "seed1", "te_err_Nm": 0.02}) + "\n")
+        rc, out, rep = self.run_main()
+        self.assertEqual(rc, 0)
+        self.assertIn("(2 scenarios, 1 cases)", out)                   # seeds/ holds no scenario CSV
+        lines = rep.splitlines()
+        head = lines.index("## Realistic board over noise seeds")
+        self.assertLess(head, lines.index("## Every scenario"))
+        rows = [cells(x) for x in lines if x.startswith("| real_prop_A |")]
+        self.assertEqual(rows, [["real_prop_A", "1", "0.0200", "0.0200", "0.0200", "seed1", "-"]])
 
     def test_failed_run(self):
         self.write_run("conv_A", 0.01)

@@ -1,5 +1,6 @@
 # tools: `make bench` (SIL speed figures) and `make sil` (every scenario in
-# tools/scenarios/*.ini through drive_sil, CSV and PNG into build/sil/).
+# tools/scenarios/*.ini through drive_sil, CSV and PNG into build/sil/; the
+# realistic ones again over SIL_SEEDS, summaries into build/sil/seeds/).
 # After the runs, tools/sil_report.py writes build/sil/report.md.
 
 SIL_BENCH := $(OUT)/sil_bench
@@ -18,6 +19,8 @@ bench:
 	@$(MAKE) --no-print-directory VARIANT=host bench-sweep
 
 SIL_DIR    := $(BUILD)/sil
+# Noise seeds of the realistic runs' spread (report section "over noise seeds")
+SIL_SEEDS  := 1 2 3 4 5 6 7 8
 VENV       := $(BUILD)/venv
 VENV_STAMP := $(VENV)/.installed
 
@@ -35,5 +38,10 @@ sil: $(VENV_STAMP)
 	    n=$$(basename $$f .ini); \
 	    $(BUILD)/host/drive_sil --scenario $$f --out $(SIL_DIR)/$$n.csv; \
 	    $(VENV)/bin/python tools/sil_plot.py $(SIL_DIR)/$$n.csv $(SIL_DIR)/$$n.png; \
+	done
+	@mkdir -p $(SIL_DIR)/seeds
+	@set -e; for f in tools/scenarios/real_*.ini; do \
+	    for s in $(SIL_SEEDS); do printf 'seed%s\tplant.seed=%s\n' $$s $$s; done | \
+	        $(BUILD)/host/drive_sil --scenario $$f --batch > $(SIL_DIR)/seeds/$$(basename $$f .ini).jsonl; \
 	done
 	@$(VENV)/bin/python tools/sil_report.py --dir $(SIL_DIR)
