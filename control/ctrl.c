@@ -362,7 +362,7 @@ static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A)
 static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
 {
     const float z = c->smo.fd_V - omega_el_rad_s * c->smo.L_H * i_dq_A.q; /* L^ law's invariant */
-    const r_track_event_t ev = r_track_step(&c->rt, z, i_dq_A.d, i_dq_A.q);
+    const r_track_event_t ev = r_track_step(&c->rt, z, i_dq_A.d, i_dq_A.q, omega_el_rad_s, c->smo.L_H);
 
     if (ev == R_TRACK_IDENT_DONE) {
         add_inverter_error(c, QUARTER_PI * c->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */

@@ -32,6 +32,7 @@ static void clear_cycle(r_track_t *rt)
     rt->j = 0u;
     rt->s_now = 1.0f;
     rt->n = 0u;
+    rt->L_c_H = 0.0f;
     rt->s_zs = 0.0f;
     rt->s_is = 0.0f;
     rt->s_iq = 0.0f;
@@ -163,7 +164,8 @@ static r_track_event_t end_cycle(r_track_t *rt)
     return ev;
 }
 
-r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A)
+r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
+                             float L_H)
 {
     const r_track_cfg_t *c = &rt->cfg;
     r_track_event_t ev = R_TRACK_NONE;
@@ -178,7 +180,12 @@ r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A)
     rt->id_expect_A = rt->ref_q[0];
     rt->ref_q[0] = rt->ref_q[1];
     if (rt->j >= c->blank_periods) {
-        rt->s_zs += rt->s_now * z_V;
+        if (rt->n == 0u) {
+            /* constant over the cycle: the L^ law's invariant stays one; IDENT only (design sec. 9c) */
+            rt->L_c_H = (rt->phase == R_TRACK_IDENT) ? L_H : 0.0f;
+        }
+        /* design sec. 9c: -w L0 iq out of z, so iq(+) != iq(-) does not leak */
+        rt->s_zs += rt->s_now * (z_V + rt->L_c_H * omega_el_rad_s * iq_A);
         rt->s_is += rt->s_now * id_A;
         rt->s_iq += iq_A;
         rt->s_iqs += rt->s_now * iq_A;

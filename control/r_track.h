@@ -9,11 +9,16 @@
  *   fd = -dR id + Ve id/|i| + dL w iq - dL did/dt
  * dR = R^ - R0, Ve the inverter voltage error the controller does not model
  * (dead time, device drop: a vector of magnitude Ve against the current).
- * With z = fd^ - w L^ iq (invariant under param_est's L^ law) demodulated
- * against the reference's sign s (pattern + - - + per cycle, so a linear
- * drift of z cancels; the first blank_periods of every segment skipped, so
- * the current's and observer's transients and dL did/dt stay out):
- *   rho = -sum(z s) / sum(id s) = dR - Ve/|i|      [Ohm]
+ * With z = fd^ - w L^ iq (invariant under param_est's L^ law) and, while
+ * identifying, L_c the L^ of the cycle's first summed sample (0 while
+ * tracking), z + L_c w iq = fd^ - w (L^ - L_c) iq is invariant too and
+ * carries w (L_c - L0) iq instead of -w L0 iq (design sec. 9c: an iq that
+ * differs between the segments, the + segments at the voltage limit, no
+ * longer leaks in at the gain w L0). Demodulated against the reference's sign s (pattern
+ * + - - + per cycle, so a linear drift cancels; the first blank_periods of
+ * every segment skipped, so the current's and observer's transients and
+ * dL did/dt stay out):
+ *   rho = -sum((z + L_c w iq) s) / sum(id s) = dR - Ve/|i|      [Ohm]
  * Two uses, one per phase:
  *   R_TRACK_IDENT  just after step 1 (R^ = R0, dR = 0), once step 2's L^
  *                  and psi^ have settled (ident_delay_periods: their
@@ -107,7 +112,8 @@ typedef struct {
     uint16_t cycles;          /* valid cycles summed (IDENT) */
     uint16_t tried;           /* cycles ended (IDENT) */
     uint16_t n;               /* samples used this cycle (half of them per sign) */
-    float s_zs;               /* sum z s */
+    float L_c_H;              /* L^ at the cycle's first summed sample while identifying, 0 while tracking [H] */
+    float s_zs;               /* sum (z + L_c w iq) s */
     float s_is;               /* sum id s */
     float s_iq;               /* sum iq */
     float s_iqs;              /* sum iq s: the + and - segments' difference */
@@ -131,8 +137,10 @@ void r_track_reset(r_track_t *rt);
 /* Starts phase (sums cleared, cycle from its start); nothing when invalid. ISR or background. */
 void r_track_start(r_track_t *rt, r_track_phase_t phase);
 
-/* One period: z_V = fd^ - w L^ iq [V], measured id_A, iq_A [A]. ISR. */
-r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A);
+/* One period: z_V = fd^ - w L^ iq [V], measured id_A, iq_A [A], the
+ * observer's omega_el_rad_s [rad/s] and L_H = L^ [H]. ISR. */
+r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
+                             float L_H);
 
 /* d-current reference for the voltage computed this period [A] (0 when OFF). ISR. */
 float r_track_id_ref(const r_track_t *rt);
