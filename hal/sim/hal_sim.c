@@ -179,12 +179,12 @@ static uint32_t fault_due(double t, double f_s, uint32_t bit, double *next_s)
     return 0u;
 }
 
-/* The bits of the faults whose time has come by t_k, and in faults_next_s
- * the earliest time of one that has not (+inf: none). */
-static uint32_t faults_due(double t_s)
+/* The bits of the faults whose time has come by t (t_k with its rounding
+ * tolerance), and in faults_next_s the earliest time of one that has not
+ * (+inf: none). */
+static uint32_t faults_due(double t)
 {
     const hal_sim_faults_t *f = &g_sim.faults;
-    const double t = t_s + FAULT_TIME_TOL_PER_TS * g_sim.cfg.inv.Ts_s;
     double next_s = INFINITY;
     uint32_t m = 0u;
     m |= fault_due(t, f->open_phase_s, SIM_FAULT_OPEN_PHASE, &next_s);
@@ -204,11 +204,12 @@ static uint32_t faults_due(double t_s)
  * Time only grows, so the due set changes only once faults_next_s is reached. */
 static void faults_start(void)
 {
-    if (!(g_sim.t_s + FAULT_TIME_TOL_PER_TS * g_sim.cfg.inv.Ts_s >= g_sim.faults_next_s)) {
+    const double t = g_sim.t_s + FAULT_TIME_TOL_PER_TS * g_sim.cfg.inv.Ts_s;
+    if (!(t >= g_sim.faults_next_s)) {
         g_sim.faults_new = 0u;
         return;
     }
-    const uint32_t due = faults_due(g_sim.t_s);
+    const uint32_t due = faults_due(t);
     const uint32_t new_bits = due & ~g_sim.faults_active;
     g_sim.faults_active = due;
     g_sim.faults_new = new_bits;
