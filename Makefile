@@ -132,7 +132,7 @@ endef
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 
-.PHONY: all test test-host test-san run-tests check firmware flash host-deps check-deps help FORCE
+.PHONY: all test test-host test-san run-tests check firmware flash host-deps test-deps check-deps help FORCE
 
 all: $(TEST_BINS) $(HOST_PROGRAMS)
 
@@ -142,11 +142,22 @@ help:
 	@sed -n '1,11p' Makefile
 
 # Debian packages the host build needs; installed when running as root.
+# tools/ensure_pkgs.sh serialises its calls, so rules asking at once under
+# -j wait for one another instead of racing apt.
 host-deps:
 	@tools/ensure_pkgs.sh gcc libcmocka-dev libinih-dev
 
+# Everything `make test` installs, asked for once before its suites start.
+TEST_PKGS := gcc libcmocka-dev libinih-dev clang libclang-rt-14-dev python3
+test-deps:
+	@tools/ensure_pkgs.sh $(TEST_PKGS)
+
+# Each suite records its counts here (tools/suite.sh); `make test` sums them.
+RESULTS := $(BUILD)/test-results
+suite    = tools/suite.sh $1 $(RESULTS)
+
 run-tests: $(TEST_BINS)
-	@tools/run_tests.sh $(TEST_BINS)
+	@$(call suite,test-$(VARIANT)) tools/run_tests.sh $(TEST_BINS)
 
 test-host:
 	@$(MAKE) --no-print-directory VARIANT=host run-tests
@@ -154,7 +165,14 @@ test-host:
 test-san:
 	@$(MAKE) --no-print-directory VARIANT=san run-tests
 
-test: test-host test-san $(EXTRA_TESTS)
+# Every suite runs (-k) even when one fails; the last line on stdout is
+# the verdict summed over all of them, and it sets the exit status.
+TEST_SUITES = test-host test-san $(EXTRA_TESTS)
+test:
+	@rm -rf $(RESULTS)
+	@$(MAKE) --no-print-directory test-deps
+	@$(MAKE) --no-print-directory -k $(TEST_SUITES) || true
+	@tools/test_verdict.sh $(RESULTS) $(TEST_SUITES)
 
 # ---- portability and static gates ----------------------------------------
 PORTABLE_DIRS := control firmware hal/f28335

@@ -32,4 +32,4 @@ fuzz: $(FUZZ_BIN)
 	@tools/fuzz.sh long $(FUZZ_BIN) $(FUZZ_DIR) $(FUZZ_STEPS)
 
 fuzz-short: $(FUZZ_BIN)
-	@tools/fuzz.sh short $(FUZZ_BIN) $(FUZZ_DIR)
+	@$(call suite,fuzz-short) tools/fuzz.sh short $(FUZZ_BIN) $(FUZZ_DIR)

@@ -45,3 +45,9 @@ sil: $(VENV_STAMP)
 	        $(BUILD)/host/drive_sil --scenario $$f --batch > $(SIL_DIR)/seeds/$$(basename $$f .ini).jsonl; \
 	done
 	@$(VENV)/bin/python tools/sil_report.py --dir $(SIL_DIR)
+
+# tools/ensure_pkgs.sh under -j: concurrent callers, one apt-get (fakes on PATH).
+.PHONY: test-ensure-pkgs
+EXTRA_TESTS += test-ensure-pkgs
+test-ensure-pkgs:
+	@$(call suite,test-ensure-pkgs) tools/test_ensure_pkgs.sh

@@ -31,4 +31,4 @@ EXTRA_TESTS += test-tools
 # tests/test_sweep.py runs the built drive_sil (its summary against metrics.py).
 test-tools: $(DRIVE_SIL)
 	@command -v python3 > /dev/null || tools/ensure_pkgs.sh python3
-	@DRIVE_SIL=$(DRIVE_SIL) PYTHONDONTWRITEBYTECODE=1 python3 tools/run_py_tests.py tests
+	@DRIVE_SIL=$(DRIVE_SIL) PYTHONDONTWRITEBYTECODE=1 $(call suite,test-tools) python3 tools/run_py_tests.py tests

@@ -49,7 +49,7 @@ test-sweep-net: $(DRIVE_SIL)
 	@rm -rf $(SWEEP_NET_DIR)
 	@$(SWEEP_PY) --quiet --jobs 2 --grid controller.L_factor=0.5:2:5 --grid controller.psif_factor=0.5:2:5 \
 	    --log --out $(SWEEP_NET_DIR)
-	@python3 tools/sweep_check.py $(SWEEP_NET_DIR)
+	@$(call suite,test-sweep-net) python3 tools/sweep_check.py $(SWEEP_NET_DIR)
 
 # Regression net of issue 16: the realistic board at the low speeds of the
 # operating map (SWEEP_OP's 100 and 371 r/min, its six loads, both
@@ -62,7 +62,7 @@ test-sweep-op-real: $(DRIVE_SIL)
 	@$(SWEEP_PY) --quiet --jobs 2 --grid speed_rpm=100:371.4285714:2 --grid load_Nm=0.5:6:6 \
 	    --set 'reference.speed_rpm=0:0, 0.2:{speed_rpm}~' --set 'load.torque_Nm=0:2, 0.35:4, 0.6:{load_Nm}' \
 	    --set run.duration_s=0.95 --window 0.8:0.95 $(SWEEP_REAL) --out $(SWEEP_LOW_DIR)
-	@python3 tools/sweep_check.py $(SWEEP_LOW_DIR)
+	@$(call suite,test-sweep-op-real) python3 tools/sweep_check.py $(SWEEP_LOW_DIR)
 
 # 1000 points (25 x 20 x 2 methods) of the paper's 1.2 s switching scenario.
 bench-sweep: $(DRIVE_SIL)

@@ -72,6 +72,7 @@ def check(path, tol_Nm):
         print(f"FAIL sweep net {at_text(grid_cols, key)}: {problem}")
     print(f"sweep net: {len(points)} points, {len(bad)} violations; largest proposed - conventional "
           f"mean |Te - Te*| {worst:+.4f} N m (allowed +{tol_Nm:g})")
+    print(f"sweep net: {len(points) - len(bad)} passed, {len(bad)} failed")
     return 1 if bad else 0
 
 

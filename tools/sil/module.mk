@@ -24,7 +24,7 @@ TEST_SRCS_test_sil_startup := tools/sil/sil.c
 .PHONY: test-drive-sil-cli
 EXTRA_TESTS += test-drive-sil-cli
 test-drive-sil-cli: $(DRIVE_SIL)
-	@tools/test_drive_sil_cli.sh $(DRIVE_SIL)
+	@$(call suite,test-drive-sil-cli) tools/test_drive_sil_cli.sh $(DRIVE_SIL)
 
 # Acceptance of the proposed method on the simulated board (scenario files
 # of tools/scenarios/, and the controller alone on hal_sim).
