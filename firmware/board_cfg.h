@@ -102,7 +102,7 @@
 #define BOARD_RSID_SETTLE_2_S    0.14f        /* window 1 to window 2: the speed loop settles after the change [s] */
 #define BOARD_RSID_WINDOW_MAX_S  0.3f         /* window 2 lengthened up to this while se(R^) is too large [s] */
 #define BOARD_RSID_REPEATS_MAX   2U           /* speeds mode: both windows repeated at most this often [-] */
-#define BOARD_RSID_ON_REFUSAL    0U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning [-] */
+#define BOARD_RSID_ON_REFUSAL    1U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning (runs on) [-] */
 #define BOARD_TRACK_R            0U           /* 1: R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9) [-] */
 
 /* Bounds on what the controller's model may see (as in tools/sil/sil.c). */

@@ -61,11 +61,12 @@ static void identify_windows_aligns_identifies_runs(void **state)
     assert_int_equal(app.ctrl.mon.ident, CTRL_IDENT_STEP2);
 }
 
-/* Each refusal of step 1: its fault in the last IDENTIFY_R call, the
- * duties of that call written, then PWM off in the same call, the
- * snapshot of that call's sample. */
+/* Each refusal of step 1 with on_refusal = fault: its fault in the last
+ * IDENTIFY_R call, the duties of that call written, then PWM off in the
+ * same call, the snapshot of that call's sample. */
 static void identify_fault_case(app_cfg_t *cfg, double R_true, te_plan_t plan, bool nan_window, app_fault_t fault)
 {
+    cfg->rsid.on_refusal = APP_RSID_REFUSAL_FAULT;
     init_cfg(cfg);
     assert_int_equal(app.ctrl.status, CTRL_CFG_OK);
     start_and_align();

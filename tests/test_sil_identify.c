@@ -188,7 +188,8 @@ static void inertia_10x_default_timing(void **state)
  * limit, so R^ is refused at window 2's nominal end (0.54 s). */
 static fig_t lengthen_case(const char *seed)
 {
-    const char *const sets[] = { NOISE_A, seed, "identify.R_se_max_rel=0.003", "run.duration_s=0.9", NULL };
+    const char *const sets[] = { NOISE_A, seed, "identify.R_se_max_rel=0.003", "run.duration_s=0.9",
+                                 "identify.on_refusal=fault", NULL };
     return run("prop_paper", sets);
 }
 
@@ -225,7 +226,8 @@ static void speeds_mode_repeats_both_windows(void **state)
                                  "reference.speed_rpm=500", "run.duration_s=3", NULL };
     const char *const no_repeat[] = { NOISE_A, "plant.seed=1", "identify.R_se_max_rel=0.0025", "identify.mode=speeds",
                                       "identify.speed_1_rpm=1000", "identify.speed_2_rpm=500", "load.torque_Nm=3",
-                                      "reference.speed_rpm=500", "run.duration_s=3", "identify.repeats_max=0", NULL };
+                                      "reference.speed_rpm=500", "run.duration_s=3", "identify.repeats_max=0",
+                                      "identify.on_refusal=fault", NULL };
     (void)state;
     const fig_t a = run("prop_L150", no_repeat);
     const fig_t b = run("prop_L150", base);
@@ -262,8 +264,8 @@ static void refusal_runs_conventional_with_the_warning(void **state)
     assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_OUT_OF_BAND);
     assert_true(fabs(te_p - te_c) <= 0.005);
 
-    /* the same refusal with the default policy: the fault, PWM off */
-    const char *const fault[] = { "controller.R_min_ohm=5", NULL };
+    /* the same refusal with on_refusal = fault: the fault, PWM off */
+    const char *const fault[] = { "controller.R_min_ohm=5", "identify.on_refusal=fault", NULL };
     const fig_t q = run("prop_R430", fault);
     assert_int_equal((int)q.fault, APP_FAULT_RSID_OUT_OF_BAND);
     assert_true(isnan(q.t_warn));

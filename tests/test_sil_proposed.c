@@ -382,7 +382,7 @@ static void identify_speeds_handover_ramps(void **state)
 /* Step 1 at one operating point: the app faults with the reason. */
 static void identify_degenerate_faults(void **state)
 {
-    const char *const sets[] = { "load.torque_Nm=2", NULL };
+    const char *const sets[] = { "load.torque_Nm=2", "identify.on_refusal=fault", NULL };
     (void)state;
     run_scenario("prop_L150", sets, 0.0);
     print_message("step 1 at one load: state %d, fault %d\n", (int)fig.state, (int)fig.fault);
@@ -393,7 +393,7 @@ static void identify_degenerate_faults(void **state)
 /* R^ outside the band (true R = 3 ohm, band from 5 ohm): OUT_OF_BAND. */
 static void identify_out_of_band_faults(void **state)
 {
-    const char *const sets[] = { "controller.R_min_ohm=5", NULL };
+    const char *const sets[] = { "controller.R_min_ohm=5", "identify.on_refusal=fault", NULL };
     (void)state;
     run_scenario("prop_R430", sets, 0.0);
     assert_int_equal((int)fig.state, APP_STATE_FAULT);
