@@ -104,6 +104,9 @@ static const sc_key_t KEYS[] = {
     POS("controller", "i_limit_A", controller.i_limit_A, PARAMS, "stator-current limit the targets respect [A] (BOARD_I_LIMIT_A)"),
     POS("controller", "overspeed_rpm", controller.overspeed_rpm, PARAMS, "overspeed trip [r/min] (BOARD_OVERSPEED_RPM)"),
     { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
+    { "controller", "encoder_offset_el_rad", K_REAL, F(controller.encoder_offset_el_rad), NULL, -HUGE_VAL, HUGE_VAL, false, NULL,
+      "encoder offset the controller is told [rad, electrical], sign as plant.encoder_offset_el_rad "
+      "(default the plant's; run.align = on: the alignment's measurement replaces it)", 0 },
     OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.1 x controller's R: ctrl_rsid_band_default)"),
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 6 x controller's R, at most the observer's eq. (36) bound)"),
 
