@@ -69,6 +69,11 @@
 #define MODEL_NOMINAL  1u      /* the configured parameters */
 #define MODEL_STALE    2u      /* the observer's, but R^ changed since */
 
+/* est_hold passes the gate's reasons through unchanged */
+typedef char ctrl_est_hold_is_gate[((CTRL_EST_HOLD_ACCEL == EST_GATE_ACCEL) && (CTRL_EST_HOLD_CURRENT == EST_GATE_CURRENT) &&
+                                    (CTRL_EST_HOLD_TORQUE == EST_GATE_TORQUE) && (CTRL_EST_HOLD_VOLTAGE == EST_GATE_VOLTAGE) &&
+                                    (CTRL_EST_HOLD_SETTLE == EST_GATE_HOLD)) ? 1 : -1];
+
 static uint16_t map_dbdtc_flags(uint16_t f)
 {
     uint16_t out = 0u;
@@ -232,6 +237,7 @@ void ctrl_reset(ctrl_t *c)
 {
     dbdtc_reset(&c->db);
     c->model_src = MODEL_NOMINAL;
+    c->trusted = false;
     smo_reset(&c->smo);
     param_est_reset(&c->pe);
     rs_ident_reset(&c->ri);
@@ -263,10 +269,11 @@ void ctrl_reset(ctrl_t *c)
     c->mon.R_est_Ohm = c->db.par.R_Ohm;
     c->mon.L_est_H = c->db.par.L_H;
     c->mon.psi_f_est_Wb = c->db.par.psi_f_Wb;
+    c->mon.psi_f_obs_Wb = c->db.par.psi_f_Wb;
     c->mon.fd_est_V = 0.0f;
     c->mon.fq_est_V = 0.0f;
     c->mon.ident = CTRL_IDENT_OFF;
-    c->mon.est_hold = 0u;
+    c->mon.est_hold = CTRL_EST_HOLD_NO_STEP2;
     c->mon.model_from_observer = 0u;
     c->mon.inv_err_V = 0.0f;
     c->mon.psi_f_model_Wb = c->db.par.psi_f_Wb;
@@ -335,6 +342,7 @@ static void start_step2(ctrl_t *c)
     est_gate_reset(&c->gate, &c->smo);
     psi_band_start(&c->pb, c->smo.psi_f_Wb); /* the model's value then (design sec. 9f) */
     c->ident = CTRL_IDENT_STEP2;
+    c->trusted = false;
     if (c->model_src == MODEL_OBSERVER) {
         c->model_src = MODEL_STALE;
     }
@@ -364,6 +372,9 @@ static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
     const float z = c->smo.fd_V - omega_el_rad_s * c->smo.L_H * i_dq_A.q; /* L^ law's invariant */
     const r_track_event_t ev = r_track_step(&c->rt, z, i_dq_A.d, i_dq_A.q, omega_el_rad_s, c->smo.L_H);
 
+    if (((ev == R_TRACK_IDENT_DONE) || (ev == R_TRACK_IDENT_REFUSED)) && (c->model_src == MODEL_OBSERVER)) {
+        c->model_src = MODEL_STALE; /* taken again, now trusted */
+    }
     if (ev == R_TRACK_IDENT_DONE) {
         add_inverter_error(c, QUARTER_PI * c->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */
         c->rt_flags = 0u;
@@ -474,7 +485,8 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
             } else {
                 psi_band_pause(&c->pb);
             }
-            if (c->method == CTRL_METHOD_PROPOSED) {
+            /* below the speed floor the told model and eq. (10): the conventional path */
+            if ((c->method == CTRL_METHOD_PROPOSED) && !c->pb.low) {
                 /* 2 divisions, only when an estimate moved by more than
                  * CTRL_MODEL_UPDATE_REL since the model took it */
                 const dbdtc_par_t *p = &c->db.par;
@@ -483,6 +495,7 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
                 if (((moved != 0u) && far) || (c->model_src != MODEL_OBSERVER)) {
                     dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->pb.psi_Wb);
                     c->model_src = MODEL_OBSERVER;
+                    c->trusted = (c->rt.phase != R_TRACK_IDENT); /* the inverter error known */
                 }
                 if (!est_gate_f_usable(&c->gate)) {
                     /* f^ carries a current transient: eq. (10)-(12) with the
@@ -490,6 +503,10 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
                     return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s);
                 }
                 return dbdtc_state_from_currents(&c->db, i_hat); /* replaces eq. (10) */
+            }
+            if ((c->method == CTRL_METHOD_PROPOSED) && c->trusted) {
+                /* at the floor: the last trusted model, eq. (10) */
+                return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s);
             }
         }
     }
@@ -508,7 +525,8 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
 static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
 {
     const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
-    const float dv_sum = c->deadtime_frac * vdc_V + c->inv_dv_V;
+    /* below the speed floor the conventional path: the told dead time only */
+    const float dv_sum = c->deadtime_frac * vdc_V + ((c->pb.low && !c->trusted) ? 0.0f : c->inv_dv_V);
     const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
     const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
     const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);
@@ -656,24 +674,37 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     c->mon.te_est_Nm = x.te_Nm;
     c->mon.psi_ref_Wb = psi_ref;
     c->mon.psi_est_Wb = mathx_sqrtf(x.psi_dq_Wb.d * x.psi_dq_Wb.d + x.psi_dq_Wb.q * x.psi_dq_Wb.q);
-    if (c->ident != CTRL_IDENT_OFF) { /* the observer's estimates, used or not */
+    /* the estimation's model, used or not (the conventional method keeps the told one) */
+    if ((c->ident == CTRL_IDENT_STEP2) && !c->pb.low) {
         c->mon.R_est_Ohm = c->smo.R_Ohm;
         c->mon.L_est_H = c->smo.L_H;
-        c->mon.psi_f_est_Wb = c->smo.psi_f_Wb;
+        c->mon.psi_f_est_Wb = c->pb.psi_Wb;
+        c->mon.est_hold = c->gate.reasons;
+    } else if ((c->ident == CTRL_IDENT_STEP2) && c->trusted) {
+        c->mon.R_est_Ohm = par->R_Ohm; /* the last trusted model, held */
+        c->mon.L_est_H = par->L_H;
+        c->mon.psi_f_est_Wb = par->psi_f_Wb;
+        c->mon.est_hold = (uint16_t)(c->gate.reasons | CTRL_EST_HOLD_SPEED_FLOOR);
+    } else {
+        c->mon.R_est_Ohm = cfg->R_Ohm;
+        c->mon.L_est_H = cfg->L_H;
+        c->mon.psi_f_est_Wb = cfg->psi_f_Wb;
+        c->mon.est_hold = (c->ident == CTRL_IDENT_STEP2) ? (uint16_t)(c->gate.reasons | CTRL_EST_HOLD_SPEED_FLOOR)
+                                                         : CTRL_EST_HOLD_NO_STEP2;
+    }
+    if (c->ident != CTRL_IDENT_OFF) {
+        c->mon.psi_f_obs_Wb = c->smo.psi_f_Wb;
         c->mon.fd_est_V = c->smo.fd_V;
         c->mon.fq_est_V = c->smo.fq_V;
     } else {
-        c->mon.R_est_Ohm = par->R_Ohm;
-        c->mon.L_est_H = par->L_H;
-        c->mon.psi_f_est_Wb = par->psi_f_Wb;
+        c->mon.psi_f_obs_Wb = cfg->psi_f_Wb;
         c->mon.fd_est_V = 0.0f;
         c->mon.fq_est_V = 0.0f;
     }
     c->mon.ident = c->ident;
-    c->mon.est_hold = c->gate.reasons;
     c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
     c->mon.inv_err_V = FUNDAMENTAL_OF_SQUARE * c->inv_dv_V;
-    c->mon.psi_f_model_Wb = par->psi_f_Wb;
+    c->mon.psi_f_model_Wb = c->mon.psi_f_est_Wb;
 
     /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
      * are in it because the blocks clamp (a NaN would become a bound); the

@@ -75,6 +75,20 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
 #define CTRL_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f holds (within what the voltage it cannot explain allows; design sec. 9f) */
 
+/* Why the estimates are held: ctrl_mon_t.est_hold, the CSV's est_hold (0:
+ * step 2 learning; psi_f^ is then a magnet-temperature indicator). While
+ * any bit is set, the estimate columns show the values the model holds.
+ * The first five are est_gate.h's (step 2 paused, estimates from before
+ * the transient). */
+#define CTRL_EST_HOLD_ACCEL       0x0001u /* speed changing faster than its estimate follows */
+#define CTRL_EST_HOLD_CURRENT     0x0002u /* current transient */
+#define CTRL_EST_HOLD_TORQUE      0x0004u /* torque-command transient */
+#define CTRL_EST_HOLD_VOLTAGE     0x0008u /* voltage limit: the applied voltage is not the model's */
+#define CTRL_EST_HOLD_SETTLE      0x0010u /* one of those cleared, the hold time running */
+#define CTRL_EST_HOLD_SPEED_FLOOR 0x0020u /* below the speed where w psi_f dominates the voltage the drive cannot
+                                          * explain (psi_band.h): the told model, the conventional torque path */
+#define CTRL_EST_HOLD_NO_STEP2    0x0040u /* step 2 not running (observer off, step 1, step 1 refused): told values */
+
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
     float R_Ohm;               /* controller's stator resistance (may differ from the motor's) */
@@ -153,13 +167,16 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float ud_V, uq_V;                     /* rotor-frame voltage commanded for the next period, after the hexagon clamp */
     float te_ref_Nm, te_est_Nm;           /* torque reference and the controller's torque estimate (at k+1) */
     float psi_ref_Wb, psi_est_Wb;         /* stator-flux reference and estimate (at k+1) */
-    float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* observer estimates while it runs, else the nominal parameters */
+    float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* the estimation's model (what the proposed method's deadbeat law
+                                               * uses): step 2's estimates, the told values while est_hold has
+                                               * CTRL_EST_HOLD_SPEED_FLOOR or NO_STEP2 */
+    float psi_f_obs_Wb;                   /* the observer's internal psi^ while it runs, else the told psi_f [Wb] */
     float fd_est_V, fq_est_V;             /* observer disturbances [V] (0 while the observer is stopped) */
     ctrl_ident_t ident;                     /* step of the proposed method */
-    uint16_t est_hold;                    /* EST_GATE_* why step 2's laws are paused (0: learning) */
+    uint16_t est_hold;                    /* CTRL_EST_HOLD_* why the estimates are held (0: learning) */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
     float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 9) */
-    float psi_f_model_Wb;                 /* the psi_f the deadbeat model uses [Wb] (design sec. 9f) */
+    float psi_f_model_Wb;                 /* = psi_f_est_Wb (older name) [Wb] */
 } ctrl_mon_t;
 
 typedef struct {
@@ -191,6 +208,8 @@ typedef struct {
     est_gate_t gate;            /* pause and hold of step 2 */
     uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the gate's voltage check) */
     uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */
+    bool trusted;               /* step 2's model was taken above the speed floor with the inverter error
+                                 * known: below the floor db.par is kept (else the told model) */
     bool tracked;               /* ctrl_track ran this period: ctrl_step leaves the encoder alone */
     ctrl_mon_t mon;
 } ctrl_t;

@@ -25,6 +25,12 @@
  * identified on top) takes the coarse frac until the inverter error is
  * identified, the fine one after (psi_band_rebase).
  *
+ * Speed floor: where Vb/|w| exceeds unexplained_max x psi_f (the anchor),
+ * or |w| <= w_min, the voltage the drive cannot explain may fake more of
+ * psi_f than the model may carry: `low` says so, decided with P at every
+ * decision (hysteresis PSI_BAND_LOW_HYST) and at once when |w| <= w_min. The caller then keeps the told model and the
+ * conventional torque path (observer_design.md, "speed floor").
+ *
  * Calling context: ISR (psi_band_step, psi_band_rebase, psi_band_start),
  * background (psi_band_init).
  */
@@ -43,6 +49,8 @@
 #define PSI_BAND_SETTLE_DEFAULT_S      0.02f /* P settled: moved by less than ... */
 #define PSI_BAND_SETTLE_FRAC_DEFAULT   0.05f /* ... this x Vb/|w| in that time: within 0.08 Vb/|w| of its end */
 #define PSI_BAND_DECIDE_PERIODS        10u   /* learning periods per decision (1 division) */
+#define PSI_BAND_UNEXPLAINED_MAX_DEFAULT 0.05f /* Vb/|w| above this x psi_f: below the speed floor */
+#define PSI_BAND_LOW_HYST              1.2f  /* leave the floor at 1/1.2 of that: no chatter at the floor */
 
 typedef struct {
     float Ts_s;            /* control period [s] */
@@ -56,6 +64,7 @@ typedef struct {
     float unc_abs_V;       /* Vb's absolute part [V] */
     float settle_s;        /* P settled: moved by less than settle_frac Vb/|w| in this time [s] */
     float settle_frac;     /* [1] */
+    float unexplained_max; /* speed floor: Vb/|w| above this x the anchor psi_f [1] */
 } psi_band_cfg_t;
 
 typedef struct {
@@ -65,6 +74,7 @@ typedef struct {
     uint16_t n;            /* decisions since P_snap */
     uint16_t k;            /* learning periods since the last decision */
     bool track;            /* the model follows P (else it holds h) */
+    bool low;              /* below the speed floor: Vb/|w| > unexplained_max anchor, or |w| <= w_min */
     float frac;            /* Vb's fraction in use */
     float anchor_Wb;       /* the model's psi_f when step 2 started */
     float h_Wb;            /* the value held */
@@ -80,7 +90,7 @@ void psi_band_cfg_defaults(psi_band_cfg_t *cfg, float Ts_s, float w_min_rad_s, f
 
 /* Copies cfg; false (and a = 0: nothing moves) unless 0 < Ts < tau,
  * Ts <= settle_s <= 1 s, w_min > 0, 0 < psi_min <= psi_max, fractions and
- * abs_V >= 0, all finite. Background. */
+ * abs_V >= 0, 0 < unexplained_max, all finite. Background. */
 bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg);
 
 /* Step 2 starts from psi_Wb [Wb] (the model's value then): anchor, P and
@@ -91,7 +101,7 @@ void psi_band_start(psi_band_t *pb, float psi_Wb);
  * [V] (bumpless in the observer), so psi_eq by dfq/w; the model holds the
  * anchor again unless P is far from it under the fine bound (what it took
  * under the coarse bound may have been the error). It changes at the next
- * psi_band_step. ISR. */
+ * psi_band_step (and `low` at its next decision). ISR. */
 void psi_band_rebase(psi_band_t *pb, float dfq_V);
 
 /* Learning paused (the step-2 gate): the next psi_band_step takes 1/w

@@ -64,8 +64,11 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     p.board.deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
     p.board.u_bound_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
     p.board.enc_lines = sc->plant.encoder_lines;
-    /* align off: told the plant's offset, as if measured; on: not told (0), the alignment finds it */
-    p.board.enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)sc->plant.encoder_offset_el_rad;
+    /* align off: told [controller] encoder_offset_el_rad, else the plant's as if measured;
+     * on: the alignment's measurement replaces it */
+    const double enc_told = isnan(sc->controller.encoder_offset_el_rad) ? sc->plant.encoder_offset_el_rad
+                                                                        : sc->controller.encoder_offset_el_rad;
+    p.board.enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)enc_told;
     p.tuning.pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
     p.tuning.speed_kp_Nms_rad = (float)sc->controller.speed_kp_Nms_rad;
     p.tuning.speed_ki_Nm_rad = (float)sc->controller.speed_ki_Nm_rad;
@@ -145,6 +148,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)m->inv_err_V;
     r->psif_model_Wb = (double)m->psi_f_model_Wb;
+    r->psif_obs_Wb = (double)m->psi_f_obs_Wb;
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
     const bool faulted = (g_app.state == APP_STATE_FAULT);
@@ -328,7 +332,7 @@ static const sil_col_t COLS[] = {
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
     COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
-    COL(psif_model_Wb),
+    COL(psif_model_Wb), COL(psif_obs_Wb),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 /* SIL_CSV_LINE_MAX counts one column per double of sil_row_t */
