@@ -276,7 +276,6 @@ void ctrl_reset(ctrl_t *c)
     c->mon.est_hold = CTRL_EST_HOLD_NO_STEP2;
     c->mon.model_from_observer = 0u;
     c->mon.inv_err_V = 0.0f;
-    c->mon.psi_f_model_Wb = c->db.par.psi_f_Wb;
 }
 
 void ctrl_track(ctrl_t *c, uint32_t enc_count)
@@ -381,6 +380,7 @@ static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
         start_tracking(c);
     } else if (ev == R_TRACK_IDENT_REFUSED) {
         c->rt_flags = CTRL_FLAG_INV_UNIDENTIFIED; /* says so, and keeps the dead time as told */
+        psi_band_bound_final(&c->pb);
         start_tracking(c);
     } else if (ev == R_TRACK_CYCLE) {
         /* rho = dR with the inverter error compensated: R^ += -k_R rho + rate, within the band */
@@ -439,6 +439,7 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
     rs_ident_reset(&c->ri);
     c->rsid_win = RS_IDENT_WINDOW_NONE;
     start_step2(c); /* no inverter-error identification: R is trusted, not measured */
+    psi_band_bound_final(&c->pb);
     return true;
 }
 
@@ -483,10 +484,10 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
                     c->psi_held = 0u;
                 }
             } else {
-                psi_band_pause(&c->pb);
+                psi_band_pause(&c->pb, omega_el_rad_s);
             }
             /* below the speed floor the told model and eq. (10): the conventional path */
-            if ((c->method == CTRL_METHOD_PROPOSED) && !c->pb.low) {
+            if ((c->method == CTRL_METHOD_PROPOSED) && (c->pb.low == 0u)) {
                 /* 2 divisions, only when an estimate moved by more than
                  * CTRL_MODEL_UPDATE_REL since the model took it */
                 const dbdtc_par_t *p = &c->db.par;
@@ -526,7 +527,7 @@ static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_
 {
     const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
     /* below the speed floor the conventional path: the told dead time only */
-    const float dv_sum = c->deadtime_frac * vdc_V + ((c->pb.low && !c->trusted) ? 0.0f : c->inv_dv_V);
+    const float dv_sum = c->deadtime_frac * vdc_V + (((c->pb.low != 0u) && !c->trusted) ? 0.0f : c->inv_dv_V);
     const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
     const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
     const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);
@@ -675,36 +676,39 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     c->mon.psi_ref_Wb = psi_ref;
     c->mon.psi_est_Wb = mathx_sqrtf(x.psi_dq_Wb.d * x.psi_dq_Wb.d + x.psi_dq_Wb.q * x.psi_dq_Wb.q);
     /* the estimation's model, used or not (the conventional method keeps the told one) */
-    if ((c->ident == CTRL_IDENT_STEP2) && !c->pb.low) {
+    if ((c->ident == CTRL_IDENT_STEP2) && (c->pb.low == 0u)) {
         c->mon.R_est_Ohm = c->smo.R_Ohm;
         c->mon.L_est_H = c->smo.L_H;
         c->mon.psi_f_est_Wb = c->pb.psi_Wb;
         c->mon.est_hold = c->gate.reasons;
-    } else if ((c->ident == CTRL_IDENT_STEP2) && c->trusted) {
-        c->mon.R_est_Ohm = par->R_Ohm; /* the last trusted model, held */
-        c->mon.L_est_H = par->L_H;
-        c->mon.psi_f_est_Wb = par->psi_f_Wb;
-        c->mon.est_hold = (uint16_t)(c->gate.reasons | CTRL_EST_HOLD_SPEED_FLOOR);
-    } else {
-        c->mon.R_est_Ohm = cfg->R_Ohm;
-        c->mon.L_est_H = cfg->L_H;
-        c->mon.psi_f_est_Wb = cfg->psi_f_Wb;
-        c->mon.est_hold = (c->ident == CTRL_IDENT_STEP2) ? (uint16_t)(c->gate.reasons | CTRL_EST_HOLD_SPEED_FLOOR)
-                                                         : CTRL_EST_HOLD_NO_STEP2;
-    }
-    if (c->ident != CTRL_IDENT_OFF) {
         c->mon.psi_f_obs_Wb = c->smo.psi_f_Wb;
         c->mon.fd_est_V = c->smo.fd_V;
         c->mon.fq_est_V = c->smo.fq_V;
     } else {
-        c->mon.psi_f_obs_Wb = cfg->psi_f_Wb;
-        c->mon.fd_est_V = 0.0f;
-        c->mon.fq_est_V = 0.0f;
+        if ((c->ident == CTRL_IDENT_STEP2) && c->trusted) {
+            c->mon.R_est_Ohm = par->R_Ohm; /* the last trusted model, held */
+            c->mon.L_est_H = par->L_H;
+            c->mon.psi_f_est_Wb = par->psi_f_Wb;
+        } else {
+            c->mon.R_est_Ohm = cfg->R_Ohm; /* the told one */
+            c->mon.L_est_H = cfg->L_H;
+            c->mon.psi_f_est_Wb = cfg->psi_f_Wb;
+        }
+        c->mon.est_hold = (c->ident == CTRL_IDENT_STEP2) ? (uint16_t)(c->gate.reasons | CTRL_EST_HOLD_SPEED_FLOOR)
+                                                         : CTRL_EST_HOLD_NO_STEP2;
+        if (c->ident != CTRL_IDENT_OFF) {
+            c->mon.psi_f_obs_Wb = c->smo.psi_f_Wb;
+            c->mon.fd_est_V = c->smo.fd_V;
+            c->mon.fq_est_V = c->smo.fq_V;
+        } else {
+            c->mon.psi_f_obs_Wb = cfg->psi_f_Wb;
+            c->mon.fd_est_V = 0.0f;
+            c->mon.fq_est_V = 0.0f;
+        }
     }
     c->mon.ident = c->ident;
     c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
     c->mon.inv_err_V = FUNDAMENTAL_OF_SQUARE * c->inv_dv_V;
-    c->mon.psi_f_model_Wb = c->mon.psi_f_est_Wb;
 
     /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
      * are in it because the blocks clamp (a NaN would become a bound); the

@@ -176,7 +176,6 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     uint16_t est_hold;                    /* CTRL_EST_HOLD_* why the estimates are held (0: learning) */
     uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
     float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 9) */
-    float psi_f_model_Wb;                 /* = psi_f_est_Wb (older name) [Wb] */
 } ctrl_mon_t;
 
 typedef struct {

@@ -41,7 +41,8 @@ void psi_band_start(psi_band_t *pb, float psi_Wb)
 {
     pb->frac = pb->cfg.unc_told_frac;
     pb->track = false;
-    pb->low = false;
+    pb->low = 0u;
+    pb->final = false;
     pb->n = 0u;
     pb->k = 0u;
     pb->anchor_Wb = psi_Wb;
@@ -57,12 +58,20 @@ void psi_band_rebase(psi_band_t *pb, float dfq_V)
     pb->P_Wb += dfq_V * pb->inv_w_s_rad;
     pb->frac = pb->cfg.unc_ident_frac;
     pb->track = false;
+    pb->final = true;
     pb->h_Wb = pb->anchor_Wb;
 }
 
-void psi_band_pause(psi_band_t *pb)
+void psi_band_bound_final(psi_band_t *pb)
+{
+    pb->final = true;
+}
+
+void psi_band_pause(psi_band_t *pb, float omega_el_rad_s)
 {
     pb->k = 0u;
+    pb->low = (mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s) ? (uint16_t)(pb->low & PSI_BAND_LOW_BAND)
+                                                                   : (uint16_t)(pb->low | PSI_BAND_LOW_W);
 }
 
 bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_told_V,
@@ -71,7 +80,7 @@ bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_
     if (!(mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s)) {
         pb->k = 0u;
         pb->inv_w_s_rad = 0.0f;
-        pb->low = true;
+        pb->low = (uint16_t)(pb->low | PSI_BAND_LOW_W);
         return false; /* psi_eq ill-conditioned: hold */
     }
     if (pb->k == 0u) {
@@ -87,8 +96,9 @@ bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_
     /* Vb/|w|: the flux the voltage nobody can explain may fake at this speed */
     const float band = (pb->frac * mathx_fabsf(ve_told_V) + pb->cfg.unc_found_frac * mathx_fabsf(ve_found_V) +
                         pb->cfg.unc_abs_V) * mathx_fabsf(inv_w);
-    const float band_max = pb->cfg.unexplained_max * pb->anchor_Wb;
-    pb->low = pb->low ? (PSI_BAND_LOW_HYST * band > band_max) : (band > band_max);
+    const float band_max = pb->cfg.unexplained_max * mathx_fabsf(pb->P_Wb);
+    const float band_in = ((pb->low & PSI_BAND_LOW_BAND) != 0u) ? (PSI_BAND_LOW_HYST * band) : band;
+    pb->low = (pb->final && (band_in > band_max)) ? PSI_BAND_LOW_BAND : 0u;
     if (!pb->track && (mathx_fabsf(pb->P_Wb - pb->h_Wb) > 2.0f * band)) {
         pb->track = true; /* h is off by more than P can be */
         pb->n = 0u;

@@ -25,10 +25,11 @@
  * identified on top) takes the coarse frac until the inverter error is
  * identified, the fine one after (psi_band_rebase).
  *
- * Speed floor: where Vb/|w| exceeds unexplained_max x psi_f (the anchor),
+ * Speed floor: where Vb/|w| exceeds unexplained_max x |P| (the estimate),
  * or |w| <= w_min, the voltage the drive cannot explain may fake more of
- * psi_f than the model may carry: `low` says so, decided with P at every
- * decision (hysteresis PSI_BAND_LOW_HYST) and at once when |w| <= w_min. The caller then keeps the told model and the
+ * psi_f than the model may carry: `low` says so, decided at every decision
+ * once the bound is final (psi_band_rebase, psi_band_bound_final;
+ * hysteresis PSI_BAND_LOW_HYST), and at once when |w| <= w_min. The caller then keeps the told model and the
  * conventional torque path (observer_design.md, "speed floor").
  *
  * Calling context: ISR (psi_band_step, psi_band_rebase, psi_band_start),
@@ -51,6 +52,8 @@
 #define PSI_BAND_DECIDE_PERIODS        10u   /* learning periods per decision (1 division) */
 #define PSI_BAND_UNEXPLAINED_MAX_DEFAULT 0.05f /* Vb/|w| above this x psi_f: below the speed floor */
 #define PSI_BAND_LOW_HYST              1.2f  /* leave the floor at 1/1.2 of that: no chatter at the floor */
+#define PSI_BAND_LOW_W    0x0001u /* |w| <= w_min (set at once; cleared at the next decision or pause above) */
+#define PSI_BAND_LOW_BAND 0x0002u /* Vb/|w| > unexplained_max |P| (every decision, once the bound is final) */
 
 typedef struct {
     float Ts_s;            /* control period [s] */
@@ -64,7 +67,7 @@ typedef struct {
     float unc_abs_V;       /* Vb's absolute part [V] */
     float settle_s;        /* P settled: moved by less than settle_frac Vb/|w| in this time [s] */
     float settle_frac;     /* [1] */
-    float unexplained_max; /* speed floor: Vb/|w| above this x the anchor psi_f [1] */
+    float unexplained_max; /* speed floor: Vb/|w| above this x |P| [1] */
 } psi_band_cfg_t;
 
 typedef struct {
@@ -74,7 +77,8 @@ typedef struct {
     uint16_t n;            /* decisions since P_snap */
     uint16_t k;            /* learning periods since the last decision */
     bool track;            /* the model follows P (else it holds h) */
-    bool low;              /* below the speed floor: Vb/|w| > unexplained_max anchor, or |w| <= w_min */
+    uint16_t low;          /* below the speed floor (0: above): PSI_BAND_LOW_* bits */
+    bool final;            /* the bound is final (inverter error identified or refused): the floor decides */
     float frac;            /* Vb's fraction in use */
     float anchor_Wb;       /* the model's psi_f when step 2 started */
     float h_Wb;            /* the value held */
@@ -104,9 +108,13 @@ void psi_band_start(psi_band_t *pb, float psi_Wb);
  * psi_band_step (and `low` at its next decision). ISR. */
 void psi_band_rebase(psi_band_t *pb, float dfq_V);
 
-/* Learning paused (the step-2 gate): the next psi_band_step takes 1/w
- * afresh. ISR. */
-void psi_band_pause(psi_band_t *pb);
+/* The inverter error could not be identified: the coarse bound stays,
+ * and is final (the speed floor decides from now on). ISR. */
+void psi_band_bound_final(psi_band_t *pb);
+
+/* Learning paused (the step-2 gate) at w [rad/s electrical]: the next
+ * psi_band_step takes 1/w afresh; PSI_BAND_LOW_W follows w. ISR. */
+void psi_band_pause(psi_band_t *pb, float omega_el_rad_s);
 
 /* One learning period (not during the step-2 gate's pauses): the
  * observer's psi^ [Wb] and fq^ [V], w [rad/s electrical], the fundamentals

@@ -147,7 +147,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->est_hold = (double)m->est_hold;
     r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)m->inv_err_V;
-    r->psif_model_Wb = (double)m->psi_f_model_Wb;
+    r->psif_model_Wb = r->psif_est_Wb; /* the older name */
     r->psif_obs_Wb = (double)m->psi_f_obs_Wb;
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
