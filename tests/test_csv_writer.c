@@ -52,7 +52,7 @@ static char *write_through_thread(const sil_row_t *rows, unsigned n, size_t *len
     char *got = NULL;
     FILE *f = open_memstream(&got, len);
     assert_non_null(f);
-    assert_int_equal(csv_writer_start(&g_w, f), 0);
+    assert_int_equal(csv_writer_start(&g_w, f, 0u, CSV_WRITER_NO_LIMIT), 0);
     for (unsigned k = 0; k < n; k++) {
         assert_int_equal(csv_writer_put(&g_w, &rows[k]), 0);
     }
@@ -135,7 +135,7 @@ static void write_error_comes_back_as_its_errno(void **state)
         skip();
     }
     make_rows();
-    assert_int_equal(csv_writer_start(&g_w, f), 0);
+    assert_int_equal(csv_writer_start(&g_w, f, 0u, CSV_WRITER_NO_LIMIT), 0);
     int first = 0;
     for (unsigned k = 0; k < N_ROWS; k++) {
         const int rc = csv_writer_put(&g_w, &g_rows[k]);
