@@ -209,7 +209,7 @@ expect_msg "key before any section" "ks.ini:1: L_H: a key before any \[section\]
 # SIGINT, SIGTERM: the CSV kept under its name to the last whole row, .resolved.json
 # written, no temporary left, exit 128 + signal
 endless=$(printf '[controller]\nmode = open_loop\n[reference]\nuq_V = 20\n[run]\nduration_s = 1e5\nlog_every = 1\n' > "$dir/endless.ini"; echo "$dir/endless.ini")
-for sig in INT TERM; do
+for sig in INT TERM HUP; do
     rm -f "$dir"/sig.*
     set -m   # a job of its own: a background job would ignore SIGINT
     "$bin" --scenario "$endless" --out "$dir/sig.csv" --summary "$dir/sig.json" > /dev/null 2> "$dir/err" &

@@ -21,7 +21,7 @@
  * thread. Exit status (usage() prints it): 0 a run that ends outside
  * FAULT, 1 a write error, 2 bad input, 3 a run that ends in FAULT (every
  * output written in full), 128 + N a run ended early by signal N
- * (SIGINT, SIGTERM: the handler only sets a flag; the run stops after the
+ * (SIGINT, SIGTERM, SIGHUP: the handler only sets a flag; the run stops after the
  * period it is in, the CSV keeps the rows so far under its own name).
  */
 #include <errno.h>
@@ -118,8 +118,8 @@ static void usage(FILE *f)
             "  1    a write error (disk full): no output left\n"
             "  2    bad input (scenario, override, flag, output path): no output left\n"
             "  3    the run ended in FAULT; CSV, .resolved.json and --summary written in full\n"
-            "  130, 143  stopped by SIGINT, SIGTERM: the CSV kept to the last whole period\n"
-            "       with its .resolved.json, no --summary\n"
+            "  130  stopped by SIGINT (143 SIGTERM, 129 SIGHUP): the CSV kept under its name\n"
+            "       to the last whole period, with its .resolved.json; no --summary\n"
             "Every key is optional (defaults: paper Table I).\n"
             "Profiles: \"t:value, t:value\" steps; \"t:value~\" ramps to value at t.\n"
             "Keys (section, name, default, meaning):\n", DEFAULT_MAX_CSV_MB, PROGRESS_AFTER_S);
@@ -396,11 +396,11 @@ static void on_signal(int sig)
     g_signal = sig;
 }
 
-/* SIGINT and SIGTERM set g_signal (the run stops after its period), unless
+/* SIGINT, SIGTERM and SIGHUP (the terminal closed) set g_signal (the run stops after its period), unless
  * the caller had the signal ignored (a background job's SIGINT); 0 or -1. */
 static int catch_signals(void)
 {
-    static const int SIGNALS[] = { SIGINT, SIGTERM };
+    static const int SIGNALS[] = { SIGINT, SIGTERM, SIGHUP };
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
