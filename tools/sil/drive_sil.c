@@ -21,8 +21,9 @@
  * thread. Exit status (usage() prints it): 0 a run that ends outside
  * FAULT, 1 a write error, 2 bad input, 3 a run that ends in FAULT (every
  * output written in full), 128 + N a run ended early by signal N
- * (SIGINT, SIGTERM, SIGHUP: the handler only sets a flag; the run stops after the
- * period it is in, the CSV keeps the rows so far under its own name).
+ * (SIGINT, SIGTERM, SIGHUP: the handler only sets a flag; the run stops
+ * after the period it is in, the CSV keeps the rows so far under its own
+ * name).
  */
 #include <errno.h>
 #include <math.h>
