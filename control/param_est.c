@@ -69,7 +69,7 @@ void param_est_run(param_est_t *pe, bool run)
     pe->running = run && pe->valid;
 }
 
-uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A)
+uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A, float w_min_rad_s)
 {
     const param_est_cfg_t *c = &pe->cfg;
     uint16_t flags = 0u;
@@ -102,7 +102,7 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
     }
     /* Replaces (43)-(50): fq = -dpsi w at equilibrium (design 1e); psi^
      * takes fq^ at the speed-independent rate gamma_psi. */
-    if (pe->phase_psi && (mathx_fabsf(w) > c->w_min_rad_s)) {
+    if (pe->phase_psi && (mathx_fabsf(w) > w_min_rad_s)) {
         const float delta_V = pe->kpsi * smo->fq_V;
         const float psi_tgt = smo->psi_f_Wb + mathx_clampf(delta_V / w, -pe->dpsi_max_Wb, pe->dpsi_max_Wb);
         const float psi_new = mathx_clampf(psi_tgt, c->psi_min_Wb, c->psi_max_Wb);

@@ -53,7 +53,7 @@ typedef struct {
     float gamma_L_1_s;        /* slow rate of L^ [1/s] */
     float gamma_psi_1_s;      /* slow rate of psi^ [1/s] */
     float wiq_min_A_rad_s;    /* freeze L^ when |w iq| <= this [A rad/s] */
-    float w_min_rad_s;        /* freeze psi^ when |w| <= this [rad/s electrical] */
+    float w_min_rad_s;        /* freeze psi^ when |w| <= this [rad/s electrical] (the default speed floor) */
     float L_min_H;            /* clamps */
     float L_max_H;
     float psi_min_Wb;
@@ -90,8 +90,10 @@ void param_est_reset(param_est_t *pe);
 void param_est_run(param_est_t *pe, bool run);
 
 /* One period, after smo_step() of the same period: the transfer laws on
- * *smo with the measured iq_A(k) [A] and omega_el_rad_s(k) [rad/s].
- * Returns PARAM_EST_* bits. ISR (2 guarded divisions + 1 in smo_set_L). */
-uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A);
+ * *smo with the measured iq_A(k) [A] and omega_el_rad_s(k) [rad/s]; psi^
+ * freezes at |w| <= w_min_rad_s (the caller's speed floor, at least
+ * cfg.w_min_rad_s). Returns PARAM_EST_* bits. ISR (2 guarded divisions
+ * + 1 in smo_set_L). */
+uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A, float w_min_rad_s);
 
 #endif /* PARAM_EST_H */

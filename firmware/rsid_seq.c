@@ -91,7 +91,7 @@ static after_t after_window_2(rsid_seq_t *q, const ctrl_t *c)
 {
     rs_ident_out_t o;
     const uint32_t k = q->ticks;
-    const uint32_t batch = c->ri.cfg.n_batch;
+    const uint32_t batch = ctrl_rsid_cfg(c)->n_batch;
 
     q->check_ticks = (batch > 0u) ? batch : 1u;
     if (mathx_umod_u32(k - q->end_tick, q->check_ticks) != 0u) { /* no 32-bit %: RTS call from flash */

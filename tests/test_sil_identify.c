@@ -1,5 +1,5 @@
-/* Step 1 of the proposed method on a real ADC (issue 13 part A;
- * control/observer_design.md sec. 6) in the SIL: switching inverter, the
+/* Step 1 of the proposed method on a real ADC
+ * (control/observer_design.md sec. 6) in the SIL: switching inverter, the
  * scenarios of tools/scenarios/ (paper timeline: windows 0.28-0.34 s at
  * 2 N m and 0.48-0.54 s at 4 N m), both methods on the same scenario.
  *  - ADC noise 0.05 A rms, seeds 1-5, L = 1.5 L0 and psi_f = 0.5 psi_f0:
