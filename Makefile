@@ -180,7 +180,13 @@ PORTABLE_DIRS := control firmware hal/f28335
 check-deps:
 	@tools/ensure_pkgs.sh gcc-arm-none-eabi libnewlib-arm-none-eabi gcc-avr avr-libc cppcheck
 
+# Commit subjects after this baseline are at most 72 characters (the
+# history before it is left as it is).
+COMMIT_BASELINE    := 73c655a
+COMMIT_SUBJECT_MAX := 72
+
 check: check-deps
+	@tools/check/commit_subjects.sh $(COMMIT_BASELINE) $(COMMIT_SUBJECT_MAX)
 	@tools/check/portability.sh $(BUILD)/check
 	@tools/check/target_cfg.sh
 	@tools/check/isr_path.sh $(BUILD)/check
