@@ -2,10 +2,11 @@
 """sil_report.py - build/sil/report.md from the CSVs of `make sil`:
 
   1. one row of tools/metrics.py figures per scenario CSV, with links to
-     the plot drawn for exactly that scenario (<stem>.png / <stem>.svg);
-  2. the table case x method: every case that has both conv_<case>.csv
+     the plot drawn for exactly that scenario (<stem>.png / <stem>.svg),
+     in two tables (errors and plots; currents, load and torque step);
+  2. two tables case x method: every case that has both conv_<case>.csv
      and prop_<case>.csv (torque and flux error, ripple, speed dip at the
-     load step, R^/L^/psi_f^ error and time to 2 %, torque-step response),
+     load step; R^/L^/psi_f^ error and time to 2 %, torque-step response),
      with the realistic board's torque error beside the ideal one
      (real_conv_<case>.csv, real_prop_<case>.csv: ADC noise, dead time
      compensated 10 % short, device drop, 1000-line encoder, a warming
@@ -27,7 +28,11 @@ Windows: a run that reaches 1.05 s is measured over 0.8..0.95 s (steady,
 before the paper's load step) and its speed recovery and dip over
 0.95..1.05 s; a shorter run over its last quarter.
 
-Usage: sil_report.py [--dir build/sil] [--out build/sil/report.md]
+Figures are drawn only when older than their runs' CSV and resolved
+values or than this script (--figures all / none), in --jobs processes.
+The realistic / conventional ratio has two significant digits.
+
+Usage: sil_report.py [--dir build/sil] [--out build/sil/report.md] [--jobs N] [--figures stale|all|none]
 (--scenarios DIR is still accepted and ignored: the truth is in <stem>.resolved.json.)
 """
 import argparse
