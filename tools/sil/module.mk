@@ -23,7 +23,7 @@ TEST_SRCS_test_sil_startup := tools/sil/sil.c
 # The CLI: exit status 2 and no CSV on bad input (runs the built binary).
 .PHONY: test-drive-sil-cli
 EXTRA_TESTS += test-drive-sil-cli
-test-drive-sil-cli: $(DRIVE_SIL)
+test-drive-sil-cli: $(DRIVE_SIL) ## (part of make test) drive_sil's command line: exit statuses, no CSV on bad input
 	@$(call suite,test-drive-sil-cli) tools/test_drive_sil_cli.sh $(DRIVE_SIL)
 
 # Acceptance of the proposed method on the simulated board (scenario files
