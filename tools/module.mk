@@ -47,7 +47,7 @@ plot: $(SIL_PLOT_BIN) ## CSV=RUN.csv [PNG=OUT.png]: plot one drive_sil run (defa
 # (and <stem>.resolved.json), its plot <stem>.png, the realistic ones
 # (real_*) again over SIL_SEEDS into seeds/<stem>.jsonl (drive_sil --batch
 # summaries), and report.md with its figures (tools/sil_report.py).
-# Incremental: a run is redone when its scenario or drive_sil changed, a
+# Incremental: a run is redone when its scenario or drive_sil's code changed, a
 # plot when its CSV or tools/sil_plot.py did, the report when any of
 # them did (and its figures only for the runs that changed). One CSV and
 # one seeds file per rule, so the runs go in parallel; `make sil` without
@@ -60,8 +60,13 @@ SIL_DIR        := $(BUILD)/sil
 # Noise seeds of the realistic runs' spread (report section "over noise seeds")
 SIL_SEEDS      := 1 2 3 4 5 6 7 8
 SIL_JOBS       ?= $(shell nproc)
-# The program the runs use (tests/test_sil_make.py sets a fake).
-SIL_PROG       := $(DRIVE_SIL)
+# The program the runs use (tests/test_sil_make.py sets a fake), and what
+# its results depend on: its link inputs but the revision string (a new
+# commit relinks drive_sil with a new --version and the same code), and
+# its link options. The runs depend on a stamp of their checksum.
+SIL_PROG        := $(DRIVE_SIL)
+SIL_PROG_INPUTS := $(filter-out $(call objs,$(SIL_VERSION_C)),$(DRIVE_SIL_INPUTS))
+SIL_PROG_STAMP  := $(SIL_DIR)/.drive_sil.sum
 SIL_SCENARIOS  := $(sort $(wildcard tools/scenarios/*.ini))
 SIL_STEMS      := $(basename $(notdir $(SIL_SCENARIOS)))
 SIL_CSVS       := $(SIL_STEMS:%=$(SIL_DIR)/%.csv)
@@ -78,7 +83,12 @@ sil: $(SIL_PLOT_BIN) ## every tools/scenarios/*.ini in SIL: CSV, plot, seeds and
 
 sil-update: $(SIL_REPORT) ## (inside `make sil`) bring build/sil/ up to date; needs VARIANT=host and the venv
 
-$(SIL_DIR)/%.csv: tools/scenarios/%.ini $(SIL_PROG)
+$(SIL_PROG_STAMP): $(SIL_PROG)
+	@mkdir -p $(@D)
+	@sum="$$(cat $(SIL_PROG_INPUTS) | sha256sum) $(PROG_LDOPT) $(PROG_LDLIBS)"; \
+	 echo "$$sum" | cmp -s - $@ || echo "$$sum" > $@
+
+$(SIL_DIR)/%.csv: tools/scenarios/%.ini $(SIL_PROG_STAMP)
 	@mkdir -p $(@D)
 	@$(SIL_PROG) --scenario $< --out $@ || [ $$? -eq 3 ]
 
@@ -95,7 +105,7 @@ $(SIL_SEED_STAMP): FORCE
 	@mkdir -p $(@D)
 	@echo '$(SIL_SEEDS)' | cmp -s - $@ || echo '$(SIL_SEEDS)' > $@
 
-$(SIL_DIR)/seeds/%.jsonl: tools/scenarios/%.ini $(SIL_PROG) $(SIL_SEED_STAMP)
+$(SIL_DIR)/seeds/%.jsonl: tools/scenarios/%.ini $(SIL_PROG_STAMP) $(SIL_SEED_STAMP)
 	@for s in $(SIL_SEEDS); do printf 'seed%s\tplant.seed=%s\n' $$s $$s; done | \
 	    $(SIL_PROG) --scenario $< --batch > $@.tmp && mv $@.tmp $@
 

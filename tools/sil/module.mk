@@ -19,7 +19,9 @@ $(SIL_VERSION_C): FORCE
 	 line="const char sil_revision[] = \"$${rev:-unknown}\";"; \
 	 echo "$$line" | cmp -s - $@ || echo "$$line" > $@
 
-$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c $(SIL_VERSION_C)) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+DRIVE_SIL_INPUTS := $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c $(SIL_VERSION_C)) \
+                    $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+$(DRIVE_SIL): $(DRIVE_SIL_INPUTS)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
