@@ -6,7 +6,8 @@ runs nothing, nor does a relinked drive_sil with the same code (a new
 revision string); a run whose CSV is out of date runs again alone, and
 only its plot is redrawn; new code in drive_sil runs everything again; exit status 3 (the run
 ended in FAULT) is a result, 2 an error that leaves no CSV; SIL_SEEDS
-decides the seeds files' lines, and a changed list redoes them."""
+decides the seeds files' lines, and a changed list redoes them. And
+`make clean` keeps build/venv, `make distclean` removes all of BUILD."""
 import glob
 import os
 import shutil
@@ -123,6 +124,25 @@ class SilRules(unittest.TestCase):
         self.assertNotEqual(p.returncode, 0)
         self.assertFalse(os.path.exists(os.path.join(self.sil, STEMS[0] + ".csv")))
         self.assertFalse(os.path.exists(os.path.join(self.sil, "report.md")))
+
+
+@unittest.skipUnless(shutil.which("make"), "make not installed")
+class Clean(unittest.TestCase):
+    def test_clean_keeps_the_venv_distclean_not(self):
+        with tempfile.TemporaryDirectory() as t:
+            build = os.path.join(t, "build")
+            for rel in ("venv/bin/python", "host/drive_sil", "sil/x.csv", ".hidden", "venv2/x"):
+                os.makedirs(os.path.dirname(os.path.join(build, rel)), exist_ok=True)
+                open(os.path.join(build, rel), "w").close()
+            p = subprocess.run(["make", "-C", ROOT, "-s", "BUILD=" + build, "clean"], env=ENV,
+                               capture_output=True, text=True)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertEqual(os.listdir(build), ["venv"])
+            self.assertTrue(os.path.exists(os.path.join(build, "venv", "bin", "python")))
+            p = subprocess.run(["make", "-C", ROOT, "-s", "BUILD=" + build, "distclean"], env=ENV,
+                               capture_output=True, text=True)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            self.assertFalse(os.path.exists(build))
 
 
 if __name__ == "__main__":
