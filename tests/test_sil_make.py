@@ -38,7 +38,7 @@ case $script in
 sil_plot.py) csvs=(); while [ $# -gt 0 ]; do case $1 in --jobs) shift;; -*) ;; *) csvs+=("$1");; esac; shift; done
              echo "plot ${csvs[*]}" >> "$FAKE_LOG"; for c in "${csvs[@]}"; do touch "${c%.csv}.png"; done;;
 sil_report.py) while [ $# -gt 0 ]; do case $1 in --dir) d=$2; shift;; esac; shift; done
-               echo "report" >> "$FAKE_LOG"; echo "# report" > "$d/report.md";;
+               echo "report" >> "$FAKE_LOG"; echo "# report" > "$d/report.md"; exit "${FAKE_REPORT_RC:-0}";;
 esac
 '''
 
@@ -124,6 +124,16 @@ class SilRules(unittest.TestCase):
         self.assertNotEqual(p.returncode, 0)
         self.assertFalse(os.path.exists(os.path.join(self.sil, STEMS[0] + ".csv")))
         self.assertFalse(os.path.exists(os.path.join(self.sil, "report.md")))
+
+
+    def test_failed_report_kept_and_redone(self):
+        p, log = self.make("sil", FAKE_REPORT_RC="1")           # a run the report could not measure
+        self.assertNotEqual(p.returncode, 0)
+        report = os.path.join(self.sil, "report.md")
+        self.assertEqual(os.path.getmtime(report), 0)            # kept to be read, out of date
+        p, log = self.make("sil")
+        self.assertEqual((p.returncode, log), (0, ["report"]), p.stderr)
+        self.assertGreater(os.path.getmtime(report), 0)
 
 
 @unittest.skipUnless(shutil.which("make"), "make not installed")

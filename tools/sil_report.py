@@ -399,6 +399,7 @@ def main(argv=None):
         except (OSError, ValueError, KeyError) as e:
             r = {"error": str(e)}
             failed += 1
+            print(f"sil_report.py: {stem}: {e}", file=sys.stderr)
         runs.append((stem, r))
     cases = pair_cases(dict(runs))
 
