@@ -14,9 +14,9 @@
 MEMORY
 {
 PAGE 0 :
-   /* L0-L5 for ramfuncs: the host estimate of that code (hal/f28335/README.md,
-    * "RAM budget") is 11.6K words before cl2000's own density; L0-L3 alone
-    * (16K) would leave too little margin. */
+   /* L0-L5 for ramfuncs. What each RAM range holds and its margin: `make
+    * check` (tools/check/ram_budget.py, from drive.map once there is one),
+    * which fails under 10 % free; it reads the lengths below. */
    RAML0L5    : origin = 0x008000, length = 0x006000   /* L0-L5 SARAM (24K words): run address of ramfuncs */
    FLASHHB    : origin = 0x300000, length = 0x038000   /* flash sectors H..B, 32K words each */
    FLASHA     : origin = 0x338000, length = 0x007F80   /* flash sector A, up to the CSM reserved words */

@@ -22,6 +22,7 @@
 #include "hal_f28335.h"
 
 static app_t g_app;          /* the whole drive state; static so CCS can watch it */
+static app_cfg_t g_cfg;      /* static: in .ebss, not on the 1K-word stack (tools/check/ram_budget.py) */
 static volatile cmd_t g_cmd; /* written by the operator from CCS (or a telemetry link) */
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char WATCHDOG_RESET_MSG[] = "reset by watchdog\r\n";
@@ -39,7 +40,6 @@ static HAL_INTERRUPT void ctrl_isr(void)
 
 int main(void)
 {
-    app_cfg_t cfg;
     cmd_limits_t lim;
 
     hal_init();
@@ -47,12 +47,12 @@ int main(void)
     if (g_reset_by_watchdog) {
         (void)hal_f28335_sci_write(WATCHDOG_RESET_MSG, (uint16_t)(sizeof WATCHDOG_RESET_MSG - 1u));
     }
-    app_cfg_default(&cfg);
-    app_init(&g_app, &cfg);
+    app_cfg_default(&g_cfg);
+    app_init(&g_app, &g_cfg);
     cmd_init(&g_cmd);
     lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
-    lim.te_max_Nm = cfg.ctrl.te_max_Nm;
-    lim.u_max_V = cfg.ctrl.u_max_V;
+    lim.te_max_Nm = g_cfg.ctrl.te_max_Nm;
+    lim.u_max_V = g_cfg.ctrl.u_max_V;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
     for (;;) {
         cmd_apply(&g_cmd, &lim, &g_app);
