@@ -16,6 +16,8 @@
 ; Watchdog: off first (WDCR = 0x0068: WDDIS = 1, WDCHK = 101b; SPRUFB0
 ; "Watchdog Block"), as C2000Ware's DSP2833x_CodeStartBranch.asm does:
 ; zeroing up to 8K words and .cinit outlast its 4.37 ms reset timeout.
+; WDFLAG (bit 7, write 1 to clear) is written 0: the reset cause survives
+; for hal_init, which reads it before its own write.
 ; hal_init keeps it off and hal_isr_attach turns it on for good.
 
 WDCR            .set    0x7029          ; watchdog control register (EALLOW protected)
