@@ -52,8 +52,9 @@ target's, from the first source available:
    that reserve: the larger of main's start-up chain (before
    hal_isr_attach: no interrupt yet) and main's frame + the deepest call
    of its loop + the deepest chain of ctrl_isr on top of it, from gcc's
-   -fcallgraph-info=su frame sizes at one word per byte (the same upper
-   bound as data), plus ISR_CONTEXT_WORDS: the CPU's automatic context
+   -fcallgraph-info=su frame sizes at one word per byte (twice what the
+   same frame holds in C28x words: room for the extra spills of the C28x's
+   fewer registers, an estimate, not a bound), plus ISR_CONTEXT_WORDS: the CPU's automatic context
    save (14 words, SPRU430 "Interrupts") and the interrupt prologue's save
    of the CPU and FPU save-on-call registers (at most 19 32-bit registers,
    38 words).
