@@ -6,6 +6,7 @@
  *   IDLE --start--> (the same sequence)
  *   CALIBRATE, ALIGN, IDENTIFY_R, RUN --stop--> IDLE
  *   INIT, IDLE, CALIBRATE, ALIGN, IDENTIFY_R, RUN --protection--> FAULT
+ *   INIT --start-up fault (app_latch_startup_fault)--> FAULT
  *   IDENTIFY_R --R^ refused--> FAULT (the reason in the code), or with
  *              rsid.on_refusal = CONVENTIONAL --> RUN, conventional method,
  *              warning APP_WARN_STEP1_REFUSED (the reason in rsid_refusal)

@@ -35,7 +35,10 @@ target's, from the first source available:
        (*+XARn[0..7], 8 words = 32 bytes)        +1 word (ADDB XARn,#7bit)
      literal pool word (.word)                    2 words
    The words over Thumb-2 bytes / 2 is the factor printed: derived from
-   this build's own instruction mix, not a typed constant. Plus the FPU
+   this build's own instruction mix, not a typed constant. Not modelled:
+   the extra spill code of the C28x's fewer registers (8 FPU result
+   registers against ARM's 32), which the unfilled delay slots counted
+   above partly cover; the first drive.map replaces the estimate. Plus the FPU
    fast-RTS members linked into ramfuncs (sin/cos, atan2, sqrt, division):
    C2000Ware's libraries/math/FPUfastRTS/c28/source/fpu32/*_f32.asm hold
    49 + 16 + 43 + 21 = 129 instructions (counted there), at most 2 words
