@@ -64,3 +64,7 @@ TEST_LIBS_test_csv_num := silrun
 # drive_sil's CSV writer thread: bytes as sil_csv_row(), write errors.
 TEST_LIBS_test_csv_writer := silrun firmware sim control
 TEST_SRCS_test_csv_writer := tools/sil/csv_writer.c tools/sil/sil.c
+
+# app_init and cmd_init on pattern-filled memory (COFF zeroes nothing):
+# main.c's sequence on the simulated board, bit-identical for every pattern.
+TEST_LIBS_test_app_init_pattern := silrun firmware sim control
