@@ -33,36 +33,36 @@ static void out_told(est_t *e)
 est_status_t est_init(est_t *e, const est_cfg_t *cfg)
 {
     const rs_ident_out_t no_result = { 0 };
-    est_cfg_t c = *cfg;
-    est_status_t status = EST_CFG_OK;
+    est_cfg_t *c = &e->cfg; /* patched in place: no second copy on the start-up stack */
+    est_status_t status;
 
-    c.smo.Ts_s = c.Ts_s;
-    c.smo.R_Ohm = c.R_Ohm;
-    c.smo.L_H = c.L_H;
-    c.smo.psi_f_Wb = c.psi_f_Wb;
-    c.smo.R_min_Ohm = c.R_min_Ohm;
-    c.smo.R_max_Ohm = c.R_max_Ohm;
-    c.smo.i_max_A = c.i_max_A;
-    c.smo.u_max_V = c.u_max_V;
-    c.smo.omega_max_rad_s = c.omega_max_el_rad_s;
-    c.pe.Ts_s = c.Ts_s;
-    c.rsid.R_nom_Ohm = c.R_Ohm;
-    c.rsid.Ts_s = c.Ts_s;
-    c.rsid.R_min_Ohm = c.R_min_Ohm;
-    c.rsid.R_max_Ohm = c.R_max_Ohm;
-    c.gate.Ts_s = c.Ts_s;
-    e->cfg = c;
-    e->ve_told_per_vdc = (c.Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * c.deadtime_s / c.Ts_s) : 0.0f;
+    *c = *cfg;
+    c->smo.Ts_s = c->Ts_s;
+    c->smo.R_Ohm = c->R_Ohm;
+    c->smo.L_H = c->L_H;
+    c->smo.psi_f_Wb = c->psi_f_Wb;
+    c->smo.R_min_Ohm = c->R_min_Ohm;
+    c->smo.R_max_Ohm = c->R_max_Ohm;
+    c->smo.i_max_A = c->i_max_A;
+    c->smo.u_max_V = c->u_max_V;
+    c->smo.omega_max_rad_s = c->omega_max_el_rad_s;
+    c->pe.Ts_s = c->Ts_s;
+    c->rsid.R_nom_Ohm = c->R_Ohm;
+    c->rsid.Ts_s = c->Ts_s;
+    c->rsid.R_min_Ohm = c->R_min_Ohm;
+    c->rsid.R_max_Ohm = c->R_max_Ohm;
+    c->gate.Ts_s = c->Ts_s;
+    e->ve_told_per_vdc = (c->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * c->deadtime_s / c->Ts_s) : 0.0f;
 
     psi_band_cfg_t bc;
-    psi_band_cfg_defaults(&bc, c.Ts_s, c.pe.w_min_rad_s, c.pe.psi_min_Wb, c.pe.psi_max_Wb);
-    const est_status_t gate = est_gate_init(&e->gate, &c.gate) ? EST_CFG_OK : EST_CFG_GATE;
-    const bool obs_ok = (smo_init(&e->smo, &c.smo) == SMO_CFG_OK);
-    const bool rt_ok = r_track_init(&e->rt, &c.rtrack);
+    psi_band_cfg_defaults(&bc, c->Ts_s, c->pe.w_min_rad_s, c->pe.psi_min_Wb, c->pe.psi_max_Wb);
+    const est_status_t gate = est_gate_init(&e->gate, &c->gate) ? EST_CFG_OK : EST_CFG_GATE;
+    const bool obs_ok = (smo_init(&e->smo, &c->smo) == SMO_CFG_OK);
+    const bool rt_ok = r_track_init(&e->rt, &c->rtrack);
     /* every block initialised; the first refusal in this order names the cause (a refused
      * observer also freezes the estimator: not reported again) */
-    const bool pe_ok = param_est_init(&e->pe, &c.pe, &e->smo) && psi_band_init(&e->pb, &bc);
-    const bool ri_ok = rs_ident_init(&e->ri, &c.rsid);
+    const bool pe_ok = param_est_init(&e->pe, &c->pe, &e->smo) && psi_band_init(&e->pb, &bc);
+    const bool ri_ok = rs_ident_init(&e->ri, &c->rsid);
     if (!obs_ok) {
         status = (est_status_t)(EST_CFG_OBSERVER | gate);
     } else if (!rt_ok) {
@@ -74,7 +74,7 @@ est_status_t est_init(est_t *e, const est_cfg_t *cfg)
     }
     e->status = status;
     e->rsid_out = no_result;
-    e->rsid_out.R_est_Ohm = c.R_Ohm;
+    e->rsid_out.R_est_Ohm = c->R_Ohm;
     est_reset(e);
     return status;
 }
