@@ -195,14 +195,48 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
     }
 }
 
+/* Step 1's result with the d-axis check (observer_design.md sec. 6g): an
+ * error e_L of dL moves R^ by w1 w2 (id2 - id1) e_L / den when the
+ * windows' id differ (field weakening at the voltage limit). Where the
+ * correction the solve applied, |k dL^|, exceeds se(R^)'s limit, the two
+ * windows' own dL_j = (fd_j + dR id_j)/(w_j iq_j) must agree within it
+ * too, |k (dL1 - dL2)|; else the model does not hold on the d axis and R^
+ * hangs on it: refused (RS_IDENT_D_AXIS). */
+static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
+{
+    rs_ident_result_t r = rs_ident_solve(&e->ri, o);
+    o->R_d_axis_Ohm = 0.0f;
+    if (r == RS_IDENT_OK) {
+        const float w1 = o->mean_w_rad_s[0];
+        const float w2 = o->mean_w_rad_s[1];
+        const float wiq1 = w1 * o->mean_iq_A[0];
+        const float wiq2 = w2 * o->mean_iq_A[1];
+        const float den = o->mean_iq_A[1] * w1 - o->mean_iq_A[0] * w2; /* (41)'s, |den| > 0 when OK */
+        const float dR = e->cfg.R_Ohm - o->R_raw_Ohm;
+        const float wiq_min = e->cfg.pe.wiq_min_A_rad_s;
+        const float k = w1 * w2 * (o->mean_id_A[1] - o->mean_id_A[0]) / den; /* dR per dL */
+        if ((mathx_fabsf(wiq1) > wiq_min) && (mathx_fabsf(wiq2) > wiq_min) && /* both dL_j defined */
+            !(mathx_fabsf(k * o->dL_H) <= o->R_se_max_Ohm)) {                  /* and the correction matters */
+            const float dL1 = (o->mean_fd_V[0] + dR * o->mean_id_A[0]) / wiq1;
+            const float dL2 = (o->mean_fd_V[1] + dR * o->mean_id_A[1]) / wiq2;
+            o->R_d_axis_Ohm = mathx_fabsf(k * (dL1 - dL2));
+        }
+        if (!(o->R_d_axis_Ohm <= o->R_se_max_Ohm)) {
+            o->R_est_Ohm = e->cfg.R_Ohm; /* refused: R_nom, as rs_ident's refusals */
+            r = RS_IDENT_D_AXIS;
+        }
+    }
+    return r;
+}
+
 rs_ident_result_t est_rsid_check(const est_t *e, rs_ident_out_t *out)
 {
-    return rs_ident_solve(&e->ri, out);
+    return rsid_solve(e, out);
 }
 
 rs_ident_result_t est_rsid_finish(est_t *e)
 {
-    rs_ident_result_t r = rs_ident_solve(&e->ri, &e->rsid_out);
+    rs_ident_result_t r = rsid_solve(e, &e->rsid_out);
 
     rs_ident_reset(&e->ri); /* a second finish without a begin finds no data */
     e->win = RS_IDENT_WINDOW_NONE;

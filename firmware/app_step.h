@@ -46,7 +46,8 @@ typedef enum {
     APP_FAULT_CURRENT_SENSOR = 18,   /* a current reading frozen while the rotor turns (protect.h) */
     APP_FAULT_ENCODER_LOST = 19,     /* the count stopped while moving, or no count at the torque limit (protect.h) */
     APP_FAULT_WATCHDOG_RESET = 20,   /* start-up: the last reset was the watchdog's (app_latch_startup_fault) */
-    APP_FAULT_FLASH_CRC = 21         /* start-up: the program image fails its linker CRC (flash_crc.h); no reset clears it */
+    APP_FAULT_FLASH_CRC = 21,        /* start-up: the program image fails its linker CRC (flash_crc.h); no reset clears it */
+    APP_FAULT_RSID_D_AXIS = 22       /* R^ hangs on the d-axis term (field weakening) (snapshot: that share of R^, the limit) */
 } app_fault_t;
 
 typedef enum {

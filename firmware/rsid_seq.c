@@ -72,6 +72,8 @@ static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
         return app_step_fault(APP_FAULT_RSID_OUT_OF_BAND, R_hat,
                               (R_hat > rc->R_max_Ohm) ? rc->R_max_Ohm : rc->R_min_Ohm);
     }
+    case RS_IDENT_D_AXIS:
+        return app_step_fault(APP_FAULT_RSID_D_AXIS, o->R_d_axis_Ohm, o->R_se_max_Ohm); /* R^'s d-axis share, the limit */
     case RS_IDENT_INVALID_CFG:
         return app_step_fault(APP_FAULT_CONFIG, o->R_est_Ohm, 0.0f);
     case RS_IDENT_TOO_FEW:

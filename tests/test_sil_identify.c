@@ -271,6 +271,27 @@ static void refusal_runs_conventional_with_the_warning(void **state)
     assert_true(isnan(q.t_warn));
 }
 
+/* Step 1 in field weakening (bus 250 V, 1800 r/min, L 1.4x, psi_f 0.85x
+ * told): the windows' id differ by 1.4 A, and the d-axis term moves R^ by
+ * |w1 w2 (id2 - id1) dL / den| ~ 1.4 Ohm, 40x se(R^)'s limit (R^ came
+ * out -21 %): refused with RSID_D_AXIS (on_refusal = conventional: RUN,
+ * the warning, no step 2). At the paper's 500 r/min with L 1.5x (id ~ 0)
+ * the share is 0.009 Ohm, a fifth of the limit: taken (case L150 above). */
+static void field_weakened_step1_refused(void **state)
+{
+    const char *const sets[] = { "plant.model=switching", "plant.vdc_V=250", "controller.L_factor=1.4",
+                                 "controller.psif_factor=0.85", "reference.speed_rpm=0:0, 0.2:1800~",
+                                 "load.torque_Nm=0:2, 0.35:4, 0.6:6", "run.duration_s=0.7", NULL };
+    (void)state;
+    const fig_t p = run("prop_paper", sets);
+    print_message("field weakening in step 1: state %d, fault %d, refusal %d (RSID_D_AXIS %d)\n", (int)p.state,
+                  (int)p.fault, last_res.rsid_refusal, (int)APP_FAULT_RSID_D_AXIS);
+    assert_int_equal((int)p.state, APP_STATE_RUN);
+    assert_int_equal((int)p.fault, APP_FAULT_NONE);
+    assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_D_AXIS);
+    assert_true(isnan(p.R_first)); /* no step 2 */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -282,6 +303,7 @@ int main(void)
         cmocka_unit_test(window_2_lengthened_then_taken_or_refused),
         cmocka_unit_test(speeds_mode_repeats_both_windows),
         cmocka_unit_test(refusal_runs_conventional_with_the_warning),
+        cmocka_unit_test(field_weakened_step1_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
