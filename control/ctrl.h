@@ -44,6 +44,7 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_INV_UNIDENTIFIED EST_FLAG_INV_UNIDENTIFIED /* 0x0100: the inverter error could not be identified: not compensated */
 #define CTRL_FLAG_R_HELD           EST_FLAG_R_HELD /* 0x0200: track_R: the last cycle was held (no current, transient, band) */
 #define CTRL_FLAG_PSI_HELD         EST_FLAG_PSI_HELD /* 0x0400: step 2: the model's psi_f holds (design sec. 9f) */
+#define CTRL_FLAG_ANGLE_SUSPECT    EST_FLAG_ANGLE_SUSPECT /* 0x0800: step 1 suggests an encoder angle error: L^ held */
 
 /* Why the estimates are held: ctrl_mon_t.est_hold, the CSV's est_hold (0:
  * step 2 learning; psi_f^ is then a magnet-temperature indicator). While
@@ -60,6 +61,7 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
                                                         * or the told model, the conventional torque path */
 #define CTRL_EST_HOLD_NO_STEP2    EST_HOLD_NO_STEP2    /* 0x0040 step 2 not running (observer off, step 1, step 1
                                                         * refused): the told values */
+#define CTRL_EST_HOLD_ANGLE       EST_HOLD_ANGLE       /* 0x0080 L^ held: step 1 suggests an angle error */
 
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */

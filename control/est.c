@@ -7,6 +7,12 @@
  * rotor-frame fundamental (4/pi) dv against the current (design sec. 9). */
 #define FUNDAMENTAL_OF_SQUARE 1.27323954f
 #define QUARTER_PI 0.785398163f
+/* Step 1's windows suggest an encoder angle error beyond this [rad el]:
+ * L^ held, EST_FLAG_ANGLE_SUSPECT (observer_design.md sec. 6h; 1.5 deg:
+ * 0.12 deg at most without one, 4.9 deg read for a 5 deg offset). */
+#define EST_ANGLE_SUSPECT_RAD 0.026f
+/* ... read only where the windows' iq differ by this share of the larger [1] */
+#define EST_ANGLE_IQ_SPREAD_MIN 0.2f
 
 /* est_hold passes the gate's reasons through unchanged */
 typedef char est_hold_is_gate[((EST_HOLD_ACCEL == EST_GATE_ACCEL) && (EST_HOLD_CURRENT == EST_GATE_CURRENT) &&
@@ -90,6 +96,7 @@ void est_reset(est_t *e)
     e->inv_dv_V = 0.0f;
     e->rt_flags = 0u;
     e->force = 0u;
+    e->hold_fixed = 0u;
     e->known = false;
     e->trusted = false;
     e->w_psi_min_rad_s = e->cfg.pe.w_min_rad_s;
@@ -111,6 +118,7 @@ bool est_rsid_begin(est_t *e)
     e->inv_dv_V = 0.0f;
     e->w_psi_min_rad_s = e->cfg.pe.w_min_rad_s;
     e->rt_flags = 0u;
+    e->hold_fixed = 0u;
     out_told(e);
     return true;
 }
@@ -170,12 +178,13 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
 {
     if (ev == R_TRACK_IDENT_DONE) {
         add_inverter_error(e, QUARTER_PI * e->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */
-        e->rt_flags = 0u;
+        e->rt_flags &= EST_FLAG_ANGLE_SUSPECT;
         e->known = true;
         e->force = EST_MOVED_ALL; /* taken again, now trusted */
         start_tracking(e);
     } else if (ev == R_TRACK_IDENT_REFUSED) {
-        e->rt_flags = EST_FLAG_INV_UNIDENTIFIED; /* says so, and keeps the dead time as told */
+        e->rt_flags = (uint16_t)((e->rt_flags & EST_FLAG_ANGLE_SUSPECT) | EST_FLAG_INV_UNIDENTIFIED); /* says so,
+                                                            * and keeps the dead time as told */
         psi_band_bound_final(&e->pb);
         e->known = true;
         e->force = EST_MOVED_ALL;
@@ -206,6 +215,7 @@ static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
 {
     rs_ident_result_t r = rs_ident_solve(&e->ri, o);
     o->R_d_axis_Ohm = 0.0f;
+    o->angle_el_rad = 0.0f;
     if (r == RS_IDENT_OK) {
         const float w1 = o->mean_w_rad_s[0];
         const float w2 = o->mean_w_rad_s[1];
@@ -215,6 +225,16 @@ static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
         const float dR = e->cfg.R_Ohm - o->R_raw_Ohm;
         const float wiq_min = e->cfg.pe.wiq_min_A_rad_s;
         const float k = w1 * w2 * (o->mean_id_A[1] - o->mean_id_A[0]) / den; /* dR per dL */
+        const float iq1 = o->mean_iq_A[0];
+        const float iq2 = o->mean_iq_A[1];
+        const float iq_big = (mathx_fabsf(iq1) > mathx_fabsf(iq2)) ? mathx_fabsf(iq1) : mathx_fabsf(iq2);
+        if ((mathx_fabsf(wiq1) > wiq_min) && (mathx_fabsf(wiq2) > wiq_min) &&
+            (mathx_fabsf(iq2 - iq1) > EST_ANGLE_IQ_SPREAD_MIN * iq_big)) {
+            /* an angle error d adds -w psi_f d to fd: dL_j = dL - psi_f d / iq_j (sec. 6h) */
+            const float dL1 = (o->mean_fd_V[0] + dR * o->mean_id_A[0]) / wiq1;
+            const float dL2 = (o->mean_fd_V[1] + dR * o->mean_id_A[1]) / wiq2;
+            o->angle_el_rad = (dL1 - dL2) * iq1 * iq2 / (e->cfg.psi_f_Wb * (iq1 - iq2));
+        }
         if ((mathx_fabsf(wiq1) > wiq_min) && (mathx_fabsf(wiq2) > wiq_min) && /* both dL_j defined */
             !(mathx_fabsf(k * o->dL_H) <= o->R_se_max_Ohm)) {                  /* and the correction matters */
             const float dL1 = (o->mean_fd_V[0] + dR * o->mean_id_A[0]) / wiq1;
@@ -247,6 +267,13 @@ rs_ident_result_t est_rsid_finish(est_t *e)
     }
     if (r == RS_IDENT_OK) {
         start_step2(e);
+        /* a suspected angle error would be learned as L: L^ held, a warning (sec. 6h) */
+        const bool suspect = !(mathx_fabsf(e->rsid_out.angle_el_rad) <= EST_ANGLE_SUSPECT_RAD);
+        param_est_hold_L(&e->pe, suspect);
+        e->hold_fixed = suspect ? EST_HOLD_ANGLE : 0u;
+        e->rt_flags = suspect ? EST_FLAG_ANGLE_SUSPECT : 0u;
+        e->out.hold = e->hold_fixed;
+        e->out.flags = e->rt_flags;
         /* first the inverter error, at R^ = R0 (design sec. 9) */
         r_track_start(&e->rt, R_TRACK_IDENT);
     } else {

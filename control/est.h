@@ -50,11 +50,13 @@ typedef enum {
 #define EST_HOLD_SETTLE      0x0010u /* one of those cleared, the hold time running */
 #define EST_HOLD_SPEED_FLOOR 0x0020u /* below the speed floor (psi_band.h): the last trusted or the told model */
 #define EST_HOLD_NO_STEP2    0x0040u /* step 2 not running: the told model */
+#define EST_HOLD_ANGLE       0x0080u /* L^ held: step 1's windows suggest an angle error (EST_FLAG_ANGLE_SUSPECT) */
 
 /* est_out_t.flags: bits of the controller's output flags. */
 #define EST_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
 #define EST_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
 #define EST_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f did not move this period */
+#define EST_FLAG_ANGLE_SUSPECT    0x0800u /* step 1's windows suggest an encoder angle error: L^ held (a warning) */
 
 /* est_out_t.src: how the model is used. */
 #define EST_SRC_TOLD     0u /* the told values, eq. (10), the told dead time: the conventional path */
@@ -130,6 +132,7 @@ typedef struct {
     float w_psi_min_rad_s;      /* the transfer laws' speed floor for psi^ (param_est_step's input) */
     uint16_t rt_flags;          /* EST_FLAG_INV_UNIDENTIFIED, EST_FLAG_R_HELD while they last */
     uint16_t force;             /* EST_MOVED_ALL due at the next output */
+    uint16_t hold_fixed;        /* EST_HOLD_ANGLE while an angle error is suspected (else 0) */
     bool known;                 /* the inverter error is known (identified, refused, or R trusted) */
     bool trusted;               /* the model was taken above the speed floor once it was known */
     est_out_t out;
@@ -202,12 +205,12 @@ static inline void est_step2(est_t *e, const est_in_t *in)
         o->inv_dv_V = e->inv_dv_V;
         /* f^ carries a current transient: eq. (10) with the held estimates (design sec. 7) */
         o->src = est_gate_f_usable(&e->gate) ? EST_SRC_OBSERVER : EST_SRC_HELD;
-        o->hold = e->gate.reasons;
+        o->hold = (uint16_t)(e->gate.reasons | e->hold_fixed);
         e->trusted = e->known;
     } else if (e->trusted) {
         /* below the floor: the last trusted model (as it is in *o), eq. (10) */
         o->src = EST_SRC_HELD;
-        o->hold = (uint16_t)(e->gate.reasons | EST_HOLD_SPEED_FLOOR);
+        o->hold = (uint16_t)(e->gate.reasons | e->hold_fixed | EST_HOLD_SPEED_FLOOR);
         moved = 0u;
     } else {
         /* below the floor, nothing trusted: the told model, the conventional path */
@@ -216,7 +219,7 @@ static inline void est_step2(est_t *e, const est_in_t *in)
         o->psi_f_Wb = e->cfg.psi_f_Wb;
         o->inv_dv_V = 0.0f;
         o->src = EST_SRC_TOLD;
-        o->hold = (uint16_t)(e->gate.reasons | EST_HOLD_SPEED_FLOOR);
+        o->hold = (uint16_t)(e->gate.reasons | e->hold_fixed | EST_HOLD_SPEED_FLOOR);
     }
     o->moved = (uint16_t)(moved | e->force);
     e->force = 0u;

@@ -49,7 +49,6 @@ bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *sm
     pe->valid = cfg_valid(cfg, smo);
     /* per update, every PARAM_EST_LAW_PERIODS periods */
     const float Tu_s = PARAM_EST_LAW_PERIODS * cfg->Ts_s;
-    pe->gamma_L_Tu = pe->valid ? cfg->gamma_L_1_s * Tu_s : 0.0f;
     pe->kpsi = pe->valid ? cfg->gamma_psi_1_s * Tu_s : 0.0f;
     pe->dL_max_H = pe->valid ? cfg->L_rate_max_H_s * Tu_s : 0.0f;
     pe->dpsi_max_Wb = pe->valid ? cfg->psi_rate_max_Wb_s * Tu_s : 0.0f;
@@ -62,6 +61,13 @@ void param_est_reset(param_est_t *pe)
     pe->running = false;
     pe->phase_psi = true; /* the first update is L^'s */
     pe->flags_last = 0u;
+    param_est_hold_L(pe, false);
+}
+
+void param_est_hold_L(param_est_t *pe, bool hold)
+{
+    /* the L law's gain: zero holds L^ without a test in the ISR's path */
+    pe->gamma_L_Tu = (pe->valid && !hold) ? pe->cfg.gamma_L_1_s * (PARAM_EST_LAW_PERIODS * pe->cfg.Ts_s) : 0.0f;
 }
 
 void param_est_run(param_est_t *pe, bool run)

@@ -66,7 +66,7 @@ typedef struct {
     param_est_cfg_t cfg;
     bool valid;
     bool running;             /* run/freeze switch; false after init and reset */
-    float gamma_L_Tu;         /* gamma_L Tu, per law step [1], Tu = PARAM_EST_LAW_PERIODS Ts */
+    float gamma_L_Tu;         /* gamma_L Tu, per law step [1], Tu = PARAM_EST_LAW_PERIODS Ts (0: L^ held) */
     float kpsi;               /* gamma_psi Tu [1] */
     float dL_max_H;           /* L_rate_max Tu: largest step of L^ per update [H] */
     float dpsi_max_Wb;        /* psi_rate_max Tu [Wb] */
@@ -88,6 +88,10 @@ void param_est_reset(param_est_t *pe);
 
 /* Run/freeze switch: run = true starts step 2 (after smo_set_R()). Background or ISR. */
 void param_est_run(param_est_t *pe, bool run);
+
+/* L^ held (hold = true) while psi^ goes on: an angle error would be
+ * learned as L (est.h). Cleared by param_est_reset. Background or ISR. */
+void param_est_hold_L(param_est_t *pe, bool hold);
 
 /* One period, after smo_step() of the same period: the transfer laws on
  * *smo with the measured iq_A(k) [A] and omega_el_rad_s(k) [rad/s]; psi^

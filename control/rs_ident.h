@@ -122,6 +122,8 @@ typedef struct {
     float R_se_Ohm;           /* standard error of R^ (0 until the solve got that far) */
     float R_se_max_Ohm;       /*   and the limit it was held to */
     float R_se_part_Ohm[2];   /* window j's share: |w_other| se(r_j) / |den| */
+    float angle_el_rad;       /* angle error the windows' dL_j suggest: (dL1 - dL2) / (psi_f (1/iq2 - 1/iq1))
+                               * [rad el] (est.c; 0 unless both |w iq| and the iq differ enough) */
     float R_d_axis_Ohm;       /* R^'s d-axis uncertainty |w1 w2 (id2 - id1) (dL1 - dL2) / den| where the d-axis
                                * correction exceeds se(R^)'s limit (est.c; else 0) */
     float r_se_V[2];          /* standard error of the residual's mean per window */

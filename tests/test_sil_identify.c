@@ -77,6 +77,39 @@ static int on_row(const sil_row_t *r, void *user)
 /* tools/scenarios/<name>.ini with the overrides (NULL-terminated), until duration_s. */
 static sil_result_t last_res;
 
+/* the angle case's step-2 rows: the warning, est_hold's bit, L^ */
+static long angle_rows;
+static long angle_warned;
+static double angle_L_dev;
+
+static int on_row_angle(const sil_row_t *r, void *user)
+{
+    if ((int)r->est == CTRL_IDENT_STEP2) {
+        const unsigned flags = (unsigned)r->flags;
+        const unsigned hold = (unsigned)r->est_hold;
+        angle_rows++;
+        if (((flags & CTRL_FLAG_ANGLE_SUSPECT) != 0u) && ((hold & CTRL_EST_HOLD_ANGLE) != 0u)) {
+            angle_warned++;
+        }
+        angle_L_dev = fmax(angle_L_dev, fabs(r->L_est_H / 0.011 - 1.0));
+    }
+    return on_row(r, user);
+}
+
+static fig_t run_with(const char *name, const char *const *sets, sil_row_fn fn)
+{
+    scenario_t sc;
+    static const char *const log_every_1[] = { "run.log_every=1", NULL };
+    fig_t f = { 0.0, 0.0, NAN, NAN, NAN, NAN, 0, 0.0, 0 };
+
+    sil_scenario_open(&sc, name);
+    sil_scenario_set(&sc, log_every_1);
+    sil_scenario_set(&sc, sets);
+    sil_scenario_finish(&sc);
+    assert_int_equal(sil_run(&sc, fn, &f, &last_res), 0);
+    return f;
+}
+
 static fig_t run(const char *name, const char *const *sets)
 {
     scenario_t sc;
@@ -292,6 +325,31 @@ static void field_weakened_step1_refused(void **state)
     assert_true(isnan(p.R_first)); /* no step 2 */
 }
 
+/* An encoder count jump of 46 (4.97 el. deg) at 0.1 s, 1500 r/min, 4 N m:
+ * step 1's windows (2 and 4 N m) read the angle error from their dL_j
+ * (observer_design.md sec. 6h): flag 0x0800 and est_hold 0x0080 in step
+ * 2, L^ held at the told (exact) value instead of -51 %, no fault. */
+static void angle_error_holds_L(void **state)
+{
+    const char *const sets[] = { "plant.model=switching", "reference.speed_rpm=0:0, 0.2:1500~",
+                                 "faults.encoder_jump_s=0.1", "faults.encoder_jump_counts=46",
+                                 "run.duration_s=1.2", NULL };
+    (void)state;
+    angle_rows = 0;
+    angle_warned = 0;
+    angle_L_dev = 0.0;
+    const fig_t p = run_with("prop_paper", sets, on_row_angle);
+    print_message("encoder 5 el. deg off: step 2 rows %ld, warned %ld, max |L^/L - 1| %.3f %%\n", angle_rows,
+                  angle_warned, 100.0 * angle_L_dev);
+    assert_int_equal((int)p.state, APP_STATE_RUN);
+    assert_int_equal((int)p.fault, APP_FAULT_NONE);
+    assert_true(angle_rows > 0);
+    /* every step-2 row but the first: its flags are those of the period
+     * whose end started step 2 */
+    assert_true(angle_warned >= angle_rows - 1);
+    assert_true(angle_L_dev <= 0.05);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -304,6 +362,7 @@ int main(void)
         cmocka_unit_test(speeds_mode_repeats_both_windows),
         cmocka_unit_test(refusal_runs_conventional_with_the_warning),
         cmocka_unit_test(field_weakened_step1_refused),
+        cmocka_unit_test(angle_error_holds_L),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
