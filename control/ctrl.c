@@ -297,6 +297,7 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
               (mathx_fabsf(e->psi_f_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb)))) {
             dbdtc_set_params(&c->db, e->R_Ohm, e->L_H, e->psi_f_Wb);
             c->model_src = MODEL_EST;
+            c->mon.model_from_observer = 1u; /* the monitor's, written when it changes */
         }
         if (e->src == EST_SRC_OBSERVER) {
             return dbdtc_state_from_currents(&c->db, est_i_hat_A(&c->est)); /* replaces eq. (10) */
@@ -306,6 +307,7 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
     if (c->model_src != MODEL_NOMINAL) {
         dbdtc_reset(&c->db); /* back to the told model: 2 divisions once */
         c->model_src = MODEL_NOMINAL;
+        c->mon.model_from_observer = 0u;
     }
     return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s); /* eq. (10)-(12) */
 }
@@ -512,7 +514,6 @@ static void stage_monitor(ctrl_t *c, const ctrl_period_t *p)
     c->mon.te_est_Nm = p->x.te_Nm;
     c->mon.psi_ref_Wb = p->psi_ref;
     c->mon.psi_est_Wb = mathx_sqrtf(p->x.psi_dq_Wb.d * p->x.psi_dq_Wb.d + p->x.psi_dq_Wb.q * p->x.psi_dq_Wb.q);
-    c->mon.model_from_observer = (c->model_src == MODEL_EST) ? 1u : 0u;
 }
 
 /* Stage output: one finiteness check per ISR (NaN and Inf survive a sum;

@@ -270,12 +270,16 @@ rs_ident_result_t est_rsid_finish(est_t *e)
         /* a suspected angle error would be learned as L: L^ held, a warning (sec. 6h) */
         const bool suspect = !(mathx_fabsf(e->rsid_out.angle_el_rad) <= EST_ANGLE_SUSPECT_RAD);
         param_est_hold_L(&e->pe, suspect);
+        psi_band_hold(&e->pb, suspect); /* the told model, the conventional path */
         e->hold_fixed = suspect ? EST_HOLD_ANGLE : 0u;
         e->rt_flags = suspect ? EST_FLAG_ANGLE_SUSPECT : 0u;
         e->out.hold = e->hold_fixed;
         e->out.flags = e->rt_flags;
-        /* first the inverter error, at R^ = R0 (design sec. 9) */
-        r_track_start(&e->rt, R_TRACK_IDENT);
+        if (!suspect) {
+            /* first the inverter error, at R^ = R0 (design sec. 9); not with the
+             * told model held: its injection would only disturb the torque */
+            r_track_start(&e->rt, R_TRACK_IDENT);
+        }
     } else {
         e->phase = EST_OFF;
         out_told(e);

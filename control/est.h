@@ -171,6 +171,14 @@ bool est_start_trusted(est_t *e, float R_Ohm);
  * the holds. ISR. */
 void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A);
 
+/* est_hold while psi_band's `low` holds the model: the gate's reasons,
+ * the speed floor when it is the speed, the angle hold. ISR. */
+static inline uint16_t est_hold_low(const est_t *e)
+{
+    const uint16_t floor = ((e->pb.low & (PSI_BAND_LOW_W | PSI_BAND_LOW_BAND)) != 0u) ? EST_HOLD_SPEED_FLOOR : 0u;
+    return (uint16_t)(e->gate.reasons | e->hold_fixed | floor);
+}
+
 /* Step 2's part of est_step after the observer: the gate (pause,
  * restore), the transfer laws at the speed floor, the model's psi_f and
  * the floor; then the model and its status. ISR. */
@@ -205,12 +213,12 @@ static inline void est_step2(est_t *e, const est_in_t *in)
         o->inv_dv_V = e->inv_dv_V;
         /* f^ carries a current transient: eq. (10) with the held estimates (design sec. 7) */
         o->src = est_gate_f_usable(&e->gate) ? EST_SRC_OBSERVER : EST_SRC_HELD;
-        o->hold = (uint16_t)(e->gate.reasons | e->hold_fixed);
+        o->hold = e->gate.reasons; /* (an angle hold keeps pb.low set: the branches below) */
         e->trusted = e->known;
     } else if (e->trusted) {
         /* below the floor: the last trusted model (as it is in *o), eq. (10) */
         o->src = EST_SRC_HELD;
-        o->hold = (uint16_t)(e->gate.reasons | e->hold_fixed | EST_HOLD_SPEED_FLOOR);
+        o->hold = est_hold_low(e);
         moved = 0u;
     } else {
         /* below the floor, nothing trusted: the told model, the conventional path */
@@ -219,7 +227,7 @@ static inline void est_step2(est_t *e, const est_in_t *in)
         o->psi_f_Wb = e->cfg.psi_f_Wb;
         o->inv_dv_V = 0.0f;
         o->src = EST_SRC_TOLD;
-        o->hold = (uint16_t)(e->gate.reasons | e->hold_fixed | EST_HOLD_SPEED_FLOOR);
+        o->hold = est_hold_low(e);
     }
     o->moved = (uint16_t)(moved | e->force);
     e->force = 0u;

@@ -62,6 +62,11 @@ void psi_band_rebase(psi_band_t *pb, float dfq_V)
     pb->h_Wb = pb->anchor_Wb;
 }
 
+void psi_band_hold(psi_band_t *pb, bool hold)
+{
+    pb->low = hold ? (uint16_t)(pb->low | PSI_BAND_LOW_HELD) : (uint16_t)(pb->low & (uint16_t)~PSI_BAND_LOW_HELD);
+}
+
 void psi_band_bound_final(psi_band_t *pb)
 {
     pb->final = true;
@@ -70,7 +75,7 @@ void psi_band_bound_final(psi_band_t *pb)
 void psi_band_pause(psi_band_t *pb, float omega_el_rad_s)
 {
     pb->k = 0u;
-    pb->low = (mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s) ? (uint16_t)(pb->low & PSI_BAND_LOW_BAND)
+    pb->low = (mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s) ? (uint16_t)(pb->low & (uint16_t)~PSI_BAND_LOW_W)
                                                                    : (uint16_t)(pb->low | PSI_BAND_LOW_W);
 }
 
@@ -98,7 +103,7 @@ bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_
                         pb->cfg.unc_abs_V) * mathx_fabsf(inv_w);
     const float band_max = pb->cfg.unexplained_max * mathx_fabsf(pb->P_Wb);
     const float band_in = ((pb->low & PSI_BAND_LOW_BAND) != 0u) ? (PSI_BAND_LOW_HYST * band) : band;
-    pb->low = (pb->final && (band_in > band_max)) ? PSI_BAND_LOW_BAND : 0u;
+    pb->low = (uint16_t)(((pb->final && (band_in > band_max)) ? PSI_BAND_LOW_BAND : 0u) | (pb->low & PSI_BAND_LOW_HELD));
     if (!pb->track && (mathx_fabsf(pb->P_Wb - pb->h_Wb) > 2.0f * band)) {
         pb->track = true; /* h is off by more than P can be */
         pb->n = 0u;

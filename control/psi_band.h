@@ -54,6 +54,7 @@
 #define PSI_BAND_LOW_HYST              1.2f  /* leave the floor at 1/1.2 of that: no chatter at the floor */
 #define PSI_BAND_LOW_W    0x0001u /* |w| <= w_min (set at once; cleared at the next decision or pause above) */
 #define PSI_BAND_LOW_BAND 0x0002u /* Vb/|w| > unexplained_max |P| (every decision, once the bound is final) */
+#define PSI_BAND_LOW_HELD 0x0004u /* the caller holds the model at every speed (psi_band_hold) */
 
 typedef struct {
     float Ts_s;            /* control period [s] */
@@ -111,6 +112,10 @@ void psi_band_rebase(psi_band_t *pb, float dfq_V);
 /* The inverter error could not be identified: the coarse bound stays,
  * and is final (the speed floor decides from now on). ISR. */
 void psi_band_bound_final(psi_band_t *pb);
+
+/* The caller holds the model at every speed (hold = true: `low` keeps
+ * PSI_BAND_LOW_HELD until psi_band_start or hold = false). ISR. */
+void psi_band_hold(psi_band_t *pb, bool hold);
 
 /* Learning paused (the step-2 gate) at w [rad/s electrical]: the next
  * psi_band_step takes 1/w afresh; PSI_BAND_LOW_W follows w. ISR. */
