@@ -195,6 +195,27 @@ typedef struct {
     ctrl_mon_t mon;
 } ctrl_t;
 
+/* The observer's switching gain, boundary layer and the disturbance
+ * error condition (36) must dominate (smo_cfg_t Ks_V, phi_A, ef_max_V). */
+typedef struct {
+    float Ks_V;                 /* switching gain [V] */
+    float phi_A;                /* boundary layer [A]; G = Ks/phi [V/A] */
+    float ef_max_V;             /* |f^ - f| (36) must dominate [V] */
+} ctrl_obs_gains_t;
+
+/* Background: smo.h's design defaults (Table I: 100 V, 2.5 A, 50 V). */
+void ctrl_obs_gains_default(ctrl_obs_gains_t *g);
+
+/* Background: the gains for a motor (observer_design.md sec. 3b): Ks =
+ * 2 ef_max_V ((36) with R^ up to 0.45 G and a 10 % margin), phi = phi_A
+ * unless G = Ks/phi would pass the discrete stability bound with L^'s
+ * floor at half the told L_H and the margin OBS_L_MIN_STABILITY_MARGIN
+ * (*G_max_V_A), then phi = Ks / G_max. Returns false (g filled all the
+ * same) when the band's top 0.45 G leaves out R_Ohm, or G_max <= 0: no
+ * gain satisfies both bounds. */
+bool ctrl_obs_gains_design(float Ts_s, float R_Ohm, float L_H, float ef_max_V, float phi_A,
+                           ctrl_obs_gains_t *g, float *G_max_V_A);
+
 /* Fills the proposed method's settings of *cfg from its other fields
  * (set those first) with the modules' design defaults, the R^ band
  * [R_min_Ohm, R_max_Ohm] (absolute: the nominal R may be far from the
@@ -202,11 +223,17 @@ typedef struct {
  * Background, before ctrl_init. */
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
 
+/* As ctrl_cfg_proposed_defaults with the observer's gains *g. Background. */
+void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, const ctrl_obs_gains_t *g);
+
 /* The default R^ band for cfg->R_Ohm (set it first): rs_ident.h's
  * RS_IDENT_BAND_*_FACTOR x R_Ohm, the top kept below the largest R^ the
  * observer's default gains take under condition (36) (observer_design.md
  * sec. 6), and not below R_Ohm. Background, before ctrl_cfg_proposed_defaults. */
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
+
+/* As ctrl_rsid_band_default under condition (36) with the gains *g. Background. */
+void ctrl_rsid_band_with(const ctrl_cfg_t *cfg, const ctrl_obs_gains_t *g, float *R_min_Ohm, float *R_max_Ohm);
 
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method
  * conventional. Returns the set of refusals of every block (CTRL_CFG_*):

@@ -15,7 +15,7 @@ static void cfg_default_is_the_board(void **state)
     assert_float_equal(cfg.ctrl.Ts_s, 1e-4, 1e-9);
     assert_float_equal(cfg.ctrl.R_Ohm, MOTOR_R_OHM, 0.0);
     assert_int_equal(cfg.ctrl.enc_lines, BOARD_ENC_LINES);
-    assert_float_equal(cfg.prot.i_max_A, BOARD_OVERCURRENT_A, 0.0);
+    assert_float_equal(cfg.prot.i_max_A, 14.0, 0.0); /* the reference design, to the bit */
     assert_float_equal(cfg.prot.vdc_max_V, BOARD_VDC_MAX_V, 0.0);
     assert_float_equal(cfg.prot.vdc_min_V, BOARD_VDC_MIN_V, 0.0);
     assert_float_equal(cfg.prot.speed_max_rad_s, SPEED_MAX, 1e-3);
@@ -25,7 +25,7 @@ static void cfg_default_is_the_board(void **state)
     assert_int_equal(cfg.cal.samples, BOARD_CAL_SAMPLES);
     assert_float_equal(cfg.cal.offset_max_A, BOARD_I_OFFSET_MAX_A, 0.0);
     assert_true(cfg.align == (BOARD_ENC_OFFSET_KNOWN == 0u));
-    assert_float_equal(cfg.aln.u_V, BOARD_ALIGN_CURRENT_A * MOTOR_R_OHM, 1e-6); /* 9 V */
+    assert_float_equal(cfg.aln.u_V, 3.0 * MOTOR_R_OHM, 0.0); /* 3 A x 3 Ohm, to the bit */
     assert_float_equal(cfg.aln.prepos_el_rad, BOARD_ALIGN_PREPOS_EL_DEG * PI_F / 180.0f, 1e-6);
     assert_float_equal(cfg.aln.prepos_s, BOARD_ALIGN_PREPOS_S, 0.0);
     assert_float_equal(cfg.aln.settle_s, BOARD_ALIGN_SETTLE_S, 0.0);
