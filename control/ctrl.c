@@ -372,7 +372,10 @@ static void start_tracking(ctrl_t *c)
     /* psi^ learns only where w psi_f dominates what the identification may have left */
     const float w_min = r_track_w_psi_min(&c->rt, c->cfg.psi_f_Wb);
     c->pe.cfg.w_min_rad_s = (w_min > c->cfg.pe.w_min_rad_s) ? w_min : c->cfg.pe.w_min_rad_s;
-    r_track_start(&c->rt, (c->cfg.track_R != 0u) ? R_TRACK_TRACK : R_TRACK_OFF);
+    r_track_start(&c->rt, (c->cfg.track_R != CTRL_TRACK_R_OFF) ? R_TRACK_TRACK : R_TRACK_OFF);
+    if (c->cfg.track_R == CTRL_TRACK_R_AUTO) {
+        r_track_delay(&c->rt, c->cfg.rtrack.auto_delay_periods);
+    }
 }
 
 /* Step 2 starts: estimator running, R tracked when configured. */
@@ -495,6 +498,11 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
         /* u(k) is the clamped voltage the last step realised, as the observer needs */
         const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
         if (c->rt.phase != R_TRACK_OFF) {
+            if ((c->lim.dpsi_Wb > 0.0f) || ((c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u) ||
+                ((c->gate.reasons & (EST_GATE_CURRENT | EST_GATE_TORQUE)) != 0u)) {
+                /* tracking only: field weakened, voltage at its limit, a current or torque step (last period) */
+                r_track_hold(&c->rt);
+            }
             ctrl_r_track_step(c, i_dq_A, omega_el_rad_s); /* may end step 1 */
         }
         if (c->ident == CTRL_IDENT_STEP1) {

@@ -75,6 +75,13 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
 #define CTRL_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f holds (within what the voltage it cannot explain allows; design sec. 9f) */
 
+/* ctrl_cfg_t.track_R: off; on from step 2's start; auto from
+ * rtrack.auto_delay_periods after it (step 1's R^ holds that long: a
+ * winding's thermal time constant is minutes; design sec. 9d). */
+#define CTRL_TRACK_R_OFF  0u
+#define CTRL_TRACK_R_ON   1u
+#define CTRL_TRACK_R_AUTO 2u
+
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
     float R_Ohm;               /* controller's stator resistance (may differ from the motor's) */
@@ -107,7 +114,7 @@ typedef struct {
     param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
-    uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection (design sec. 9) */
+    uint16_t track_R;           /* CTRL_TRACK_R_*: R^ tracked in step 2 by the injection (design sec. 9d) */
     est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
 } ctrl_cfg_t;
 

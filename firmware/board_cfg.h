@@ -31,6 +31,7 @@
 #define REF_J_KGM2               0.00129f     /* [kg m^2] */
 #define REF_SPEED_BW_RAD_S       387.596899f  /* speed-loop crossover: 0.5 / 0.00129 [rad/s] */
 #define REF_PSI_F_WB             0.24f        /* [Wb] */
+#define REF_R_OHM                3.0f         /* [Ohm] */
 /* limits (sec. 2): the targets' current limit above i_peak; the software
  * trip above it by a period of deadbeat overshoot and the ripple, at most
  * 14/15 of the ADC's range; overspeed 1.2 x n_max */
@@ -118,7 +119,7 @@
 #define BOARD_RSID_WINDOW_MAX_S  0.3f         /* window 2 lengthened up to this while se(R^) is too large [s] */
 #define BOARD_RSID_REPEATS_MAX   2U           /* speeds mode: both windows repeated at most this often [-] */
 #define BOARD_RSID_ON_REFUSAL    0U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning [-] */
-#define BOARD_TRACK_R            0U           /* 1: R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9) [-] */
+#define BOARD_TRACK_R            2U           /* CTRL_TRACK_R_*: 0 off, 1 on, 2 auto (1 s after step 2): R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9d; held while the field is weakened, at the voltage limit or in a current step) [-] */
 
 /* The proposed method's amplitudes and thresholds (params_design.md
  * sec. 5), at the reference; scaled by the rated current (I), the rated
@@ -128,16 +129,17 @@
 #define REF_EST_DI_MAX_A         0.5f         /* (I) est_gate: current step that pauses step 2 [A] */
 #define REF_EST_DTE_MAX_NM       0.3f         /* (T) est_gate: torque-reference step [N m] */
 #define REF_RT_I_IDENT_A         1.0f         /* (I) r_track: injection identifying the inverter error [A] */
-#define REF_RT_I_TRACK_A         0.5f         /* (I) r_track: injection tracking R [A] */
+#define REF_RT_I_TRACK_A         0.5f         /* r_track: injection tracking R: R I (1.5 V) in proportion to the bus [A] */
+#define RT_I_TRACK_MAX_PER_RATED 0.25f        /* ... at most this x i_rated [-] */
 #define REF_RT_IQ_MIN_A          1.0f         /* (I) r_track: |iq| below: cycle held [A] */
 #define REF_RT_IQ_STEP_A         0.2f         /* (I) r_track: iq change within a cycle: held [A] */
 #define REF_RT_VE_MAX_V          20.0f        /* (V) r_track: |Ve| beyond: no inverter error [V] */
 /* The estimator's speed floor: w psi_f against the voltage the drive
- * cannot explain, (4/pi)(bus x dead-time uncertainty x f_s + device
- * drop): 30 rad/s el for psi_f 0.24 Wb at 311 V; scaled by that voltage
- * over psi_f. |w iq| floor of L^: w_min x 1 A at the rated current. */
+ * cannot explain, (4/pi) bus (dead-time uncertainty x f_s + device drop
+ * per bus): 30 rad/s el for psi_f 0.24 Wb at 311 V; scaled by that
+ * voltage over psi_f. |w iq| floor of L^: w_min x 1 A at the rated current. */
 #define EST_DT_UNC_S             0.1e-6f      /* dead time left unknown once measured [s] */
-#define EST_DROP_UNC_V           1.0f         /* device on-state drop left unknown [V] */
+#define EST_DROP_UNC_PER_VDC     (1.0f / 311.0f) /* device on-state drop left unknown, x bus: 1 V at 311 V (the devices' voltage class follows the bus) [-] */
 #define REF_EST_W_MIN_RAD_S      30.0f        /* [rad/s el] */
 #define REF_EST_WIQ_MIN_A_RAD_S  30.0f        /* (I, x w_min) [A rad/s] */
 /* Speed PI: kp = J w_c; its integral corner w_i = ki/kp in proportion to

@@ -136,11 +136,11 @@ bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float 
                                  scaled(REF_OBS_PHI_A, p->rating.i_rated_A, REF_I_RATED_A), g, G_max_V_A);
 }
 
-/* The voltage the drive cannot explain [V]: (4/pi)(bus x dead-time
- * uncertainty x f_s + device drop). */
+/* The voltage the drive cannot explain [V]: (4/pi) bus (dead-time
+ * uncertainty x f_s + device drop per bus). */
 static float unexplained_V(float vdc_V, float Ts_s)
 {
-    return FUNDAMENTAL_OF_SQUARE * (vdc_V * EST_DT_UNC_S / Ts_s + EST_DROP_UNC_V);
+    return FUNDAMENTAL_OF_SQUARE * vdc_V * (EST_DT_UNC_S / Ts_s + EST_DROP_UNC_PER_VDC);
 }
 
 /* sec. 5: step 2's thresholds, the injections and the speed floor. */
@@ -152,7 +152,9 @@ static void estimator_from(const drive_params_t *p, ctrl_cfg_t *c)
     c->gate.di_max_A = scaled(REF_EST_DI_MAX_A, i_r, REF_I_RATED_A);
     c->gate.dte_max_Nm = scaled(REF_EST_DTE_MAX_NM, T_r, REF_T_RATED_NM);
     c->rtrack.i_ident_A = scaled(REF_RT_I_IDENT_A, i_r, REF_I_RATED_A);
-    c->rtrack.i_track_A = scaled(REF_RT_I_TRACK_A, i_r, REF_I_RATED_A);
+    /* R I against the PWM's voltage noise, which scales with the bus */
+    c->rtrack.i_track_A = min_f(scaled(REF_RT_I_TRACK_A, vdc / p->motor.R_Ohm, REF_VDC_V / REF_R_OHM),
+                                RT_I_TRACK_MAX_PER_RATED * i_r);
     c->rtrack.iq_min_A = scaled(REF_RT_IQ_MIN_A, i_r, REF_I_RATED_A);
     c->rtrack.iq_step_max_A = scaled(REF_RT_IQ_STEP_A, i_r, REF_I_RATED_A);
     c->rtrack.ve_max_V = scaled(REF_RT_VE_MAX_V, vdc, REF_VDC_V);

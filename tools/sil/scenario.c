@@ -40,6 +40,7 @@ static const char *const PHASE_NAMES[] = { "a", "b", "c", NULL };
 static const char *const PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
 static const char *const CHANNEL_NAMES[] = { "a", "b", NULL };
 static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
+static const char *const TRACK_NAMES[] = { "off", "on", "auto", NULL };
 
 /* Keys whose default is not text of this table but a configuration's
  * value: the drive's parameter set (firmware/drive_params.h, the board's
@@ -144,8 +145,8 @@ static const sc_key_t KEYS[] = {
          "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large"),
     ENUM("identify", "on_refusal", identify.on_refusal, PARAMS, REFUSAL_NAMES,
          "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
-    ENUM("identify", "track_R", identify.track_R, PARAMS, ONOFF_NAMES,
-         "off | on: R^ tracked in step 2 by a d-current injection (a warming winding)"),
+    ENUM("identify", "track_R", identify.track_R, PARAMS, TRACK_NAMES,
+         "off | on | auto: R^ tracked in step 2 by a d-current injection (a warming winding); auto: from 1 s after step 2, held while the field is weakened, at the voltage limit or in a current step"),
 
     PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
     PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),

@@ -78,7 +78,7 @@ typedef struct {
         double R_se_max_rel, batch_s, window_max_s;
         uint32_t repeats_max;
         uint32_t on_refusal;       /* sc_refusal_t */
-        uint32_t track_R;          /* sc_onoff_t: R^ tracked in step 2 (ctrl_cfg_t.track_R) */
+        uint32_t track_R;          /* off | on | auto: R^ tracked in step 2 (ctrl_cfg_t.track_R, CTRL_TRACK_R_*) */
     } identify;
     struct {
         profile_t speed_rpm, torque_Nm, ud_V, uq_V;
