@@ -22,3 +22,7 @@ TEST_LIBS_test_protect  := firmware control
 TEST_SRCS_test_protect  := tests/mock_hal.c
 TEST_LIBS_test_rsid_seq := firmware control
 TEST_SRCS_test_rsid_seq := tests/mock_hal.c
+
+# What runs before the drive: the flash CRC check and the start-up faults.
+TEST_LIBS_test_startup := firmware control
+TEST_SRCS_test_startup := tests/mock_hal.c

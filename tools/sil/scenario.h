@@ -119,11 +119,11 @@ int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen);
 /* Apply one "section.key=value" override. Returns 0, or -1 with err filled. */
 int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen);
 
-/* Cross-key checks (absolute vs factor; method = proposed needs step 1 or a
- * trusted R: no silent fallback to the conventional method), resolution of the controller's
- * R, L, psi_f, J, B to absolute values and of the derived keys (drive_params_derive: a
- * motor the drive cannot run refused, naming the keys; warnings in derive_status).
- * Call once after loading. Returns 0, or -1 with err. */
+/* Cross-key checks (absolute vs factor; plausibility bounds, the controller's after its factor;
+ * method = proposed needs step 1 or a trusted R: no silent fallback to the conventional method),
+ * resolution of the controller's R, L, psi_f, J, B to absolute values and of the derived keys
+ * (drive_params_derive: a motor the drive cannot run refused, naming the keys; warnings in
+ * derive_status). Call once after loading. Returns 0, or -1 with err. */
 int scenario_finish(scenario_t *sc, char *err, size_t errlen);
 
 /* The drive's parameter set of a finished scenario (Ts: the simulated board's).
@@ -138,5 +138,8 @@ void scenario_warnings(const scenario_t *sc, char *buf, size_t len);
 
 /* The key table as help text: section, key, default, meaning. */
 void scenario_print_keys(FILE *f);
+
+/* The plausibility bounds scenario_finish() checks, as help text. */
+void scenario_print_bounds(FILE *f);
 
 #endif /* SCENARIO_H */
