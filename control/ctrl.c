@@ -498,9 +498,8 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
         /* u(k) is the clamped voltage the last step realised, as the observer needs */
         const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
         if (c->rt.phase != R_TRACK_OFF) {
-            if ((c->lim.dpsi_Wb > 0.0f) || ((c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u) ||
-                ((c->gate.reasons & (EST_GATE_CURRENT | EST_GATE_TORQUE)) != 0u)) {
-                /* tracking only: field weakened, voltage at its limit, a current or torque step (last period) */
+            if ((c->lim.dpsi_Wb > 0.0f) || ((c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u)) {
+                /* tracking only: the field weakened or the voltage at its limit (last period) */
                 r_track_hold(&c->rt);
             }
             ctrl_r_track_step(c, i_dq_A, omega_el_rad_s); /* may end step 1 */

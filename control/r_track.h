@@ -144,7 +144,7 @@ void r_track_delay(r_track_t *rt, uint16_t periods);
 
 /* TRACK: the cycle under way dropped, no injection until a segment
  * after the last call (the field weakened or the voltage at its limit:
- * the injection would not be what the demodulation assumes, design
+ * the cycle would read the weakening loop or the clamp, not R; design
  * sec. 9d); nothing in other phases. ISR. */
 void r_track_hold(r_track_t *rt);
 

@@ -18,10 +18,10 @@ void app_cfg_default(app_cfg_t *cfg)
     drive_params_to_app_cfg(&p, cfg);
     cfg->prot.watch.op_window_s = BOARD_OPEN_PHASE_WINDOW_S;
     cfg->prot.watch.op_ratio = BOARD_OPEN_PHASE_RATIO;
-    cfg->prot.watch.stuck_delta_A = BOARD_I_STUCK_DELTA_A;
     cfg->prot.watch.stuck_angle_el_rad = BOARD_I_STUCK_ANGLE_EL_DEG * RAD_PER_DEG;
     cfg->prot.watch.stuck_span_A = BOARD_I_STUCK_SPAN_A;
     cfg->prot.watch.stuck_zero_A = BOARD_I_STUCK_ZERO_A;
+    cfg->prot.watch.stuck_min_periods = (uint32_t)BOARD_I_STUCK_MIN_PERIODS;
     cfg->prot.watch.enc_lost_counts = BOARD_ENC_LOST_COUNTS;
     cfg->prot.watch.enc_stall_s = BOARD_ENC_STALL_S;
     cfg->prot.watch.enc_stall_te_frac = BOARD_ENC_STALL_TE_FRAC;

@@ -56,7 +56,8 @@
 #define REF_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i| to judge by, at REF_I_RATED_A [A] */
 #define BOARD_OPEN_PHASE_RATIO     0.2f       /* mean |i_x| / mean |i| below it: no current in phase x [-] */
 #define REF_OPEN_PHASE_U_MIN_V   25.0f      /* ... while phase x was given this mean |u_x|, at REF_VDC_V [V] */
-/* Frozen current reading: half an ADC step is "unchanged". In a net turn
+/* Frozen current reading: half an ADC step of the range is "unchanged"
+ * (drive_params.c, from the ADC range). In a net turn
  * of 15 deg el a field-oriented current |i| moves each reading by at least
  * |i| (1 - cos 7.5 deg) = 0.0086 |i| and the other by at most
  * 2 |i| sin 7.5 deg = 0.26 |i|: the other sweeping 0.5 A means |i| >= 1.9 A,
@@ -64,10 +65,14 @@
  * 100 r/min the frozen reading's runaway reaches the overcurrent trip in
  * 13-21 ms, 15 deg takes 8 ms. A reading frozen near zero is what an open
  * phase gives too: OPEN_PHASE judges that one. */
-#define BOARD_I_STUCK_DELTA_A    (0.5f * BOARD_I_GAIN_A_PER_V * BOARD_ADC_FULL_SCALE_V / BOARD_ADC_COUNTS) /* [A] */
 #define BOARD_I_STUCK_ANGLE_EL_DEG 15.0f      /* net rotor turn with one reading unchanged [deg el] */
 #define BOARD_I_STUCK_SPAN_A     0.5f         /* ... while the other reading swept this [A] */
 #define BOARD_I_STUCK_ZERO_A     0.1f         /* ... and the frozen reading is beyond +- this [A] */
+/* ... for at least 16 periods: ADC noise of 2 codes rms keeps a code
+ * 0.2 of the periods, 16 in a row 1e-11 (4 periods at 4 pole pairs,
+ * 1500 r/min: 1e-3, a false trip within seconds); at Table I's 100 r/min
+ * the 15 deg take 83 periods, at 2000 r/min 4 (then 1.6 ms). */
+#define BOARD_I_STUCK_MIN_PERIODS 16U         /* [periods] */
 /* Lost encoder: the PLL (500 rad/s) runs on past a count that stops from
  * speed; a healthy count lags the estimate by a few counts (a full-torque
  * reversal: about 16), so 100 counts (3.6 deg) is a lost signal. At low
@@ -119,7 +124,7 @@
 #define BOARD_RSID_WINDOW_MAX_S  0.3f         /* window 2 lengthened up to this while se(R^) is too large [s] */
 #define BOARD_RSID_REPEATS_MAX   2U           /* speeds mode: both windows repeated at most this often [-] */
 #define BOARD_RSID_ON_REFUSAL    0U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning [-] */
-#define BOARD_TRACK_R            2U           /* CTRL_TRACK_R_*: 0 off, 1 on, 2 auto (1 s after step 2): R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9d; held while the field is weakened, at the voltage limit or in a current step) [-] */
+#define BOARD_TRACK_R            2U           /* CTRL_TRACK_R_*: 0 off, 1 on, 2 auto (1 s after step 2): R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9d; held while the field is weakened or the voltage at its limit) [-] */
 
 /* The proposed method's amplitudes and thresholds (params_design.md
  * sec. 5), at the reference; scaled by the rated current (I), the rated
@@ -130,7 +135,7 @@
 #define REF_EST_DTE_MAX_NM       0.3f         /* (T) est_gate: torque-reference step [N m] */
 #define REF_RT_I_IDENT_A         1.0f         /* (I) r_track: injection identifying the inverter error [A] */
 #define REF_RT_I_TRACK_A         0.5f         /* r_track: injection tracking R: R I (1.5 V) in proportion to the bus [A] */
-#define RT_I_TRACK_MAX_PER_RATED 0.25f        /* ... at most this x i_rated [-] */
+#define RT_I_TRACK_MAX_PER_RATED 0.1f         /* ... at most this x i_rated [-] */
 #define REF_RT_IQ_MIN_A          1.0f         /* (I) r_track: |iq| below: cycle held [A] */
 #define REF_RT_IQ_STEP_A         0.2f         /* (I) r_track: iq change within a cycle: held [A] */
 #define REF_RT_VE_MAX_V          20.0f        /* (V) r_track: |Ve| beyond: no inverter error [V] */

@@ -202,6 +202,8 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     cfg->prot.speed_max_rad_s = p->limits.speed_max_rad_s;
     cfg->prot.isr_period_cycles = p->board.isr_period_cycles;
     cfg->prot.isr_budget_cycles = p->board.isr_budget_cycles;
+    /* half an ADC step of the current range (+- full scale over the counts) */
+    cfg->prot.watch.stuck_delta_A = p->board.i_full_scale_A / BOARD_ADC_COUNTS;
     cfg->prot.watch.op_i_min_A = scaled(REF_OPEN_PHASE_I_MIN_A, p->rating.i_rated_A, REF_I_RATED_A);
     cfg->prot.watch.op_u_min_V = scaled(REF_OPEN_PHASE_U_MIN_V, p->board.vdc_nominal_V, REF_VDC_V);
     cfg->aln.u_V = scaled(REF_ALIGN_CURRENT_A, p->rating.i_rated_A, REF_I_RATED_A) * p->motor.R_Ohm;

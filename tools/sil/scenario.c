@@ -147,7 +147,7 @@ static const sc_key_t KEYS[] = {
     ENUM("identify", "on_refusal", identify.on_refusal, PARAMS, REFUSAL_NAMES,
          "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
     ENUM("identify", "track_R", identify.track_R, PARAMS, TRACK_NAMES,
-         "off | on | auto: R^ tracked in step 2 by a d-current injection (a warming winding); auto: from 1 s after step 2, held while the field is weakened, at the voltage limit or in a current step"),
+         "off | on | auto: R^ tracked in step 2 by a d-current injection (a warming winding); auto: from 1 s after step 2; both held while the field is weakened or the voltage at its limit"),
 
     PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
     PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),
