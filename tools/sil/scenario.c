@@ -7,7 +7,6 @@
 #include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -191,6 +190,12 @@ typedef char sc_key_table_fits[(N_KEYS <= SCENARIO_MAX_KEYS) ? 1 : -1];
 static void *field(scenario_t *sc, const sc_key_t *k)
 {
     return (char *)sc + k->offset;
+}
+
+/* A K_REAL key's value in a scenario read only. */
+static double real_value(const scenario_t *sc, const sc_key_t *k)
+{
+    return *(const double *)(const void *)((const char *)sc + k->offset);
 }
 
 static int find_key(const char *section, const char *name, int *section_known)
@@ -837,7 +842,7 @@ void scenario_params(const scenario_t *sc, drive_params_t *p)
         int known = 0;
         const sc_derived_t *d = &DERIVED_KEYS[j];
         const int i = find_key(d->section, d->name, &known);
-        const double v = *(const double *)field((scenario_t *)(uintptr_t)sc, &KEYS[i]);
+        const double v = real_value(sc, &KEYS[i]);
         *(float *)(void *)((char *)p + d->p_offset) = told_or_derived(v, d->scale);
     }
 }
