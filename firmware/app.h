@@ -61,6 +61,10 @@
  * `flags` carries both. Cleared at the next start. */
 #define APP_WARN_STEP1_REFUSED 0x1000u /* step 1 refused R^ (rsid_refusal says why): conventional method */
 
+/* CONFIG's snapshot value: ctrl_init's refusals (ctrl_status_t, bits up to
+ * 0x0100) | app_cfg_t.params_refused shifted this far. */
+#define APP_PARAMS_REFUSED_SHIFT 12u
+
 /* The app's configuration: the controller's, and each piece's own (the
  * step's init takes it as it is: one home per value). */
 typedef struct {
@@ -71,6 +75,8 @@ typedef struct {
     bool align;                 /* encoder offset unknown: align the rotor once per power-up */
     align_cfg_t aln;            /* ALIGN (align.h) */
     rsid_seq_cfg_t rsid;        /* IDENTIFY_R: step 1 of the proposed method and its refusal policy (rsid_seq.h) */
+    uint16_t params_refused;    /* drive_params_derive's refusals of the ratings and the ADC range
+                                 * (DRIVE_DERIVE_RATINGS, _ADC_RANGE; 0: none): a start faults CONFIG */
 } app_cfg_t;
 
 /* The operator's input: references, mode, method (app_request_op). */

@@ -175,7 +175,7 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     float R_min_Ohm;
     float R_max_Ohm;
 
-    (void)drive_params_derive(&d);
+    cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));
     c->Ts_s = p->board.Ts_s;
     c->R_Ohm = p->motor.R_Ohm;
     c->L_H = p->motor.L_H;

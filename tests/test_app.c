@@ -4,6 +4,7 @@
  * of the HAL (tests/mock_hal.c, tests/app_harness.h). Each step's own
  * tests: test_calib, test_align, test_rsid_seq, test_protect. */
 #include "app_harness.h"
+#include "drive_params.h"
 
 /* ---- configuration ------------------------------------------------------ */
 
@@ -202,10 +203,34 @@ static void refused_block_faults_config_at_start(void **state)
     }
 }
 
+/* Ratings the drive cannot run (a rated current beyond the ADC range:
+ * i_limit reaches the trip) fault CONFIG at the start, the refusal in the
+ * snapshot's value above ctrl_init's bits, PWM never enabled. */
+static void refused_ratings_fault_config_at_start(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = make_cfg(false, false);
+    drive_params_t p;
+    drive_params_board(&p);
+    p.rating.i_rated_A = 10.0f;
+    p.rating.i_peak_A = 20.0f;
+    drive_params_to_app_cfg(&p, &cfg);
+    assert_int_equal(cfg.params_refused, DRIVE_DERIVE_ADC_RANGE);
+    init_cfg(&cfg);
+    hal_sample_t s = sample(0.0f, 0.0f, VDC);
+    app_request_start(&app);
+    isr_fault(&s, 0);
+    assert_int_equal(app.fault, APP_FAULT_CONFIG);
+    assert_float_equal(app.snapshot.value, (float)(app.ctrl.status | (DRIVE_DERIVE_ADC_RANGE << APP_PARAMS_REFUSED_SHIFT)),
+                       0.0);
+    assert_false(app.pwm_on);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(cfg_default_is_the_board),
+        cmocka_unit_test(refused_ratings_fault_config_at_start),
         cmocka_unit_test(init_is_init_with_pwm_off),
         cmocka_unit_test(start_runs_and_stop_idles),
         cmocka_unit_test(sequence_calibrates_aligns_runs),
