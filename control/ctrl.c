@@ -481,6 +481,13 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
     return true;
 }
 
+void ctrl_set_i_limit(ctrl_t *c, float i_lim_A)
+{
+    const float cfg_A = ((c->cfg.i_lim_A > 0.0f) && (c->cfg.i_lim_A <= c->cfg.i_max_A)) ? c->cfg.i_lim_A
+                                                                                         : c->cfg.i_max_A;
+    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= cfg_A)) ? i_lim_A : cfg_A;
+}
+
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
 {
     c->ref = *ref;

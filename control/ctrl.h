@@ -298,6 +298,11 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm);
  * the ISR must not be interrupted in by another writer. */
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref);
 
+/* The targets' current limit [A] from now on, i_lim_A in (0, cfg.i_lim_A]
+ * (else cfg's). Background: one 32-bit store, the ISR reads the old
+ * value or the new one. */
+void ctrl_set_i_limit(ctrl_t *c, float i_lim_A);
+
 /* Every period, in every state, first: the encoder count [counts] into
  * the angle and speed estimate. ctrl owns the encoder: ctrl_step uses what
  * this call left (and tracks in->enc_count itself only when the caller

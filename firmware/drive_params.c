@@ -175,6 +175,10 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     float R_min_Ohm;
     float R_max_Ohm;
 
+    /* sec. 3: the I^2t budget of the short-time current */
+    cfg->i2t_rated_A = p->rating.i_rated_A;
+    cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
+                          p->rating.t_peak_s;
     cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));
     c->Ts_s = p->board.Ts_s;
     c->R_Ohm = p->motor.R_Ohm;
