@@ -1,15 +1,16 @@
 /*
- * drive_params.h - the drive's one parameter set: the motor, the board,
- * the limits and the controller's tuning, in SI units, and the one
- * mapping from it to the app's configuration.
+ * drive_params.h - the drive's one parameter set: the motor, its
+ * ratings, the board, the limits, the controller's tuning and step 1's
+ * speeds and timing, in SI units; the values derived from it
+ * (params_design.md); and the one mapping to the app's configuration.
  *
  * The target fills it from the board header (drive_params_board(),
  * firmware/board_cfg.h) and maps it in app_cfg_default(); the SIL takes the
  * same defaults (tools/sil/scenario.c: the keys marked "params", printed by
  * drive_sil --help), puts the scenario's keys on top and maps it with the
- * same drive_params_to_app_cfg(). The start-up sequence's settings
- * (calibration, alignment, step 1, the watch checks) are the app's own
- * (app_cfg_default).
+ * same drive_params_to_app_cfg(). The start-up sequence's other settings
+ * (calibration, the alignment's timing, step 1's windows, the watch
+ * checks) are the app's own (app_cfg_default).
  */
 #ifndef DRIVE_PARAMS_H
 #define DRIVE_PARAMS_H
@@ -19,10 +20,10 @@
 
 #include "app.h"
 
-/* A value marked "derived" that is not positive (DRIVE_PARAM_DERIVED, or
- * NaN) is derived by drive_params_derive() (firmware/params_design.md)
- * from what the controller is told: the motor, its ratings, the board; a
- * positive one is the user's and stays. */
+/* A value marked "derived" that is negative (DRIVE_PARAM_DERIVED) or NaN
+ * is derived by drive_params_derive() (firmware/params_design.md) from
+ * what the controller is told: the motor, its ratings, the board; one
+ * >= 0 is the user's and stays. */
 #define DRIVE_PARAM_DERIVED (-1.0f)
 
 typedef struct {

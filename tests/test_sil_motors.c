@@ -1,4 +1,4 @@
-/* Acceptance on three motors, each told only its data (the issue "your
+/* Acceptance on three motors, each told only its data ("your
  * motor, not the paper's"): tools/scenarios/{conv,prop}_motor_{paper,
  * small,large}.ini set the plant, the ratings, the bus, the ADC range and
  * trip, the method and (proposed) [identify] mode = speeds; everything
