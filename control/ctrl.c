@@ -32,6 +32,15 @@
  * L > (Ks/phi + R_max) Ts / 2 (smo_init), so an estimate near the floor
  * still leaves the linear region a pole margin. */
 #define OBS_L_MIN_STABILITY_MARGIN 1.25f
+/* ctrl_obs_gains_design (observer_design.md sec. 3b): the lowest floor of
+ * L^ the gain must allow, x the told L (an L told 1.4x high leaves the
+ * true one at 0.71x); the R^ band's top that (36) leaves, x G (the
+ * band's 0.9 (Ks - ef_max)/phi with Ks = 2 ef_max); Ks over ef_max:
+ * (36)'s floor ef_max / (1 - 0.45) with a 10 % margin. Table I: Ks 100 V,
+ * G = 40 V/A, R^ up to 18 Ohm, the cap 0.8 L/(1.45 Ts) = 61 V/A not reached. */
+#define OBS_L_FLOOR_SHARE 0.5f
+#define OBS_R_TOP_PER_G   0.45f
+#define OBS_KS_PER_EF     2.0f
 #define HALF 0.5f
 /* The default R^ band's top stays this fraction of the largest R that
  * meets (36) with the observer's default gains (18 Ohm for Table I). */
@@ -52,6 +61,10 @@
 #define MODEL_EST      0u      /* the estimation's model */
 #define MODEL_NOMINAL  1u      /* the configured parameters */
 
+/* ctrl_cfg_t.track_R is the estimation's */
+typedef char ctrl_track_r_is_est[((CTRL_TRACK_R_OFF == EST_TRACK_R_OFF) && (CTRL_TRACK_R_ON == EST_TRACK_R_ON) &&
+                                  (CTRL_TRACK_R_AUTO == EST_TRACK_R_AUTO)) ? 1 : -1];
+
 /* ctrl_ident_t is the estimation's phase */
 typedef char ctrl_ident_is_est_phase[((CTRL_IDENT_OFF == (int)EST_OFF) && (CTRL_IDENT_STEP1 == (int)EST_STEP1) &&
                                       (CTRL_IDENT_STEP2 == (int)EST_STEP2)) ? 1 : -1];
@@ -68,7 +81,37 @@ static uint16_t map_dbdtc_flags(uint16_t f)
     return out;
 }
 
+void ctrl_obs_gains_default(ctrl_obs_gains_t *g)
+{
+    g->Ks_V = SMO_KS_DEFAULT_V;
+    g->phi_A = SMO_PHI_DEFAULT_A;
+    g->ef_max_V = SMO_EF_MAX_DEFAULT_V;
+}
+
+bool ctrl_obs_gains_design(float Ts_s, float R_Ohm, float L_H, float ef_max_V, float phi_A,
+                           ctrl_obs_gains_t *g, float *G_max_V_A)
+{
+    /* 1.25 (Ts/2)(G + R_max) <= L_FLOOR_SHARE L with R_max <= R_TOP_PER_G G */
+    const float G_max = (2.0f * OBS_L_FLOOR_SHARE * L_H / (OBS_L_MIN_STABILITY_MARGIN * Ts_s)) /
+                        (1.0f + OBS_R_TOP_PER_G);
+    g->Ks_V = OBS_KS_PER_EF * ef_max_V;
+    g->phi_A = phi_A;
+    g->ef_max_V = ef_max_V;
+    if (g->Ks_V / phi_A > G_max) {
+        g->phi_A = g->Ks_V / G_max;   /* the cap: a wider layer keeps (36)'s margin */
+    }
+    *G_max_V_A = G_max;
+    return (G_max > 0.0f) && (OBS_R_TOP_PER_G * (g->Ks_V / g->phi_A) >= R_Ohm);
+}
+
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm)
+{
+    ctrl_obs_gains_t g;
+    ctrl_obs_gains_default(&g);
+    ctrl_cfg_proposed_with(cfg, R_min_Ohm, R_max_Ohm, &g);
+}
+
+void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, const ctrl_obs_gains_t *g)
 {
     smo_cfg_t *sc = &cfg->smo;
     param_est_cfg_t *ec = &cfg->pe;
@@ -76,6 +119,9 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     cfg->R_min_Ohm = R_min_Ohm;
     cfg->R_max_Ohm = R_max_Ohm;
     smo_cfg_defaults(sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
+    sc->Ks_V = g->Ks_V;
+    sc->phi_A = g->phi_A;
+    sc->ef_max_V = g->ef_max_V;
     const float L_stable_H = OBS_L_MIN_STABILITY_MARGIN * HALF * cfg->Ts_s *
                              (sc->Ks_V / sc->phi_A + R_max_Ohm);
     /* not capped at L_max: a floor above it is refused by smo_init */
@@ -94,10 +140,15 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
 
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
 {
-    smo_cfg_t sc;
-    smo_cfg_defaults(&sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
+    ctrl_obs_gains_t g;
+    ctrl_obs_gains_default(&g);
+    ctrl_rsid_band_with(cfg, &g, R_min_Ohm, R_max_Ohm);
+}
+
+void ctrl_rsid_band_with(const ctrl_cfg_t *cfg, const ctrl_obs_gains_t *g, float *R_min_Ohm, float *R_max_Ohm)
+{
     /* (36): Ks > ef_max + R_max phi, with a margin */
-    const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (sc.Ks_V - sc.ef_max_V) / sc.phi_A;
+    const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (g->Ks_V - g->ef_max_V) / g->phi_A;
     const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->R_Ohm;
     *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->R_Ohm;
     *R_max_Ohm = (R_top_Ohm < R_ks_Ohm) ? R_top_Ohm : R_ks_Ohm;
@@ -272,6 +323,13 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
     return est_start_trusted(&c->est, R_Ohm);
 }
 
+void ctrl_set_i_limit(ctrl_t *c, float i_lim_A)
+{
+    const float cfg_A = ((c->cfg.i_lim_A > 0.0f) && (c->cfg.i_lim_A <= c->cfg.i_max_A)) ? c->cfg.i_lim_A
+                                                                                         : c->cfg.i_max_A;
+    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= cfg_A)) ? i_lim_A : cfg_A;
+}
+
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
 {
     c->ref = *ref;
@@ -429,6 +487,7 @@ static void stage_estimate(ctrl_t *c, const ctrl_period_t *p, float vdc_V)
     e.vdc_V = vdc_V;
     e.te_ref_Nm = c->mon.te_ref_Nm;
     e.voltage_limited = (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u;
+    e.dpsi_weak_Wb = c->lim.dpsi_Wb;
     est_step(&c->est, &e);
 }
 

@@ -135,7 +135,10 @@ static void start_tracking(est_t *e)
 {
     const float w_min = r_track_w_psi_min(&e->rt, e->cfg.psi_f_Wb);
     e->w_psi_min_rad_s = (w_min > e->cfg.pe.w_min_rad_s) ? w_min : e->cfg.pe.w_min_rad_s;
-    r_track_start(&e->rt, (e->cfg.track_R != 0u) ? R_TRACK_TRACK : R_TRACK_OFF);
+    r_track_start(&e->rt, (e->cfg.track_R != EST_TRACK_R_OFF) ? R_TRACK_TRACK : R_TRACK_OFF);
+    if (e->cfg.track_R == EST_TRACK_R_AUTO) {
+        r_track_delay(&e->rt, e->cfg.rtrack.auto_delay_periods);
+    }
 }
 
 /* Step 2 starts: estimator running, the model re-based on the observer's values. */

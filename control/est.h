@@ -68,6 +68,13 @@ typedef enum {
 #define EST_MOVED_LPSI 0x0001u /* L or psi_f may have moved: worth taking when far enough */
 #define EST_MOVED_ALL  0x0002u /* R changed or the model was re-based: take it */
 
+/* est_cfg_t.track_R: off; on from step 2's start; auto from
+ * rtrack.auto_delay_periods after it (step 1's R^ holds that long: a
+ * winding's thermal time constant is minutes; design sec. 9d). */
+#define EST_TRACK_R_OFF  0u
+#define EST_TRACK_R_ON   1u
+#define EST_TRACK_R_AUTO 2u
+
 /* What est_init refused (bits; the same as ctrl.h's CTRL_CFG_*). */
 typedef uint16_t est_status_t;
 #define EST_CFG_OK        ((est_status_t)0x0000u)
@@ -90,7 +97,7 @@ typedef struct {
     param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection */
-    uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection */
+    uint16_t track_R;           /* EST_TRACK_R_*: R^ tracked in step 2 by the injection */
     est_gate_cfg_t gate;        /* when step 2 may learn */
 } est_cfg_t;
 
@@ -102,6 +109,7 @@ typedef struct {                /* one period's inputs */
     float vdc_V;                /* bus [V] */
     float te_ref_Nm;            /* the last period's torque reference [N m] */
     bool voltage_limited;       /* the last period's voltage was clamped */
+    float dpsi_weak_Wb;         /* the flux reference's weakening (oplim's dpsi; > 0: weakened) [Wb] */
 } est_in_t;
 
 typedef struct {                /* the output: written by est_step and the phase changes */
@@ -245,6 +253,12 @@ static inline void est_step(est_t *e, const est_in_t *in)
     /* u(k) is the clamped voltage the last step realised, as the observer needs */
     (void)smo_step(&e->smo, in->i_dq_A, in->omega_el_rad_s, in->u_V); /* i^(k+1): (51b), (55) */
     if (e->rt.phase != R_TRACK_OFF) {
+        if ((in->dpsi_weak_Wb > 0.0f) || ((e->gate.reasons & (EST_GATE_ACCEL | EST_GATE_VOLTAGE)) != 0u)) {
+            /* tracking only: the injection would read the weakening loop, the clamp (the gate's
+             * voltage reason) or the speed estimate's lag in a ramp (its acceleration reason),
+             * not R (design sec. 9d) */
+            r_track_hold(&e->rt);
+        }
         /* z: the L^ law's invariant */
         const float z = e->smo.fd_V - in->omega_el_rad_s * e->smo.L_H * in->i_dq_A.q;
         const r_track_event_t ev = r_track_step(&e->rt, z, in->i_dq_A.d, in->i_dq_A.q, in->omega_el_rad_s, e->smo.L_H);
