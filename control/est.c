@@ -97,7 +97,6 @@ void est_reset(est_t *e)
     e->rt_flags = 0u;
     e->force = 0u;
     e->hold_fixed = 0u;
-    e->known = false;
     e->trusted = false;
     e->w_psi_min_rad_s = e->cfg.pe.w_min_rad_s;
     est_gate_reset(&e->gate, &e->smo);
@@ -148,7 +147,6 @@ static void start_step2(est_t *e)
     est_gate_reset(&e->gate, &e->smo);
     psi_band_start(&e->pb, e->smo.psi_f_Wb); /* the model's value then (design sec. 9f) */
     e->phase = EST_STEP2;
-    e->known = false;
     e->trusted = false;
     e->force = EST_MOVED_ALL;
     e->out.R_Ohm = e->smo.R_Ohm;
@@ -182,14 +180,12 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
     if (ev == R_TRACK_IDENT_DONE) {
         add_inverter_error(e, QUARTER_PI * e->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */
         e->rt_flags &= EST_FLAG_ANGLE_SUSPECT;
-        e->known = true;
         e->force = EST_MOVED_ALL; /* taken again, now trusted */
         start_tracking(e);
     } else if (ev == R_TRACK_IDENT_REFUSED) {
         e->rt_flags = (uint16_t)((e->rt_flags & EST_FLAG_ANGLE_SUSPECT) | EST_FLAG_INV_UNIDENTIFIED); /* says so,
                                                             * and keeps the dead time as told */
         psi_band_bound_final(&e->pb);
-        e->known = true;
         e->force = EST_MOVED_ALL;
         start_tracking(e);
     } else if (ev == R_TRACK_CYCLE) {
@@ -304,6 +300,5 @@ bool est_start_trusted(est_t *e, float R_Ohm)
     e->win = RS_IDENT_WINDOW_NONE;
     start_step2(e); /* no inverter-error identification: R is trusted, not measured */
     psi_band_bound_final(&e->pb);
-    e->known = true;
     return true;
 }

@@ -141,8 +141,8 @@ typedef struct {
     uint16_t rt_flags;          /* EST_FLAG_INV_UNIDENTIFIED, EST_FLAG_R_HELD while they last */
     uint16_t force;             /* EST_MOVED_ALL due at the next output */
     uint16_t hold_fixed;        /* EST_HOLD_ANGLE while an angle error is suspected (else 0) */
-    bool known;                 /* the inverter error is known (identified, refused, or R trusted) */
-    bool trusted;               /* the model was taken above the speed floor once it was known */
+    bool trusted;               /* the model was taken above the speed floor as psi_band decided it under
+                                 * the final bound (the last trusted model, kept below the floor) */
     est_out_t out;
 } est_t;
 
@@ -222,7 +222,7 @@ static inline void est_step2(est_t *e, const est_in_t *in)
         /* f^ carries a current transient: eq. (10) with the held estimates (design sec. 7) */
         o->src = est_gate_f_usable(&e->gate) ? EST_SRC_OBSERVER : EST_SRC_HELD;
         o->hold = e->gate.reasons; /* (an angle hold keeps pb.low set: the branches below) */
-        e->trusted = e->known;
+        e->trusted = e->pb.trust; /* taken above the floor as decided under the final bound */
     } else if (e->trusted) {
         /* below the floor: the last trusted model (as it is in *o), eq. (10) */
         o->src = EST_SRC_HELD;

@@ -43,6 +43,7 @@ void psi_band_start(psi_band_t *pb, float psi_Wb)
     pb->track = false;
     pb->low = 0u;
     pb->final = false;
+    pb->trust = false;
     pb->n = 0u;
     pb->k = 0u;
     pb->anchor_Wb = psi_Wb;
@@ -104,6 +105,7 @@ bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_
     const float band_max = pb->cfg.unexplained_max * mathx_fabsf(pb->P_Wb);
     const float band_in = ((pb->low & PSI_BAND_LOW_BAND) != 0u) ? (PSI_BAND_LOW_HYST * band) : band;
     pb->low = (uint16_t)(((pb->final && (band_in > band_max)) ? PSI_BAND_LOW_BAND : 0u) | (pb->low & PSI_BAND_LOW_HELD));
+    pb->trust = pb->final && (pb->low == 0u);
     if (!pb->track && (mathx_fabsf(pb->P_Wb - pb->h_Wb) > 2.0f * band)) {
         pb->track = true; /* h is off by more than P can be */
         pb->n = 0u;

@@ -80,6 +80,7 @@ typedef struct {
     bool track;            /* the model follows P (else it holds h) */
     uint16_t low;          /* below the speed floor (0: above): PSI_BAND_LOW_* bits */
     bool final;            /* the bound is final (inverter error identified or refused): the floor decides */
+    bool trust;            /* the last decision was under the final bound and above the floor */
     float frac;            /* Vb's fraction in use */
     float anchor_Wb;       /* the model's psi_f when step 2 started */
     float h_Wb;            /* the value held */
