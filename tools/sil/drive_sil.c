@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "csv_writer.h"
+#include "link_sil.h"
 #include "scenario.h"
 #include "sil.h"
 #include "summary.h"
@@ -47,6 +48,7 @@ typedef struct {
     int batch;                   /* one run per stdin line */
     const char *sets[MAX_SETS];
     int n_sets;
+    link_sil_opts_t link;        /* --link, --baud, --realtime (link_sil.h) */
 } args_t;
 
 /* An output written to a temporary name and renamed when complete, or
@@ -67,6 +69,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: drive_sil --scenario FILE [--set section.key=value ...]\n"
             "                 [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]\n"
+            "                 [--link tcp:PORT | --link pty [--baud B] [--realtime F]]\n"
             "       drive_sil --help\n"
             "Runs the drive firmware on the simulated board for one scenario (INI)\n"
             "and writes the CSV trace (--out) and/or the steady window's figures as\n"
@@ -75,6 +78,10 @@ static void usage(FILE *f)
             "last quarter. --check validates the scenario and overrides, runs nothing.\n"
             "--batch runs one point per stdin line \"ID<TAB>section.key=value<TAB>...\"\n"
             "(overrides on top of the scenario's) and prints one summary line per point.\n"
+            "--link serves the drive's link (firmware/link_protocol.md) on 127.0.0.1:PORT\n"
+            "or a pty for drivetool, paced at --baud (115200) in simulated time;\n"
+            "--realtime F paces the run to wall time (0: unpaced); with --link,\n"
+            "run.duration_s = 0 runs until drivetool quit (tools/sil/link_sil.h).\n"
             "Every key is optional (defaults: paper Table I).\n"
             "Profiles: \"t:value, t:value\" steps; \"t:value~\" ramps to value at t.\n"
             "Keys (section, name, default, meaning):\n");
@@ -87,6 +94,13 @@ static int parse_args(int argc, char **argv, args_t *a)
     memset(a, 0, sizeof *a);
     for (int i = 1; i < argc; i++) {
         const char *s = argv[i];
+        const int link_arg = link_sil_arg(&a->link, argc, argv, &i);
+        if (link_arg != 0) {
+            if (link_arg < 0) {
+                return -1;
+            }
+            continue;
+        }
         if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
             usage(stdout);
             exit(EXIT_SUCCESS);
@@ -128,6 +142,14 @@ static int parse_args(int argc, char **argv, args_t *a)
         fprintf(stderr, "drive_sil: --scenario and --out or --summary are required (see --help)\n");
         return -1;
     }
+    if ((a->link.baud != 0 || a->link.realtime > 0.0) && !a->link.on) {
+        fprintf(stderr, "drive_sil: --baud and --realtime pace the link: they need --link\n");
+        return -1;
+    }
+    if (a->link.on && a->batch) {
+        fprintf(stderr, "drive_sil: --link serves one run: not with --batch\n");
+        return -1;
+    }
     if (a->out_path != NULL && strcmp(a->out_path, "-") == 0) {
         fprintf(stderr, "drive_sil: --out -: the CSV goes to a file (--summary - is stdout)\n");
         return -1;
@@ -145,6 +167,7 @@ static int load_base(const args_t *a, scenario_t *sc)
 {
     char err[SCENARIO_ERR_LEN];
     scenario_defaults(sc);
+    sc->run.endless_ok = (a->link.on != 0);   /* duration_s = 0: until the host quits */
     if (scenario_load(sc, a->scenario_path, err, sizeof err) != 0) {
         fprintf(stderr, "drive_sil: %s\n", err);
         return -1;
@@ -431,8 +454,21 @@ int main(int argc, char **argv)
             return EXIT_FAILURE;
         }
     }
+    sil_hooks_t hooks;
+    if (a.link.on && link_sil_open(&a.link, &hooks) != 0) {
+        if (csv.f != NULL) {
+            (void)csv_writer_finish(&writer);
+        }
+        out_abandon(&csv);
+        out_abandon(&js);
+        return EXIT_FAILURE;
+    }
     sil_result_t res;
-    (void)sil_run(&sc, on_row, &sink, &res);   /* stopped early only by a failed write, seen below */
+    /* stopped early by a failed write (seen below) or the link's quit */
+    (void)sil_run_hooked(&sc, a.link.on ? &hooks : NULL, on_row, &sink, &res);
+    if (a.link.on) {
+        link_sil_close();
+    }
     int err = (sink.csv != NULL) ? csv_writer_finish(sink.csv) : 0;
     if (err != 0) {
         fprintf(stderr, "drive_sil: --out %s: write error: %s\n", a.out_path, strerror(err));

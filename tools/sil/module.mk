@@ -9,7 +9,7 @@ HOST_PROGRAMS += $(DRIVE_SIL)
 # (libfirmware), which calls the HAL (libsim) - one pass of "firmware sim
 # control" resolves that. Tests calling sil_run() do the same:
 #   TEST_SRCS_test_x := tools/sil/sil.c   TEST_LIBS_test_x := silrun firmware sim control
-$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c tools/sil/link_sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 

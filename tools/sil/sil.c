@@ -19,10 +19,14 @@
 #define MODEL_U_BOUND_PER_VDC 1.0        /* |ud|, |uq| bound / bus (the hexagon clamps at 2/3) */
 
 static app_t g_app;
+static const sil_hooks_t *g_hooks;   /* of the run under way, or NULL */
 
 static void sil_isr(void)
 {
     app_isr(&g_app);
+    if (g_hooks != NULL && g_hooks->isr_end != NULL) {
+        g_hooks->isr_end(g_hooks->user);
+    }
 }
 
 static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
@@ -145,6 +149,8 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)m->inv_err_V;
     r->psif_model_Wb = (double)m->psi_f_model_Wb;
+    r->id_meas_A = (double)m->id_A;
+    r->iq_meas_A = (double)m->iq_A;
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
     const bool faulted = (g_app.state == APP_STATE_FAULT);
@@ -239,6 +245,12 @@ static void track_faults(const hal_sim_truth_t *tr, bool was_faulted, sil_result
 
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res)
 {
+    return sil_run_hooked(sc, NULL, on_row, user, res);
+}
+
+int sil_run_hooked(const scenario_t *sc, const sil_hooks_t *hooks, sil_row_fn on_row, void *user,
+                   sil_result_t *res)
+{
     hal_sim_cfg_t hc;
     app_cfg_t ac;
     sil_board_from(sc, &hc);
@@ -262,11 +274,16 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     app_op_t op;
     op.mode = ctrl_mode_of(sc->controller.mode);
     op.method = (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED : CTRL_METHOD_CONVENTIONAL;
+    g_hooks = hooks;
+    if (hooks != NULL && hooks->start != NULL) {
+        hooks->start(hooks->user, &g_app);
+    }
     hal_isr_attach(sil_isr);
     app_request_start(&g_app);
 
     const double Ts = hc.inv.Ts_s;
-    const uint32_t n = (uint32_t)llround(sc->run.duration_s / Ts);
+    const bool endless = (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
+    const uint32_t n = endless ? UINT32_MAX : (uint32_t)llround(sc->run.duration_s / Ts);
     sil_refs_t refs;
     refs_init(&refs, sc);
     const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
@@ -276,7 +293,11 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
         if (refs_at(&refs, (double)k * Ts, &op)) {
             /* taken at the start of this period's ISR; an unchanged request
              * would only set the controller's reference to what it is */
-            app_request_op(&g_app, &op);
+            app_op_t req = op;
+            if (hooks != NULL && hooks->refs != NULL) {
+                hooks->refs(hooks->user, &req);
+            }
+            app_request_op(&g_app, &req);
         }
 
         const bool was_faulted = (g_app.state == APP_STATE_FAULT);
@@ -301,7 +322,11 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
             }
         }
         periods_to_row--;
+        if (rc == 0 && hooks != NULL && hooks->period_end != NULL) {
+            rc = hooks->period_end(hooks->user);
+        }
     }
+    g_hooks = NULL;
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
     res->warnings = g_app.warnings;
@@ -328,7 +353,7 @@ static const sil_col_t COLS[] = {
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
     COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
-    COL(psif_model_Wb),
+    COL(psif_model_Wb), COL(id_meas_A), COL(iq_meas_A),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 /* SIL_CSV_LINE_MAX counts one column per double of sil_row_t */

@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "app.h"
 #include "csv_num.h"
 #include "scenario.h"
 
@@ -38,6 +39,7 @@ typedef struct {
     double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; 0 unless in FAULT */
     double inv_err_est_V;                   /* inverter voltage error the controller identified (ctrl_mon_t.inv_err_V) */
     double psif_model_Wb;                   /* psi_f the deadbeat model uses (ctrl_mon_t.psi_f_model_Wb; design sec. 9f) */
+    double id_meas_A, iq_meas_A;            /* the controller's measured dq currents this period (ctrl_mon_t.id_A, iq_A) */
 } sil_row_t;
 
 typedef struct {
@@ -65,6 +67,19 @@ typedef struct {
 
 /* Called for every logged row; a nonzero return stops the run. */
 typedef int (*sil_row_fn)(const sil_row_t *row, void *user);
+
+/* What a run's driver adds (drive_sil --link, tools/sil/link_sil.h); any member may be NULL. */
+typedef struct {
+    void (*start)(void *user, app_t *app);        /* after app_init, before the first period */
+    void (*isr_end)(void *user);                  /* after every app_isr call, in its context */
+    void (*refs)(void *user, app_op_t *op);       /* the scenario's operator request about to be made: may change it */
+    int (*period_end)(void *user);                /* the background after each period; nonzero ends the run */
+    void *user;
+} sil_hooks_t;
+
+/* sil_run with hooks (NULL: none). run.duration_s = 0 runs until period_end ends it. */
+int sil_run_hooked(const scenario_t *sc, const sil_hooks_t *hooks, sil_row_fn on_row, void *user,
+                   sil_result_t *res);
 
 /* Run scenario *sc (after scenario_finish()) from power-on: configure the board, init the app,
  * start it, simulate run.duration_s. on_row may be NULL. Returns 0, or the callback's nonzero value. */

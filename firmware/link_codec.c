@@ -1,0 +1,211 @@
+/* link_codec.c - CRC, COBS and frames of the link; see link_codec.h and link_protocol.md. */
+#include "link_codec.h"
+
+#define CRC_INIT 0xFFFFu
+#define CRC_POLY 0x1021u
+#define CRC_TOP_BIT 0x8000u
+#define BITS_PER_BYTE 8u
+#define COBS_BLOCK_MAX 0xFFu   /* a code byte of 0xFF: 254 data bytes, no zero after them */
+#define FRAME_HEADER 2u        /* type, seq */
+#define FRAME_CRC 2u
+#define FRAME_MIN (FRAME_HEADER + FRAME_CRC)
+#define COUNT_MAX 0xFFFFu
+
+uint16_t link_crc16_byte(uint16_t crc, uint16_t byte)
+{
+    uint16_t c = (uint16_t)(crc ^ (uint16_t)((byte & LINK_BYTE_MASK) << BITS_PER_BYTE));
+    for (uint16_t k = 0u; k < BITS_PER_BYTE; k++) {
+        c = ((c & CRC_TOP_BIT) != 0u) ? (uint16_t)((uint16_t)(c << 1) ^ CRC_POLY) : (uint16_t)(c << 1);
+    }
+    return c;
+}
+
+uint16_t link_crc16(const uint16_t *b, uint16_t n)
+{
+    uint16_t crc = CRC_INIT;
+    for (uint16_t i = 0u; i < n; i++) {
+        crc = link_crc16_byte(crc, b[i]);
+    }
+    return crc;
+}
+
+uint16_t link_cobs_encode(const uint16_t *in, uint16_t n, uint16_t *out)
+{
+    uint16_t code_at = 0u;   /* where the current block's code byte goes */
+    uint16_t o = 1u;
+    uint16_t code = 1u;
+    for (uint16_t i = 0u; i < n; i++) {
+        const uint16_t v = (uint16_t)(in[i] & LINK_BYTE_MASK);
+        if (v == 0u) {
+            out[code_at] = code;
+            code_at = o++;
+            code = 1u;
+        } else {
+            out[o++] = v;
+            code++;
+            if (code == COBS_BLOCK_MAX) {
+                out[code_at] = code;
+                if ((uint16_t)(i + 1u) == n) {
+                    return o;            /* a full block ends the data: no empty block after it */
+                }
+                code_at = o++;
+                code = 1u;
+            }
+        }
+    }
+    out[code_at] = code;
+    return o;
+}
+
+int16_t link_cobs_decode(const uint16_t *in, uint16_t n, uint16_t *out, uint16_t out_max)
+{
+    uint16_t i = 0u;
+    uint16_t o = 0u;
+    while (i < n) {
+        const uint16_t code = (uint16_t)(in[i] & LINK_BYTE_MASK);
+        if (code == 0u || (uint16_t)(n - i) < code) {
+            return -1;                   /* a zero inside, or the block runs past the end */
+        }
+        i++;
+        for (uint16_t k = 1u; k < code; k++) {
+            const uint16_t v = (uint16_t)(in[i++] & LINK_BYTE_MASK);
+            if (v == 0u || o >= out_max) {
+                return -1;
+            }
+            out[o++] = v;
+        }
+        if (code < COBS_BLOCK_MAX && i < n) {
+            if (o >= out_max) {
+                return -1;
+            }
+            out[o++] = 0u;               /* the zero the block's end stood for */
+        }
+    }
+    return (int16_t)o;
+}
+
+uint16_t link_frame_encode(const link_frame_t *f, uint16_t *out)
+{
+    uint16_t raw[LINK_FRAME_MAX];
+    const uint16_t len = (f->len <= LINK_PAYLOAD_MAX) ? f->len : LINK_PAYLOAD_MAX;
+    uint16_t n = 0u;
+    raw[n++] = (uint16_t)(f->type & LINK_BYTE_MASK);
+    raw[n++] = (uint16_t)(f->seq & LINK_BYTE_MASK);
+    for (uint16_t i = 0u; i < len; i++) {
+        raw[n++] = (uint16_t)(f->payload[i] & LINK_BYTE_MASK);
+    }
+    n = link_put_u16(raw, n, link_crc16(raw, n));
+    n = link_cobs_encode(raw, n, out);
+    out[n++] = 0u;
+    return n;
+}
+
+bool link_frame_decode(const uint16_t *in, uint16_t n, link_frame_t *f)
+{
+    uint16_t raw[LINK_FRAME_MAX];
+    const int16_t m = link_cobs_decode(in, n, raw, LINK_FRAME_MAX);
+    if (m < (int16_t)FRAME_MIN) {
+        return false;
+    }
+    const uint16_t body = (uint16_t)((uint16_t)m - FRAME_CRC);
+    if (link_crc16(raw, body) != link_get_u16(raw, body)) {
+        return false;
+    }
+    f->type = raw[0];
+    f->seq = raw[1];
+    f->len = (uint16_t)(body - FRAME_HEADER);
+    for (uint16_t i = 0u; i < f->len; i++) {
+        f->payload[i] = raw[FRAME_HEADER + i];
+    }
+    return true;
+}
+
+void link_rx_init(link_rx_t *rx)
+{
+    rx->n = 0u;
+    rx->overlong = false;
+    rx->err_crc = 0u;
+    rx->err_framing = 0u;
+}
+
+static void count(uint16_t *c)
+{
+    if (*c < COUNT_MAX) {
+        (*c)++;
+    }
+}
+
+bool link_rx_byte(link_rx_t *rx, uint16_t byte, link_frame_t *f)
+{
+    const uint16_t v = (uint16_t)(byte & LINK_BYTE_MASK);
+    if (v != 0u) {
+        if (rx->n < LINK_ENCODED_MAX) {
+            rx->buf[rx->n++] = v;
+        } else {
+            rx->overlong = true;
+        }
+        return false;
+    }
+    /* a delimiter: whatever came before it is one block */
+    const uint16_t n = rx->n;
+    const bool overlong = rx->overlong;
+    rx->n = 0u;
+    rx->overlong = false;
+    if (n == 0u && !overlong) {
+        return false;                    /* idle fill, or the delimiter of a dropped block */
+    }
+    uint16_t raw[LINK_FRAME_MAX];
+    const int16_t m = overlong ? -1 : link_cobs_decode(rx->buf, n, raw, LINK_FRAME_MAX);
+    if (m < (int16_t)FRAME_MIN) {
+        count(&rx->err_framing);
+        return false;
+    }
+    if (!link_frame_decode(rx->buf, n, f)) {
+        count(&rx->err_crc);
+        return false;
+    }
+    return true;
+}
+
+uint16_t link_put_u16(uint16_t *b, uint16_t i, uint16_t v)
+{
+    b[i] = (uint16_t)(v & LINK_BYTE_MASK);
+    b[i + 1u] = (uint16_t)((v >> BITS_PER_BYTE) & LINK_BYTE_MASK);
+    return (uint16_t)(i + 2u);
+}
+
+uint16_t link_put_u32(uint16_t *b, uint16_t i, uint32_t v)
+{
+    (void)link_put_u16(b, i, (uint16_t)(v & 0xFFFFul));
+    return link_put_u16(b, (uint16_t)(i + 2u), (uint16_t)(v >> 16));
+}
+
+/* float <-> IEEE-754 binary32 bits: float is 32 bits on every target (C28x FPU32 included) */
+typedef union {
+    float f;
+    uint32_t u;
+} f32_bits_t;
+
+uint16_t link_put_f32(uint16_t *b, uint16_t i, float v)
+{
+    f32_bits_t x;
+    x.f = v;
+    return link_put_u32(b, i, x.u);
+}
+
+uint16_t link_get_u16(const uint16_t *b, uint16_t i)
+{
+    return (uint16_t)((b[i] & LINK_BYTE_MASK) | (uint16_t)((b[i + 1u] & LINK_BYTE_MASK) << BITS_PER_BYTE));
+}
+
+uint32_t link_get_u32(const uint16_t *b, uint16_t i)
+{
+    return (uint32_t)link_get_u16(b, i) | ((uint32_t)link_get_u16(b, (uint16_t)(i + 2u)) << 16);
+}
+
+float link_get_f32(const uint16_t *b, uint16_t i)
+{
+    f32_bits_t x;
+    x.u = link_get_u32(b, i);
+    return x.f;
+}

@@ -1,0 +1,71 @@
+/*
+ * link_codec.h - the link's framing (firmware/link_protocol.md): CRC-16/
+ * CCITT-FALSE, COBS, and the frame [type, seq, payload..., crc lo, crc hi]
+ * COBS-encoded and ended by one 0x00. Pure, no hardware, no state but the
+ * receiver's. A protocol byte is one uint16_t holding 0..255: on the C28x
+ * char is 16 bits, so bytes are never packed two to a word.
+ */
+#ifndef LINK_CODEC_H
+#define LINK_CODEC_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#define LINK_PAYLOAD_MAX 240u                           /* bytes of payload in one frame */
+#define LINK_FRAME_MAX (LINK_PAYLOAD_MAX + 4u)          /* type, seq, payload, CRC */
+/* COBS adds one byte per started block of 254, then the 0x00 delimiter */
+#define LINK_ENCODED_MAX (LINK_FRAME_MAX + (LINK_FRAME_MAX / 254u) + 2u)
+#define LINK_BYTE_MASK 0x00FFu
+
+typedef struct {
+    uint16_t type;                       /* link_protocol.md: requests 0x01.., replies type | 0x80 */
+    uint16_t seq;                        /* 0..255, chosen by the host, echoed in the reply */
+    uint16_t len;                        /* payload bytes, <= LINK_PAYLOAD_MAX */
+    uint16_t payload[LINK_PAYLOAD_MAX];  /* one byte per word */
+} link_frame_t;
+
+/* Receiver: bytes in, whole checked frames out. Resyncs at every 0x00. */
+typedef struct {
+    uint16_t buf[LINK_ENCODED_MAX];
+    uint16_t n;                  /* bytes since the last 0x00 */
+    bool overlong;               /* more than LINK_ENCODED_MAX since it: dropped at the next 0x00 */
+    uint16_t err_crc;            /* frames with a bad CRC (saturating counts) */
+    uint16_t err_framing;        /* bad COBS, too short, too long */
+} link_rx_t;
+
+/* CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, no reflection, no final xor) of n bytes. Any context. */
+uint16_t link_crc16(const uint16_t *b, uint16_t n);
+
+/* CRC update with one more byte (the same CRC, byte by byte). Any context. */
+uint16_t link_crc16_byte(uint16_t crc, uint16_t byte);
+
+/* COBS-encode n bytes into out (room for n + n/254 + 1); returns the encoded length (no delimiter). */
+uint16_t link_cobs_encode(const uint16_t *in, uint16_t n, uint16_t *out);
+
+/* COBS-decode n bytes (no delimiter) into out[out_max]; returns the decoded length, or -1 on a
+ * zero inside, a code running past the end or an output longer than out_max. */
+int16_t link_cobs_decode(const uint16_t *in, uint16_t n, uint16_t *out, uint16_t out_max);
+
+/* The frame f as wire bytes into out[LINK_ENCODED_MAX]: COBS of type, seq, payload, CRC, then
+ * 0x00. Returns the byte count. Background. */
+uint16_t link_frame_encode(const link_frame_t *f, uint16_t *out);
+
+/* Decode one COBS block (no delimiter) into *f, CRC checked: true when it holds a frame. */
+bool link_frame_decode(const uint16_t *in, uint16_t n, link_frame_t *f);
+
+/* Start a receiver with no bytes and zero counts. */
+void link_rx_init(link_rx_t *rx);
+
+/* One received byte; true when it ended a valid frame, now in *f. Errors are counted
+ * (err_crc, err_framing); an empty block (0x00 0x00) is silently ignored. Background. */
+bool link_rx_byte(link_rx_t *rx, uint16_t byte, link_frame_t *f);
+
+/* Little-endian helpers over byte words: put returns the index after the value. */
+uint16_t link_put_u16(uint16_t *b, uint16_t i, uint16_t v);
+uint16_t link_put_u32(uint16_t *b, uint16_t i, uint32_t v);
+uint16_t link_put_f32(uint16_t *b, uint16_t i, float v);
+uint16_t link_get_u16(const uint16_t *b, uint16_t i);
+uint32_t link_get_u32(const uint16_t *b, uint16_t i);
+float link_get_f32(const uint16_t *b, uint16_t i);
+
+#endif /* LINK_CODEC_H */
