@@ -51,3 +51,16 @@ sil: $(VENV_STAMP)
 EXTRA_TESTS += test-ensure-pkgs
 test-ensure-pkgs:
 	@$(call suite,test-ensure-pkgs) tools/test_ensure_pkgs.sh
+
+# drivetool (tools/drivetool/, the link's host tool) into the venv:
+# build/venv/bin/drivetool. Installed from a copy, so pip's build leaves
+# nothing in the source tree.
+DRIVETOOL      := $(VENV)/bin/drivetool
+DRIVETOOL_SRCS := $(wildcard tools/drivetool/pyproject.toml tools/drivetool/drivetool/*.py)
+.PHONY: drivetool
+drivetool: $(DRIVETOOL)
+$(DRIVETOOL): $(VENV_STAMP) $(DRIVETOOL_SRCS)
+	@rm -rf $(BUILD)/drivetool-src && mkdir -p $(BUILD)/drivetool-src
+	@cp -r tools/drivetool/pyproject.toml tools/drivetool/drivetool $(BUILD)/drivetool-src/
+	$(VENV)/bin/python -m pip install -q --no-deps $(BUILD)/drivetool-src
+	@touch $@

@@ -122,8 +122,8 @@ def cmd_stream(d, args):
     t0 = time.monotonic()
     d.poll(args.duration)
     elapsed = time.monotonic() - t0
-    d.stream_set([], 1)
     rows = d.stream_rows
+    d.stream_set([], 1)
     got = len(rows) / elapsed if elapsed > 0 else 0.0
     if args.csv:
         _write_csv(args.csv, args.names, [idx * ts for idx, _ in rows], [r for _, r in rows])
