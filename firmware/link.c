@@ -104,26 +104,24 @@ static void tx_put(link_t *l, const uint16_t *b, uint16_t n)
 
 /* ---- requests ---------------------------------------------------------------- */
 
-static uint16_t put_str(uint16_t *b, uint16_t i, const char *s)
+static uint16_t str_len(const char *s)
 {
     uint16_t n = 0u;
-    while (s[n] != '\0' && n < STR_MAX) {
+    while (n < STR_MAX && s[n] != '\0') {
         n++;
     }
+    return n;
+}
+
+/* A string as its length byte and its characters, one per word. */
+static uint16_t put_str(uint16_t *b, uint16_t i, const char *s)
+{
+    const uint16_t n = str_len(s);
     b[i++] = n;
     for (uint16_t k = 0u; k < n; k++) {
         b[i++] = (uint16_t)((uint16_t)s[k] & LINK_BYTE_MASK);
     }
     return i;
-}
-
-static uint16_t str_len(const char *s)
-{
-    uint16_t n = 0u;
-    while (s[n] != '\0' && n < STR_MAX) {
-        n++;
-    }
-    return n;
 }
 
 static uint16_t do_hello(link_t *l, uint16_t *p)
@@ -493,7 +491,8 @@ static void send_unsolicited(link_t *l)
         f->payload[0] = st;
         f->payload[1] = ft;
         f->len = link_put_u32(f->payload, 2u, l->t.app->ticks);
-        tx_put(l, wire, link_frame_encode(f, wire));
+        const uint16_t n = link_frame_encode(f, wire);
+        tx_put(l, wire, n);
         l->ev_state = st;
         l->ev_fault = ft;
     }
@@ -508,7 +507,8 @@ static void send_unsolicited(link_t *l)
             i = put_value(f->payload, i, s->ids[k], (link_val_t){ (uint32_t)s->val[r][k], s->val[r][k] });
         }
         f->len = i;
-        tx_put(l, wire, link_frame_encode(f, wire));
+        const uint16_t len = link_frame_encode(f, wire);
+        tx_put(l, wire, len);
         s->rd = (uint16_t)((r + 1u) & (LINK_STREAM_ROWS - 1u));
     }
 }
