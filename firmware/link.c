@@ -35,6 +35,8 @@ void link_init(link_t *l, const link_cfg_t *cfg, app_t *app, volatile cmd_t *cmd
     l->stats.err_framing = 0u;
     l->stats.err_overrun = 0u;
     l->stats.stream_dropped = 0u;
+    l->stats.err_line = 0u;
+    l->stats.reset_by_watchdog = 0u;
     link_rx_init(&l->rx);
     l->rx_head = 0u;
     l->rx_tail = 0u;
@@ -100,6 +102,13 @@ static void tx_put(link_t *l, const uint16_t *b, uint16_t n)
         l->tx_ring[l->tx_head] = b[i];
         l->tx_head = (uint16_t)((l->tx_head + 1u) & (LINK_TX_LEN - 1u));
     }
+}
+
+/* A frame straight into the transmit queue (the caller checked the room). */
+static void tx_frame(link_t *l, const link_frame_t *f)
+{
+    const uint16_t n = link_frame_encode_ring(f, l->tx_ring, l->tx_head, (uint16_t)(LINK_TX_LEN - 1u));
+    l->tx_head = (uint16_t)((l->tx_head + n) & (LINK_TX_LEN - 1u));
 }
 
 /* ---- requests ---------------------------------------------------------------- */
@@ -482,7 +491,6 @@ static void on_request(link_t *l)
 static void send_unsolicited(link_t *l)
 {
     link_frame_t *f = &l->rep;
-    uint16_t wire[LINK_ENCODED_MAX];
     const uint16_t st = (uint16_t)l->t.app->state;
     const uint16_t ft = (uint16_t)l->t.app->fault;
     if ((st != l->ev_state || ft != l->ev_fault) && tx_room(l) >= REPLY_ROOM) {
@@ -491,8 +499,7 @@ static void send_unsolicited(link_t *l)
         f->payload[0] = st;
         f->payload[1] = ft;
         f->len = link_put_u32(f->payload, 2u, l->t.app->ticks);
-        const uint16_t n = link_frame_encode(f, wire);
-        tx_put(l, wire, n);
+        tx_frame(l, f);
         l->ev_state = st;
         l->ev_fault = ft;
     }
@@ -507,8 +514,7 @@ static void send_unsolicited(link_t *l)
             i = put_value(f->payload, i, s->ids[k], (link_val_t){ (uint32_t)s->val[r][k], s->val[r][k] });
         }
         f->len = i;
-        const uint16_t len = link_frame_encode(f, wire);
-        tx_put(l, wire, len);
+        tx_frame(l, f);
         s->rd = (uint16_t)((r + 1u) & (LINK_STREAM_ROWS - 1u));
     }
 }
@@ -528,127 +534,4 @@ void link_poll(link_t *l)
     l->stats.err_crc = l->rx.err_crc;
     l->stats.err_framing = l->rx.err_framing;
     send_unsolicited(l);
-}
-
-/* ---- ISR ----------------------------------------------------------------------- */
-
-static int16_t to_count(float v, float per_lsb)
-{
-    const float x = v * per_lsb;
-    if (!mathx_isfinitef(x)) {
-        return 0;
-    }
-    const float r = (x >= 0.0f) ? x + ROUND_HALF : x - ROUND_HALF;
-    return (int16_t)mathx_clampf(r, -INT16_FULL_SCALE, INT16_FULL_SCALE);
-}
-
-/* Whether the trigger fires on this sample (trig_ready kept for the next). */
-static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre)
-{
-    const uint16_t st = (uint16_t)t->app->state;
-    bool fire = false;
-    switch (c->trig) {
-    case LINK_TRIG_ABOVE: {
-        const float v = link_var_get(t, c->trig_id).f;
-        if (v > c->level) {
-            fire = c->trig_ready && enough_pre;
-            c->trig_ready = false;
-        } else if (v <= c->level - c->hyst) {
-            c->trig_ready = true;
-        }
-        break;
-    }
-    case LINK_TRIG_BELOW: {
-        const float v = link_var_get(t, c->trig_id).f;
-        if (v < c->level) {
-            fire = c->trig_ready && enough_pre;
-            c->trig_ready = false;
-        } else if (v >= c->level + c->hyst) {
-            c->trig_ready = true;
-        }
-        break;
-    }
-    case LINK_TRIG_FAULT:
-        fire = enough_pre && st == (uint16_t)APP_STATE_FAULT && c->last_app_state != (uint16_t)APP_STATE_FAULT;
-        break;
-    case LINK_TRIG_STATE:
-        fire = enough_pre && st != c->last_app_state;
-        break;
-    default:
-        fire = enough_pre;
-        break;
-    }
-    c->last_app_state = st;
-    return fire;
-}
-
-static void capture_isr(link_capture_t *c, const link_target_t *t)
-{
-    const uint16_t state = c->state;
-    if (state != LINK_CAP_PRE && state != LINK_CAP_POST) {
-        return;
-    }
-    if (c->dec_left > 0u) {
-        c->dec_left--;
-        return;
-    }
-    c->dec_left = (uint16_t)(c->decimate - 1u);
-    const uint32_t index = t->app->ticks - 1u;   /* ticks counts this period's call already */
-    int16_t *row = &c->buf[c->head * LINK_CAP_CHANNELS];
-    for (uint16_t k = 0u; k < c->nch; k++) {
-        row[k] = to_count(link_var_get(t, c->ids[k]).f, c->per_lsb[k]);
-    }
-    c->head = (uint16_t)(c->head + 1u);
-    c->head = (c->head >= c->samples) ? 0u : c->head;
-    c->filled = (c->filled < c->samples) ? (uint16_t)(c->filled + 1u) : c->filled;
-    if (state == LINK_CAP_POST) {
-        c->post_left--;
-        if (c->post_left == 0u) {
-            c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
-            c->state = LINK_CAP_DONE;
-        }
-        return;
-    }
-    if (triggered(c, t, c->filled > c->pre)) {
-        c->trig_index = index;
-        c->post_left = (uint16_t)(c->samples - c->pre - 1u);
-        if (c->post_left == 0u) {
-            c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
-            c->state = LINK_CAP_DONE;
-        } else {
-            c->state = LINK_CAP_POST;
-        }
-    }
-}
-
-static void stream_isr(link_t *l)
-{
-    link_stream_t *s = &l->stream;
-    const uint16_t n = s->n;
-    if (n == 0u) {
-        return;
-    }
-    if (s->dec_left > 0u) {
-        s->dec_left--;
-        return;
-    }
-    s->dec_left = (uint16_t)(s->decimate - 1u);
-    const uint16_t w = s->wr;
-    const uint16_t next = (uint16_t)((w + 1u) & (LINK_STREAM_ROWS - 1u));
-    if (next == s->rd) {
-        count16(&l->stats.stream_dropped);
-        return;
-    }
-    s->index[w] = l->t.app->ticks - 1u;
-    for (uint16_t k = 0u; k < n; k++) {
-        const link_val_t v = link_var_get(&l->t, s->ids[k]);
-        s->val[w][k] = (link_var(s->ids[k])->type == (uint16_t)LINK_T_F32) ? v.f : (float)v.u;
-    }
-    s->wr = next;
-}
-
-void link_isr(link_t *l)
-{
-    capture_isr(&l->cap, &l->t);
-    stream_isr(l);
 }

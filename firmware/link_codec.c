@@ -84,40 +84,78 @@ int16_t link_cobs_decode(const uint16_t *in, uint16_t n, uint16_t *out, uint16_t
     return (int16_t)o;
 }
 
-uint16_t link_frame_encode(const link_frame_t *f, uint16_t *out)
+/* Byte j of the frame before COBS: type, seq, payload, CRC low, CRC high. */
+static uint16_t raw_at(const link_frame_t *f, uint16_t len, uint16_t crc, uint16_t j)
 {
-    uint16_t raw[LINK_FRAME_MAX];
-    const uint16_t len = (f->len <= LINK_PAYLOAD_MAX) ? f->len : LINK_PAYLOAD_MAX;
-    uint16_t n = 0u;
-    raw[n++] = (uint16_t)(f->type & LINK_BYTE_MASK);
-    raw[n++] = (uint16_t)(f->seq & LINK_BYTE_MASK);
-    for (uint16_t i = 0u; i < len; i++) {
-        raw[n++] = (uint16_t)(f->payload[i] & LINK_BYTE_MASK);
+    if (j < FRAME_HEADER) {
+        return (uint16_t)(((j == 0u) ? f->type : f->seq) & LINK_BYTE_MASK);
     }
-    n = link_put_u16(raw, n, link_crc16(raw, n));
-    n = link_cobs_encode(raw, n, out);
-    out[n++] = 0u;
-    return n;
+    if (j < (uint16_t)(len + FRAME_HEADER)) {
+        return (uint16_t)(f->payload[j - FRAME_HEADER] & LINK_BYTE_MASK);
+    }
+    return (j == (uint16_t)(len + FRAME_HEADER)) ? (uint16_t)(crc & LINK_BYTE_MASK) : (uint16_t)(crc >> BITS_PER_BYTE);
 }
 
-bool link_frame_decode(const uint16_t *in, uint16_t n, link_frame_t *f)
+uint16_t link_frame_encode_ring(const link_frame_t *f, uint16_t *out, uint16_t start, uint16_t mask)
 {
-    uint16_t raw[LINK_FRAME_MAX];
-    const int16_t m = link_cobs_decode(in, n, raw, LINK_FRAME_MAX);
+    const uint16_t len = (f->len <= LINK_PAYLOAD_MAX) ? f->len : LINK_PAYLOAD_MAX;
+    uint16_t crc = link_crc16_byte(CRC_INIT, f->type);
+    crc = link_crc16_byte(crc, f->seq);
+    for (uint16_t i = 0u; i < len; i++) {
+        crc = link_crc16_byte(crc, f->payload[i]);
+    }
+    /* COBS over the frame's bytes as they are produced: no copy of the frame */
+    const uint16_t n = (uint16_t)(len + FRAME_MIN);
+    uint16_t code_at = 0u;
+    uint16_t o = 1u;
+    uint16_t code = 1u;
+    for (uint16_t i = 0u; i < n; i++) {
+        const uint16_t v = raw_at(f, len, crc, i);
+        if (v == 0u) {
+            out[(uint16_t)(start + code_at) & mask] = code;
+            code_at = o++;
+            code = 1u;
+        } else {
+            out[(uint16_t)(start + o) & mask] = v;
+            o++;
+            code++;
+            if (code == COBS_BLOCK_MAX && (uint16_t)(i + 1u) < n) {
+                out[(uint16_t)(start + code_at) & mask] = code;
+                code_at = o++;
+                code = 1u;
+            }
+        }
+    }
+    out[(uint16_t)(start + code_at) & mask] = code;
+    out[(uint16_t)(start + o) & mask] = 0u;
+    return (uint16_t)(o + 1u);
+}
+
+uint16_t link_frame_encode(const link_frame_t *f, uint16_t *out)
+{
+    return link_frame_encode_ring(f, out, 0u, 0xFFFFu);
+}
+
+int16_t link_frame_decode(uint16_t *in, uint16_t n, link_frame_t *f)
+{
+    const int16_t m = link_cobs_decode(in, n, in, n);   /* in place: the output never overtakes the input */
     if (m < (int16_t)FRAME_MIN) {
-        return false;
+        return LINK_DECODE_FRAMING;
     }
     const uint16_t body = (uint16_t)((uint16_t)m - FRAME_CRC);
-    if (link_crc16(raw, body) != link_get_u16(raw, body)) {
-        return false;
+    if (body > (uint16_t)(LINK_PAYLOAD_MAX + FRAME_HEADER)) {
+        return LINK_DECODE_FRAMING;
     }
-    f->type = raw[0];
-    f->seq = raw[1];
+    if (link_crc16(in, body) != link_get_u16(in, body)) {
+        return LINK_DECODE_CRC;
+    }
+    f->type = in[0];
+    f->seq = in[1];
     f->len = (uint16_t)(body - FRAME_HEADER);
     for (uint16_t i = 0u; i < f->len; i++) {
-        f->payload[i] = raw[FRAME_HEADER + i];
+        f->payload[i] = in[FRAME_HEADER + i];
     }
-    return true;
+    return LINK_DECODE_OK;
 }
 
 void link_rx_init(link_rx_t *rx)
@@ -154,17 +192,15 @@ bool link_rx_byte(link_rx_t *rx, uint16_t byte, link_frame_t *f)
     if (n == 0u && !overlong) {
         return false;                    /* idle fill, or the delimiter of a dropped block */
     }
-    uint16_t raw[LINK_FRAME_MAX];
-    const int16_t m = overlong ? -1 : link_cobs_decode(rx->buf, n, raw, LINK_FRAME_MAX);
-    if (m < (int16_t)FRAME_MIN) {
+    const int16_t r = overlong ? LINK_DECODE_FRAMING : link_frame_decode(rx->buf, n, f);
+    if (r == LINK_DECODE_FRAMING) {
         count(&rx->err_framing);
-        return false;
-    }
-    if (!link_frame_decode(rx->buf, n, f)) {
+    } else if (r == LINK_DECODE_CRC) {
         count(&rx->err_crc);
-        return false;
+    } else {
+        return true;
     }
-    return true;
+    return false;
 }
 
 uint16_t link_put_u16(uint16_t *b, uint16_t i, uint16_t v)

@@ -50,8 +50,16 @@ int16_t link_cobs_decode(const uint16_t *in, uint16_t n, uint16_t *out, uint16_t
  * 0x00. Returns the byte count. Background. */
 uint16_t link_frame_encode(const link_frame_t *f, uint16_t *out);
 
-/* Decode one COBS block (no delimiter) into *f, CRC checked: true when it holds a frame. */
-bool link_frame_decode(const uint16_t *in, uint16_t n, link_frame_t *f);
+/* The same into a ring: byte k at out[(start + k) & mask] (mask + 1 a power of two, the
+ * caller checked the room). No copy of the frame is made. Background. */
+uint16_t link_frame_encode_ring(const link_frame_t *f, uint16_t *out, uint16_t start, uint16_t mask);
+
+enum { LINK_DECODE_OK = 0, LINK_DECODE_FRAMING = 1, LINK_DECODE_CRC = 2 };
+
+/* Decode one COBS block (no delimiter) into *f, CRC checked; the block is decoded in place
+ * (in[] is overwritten). Returns LINK_DECODE_OK, _FRAMING (bad COBS, shorter than 4 or longer
+ * than LINK_FRAME_MAX bytes) or _CRC. */
+int16_t link_frame_decode(uint16_t *in, uint16_t n, link_frame_t *f);
 
 /* Start a receiver with no bytes and zero counts. */
 void link_rx_init(link_rx_t *rx);

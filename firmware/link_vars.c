@@ -45,6 +45,8 @@ static const link_var_t VARS[LV_COUNT] = {
     [LV_LINK_ERR_FRAMING] = { "link_err_framing", "", LINK_T_U16, R },
     [LV_LINK_ERR_OVERRUN] = { "link_err_overrun", "", LINK_T_U16, R },
     [LV_LINK_STREAM_DROPPED] = { "link_stream_dropped", "", LINK_T_U16, R },
+    [LV_LINK_ERR_LINE] = { "link_err_line", "", LINK_T_U16, R },
+    [LV_RESET_BY_WATCHDOG] = { "reset_by_watchdog", "", LINK_T_U16, R },
 };
 #undef R
 #undef W
@@ -106,6 +108,8 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_LINK_ERR_FRAMING: return of_u((uint32_t)t->stats->err_framing);
     case LV_LINK_ERR_OVERRUN: return of_u((uint32_t)t->stats->err_overrun);
     case LV_LINK_STREAM_DROPPED: return of_u((uint32_t)t->stats->stream_dropped);
+    case LV_LINK_ERR_LINE: return of_u((uint32_t)t->stats->err_line);
+    case LV_RESET_BY_WATCHDOG: return of_u((uint32_t)t->stats->reset_by_watchdog);
     default: return of_u(0u);
     }
 }

@@ -26,7 +26,7 @@ typedef enum {
     LV_TE_EST_NM, LV_PSI_REF_WB, LV_PSI_EST_WB, LV_ID_MEAS_A, LV_IQ_MEAS_A, LV_UD_CMD_V, LV_UQ_CMD_V,
     LV_UD_REF_V, LV_UQ_REF_V, LV_R_EST_OHM, LV_L_EST_H, LV_PSIF_EST_WB, LV_EST, LV_EST_HOLD,
     LV_METHOD, LV_MODE, LV_CMD_ERROR, LV_TICKS, LV_LINK_WRITES, LV_LINK_ERR_CRC, LV_LINK_ERR_FRAMING,
-    LV_LINK_ERR_OVERRUN, LV_LINK_STREAM_DROPPED,
+    LV_LINK_ERR_OVERRUN, LV_LINK_STREAM_DROPPED, LV_LINK_ERR_LINE, LV_RESET_BY_WATCHDOG,
     LV_COUNT
 } link_var_id_t;
 
@@ -41,6 +41,8 @@ typedef struct {
 typedef struct {
     uint32_t writes;            /* WRITE and ACTION requests executed (a repeat answered from the cache is not) */
     uint16_t err_crc, err_framing, err_overrun, stream_dropped;
+    uint16_t err_line;          /* the port's own receive errors (garbled characters, FIFO overflows): set by the glue */
+    uint16_t reset_by_watchdog; /* 1: the last reset was the watchdog's (set by the glue at start-up) */
 } link_stats_t;
 
 /* What the table reads and writes. */

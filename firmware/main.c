@@ -20,11 +20,33 @@
 #include "cmd.h"
 #include "hal.h"
 #include "hal_f28335.h"
+#include "hal_f28335_cfg.h"
+#include "link.h"
 
 static app_t g_app;          /* the whole drive state; static so CCS can watch it */
-static volatile cmd_t g_cmd; /* written by the operator from CCS (or a telemetry link) */
+static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
+static link_t g_link;        /* the link on SCI-A (link.h) */
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
-static const char WATCHDOG_RESET_MSG[] = "reset by watchdog\r\n";
+static const char FIRMWARE_ID[] = "f28335 db-dtc";
+#define SCI_READ_MAX F28335_SCI_FIFO_DEPTH
+
+/* Background: SCI-A's received bytes into the link, its replies out, never waiting. */
+static void link_service(void)
+{
+    uint16_t rx[SCI_READ_MAX];
+    uint16_t b;
+    const uint16_t n = hal_f28335_sci_read(rx, SCI_READ_MAX);
+    for (uint16_t k = 0U; k < n; k++) {
+        (void)link_rx_put(&g_link, rx[k]);   /* a full queue is counted by the link */
+    }
+    g_link.stats.err_line = (uint16_t)(hal_f28335_sci_errors.word_errors + hal_f28335_sci_errors.fifo_overflows +
+                                       hal_f28335_sci_errors.rx_errors);
+    link_poll(&g_link);
+    while (hal_f28335_sci_tx_free() > 0U && link_tx_get(&g_link, &b)) {
+        (void)hal_f28335_sci_putc(b);
+    }
+    hal_f28335_sci_pump();
+}
 
 /* PIE INT1.1 (ADC SEQ1 end of sequence), once per PWM period; app_isr acknowledges. */
 #if defined(__TMS320C28XX__)
@@ -34,29 +56,33 @@ static HAL_INTERRUPT void ctrl_isr(void)
 {
     hal_f28335_isr_timing_begin();
     app_isr(&g_app);
+    link_isr(&g_link);       /* capture and stream sampling of this period */
     hal_f28335_isr_timing_end();
 }
 
 int main(void)
 {
     app_cfg_t cfg;
-    cmd_limits_t lim;
+    static cmd_limits_t lim;     /* the link keeps a pointer to it */
+    link_cfg_t lc;
 
     hal_init();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    if (g_reset_by_watchdog) {
-        (void)hal_f28335_sci_write(WATCHDOG_RESET_MSG, (uint16_t)(sizeof WATCHDOG_RESET_MSG - 1u));
-    }
     app_cfg_default(&cfg);
     app_init(&g_app, &cfg);
     cmd_init(&g_cmd);
     lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
     lim.te_max_Nm = cfg.ctrl.te_max_Nm;
     lim.u_max_V = cfg.ctrl.u_max_V;
+    lc.Ts_s = cfg.ctrl.Ts_s;
+    lc.baud = F28335_SCI_BAUD_ACTUAL;
+    lc.firmware_id = FIRMWARE_ID;
+    link_init(&g_link, &lc, &g_app, &g_cmd, &lim);
+    g_link.stats.reset_by_watchdog = g_reset_by_watchdog ? 1U : 0U;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
     for (;;) {
         cmd_apply(&g_cmd, &lim, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
-        hal_f28335_sci_pump();
+        link_service();
     }
 }
