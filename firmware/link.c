@@ -511,7 +511,7 @@ static void send_unsolicited(link_t *l)
         f->seq = 0u;
         uint16_t i = link_put_u32(f->payload, 0u, s->index[r]);
         for (uint16_t k = 0u; k < n; k++) {
-            i = put_value(f->payload, i, s->ids[k], (link_val_t){ (uint32_t)s->val[r][k], s->val[r][k] });
+            i = put_value(f->payload, i, s->ids[k], s->val[r][k]);
         }
         f->len = i;
         tx_frame(l, f);

@@ -72,7 +72,7 @@ typedef struct {
     /* rows: written by the ISR at wr, read by the background at rd */
     volatile uint16_t wr, rd;
     uint32_t index[LINK_STREAM_ROWS];
-    float val[LINK_STREAM_ROWS][LINK_STREAM_VARS];
+    link_val_t val[LINK_STREAM_ROWS][LINK_STREAM_VARS];
 } link_stream_t;
 
 typedef struct {

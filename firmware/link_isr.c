@@ -125,8 +125,7 @@ static void stream_isr(link_t *l)
     }
     s->index[w] = l->t.app->ticks - 1u;
     for (uint16_t k = 0u; k < n; k++) {
-        const link_val_t v = link_var_get(&l->t, s->ids[k]);
-        s->val[w][k] = (link_var(s->ids[k])->type == (uint16_t)LINK_T_F32) ? v.f : (float)v.u;
+        s->val[w][k] = link_var_get(&l->t, s->ids[k]);
     }
     s->wr = next;
 }

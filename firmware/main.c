@@ -2,16 +2,18 @@
  * main.c - F28335 target entry: bring up the board, configure the drive
  * from board_cfg.h (app_cfg_default), run the control ISR (ADC SEQ1,
  * 10 kHz) from RAM and the background loop (watchdog via app_background,
- * the operator's command block, telemetry pump).
+ * the operator's command block, the link on SCI-A).
  *
- * Operating the board: in CCS, add `g_cmd` to the expressions window and
- * set its fields (see cmd.h): method 0/1 (conventional/proposed), mode
- * 0/1/2 (open loop/torque/speed), the reference, then run = 1. `g_app`
- * shows the state, the latched fault with its snapshot and the monitor
- * (g_app.ctrl.mon); g_cmd.error names a refused command.
+ * Operating the board: drivetool over SCI-A (firmware/link_protocol.md,
+ * tools/drivetool/README.md), or in CCS: add `g_cmd` to the expressions
+ * window and set its fields (see cmd.h): method 0/1 (conventional/
+ * proposed), mode 0/1/2 (open loop/torque/speed), the reference, then
+ * run = 1. `g_app` shows the state, the latched fault with its snapshot
+ * and the monitor (g_app.ctrl.mon); g_cmd.error names a refused command.
  * g_reset_by_watchdog is true when the last reset was the watchdog's (the
- * background loop stopped kicking it: a hang, a trap, an endless ISR); it
- * is also sent once on the telemetry line at start-up.
+ * background loop stopped kicking it: a hang, a trap, an endless ISR); the
+ * link shows it as the variable reset_by_watchdog (no text on the port:
+ * one protocol per port).
  * Not linked on the host (the Makefile filters it out); the make check
  * gates compile it.
  */

@@ -1,7 +1,7 @@
 /*
  * hal_f28335.h - what the F28335 HAL offers beyond hal/hal.h: the ISR
- * timing record (for CCS watch windows), the SCI-A telemetry transmit
- * queue, and start-up diagnostics. Target firmware only; portable code
+ * timing record (for CCS watch windows), the SCI-A link's transmit
+ * and receive queues, and start-up diagnostics. Target firmware only; portable code
  * uses hal.h.
  */
 #ifndef HAL_F28335_H
