@@ -108,6 +108,11 @@ class RoundTrip(unittest.TestCase):
         cls.unknown = tool(cls.port, "get", "no_such_variable")
         cls.refused = tool(cls.port, "set", "speed_ref_rpm=1e6")
         cls.readonly = tool(cls.port, "set", "speed_est_rpm=1")
+        cls.backup_path = os.path.join(cls.tmp, "backup.json")
+        cls.backup = tool(cls.port, "backup", cls.backup_path)
+        cls.set_te = tool(cls.port, "set", "te_cmd_Nm=1.5")
+        cls.restore = tool(cls.port, "--json", "restore", cls.backup_path)
+        cls.after_restore = tool(cls.port, "--json", "get", "te_cmd_Nm")
         cls.quit_rc, _ = finish(cls.p, cls.port)
 
     def test_status_has_state_fault_speed(self):
@@ -161,6 +166,17 @@ class RoundTrip(unittest.TestCase):
         self.assertEqual(self.readonly[0], 1)
         self.assertEqual(self.quit_rc, 0)
         self.assertEqual(self.p.returncode, 0)
+
+    def test_backup_and_restore_the_writable_variables(self):
+        self.assertEqual(self.backup[0], 0, self.backup[2])
+        with open(self.backup_path) as f:
+            saved = json.load(f)
+        self.assertEqual(set(saved), {"speed_ref_rpm", "te_cmd_Nm", "ud_ref_V", "uq_ref_V", "method", "mode"})
+        self.assertEqual(self.set_te[0], 0, self.set_te[2])
+        rc, out, err = self.restore
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out), {"te_cmd_Nm": saved["te_cmd_Nm"]})   # only what differed
+        self.assertEqual(json.loads(self.after_restore[1])["te_cmd_Nm"], saved["te_cmd_Nm"])
 
     def test_no_answer_is_exit_3(self):
         with socket.socket() as s:

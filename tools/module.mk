@@ -17,6 +17,7 @@ bench:
 	@$(BUILD)/host/sil_bench
 	@$(MAKE) --no-print-directory VARIANT=host bench-ctrl
 	@$(MAKE) --no-print-directory VARIANT=host bench-sweep
+	@$(MAKE) --no-print-directory VARIANT=host bench-link
 
 SIL_DIR    := $(BUILD)/sil
 # Noise seeds of the realistic runs' spread (report section "over noise seeds")
@@ -64,3 +65,17 @@ $(DRIVETOOL): $(VENV_STAMP) $(DRIVETOOL_SRCS)
 	@cp -r tools/drivetool/pyproject.toml tools/drivetool/drivetool $(BUILD)/drivetool-src/
 	$(VENV)/bin/python -m pip install -q --no-deps $(BUILD)/drivetool-src
 	@touch $@
+
+# The link's figures (make bench): its cost in the control ISR (callgrind,
+# plain -O2 as bench-ctrl) and the bytes per second drivetool gets from
+# drive_sil --link at 115200 and 937500 baud (tools/bench_link.py).
+$(OUT)/bench_link: $(call objs,tools/bench_link.c) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) -no-pie -o $@ $(filter %.o,$^) $(filter %.a,$^) -lm
+
+.PHONY: bench-link
+bench-link: bench-ctrl-deps $(DRIVETOOL)
+	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/bench_link
+	@tools/bench_link.sh $(BUILD)/o2/bench_link 20000
+	@$(MAKE) --no-print-directory VARIANT=host $(BUILD)/host/drive_sil
+	@$(VENV)/bin/python tools/bench_link.py $(BUILD)/host/drive_sil

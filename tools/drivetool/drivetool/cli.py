@@ -215,14 +215,17 @@ def cmd_restore(d, args):
         raise UsageError(f"{args.file}: {e}") from None
     if not isinstance(vals, dict):
         raise UsageError(f"{args.file}: expected an object of NAME: VALUE")
-    for name in vals:
+    for name, val in vals.items():
         if d.var(name).access == codec.ACC_READ:
             raise UsageError(f"{args.file}: {name} is read-only")
-    for name, val in vals.items():
-        if isinstance(val, float) and not math.isfinite(val):
-            raise UsageError(f"{args.file}: {name} is not finite")
+        if not isinstance(val, (int, float)) or isinstance(val, bool) or not math.isfinite(val):
+            raise UsageError(f"{args.file}: {name} is not a finite number")
+    now = d.get(*vals)
+    # only what differs is written: a write-when-stopped variable that is already right passes while running
+    changed = {n: v for n, v in vals.items() if now[n] != v}
+    for name, val in changed.items():
         d.set(name, val)
-    _emit(args, vals, f"{len(vals)} variables restored from {args.file}")
+    _emit(args, changed, f"{len(changed)} of {len(vals)} variables restored from {args.file}")
 
 
 def build_parser():
