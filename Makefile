@@ -184,6 +184,7 @@ check: check-deps
 	@tools/check/portability.sh $(BUILD)/check
 	@tools/check/target_cfg.sh
 	@tools/check/isr_path.sh $(BUILD)/check
+	@tools/check/ram_budget.sh $(BUILD)/check
 
 # ---- target build --------------------------------------------------------
 firmware:

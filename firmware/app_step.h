@@ -44,7 +44,9 @@ typedef enum {
     APP_FAULT_RSID_OUT_OF_BAND = 16, /* R^ outside [R_min, R_max] (snapshot: R^, the bound crossed) */
     APP_FAULT_OPEN_PHASE = 17,       /* a phase carries no current under voltage (protect.h) */
     APP_FAULT_CURRENT_SENSOR = 18,   /* a current reading frozen while the rotor turns (protect.h) */
-    APP_FAULT_ENCODER_LOST = 19      /* the count stopped while moving, or no count at the torque limit (protect.h) */
+    APP_FAULT_ENCODER_LOST = 19,     /* the count stopped while moving, or no count at the torque limit (protect.h) */
+    APP_FAULT_WATCHDOG_RESET = 20,   /* start-up: the last reset was the watchdog's (app_latch_startup_fault) */
+    APP_FAULT_FLASH_CRC = 21         /* start-up: the program image fails its linker CRC (flash_crc.h); no reset clears it */
 } app_fault_t;
 
 typedef enum {

@@ -10,23 +10,37 @@
  * proposed), mode 0/1/2 (open loop/torque/speed), the reference, then
  * run = 1. `g_app` shows the state, the latched fault with its snapshot
  * and the monitor (g_app.ctrl.mon); g_cmd.error names a refused command.
- * g_reset_by_watchdog is true when the last reset was the watchdog's (the
- * background loop stopped kicking it: a hang, a trap, an endless ISR); the
- * link shows it as the variable reset_by_watchdog (no text on the port:
- * one protocol per port).
+ * A reset by the watchdog (the background loop stopped kicking it: a
+ * hang, a trap, an endless ISR) is latched as the fault WATCHDOG_RESET
+ * (g_reset_by_watchdog and the link's variable reset_by_watchdog also say
+ * so; no text goes to the port: one protocol per port); the operator
+ * clears it with fault_reset. Before anything runs, the program
+ * image is checked against the CRCs the linker recorded
+ * (f28335_flash.cmd, crc_table(_flash_crc_table)): a mismatch latches
+ * FLASH_CRC (snapshot value: the failing record's index), which no reset
+ * clears.
  * Not linked on the host (the Makefile filters it out); the make check
  * gates compile it.
  */
 #include "app.h"
 #include "board_cfg.h"
 #include "cmd.h"
+#include "flash_crc.h"
 #include "hal.h"
 #include "hal_f28335.h"
 #include "hal_f28335_cfg.h"
 #include "link.h"
 
+#if defined(__TMS320C28XX__)
+#include <crc_tbl.h>
+/* The linker's CRC records of the program sections (f28335_flash.cmd). */
+extern CRC_TABLE flash_crc_table;
+#endif
+
 static app_t g_app;          /* the whole drive state; static so CCS can watch it */
+static app_cfg_t g_cfg;      /* static: in .ebss, not on the 1K-word stack (tools/check/ram_budget.py) */
 static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
+static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
@@ -50,6 +64,24 @@ static void link_service(void)
     hal_f28335_sci_pump();
 }
 
+/* Start-up, before interrupts: the index of the first CRC record of the
+ * image that fails (flash_crc.h), or -1 when all match. */
+static int16_t flash_image_bad_record(void)
+{
+#if defined(__TMS320C28XX__)
+    uint16_t k;
+
+    for (k = 0u; k < flash_crc_table.num_recs; k++) {
+        const CRC_RECORD *r = &flash_crc_table.recs[k];
+        if (!flash_crc_record_ok(r->crc_alg_ID, (const volatile uint16_t *)r->addr, r->size, r->crc_value,
+                                 hal_watchdog_kick)) {
+            return (int16_t)k;
+        }
+    }
+#endif
+    return -1;
+}
+
 /* PIE INT1.1 (ADC SEQ1 end of sequence), once per PWM period; app_isr acknowledges. */
 #if defined(__TMS320C28XX__)
 #pragma CODE_SECTION(ctrl_isr, "ramfuncs")
@@ -64,26 +96,31 @@ static HAL_INTERRUPT void ctrl_isr(void)
 
 int main(void)
 {
-    app_cfg_t cfg;
-    static cmd_limits_t lim;     /* the link keeps a pointer to it */
     link_cfg_t lc;
+    int16_t bad_record;
 
-    hal_init();
+    hal_init();  /* ramfuncs copied: its CRC record holds at either address */
+    bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    app_cfg_default(&cfg);
-    app_init(&g_app, &cfg);
+    app_cfg_default(&g_cfg);
+    app_init(&g_app, &g_cfg);
+    if (bad_record >= 0) {
+        app_latch_startup_fault(&g_app, APP_FAULT_FLASH_CRC, (float)bad_record, 0.0f);
+    } else if (g_reset_by_watchdog) {
+        app_latch_startup_fault(&g_app, APP_FAULT_WATCHDOG_RESET, 0.0f, 0.0f);
+    }
     cmd_init(&g_cmd);
-    lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
-    lim.te_max_Nm = cfg.ctrl.te_max_Nm;
-    lim.u_max_V = cfg.ctrl.u_max_V;
-    lc.Ts_s = cfg.ctrl.Ts_s;
+    g_lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
+    g_lim.te_max_Nm = g_cfg.ctrl.te_max_Nm;
+    g_lim.u_max_V = g_cfg.ctrl.u_max_V;
+    lc.Ts_s = g_cfg.ctrl.Ts_s;
     lc.baud = F28335_SCI_BAUD_ACTUAL;
     lc.firmware_id = FIRMWARE_ID;
-    link_init(&g_link, &lc, &g_app, &g_cmd, &lim);
+    link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
     g_link.stats.reset_by_watchdog = g_reset_by_watchdog ? 1U : 0U;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
     for (;;) {
-        cmd_apply(&g_cmd, &lim, &g_app);
+        cmd_apply(&g_cmd, &g_lim, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         link_service();
     }

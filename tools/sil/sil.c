@@ -245,11 +245,10 @@ static void track_faults(const hal_sim_truth_t *tr, bool was_faulted, sil_result
 
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res)
 {
-    return sil_run_hooked(sc, NULL, on_row, user, res);
+    return sil_run_ctl(sc, on_row, user, NULL, res);
 }
 
-int sil_run_hooked(const scenario_t *sc, const sil_hooks_t *hooks, sil_row_fn on_row, void *user,
-                   sil_result_t *res)
+int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res)
 {
     hal_sim_cfg_t hc;
     app_cfg_t ac;
@@ -274,6 +273,7 @@ int sil_run_hooked(const scenario_t *sc, const sil_hooks_t *hooks, sil_row_fn on
     app_op_t op;
     op.mode = ctrl_mode_of(sc->controller.mode);
     op.method = (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED : CTRL_METHOD_CONVENTIONAL;
+    const sil_hooks_t *hooks = (ctl != NULL) ? ctl->hooks : NULL;
     g_hooks = hooks;
     if (hooks != NULL && hooks->start != NULL) {
         hooks->start(hooks->user, &g_app);
@@ -288,6 +288,9 @@ int sil_run_hooked(const scenario_t *sc, const sil_hooks_t *hooks, sil_row_fn on
     refs_init(&refs, sc);
     const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
     uint32_t periods_to_row = 0u;                       /* a row every log_every periods, from k = 0 */
+    const volatile sig_atomic_t *stop = (ctl != NULL) ? ctl->stop : NULL;
+    const sil_tick_fn on_tick = (ctl != NULL && ctl->tick_periods > 0u) ? ctl->on_tick : NULL;
+    uint32_t periods_to_tick = (on_tick != NULL) ? ctl->tick_periods : 0u;
     int rc = 0;
     for (uint32_t k = 0; k < n && rc == 0; k++) {
         if (refs_at(&refs, (double)k * Ts, &op)) {
@@ -322,6 +325,13 @@ int sil_run_hooked(const scenario_t *sc, const sil_hooks_t *hooks, sil_row_fn on
             }
         }
         periods_to_row--;
+        if (on_tick != NULL && --periods_to_tick == 0u) {
+            periods_to_tick = ctl->tick_periods;
+            on_tick(tr->t_s, ctl->tick_user);
+        }
+        if (rc == 0 && stop != NULL && *stop != 0) {
+            rc = SIL_STOPPED;   /* after a whole period: every row so far is complete */
+        }
         if (rc == 0 && hooks != NULL && hooks->period_end != NULL) {
             rc = hooks->period_end(hooks->user);
         }

@@ -29,6 +29,7 @@ static const char *const FAULT_NAMES[] = {
     [APP_FAULT_RSID_OUT_OF_BAND] = "RSID_OUT_OF_BAND",
     [APP_FAULT_OPEN_PHASE] = "OPEN_PHASE", [APP_FAULT_CURRENT_SENSOR] = "CURRENT_SENSOR",
     [APP_FAULT_ENCODER_LOST] = "ENCODER_LOST",
+    [APP_FAULT_WATCHDOG_RESET] = "WATCHDOG_RESET", [APP_FAULT_FLASH_CRC] = "FLASH_CRC",
 };
 
 static const char *name_of(const char *const *names, size_t n, int v, const char *prefix, char *buf, size_t len)
