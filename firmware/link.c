@@ -91,8 +91,7 @@ void link_drop(link_t *l)
 {
     l->rx_tail = l->rx_head;
     l->tx_tail = l->tx_head;
-    l->rx.n = 0u;
-    l->rx.overlong = false;
+    link_rx_resync(&l->rx);
 }
 
 /* Bytes into the transmit queue (the caller checked the room). */

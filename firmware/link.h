@@ -20,8 +20,8 @@
 #include "link_vars.h"
 
 #define LINK_PROTOCOL_VERSION 1u
-#define LINK_RX_LEN 128u                 /* received bytes waiting for link_poll (power of two) */
-#define LINK_TX_LEN 512u                 /* bytes waiting for the port (power of two): two largest frames */
+#define LINK_RX_LEN 64u                  /* received bytes waiting for link_poll (power of two) */
+#define LINK_TX_LEN 256u                 /* bytes waiting for the port (power of two): the largest frame */
 #define LINK_RX_BUDGET 64u               /* received bytes handled per link_poll */
 #define LINK_CAP_CHANNELS 4u
 #define LINK_CAP_ROWS 1024u

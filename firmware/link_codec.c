@@ -136,32 +136,18 @@ uint16_t link_frame_encode(const link_frame_t *f, uint16_t *out)
     return link_frame_encode_ring(f, out, 0u, 0xFFFFu);
 }
 
-int16_t link_frame_decode(uint16_t *in, uint16_t n, link_frame_t *f)
+void link_rx_resync(link_rx_t *rx)
 {
-    const int16_t m = link_cobs_decode(in, n, in, n);   /* in place: the output never overtakes the input */
-    if (m < (int16_t)FRAME_MIN) {
-        return LINK_DECODE_FRAMING;
-    }
-    const uint16_t body = (uint16_t)((uint16_t)m - FRAME_CRC);
-    if (body > (uint16_t)(LINK_PAYLOAD_MAX + FRAME_HEADER)) {
-        return LINK_DECODE_FRAMING;
-    }
-    if (link_crc16(in, body) != link_get_u16(in, body)) {
-        return LINK_DECODE_CRC;
-    }
-    f->type = in[0];
-    f->seq = in[1];
-    f->len = (uint16_t)(body - FRAME_HEADER);
-    for (uint16_t i = 0u; i < f->len; i++) {
-        f->payload[i] = in[FRAME_HEADER + i];
-    }
-    return LINK_DECODE_OK;
+    rx->m = 0u;
+    rx->left = 0u;
+    rx->zero_pending = false;
+    rx->started = false;
+    rx->bad = false;
 }
 
 void link_rx_init(link_rx_t *rx)
 {
-    rx->n = 0u;
-    rx->overlong = false;
+    link_rx_resync(rx);
     rx->err_crc = 0u;
     rx->err_framing = 0u;
 }
@@ -173,32 +159,63 @@ static void count(uint16_t *c)
     }
 }
 
+/* Decoded byte j of the frame into *f: type, seq, then payload (the CRC lands after it). */
+static void rx_emit(link_rx_t *rx, uint16_t v, link_frame_t *f)
+{
+    if (rx->m >= LINK_FRAME_MAX) {
+        rx->bad = true;
+        return;
+    }
+    if (rx->m == 0u) {
+        f->type = v;
+    } else if (rx->m == 1u) {
+        f->seq = v;
+    } else {
+        f->payload[rx->m - FRAME_HEADER] = v;
+    }
+    rx->m++;
+}
+
+/* The block since the last 0x00 is whole: true when it is a frame with a good CRC. */
+static bool rx_finish(link_rx_t *rx, link_frame_t *f)
+{
+    if (rx->bad || rx->left != 0u || rx->m < FRAME_MIN) {
+        count(&rx->err_framing);         /* overlong, a block running past the end, or too short */
+        return false;
+    }
+    const uint16_t len = (uint16_t)(rx->m - FRAME_MIN);
+    uint16_t crc = link_crc16_byte(CRC_INIT, f->type);
+    crc = link_crc16_byte(crc, f->seq);
+    for (uint16_t i = 0u; i < len; i++) {
+        crc = link_crc16_byte(crc, f->payload[i]);
+    }
+    if (crc != link_get_u16(f->payload, len)) {
+        count(&rx->err_crc);
+        return false;
+    }
+    f->len = len;
+    return true;
+}
+
 bool link_rx_byte(link_rx_t *rx, uint16_t byte, link_frame_t *f)
 {
     const uint16_t v = (uint16_t)(byte & LINK_BYTE_MASK);
-    if (v != 0u) {
-        if (rx->n < LINK_ENCODED_MAX) {
-            rx->buf[rx->n++] = v;
-        } else {
-            rx->overlong = true;
-        }
-        return false;
+    if (v == 0u) {
+        /* a delimiter: whatever came before it is one block */
+        const bool ok = rx->started && rx_finish(rx, f);
+        link_rx_resync(rx);
+        return ok;                       /* an empty block is idle fill, or the end of a dropped one */
     }
-    /* a delimiter: whatever came before it is one block */
-    const uint16_t n = rx->n;
-    const bool overlong = rx->overlong;
-    rx->n = 0u;
-    rx->overlong = false;
-    if (n == 0u && !overlong) {
-        return false;                    /* idle fill, or the delimiter of a dropped block */
-    }
-    const int16_t r = overlong ? LINK_DECODE_FRAMING : link_frame_decode(rx->buf, n, f);
-    if (r == LINK_DECODE_FRAMING) {
-        count(&rx->err_framing);
-    } else if (r == LINK_DECODE_CRC) {
-        count(&rx->err_crc);
+    rx->started = true;
+    if (rx->left > 0u) {
+        rx_emit(rx, v, f);
+        rx->left--;
     } else {
-        return true;
+        if (rx->zero_pending) {
+            rx_emit(rx, 0u, f);          /* the previous block stood for a zero, and data follows */
+        }
+        rx->left = (uint16_t)(v - 1u);
+        rx->zero_pending = (v < COBS_BLOCK_MAX);
     }
     return false;
 }

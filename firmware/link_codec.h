@@ -21,14 +21,18 @@ typedef struct {
     uint16_t type;                       /* link_protocol.md: requests 0x01.., replies type | 0x80 */
     uint16_t seq;                        /* 0..255, chosen by the host, echoed in the reply */
     uint16_t len;                        /* payload bytes, <= LINK_PAYLOAD_MAX */
-    uint16_t payload[LINK_PAYLOAD_MAX];  /* one byte per word */
+    uint16_t payload[LINK_PAYLOAD_MAX + 2u];  /* one byte per word; the receiver puts the CRC after it */
 } link_frame_t;
 
-/* Receiver: bytes in, whole checked frames out. Resyncs at every 0x00. */
+/* Receiver: bytes in, whole checked frames out, COBS decoded as the bytes
+ * come (straight into the caller's frame: no block buffer). Resyncs at
+ * every 0x00. */
 typedef struct {
-    uint16_t buf[LINK_ENCODED_MAX];
-    uint16_t n;                  /* bytes since the last 0x00 */
-    bool overlong;               /* more than LINK_ENCODED_MAX since it: dropped at the next 0x00 */
+    uint16_t m;                  /* bytes decoded since the last 0x00 */
+    uint16_t left;               /* data bytes left in the current COBS block; 0: a code byte is next */
+    bool zero_pending;           /* the current block ends in an implied zero (its code was below 0xFF) */
+    bool started;                /* a byte came since the last 0x00 */
+    bool bad;                    /* overlong since the last 0x00: dropped at the next one */
     uint16_t err_crc;            /* frames with a bad CRC (saturating counts) */
     uint16_t err_framing;        /* bad COBS, too short, too long */
 } link_rx_t;
@@ -54,18 +58,15 @@ uint16_t link_frame_encode(const link_frame_t *f, uint16_t *out);
  * caller checked the room). No copy of the frame is made. Background. */
 uint16_t link_frame_encode_ring(const link_frame_t *f, uint16_t *out, uint16_t start, uint16_t mask);
 
-enum { LINK_DECODE_OK = 0, LINK_DECODE_FRAMING = 1, LINK_DECODE_CRC = 2 };
-
-/* Decode one COBS block (no delimiter) into *f, CRC checked; the block is decoded in place
- * (in[] is overwritten). Returns LINK_DECODE_OK, _FRAMING (bad COBS, shorter than 4 or longer
- * than LINK_FRAME_MAX bytes) or _CRC. */
-int16_t link_frame_decode(uint16_t *in, uint16_t n, link_frame_t *f);
-
 /* Start a receiver with no bytes and zero counts. */
 void link_rx_init(link_rx_t *rx);
 
-/* One received byte; true when it ended a valid frame, now in *f. Errors are counted
- * (err_crc, err_framing); an empty block (0x00 0x00) is silently ignored. Background. */
+/* Forget the bytes since the last 0x00 (a new cable), keeping the counts. */
+void link_rx_resync(link_rx_t *rx);
+
+/* One received byte, decoded into *f (the same frame on every call); true when it ended a
+ * valid frame, now in *f. Errors are counted (err_crc, err_framing); an empty block
+ * (0x00 0x00) is silently ignored. Background. */
 bool link_rx_byte(link_rx_t *rx, uint16_t byte, link_frame_t *f);
 
 /* Little-endian helpers over byte words: put returns the index after the value. */

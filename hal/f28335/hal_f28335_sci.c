@@ -29,7 +29,7 @@ F28335_STATIC_ASSERT(baud_error_within_2_percent, F28335_SCI_ERROR_PER_10K <= F2
 #define SCIFFRX_FIFO_ON     0x6040U  /* RXFFOVRCLR, RXFIFORESET, RXFFINTCLR; no interrupt */
 #define GPIO_MUX_PERIPH1    1U
 #define GPIO_QSEL_ASYNC     3U
-#define SCI_RING_LEN        256U     /* power of two; one slot stays empty */
+#define SCI_RING_LEN        32U      /* power of two; one slot stays empty. The link keeps its own queue */
 #define SCI_CHAR_MASK       0x00FFU
 #define SCI_RX_WORD_ERRORS  0xC000U  /* SCIRXBUF.SCIFFFE | SCIFFPE */
 #define COUNT_MAX           0xFFFFU

@@ -37,7 +37,7 @@ typedef struct {
 int link_sil_arg(link_sil_opts_t *o, int argc, char **argv, int *i);
 
 /* Open the port (listening socket or pty) and announce it on stderr; fills *hooks for
- * sil_ctl_t.hooks. 0, or -1 with a message. *
+ * sil_ctl_t.hooks. 0, or -1 with a message. */
 int link_sil_open(const link_sil_opts_t *o, sil_hooks_t *hooks);
 
 /* Close the port. */
