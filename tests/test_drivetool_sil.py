@@ -186,6 +186,42 @@ class RoundTrip(unittest.TestCase):
         self.assertEqual(rc, 3, err)
 
 
+@unittest.skipUnless(os.access(DRIVE_SIL, os.X_OK) and os.access(DRIVETOOL, os.X_OK),
+                     "needs build/host/drive_sil and build/venv/bin/drivetool (make drivetool)")
+class Pty(unittest.TestCase):
+    def test_status_and_quit_over_a_pty(self):
+        tmp = tempfile.mkdtemp()
+        ini = os.path.join(tmp, "link.ini")
+        with open(ini, "w") as f:
+            f.write(SCENARIO)
+        err_path = os.path.join(tmp, "drive_sil.err")
+        with open(err_path, "w") as err:
+            p = subprocess.Popen([DRIVE_SIL, "--scenario", ini, "--summary", os.devnull, "--link", "pty",
+                                  "--realtime", "1"], stdout=subprocess.DEVNULL, stderr=err)
+        try:
+            line = ""
+            deadline = time.monotonic() + 30
+            while not line.endswith("\n") and p.poll() is None and time.monotonic() < deadline:
+                time.sleep(0.02)
+                with open(err_path) as f:
+                    line = f.readline()
+            self.assertTrue(line.startswith("link on /dev/"), line)
+            dev = line.split()[-1]
+            env = dict(os.environ, XDG_CACHE_HOME=tempfile.gettempdir())
+            r = subprocess.run([DRIVETOOL, "--port", dev, "--json", "status"], capture_output=True, text=True,
+                               timeout=60, env=env)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(json.loads(r.stdout)["state_name"], "RUN")
+            r = subprocess.run([DRIVETOOL, "--port", dev, "quit"], capture_output=True, text=True, timeout=60,
+                               env=env)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(p.wait(timeout=30), 0)
+        finally:
+            if p.poll() is None:
+                p.kill()
+                p.wait()
+
+
 class LossyProxy:
     """Forwards TCP connections frame by frame (split at each 0x00), spoiling RATE of
     the frames each way, a fifth each: dropped, a bit flipped, duplicated, garbage put
