@@ -11,6 +11,7 @@
  * and one more COBS code per 254 bytes (none for a stream row) */
 #define FRAME_OVERHEAD 6u
 #define STREAM_ROW_HEADER 4u     /* the row's period index */
+#define EVENT_BYTES 6u           /* state, fault, period count */
 #define VALUE_BYTES 4u
 #define REPLY_ROOM LINK_ENCODED_MAX
 #define CAP_READ_HEADER 5u       /* status, first row, rows */
@@ -492,7 +493,7 @@ static void send_unsolicited(link_t *l)
     link_frame_t *f = &l->rep;
     const uint16_t st = (uint16_t)l->t.app->state;
     const uint16_t ft = (uint16_t)l->t.app->fault;
-    if ((st != l->ev_state || ft != l->ev_fault) && tx_room(l) >= REPLY_ROOM) {
+    if ((st != l->ev_state || ft != l->ev_fault) && tx_room(l) >= LINK_ENCODED_SIZE(EVENT_BYTES)) {
         f->type = LINK_EVENT;
         f->seq = 0u;
         f->payload[0] = st;
@@ -503,7 +504,7 @@ static void send_unsolicited(link_t *l)
         l->ev_fault = ft;
     }
     link_stream_t *s = &l->stream;
-    while (s->rd != s->wr && tx_room(l) >= REPLY_ROOM) {
+    while (s->rd != s->wr && tx_room(l) >= LINK_ENCODED_SIZE(STREAM_ROW_HEADER + VALUE_BYTES * (uint16_t)s->n)) {
         const uint16_t r = s->rd;
         const uint16_t n = s->n;
         f->type = LINK_STREAM;
@@ -532,5 +533,7 @@ void link_poll(link_t *l)
     }
     l->stats.err_crc = l->rx.err_crc;
     l->stats.err_framing = l->rx.err_framing;
-    send_unsolicited(l);
+    if (l->rx_tail == l->rx_head) {
+        send_unsolicited(l);             /* received bytes waiting for room come first: the queue drains */
+    }
 }

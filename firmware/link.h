@@ -114,8 +114,10 @@ bool link_tx_get(link_t *l, uint16_t *byte);
 /* Bytes waiting for the port. Background. */
 uint16_t link_tx_pending(const link_t *l);
 
-/* Handle up to LINK_RX_BUDGET received bytes (requests answered into the transmit queue), then
- * queue stream and event frames as room allows. Background. */
+/* Handle up to LINK_RX_BUDGET received bytes (requests answered into the transmit queue, each
+ * only once the queue has room for the largest reply), then, when no received byte waits,
+ * queue stream and event frames as room allows (stream rows the ISR cannot queue meanwhile are
+ * counted as dropped). Background. */
 void link_poll(link_t *l);
 
 /* Drop every byte not yet received or sent (the cable was pulled). Background. */

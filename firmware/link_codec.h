@@ -13,8 +13,10 @@
 
 #define LINK_PAYLOAD_MAX 240u                           /* bytes of payload in one frame */
 #define LINK_FRAME_MAX (LINK_PAYLOAD_MAX + 4u)          /* type, seq, payload, CRC */
-/* COBS adds one byte per started block of 254, then the 0x00 delimiter */
-#define LINK_ENCODED_MAX (LINK_FRAME_MAX + (LINK_FRAME_MAX / 254u) + 2u)
+/* COBS adds one byte per started block of 254, then the 0x00 delimiter: the most a frame of
+ * `len` payload bytes takes on the wire */
+#define LINK_ENCODED_SIZE(len) ((len) + 4u + (((len) + 4u) / 254u) + 2u)
+#define LINK_ENCODED_MAX LINK_ENCODED_SIZE(LINK_PAYLOAD_MAX)
 #define LINK_BYTE_MASK 0x00FFu
 
 typedef struct {

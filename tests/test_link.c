@@ -77,7 +77,9 @@ static int request(uint16_t type, uint16_t seq, const uint16_t *p, uint16_t len)
     f.type = type;
     f.seq = seq;
     f.len = len;
-    memcpy(f.payload, p, len * sizeof p[0]);
+    if (len > 0u) {
+        memcpy(f.payload, p, len * sizeof p[0]);
+    }
     send_bytes(w, link_frame_encode(&f, w));
     for (int k = 0; k < POLLS_MAX; k++) {
         link_poll(&lk);
@@ -301,7 +303,7 @@ static void capture_triggers_above_with_pre_rows_and_period_indices(void **state
     /* speed k r/min at period k from 300 down: above 250 at first (no arming), then at or below,
      * then rising: the trigger is the first period above 250 after one at or below */
     arm(LINK_TRIG_ABOVE, 250.0f, 0.0f, 3u, 8u, 1u);
-    uint16_t cs[2] = { 0u, 8u };
+    uint16_t cs[4] = { 0u, 8u, 0u, 0u };
     assert_int_equal(request(LINK_CAPTURE_READ, seq_next(), cs, 0u), 1);
     assert_int_equal(rep.payload[0], LINK_ST_BAD_REQUEST);
     (void)link_put_u16(cs, 0u, 0u);

@@ -31,7 +31,9 @@ static void request(uint16_t type, const uint16_t *p, uint16_t len)
     f.type = type;
     f.seq = 1u;
     f.len = len;
-    memcpy(f.payload, p, len * sizeof p[0]);
+    if (len > 0u) {
+        memcpy(f.payload, p, len * sizeof p[0]);
+    }
     const uint16_t n = link_frame_encode(&f, w);
     for (uint16_t i = 0; i < n; i++) {
         (void)link_rx_put(&lk, w[i]);

@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <termios.h>
 #include <time.h>
@@ -26,6 +27,9 @@
 #define REALTIME_CHECK_PERIODS 16u  /* wall clock read every this many periods */
 #define NS_PER_S 1e9
 #define FIRMWARE_ID "drive_sil"
+#define CLOSE_WAIT_MS 2000           /* pty: at most this long for the host to read the last reply */
+#define CLOSE_POLL_NS 1000000L      /* 1 ms */
+#define CLOSE_SETTLE_POLLS 20
 
 typedef struct {
     link_sil_opts_t o;
@@ -340,6 +344,17 @@ int link_sil_open(const link_sil_opts_t *o, sil_hooks_t *hooks)
 
 void link_sil_close(void)
 {
+    /* pty: closing the master drops what the host has not read yet; wait until it has read
+     * quit's reply (the tty layer moves written bytes to the reader's side a little later:
+     * a few polls first) */
+    int pending = 0;
+    for (int k = 0; g.o.pty && g.slave_fd >= 0 && k < CLOSE_WAIT_MS; k++) {
+        if (ioctl(g.slave_fd, FIONREAD, &pending) != 0 || (pending == 0 && k >= CLOSE_SETTLE_POLLS)) {
+            break;
+        }
+        const struct timespec ts = { 0, CLOSE_POLL_NS };
+        nanosleep(&ts, NULL);
+    }
     if (g.fd >= 0) {
         /* the last reply (quit's) is on its way: let the peer read it before the close */
         shutdown(g.fd, SHUT_WR);
