@@ -586,13 +586,13 @@ int main(int argc, char **argv)
     prog.duration_s = sc.run.duration_s;
     prog.shown = 0;
     sil_hooks_t hooks;
-    if (a.link.on && link_sil_open(&a.link, &hooks) != 0) {
+    if (a.link.on && link_sil_open(&a.link, &hooks) != 0) {   /* the port is taken: a bad --link */
         if (csv.f != NULL) {
             (void)csv_writer_finish(&writer);
         }
         out_abandon(&csv);
         out_abandon(&js);
-        return EXIT_FAILURE;
+        return EXIT_BAD_INPUT;
     }
     /* no progress line for a run with no end (--link, duration 0) */
     const int show = isatty(STDERR_FILENO) && sc.run.duration_s > 0.0;
