@@ -16,6 +16,8 @@
 #define REPLY_ROOM LINK_ENCODED_MAX
 #define CAP_READ_HEADER 5u       /* status, first row, rows */
 #define STR_MAX 255u
+#define VAR_DESC_FIXED 12u       /* LIST_VARS per variable: type, access, min, max, two string lengths */
+#define CAP_ARM_FIXED 18u        /* CAPTURE_ARM before the channel ids (link_protocol.md) */
 
 static void count16(uint16_t *c)
 {
@@ -160,7 +162,7 @@ static uint16_t do_list(link_t *l, const link_frame_t *q, uint16_t *p)
     uint16_t count = 0u;
     while (id < (uint16_t)LV_COUNT) {
         const link_var_t *d = link_var(id);
-        const uint16_t need = (uint16_t)(2u + 8u + 2u + str_len(d->name) + str_len(d->unit));
+        const uint16_t need = (uint16_t)(VAR_DESC_FIXED + str_len(d->name) + str_len(d->unit));
         if ((uint16_t)(i + need) > LINK_PAYLOAD_MAX) {
             break;
         }
@@ -315,9 +317,8 @@ static uint16_t do_stream_set(link_t *l, const link_frame_t *q, uint16_t *p)
 static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
 {
     link_capture_t *c = &l->cap;
-    const uint16_t fixed = 18u;
     p[0] = LINK_ST_BAD_REQUEST;
-    if (q->len < fixed) {
+    if (q->len < CAP_ARM_FIXED) {
         return 1u;
     }
     const uint16_t dec = link_get_u16(q->payload, 0u);
@@ -328,7 +329,7 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
     const float level = link_get_f32(q->payload, 9u);
     const float hyst = link_get_f32(q->payload, 13u);
     const uint16_t nch = q->payload[17];
-    if (nch == 0u || nch > LINK_CAP_CHANNELS || q->len != (uint16_t)(fixed + 2u * nch) || dec == 0u ||
+    if (nch == 0u || nch > LINK_CAP_CHANNELS || q->len != (uint16_t)(CAP_ARM_FIXED + 2u * nch) || dec == 0u ||
         samples == 0u || samples > LINK_CAP_ROWS || pre >= samples || trig > (uint16_t)LINK_TRIG_STATE ||
         !mathx_isfinitef(level) || !mathx_isfinitef(hyst) || hyst < 0.0f) {
         return 1u;
@@ -338,7 +339,7 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
         return link_put_u16(p, 1u, trig_id);
     }
     for (uint16_t k = 0u; k < nch; k++) {
-        const uint16_t id = link_get_u16(q->payload, (uint16_t)(fixed + 2u * k));
+        const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
         if (id >= (uint16_t)LV_COUNT) {
             p[0] = LINK_ST_UNKNOWN_ID;
             return link_put_u16(p, 1u, id);
@@ -347,7 +348,7 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
     c->state = LINK_CAP_IDLE;            /* the ISR leaves it alone from here */
     c->nch = nch;
     for (uint16_t k = 0u; k < nch; k++) {
-        const uint16_t id = link_get_u16(q->payload, (uint16_t)(fixed + 2u * k));
+        const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
         float lo;
         float hi;
         link_var_limits(&l->t, id, &lo, &hi);
