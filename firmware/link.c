@@ -16,7 +16,7 @@
 #define REPLY_ROOM LINK_ENCODED_MAX
 #define CAP_READ_HEADER 5u       /* status, first row, rows */
 #define STR_MAX 255u
-#define VAR_DESC_FIXED 12u       /* LIST_VARS per variable: type, access, min, max, two string lengths */
+#define VAR_DESC_FIXED 16u       /* LIST_VARS per variable: type, access, scale, min, max, two string lengths */
 #define CAP_ARM_FIXED 18u        /* CAPTURE_ARM before the channel ids (link_protocol.md) */
 
 static void count16(uint16_t *c)
@@ -140,13 +140,24 @@ static uint16_t do_hello(link_t *l, uint16_t *p)
     uint16_t i = 1u;
     p[i++] = LINK_PROTOCOL_VERSION;
     i = link_put_u16(p, i, (uint16_t)LV_COUNT);
-    i = link_put_u32(p, i, link_vars_hash());
+    i = link_put_u32(p, i, link_vars_hash(&l->t));
     i = link_put_u32(p, i, (uint32_t)(l->cfg.Ts_s * NS_PER_S + ROUND_HALF));
     i = link_put_u32(p, i, l->cfg.baud);
     i = link_put_u16(p, i, LINK_CAP_ROWS);
     p[i++] = LINK_CAP_CHANNELS;
     p[i++] = LINK_STREAM_VARS;
     return put_str(p, i, l->cfg.firmware_id);
+}
+
+/* A variable's capture scale [counts per unit]: its limits' larger magnitude is full scale
+ * (32767 counts); an integer is captured as it is. */
+static float counts_per_unit(const link_t *l, uint16_t id)
+{
+    float lo;
+    float hi;
+    link_var_limits(&l->t, id, &lo, &hi);
+    const float amax = (mathx_fabsf(lo) > mathx_fabsf(hi)) ? mathx_fabsf(lo) : mathx_fabsf(hi);
+    return ((link_var(id)->type == (uint16_t)LINK_T_F32) && amax > 0.0f) ? INT16_FULL_SCALE / amax : 1.0f;
 }
 
 /* LIST_VARS first_id: as many descriptors from first_id as fit. */
@@ -171,6 +182,7 @@ static uint16_t do_list(link_t *l, const link_frame_t *q, uint16_t *p)
         link_var_limits(&l->t, id, &lo, &hi);
         p[i++] = d->type;
         p[i++] = d->access;
+        i = link_put_f32(p, i, 1.0f / counts_per_unit(l, id));
         i = link_put_f32(p, i, lo);
         i = link_put_f32(p, i, hi);
         i = put_str(p, i, d->name);
@@ -349,13 +361,8 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
     c->nch = nch;
     for (uint16_t k = 0u; k < nch; k++) {
         const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
-        float lo;
-        float hi;
-        link_var_limits(&l->t, id, &lo, &hi);
-        const float amax = (mathx_fabsf(lo) > mathx_fabsf(hi)) ? mathx_fabsf(lo) : mathx_fabsf(hi);
         c->ids[k] = id;
-        c->per_lsb[k] = ((link_var(id)->type == (uint16_t)LINK_T_F32) && amax > 0.0f) ? INT16_FULL_SCALE / amax
-                                                                                        : 1.0f;
+        c->per_lsb[k] = counts_per_unit(l, id);
     }
     c->samples = samples;
     c->pre = pre;

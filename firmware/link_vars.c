@@ -1,6 +1,7 @@
 /* link_vars.c - the link's variable table; see link_vars.h. */
 #include "link_vars.h"
 
+#include "link_codec.h"
 #include "mathx.h"
 
 #define U16_MAX_F 65535.0f
@@ -10,6 +11,7 @@
 #define L_RANGE_PER_L 2.0f            /* L^ up to twice the nominal inductance */
 #define FNV_OFFSET 2166136261ul
 #define FNV_PRIME 16777619ul
+#define FLOAT_BYTES 4u
 
 #define R LINK_ACC_READ
 #define W LINK_ACC_WRITE
@@ -234,14 +236,22 @@ static uint32_t fnv_str(uint32_t h, const char *s)
     return fnv(h, 0u);
 }
 
-uint32_t link_vars_hash(void)
+uint32_t link_vars_hash(const link_target_t *t)
 {
     uint32_t h = FNV_OFFSET;
     for (uint16_t i = 0u; i < (uint16_t)LV_COUNT; i++) {
+        float lo;
+        float hi;
+        uint16_t b[FLOAT_BYTES * 2u];
+        link_var_limits(t, i, &lo, &hi);
+        (void)link_put_f32(b, link_put_f32(b, 0u, lo), hi);
         h = fnv_str(h, VARS[i].name);
         h = fnv_str(h, VARS[i].unit);
         h = fnv(h, VARS[i].type);
         h = fnv(h, VARS[i].access);
+        for (uint16_t k = 0u; k < FLOAT_BYTES * 2u; k++) {
+            h = fnv(h, b[k]);
+        }
     }
     return h;
 }

@@ -75,8 +75,9 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi);
  * refused it before cmd_apply() (read-only, or write-when-stopped while running). Background. */
 uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool *access_refused);
 
-/* 32-bit FNV-1a over every descriptor (name, unit, type, access): HELLO's table hash. */
-uint32_t link_vars_hash(void);
+/* 32-bit FNV-1a over every descriptor (name, unit, type, access) and its limits on this drive
+ * (the scale follows from them): HELLO's table hash, the host's cache key. Background. */
+uint32_t link_vars_hash(const link_target_t *t);
 
 
 typedef enum {

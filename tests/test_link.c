@@ -110,7 +110,7 @@ static void hello_names_version_table_and_period(void **state)
     assert_int_equal(rep.payload[0], LINK_ST_OK);
     assert_int_equal(rep.payload[1], LINK_PROTOCOL_VERSION);
     assert_int_equal(link_get_u16(rep.payload, 2u), LV_COUNT);
-    assert_int_equal(link_get_u32(rep.payload, 4u), link_vars_hash());
+    assert_int_equal(link_get_u32(rep.payload, 4u), link_vars_hash(&lk.t));
     assert_int_equal(link_get_u32(rep.payload, 8u), 100000u);      /* 1e-4 s in ns */
     assert_int_equal(link_get_u32(rep.payload, 12u), BAUD);
     assert_int_equal(link_get_u16(rep.payload, 16u), 1024);
@@ -131,7 +131,11 @@ static void list_vars_pages_through_the_table_with_csv_names(void **state)
         assert_true(count > 0u);
         uint16_t i = 4u;
         for (uint16_t k = 0; k < count; k++) {
-            i = (uint16_t)(i + 10u);
+            if (id + k == LV_SPEED_EST_RPM) {
+                /* capture scale: the overspeed limit's 2400 r/min over 32767 counts */
+                assert_float_equal(link_get_f32(rep.payload, (uint16_t)(i + 2u)), 2400.0f / 32767.0f, 1e-6);
+            }
+            i = (uint16_t)(i + 14u);
             const uint16_t n = rep.payload[i];
             char name[64] = { 0 };
             for (uint16_t c = 0; c < n; c++) {

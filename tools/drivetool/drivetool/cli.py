@@ -53,8 +53,8 @@ def cmd_status(d, args):
 
 def cmd_list(d, args):
     rows = [v.to_dict() for v in d.vars]
-    text = "\n".join(f"{r['name']:<22} {r['type']:<4} {r['access']:<11} [{_fmt(r['min'])}, {_fmt(r['max'])}] {r['unit']}"
-                     for r in rows)
+    text = "\n".join(f"{r['name']:<22} {r['type']:<4} {r['access']:<11} [{_fmt(r['min'])}, {_fmt(r['max'])}] "
+                     f"{r['unit']:<6} capture LSB {_fmt(r['scale'])}" for r in rows)
     _emit(args, rows, text)
 
 

@@ -57,13 +57,13 @@ class NoAnswer(LinkError):
 
 
 class Var:
-    def __init__(self, vid, name, unit, vtype, access, lo, hi):
+    def __init__(self, vid, name, unit, vtype, access, lo, hi, scale):
         self.id, self.name, self.unit, self.type, self.access = vid, name, unit, vtype, access
-        self.lo, self.hi = lo, hi
+        self.lo, self.hi, self.scale = lo, hi, scale
 
     def to_dict(self):
         return {"id": self.id, "name": self.name, "unit": self.unit, "type": TYPES[self.type],
-                "access": ACCESS[self.access], "min": self.lo, "max": self.hi}
+                "access": ACCESS[self.access], "min": self.lo, "max": self.hi, "scale": self.scale}
 
     def decode(self, b, i):
         """The value at b[i:], and the index after it."""
@@ -181,15 +181,15 @@ class Drive:
             first, count = struct.unpack_from("<HB", p, 0)
             i = 3
             for k in range(count):
-                vtype, acc, lo, hi = struct.unpack_from("<BBff", p, i)
-                i += 10
+                vtype, acc, scale, lo, hi = struct.unpack_from("<BBfff", p, i)
+                i += 14
                 n = p[i]
                 name = p[i + 1:i + 1 + n].decode("ascii")
                 i += 1 + n
                 n = p[i]
                 unit = p[i + 1:i + 1 + n].decode("ascii")
                 i += 1 + n
-                out.append(Var(first + k, name, unit, vtype, acc, lo, hi))
+                out.append(Var(first + k, name, unit, vtype, acc, lo, hi, scale))
             if count == 0:
                 raise NoAnswer("LIST_VARS returned no variable")
             vid = first + count
@@ -212,7 +212,7 @@ class Drive:
             try:
                 os.makedirs(_cache_dir(), exist_ok=True)
                 with open(path, "w") as f:
-                    json.dump([[v.id, v.name, v.unit, v.type, v.access, v.lo, v.hi] for v in table], f)
+                    json.dump([[v.id, v.name, v.unit, v.type, v.access, v.lo, v.hi, v.scale] for v in table], f)
             except OSError:
                 pass
         return table
