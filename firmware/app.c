@@ -91,8 +91,10 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
     if (s->vdc_V < app->cfg.prot.vdc_min_V) {
         const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.prot.vdc_min_V);
         latch_fault(app, &f, s);
-    } else if ((ctrl_status(&app->ctrl) & config_needed(app)) != 0u) {
-        const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)ctrl_status(&app->ctrl), 0.0f);
+    } else if (((ctrl_status(&app->ctrl) & config_needed(app)) != 0u) || (app->cfg.params_refused != 0u)) {
+        /* the value: ctrl_init's refusals, the parameter set's above them */
+        const uint16_t why = (uint16_t)(ctrl_status(&app->ctrl) | (uint16_t)(app->cfg.params_refused << APP_PARAMS_REFUSED_SHIFT));
+        const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)why, 0.0f);
         latch_fault(app, &f, s);
     } else if (app->cfg.align && !app->aligned) {
         app->state = APP_STATE_ALIGN;

@@ -254,6 +254,10 @@ static int load_scenario(const args_t *a, scenario_t *sc)
         fprintf(stderr, "drive_sil: %s\n", err);
         return -1;
     }
+    scenario_warnings(sc, err, sizeof err);
+    if (err[0] != '\0') {
+        fprintf(stderr, "drive_sil: warning: %s\n", err);
+    }
     return 0;
 }
 

@@ -55,6 +55,9 @@ TEST_SRCS_test_sil_faults := tools/sil/sil.c
 # band, the refusal policy; both methods on the same scenarios.
 TEST_LIBS_test_sil_identify := silrun firmware sim control
 TEST_SRCS_test_sil_identify := tools/sil/sil.c
+# Three motors told only their data (tools/scenarios/*_motor_*.ini).
+TEST_LIBS_test_sil_motors := silrun firmware sim control
+TEST_SRCS_test_sil_motors := tools/sil/sil.c
 
 # The proposed method on a real inverter: inverter error, warming winding (issue 13).
 TEST_LIBS_test_sil_inverter := silrun firmware sim control
