@@ -59,63 +59,6 @@ const link_var_t *link_var(uint16_t id)
     return &VARS[(id < (uint16_t)LV_COUNT) ? id : 0u];
 }
 
-static link_val_t of_u(uint32_t u)
-{
-    link_val_t v;
-    v.u = u;
-    v.f = (float)u;
-    return v;
-}
-
-static link_val_t of_f(float f)
-{
-    link_val_t v;
-    v.u = 0u;
-    v.f = f;
-    return v;
-}
-
-link_val_t link_var_get(const link_target_t *t, uint16_t id)
-{
-    const app_t *a = t->app;
-    const ctrl_mon_t *m = &a->ctrl.mon;
-    switch (id) {
-    case LV_STATE: return of_u((uint32_t)a->state);
-    case LV_FAULT: return of_u((uint32_t)a->fault);
-    case LV_FLAGS: return of_u((uint32_t)(a->out.flags | a->warnings)); /* as the CSV's flags */
-    case LV_SPEED_EST_RPM: return of_f(m->speed_mech_rad_s / MATHX_RAD_S_PER_RPM_F);
-    case LV_SPEED_REF_RPM: return of_f(a->op_taken.ref.speed_ref_rad_s / MATHX_RAD_S_PER_RPM_F);
-    case LV_TE_CMD_NM: return of_f(a->op_taken.ref.te_ref_Nm);
-    case LV_TE_REF_NM: return of_f(m->te_ref_Nm);
-    case LV_TE_EST_NM: return of_f(m->te_est_Nm);
-    case LV_PSI_REF_WB: return of_f(m->psi_ref_Wb);
-    case LV_PSI_EST_WB: return of_f(m->psi_est_Wb);
-    case LV_ID_MEAS_A: return of_f(m->id_A);
-    case LV_IQ_MEAS_A: return of_f(m->iq_A);
-    case LV_UD_CMD_V: return of_f(m->ud_V);
-    case LV_UQ_CMD_V: return of_f(m->uq_V);
-    case LV_UD_REF_V: return of_f(a->op_taken.ref.ud_ref_V);
-    case LV_UQ_REF_V: return of_f(a->op_taken.ref.uq_ref_V);
-    case LV_R_EST_OHM: return of_f(m->R_est_Ohm);
-    case LV_L_EST_H: return of_f(m->L_est_H);
-    case LV_PSIF_EST_WB: return of_f(m->psi_f_est_Wb);
-    case LV_EST: return of_u((uint32_t)m->ident);
-    case LV_EST_HOLD: return of_u((uint32_t)m->est_hold);
-    case LV_METHOD: return of_u((uint32_t)a->op_taken.method);
-    case LV_MODE: return of_u((uint32_t)a->op_taken.mode);
-    case LV_CMD_ERROR: return of_u((uint32_t)t->cmd->error);
-    case LV_TICKS: return of_u(a->ticks);
-    case LV_LINK_WRITES: return of_u(t->stats->writes);
-    case LV_LINK_ERR_CRC: return of_u((uint32_t)t->stats->err_crc);
-    case LV_LINK_ERR_FRAMING: return of_u((uint32_t)t->stats->err_framing);
-    case LV_LINK_ERR_OVERRUN: return of_u((uint32_t)t->stats->err_overrun);
-    case LV_LINK_STREAM_DROPPED: return of_u((uint32_t)t->stats->stream_dropped);
-    case LV_LINK_ERR_LINE: return of_u((uint32_t)t->stats->err_line);
-    case LV_RESET_BY_WATCHDOG: return of_u((uint32_t)t->stats->reset_by_watchdog);
-    default: return of_u(0u);
-    }
-}
-
 static void sym(float x, float *lo, float *hi)
 {
     *lo = -x;
