@@ -73,9 +73,9 @@ def start_sil(tmp, *extra):
     return p, int(line.rsplit(":", 1)[1])
 
 
-def tool(port, *args, timeout=60):
+def tool(port, *args, timeout=60, cache=None):
     r = subprocess.run([DRIVETOOL, "--port", f"socket://127.0.0.1:{port}", *args], capture_output=True,
-                       text=True, timeout=timeout, env=dict(os.environ, XDG_CACHE_HOME=tempfile.gettempdir()))
+                       text=True, timeout=timeout, env=dict(os.environ, XDG_CACHE_HOME=cache or tempfile.gettempdir()))
     return r.returncode, r.stdout, r.stderr
 
 
@@ -99,6 +99,13 @@ class RoundTrip(unittest.TestCase):
         cls.cap_path = os.path.join(cls.tmp, "cap.csv")
         cls.p, cls.port = start_sil(cls.tmp, "--realtime", "1", "--out", cls.csv_path)
         cls.status = tool(cls.port, "--json", "status")
+        # the table cache: a cache holding another table's listing (a reflashed board) warns
+        cls.cache = tempfile.mkdtemp()
+        os.makedirs(os.path.join(cls.cache, "drivetool"))
+        with open(os.path.join(cls.cache, "drivetool", "00000000.json"), "w") as f:
+            f.write("[]")
+        cls.cache_first = tool(cls.port, "status", cache=cls.cache)
+        cls.cache_again = tool(cls.port, "status", cache=cls.cache)
         cls.capture = tool(cls.port, "--json", "capture", "iq_meas_A", "speed_est_rpm",
                            "--trigger", f"speed_est_rpm>{TRIGGER_RPM:g}", "--pre", str(PRE),
                            "--samples", str(SAMPLES), "--csv", cls.cap_path)
@@ -122,6 +129,15 @@ class RoundTrip(unittest.TestCase):
         self.assertEqual(s["state_name"], "RUN")
         self.assertEqual(s["fault"], 0)
         self.assertIn("speed_est_rpm", s)
+
+    def test_the_table_is_cached_by_its_hash(self):
+        rc, _out, err = self.cache_first
+        self.assertEqual(rc, 0, err)
+        self.assertIn("variable table changed", err)
+        rc, _out, err = self.cache_again                  # now cached under the drive's hash: no warning
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(err, "")
+        self.assertEqual(len(os.listdir(os.path.join(self.cache, "drivetool"))), 2)
 
     def test_capture_equals_the_csv_at_the_same_t(self):
         rc, out, err = self.capture
