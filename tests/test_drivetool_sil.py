@@ -305,7 +305,7 @@ class LossyLink(unittest.TestCase):
     WRITES = 40
 
     def test_every_write_once_and_the_drive_runs_on(self):
-        from drivetool import Drive, LinkError
+        from drivetool import Drive, LinkError, codec
         tmp = tempfile.mkdtemp()
         p, port = start_sil(tmp, "--realtime", "1", "--summary", os.path.join(tmp, "s.json"))
         try:
@@ -321,12 +321,26 @@ class LossyLink(unittest.TestCase):
                     last = v / 100.0
                 except LinkError:
                     failed += 1                     # failed cleanly: an exception, no hang
+            # a capture uploaded through the same link: pages lost on the way are asked again
+            cap = None
+            for _ in range(5):
+                try:
+                    d.capture_arm(["iq_meas_A", "speed_est_rpm"], codec.TRIG_FORCED, None, 0.0, 0.0, 0, 600, 1)
+                    while d.capture_status()["state"] != codec.CAP_DONE:
+                        pass
+                    cap = d.capture_read(d.capture_status())
+                    break
+                except LinkError:
+                    continue
             d.close()
+            self.assertIsNotNone(cap, "no capture through the lossy link")
             self.assertGreater(ok, self.WRITES * 3 // 4)
             time.sleep(0.3)
             # a clean connection: the drive counted each write at most once, every acknowledged one
             with Drive(f"socket://127.0.0.1:{port}", cache=False) as c:
                 v = c.get("link_writes", "te_cmd_Nm", "state", "link_err_crc", "link_err_framing")
+                clean = c.capture_read(c.capture_status())
+            self.assertEqual(cap, clean)                                # every page, each where it belongs
             applied = v["link_writes"] - before
             self.assertGreaterEqual(applied, ok)
             self.assertLessEqual(applied, ok + failed)

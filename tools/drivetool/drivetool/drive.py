@@ -303,17 +303,42 @@ class Drive:
         return {"state": state, "samples": samples, "pre": pre, "decimate": dec, "trigger_index": trig_idx,
                 "first_index": first_idx, "channels": ch}
 
-    def capture_read(self, status):
-        """Every row of a finished capture: (t_s list, rows of values)."""
+    def capture_read(self, status, depth=3):
+        """Every row of a finished capture: (t_s list, rows of values). Pages are asked
+        `depth` at a time (CAPTURE_READ reads, it changes nothing: a page whose reply
+        was lost is simply asked again), so the host's turnaround does not idle the line."""
         n, nch = status["samples"], len(status["channels"])
-        counts, first = [], 0
-        while first < n:
-            p = self._ok(codec.CAPTURE_READ, struct.pack("<HH", first, n - first), "CAPTURE_READ")
-            f, rows = struct.unpack_from("<HH", p, 0)
-            if f != first or rows == 0:
-                raise NoAnswer("CAPTURE_READ answered another page")
-            counts += [struct.unpack_from(f"<{nch}h", p, 4 + 2 * nch * r) for r in range(rows)]
-            first += rows
+        page = (codec.PAYLOAD_MAX - 5) // (2 * nch)
+        pages = {}                                  # first row -> counts
+        todo = list(range(0, n, page))
+        stalls = 0                                  # rounds in a row that got no page
+        while todo and stalls < self.retries:
+            sent = {}
+            for first in todo[:depth]:
+                self.seq = (self.seq % 255) + 1
+                sent[self.seq] = first
+                self.port.write(codec.frame_encode(codec.CAPTURE_READ, self.seq,
+                                                   struct.pack("<HH", first, min(page, n - first))))
+            deadline = time.monotonic() + self.reply_timeout * len(sent)
+            while sent and time.monotonic() < deadline:
+                data = self.port.read(max(1, self.port.in_waiting))
+                for rtype, rseq, rpay in self.rx.feed(data):
+                    if rtype != (codec.CAPTURE_READ | codec.REPLY) or rseq not in sent:
+                        self._take_unsolicited(rtype, rpay)
+                        continue
+                    first = sent.pop(rseq)
+                    if not rpay or rpay[0] != codec.ST_OK:
+                        raise Refused(f"CAPTURE_READ: {codec.STATUS_TEXT.get(rpay[0] if rpay else -1, '?')}")
+                    f, rows = struct.unpack_from("<HH", rpay, 1)
+                    if f != first or rows != min(page, n - first):
+                        raise NoAnswer("CAPTURE_READ answered another page")
+                    pages[first] = [struct.unpack_from(f"<{nch}h", rpay, 5 + 2 * nch * r) for r in range(rows)]
+            left = [first for first in range(0, n, page) if first not in pages]
+            stalls = stalls + 1 if len(left) == len(todo) else 0
+            todo = left
+        if todo:
+            raise NoAnswer(f"no answer from {self.url} to CAPTURE_READ after {self.retries} tries")
+        counts = [row for first in sorted(pages) for row in pages[first]]
         ts = self.info["Ts_s"]
         t = [(status["first_index"] + r * status["decimate"]) * ts for r in range(n)]
         rows = [[c * lsb for c, (_vid, lsb) in zip(row, status["channels"])] for row in counts]
