@@ -478,17 +478,17 @@ static void stage_sample(ctrl_t *c, const ctrl_in_t *in, ctrl_period_t *p)
  * voltage u(k) the last period realised. */
 static void stage_estimate(ctrl_t *c, const ctrl_period_t *p, float vdc_V)
 {
-    est_in_t e;
-    e.i_dq_A = p->i_dq;
-    e.omega_el_rad_s = p->omega;
-    e.sin_el = p->s;
-    e.cos_el = p->co;
-    e.u_V = c->u_applied_V;
-    e.vdc_V = vdc_V;
-    e.te_ref_Nm = c->mon.te_ref_Nm;
-    e.voltage_limited = (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u;
-    e.dpsi_weak_Wb = c->lim.dpsi_Wb;
-    est_step(&c->est, &e);
+    est_in_t *e = &c->est_in; /* in ctrl_t, not on the ISR's stack */
+    e->i_dq_A = p->i_dq;
+    e->omega_el_rad_s = p->omega;
+    e->sin_el = p->s;
+    e->cos_el = p->co;
+    e->u_V = c->u_applied_V;
+    e->vdc_V = vdc_V;
+    e->te_ref_Nm = c->mon.te_ref_Nm;
+    e->voltage_limited = (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u;
+    e->dpsi_weak_Wb = c->lim.dpsi_Wb;
+    est_step(&c->est, e);
 }
 
 /* Stage references: Te* from the speed PI (speed mode) or the reference (torque mode). */

@@ -167,6 +167,7 @@ typedef struct {
     oplim_t lim;                /* current limit and flux weakening (oplim.h) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */
     est_t est;                  /* the proposed method's estimation (est.h): only through its calls */
+    est_in_t est_in;            /* the estimation's inputs of this period (ctrl.c stage_estimate) */
     uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the estimation's voltage check) */
     uint16_t model_src;         /* what db.par holds: the told model or the estimation's (ctrl.c MODEL_*) */
     bool tracked;               /* ctrl_track ran this period: ctrl_step leaves the encoder alone */

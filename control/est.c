@@ -36,13 +36,21 @@ static void out_told(est_t *e)
     o->phase = e->phase;
 }
 
-est_status_t est_init(est_t *e, const est_cfg_t *cfg)
+est_status_t est_init(est_t *e, est_cfg_t *cfg)
 {
     const rs_ident_out_t no_result = { 0 };
-    est_cfg_t *c = &e->cfg; /* patched in place: no second copy on the start-up stack */
+    est_cfg_t *c = cfg; /* patched in place: no second copy on the start-up stack */
     est_status_t status;
 
-    *c = *cfg;
+    e->cfg.R_Ohm = c->R_Ohm;
+    e->cfg.L_H = c->L_H;
+    e->cfg.psi_f_Wb = c->psi_f_Wb;
+    e->cfg.R_min_Ohm = c->R_min_Ohm;
+    e->cfg.R_max_Ohm = c->R_max_Ohm;
+    e->cfg.w_min_rad_s = c->pe.w_min_rad_s;
+    e->cfg.wiq_min_A_rad_s = c->pe.wiq_min_A_rad_s;
+    e->cfg.track_R = c->track_R;
+    e->cfg.auto_delay_periods = c->rtrack.auto_delay_periods;
     c->smo.Ts_s = c->Ts_s;
     c->smo.R_Ohm = c->R_Ohm;
     c->smo.L_H = c->L_H;
@@ -98,7 +106,7 @@ void est_reset(est_t *e)
     e->force = 0u;
     e->hold_fixed = 0u;
     e->trusted = false;
-    e->w_psi_min_rad_s = e->cfg.pe.w_min_rad_s;
+    e->w_psi_min_rad_s = e->cfg.w_min_rad_s;
     est_gate_reset(&e->gate, &e->smo);
     out_told(e);
 }
@@ -115,7 +123,7 @@ bool est_rsid_begin(est_t *e)
     e->phase = EST_STEP1;
     r_track_reset(&e->rt); /* identified again after this step 1 */
     e->inv_dv_V = 0.0f;
-    e->w_psi_min_rad_s = e->cfg.pe.w_min_rad_s;
+    e->w_psi_min_rad_s = e->cfg.w_min_rad_s;
     e->rt_flags = 0u;
     e->hold_fixed = 0u;
     out_told(e);
@@ -133,10 +141,10 @@ void est_rsid_window(est_t *e, rs_ident_window_t win)
 static void start_tracking(est_t *e)
 {
     const float w_min = r_track_w_psi_min(&e->rt, e->cfg.psi_f_Wb);
-    e->w_psi_min_rad_s = (w_min > e->cfg.pe.w_min_rad_s) ? w_min : e->cfg.pe.w_min_rad_s;
+    e->w_psi_min_rad_s = (w_min > e->cfg.w_min_rad_s) ? w_min : e->cfg.w_min_rad_s;
     r_track_start(&e->rt, (e->cfg.track_R != EST_TRACK_R_OFF) ? R_TRACK_TRACK : R_TRACK_OFF);
     if (e->cfg.track_R == EST_TRACK_R_AUTO) {
-        r_track_delay(&e->rt, e->cfg.rtrack.auto_delay_periods);
+        r_track_delay(&e->rt, e->cfg.auto_delay_periods);
     }
 }
 
@@ -222,7 +230,7 @@ static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
         const float wiq2 = w2 * o->mean_iq_A[1];
         const float den = o->mean_iq_A[1] * w1 - o->mean_iq_A[0] * w2; /* (41)'s, |den| > 0 when OK */
         const float dR = e->cfg.R_Ohm - o->R_raw_Ohm;
-        const float wiq_min = e->cfg.pe.wiq_min_A_rad_s;
+        const float wiq_min = e->cfg.wiq_min_A_rad_s;
         const float k = w1 * w2 * (o->mean_id_A[1] - o->mean_id_A[0]) / den; /* dR per dL */
         const float iq1 = o->mean_iq_A[0];
         const float iq2 = o->mean_iq_A[1];

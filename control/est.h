@@ -101,6 +101,16 @@ typedef struct {
     est_gate_cfg_t gate;        /* when step 2 may learn */
 } est_cfg_t;
 
+typedef struct {                /* what est_t keeps of est_cfg_t (the blocks keep their own) */
+    float R_Ohm, L_H, psi_f_Wb; /* the told model [Ohm, H, Wb] */
+    float R_min_Ohm;            /* accepted R^ band [Ohm] */
+    float R_max_Ohm;
+    float w_min_rad_s;          /* pe.w_min_rad_s: the psi^ law's own speed floor [rad/s el] */
+    float wiq_min_A_rad_s;      /* pe.wiq_min_A_rad_s: the L^ law's |w iq| floor [A rad/s] */
+    uint16_t track_R;           /* EST_TRACK_R_* */
+    uint16_t auto_delay_periods; /* rtrack.auto_delay_periods */
+} est_told_t;
+
 typedef struct {                /* one period's inputs */
     dq_t i_dq_A;                /* i(k), rotor frame [A] */
     float omega_el_rad_s;       /* w(k) [rad/s electrical] */
@@ -124,7 +134,7 @@ typedef struct {                /* the output: written by est_step and the phase
 } est_out_t;
 
 typedef struct {
-    est_cfg_t cfg;
+    est_told_t cfg;
     est_status_t status;
     float ve_told_per_vdc;      /* the told dead time's rotor-frame fundamental per bus volt, (4/pi) td/Ts [1] */
     est_phase_t phase;
@@ -146,10 +156,11 @@ typedef struct {
     est_out_t out;
 } est_t;
 
-/* Builds everything; the told values and bounds of cfg override the
- * copies in its smo/pe/rsid members. Returns the refusals (EST_CFG_*); a
- * refused estimation must not be started. Background. */
-est_status_t est_init(est_t *e, const est_cfg_t *cfg);
+/* Builds everything; the told values and bounds of *cfg are written into
+ * its smo/pe/rsid/gate members first (*cfg is the caller's scratch: no
+ * second copy on the start-up stack). Returns the refusals (EST_CFG_*);
+ * a refused estimation must not be started. Background. */
+est_status_t est_init(est_t *e, est_cfg_t *cfg);
 
 /* Observer stopped, estimates back to the told values, windows emptied.
  * Background, or ISR before PWM is enabled. */
