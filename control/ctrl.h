@@ -254,6 +254,11 @@ rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
  * observer and returns the reason. ISR once (about 20 divisions) or background. */
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
 
+/* Step 1 ends on a solve the caller made (rs_ident_solve_step on a copy of
+ * c->ri's windows): r and *out as ctrl_rsid_finish's solve would give
+ * them; the rest as ctrl_rsid_finish. No division. ISR once. */
+rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r, const rs_ident_out_t *out);
+
 /* Step 2 without step 1, for an R the caller trusts (a recent
  * identification at the same winding temperature): R^ = R_Ohm, observer
  * started (seeded) if stopped, estimator running. False when R_Ohm is

@@ -156,7 +156,36 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
 
 /* Checks the windows and solves (design sec. 1c, 6); *out is filled as far
  * as the checks got (R_est_Ohm = R_nom unless OK); the windows are left as
- * they are. Background, or ISR (about 25 divisions, 4 square roots). */
+ * they are. Background, or ISR (about 25 divisions, 4 square roots: an
+ * ISR with a budget uses the stages below). */
 rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
+
+/* rs_ident_solve in RS_IDENT_SOLVE_STAGES bounded stages, one per call
+ * (each window's means and ripple fit, the points' solve, each window's
+ * standard error): the same result and *out, always after exactly that
+ * many calls (a refusal skips the work left, not the calls). The windows
+ * *ri must not change until the last stage (an ISR that goes on filling
+ * them solves a copy). */
+#define RS_IDENT_SOLVE_STAGES 5u
+
+typedef struct {
+    const rs_ident_t *ri;     /* the windows solved */
+    uint16_t stage;           /* the next stage */
+    rs_ident_result_t result; /* valid once rs_ident_solve_step returned true */
+    float fd[2], fq[2], id[2], iq[2], w[2];   /* the windows' points */
+    float diq_dt[2];          /* iq's mean slope per window [A/s] */
+    bool fit[2];              /* the ripple fit holds */
+    float Gi[2][3][3];        /* its inverse normal matrices */
+    float abs_inv_den;        /* 1 / |(41)'s denominator| [1/(A rad/s)] */
+} rs_ident_solver_t;
+
+/* Starts a staged solve of *ri: *out to its empty values (R_est_Ohm =
+ * R_nom). No division. ISR. */
+void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, rs_ident_out_t *out);
+
+/* One stage into *out; true when the solve is over (s->result, *out as
+ * rs_ident_solve leaves them; further calls do nothing). At most about 8
+ * divisions and 3 square roots. ISR. */
+bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out);
 
 #endif /* RS_IDENT_H */

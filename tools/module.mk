@@ -16,6 +16,7 @@ bench:
 	@$(MAKE) --no-print-directory VARIANT=host $(BUILD)/host/sil_bench
 	@$(BUILD)/host/sil_bench
 	@$(MAKE) --no-print-directory VARIANT=host bench-ctrl
+	@$(MAKE) --no-print-directory VARIANT=host bench-isr
 	@$(MAKE) --no-print-directory VARIANT=host bench-sweep
 
 SIL_DIR    := $(BUILD)/sil
