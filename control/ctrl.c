@@ -283,6 +283,11 @@ void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
     encoder_align(&c->enc, enc_count);
 }
 
+void ctrl_set_i_lim(ctrl_t *c, float i_lim_A)
+{
+    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= c->cfg.i_max_A)) ? i_lim_A : c->cfg.i_max_A;
+}
+
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
 {
     c->mode_req = mode;

@@ -226,6 +226,11 @@ void ctrl_reset(ctrl_t *c);
  * (bumpless into speed mode). */
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode);
 
+/* The current limit the targets respect [A], as cfg.i_lim_A at init
+ * (outside (0, i_max_A]: i_max_A); from the next step. ISR (the app's
+ * state machine) or background while stopped. */
+void ctrl_set_i_lim(ctrl_t *c, float i_lim_A);
+
 /* As ctrl_set_mode; switchable at run time, bumpless (policy in the
  * header comment). Returns false (method unchanged) for PROPOSED when
  * ctrl_init did not return CTRL_CFG_OK. */

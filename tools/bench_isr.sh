@@ -27,7 +27,7 @@ done
 python3 - "$out" <<'PY'
 import csv, os, statistics, sys
 out = sys.argv[1]
-STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT"]
+STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK", "ENC_CHECK"]
 for m in ("conventional", "proposed"):
     per = [int(l.split()[1]) for l in open(f"{out}/{m}.cg") if l.startswith("totals:")]
     after = [int(float(r["state"])) for r in csv.DictReader(open(f"{out}/{m}.csv"))]

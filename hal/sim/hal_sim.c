@@ -317,6 +317,9 @@ static void sample_at_period_start(void)
     g_sim.sample.ib_A = (float)sensor_adc_current_A(&g_sim.sens, &g_sim.prng, i_leg[1], c->sens.adc_offset_b_A);
     g_sim.sample.vdc_V = g_sim.vdc_reading_V;
     g_sim.sample.enc_count = sensor_encoder_count(&g_sim.sens, g_sim.plant.x.theta_m_rad);
+    if (c->enc_reversed && (g_sim.sample.enc_count != 0u)) {
+        g_sim.sample.enc_count = g_sim.sens.enc_cpr - g_sim.sample.enc_count; /* A and B swapped */
+    }
     faults_samples(&g_sim.sample, g_sim.faults_new);
 
     tr->t_s = g_sim.t_s;
@@ -434,9 +437,11 @@ static double duty_clamp(float duty)
 
 void hal_pwm_write(const float duty[3])
 {
+    /* the motor's phases b and c from legs c and b on a board wired acb */
+    const unsigned b = g_sim.cfg.phases_acb ? 2u : 1u;
     g_sim.duty_shadow[0] = duty_clamp(duty[0]);
-    g_sim.duty_shadow[1] = duty_clamp(duty[1]);
-    g_sim.duty_shadow[2] = duty_clamp(duty[2]);
+    g_sim.duty_shadow[b] = duty_clamp(duty[1]);
+    g_sim.duty_shadow[3u - b] = duty_clamp(duty[2]);
 }
 
 void hal_pwm_enable(void)

@@ -39,6 +39,8 @@ static const char *const PHASE_NAMES[] = { "a", "b", "c", NULL };
 static const char *const PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
 static const char *const CHANNEL_NAMES[] = { "a", "b", NULL };
 static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
+static const char *const DIRECTION_NAMES[] = { "1", "-1", NULL };   /* sc_direction_t */
+static const char *const ORDER_NAMES[] = { "abc", "acb", NULL };   /* sc_phase_order_t */
 
 /* Keys whose default is not text of this table but a configuration's
  * value: the drive's parameter set (firmware/drive_params.h, the board's
@@ -80,6 +82,10 @@ static const sc_key_t KEYS[] = {
     UINT("plant", "encoder_lines", plant.encoder_lines, PARAMS, 1.0, 1.0e6, "encoder lines (x4 counts)"),
     ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, PARAMS,
         "electrical angle of the d axis at count 0 [rad]; the controller is told the same unless run.align = on"),
+    ENUM("plant", "encoder_direction", plant.encoder_direction, "1", DIRECTION_NAMES,
+         "1 | -1: the encoder counts up (1) or down (-1, A and B swapped) as the rotor turns forward"),
+    ENUM("plant", "phase_order", plant.phase_order, "abc", ORDER_NAMES,
+         "abc | acb: acb swaps the inverter's legs b and c on their way to the current sensors and the motor"),
     POS("plant", "adc_full_scale_A", plant.adc_full_scale_A, PARAMS, "current ADC range +-[A] (12 bit)"),
     ANY("plant", "adc_offset_a_A", plant.adc_offset_a_A, PARAMS, "phase-a ADC offset [A]"),
     ANY("plant", "adc_offset_b_A", plant.adc_offset_b_A, PARAMS, "phase-b ADC offset [A]"),
@@ -93,6 +99,8 @@ static const sc_key_t KEYS[] = {
     OPT("controller", "R_factor", controller.R_factor, "controller's R / plant R (default 1)"),
     OPT("controller", "L_factor", controller.L_factor, "controller's L / plant L (default 1)"),
     OPT("controller", "psif_factor", controller.psif_factor, "controller's psi_f / plant psi_f (default 1)"),
+    UINT("controller", "pole_pairs", controller.pole_pairs, "0", 0.0, 64.0,
+         "pole pairs the controller is told (0: the plant's)"),
     ENUM("controller", "method", controller.method, "conventional", METHOD_NAMES, "conventional | proposed"),
     ENUM("controller", "mode", controller.mode, "speed", MODE_NAMES, "speed | torque | open_loop"),
     POS("controller", "speed_kp_Nms_rad", controller.speed_kp_Nms_rad, PARAMS, "speed PI proportional gain"),
@@ -139,6 +147,11 @@ static const sc_key_t KEYS[] = {
          "off | on: current-offset calibration at start (both off: RUN at t = 0)"),
     ENUM("run", "align", run.align, "off", ONOFF_NAMES,
          "off | on: rotor alignment identifies the encoder offset (off: the controller is told it)"),
+    UINT("run", "level", run.level, "5", 1.0, 5.0,
+         "build level (app.h): 1 PWM pattern, 2 ADC readings, 3 open-loop rotation and encoder check, "
+         "4 torque control at level4_i_limit_A, 5 the full drive"),
+    OPT("run", "level4_i_limit_A", run.level4_i_limit_A,
+        "level 4's current limit [A] (default 0.3 x [controller] i_limit_A)"),
 
     /* [faults]: fault injection on the simulated board (hal_sim.h); each from its time on */
     WHEN("open_phase_s", faults.open_phase_s, "time the phase `open_phase` opens [s] (default never)"),
@@ -665,8 +678,30 @@ static int check_limits(const scenario_t *sc, char *err, size_t errlen)
     return -1;
 }
 
+/* Level 4's current limit: below the limit of the full drive. */
+static int check_level(const scenario_t *sc, char *err, size_t errlen)
+{
+    int known = 0;
+    const int i = find_key("run", "level4_i_limit_A", &known);
+    if (sc->run.level4_i_limit_A <= sc->controller.i_limit_A) {
+        return 0;
+    }
+    snprintf(err, errlen, "%s: [run] level4_i_limit_A: %g A is above [controller] i_limit_A (%g A)",
+             sc->origin[i], sc->run.level4_i_limit_A, sc->controller.i_limit_A);
+    return -1;
+}
+
 int scenario_finish(scenario_t *sc, char *err, size_t errlen)
 {
+    if (sc->controller.pole_pairs == 0u) {
+        sc->controller.pole_pairs = sc->plant.pole_pairs;
+    }
+    if (isnan(sc->run.level4_i_limit_A)) {
+        sc->run.level4_i_limit_A = SC_LEVEL4_I_LIMIT_PER_LIMIT * sc->controller.i_limit_A;
+    }
+    if (check_level(sc, err, errlen) != 0) {
+        return -1;
+    }
     if (resolve(sc, "R_ohm", "R_factor", sc->plant.R_ohm, &sc->controller.R_ohm,
                 sc->controller.R_factor, err, errlen) != 0 ||
         resolve(sc, "L_H", "L_factor", sc->plant.L_H, &sc->controller.L_H,
