@@ -400,17 +400,13 @@ rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
 
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 {
-    rs_ident_out_t o;
-    const rs_ident_result_t r = rs_ident_solve(&c->ri, &o);
-
-    return ctrl_rsid_finish_with(c, r, &o);
+    return ctrl_rsid_finish_with(c, rs_ident_solve(&c->ri, &c->rsid_out));
 }
 
-rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r_solved, const rs_ident_out_t *out)
+rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r_solved)
 {
     rs_ident_result_t r = r_solved;
 
-    c->rsid_out = *out;
     rs_ident_reset(&c->ri); /* a second finish without a begin finds no data */
     c->rsid_win = RS_IDENT_WINDOW_NONE;
     if (c->ident != CTRL_IDENT_STEP1) {

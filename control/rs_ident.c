@@ -80,6 +80,48 @@ void rs_ident_reset(rs_ident_t *ri)
     }
 }
 
+/* n floats from src to dst: a loop, no library memcpy (from flash on the target's ISR path). */
+static void copy_floats(float *dst, const float *src, int16_t n)
+{
+    int16_t k;
+    for (k = 0; k < n; k++) {
+        dst[k] = src[k];
+    }
+}
+
+void rs_ident_copy(rs_ident_t *dst, const rs_ident_t *src)
+{
+    int16_t j;
+
+    dst->cfg.R_nom_Ohm = src->cfg.R_nom_Ohm;
+    dst->cfg.R_min_Ohm = src->cfg.R_min_Ohm;
+    dst->cfg.R_max_Ohm = src->cfg.R_max_Ohm;
+    dst->cfg.R_se_max_rel = src->cfg.R_se_max_rel;
+    dst->cfg.den_ratio_min = src->cfg.den_ratio_min;
+    dst->cfg.n_min = src->cfg.n_min;
+    dst->cfg.n_batch = src->cfg.n_batch;
+    dst->cfg.Ts_s = src->cfg.Ts_s;
+    dst->valid = src->valid;
+    dst->inv_n_batch = src->inv_n_batch;
+    for (j = 0; j < 2; j++) {
+        rs_ident_win_t *d = &dst->win[j];
+        const rs_ident_win_t *w = &src->win[j];
+        d->n = w->n;
+        copy_floats(d->x0, w->x0, (int16_t)RS_CH_COUNT);
+        copy_floats(d->s1, w->s1, (int16_t)RS_CH_COUNT);
+        d->s2_iq = w->s2_iq;
+        d->bn = w->bn;
+        copy_floats(d->bsum, w->bsum, (int16_t)RS_ST_COUNT);
+        d->nb = w->nb;
+        copy_floats(d->m1, w->m1, (int16_t)RS_ST_COUNT);
+        copy_floats(d->m2, w->m2, (int16_t)RS_ST_PAIRS);
+        copy_floats(d->bcs, w->bcs, 2);
+        copy_floats(d->g, w->g, 5);
+        copy_floats(&d->mcs[0][0], &w->mcs[0][0], (int16_t)(2 * RS_ST_COUNT));
+        d->km_iq = w->km_iq;
+    }
+}
+
 /* rs_ident_win_t.g */
 #define G_C  0
 #define G_S  1

@@ -143,6 +143,10 @@ bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg);
 /* Empties both windows. Background or ISR. */
 void rs_ident_reset(rs_ident_t *ri);
 
+/* *src into *dst, field by field (no library memcpy): the windows as they
+ * are, for a staged solve while the originals go on filling. ISR. */
+void rs_ident_copy(rs_ident_t *dst, const rs_ident_t *src);
+
 /* One period, after smo_step(): the observer's fd_V, fq_V [V] and the
  * measured id_A, iq_A [A], omega_el_rad_s [rad/s] into window win
  * (RS_IDENT_WINDOW_NONE: ignored). No division. ISR. */

@@ -108,7 +108,7 @@ static after_t after_check(const rsid_seq_t *q, rs_ident_result_t r, const rs_id
  * started (one stage per period from the next, the result acted on in the
  * period after the last: the ISR's worst period stays near its typical
  * one; window 2 goes on filling meanwhile). */
-static void check_begin(rsid_seq_t *q, const ctrl_t *c)
+static void check_begin(rsid_seq_t *q, ctrl_t *c)
 {
     const uint32_t batch = c->ri.cfg.n_batch;
 
@@ -116,8 +116,8 @@ static void check_begin(rsid_seq_t *q, const ctrl_t *c)
     if (mathx_umod_u32(q->ticks - q->end_tick, q->check_ticks) != 0u) { /* no 32-bit %: RTS call from flash */
         return; /* between checks */
     }
-    q->snap = c->ri;
-    rs_ident_solve_begin(&q->solver, &q->snap, &q->out);
+    rs_ident_copy(&q->snap, &c->ri);
+    rs_ident_solve_begin(&q->solver, &q->snap, &c->rsid_out);
     q->check_tick = q->ticks;
     q->check = RSID_CHECK_SOLVING;
 }
@@ -161,13 +161,13 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
     if (q->check == RSID_CHECK_SOLVING) {
         /* the sequence acts on the result from the next period: the last
          * stage and the start of step 2 do not share one */
-        if (rs_ident_solve_step(&q->solver, &q->out)) {
+        if (rs_ident_solve_step(&q->solver, &c->rsid_out)) {
             q->check = RSID_CHECK_SOLVED;
         }
         return app_step_running();
     }
     q->check = RSID_CHECK_NONE;
-    const after_t next = after_check(q, q->solver.result, &q->out);
+    const after_t next = after_check(q, q->solver.result, ctrl_rsid_out(c));
     if (next == AFTER_REPEAT) {
         /* back to point 1 (the target follows ticks), settle_2 after the
          * ramp, both windows once more: their sums go on accumulating */
@@ -177,7 +177,7 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
     if (next != AFTER_FINISH) {
         return app_step_running();
     }
-    q->result = ctrl_rsid_finish_with(c, q->solver.result, &q->out);
+    q->result = ctrl_rsid_finish_with(c, q->solver.result);
     if (q->result != RS_IDENT_OK) {
         return refusal(c, q->result);
     }

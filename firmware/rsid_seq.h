@@ -19,12 +19,12 @@
  * the outside reference throughout. A refused R^ is a fault naming the
  * reason (RSID_*) with the quantity and its limit.
  * The windows are checked at window 2's nominal end, and every batch
- * after it while the check goes on: a copy of the windows is solved in
- * RS_IDENT_SOLVE_STAGES stages, one per period (rs_ident_solve_step: no
- * ISR period carries a whole solve), while window 2 goes on filling; the
- * sequence acts on the copy's result in the period after the last stage
- * (ctrl_rsid_finish_with: R^ as at the check), RSID_CHECK_PERIODS periods
- * after the check's.
+ * after it while window 2 is lengthened: a copy of them (rs_ident_copy)
+ * is solved in RS_IDENT_SOLVE_STAGES stages, one per period
+ * (rs_ident_solve_step: no ISR period carries a whole solve), while
+ * window 2 goes on filling; the sequence acts on the result in the period
+ * after the last stage (ctrl_rsid_finish_with: R^ as at the check),
+ * RSID_CHECK_PERIODS periods after the check's.
  * Window 2 is lengthened (observer_design.md sec. 6): while R^ is refused
  * only for its standard error (NOT_STEADY), window 1's share of it is below the limit (so more of
  * window 2 can help) and window 2 is shorter than window_max_s, window 2
@@ -98,10 +98,9 @@ typedef struct {
     rs_ident_result_t result;   /* the last step 1's (R^ etc. in the controller's step-1 result) */
     /* the check of the windows, solved in stages over the periods after it */
     rsid_check_t check;         /* where the check is */
-    uint32_t check_tick;        /* the tick its copy of the windows was taken at */
-    rs_ident_t snap;            /* that copy */
-    rs_ident_solver_t solver;
-    rs_ident_out_t out;         /* its result */
+    uint32_t check_tick;        /* the tick it was started at */
+    rs_ident_t snap;            /* the windows then (rs_ident_copy) */
+    rs_ident_solver_t solver;   /* their solve, into the controller's step-1 result (ctrl_rsid_out) */
 } rsid_seq_t;
 
 /* Start-up: copy *cfg, derive the periods at Ts_s [s]. */
