@@ -349,6 +349,33 @@ static void fault_state(app_t *app, const hal_sample_t *s)
     }
 }
 
+/* The states but RUN and FAULT: their step for this period. */
+static void other_state(app_t *app, const hal_sample_t *s)
+{
+    switch (app->state) {
+    case APP_STATE_CALIBRATE:
+        calibrate_state(app, s);
+        break;
+    case APP_STATE_ALIGN:
+        align_state(app, s);
+        break;
+    case APP_STATE_IDENTIFY_R:
+        identify_state(app, s);
+        break;
+    case APP_STATE_PWM_CHECK:
+        pwm_check_state(app, s);
+        break;
+    case APP_STATE_ADC_CHECK:
+        adc_check_state(app, s);
+        break;
+    case APP_STATE_ENC_CHECK:
+        enc_check_state(app, s);
+        break;
+    default: /* INIT, IDLE: outputs off, nothing to do */
+        break;
+    }
+}
+
 void app_isr(app_t *app)
 {
     hal_sample_t s;
@@ -373,30 +400,10 @@ void app_isr(app_t *app)
             latch_fault(app, &f, &s);
         } else {
             take_requests(app, &s);
-            switch (app->state) {
-            case APP_STATE_CALIBRATE:
-                calibrate_state(app, &s);
-                break;
-            case APP_STATE_ALIGN:
-                align_state(app, &s);
-                break;
-            case APP_STATE_IDENTIFY_R:
-                identify_state(app, &s);
-                break;
-            case APP_STATE_RUN:
-                run_state(app, &s);
-                break;
-            case APP_STATE_PWM_CHECK:
-                pwm_check_state(app, &s);
-                break;
-            case APP_STATE_ADC_CHECK:
-                adc_check_state(app, &s);
-                break;
-            case APP_STATE_ENC_CHECK:
-                enc_check_state(app, &s);
-                break;
-            default: /* INIT, IDLE: outputs off, nothing to do */
-                break;
+            if (app->state == APP_STATE_RUN) {
+                run_state(app, &s); /* the common period first: no dispatch */
+            } else {
+                other_state(app, &s);
             }
         }
     }

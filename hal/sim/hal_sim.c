@@ -300,6 +300,12 @@ static void sample_at_period_start(void)
     const hal_sim_cfg_t *c = &g_sim.cfg;
     hal_sim_truth_t *tr = &g_sim.truth;
     memcpy(g_sim.duty_active, g_sim.duty_shadow, sizeof g_sim.duty_active);
+    if (c->phases_acb) {
+        /* the motor's phases b and c driven by legs c and b */
+        const double d = g_sim.duty_active[1];
+        g_sim.duty_active[1] = g_sim.duty_active[2];
+        g_sim.duty_active[2] = d;
+    }
     faults_start();
 
     double i_abc[N_PHASES];
@@ -437,11 +443,9 @@ static double duty_clamp(float duty)
 
 void hal_pwm_write(const float duty[3])
 {
-    /* the motor's phases b and c from legs c and b on a board wired acb */
-    const unsigned b = g_sim.cfg.phases_acb ? 2u : 1u;
     g_sim.duty_shadow[0] = duty_clamp(duty[0]);
-    g_sim.duty_shadow[b] = duty_clamp(duty[1]);
-    g_sim.duty_shadow[3u - b] = duty_clamp(duty[2]);
+    g_sim.duty_shadow[1] = duty_clamp(duty[1]);
+    g_sim.duty_shadow[2] = duty_clamp(duty[2]);
 }
 
 void hal_pwm_enable(void)
