@@ -335,14 +335,15 @@ static app_step_t watch(app_t *app, const hal_sample_t *s)
     return protect_watch(&app->prot, &in);
 }
 
-/* FAULT: outputs stay off; a reset is taken only if no check fails now. */
+/* FAULT: outputs stay off; a reset is taken only if no check fails now,
+ * and never from FLASH_CRC (the image itself is bad). */
 static void fault_state(app_t *app, const hal_sample_t *s)
 {
     app->req_start = 0u; /* a start asked for while faulted is not kept */
     app->req_stop = 0u;
     if (app->req_fault_reset != 0u) {
         app->req_fault_reset = 0u;
-        if (protection(app, s).status != APP_STEP_FAULT) {
+        if ((app->fault != APP_FAULT_FLASH_CRC) && (protection(app, s).status != APP_STEP_FAULT)) {
             app->state = APP_STATE_IDLE;
             app->fault = APP_FAULT_NONE;
         }

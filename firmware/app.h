@@ -6,10 +6,11 @@
  *   IDLE --start--> (the same sequence)
  *   CALIBRATE, ALIGN, IDENTIFY_R, RUN --stop--> IDLE
  *   INIT, IDLE, CALIBRATE, ALIGN, IDENTIFY_R, RUN --protection--> FAULT
+ *   INIT --start-up fault (app_latch_startup_fault)--> FAULT
  *   IDENTIFY_R --R^ refused--> FAULT (the reason in the code), or with
  *              rsid.on_refusal = CONVENTIONAL --> RUN, conventional method,
  *              warning APP_WARN_STEP1_REFUSED (the reason in rsid_refusal)
- *   FAULT --fault reset, cause gone--> IDLE
+ *   FAULT --fault reset, cause gone--> IDLE (never from FLASH_CRC)
  *
  * INIT is the power-on state (nothing measured yet, bus may still be
  * charging); IDLE the stopped state after a run or a fault. A start runs
@@ -162,6 +163,14 @@ void app_request_level(app_t *app, uint16_t level);
 
 /* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN and the levels' states -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);
+
+/* Start-up, after app_init and before the ISR is attached: a fault found
+ * before the drive could run (WATCHDOG_RESET: the last reset was the
+ * watchdog's; FLASH_CRC: the image fails its CRC) latched as any other:
+ * FAULT, PWM off, value and limit in the snapshot (state INIT, samples 0),
+ * until the operator clears it (app_fault_reset). FLASH_CRC is never
+ * cleared: the image must be programmed again. */
+void app_latch_startup_fault(app_t *app, app_fault_t fault, float value, float limit);
 
 /* Background, acts only in FAULT: clears a latched hardware trip; FAULT ->
  * IDLE at the next ISR if no protection check fails on that ISR's samples.

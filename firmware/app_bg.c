@@ -48,6 +48,18 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->req_op = 0u;
 }
 
+void app_latch_startup_fault(app_t *app, app_fault_t fault, float value, float limit)
+{
+    const hal_sample_t none = { 0.0f, 0.0f, 0.0f, 0u };
+    const app_step_t f = app_step_fault(fault, value, limit);
+
+    hal_pwm_disable();
+    app->pwm_on = false;
+    protect_snapshot(&app->snapshot, app->state, &none, &f);
+    app->state = APP_STATE_FAULT;
+    app->fault = fault;
+}
+
 void app_background(app_t *app)
 {
     (void)app;

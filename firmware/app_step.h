@@ -48,9 +48,11 @@ typedef enum {
     APP_FAULT_OPEN_PHASE = 17,       /* a phase carries no current under voltage (protect.h) */
     APP_FAULT_CURRENT_SENSOR = 18,   /* a current reading frozen while the rotor turns (protect.h) */
     APP_FAULT_ENCODER_LOST = 19,     /* the count stopped while moving, or no count at the torque limit (protect.h) */
-    APP_FAULT_ENCODER_DIRECTION = 20, /* level 3: the count ran against the commanded rotation (enc_check.h) */
-    APP_FAULT_POLE_PAIRS = 21,       /* level 3: the counts per commanded turn give other pole pairs (enc_check.h) */
-    APP_FAULT_PHASE_ORDER = 22       /* level 3: the current vector turned against the commanded one (enc_check.h) */
+    APP_FAULT_WATCHDOG_RESET = 20,   /* start-up: the last reset was the watchdog's (app_latch_startup_fault) */
+    APP_FAULT_FLASH_CRC = 21,        /* start-up: the program image fails its linker CRC (flash_crc.h); no reset clears it */
+    APP_FAULT_ENCODER_DIRECTION = 22, /* level 3: the count ran against the commanded rotation (enc_check.h) */
+    APP_FAULT_POLE_PAIRS = 23,       /* level 3: the counts per commanded turn give other pole pairs (enc_check.h) */
+    APP_FAULT_PHASE_ORDER = 24       /* level 3: the current vector turned against the commanded one (enc_check.h) */
 } app_fault_t;
 
 typedef enum {

@@ -14,9 +14,9 @@
 MEMORY
 {
 PAGE 0 :
-   /* L0-L5 for ramfuncs: the host estimate of that code (hal/f28335/README.md,
-    * "RAM budget") is 11.6K words before cl2000's own density; L0-L3 alone
-    * (16K) would leave too little margin. */
+   /* L0-L5 for ramfuncs. What each RAM range holds and its margin: `make
+    * check` (tools/check/ram_budget.py, from drive.map once there is one),
+    * which fails under 10 % free; it reads the lengths below. */
    RAML0L5    : origin = 0x008000, length = 0x006000   /* L0-L5 SARAM (24K words): run address of ramfuncs */
    FLASHHB    : origin = 0x300000, length = 0x038000   /* flash sectors H..B, 32K words each */
    FLASHA     : origin = 0x338000, length = 0x007F80   /* flash sector A, up to the CSM reserved words */
@@ -36,15 +36,20 @@ PAGE 1 :
 
 SECTIONS
 {
-   /* Boot: the boot ROM jumps to BEGIN, where DSP2833x_CodeStartBranch.asm branches to _c_int00. */
-   codestart     : > BEGIN,     PAGE = 0
+   /* Boot: the boot ROM jumps to BEGIN, where f28335_codestart.asm turns
+    * the watchdog off, zeroes .ebss and branches to _c_int00. */
+   codestart     : > BEGIN,     PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
 
-   /* Code and constants in flash. */
-   .text         : > FLASHHB,   PAGE = 0
+   /* Code and constants in flash. The program sections carry CRC records
+    * (CRC32_PRIME, firmware/flash_crc.h) in the table flash_crc_table,
+    * which main.c checks at start-up; the table itself in .TI.crctab.
+    * .cinit and .pinit (built by the linker) are not covered. */
+   .text         : > FLASHHB,   PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
    .cinit        : > FLASHA,    PAGE = 0
    .pinit        : > FLASHA,    PAGE = 0
-   .econst       : > FLASHHB,   PAGE = 0
-   .switch       : > FLASHA,    PAGE = 0
+   .econst       : > FLASHHB,   PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
+   .switch       : > FLASHA,    PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
+   .TI.crctab    : > FLASHA,    PAGE = 0
 
    /* Code that runs from RAM: the control ISR path (CODE_SECTION "ramfuncs",
     * --ramfunc=on files, FPUfastRTS members) and the flash wait-state set-up.
@@ -64,14 +69,18 @@ SECTIONS
                    LOAD_START(_RamfuncsLoadStart),
                    LOAD_SIZE(_RamfuncsLoadSize),
                    RUN_START(_RamfuncsRunStart),
-                   PAGE = 0
+                   PAGE = 0,
+                   crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
 
    csmpasswds    : > CSM_PWL,   PAGE = 0
    csm_rsvd      : > CSM_RSVD,  PAGE = 0
 
    /* Data. */
    .stack        : > RAMM1,     PAGE = 1
-   .ebss         : > RAML6L7,   PAGE = 1
+   /* .ebss: zeroed by f28335_codestart.asm before _c_int00 (COFF zeroes nothing). */
+   .ebss         : > RAML6L7,   PAGE = 1,
+                   RUN_START(_EbssRunStart),
+                   RUN_SIZE(_EbssRunSize)
    .esysmem      : > RAMM0,     PAGE = 1
 
    /* Tables already in boot ROM: referenced, never loaded. */

@@ -9,22 +9,53 @@
  * 0/1/2 (open loop/torque/speed), the reference, then run = 1. `g_app`
  * shows the state, the latched fault with its snapshot and the monitor
  * (g_app.ctrl.mon); g_cmd.error names a refused command.
- * g_reset_by_watchdog is true when the last reset was the watchdog's (the
- * background loop stopped kicking it: a hang, a trap, an endless ISR); it
- * is also sent once on the telemetry line at start-up.
+ * A reset by the watchdog (the background loop stopped kicking it: a
+ * hang, a trap, an endless ISR) is latched as the fault WATCHDOG_RESET
+ * (g_reset_by_watchdog also says so, and one line on the telemetry); the
+ * operator clears it with fault_reset. Before anything runs, the program
+ * image is checked against the CRCs the linker recorded
+ * (f28335_flash.cmd, crc_table(_flash_crc_table)): a mismatch latches
+ * FLASH_CRC (snapshot value: the failing record's index), which no reset
+ * clears.
  * Not linked on the host (the Makefile filters it out); the make check
  * gates compile it.
  */
 #include "app.h"
 #include "board_cfg.h"
 #include "cmd.h"
+#include "flash_crc.h"
 #include "hal.h"
 #include "hal_f28335.h"
 
+#if defined(__TMS320C28XX__)
+#include <crc_tbl.h>
+/* The linker's CRC records of the program sections (f28335_flash.cmd). */
+extern CRC_TABLE flash_crc_table;
+#endif
+
 static app_t g_app;          /* the whole drive state; static so CCS can watch it */
+static app_cfg_t g_cfg;      /* static: in .ebss, not on the 1K-word stack (tools/check/ram_budget.py) */
 static volatile cmd_t g_cmd; /* written by the operator from CCS (or a telemetry link) */
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char WATCHDOG_RESET_MSG[] = "reset by watchdog\r\n";
+
+/* Start-up, before interrupts: the index of the first CRC record of the
+ * image that fails (flash_crc.h), or -1 when all match. */
+static int16_t flash_image_bad_record(void)
+{
+#if defined(__TMS320C28XX__)
+    uint16_t k;
+
+    for (k = 0u; k < flash_crc_table.num_recs; k++) {
+        const CRC_RECORD *r = &flash_crc_table.recs[k];
+        if (!flash_crc_record_ok(r->crc_alg_ID, (const volatile uint16_t *)r->addr, r->size, r->crc_value,
+                                 hal_watchdog_kick)) {
+            return (int16_t)k;
+        }
+    }
+#endif
+    return -1;
+}
 
 /* PIE INT1.1 (ADC SEQ1 end of sequence), once per PWM period; app_isr acknowledges. */
 #if defined(__TMS320C28XX__)
@@ -39,20 +70,26 @@ static HAL_INTERRUPT void ctrl_isr(void)
 
 int main(void)
 {
-    app_cfg_t cfg;
     cmd_limits_t lim;
+    int16_t bad_record;
 
-    hal_init();
+    hal_init();  /* ramfuncs copied: its CRC record holds at either address */
+    bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
     if (g_reset_by_watchdog) {
         (void)hal_f28335_sci_write(WATCHDOG_RESET_MSG, (uint16_t)(sizeof WATCHDOG_RESET_MSG - 1u));
     }
-    app_cfg_default(&cfg);
-    app_init(&g_app, &cfg);
+    app_cfg_default(&g_cfg);
+    app_init(&g_app, &g_cfg);
+    if (bad_record >= 0) {
+        app_latch_startup_fault(&g_app, APP_FAULT_FLASH_CRC, (float)bad_record, 0.0f);
+    } else if (g_reset_by_watchdog) {
+        app_latch_startup_fault(&g_app, APP_FAULT_WATCHDOG_RESET, 0.0f, 0.0f);
+    }
     cmd_init(&g_cmd);
     lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
-    lim.te_max_Nm = cfg.ctrl.te_max_Nm;
-    lim.u_max_V = cfg.ctrl.u_max_V;
+    lim.te_max_Nm = g_cfg.ctrl.te_max_Nm;
+    lim.u_max_V = g_cfg.ctrl.u_max_V;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
     for (;;) {
         cmd_apply(&g_cmd, &lim, &g_app);

@@ -6,9 +6,9 @@
 #
 # Run through the top-level Makefile's `firmware` target, which first checks
 # the tools (tools/check/ti_tools.sh). Sources: control/*.c, firmware/*.c,
-# hal/f28335/*.c, plus from C2000Ware the peripheral register definitions
-# (DSP2833x_GlobalVariableDefs.c), the flash entry branch
-# (DSP2833x_CodeStartBranch.asm), the ADC trim routine's section
+# hal/f28335/*.c, firmware/f28335_codestart.asm (the flash entry: watchdog
+# off, .ebss zeroed), plus from C2000Ware the peripheral register
+# definitions (DSP2833x_GlobalVariableDefs.c), the ADC trim routine's section
 # (DSP2833x_ADC_cal.asm: ADC_cal lives in TI-reserved OTP) and the header
 # linker command file. tools/check/target_cfg.sh (make check) checks the
 # options and library names below against C2000Ware's F2833x projects.
@@ -47,16 +47,19 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # unless listed); the HAL marks its ISR-path functions with CODE_SECTION
 # "ramfuncs" itself (hal_init must run from flash). tools/check/isr_path.sh
 # (make check) fails if a function the ISR reaches would run from flash.
-FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_bg.c
+FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_bg.c firmware/flash_crc.c
 RAMFUNC_SRCS := $(filter-out $(FLASH_SRCS),$(wildcard control/*.c) $(wildcard firmware/*.c))
 
 APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*.c) $(wildcard hal/f28335/*.c)
 TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c
-TI_ASM_SRCS := $(F2833X_COMMON)/source/DSP2833x_CodeStartBranch.asm \
-               $(F2833X_COMMON)/source/DSP2833x_ADC_cal.asm
+# The boot entry is ours (f28335_codestart.asm: watchdog off as C2000Ware's
+# DSP2833x_CodeStartBranch.asm, then .ebss zeroed), not C2000Ware's.
+APP_ASM_SRCS := firmware/f28335_codestart.asm
+TI_ASM_SRCS := $(F2833X_COMMON)/source/DSP2833x_ADC_cal.asm
 
 obj_of = $(OUT)/obj/$(basename $(notdir $1)).obj
 APP_OBJS := $(foreach s,$(APP_SRCS),$(call obj_of,$s))
+APP_OBJS += $(foreach s,$(APP_ASM_SRCS),$(call obj_of,$s))
 TI_OBJS  := $(foreach s,$(TI_C_SRCS) $(TI_ASM_SRCS),$(call obj_of,$s))
 
 # Linker: our memory map, then C2000Ware's peripheral-register placement.
@@ -67,8 +70,8 @@ TI_OBJS  := $(foreach s,$(TI_C_SRCS) $(TI_ASM_SRCS),$(call obj_of,$s))
 # rts2800_fpu32_fast_supplement_coff.lib (the plain .lib of current
 # C2000Ware is an index whose members are only .libinfo files).
 # --entry_point=code_start: a debugger load starts where the boot ROM's
-# jump to flash does (DSP2833x_CodeStartBranch.asm: watchdog off, then
-# _c_int00), not at _c_int00 with the watchdog running through cinit.
+# jump to flash does (f28335_codestart.asm: watchdog off, .ebss zeroed,
+# then _c_int00), not at _c_int00 with the watchdog running through cinit.
 LINK_CMDS := firmware/f28335_flash.cmd $(F2833X_HEADERS)/cmd/DSP2833x_Headers_nonBIOS.cmd
 LFLAGS := -z --rom_model --entry_point=code_start --stack_size=0x400 --heap_size=0 \
           --warn_sections --reread_libs --priority \
@@ -98,7 +101,7 @@ $(call obj_of,$1): $1 firmware/target.mk
 	$$(CL) $$(CPU_FLAGS) --output_file=$$@ --compile_only $1
 endef
 $(foreach s,$(APP_SRCS) $(TI_C_SRCS),$(eval $(call C_RULE,$s)))
-$(foreach s,$(TI_ASM_SRCS),$(eval $(call ASM_RULE,$s)))
+$(foreach s,$(APP_ASM_SRCS) $(TI_ASM_SRCS),$(eval $(call ASM_RULE,$s)))
 
 -include $(wildcard $(OUT)/obj/*.d)
 

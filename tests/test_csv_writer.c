@@ -1,7 +1,8 @@
 /* csv_writer (drive_sil's CSV thread): rows in give the bytes of
  * sil_csv_row() on the same rows, in order, across the ring's wrap-around
  * and a last partial block; a hand-built line anchors the format; a write
- * error (/dev/full) comes back as its errno and the producer never hangs. */
+ * error (/dev/full) comes back as its errno and the producer never hangs;
+ * a size limit ends the file at a whole row. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -52,7 +53,7 @@ static char *write_through_thread(const sil_row_t *rows, unsigned n, size_t *len
     char *got = NULL;
     FILE *f = open_memstream(&got, len);
     assert_non_null(f);
-    assert_int_equal(csv_writer_start(&g_w, f), 0);
+    assert_int_equal(csv_writer_start(&g_w, f, 0u, CSV_WRITER_NO_LIMIT), 0);
     for (unsigned k = 0; k < n; k++) {
         assert_int_equal(csv_writer_put(&g_w, &rows[k]), 0);
     }
@@ -135,7 +136,7 @@ static void write_error_comes_back_as_its_errno(void **state)
         skip();
     }
     make_rows();
-    assert_int_equal(csv_writer_start(&g_w, f), 0);
+    assert_int_equal(csv_writer_start(&g_w, f, 0u, CSV_WRITER_NO_LIMIT), 0);
     int first = 0;
     for (unsigned k = 0; k < N_ROWS; k++) {
         const int rc = csv_writer_put(&g_w, &g_rows[k]);
@@ -150,6 +151,56 @@ static void write_error_comes_back_as_its_errno(void **state)
     fclose(f);
 }
 
+/* A size limit (drive_sil --max-csv-mb): the file ends at the last whole
+ * line of sil_csv_row()'s output that keeps header + rows within the
+ * limit; the rows after it are dropped without an error, and the first
+ * dropped row's time is reported. */
+static void size_limit_ends_at_a_whole_row(void **state)
+{
+    (void)state;
+    make_rows();
+    char *want = NULL;
+    size_t want_len = 0;
+    FILE *fw = open_memstream(&want, &want_len);
+    assert_non_null(fw);
+    for (unsigned k = 0; k < N_ROWS; k++) {
+        sil_csv_row(fw, &g_rows[k]);
+    }
+    assert_int_equal(fclose(fw), 0);
+    const uint64_t header = 100u;
+    const uint64_t limit = header + want_len / 2u;
+    /* by hand: whole lines while header + their bytes <= limit */
+    size_t keep = 0;
+    unsigned kept_rows = 0;
+    for (size_t i = 0; i < want_len; i++) {
+        if (want[i] == '\n') {
+            if (header + i + 1u > limit) {
+                break;
+            }
+            keep = i + 1u;
+            kept_rows++;
+        }
+    }
+    assert_true(kept_rows > 0u && kept_rows < N_ROWS);
+
+    char *got = NULL;
+    size_t got_len = 0;
+    FILE *f = open_memstream(&got, &got_len);
+    assert_non_null(f);
+    assert_int_equal(csv_writer_start(&g_w, f, header, limit), 0);
+    for (unsigned k = 0; k < N_ROWS; k++) {
+        assert_int_equal(csv_writer_put(&g_w, &g_rows[k]), 0);
+    }
+    assert_int_equal(csv_writer_finish(&g_w), 0);
+    assert_int_equal(fclose(f), 0);
+    assert_int_equal(got_len, keep);
+    assert_memory_equal(got, want, keep);
+    assert_true(g_w.capped);
+    assert_float_equal(g_w.t_capped_s, g_rows[kept_rows].t_s, 0.0);
+    free(want);
+    free(got);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -157,6 +208,7 @@ int main(void)
         cmocka_unit_test(one_row_matches_a_hand_built_line),
         cmocka_unit_test(no_rows_write_nothing),
         cmocka_unit_test(write_error_comes_back_as_its_errno),
+        cmocka_unit_test(size_limit_ends_at_a_whole_row),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -291,6 +291,56 @@ static void plant_resistance_profile(void **state)
     expect_error("[plant]\ndevice_drop_V = -1\n", 2, "device_drop_V");
 }
 
+/* Inputs whose first message used to name a symptom: an empty value, a
+ * key given again, a section line without its ']', a key before any
+ * section - each named as what it is, at its own line. */
+static void messages_name_the_real_problem(void **state)
+{
+    (void)state;
+    expect_error("[plant]\nR_ohm =\n", 2, "[plant] R_ohm: no value");
+    expect_error("[plant]\nL_H =\n", 2, "[plant] L_H: no value");
+    expect_error("[reference]\nspeed_rpm =\n", 2, "[reference] speed_rpm: no value");
+    expect_error("[plant]\nL_H = 0.01\n\nL_H = 0.02\n", 4, "[plant] L_H: given twice (first at");
+    expect_error("[plant]\nR_ohm = 3\nR_ohm = 4\n", 3, "[plant] R_ohm: given twice (first at");
+    expect_error("[plant\nL_H = 0.01\n", 1, "section line \"[plant\" has no closing ']'");
+    expect_error("[plant]\nL_H = 0.01\n [controller\n", 3, "no closing ']'");
+    expect_error("L_H = 0.01\n", 1, "L_H: a key before any [section] line");
+    /* a profile continued on an indented line, or by the key again with t:value points, still extends it */
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN] = "";
+    assert_int_equal(load_text(&sc, "[reference]\nspeed_rpm = 0:0, 0.1:500\n  0.2:100\nspeed_rpm = 0.3:50\n", err), 0);
+    assert_int_equal(sc.reference.speed_rpm.n, 4);
+    assert_float_equal(profile_eval(&sc.reference.speed_rpm, 0.25), 100.0, TOL);
+    assert_float_equal(profile_eval(&sc.reference.speed_rpm, 0.35), 50.0, TOL);
+}
+
+/* Plausibility bounds (scenario.c BOUNDS): the absurd is refused naming
+ * key, value and bound, the controller's values after their factors; the
+ * bounds themselves and the merely beyond-limit are accepted. */
+static void plausibility_bounds(void **state)
+{
+    (void)state;
+    expect_error("[plant]\nJ_kgm2 = 1e9\n", 2, "[plant] J_kgm2: 1e+09 kg m^2 is not plausible: the bound is 1e-08 .. 100");
+    expect_error("[plant]\nL_H = 1e6\n", 2, "[plant] L_H: 1e+06 H is not plausible");
+    expect_error("[plant]\nvdc_V = 1\n", 2, "[plant] vdc_V: 1 V is not plausible: the bound is 5 .. 1500 V");
+    expect_error("[plant]\nvdc_V = 1500.1\n", 2, "vdc_V");
+    expect_error("[plant]\nR_ohm = 0:3, 1:2000~\n", 2, "[plant] R_ohm: 2000 ohm (at t = 1 s)");
+    expect_error("[plant]\npsif_Wb = 11\n", 2, "psif_Wb");
+    expect_error("[plant]\npole_pairs = 65\n", 2, "[plant] pole_pairs: 65 is not plausible: the bound is 1 .. 64");
+    expect_error("[controller]\nL_factor = 1000\n", 2, "[controller] L_H: 11 H (L_factor 1000 x [plant] L_H)");
+    expect_error("[controller]\nR_ohm = 1e-4\n", 2, "[controller] R_ohm: 0.0001 ohm");
+    expect_error("[reference]\nspeed_rpm = 0:0, 1:1.5e5~\n", 2, "[reference] speed_rpm: 150000 r/min (at t = 1 s)");
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN] = "";
+    assert_int_equal(load_text(&sc,
+                               "[plant]\nvdc_V = 1500\nJ_kgm2 = 100\nL_H = 10\npole_pairs = 64\n"
+                               "[controller]\nR_ohm = 0.001\n[reference]\nspeed_rpm = 0:0, 1:-1e5~\n",
+                               err),
+                     0);
+    /* above the overspeed trip (a result: it may fault), not absurd */
+    assert_int_equal(load_text(&sc, "[reference]\nspeed_rpm = 5000\n", err), 0);
+}
+
 static void bad_inputs_name_file_line_key(void **state)
 {
     (void)state;
@@ -402,6 +452,8 @@ int main(void)
         cmocka_unit_test(set_overrides_and_replaces_profiles),
         cmocka_unit_test(plant_resistance_profile),
         cmocka_unit_test(bad_inputs_name_file_line_key),
+        cmocka_unit_test(messages_name_the_real_problem),
+        cmocka_unit_test(plausibility_bounds),
         cmocka_unit_test(level_and_wrong_board_keys),
         cmocka_unit_test(faults_section),
     };

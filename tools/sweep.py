@@ -256,7 +256,9 @@ def load_done(out_dir, definition, cols):
 
 
 class Workers:
-    """--jobs drive_sil --batch processes; run() hands out points and yields (key, summary dict)."""
+    """--jobs drive_sil --batch processes; run() hands out points and yields (key, summary dict).
+    A point that ends in FAULT is answered with its summary like any other: --batch exits 0
+    whatever its points did (a single run's exit 3, FAULT, is a result too, not an error)."""
 
     def __init__(self, a, jobs):
         self.cmd = [a.drive_sil, "--scenario", a.scenario, "--batch"]

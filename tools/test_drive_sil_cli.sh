@@ -113,6 +113,154 @@ else
     failed "drive_sil CLI summary/batch"
 fi
 
+# exit status 3: a run that ends in FAULT, with every output written in full
+fault_ini=$(printf '[controller]\nmode = open_loop\n[reference]\nuq_V = 20\n[faults]\ngate_trip_s = 0.005\n[run]\nduration_s = 0.01\nlog_every = 1\n' > "$dir/fault.ini"; echo "$dir/fault.ini")
+rm -f "$dir"/flt.*
+"$bin" --scenario "$fault_ini" --out "$dir/flt.csv" --summary "$dir/flt.json" > "$dir/out" 2> "$dir/err"
+rc=$?
+if [ $rc -eq 3 ] && [ "$(($(wc -l < "$dir/flt.csv") - 1))" -eq 100 ] && [ -z "$(tail -c 1 "$dir/flt.csv")" ] &&
+        python3 -c 'import json, sys; s = json.load(open(sys.argv[1])); r = json.load(open(sys.argv[2]));
+sys.exit(0 if s["fault_name"] == "HW_TRIP" and s["periods"] == 100 and r["plant"]["vdc_V"] > 0 else 1)' \
+            "$dir/flt.json" "$dir/flt.resolved.json" &&
+        grep -q "final state 6 (FAULT), fault 1 (HW_TRIP)" "$dir/out" && ! compgen -G "$dir/flt.*.tmp*" > /dev/null; then
+    pass "drive_sil CLI a run ending in FAULT: exit 3, CSV (100 rows), .resolved.json and summary complete"
+else
+    failed "drive_sil CLI a run ending in FAULT: exit $rc, $(head -n 1 "$dir/err"), files: $(ls "$dir")"
+fi
+"$bin" --scenario "$fault_ini" --check > /dev/null 2>&1
+rc_check=$?
+printf 'p1\t\n' | "$bin" --scenario "$fault_ini" --batch > "$dir/out" 2> /dev/null
+rc_batch=$?
+if [ $rc_check -eq 0 ] && [ $rc_batch -eq 0 ] && grep -q '"fault_name": "HW_TRIP"' "$dir/out"; then
+    pass "drive_sil CLI a faulting scenario: --check and --batch exit 0 (a faulted point is a result)"
+else
+    failed "drive_sil CLI a faulting scenario: --check exit $rc_check, --batch exit $rc_batch"
+fi
+if "$bin" --help | grep -q "^  3    the run ended in FAULT"; then
+    pass "drive_sil CLI --help documents the exit status"
+else
+    failed "drive_sil CLI --help: no exit status 3"
+fi
+
+# --version: the source revision drive_sil was built from (git describe, "unknown" outside git)
+rev=$(git -C "$(dirname "$0")" describe --always --dirty 2>/dev/null || echo unknown)
+if [ "$("$bin" --version)" = "drive_sil $rev" ]; then
+    pass "drive_sil CLI --version: drive_sil $rev"
+else
+    failed "drive_sil CLI --version: \"$("$bin" --version)\", expected \"drive_sil $rev\""
+fi
+
+# plausibility bounds: the absurd is refused naming key, value and bound; beyond-limit runs
+# expect_bound NAME GREP ARGS...: bad input whose message matches GREP
+expect_bound() {
+    local name=$1 pattern=$2; shift 2
+    expect_bad "$name" "$@"
+    if ! grep -q -- "$pattern" "$dir/err"; then
+        failed "drive_sil CLI $name: message \"$(head -n 1 "$dir/err")\" does not match \"$pattern\""
+    fi
+}
+expect_bound "R absurd" "\[plant\] R_ohm: 5000 ohm.*0.001 .. 1000 ohm" --scenario "$good" --set plant.R_ohm=5000 --out "$dir/out.csv"
+expect_bound "R profile absurd" "\[plant\] R_ohm: 1e-05 ohm (at t = 1 s).*0.001 .. 1000" --scenario "$good" --set "plant.R_ohm=0:3, 1:1e-5" --out "$dir/out.csv"
+expect_bound "L absurd" "\[plant\] L_H: 1e+06 H.*1e-06 .. 10 H" --scenario "$(bad lb '[plant]\nL_H = 1e6\n')" --out "$dir/out.csv"
+if ! grep -q "lb.ini:2: " "$dir/err"; then failed "drive_sil CLI L absurd: not FILE:LINE"; fi
+expect_bound "psi_f absurd" "\[plant\] psif_Wb: 1e-05 Wb.*0.0001 .. 10 Wb" --scenario "$good" --set plant.psif_Wb=1e-5 --out "$dir/out.csv"
+expect_bound "pole pairs absurd" "\[plant\] pole_pairs: 65 .*1 .. 64" --scenario "$good" --set plant.pole_pairs=65 --out "$dir/out.csv"
+expect_bound "J absurd" "\[plant\] J_kgm2: 1e+09 kg m^2.*1e-08 .. 100 kg m^2" --scenario "$good" --set plant.J_kgm2=1e9 --out "$dir/out.csv"
+expect_bound "bus absurd" "\[plant\] vdc_V: 1 V.*5 .. 1500 V" --scenario "$good" --set plant.vdc_V=1 --out "$dir/out.csv"
+expect_bound "speed reference absurd" "\[reference\] speed_rpm: -200000 r/min.*-100000 .. 100000" --scenario "$good" --set "reference.speed_rpm=0:0, 0.005:-2e5" --out "$dir/out.csv"
+expect_bound "controller L by factor absurd" "\[controller\] L_H: 110 H (L_factor 10000 x \[plant\] L_H).*1e-06 .. 10 H" --scenario "$good" --set controller.L_factor=1e4 --out "$dir/out.csv"
+expect_bound "controller R absurd" "\[controller\] R_ohm: 1e-05 ohm.*0.001 .. 1000" --scenario "$good" --set controller.R_ohm=1e-5 --out "$dir/out.csv"
+expect_bound "controller psi_f by factor absurd" "\[controller\] psif_Wb: 0.000024 Wb\|\[controller\] psif_Wb: 2.4e-05 Wb" --scenario "$good" --set controller.psif_factor=1e-4 --out "$dir/out.csv"
+printf 'p1\tplant.J_kgm2=1e9\n' | "$bin" --scenario "$good" --batch > "$dir/out" 2> /dev/null
+if grep -q '"error": "--set plant.J_kgm2=1e9: \[plant\] J_kgm2: 1e+09 kg m^2 is not plausible' "$dir/out"; then
+    pass "drive_sil CLI --batch: an absurd point is refused by name"
+else
+    failed "drive_sil CLI --batch absurd point: $(head -c 200 "$dir/out")"
+fi
+# beyond the overspeed trip (2400 r/min) but plausible: runs, and may fault
+"$bin" --scenario "$good" --set controller.mode=speed --set "reference.speed_rpm=5000" --out "$dir/out.csv" > /dev/null 2> "$dir/err"
+rc=$?
+if [ $rc -eq 0 ] || [ $rc -eq 3 ]; then
+    pass "drive_sil CLI a speed reference above the overspeed trip runs (exit $rc)"
+else
+    failed "drive_sil CLI a speed reference above the overspeed trip: exit $rc, $(head -n 1 "$dir/err")"
+fi
+if "$bin" --help | grep -q "\[plant\] J_kgm2 *1e-08 .. 100 kg m^2"; then
+    pass "drive_sil CLI --help lists the plausibility bounds"
+else
+    failed "drive_sil CLI --help: no plausibility bounds"
+fi
+
+# messages that name the real problem, at FILE:LINE
+expect_msg() {
+    local name=$1 pattern=$2; shift 2
+    expect_bad "$name" "$@"
+    if ! grep -q -- "$pattern" "$dir/err"; then
+        failed "drive_sil CLI $name: message \"$(head -n 1 "$dir/err")\" does not match \"$pattern\""
+    fi
+}
+expect_msg "empty value" "ev.ini:2: \[plant\] R_ohm: no value" --scenario "$(bad ev '[plant]\nR_ohm =\n')" --out "$dir/out.csv"
+expect_msg "empty profile value" "ep.ini:3: \[reference\] speed_rpm: no value" --scenario "$(bad ep '[reference]\n\nspeed_rpm =\n')" --out "$dir/out.csv"
+expect_msg "duplicate key" "dk.ini:3: \[plant\] L_H: given twice (first at .*dk.ini:2)" --scenario "$(bad dk '[plant]\nL_H = 0.01\nL_H = 0.02\n')" --out "$dir/out.csv"
+expect_msg "duplicate profile key" "dp.ini:3: \[plant\] R_ohm: given twice (first at .*dp.ini:2" --scenario "$(bad dp '[plant]\nR_ohm = 3\nR_ohm = 4\n')" --out "$dir/out.csv"
+expect_msg "broken section line" "bh.ini:1: section line \"\[plant\" has no closing ']'" --scenario "$(bad bh '[plant\nL_H = 0.01\n')" --out "$dir/out.csv"
+expect_msg "key before any section" "ks.ini:1: L_H: a key before any \[section\] line" --scenario "$(bad ks 'L_H = 0.01\n')" --out "$dir/out.csv"
+
+# SIGINT, SIGTERM: the CSV kept under its name to the last whole row, .resolved.json
+# written, no temporary left, exit 128 + signal
+endless=$(printf '[controller]\nmode = open_loop\n[reference]\nuq_V = 20\n[run]\nduration_s = 1e5\nlog_every = 1\n' > "$dir/endless.ini"; echo "$dir/endless.ini")
+for sig in INT TERM HUP; do
+    rm -f "$dir"/sig.*
+    set -m   # a job of its own: a background job would ignore SIGINT
+    "$bin" --scenario "$endless" --out "$dir/sig.csv" --summary "$dir/sig.json" > /dev/null 2> "$dir/err" &
+    pid=$!
+    set +m
+    for _ in $(seq 100); do   # until it writes (the handlers are in place by then)
+        [ -n "$(find "$dir" -name 'sig.csv.tmp.*' -size +1k 2>/dev/null)" ] && break
+        sleep 0.1
+    done
+    kill -s $sig $pid
+    wait $pid
+    rc=$?
+    want=$((128 + $(kill -l $sig)))
+    rows=$(($(wc -l < "$dir/sig.csv" 2>/dev/null || echo 1) - 1))
+    if [ $rc -eq $want ] && [ -f "$dir/sig.resolved.json" ] && ! compgen -G "$dir/sig.*.tmp*" > /dev/null &&
+            ! [ -e "$dir/sig.json" ] && [ -z "$(tail -c 1 "$dir/sig.csv")" ] &&
+            grep -q "after $rows periods, $rows rows, kept in $dir/sig.csv" "$dir/err" &&
+            awk -F, 'NR == 1 { n = NF } NR == 2 { t0 = $1 } NR == 3 { dt = $1 - t0 }
+                     NF != n { bad = 1 } END { r = NR - 1; k = ($1 - t0) / dt + 1;
+                     exit (bad || r < 3 || k < r - 0.5 || k > r + 0.5) }' "$dir/sig.csv"; then
+        pass "drive_sil CLI SIG$sig: exit $rc, CSV of $rows whole rows (one a period), .resolved.json, no temporary"
+    else
+        failed "drive_sil CLI SIG$sig: exit $rc (want $want), $rows rows, $(tail -n 1 "$dir/err"), files: $(ls "$dir" | grep sig)"
+    fi
+done
+
+# --max-csv-mb: the CSV ends at its last whole row under the limit, the run goes on
+rm -f "$dir"/cap.*
+"$bin" --scenario "$good" --set run.duration_s=0.5 --set run.log_every=1 --max-csv-mb 0.05 \
+    --out "$dir/cap.csv" --summary "$dir/cap.json" > /dev/null 2> "$dir/err"
+rc=$?
+if [ $rc -eq 0 ] && [ "$(stat -c %s "$dir/cap.csv")" -le 52428 ] && [ "$(stat -c %s "$dir/cap.csv")" -gt 40000 ] &&
+        [ -z "$(tail -c 1 "$dir/cap.csv")" ] && grep -q "warning: --out $dir/cap.csv: the CSV reached --max-csv-mb 0.05" "$dir/err" &&
+        awk -F, 'NR == 1 { n = NF } NF != n { exit 1 }' "$dir/cap.csv" &&
+        python3 -c 'import json, sys; sys.exit(0 if json.load(open(sys.argv[1]))["periods"] == 5000 else 1)' "$dir/cap.json"; then
+    pass "drive_sil CLI --max-csv-mb 0.05: $(stat -c %s "$dir/cap.csv") bytes of whole rows, warning, the run went on (5000 periods)"
+else
+    failed "drive_sil CLI --max-csv-mb: exit $rc, $(stat -c %s "$dir/cap.csv" 2>/dev/null) bytes, $(head -n 1 "$dir/err")"
+fi
+expect_bad "bad --max-csv-mb" --scenario "$good" --out "$dir/out.csv" --max-csv-mb 0
+
+# every CSV column documented in tools/sil/CSV_COLUMNS.md's table, in the header's order
+doc="$(dirname "$0")/sil/CSV_COLUMNS.md"
+documented=$(awk -F'|' '/^\| --- /{ t = 1; next } t && /^\|/ { c = $2; gsub(/[ `]/, "", c); print c; next } t { t = 0 }' "$doc" | paste -sd, -)
+header=$(head -n 1 "$dir/flt.csv")
+if [ -n "$header" ] && [ "$documented" = "$header" ]; then
+    pass "drive_sil CLI CSV columns: all $(echo "$header" | tr ',' '\n' | wc -l) documented in $doc, none extra"
+else
+    failed "drive_sil CLI CSV columns: header and $doc differ: $(diff <(echo "$header" | tr ',' '\n') <(echo "$documented" | tr ',' '\n') | tr '\n' ' ')"
+fi
+
 [ $fail -eq 0 ] && echo "drive_sil CLI: all passed"
 echo "drive_sil CLI: $npass passed, $nfail failed"
 exit $fail

@@ -125,7 +125,9 @@ void f28335_sysctrl_init(void)
  * an ITRAP or NMI taken through it would jump anywhere with the PWM running. */
 static void pie_vectors_init(void)
 {
-    PINT *const vec = (PINT *)&PieVectTable;
+    /* volatile: every store is a write to PIE RAM the CPU fetches vectors
+     * from, never to be merged or dropped by the optimiser */
+    volatile PINT *const vec = (volatile PINT *)&PieVectTable;
     const uint16_t n = (uint16_t)(sizeof(PieVectTable) / sizeof(PINT));
     uint16_t k;
 

@@ -17,12 +17,13 @@
 # sqrtf (the fast-RTS members in RAM; the hardware FPU divides inline here,
 # FS$$DIV is in RAM on the target). Also fails on isfinite/isnan/isinf/
 # fpclassify anywhere in the portable sources (use mathx_isfinitef).
-# Prints the ISR path's code size and the largest RAM objects (host
-# estimates for the README's RAM budget).
+# Leaves its objects and gcc's call graphs (main.c included, not linked)
+# in OUTDIR/isr for the RAM gate (tools/check/ram_budget.py).
 set -uo pipefail
 out=${1:-build/check}/isr
 cd "$(dirname "$0")/../.."
 mkdir -p "$out"
+rm -f "$out"/*.o "$out"/*.ci  # a removed source leaves nothing behind
 fail=0
 
 allowed='^(sinf|cosf|atan2f|sqrtf)$'
@@ -30,7 +31,7 @@ flags=(-mthumb -march=armv7-a+fp -mfloat-abi=hard -O2 -std=c99 -ffunction-sectio
        -fno-tree-loop-distribute-patterns -fcallgraph-info=su
        -Wall -Wextra -Werror -include control/c28x_portable.h
        -Icontrol -Ihal -Ifirmware -Ihal/f28335 -Itests/c2000_fake/include)
-srcs=$(ls control/*.c firmware/*.c hal/f28335/*.c tests/c2000_fake/*.c | grep -v '^firmware/main\.c$')
+srcs=$(ls control/*.c firmware/*.c hal/f28335/*.c tests/c2000_fake/*.c)
 objs=()
 for f in $srcs; do
     o="$out/$(echo "$f" | tr / _).o"
@@ -38,7 +39,8 @@ for f in $srcs; do
         echo "FAIL $f: does not compile for the ISR-path check:"; sed 's/^/    /' "$o.log"
         fail=1
     fi
-    objs+=("$o")
+    # main.c: compiled for the RAM gate's figures (ctrl_isr, main's stack), not linked
+    [ "$f" = firmware/main.c ] || objs+=("$o")
 done
 
 elf="$out/isr_path.elf"
@@ -94,39 +96,8 @@ if [ $fail -eq 0 ]; then
                 esac ;;
         esac
     done <<< "$funcs"
-    # Host estimates for the RAM budget (hal/f28335/README.md): Thumb-2
-    # bytes / 2 ~ C28x 16-bit words; drive.map has the F28335 figures.
     code=$(arm-none-eabi-size -A "$elf" | awk '$1 == ".text" {print $2}')
-    ramcode=0
-    for o in "${objs[@]}"; do
-        case "$o" in *control_*|*firmware_*) ;; *) continue ;; esac
-        case "$flash_srcs" in *" $(basename "$o" .c.o | sed 's/_/\//').c "*) continue ;; esac
-        ramcode=$((ramcode + $(arm-none-eabi-size -A "$o" | awk '$1 ~ /^\.text/ {t += $2} END {print t + 0}')))
-    done
-    echo "isr_path: code reached from app_isr ${code:-0} bytes; control/ + firmware/ compiled into RAM ${ramcode} bytes (Thumb-2)"
-    python3 - "$out" app_isr cmd_apply <<'PY'
-import glob, re, sys
-size, calls = {}, {}
-for f in glob.glob(sys.argv[1] + "/*.ci"):
-    for line in open(f):
-        m = re.match(r'node: \{ title: "([^"]+)" label: "[^"]*?\\n[^"]*?\\n(\d+) bytes', line)
-        if m:
-            size[m.group(1)] = int(m.group(2))
-        m = re.match(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"', line)
-        if m:
-            calls.setdefault(m.group(1), set()).add(m.group(2))
-def node(t, caller):
-    local = caller.split(":")[0] + ":" + t
-    return local if ":" in caller and local in size else t
-def deepest(n, seen=()):
-    if n in seen:
-        return (0, [n + "(recursion)"])
-    best = max((deepest(node(t, n), seen + (n,)) for t in calls.get(n, ())), default=(0, []))
-    return (size.get(n, 0) + best[0], [n.split(":")[-1]] + best[1])
-for root in sys.argv[2:]:
-    d, path = deepest(root)
-    print("isr_path: stack of %s %d bytes (gcc -fcallgraph-info): %s" % (root, d, " -> ".join(path)))
-PY
+    echo "isr_path: code reached from app_isr ${code:-0} bytes (Thumb-2; the RAM budget: ram_budget.py)"
 fi
 # cl2000's isfinite and friends may call RTS functions; mathx_isfinitef is inline.
 cls=$(grep -nE '\b(isfinite|isnan|isinf|fpclassify)[[:space:]]*\(' control/*.[ch] firmware/*.[ch] hal/f28335/*.[ch] 2>/dev/null)

@@ -50,7 +50,28 @@ grep -q 'CODE_SECTION(f28335_flash_init, "ramfuncs")' "$hal"/*.c ||
     bad "$hal" "f28335_flash_init is not in ramfuncs"
 grep -q 'FUNC_CANNOT_INLINE(f28335_flash_init)' "$hal"/*.c ||
     bad "$hal" "f28335_flash_init may be inlined into its flash-resident caller (FUNC_CANNOT_INLINE)"
-# The boot entry and the copy of ramfuncs the HAL relies on.
+# The boot entry: ours, zeroing .ebss (COFF zeroes nothing) with the
+# watchdog off before _c_int00; C2000Ware's would define code_start twice.
+asm=$root/firmware/f28335_codestart.asm
+has "$mk" 'APP_ASM_SRCS[[:space:]]*:=.*firmware/f28335_codestart\.asm' ||
+    bad "$mk" "does not assemble firmware/f28335_codestart.asm (code_start: watchdog off, .ebss zeroed)"
+if has "$mk" '^[^#]*DSP2833x_CodeStartBranch\.asm'; then
+    bad "$mk" "assembles C2000Ware's DSP2833x_CodeStartBranch.asm: code_start defined twice, .ebss not zeroed"
+fi
+has "$cmd" 'RUN_START\(_EbssRunStart\)' && has "$cmd" 'RUN_SIZE\(_EbssRunSize\)' ||
+    bad "$cmd" ".ebss has no RUN_START(_EbssRunStart)/RUN_SIZE(_EbssRunSize): code_start cannot zero it"
+for s in _EbssRunStart _EbssRunSize _c_int00 'MOV[[:space:]]+@WDCR,[[:space:]]*#WDCR_DISABLE'; do
+    has "$asm" "$s" || bad "$asm" "no '$s': the start-up must disable the watchdog, zero .ebss from the linker's symbols and branch to _c_int00"
+done
+grep -q 'WDCR_DISABLE[[:space:]]*\.set[[:space:]]*0x0068' "$asm" || bad "$asm" "WDCR_DISABLE is not 0x0068 (WDDIS, WDCHK = 101b)"
+# The flash CRC records main.c checks (flash_crc.h: CRC32_PRIME only).
+for s in '\.text' ramfuncs '\.econst'; do
+    grep -Eq "^[[:space:]]*${s}[[:space:]]*:.*crc_table\(_flash_crc_table, algorithm = CRC32_PRIME\)" "$cmd" ||
+        awk "/^[[:space:]]*${s}[[:space:]]*:/,/^\$/" "$cmd" | grep -q 'crc_table(_flash_crc_table, algorithm = CRC32_PRIME)' ||
+        bad "$cmd" "section ${s//\\/} has no crc_table(_flash_crc_table, algorithm = CRC32_PRIME): its flash is not checked"
+done
+has "$cmd" '\.TI\.crctab[[:space:]]*:' || bad "$cmd" ".TI.crctab (the linker's CRC table) is not placed"
+# The copy of ramfuncs the HAL relies on.
 has "$cmd" 'codestart[[:space:]]*:[[:space:]]*>[[:space:]]*BEGIN' || bad "$cmd" "codestart not at BEGIN (0x33FFF6)"
 has "$cmd" 'RUN_START\(_RamfuncsRunStart\)' || bad "$cmd" "ramfuncs has no RUN_START(_RamfuncsRunStart)"
 

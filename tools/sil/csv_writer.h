@@ -6,7 +6,8 @@
  * run does not wait for the text. The bytes equal sil_csv_row() on the
  * same rows in the same order. Hand-overs are per block under one mutex
  * with two condition variables: neither thread spins; the producer waits
- * only when every block is still queued.
+ * only when every block is still queued. A size limit ends the file at
+ * the last whole row that fits (later rows are dropped, the run goes on).
  *
  * Host only (POSIX threads). One producer thread per writer; the FILE
  * belongs to the writer thread from csv_writer_start() until
@@ -16,12 +17,14 @@
 #define CSV_WRITER_H
 
 #include <pthread.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "sil.h"
 
 #define CSV_WRITER_BLOCK_ROWS 64u   /* rows per hand-over */
 #define CSV_WRITER_BLOCKS 8u        /* blocks in the ring */
+#define CSV_WRITER_NO_LIMIT UINT64_MAX
 
 typedef struct {
     FILE *f;
@@ -37,14 +40,21 @@ typedef struct {
     int done;                   /* under lock: no more blocks */
     int err;                    /* under lock: errno of the first failed write, 0 if none */
     int seen_err;               /* producer: err as seen at the last hand-over */
+    uint64_t max_bytes;         /* writer: rows stop before the file would pass this */
+    uint64_t bytes;             /* writer: bytes written */
+    int capped;                 /* under lock: a row did not fit; nothing more is written */
+    int seen_capped;            /* producer: capped as seen at the last hand-over */
+    double t_capped_s;          /* under lock: t_s of the first row dropped (valid once capped) */
     char text[CSV_WRITER_BLOCK_ROWS * SIL_CSV_LINE_MAX];   /* writer: one block's lines */
 } csv_writer_t;
 
-/* Start the writer thread on f (open for writing). Returns 0, or an errno value (no thread). */
-int csv_writer_start(csv_writer_t *w, FILE *f);
+/* Start the writer thread on f (open for writing, header_bytes already in it); rows end
+ * before f would pass max_bytes (CSV_WRITER_NO_LIMIT: none). Returns 0, or an errno value (no thread). */
+int csv_writer_start(csv_writer_t *w, FILE *f, uint64_t header_bytes, uint64_t max_bytes);
 
 /* Producer: queue one row (copied). Blocks only while every block is queued. Returns 0, or
- * the errno of a failed write, seen at a hand-over and from then on at once (stop, then finish). */
+ * the errno of a failed write, seen at a hand-over and from then on at once (stop, then finish).
+ * Once the size limit is seen at a hand-over (seen_capped), rows are no longer copied. */
 int csv_writer_put(csv_writer_t *w, const sil_row_t *row);
 
 /* Producer: queue the rows put since the last hand-over, wait until the writer has written

@@ -2,6 +2,8 @@
  * drive_sil.c - the SIL runner program:
  *   drive_sil --scenario FILE [--set section.key=value ...]
  *             [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]
+ *             [--max-csv-mb N]
+ *   drive_sil --help | --version
  * Runs the firmware application on the simulated board (sil.h) and writes
  * one CSV row per logged period (--out; beside it OUT.resolved.json, the run's
  * resolved plant and controller values) and/or the steady window's figures
@@ -16,21 +18,38 @@
  * place). A write error (disk full) names the file, exits 1 and leaves no
  * output. The CSV is formatted and written by a second thread
  * (csv_writer.h) while the run goes on; --batch runs have no CSV and no
- * thread.
+ * thread. Exit status (usage() prints it): 0 a run that ends outside
+ * FAULT, 1 a write error, 2 bad input, 3 a run that ends in FAULT (every
+ * output written in full), 128 + N a run ended early by signal N
+ * (SIGINT, SIGTERM, SIGHUP: the handler only sets a flag; the run stops
+ * after the period it is in, the CSV keeps the rows so far under its own
+ * name).
  */
 #include <errno.h>
+#include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
+#include "app_step.h"
 #include "csv_writer.h"
 #include "scenario.h"
 #include "sil.h"
+#include "sil_version.h"
 #include "summary.h"
 
 #define EXIT_BAD_INPUT 2
+#define EXIT_FAULT 3                  /* the run ended in FAULT: a result, outputs complete */
+#define EXIT_SIGNAL_BASE 128          /* + the signal that ended the run early */
+#define DEFAULT_MAX_CSV_MB 1024.0     /* --max-csv-mb */
+#define BYTES_PER_MB 1048576.0
+#define PROGRESS_AFTER_S 3.0          /* wall time before the first progress line */
+#define PROGRESS_EVERY_S 1.0          /* wall time between progress lines */
+#define PROGRESS_TICK_PERIODS 1000u   /* periods between looks at the clock */
 #define MAX_SETS 64
 #define TMP_SUFFIX_LEN 32
 #define NAME_LEN 64
@@ -45,6 +64,7 @@ typedef struct {
     const char *window;          /* "T0:T1", or NULL for the default */
     int check;                   /* validate only */
     int batch;                   /* one run per stdin line */
+    double max_csv_mb;           /* the CSV stops growing here */
     const char *sets[MAX_SETS];
     int n_sets;
 } args_t;
@@ -60,14 +80,28 @@ typedef struct {
 typedef struct {
     csv_writer_t *csv;           /* or NULL */
     summary_t *summary;          /* or NULL */
+    const args_t *args;
+    int cap_told;                /* the size limit's warning was printed */
 } sink_t;
+
+/* The progress line on stderr (a terminal only). */
+typedef struct {
+    struct timespec t0;          /* wall clock at the start */
+    double next_s;               /* wall time of the next line */
+    double duration_s;           /* simulated time of the whole run */
+    int shown;                   /* a line was printed (end it with a newline) */
+} progress_t;
+
+/* The signal that asked the run to stop (0: none); the handler only sets it. */
+static volatile sig_atomic_t g_signal;
 
 static void usage(FILE *f)
 {
     fprintf(f,
             "usage: drive_sil --scenario FILE [--set section.key=value ...]\n"
             "                 [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]\n"
-            "       drive_sil --help\n"
+            "                 [--max-csv-mb N]\n"
+            "       drive_sil --help | --version\n"
             "Runs the drive firmware on the simulated board for one scenario (INI)\n"
             "and writes the CSV trace (--out) and/or the steady window's figures as\n"
             "JSON (--summary; - for stdout; tools/sil/summary.h names them). The\n"
@@ -75,20 +109,39 @@ static void usage(FILE *f)
             "last quarter. --check validates the scenario and overrides, runs nothing.\n"
             "--batch runs one point per stdin line \"ID<TAB>section.key=value<TAB>...\"\n"
             "(overrides on top of the scenario's) and prints one summary line per point.\n"
+            "--max-csv-mb N (default %g): the CSV stops at the last whole row below N MB\n"
+            "(2^20 bytes) with a warning; the run and --summary go on. --version prints\n"
+            "the source revision drive_sil was built from.\n"
+            "On a terminal, a run longer than %g s of wall time shows its progress on stderr.\n"
+            "Exit status:\n"
+            "  0    the run ended outside FAULT (--check: the input is good; --batch: every\n"
+            "       line answered, a faulted or refused point is a result)\n"
+            "  1    a write error (disk full): no output left\n"
+            "  2    bad input (scenario, override, flag, output path): no output left\n"
+            "  3    the run ended in FAULT; CSV, .resolved.json and --summary written in full\n"
+            "  130  stopped by SIGINT (143 SIGTERM, 129 SIGHUP): the CSV kept under its name\n"
+            "       to the last whole period, with its .resolved.json; no --summary\n"
             "Every key is optional (defaults: paper Table I).\n"
             "Profiles: \"t:value, t:value\" steps; \"t:value~\" ramps to value at t.\n"
-            "Keys (section, name, default, meaning):\n");
+            "Keys (section, name, default, meaning):\n", DEFAULT_MAX_CSV_MB, PROGRESS_AFTER_S);
     scenario_print_keys(f);
-    fprintf(f, "See hal/sim/README.md for the CSV columns.\n");
+    scenario_print_bounds(f);
+    fprintf(f, "The CSV columns: tools/sil/CSV_COLUMNS.md.\n");
 }
 
 static int parse_args(int argc, char **argv, args_t *a)
 {
     memset(a, 0, sizeof *a);
+    a->max_csv_mb = DEFAULT_MAX_CSV_MB;
+    const char *max_csv_mb = NULL;
     for (int i = 1; i < argc; i++) {
         const char *s = argv[i];
         if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
             usage(stdout);
+            exit(EXIT_SUCCESS);
+        }
+        if (strcmp(s, "--version") == 0) {
+            printf("drive_sil %s\n", sil_revision);
             exit(EXIT_SUCCESS);
         }
         if (strcmp(s, "--check") == 0 || strcmp(s, "--batch") == 0) {
@@ -104,6 +157,8 @@ static int parse_args(int argc, char **argv, args_t *a)
             slot = &a->summary_path;
         } else if (strcmp(s, "--window") == 0) {
             slot = &a->window;
+        } else if (strcmp(s, "--max-csv-mb") == 0) {
+            slot = &max_csv_mb;
         } else if (strcmp(s, "--set") == 0) {
             if (a->n_sets >= MAX_SETS) {
                 fprintf(stderr, "drive_sil: more than %d --set\n", MAX_SETS);
@@ -119,6 +174,15 @@ static int parse_args(int argc, char **argv, args_t *a)
             return -1;
         }
         *slot = argv[++i];
+    }
+    if (max_csv_mb != NULL) {
+        char *end;
+        errno = 0;
+        a->max_csv_mb = strtod(max_csv_mb, &end);
+        if (end == max_csv_mb || *end != '\0' || errno != 0 || !(a->max_csv_mb > 0.0) || !isfinite(a->max_csv_mb)) {
+            fprintf(stderr, "drive_sil: --max-csv-mb %s: expected a size in MB > 0\n", max_csv_mb);
+            return -1;
+        }
     }
     if (a->batch && (a->check || a->out_path != NULL || a->summary_path != NULL)) {
         fprintf(stderr, "drive_sil: --batch writes its summaries to stdout (no --out, --summary, --check)\n");
@@ -314,9 +378,67 @@ static int on_row(const sil_row_t *row, void *user)
         summary_add(k->summary, row);
     }
     if (k->csv != NULL) {
-        return (csv_writer_put(k->csv, row) != 0) ? 1 : 0;
+        if (csv_writer_put(k->csv, row) != 0) {
+            return 1;
+        }
+        if (k->csv->seen_capped && !k->cap_told) {
+            /* t_capped_s was set with capped, under the lock of the hand-over that saw it */
+            fprintf(stderr, "drive_sil: warning: --out %s: the CSV reached --max-csv-mb %g at t = %.6g s: "
+                    "no more rows are written, the run goes on\n", k->args->out_path, k->args->max_csv_mb,
+                    k->csv->t_capped_s);
+            k->cap_told = 1;
+        }
     }
     return 0;
+}
+
+static void on_signal(int sig)
+{
+    g_signal = sig;
+}
+
+/* SIGINT, SIGTERM and SIGHUP (the terminal closed) set g_signal (the run stops after its period), unless
+ * the caller had the signal ignored (a background job's SIGINT); 0 or -1. */
+static int catch_signals(void)
+{
+    static const int SIGNALS[] = { SIGINT, SIGTERM, SIGHUP };
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sa.sa_flags = SA_RESTART;
+    sigemptyset(&sa.sa_mask);
+    for (size_t i = 0; i < sizeof SIGNALS / sizeof SIGNALS[0]; i++) {
+        struct sigaction old;
+        if (sigaction(SIGNALS[i], NULL, &old) != 0 ||
+            (old.sa_handler != SIG_IGN && sigaction(SIGNALS[i], &sa, NULL) != 0)) {
+            perror("drive_sil: sigaction");
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static double wall_s_since(const struct timespec *t0)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
+}
+
+/* sil_tick_fn: after PROGRESS_AFTER_S of wall time, a line per PROGRESS_EVERY_S. */
+static void on_tick(double t_s, void *user)
+{
+    progress_t *p = user;
+    const double wall_s = wall_s_since(&p->t0);
+    if (wall_s < p->next_s) {
+        return;
+    }
+    p->next_s = wall_s + PROGRESS_EVERY_S;
+    const double done = (p->duration_s > 0.0) ? t_s / p->duration_s : 1.0;
+    const double left_s = (done > 0.0) ? wall_s * (1.0 - done) / done : 0.0;
+    fprintf(stderr, "\rdrive_sil: t = %.1f of %.1f s (%.0f %%), %.0f s elapsed, about %.0f s left ", t_s,
+            p->duration_s, 100.0 * done, wall_s, left_s);
+    p->shown = 1;
 }
 
 static int add_to_summary(const sil_row_t *row, void *user)
@@ -407,6 +529,9 @@ int main(int argc, char **argv)
         printf("drive_sil: %s: ok\n", a.scenario_path);
         return EXIT_SUCCESS;
     }
+    if (catch_signals() != 0) {
+        return EXIT_FAILURE;
+    }
     out_file_t csv;
     out_file_t js;
     if (out_open(&csv, a.out_path, "--out") != 0) {
@@ -419,10 +544,12 @@ int main(int argc, char **argv)
     static summary_t sum;
     static csv_writer_t writer;
     summary_init(&sum, &sc, t0, t1);
-    sink_t sink = { (csv.f != NULL) ? &writer : NULL, (js.f != NULL) ? &sum : NULL };
+    sink_t sink = { (csv.f != NULL) ? &writer : NULL, (js.f != NULL) ? &sum : NULL, &a, 0 };
     if (csv.f != NULL) {
         sil_csv_header(csv.f);
-        int err = csv_writer_start(&writer, csv.f);
+        const long header_bytes = ftell(csv.f);   /* a pipe: -1, counted as 0 */
+        int err = csv_writer_start(&writer, csv.f, (header_bytes > 0) ? (uint64_t)header_bytes : 0u,
+                                   (uint64_t)(a.max_csv_mb * BYTES_PER_MB));
         if (err != 0) {
             fprintf(stderr, "drive_sil: --out %s: cannot start the CSV writer thread: %s\n", a.out_path,
                     strerror(err));
@@ -431,8 +558,18 @@ int main(int argc, char **argv)
             return EXIT_FAILURE;
         }
     }
+    progress_t prog;
+    clock_gettime(CLOCK_MONOTONIC, &prog.t0);
+    prog.next_s = PROGRESS_AFTER_S;
+    prog.duration_s = sc.run.duration_s;
+    prog.shown = 0;
+    const sil_ctl_t ctl = { &g_signal, isatty(STDERR_FILENO) ? on_tick : NULL, &prog, PROGRESS_TICK_PERIODS };
     sil_result_t res;
-    (void)sil_run(&sc, on_row, &sink, &res);   /* stopped early only by a failed write, seen below */
+    /* stopped early by a signal, or by a failed write (seen below) */
+    const int stopped = (sil_run_ctl(&sc, on_row, &sink, &ctl, &res) == SIL_STOPPED);
+    if (prog.shown) {
+        fputc('\n', stderr);
+    }
     int err = (sink.csv != NULL) ? csv_writer_finish(sink.csv) : 0;
     if (err != 0) {
         fprintf(stderr, "drive_sil: --out %s: write error: %s\n", a.out_path, strerror(err));
@@ -440,7 +577,9 @@ int main(int argc, char **argv)
         out_abandon(&js);
         return EXIT_FAILURE;
     }
-    if (js.f != NULL) {
+    if (stopped) {
+        out_abandon(&js);   /* the window's figures of a run cut short would mislead */
+    } else if (js.f != NULL) {
         summary_write_json(js.f, &sum, &sc, &res, a.scenario_path, NULL);
     }
     const int csv_in_place = (csv.f != NULL && csv.tmp_path == NULL);
@@ -450,6 +589,10 @@ int main(int argc, char **argv)
     }
     if (out_commit(&js, "--summary") != 0) {
         return EXIT_FAILURE;
+    }
+    if (sink.csv != NULL && writer.capped) {
+        fprintf(stderr, "drive_sil: warning: --out %s: holds the rows to t < %.6g s only (--max-csv-mb %g)\n",
+                a.out_path, writer.t_capped_s, a.max_csv_mb);
     }
     if (a.out_path != NULL && !summary_on_stdout(&a)) {
         char sbuf[NAME_LEN];
@@ -462,5 +605,11 @@ int main(int argc, char **argv)
                summary_fault_name(res.final_fault, fbuf, sizeof fbuf), res.max_abs_i_A,
                (warn[0] != '\0') ? ", warning " : "", warn, a.out_path);
     }
-    return EXIT_SUCCESS;
+    if (stopped) {
+        fprintf(stderr, "drive_sil: stopped by signal %d after %u periods, %u rows%s%s%s\n", (int)g_signal,
+                res.periods, res.rows, (a.out_path != NULL) ? ", kept in " : "", (a.out_path != NULL) ? a.out_path : "",
+                (a.summary_path != NULL) ? "; no --summary" : "");
+        return EXIT_SIGNAL_BASE + (int)g_signal;
+    }
+    return (res.final_state == (int)APP_STATE_FAULT) ? EXIT_FAULT : EXIT_SUCCESS;
 }

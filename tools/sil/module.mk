@@ -9,7 +9,19 @@ HOST_PROGRAMS += $(DRIVE_SIL)
 # (libfirmware), which calls the HAL (libsim) - one pass of "firmware sim
 # control" resolves that. Tests calling sil_run() do the same:
 #   TEST_SRCS_test_x := tools/sil/sil.c   TEST_LIBS_test_x := silrun firmware sim control
-$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+# drive_sil --version: the source revision (sil_version.h), written into a
+# generated source that is rewritten only when the revision changes: a new
+# commit recompiles that one file and relinks drive_sil, nothing else.
+SIL_VERSION_C := $(OUT)/gen/sil_version.c
+$(SIL_VERSION_C): FORCE
+	@mkdir -p $(@D)
+	@rev=$$(git describe --always --dirty 2>/dev/null | tr -cd 'A-Za-z0-9._+-'); \
+	 line="const char sil_revision[] = \"$${rev:-unknown}\";"; \
+	 echo "$$line" | cmp -s - $@ || echo "$$line" > $@
+
+DRIVE_SIL_INPUTS := $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c $(SIL_VERSION_C)) \
+                    $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+$(DRIVE_SIL): $(DRIVE_SIL_INPUTS)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
@@ -23,7 +35,7 @@ TEST_SRCS_test_sil_startup := tools/sil/sil.c
 # The CLI: exit status 2 and no CSV on bad input (runs the built binary).
 .PHONY: test-drive-sil-cli
 EXTRA_TESTS += test-drive-sil-cli
-test-drive-sil-cli: $(DRIVE_SIL)
+test-drive-sil-cli: $(DRIVE_SIL) ## (part of make test) drive_sil's command line: exit statuses, no CSV on bad input
 	@$(call suite,test-drive-sil-cli) tools/test_drive_sil_cli.sh $(DRIVE_SIL)
 
 # Acceptance of the proposed method on the simulated board (scenario files
@@ -52,3 +64,7 @@ TEST_LIBS_test_csv_num := silrun
 # drive_sil's CSV writer thread: bytes as sil_csv_row(), write errors.
 TEST_LIBS_test_csv_writer := silrun firmware sim control
 TEST_SRCS_test_csv_writer := tools/sil/csv_writer.c tools/sil/sil.c
+
+# app_init and cmd_init on pattern-filled memory (COFF zeroes nothing):
+# main.c's sequence on the simulated board, bit-identical for every pattern.
+TEST_LIBS_test_app_init_pattern := silrun firmware sim control

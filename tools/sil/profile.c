@@ -57,6 +57,10 @@ int profile_parse_append(profile_t *p, const char *text, char *err, size_t errle
             return -1;
         }
         s = skip_ws(s);
+        if (*s == '\0') {
+            snprintf(err, errlen, "\"%g\" is a time without its value (a point is t%cvalue)", pt.t_s, TIME_SEP);
+            return -1;
+        }
         if (*s != TIME_SEP) {
             snprintf(err, errlen, "expected '%c' after the time at \"%s\"", TIME_SEP, s);
             return -1;

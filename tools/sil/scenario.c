@@ -50,6 +50,7 @@ static const char *const ORDER_NAMES[] = { "abc", "acb", NULL };   /* sc_phase_o
 static const char PARAMS[] = "(drive_params)";
 
 #define UINT32_MAX_D 4294967295.0
+#define UINT16_MAX_D 65535.0        /* drive_params_t's pole_pairs is 16 bits */
 #define F(field) offsetof(scenario_t, field)
 /* One line per key. POS: > 0, NN: >= 0, ANY: finite, OPT: like POS, default unset. */
 #define POS(s, k, f, d, h) { s, k, K_REAL, F(f), d, 0.0, HUGE_VAL, true, NULL, h, 0 }
@@ -68,7 +69,7 @@ static const sc_key_t KEYS[] = {
       F(plant.R_ohm) },
     POS("plant", "L_H", plant.L_H, PARAMS, "true inductance L0 = Ld = Lq [H]"),
     POS("plant", "psif_Wb", plant.psif_Wb, PARAMS, "true PM flux linkage psi_f0 [Wb]"),
-    UINT("plant", "pole_pairs", plant.pole_pairs, PARAMS, 1.0, 64.0, "pole pairs"),
+    UINT("plant", "pole_pairs", plant.pole_pairs, PARAMS, 1.0, UINT16_MAX_D, "pole pairs"),
     POS("plant", "J_kgm2", plant.J_kgm2, PARAMS, "inertia [kg m^2]"),
     NN("plant", "B_Nms", plant.B_Nms, PARAMS, "viscous friction [N m s/rad]"),
     UINT("plant", "speed_held", plant.speed_held, PARAMS, 0.0, 1.0, "1: shaft held at speed0_rpm (0: free)"),
@@ -196,6 +197,46 @@ static int find_key(const char *section, const char *name, int *section_known)
     }
     return -1;
 }
+
+/* ---- plausibility ----------------------------------------------------------
+ * Bounds that refuse the absurd (a unit slip: mH written as H, a typo), not
+ * the merely beyond-limit: a value past the drive's ratings or trips runs and
+ * may fault (a speed reference above overspeed_rpm trips OVERSPEED). Each
+ * bound holds for the plant's value and for the controller's after its
+ * factor, on every point of a profile; scenario_finish() checks them, drive_sil
+ * --help prints them (scenario_print_bounds). This table is their one home. */
+#define R_PLAUSIBLE_OHM 1e-3, 1e3
+#define L_PLAUSIBLE_H 1e-6, 10.0
+#define PSIF_PLAUSIBLE_WB 1e-4, 10.0
+#define SPEED_PLAUSIBLE_RPM -1e5, 1e5
+
+typedef enum { B_REAL, B_UINT, B_PROFILE } bound_kind_t;
+
+typedef struct {
+    const char *section, *name;   /* the key */
+    bound_kind_t kind;
+    size_t offset;                /* of its double, uint32_t or profile_t in scenario_t */
+    double lo, hi;                /* plausible: lo <= value <= hi */
+    const char *unit;
+    const char *factor;           /* [controller] key whose factor x the plant's value it may be, or NULL */
+} sc_bound_t;
+
+static const sc_bound_t BOUNDS[] = {
+    { "plant", "R_ohm", B_PROFILE, F(plant.R_profile), R_PLAUSIBLE_OHM, "ohm", NULL },
+    { "plant", "L_H", B_REAL, F(plant.L_H), L_PLAUSIBLE_H, "H", NULL },
+    { "plant", "psif_Wb", B_REAL, F(plant.psif_Wb), PSIF_PLAUSIBLE_WB, "Wb", NULL },
+    { "plant", "pole_pairs", B_UINT, F(plant.pole_pairs), 1.0, 64.0, "", NULL },
+    { "plant", "J_kgm2", B_REAL, F(plant.J_kgm2), 1e-8, 100.0, "kg m^2", NULL },
+    { "plant", "vdc_V", B_REAL, F(plant.vdc_V), 5.0, 1500.0, "V", NULL },
+    { "plant", "speed0_rpm", B_REAL, F(plant.speed0_rpm), SPEED_PLAUSIBLE_RPM, "r/min", NULL },
+    { "controller", "R_ohm", B_REAL, F(controller.R_ohm), R_PLAUSIBLE_OHM, "ohm", "R_factor" },
+    { "controller", "L_H", B_REAL, F(controller.L_H), L_PLAUSIBLE_H, "H", "L_factor" },
+    { "controller", "psif_Wb", B_REAL, F(controller.psif_Wb), PSIF_PLAUSIBLE_WB, "Wb", "psif_factor" },
+    { "identify", "speed_1_rpm", B_REAL, F(identify.speed_1_rpm), SPEED_PLAUSIBLE_RPM, "r/min", NULL },
+    { "identify", "speed_2_rpm", B_REAL, F(identify.speed_2_rpm), SPEED_PLAUSIBLE_RPM, "r/min", NULL },
+    { "reference", "speed_rpm", B_PROFILE, F(reference.speed_rpm), SPEED_PLAUSIBLE_RPM, "r/min", NULL },
+};
+#define N_BOUNDS ((int)(sizeof BOUNDS / sizeof BOUNDS[0]))
 
 static int parse_real(const sc_key_t *k, const char *v, double *out, char *err, size_t errlen)
 {
@@ -477,9 +518,18 @@ static int apply(scenario_t *sc, const char *where, const char *section, const c
     int known = 0;
     int i = find_key(section, name, &known);
     char why[SCENARIO_ERR_LEN];
+    if (section[0] == '\0') {
+        snprintf(err, errlen, "%s: %s: a key before any [section] line", where, name);
+        return -1;
+    }
     if (i < 0) {
         snprintf(err, errlen, "%s: [%s] %s: %s", where, section, name,
                  known ? "unknown key" : "unknown section");
+        return -1;
+    }
+    if (value[0] == '\0') {
+        snprintf(err, errlen, "%s: [%s] %s: no value (give one, or leave the key out for its default)", where,
+                 section, name);
         return -1;
     }
     if (set_value(sc, i, value, append, why, sizeof why) != 0) {
@@ -498,9 +548,24 @@ typedef struct {
     const char *path;
     FILE *f;
     int lineno;                      /* of the line inih is handling */
+    bool indented;                   /* that line starts with a blank: a continuation */
     bool seen[SCENARIO_MAX_KEYS];    /* set earlier in this file */
+    int first_line[SCENARIO_MAX_KEYS];   /* where, when seen */
     char err[SCENARIO_ERR_LEN];      /* first error, "" if none */
 } load_ctx_t;
+
+/* A line "[name" without its "]": inih would name no error before the next
+ * key, as one in section "" - this names the line. */
+static void header_check(load_ctx_t *ctx, const char *line)
+{
+    const char *p = line + strspn(line, " \t");
+    if (*p != '[' || strchr(p, ']') != NULL || ctx->err[0] != '\0') {
+        return;
+    }
+    const int len = (int)strcspn(p, "\r\n");
+    snprintf(ctx->err, sizeof ctx->err, "%s:%d: section line \"%.*s\" has no closing ']'", ctx->path, ctx->lineno,
+             len, p);
+}
 
 /* inih's line reader, counting lines so every message can name one, and
  * refusing lines longer than inih's buffer instead of splitting them. */
@@ -525,6 +590,8 @@ static char *read_line(char *buf, int num, void *stream)
     }
     buf[n] = '\0';
     ctx->lineno++;
+    ctx->indented = (buf[0] == ' ' || buf[0] == '\t');
+    header_check(ctx, buf);
     if (too_long && ctx->err[0] == '\0') {
         snprintf(ctx->err, sizeof ctx->err, "%s:%d: line longer than %d characters (continue a profile on an indented line)",
                  ctx->path, ctx->lineno, num - 2);
@@ -544,22 +611,37 @@ static int on_key(void *user, const char *section, const char *name, const char 
     if (i >= 0 && ctx->seen[i]) {
         if (KEYS[i].kind != K_PROFILE && KEYS[i].kind != K_RPROFILE) {
             if (ctx->err[0] == '\0') {
-                snprintf(ctx->err, sizeof ctx->err, "%s: [%s] %s: given twice (first at %s)",
-                         where, section, name, ctx->sc->origin[i]);
+                snprintf(ctx->err, sizeof ctx->err, "%s: [%s] %s: given twice (first at %s:%d)",
+                         where, section, name, ctx->path, ctx->first_line[i]);
             }
             return 0;
         }
-        append = true;   /* continuation line of a profile */
+        append = true;   /* continuation line, or the key again: extends the profile */
     }
     char err[SCENARIO_ERR_LEN];
     if (apply(ctx->sc, where, section, name, value, append, err, sizeof err) != 0) {
-        if (ctx->err[0] == '\0') {
+        if (ctx->err[0] != '\0') {
+            return 0;
+        }
+        if (append && !ctx->indented) {
+            /* the key again: say so before what its value lacks as more of the profile */
+            char prefix[SCENARIO_ERR_LEN];
+            const int n = snprintf(prefix, sizeof prefix, "%s: [%s] %s: ", where, section, name);
+            const char *why = (n > 0 && strncmp(err, prefix, (size_t)n) == 0) ? err + n : err;
+            err_mark_cut(snprintf(ctx->err, sizeof ctx->err,
+                                  "%s: [%s] %s: given twice (first at %s:%d; a repeated profile key adds t:value "
+                                  "points to it): %s",
+                                  where, section, name, ctx->path, ctx->first_line[i], why),
+                         ctx->err, sizeof ctx->err);
+        } else {
             snprintf(ctx->err, sizeof ctx->err, "%s", err);
         }
         return 0;
     }
     if (append) {
         snprintf(ctx->sc->origin[i], SCENARIO_ORIGIN_LEN, "%s", ctx->path);
+    } else {
+        ctx->first_line[i] = ctx->lineno;
     }
     ctx->seen[i] = true;
     return 1;
@@ -691,6 +773,71 @@ static int check_level(const scenario_t *sc, char *err, size_t errlen)
     return -1;
 }
 
+/* Where bound b's value came from, for its message: the key's line, else
+ * (a controller value from its factor) the factor's, else the plant's. */
+static const char *bound_origin(const scenario_t *sc, const sc_bound_t *b, char *how, size_t howlen)
+{
+    int known = 0;
+    const int i = find_key(b->section, b->name, &known);
+    how[0] = '\0';
+    if (sc->origin[i][0] != '\0' || b->factor == NULL) {
+        return (sc->origin[i][0] != '\0') ? sc->origin[i] : "the defaults";
+    }
+    const int f = find_key("controller", b->factor, &known);
+    const int p = find_key("plant", b->name, &known);
+    const double fac = *(const double *)(const void *)((const char *)sc + KEYS[f].offset);
+    snprintf(how, howlen, " (%s %g x [plant] %s)", b->factor, isnan(fac) ? 1.0 : fac, b->name);
+    if (sc->origin[f][0] != '\0') {
+        return sc->origin[f];
+    }
+    return (sc->origin[p][0] != '\0') ? sc->origin[p] : "the defaults";
+}
+
+/* The first value of bound b outside it (*v; for a profile of several
+ * points, its time *t_s, else NaN); false if none. */
+static bool bound_broken(const scenario_t *sc, const sc_bound_t *b, double *v, double *t_s)
+{
+    const char *at = (const char *)sc + b->offset;
+    *t_s = NAN;
+    if (b->kind == B_PROFILE) {
+        const profile_t *pr = (const profile_t *)(const void *)at;
+        for (uint32_t n = 0; n < pr->n; n++) {
+            *v = pr->pt[n].value;
+            if (!(*v >= b->lo && *v <= b->hi)) {
+                *t_s = (pr->n > 1u) ? pr->pt[n].t_s : NAN;
+                return true;
+            }
+        }
+        return false;
+    }
+    *v = (b->kind == B_UINT) ? (double)*(const uint32_t *)(const void *)at : *(const double *)(const void *)at;
+    return !(*v >= b->lo && *v <= b->hi);
+}
+
+/* Every BOUNDS value within its bound; else err names key, value and bound. */
+static int check_bounds(const scenario_t *sc, char *err, size_t errlen)
+{
+    for (int j = 0; j < N_BOUNDS; j++) {
+        const sc_bound_t *b = &BOUNDS[j];
+        double v = 0.0;
+        double t_s = NAN;
+        if (!bound_broken(sc, b, &v, &t_s)) {
+            continue;
+        }
+        char how[SCENARIO_ORIGIN_LEN];
+        const char *where = bound_origin(sc, b, how, sizeof how);
+        if (!isnan(t_s)) {
+            snprintf(how, sizeof how, " (at t = %g s)", t_s);
+        }
+        const char *sp = (b->unit[0] != '\0') ? " " : "";
+        err_mark_cut(snprintf(err, errlen, "%s: [%s] %s: %g%s%s%s is not plausible: the bound is %g .. %g%s%s", where,
+                              b->section, b->name, v, sp, b->unit, how, b->lo, b->hi, sp, b->unit),
+                     err, errlen);
+        return -1;
+    }
+    return 0;
+}
+
 int scenario_finish(scenario_t *sc, char *err, size_t errlen)
 {
     if (sc->controller.pole_pairs == 0u) {
@@ -710,7 +857,8 @@ int scenario_finish(scenario_t *sc, char *err, size_t errlen)
                 sc->controller.psif_factor, err, errlen) != 0) {
         return -1;
     }
-    if (check_faults(sc, err, errlen) != 0 || check_limits(sc, err, errlen) != 0) {
+    if (check_bounds(sc, err, errlen) != 0 || check_faults(sc, err, errlen) != 0 ||
+        check_limits(sc, err, errlen) != 0) {
         return -1;
     }
     return check_identify(sc, err, errlen);
@@ -729,5 +877,16 @@ void scenario_print_keys(FILE *f)
         const char *text = default_text(k, buf, sizeof buf);
         const char *def = (text == NULL) ? "-" : ((k->kind == K_PROFILE) ? "0" : text);
         fprintf(f, "    %-22s %-13s %s\n", k->name, def, k->help);
+    }
+}
+
+void scenario_print_bounds(FILE *f)
+{
+    fprintf(f, "Plausibility bounds (a value outside is refused, exit 2; the controller's after its factor):\n");
+    for (int j = 0; j < N_BOUNDS; j++) {
+        const sc_bound_t *b = &BOUNDS[j];
+        char key[SCENARIO_ORIGIN_LEN];
+        snprintf(key, sizeof key, "[%s] %s", b->section, b->name);
+        fprintf(f, "    %-26s %g .. %g%s%s\n", key, b->lo, b->hi, (b->unit[0] != '\0') ? " " : "", b->unit);
     }
 }

@@ -119,12 +119,15 @@ int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen);
 /* Apply one "section.key=value" override. Returns 0, or -1 with err filled. */
 int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen);
 
-/* Cross-key checks (absolute vs factor; method = proposed needs step 1 or a
+/* Cross-key checks (absolute vs factor; plausibility bounds, the controller's after its factor; method = proposed needs step 1 or a
  * trusted R: no silent fallback to the conventional method) and resolution of the controller's
  * R, L, psi_f to absolute values. Call once after loading. Returns 0, or -1 with err. */
 int scenario_finish(scenario_t *sc, char *err, size_t errlen);
 
 /* The key table as help text: section, key, default, meaning. */
 void scenario_print_keys(FILE *f);
+
+/* The plausibility bounds scenario_finish() checks, as help text. */
+void scenario_print_bounds(FILE *f);
 
 #endif /* SCENARIO_H */

@@ -246,6 +246,11 @@ static void track_faults(const hal_sim_truth_t *tr, bool was_faulted, sil_result
 
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res)
 {
+    return sil_run_ctl(sc, on_row, user, NULL, res);
+}
+
+int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res)
+{
     hal_sim_cfg_t hc;
     app_cfg_t ac;
     sil_board_from(sc, &hc);
@@ -278,6 +283,9 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     refs_init(&refs, sc);
     const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
     uint32_t periods_to_row = 0u;                       /* a row every log_every periods, from k = 0 */
+    const volatile sig_atomic_t *stop = (ctl != NULL) ? ctl->stop : NULL;
+    const sil_tick_fn on_tick = (ctl != NULL && ctl->tick_periods > 0u) ? ctl->on_tick : NULL;
+    uint32_t periods_to_tick = (on_tick != NULL) ? ctl->tick_periods : 0u;
     int rc = 0;
     for (uint32_t k = 0; k < n && rc == 0; k++) {
         if (refs_at(&refs, (double)k * Ts, &op)) {
@@ -308,6 +316,13 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
             }
         }
         periods_to_row--;
+        if (on_tick != NULL && --periods_to_tick == 0u) {
+            periods_to_tick = ctl->tick_periods;
+            on_tick(tr->t_s, ctl->tick_user);
+        }
+        if (rc == 0 && stop != NULL && *stop != 0) {
+            rc = SIL_STOPPED;   /* after a whole period: every row so far is complete */
+        }
     }
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;

@@ -8,11 +8,12 @@
  * true plant values at the sample instant t_k, the controller's monitor
  * after its ISR at t_k, and the applied voltage averaged over
  * [t_k, t_k + Ts]. Columns without a value in the mode are NaN
- * (see hal/sim/README.md).
+ * (tools/sil/CSV_COLUMNS.md describes every column).
  */
 #ifndef SIL_H
 #define SIL_H
 
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -74,9 +75,27 @@ typedef struct {
 /* Called for every logged row; a nonzero return stops the run. */
 typedef int (*sil_row_fn)(const sil_row_t *row, void *user);
 
+/* Called every sil_ctl_t.tick_periods periods with the simulated time reached [s]. */
+typedef void (*sil_tick_fn)(double t_s, void *user);
+
+/* Optional controls of a run (sil_run_ctl); all NULL/0: none. */
+typedef struct {
+    const volatile sig_atomic_t *stop;   /* checked after every period: nonzero ends the run there */
+    sil_tick_fn on_tick;                 /* progress, or NULL */
+    void *tick_user;
+    uint32_t tick_periods;               /* periods between on_tick calls (> 0 with on_tick) */
+} sil_ctl_t;
+
+/* sil_run_ctl()'s return when *ctl->stop ended the run early. */
+#define SIL_STOPPED (-1)
+
 /* Run scenario *sc (after scenario_finish()) from power-on: configure the board, init the app,
  * start it, simulate run.duration_s. on_row may be NULL. Returns 0, or the callback's nonzero value. */
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res);
+
+/* sil_run() with controls (ctl may be NULL): also returns SIL_STOPPED when *ctl->stop
+ * became nonzero (res then covers the periods run, every row of them delivered). */
+int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res);
 
 /* Longest CSV line of a row, with its newline: every column is one of sil_row_t's doubles,
  * at most CSV_NUM_MAX characters with its separator. */

@@ -1,0 +1,407 @@
+#!/usr/bin/env python3
+"""ram_budget.py - the RAM gate of `make check`: what the F28335 image puts
+in each RAM range of firmware/f28335_flash.cmd, the margin left, and a
+failure when a margin is under MARGIN_MIN.
+
+Usage: ram_budget.py --cmd F28335_CMD --objdir DIR [--map DRIVE_MAP] [--mk TARGET_MK] [--out FILE]
+
+The RAM ranges and what goes in them are read from the linker command
+file (MEMORY: name, origin, length in 16-bit words; SECTIONS: `ramfuncs`
+RUN = range, `.ebss`, `.stack`, `.esysmem` > range). The figures are the
+target's, from the first source available:
+
+1. drive.map of a cl2000 build (`make firmware`), when present: the
+   linker's own `used` column of MEMORY CONFIGURATION for every range.
+2. Otherwise host estimates from the objects tools/check/isr_path.sh
+   builds (arm-none-eabi-gcc -O2 for an ARMv7-A with FPU, Thumb-2,
+   -ffunction-sections), converted to C28x 16-bit words:
+
+   code (ramfuncs): every instruction of the functions placed in RAM
+   (control/ and firmware/ files not in FLASH_SRCS of target.mk, HAL and
+   main.c functions with CODE_SECTION "ramfuncs") is mapped to the C28x
+   instruction(s) doing the same, sized from the opcode tables of the
+   C28x CPU (SPRU430, 16- and 32-bit opcodes) and of its FPU (SPRUEO2, all
+   FPU instructions 32-bit; the 2p-cycle ones, MPYF32/ADDF32/SUBF32/
+   MACF32/conversions, need one delay slot before their result is read,
+   counted as a NOP word, as if cl2000 filled none):
+     16-bit Thumb instruction                     1 word
+     32-bit Thumb instruction                     2 words
+     VFP instruction (vldr, vstr, vmov, vcmp, vmrs, vabs, vneg ...)  2 words
+     VFP multiply/add/subtract/MAC/convert        2 words + 1 delay-slot word
+     vdiv, vsqrt (FS$$DIV, sqrtf calls)           4 words (LCR + operand move)
+     push/pop, ldm/stm                            1 word per register (MOVL)
+     vpush/vpop, vldm/vstm                        2 words per S register (MOV32)
+     load/store with an offset beyond the C28x's 3-bit indirect offset
+       (*+XARn[0..7], 8 words = 32 bytes)        +1 word (ADDB XARn,#7bit)
+     literal pool word (.word)                    2 words
+   The words over Thumb-2 bytes / 2 is the factor printed: derived from
+   this build's own instruction mix, not a typed constant. Not modelled:
+   the extra spill code of the C28x's fewer registers (8 FPU result
+   registers against ARM's 32), which the unfilled delay slots counted
+   above partly cover; the first drive.map replaces the estimate. Plus the FPU
+   fast-RTS members linked into ramfuncs (sin/cos, atan2, sqrt, division):
+   C2000Ware's libraries/math/FPUfastRTS/c28/source/fpu32/*_f32.asm hold
+   49 + 16 + 43 + 21 = 129 instructions (counted there), at most 2 words
+   each (no C28x instruction is longer): FASTRTS_WORDS.
+   data (.ebss): the .bss/.data/COMMON bytes of the image's objects
+   counted as one word per byte. An upper bound: a type of 16 bits or
+   more takes half as many words on the C28x as bytes on ARM, a char or
+   bool (8-bit on ARM) one word, and ARM's alignment in bytes is never
+   below the C28x's in words. Plus RTS_EBSS_WORDS for the RTS library's own
+   variables (errno, the exit and lock pointers: about 10 words in TI's
+   F2833x example maps).
+   stack (.stack): the range holds the whole --stack_size of target.mk
+   (its margin there is the range's); what is judged is the need against
+   that reserve: the larger of main's start-up chain (before
+   hal_isr_attach: no interrupt yet) and main's frame + the deepest call
+   of its loop + the deepest chain of ctrl_isr on top of it, from gcc's
+   -fcallgraph-info=su frame sizes at one word per byte (twice what the
+   same frame holds in C28x words: room for the extra spills of the C28x's
+   fewer registers, an estimate, not a bound), plus ISR_CONTEXT_WORDS: the CPU's automatic context
+   save (14 words, SPRU430 "Interrupts") and the interrupt prologue's save
+   of the CPU and FPU save-on-call registers (at most 19 32-bit registers,
+   38 words).
+
+The gate fails (exit 1) when a range's margin (free / length, or for the
+stack unused reserve / reserve) is under MARGIN_MIN, or when a file cannot
+be read or parsed (exit 2). A drive.map overrides the estimates of the
+ranges it lists.
+"""
+import argparse
+import glob
+import os
+import re
+import subprocess
+import sys
+
+MARGIN_MIN = 0.10
+FASTRTS_WORDS = 2 * (49 + 16 + 43 + 21)
+RTS_EBSS_WORDS = 64
+ISR_CONTEXT_WORDS = 14 + 2 * 19
+C28X_INDIRECT_OFFSET_MAX_BYTES = 7 * 4  # *+XARn[3-bit] word offset of a 32-bit access, in ARM bytes
+
+# VFP operations that are 2p-cycle on the C28x FPU (SPRUEO2): one delay slot.
+FPU_2P = re.compile(r'^v(n?mul|add|sub|n?ml[as]|f[n]?m[as]|cvt)')
+FPU_CALL = re.compile(r'^v(div|sqrt)')
+
+
+def die(msg):
+    print("ram_budget: error: " + msg)
+    sys.exit(2)
+
+
+def read(path):
+    try:
+        with open(path) as f:
+            return f.read()
+    except OSError as e:
+        die("cannot read %s: %s" % (path, e.strerror))
+
+
+def parse_cmd(text):
+    """MEMORY ranges {name: (page, origin, length)} and where the RAM sections go."""
+    text = re.sub(r'/\*.*?\*/', '', text, flags=re.S)
+    mem = re.search(r'MEMORY\s*\{(.*?)\n\}', text, re.S)
+    sec = re.search(r'SECTIONS\s*\{(.*)\}', text, re.S)
+    if not mem or not sec:
+        die("no MEMORY or SECTIONS block in the linker command file")
+    ranges, page = {}, None
+    for line in mem.group(1).splitlines():
+        m = re.match(r'\s*PAGE\s*(\d+)\s*:', line)
+        if m:
+            page = int(m.group(1))
+            continue
+        m = re.match(r'\s*(\w+)\s*:\s*origin\s*=\s*(0x[0-9A-Fa-f]+)\s*,\s*length\s*=\s*(0x[0-9A-Fa-f]+)', line)
+        if m:
+            ranges[m.group(1)] = (page, int(m.group(2), 16), int(m.group(3), 16))
+    place = {}
+    body = sec.group(1)
+    m = re.search(r'\bramfuncs\s*:.*?\bRUN\s*=\s*(\w+)', body, re.S)
+    if m:
+        place['ramfuncs'] = m.group(1)
+    for name in ('.ebss', '.stack', '.esysmem'):
+        m = re.search(r'(?m)^\s*' + re.escape(name) + r'\s*:\s*>\s*(\w+)', body)
+        if m:
+            place[name] = m.group(1)
+    for name, rng in place.items():
+        if rng not in ranges:
+            die("section %s placed in %s, which MEMORY does not define" % (name, rng))
+    for name in ('ramfuncs', '.ebss', '.stack'):
+        if name not in place:
+            die("the linker command file does not place %s" % name)
+    return ranges, place
+
+
+def parse_map(path):
+    """drive.map: MEMORY CONFIGURATION {name: used words}."""
+    used, on = {}, False
+    for line in read(path).splitlines():
+        if 'MEMORY CONFIGURATION' in line:
+            on = True
+            continue
+        if on and 'SECTION ALLOCATION MAP' in line:
+            break
+        m = re.match(r'\s+(\w+)\s+([0-9a-fA-F]{8})\s+([0-9a-fA-F]{8})\s+([0-9a-fA-F]{8})\s+([0-9a-fA-F]{8})', line)
+        if on and m:
+            used[m.group(1)] = int(m.group(4), 16)
+    if not used:
+        die("%s has no MEMORY CONFIGURATION table" % path)
+    return used
+
+
+def make_var(mk, name):
+    m = re.search(r'(?m)^' + name + r'\s*:=\s*(.*)$', read(mk))
+    return m.group(1).split() if m else []
+
+
+def obj_source(obj):
+    """build/check/isr/control_ctrl.c.o -> control/ctrl.c"""
+    b = os.path.basename(obj)[:-len('.o')]
+    for d in ('control', 'firmware', 'hal_f28335'):
+        if b.startswith(d + '_'):
+            return d.replace('_', '/') + '/' + b[len(d) + 1:]
+    return None
+
+
+def ram_functions(src):
+    """Functions a file places in ramfuncs with #pragma CODE_SECTION."""
+    return set(re.findall(r'CODE_SECTION\(\s*(\w+)\s*,\s*"ramfuncs"\s*\)', read(src)))
+
+
+def regcount(operands):
+    m = re.search(r'\{([^}]*)\}', operands)
+    if not m:
+        return 1
+    n = 0
+    for part in m.group(1).split(','):
+        part = part.strip()
+        r = re.match(r'([a-z]+)(\d+)-[a-z]+(\d+)', part)
+        n += (int(r.group(3)) - int(r.group(2)) + 1) if r else 1
+    return n
+
+
+def c28x_words(hexes, mnem, ops):
+    """One disassembled Thumb-2 line -> estimated C28x words (see the header)."""
+    if mnem in ('.word', '.short', '.byte'):
+        return {'.word': 2, '.short': 1, '.byte': 1}[mnem]
+    if mnem.startswith('vpush') or mnem.startswith('vpop') or re.match(r'^v(ld|st)m', mnem):
+        regs = regcount(ops)
+        return 2 * regs * (2 if re.search(r'\{\s*d', ops) else 1)
+    if re.match(r'^(push|pop|ldm|stm)', mnem):
+        return regcount(ops)
+    if FPU_CALL.match(mnem):
+        return 4
+    words = 2 if len(hexes) == 2 or len(hexes[0]) == 8 or mnem.startswith('v') else 1
+    if mnem.startswith('v') and FPU_2P.match(mnem):
+        words += 1
+    m = re.search(r'\[\w+,\s*#(-?\d+)\]', ops)
+    if m and abs(int(m.group(1))) > C28X_INDIRECT_OFFSET_MAX_BYTES and 'pc' not in ops:
+        words += 1
+    return words
+
+
+def disassemble(obj):
+    """{function: (thumb_bytes, c28x_words)} of one object."""
+    out = subprocess.run(['arm-none-eabi-objdump', '-d', obj], capture_output=True, text=True)
+    if out.returncode != 0:
+        die("objdump failed on %s: %s" % (obj, out.stderr.strip()))
+    funcs, fn = {}, None
+    for line in out.stdout.splitlines():
+        m = re.match(r'^[0-9a-f]+ <([^>]+)>:$', line)
+        if m:
+            fn = m.group(1).split('.')[0]
+            funcs.setdefault(fn, [0, 0])
+            continue
+        parts = line.split('\t')
+        if fn is None or len(parts) < 3 or not re.match(r'^\s*[0-9a-f]+:$', parts[0]):
+            continue
+        hexes = parts[1].split()
+        mnem = parts[2].strip().split(' ')[0] if parts[2].strip() else ''
+        ops = parts[3] if len(parts) > 3 else ''
+        if not hexes or not mnem:
+            continue
+        funcs[fn][0] += sum(len(h) // 2 for h in hexes)
+        funcs[fn][1] += c28x_words(hexes, mnem, ops)
+    return funcs
+
+
+def data_bytes(obj):
+    out = subprocess.run(['arm-none-eabi-size', '-A', obj], capture_output=True, text=True)
+    if out.returncode != 0:
+        die("size failed on %s" % obj)
+    total = 0
+    for line in out.stdout.splitlines():
+        f = line.split()
+        if len(f) >= 2 and re.match(r'^\.(bss|data|sbss|sdata)(\.|$)|^COMMON$', f[0]):
+            total += int(f[1])
+    # tentative definitions (COMMON) are symbols, not sections, in an object
+    nm = subprocess.run(['arm-none-eabi-nm', '-S', obj], capture_output=True, text=True).stdout
+    for line in nm.splitlines():
+        f = line.split()
+        if len(f) == 4 and f[2] in ('C',):
+            total += int(f[1], 16)
+    return total
+
+
+def callgraph(objdir):
+    size, calls = {}, {}
+    for f in glob.glob(os.path.join(objdir, '*.ci')):
+        for line in read(f).splitlines():
+            m = re.match(r'node: \{ title: "([^"]+)" label: "[^"]*?\\n[^"]*?\\n(\d+) bytes', line)
+            if m:
+                size[m.group(1)] = int(m.group(2))
+            m = re.match(r'edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"', line)
+            if m:
+                calls.setdefault(m.group(1), set()).add(m.group(2))
+
+    def node(t, caller):
+        local = caller.split(':')[0] + ':' + t
+        return local if ':' in caller and local in size else t
+
+    def deepest(n, seen=()):
+        if n in seen:
+            die("recursion through %s: no stack bound" % n)
+        best = max((deepest(node(t, n), seen + (n,)) for t in calls.get(n, ())), default=(0, []))
+        return (size.get(n, 0) + best[0], [n.split(':')[-1]] + best[1])
+
+    def root(name):
+        for n in size:
+            if n == name or n.endswith(':' + name):
+                return n
+        die("no call-graph node for %s in %s (isr_path.sh builds it)" % (name, objdir))
+    return deepest, root, size
+
+
+def stack_need(objdir, main_c='firmware/main.c'):
+    """The deepest stack in bytes: main's start-up chains (no interrupt
+    yet), or main's frame + the deepest call of its loop (the calls after
+    hal_isr_attach in main.c) + ctrl_isr's chain on top."""
+    deepest, root, size = callgraph(objdir)
+    text = read(main_c)
+    at = text.find('hal_isr_attach(')
+    if at < 0:
+        die("%s: no hal_isr_attach( call: cannot tell the loop from start-up" % main_c)
+    loop = set(re.findall(r'\b([a-z_][a-z0-9_]*)\s*\(', text[at + len('hal_isr_attach('):])) - {'for', 'if', 'while'}
+    start = deepest(root('main'))
+    frame = size[root('main')]
+    known = [c for c in sorted(loop) if any(n == c or n.endswith(':' + c) for n in size)]
+    bg = max([(0, [])] + [deepest(root(c)) for c in known], key=lambda d: d[0])
+    isr = deepest(root('ctrl_isr'))
+    run = (frame + bg[0] + isr[0], ['main'] + bg[1], isr[1])
+    return {'start': start, 'run': run}
+
+
+def estimate(objdir, mk):
+    flash_srcs = set(make_var(mk, 'FLASH_SRCS'))
+    objs = sorted(glob.glob(os.path.join(objdir, '*.o')))
+    if not objs:
+        die("no objects in %s (run tools/check/isr_path.sh first)" % objdir)
+    code_b = code_w = 0
+    data_b = 0
+    for o in objs:
+        src = obj_source(o)
+        if src is None:
+            continue  # the register fake: not in the image
+        data_b += data_bytes(o)
+        funcs = disassemble(o)
+        if src.startswith('hal/') or src in flash_srcs:
+            keep = ram_functions(src)
+        else:
+            keep = set(funcs)
+        for fn in keep & set(funcs):
+            code_b += funcs[fn][0]
+            code_w += funcs[fn][1]
+    stack = stack_need(objdir)
+    return {'code_bytes': code_b, 'code_words': code_w, 'data_bytes': data_b, 'stack': stack}
+
+
+def stack_size_words(mk):
+    for opt in make_var(mk, 'LFLAGS'):
+        m = re.match(r'--stack_size=(0x[0-9A-Fa-f]+|\d+)$', opt)
+        if m:
+            return int(m.group(1), 0)
+    m = re.search(r'--stack_size=(0x[0-9A-Fa-f]+|\d+)', read(mk))
+    if not m:
+        die("%s sets no --stack_size" % mk)
+    return int(m.group(1), 0)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('--cmd', required=True)
+    ap.add_argument('--objdir', required=True)
+    ap.add_argument('--map')
+    ap.add_argument('--mk', default='firmware/target.mk')
+    ap.add_argument('--out')
+    a = ap.parse_args()
+
+    ranges, place = parse_cmd(read(a.cmd))
+    est = estimate(a.objdir, a.mk)
+    mapped = parse_map(a.map) if a.map and os.path.exists(a.map) else {}
+    reserve = stack_size_words(a.mk)
+    lines = []
+    say = lines.append
+    src = ("drive.map (%s): the linker's used words" % a.map) if mapped else \
+          "host estimates (no drive.map): Thumb-2 objects of tools/check/isr_path.sh, see tools/check/ram_budget.py"
+    say("ram_budget: %s; a range fails under %d %% free" % (src, round(MARGIN_MIN * 100)))
+    factor = est['code_words'] / (est['code_bytes'] / 2.0) if est['code_bytes'] else 0.0
+    fail = False
+
+    holds = {}
+    for sec, rng in place.items():
+        holds.setdefault(rng, []).append(sec)
+    for rng in sorted(ranges, key=lambda r: (ranges[r][0], ranges[r][1])):
+        if rng not in holds:
+            continue
+        page, origin, length = ranges[rng]
+        secs = holds[rng]
+        if '.stack' in secs:
+            st = est['stack']
+            need = max(st['start'][0], st['run'][0] + ISR_CONTEXT_WORDS)
+            used = mapped.get(rng, reserve)
+            if used > length:
+                say("ram_budget: FAIL %s: .stack reserve %d words is larger than the range (%d)" % (rng, used, length))
+                fail = True
+            margin = (reserve - need) / float(reserve)
+            what = ("stack reserve %d words (--stack_size, target.mk); need <= %d words at 1 word/B: running "
+                    "%d B (%s, interrupted by %s) + %d words interrupt context; start-up %d B (%s)"
+                    % (reserve, need, st['run'][0], ' -> '.join(st['run'][1]), ' -> '.join(st['run'][2]),
+                       ISR_CONTEXT_WORDS, st['start'][0], ' -> '.join(st['start'][1])))
+        else:
+            if rng in mapped:
+                used = mapped[rng]
+                what = "%s: %d words (drive.map)" % (' + '.join(secs), used)
+            else:
+                used, parts = 0, []
+                for sec in secs:
+                    if sec == 'ramfuncs':
+                        w = est['code_words'] + FASTRTS_WORDS
+                        parts.append("ramfuncs %d words (RAM code: %d B Thumb-2 -> %d words, factor %.2f; "
+                                     "+ fast-RTS <= %d)" % (w, est['code_bytes'], est['code_words'], factor,
+                                                            FASTRTS_WORDS))
+                    elif sec == '.ebss':
+                        w = est['data_bytes'] + RTS_EBSS_WORDS
+                        parts.append(".ebss <= %d words (%d B at 1 word/B + RTS %d)" % (w, est['data_bytes'],
+                                                                                          RTS_EBSS_WORDS))
+                    else:
+                        w = 0
+                        parts.append("%s 0 words (--heap_size=0)" % sec)
+                    used += w
+                what = ' + '.join(parts)
+            margin = (length - used) / float(length)
+        ok = margin >= MARGIN_MIN
+        fail = fail or not ok
+        say("ram_budget: %s %-8s 0x%06X %5d words: %s; margin %.0f %%" %
+            ("ok  " if ok else "FAIL", rng, origin, length, what, 100.0 * margin))
+    say("ram_budget: %s" % ("FAILED: a RAM range has under %d %% margin" % round(MARGIN_MIN * 100) if fail
+                            else "every RAM range keeps its margin"))
+    text = '\n'.join(lines) + '\n'
+    sys.stdout.write(text)
+    if a.out:
+        with open(a.out, 'w') as f:
+            f.write(text)
+    return 1 if fail else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
