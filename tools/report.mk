@@ -28,7 +28,7 @@ bench-ctrl: bench-ctrl-deps ## instructions, divisions, sqrt and sin/cos per ctr
 
 # The worst ISR period against the typical one over a run through every
 # state (tools/bench_isr.ini); a few minutes: one callgrind dump per period.
-bench-isr: bench-ctrl-deps
+bench-isr: bench-ctrl-deps ## app_isr instructions per period, typical and worst per method (callgrind, -O2)
 	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/drive_sil
 	@tools/bench_isr.sh $(BUILD)/o2/drive_sil tools/bench_isr.ini
 
