@@ -260,7 +260,7 @@ rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
 
 /* Step 1 ends on a solve the caller made into c->rsid_out (of c->ri's
- * windows or a copy, rs_ident_copy and rs_ident_solve_begin/_step): r as
+ * windows, window 2 perhaps a copy: rs_ident_solve_begin/_step): r as
  * ctrl_rsid_finish's solve would give it; the rest as ctrl_rsid_finish.
  * No division. ISR once. */
 rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r);

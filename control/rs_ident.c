@@ -1,6 +1,8 @@
 /* rs_ident.c - step 1, offline stator resistance; see rs_ident.h. */
 #include "rs_ident.h"
 
+#include <stddef.h>
+
 #include "mathx.h"
 
 /* Fixed iteration count of the dR/dpsi/dL solve (design sec. 1c): dL
@@ -89,37 +91,23 @@ static void copy_floats(float *dst, const float *src, int16_t n)
     }
 }
 
-void rs_ident_copy(rs_ident_t *dst, const rs_ident_t *src)
+void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_window_t win)
 {
-    int16_t j;
+    const rs_ident_win_t *w = &src->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1];
 
-    dst->cfg.R_nom_Ohm = src->cfg.R_nom_Ohm;
-    dst->cfg.R_min_Ohm = src->cfg.R_min_Ohm;
-    dst->cfg.R_max_Ohm = src->cfg.R_max_Ohm;
-    dst->cfg.R_se_max_rel = src->cfg.R_se_max_rel;
-    dst->cfg.den_ratio_min = src->cfg.den_ratio_min;
-    dst->cfg.n_min = src->cfg.n_min;
-    dst->cfg.n_batch = src->cfg.n_batch;
-    dst->cfg.Ts_s = src->cfg.Ts_s;
-    dst->valid = src->valid;
-    dst->inv_n_batch = src->inv_n_batch;
-    for (j = 0; j < 2; j++) {
-        rs_ident_win_t *d = &dst->win[j];
-        const rs_ident_win_t *w = &src->win[j];
-        d->n = w->n;
-        copy_floats(d->x0, w->x0, (int16_t)RS_CH_COUNT);
-        copy_floats(d->s1, w->s1, (int16_t)RS_CH_COUNT);
-        d->s2_iq = w->s2_iq;
-        d->bn = w->bn;
-        copy_floats(d->bsum, w->bsum, (int16_t)RS_ST_COUNT);
-        d->nb = w->nb;
-        copy_floats(d->m1, w->m1, (int16_t)RS_ST_COUNT);
-        copy_floats(d->m2, w->m2, (int16_t)RS_ST_PAIRS);
-        copy_floats(d->bcs, w->bcs, 2);
-        copy_floats(d->g, w->g, 5);
-        copy_floats(&d->mcs[0][0], &w->mcs[0][0], (int16_t)(2 * RS_ST_COUNT));
-        d->km_iq = w->km_iq;
-    }
+    dst->n = w->n;
+    copy_floats(dst->x0, w->x0, (int16_t)RS_CH_COUNT);
+    copy_floats(dst->s1, w->s1, (int16_t)RS_CH_COUNT);
+    dst->s2_iq = w->s2_iq;
+    dst->bn = w->bn;
+    copy_floats(dst->bsum, w->bsum, (int16_t)RS_ST_COUNT);
+    dst->nb = w->nb;
+    copy_floats(dst->m1, w->m1, (int16_t)RS_ST_COUNT);
+    copy_floats(dst->m2, w->m2, (int16_t)RS_ST_PAIRS);
+    copy_floats(dst->bcs, w->bcs, 2);
+    copy_floats(dst->g, w->g, 5);
+    copy_floats(&dst->mcs[0][0], &w->mcs[0][0], (int16_t)(2 * RS_ST_COUNT));
+    dst->km_iq = w->km_iq;
 }
 
 /* rs_ident_win_t.g */
@@ -331,7 +319,7 @@ typedef enum { STAGE_WIN_0 = 0, STAGE_WIN_1, STAGE_POINTS, STAGE_SE_0, STAGE_SE_
 static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
-    const rs_ident_win_t *wn = &s->ri->win[j];
+    const rs_ident_win_t *wn = s->win[j];
 
     out->batches[j] = wn->nb;
     if ((wn->n < c->n_min) || (wn->nb < RS_IDENT_BATCHES_MIN)) {
@@ -452,7 +440,7 @@ static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 /* design sec. 6: window j's share of se(R^), delta dR = -(w1 delta r2 - w2 delta r1) / den */
 static void solve_se(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
-    out->r_se_V[j] = mathx_sqrtf(residual_se2(&s->ri->win[j], out->dR_Ohm, out->dpsi_Wb, s->fit[j], s->Gi[j]));
+    out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], out->dR_Ohm, out->dpsi_Wb, s->fit[j], s->Gi[j]));
     out->R_se_part_Ohm[j] = mathx_fabsf(s->w[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
 }
 
@@ -476,9 +464,12 @@ static rs_ident_result_t solve_verdict(const rs_ident_cfg_t *c, rs_ident_out_t *
     return RS_IDENT_OK;
 }
 
-void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, rs_ident_out_t *out)
+void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_win_t *win_2,
+                          rs_ident_out_t *out)
 {
     s->ri = ri;
+    s->win[0] = &ri->win[0];
+    s->win[1] = (win_2 != NULL) ? win_2 : &ri->win[1];
     s->stage = (uint16_t)STAGE_WIN_0;
     s->result = RS_IDENT_OK;
     s->abs_inv_den = 0.0f;
@@ -524,7 +515,7 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     rs_ident_solver_t s;
     bool done = false;
 
-    rs_ident_solve_begin(&s, ri, out);
+    rs_ident_solve_begin(&s, ri, NULL, out);
     while (!done) {
         done = rs_ident_solve_step(&s, out);
     }

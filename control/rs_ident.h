@@ -143,9 +143,9 @@ bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg);
 /* Empties both windows. Background or ISR. */
 void rs_ident_reset(rs_ident_t *ri);
 
-/* *src into *dst, field by field (no library memcpy): the windows as they
- * are, for a staged solve while the originals go on filling. ISR. */
-void rs_ident_copy(rs_ident_t *dst, const rs_ident_t *src);
+/* Window win of *src into *dst, field by field (no library memcpy): the
+ * window as it is, for a staged solve while the original goes on filling. ISR. */
+void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_window_t win);
 
 /* One period, after smo_step(): the observer's fd_V, fq_V [V] and the
  * measured id_A, iq_A [A], omega_el_rad_s [rad/s] into window win
@@ -168,12 +168,13 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
  * (each window's means and ripple fit, the points' solve, each window's
  * standard error): the same result and *out, always after exactly that
  * many calls (a refusal skips the work left, not the calls). The windows
- * *ri must not change until the last stage (an ISR that goes on filling
- * them solves a copy). */
+ * solved must not change until the last stage: an ISR that goes on
+ * filling window 2 solves a copy of it (rs_ident_copy_window). */
 #define RS_IDENT_SOLVE_STAGES 5u
 
 typedef struct {
-    const rs_ident_t *ri;     /* the windows solved */
+    const rs_ident_t *ri;     /* the configuration */
+    const rs_ident_win_t *win[2];  /* the windows solved: ri's, or a copy of window 2 */
     uint16_t stage;           /* the next stage */
     rs_ident_result_t result; /* valid once rs_ident_solve_step returned true */
     float fd[2], fq[2], id[2], iq[2], w[2];   /* the windows' points */
@@ -183,9 +184,11 @@ typedef struct {
     float abs_inv_den;        /* 1 / |(41)'s denominator| [1/(A rad/s)] */
 } rs_ident_solver_t;
 
-/* Starts a staged solve of *ri: *out to its empty values (R_est_Ohm =
- * R_nom). No division. ISR. */
-void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, rs_ident_out_t *out);
+/* Starts a staged solve of *ri's windows, window 2 from *win_2 instead
+ * when not NULL (a copy); *out to its empty values (R_est_Ohm = R_nom).
+ * No division. ISR. */
+void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_win_t *win_2,
+                          rs_ident_out_t *out);
 
 /* One stage into *out; true when the solve is over (s->result, *out as
  * rs_ident_solve leaves them; further calls do nothing). At most about 8

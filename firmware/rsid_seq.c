@@ -104,7 +104,8 @@ static after_t after_check(const rsid_seq_t *q, rs_ident_result_t r, const rs_id
 }
 
 /* At window 2's nominal end, and every batch after it while no check is
- * under way: a copy of the windows as they are now, and its staged solve
+ * under way: a copy of window 2 as it is now, and the staged solve of it
+ * with window 1 (complete, unchanged until the check ends)
  * started (one stage per period from the next, the result acted on in the
  * period after the last: the ISR's worst period stays near its typical
  * one; window 2 goes on filling meanwhile). */
@@ -116,8 +117,8 @@ static void check_begin(rsid_seq_t *q, ctrl_t *c)
     if (mathx_umod_u32(q->ticks - q->end_tick, q->check_ticks) != 0u) { /* no 32-bit %: RTS call from flash */
         return; /* between checks */
     }
-    rs_ident_copy(&q->snap, &c->ri);
-    rs_ident_solve_begin(&q->solver, &q->snap, &c->rsid_out);
+    rs_ident_copy_window(&q->win2, &c->ri, RS_IDENT_WINDOW_2); /* window 1 is complete: not copied */
+    rs_ident_solve_begin(&q->solver, &c->ri, &q->win2, &c->rsid_out);
     q->check_tick = q->ticks;
     q->check = RSID_CHECK_SOLVING;
 }

@@ -429,7 +429,7 @@ static void staged_solve_takes_its_stages(void **state)
         memset(&staged, 0, sizeof staged);
         const rs_ident_result_t r = rs_ident_solve(&ri, &whole);
         assert_int_equal(r, (pass == 0) ? RS_IDENT_TOO_FEW : RS_IDENT_OK);
-        rs_ident_solve_begin(&s, &ri, &staged);
+        rs_ident_solve_begin(&s, &ri, NULL, &staged);
         for (unsigned k = 1u; k < RS_IDENT_SOLVE_STAGES; k++) {
             assert_false(rs_ident_solve_step(&s, &staged));
         }
