@@ -46,7 +46,7 @@
  * Build levels (level.h), taken at a start (app_request_level before it):
  *   level 1  INIT/IDLE --start--> PWM_CHECK (until stopped)
  *   level 2  --start--> CALIBRATE --> ADC_CHECK (until stopped)
- *   level 3  --start--> CALIBRATE --> ENC_CHECK --checked--> IDLE
+ *   level 3  --start--> (CALIBRATE) --> ENC_CHECK --checked--> IDLE
  *            (or FAULT: ENCODER_DIRECTION, POLE_PAIRS, PHASE_ORDER)
  *   level 4  the sequence above, torque mode, conventional, no step 1,
  *            current limit lvl.i_lim_4_A
