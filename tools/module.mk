@@ -10,10 +10,11 @@ $(SIL_BENCH): $(call objs,tools/sil_bench.c tools/sil/sil.c) $(LIB_silrun) $(LIB
 
 .PHONY: bench sil sil-update sil-plots-update venv plot
 
-bench: ## SIL speed, the controller's cost per ctrl_step() and sweep points per second (printed)
+bench: ## SIL speed, the cost per ctrl_step() and per ISR period, sweep points per second (printed)
 	@$(MAKE) --no-print-directory VARIANT=host $(BUILD)/host/sil_bench
 	@$(BUILD)/host/sil_bench
 	@$(MAKE) --no-print-directory VARIANT=host bench-ctrl
+	@$(MAKE) --no-print-directory VARIANT=host bench-isr
 	@$(MAKE) --no-print-directory VARIANT=host bench-sweep
 
 # ---- the Python venv (matplotlib) and sil-plot --------------------------
