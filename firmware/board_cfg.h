@@ -143,7 +143,7 @@
 #define REF_EST_DTE_MAX_NM       0.3f         /* (T) est_gate: torque-reference step [N m] */
 #define REF_RT_I_IDENT_A         1.0f         /* (I) r_track: injection identifying the inverter error [A] */
 #define REF_RT_I_TRACK_A         0.5f         /* r_track: injection tracking R: R I (1.5 V) in proportion to the bus [A] */
-#define RT_I_TRACK_MAX_PER_RATED 0.1f         /* ... at most this x i_rated [-] */
+#define RT_I_TRACK_MAX_PER_RATED 0.2f         /* ... at most this x i_rated: copper loss <= 4 % of the rated [-] */
 #define REF_RT_IQ_MIN_A          1.0f         /* (I) r_track: |iq| below: cycle held [A] */
 #define REF_RT_IQ_STEP_A         0.2f         /* (I) r_track: iq change within a cycle: held [A] */
 #define REF_RT_VE_MAX_V          20.0f        /* (V) r_track: |Ve| beyond: no inverter error [V] */
