@@ -19,10 +19,14 @@
 #define MODEL_U_BOUND_PER_VDC 1.0        /* |ud|, |uq| bound / bus (the hexagon clamps at 2/3) */
 
 static app_t g_app;
+static const sil_hooks_t *g_hooks;   /* of the run under way, or NULL */
 
 static void sil_isr(void)
 {
     app_isr(&g_app);
+    if (g_hooks != NULL && g_hooks->isr_end != NULL) {
+        g_hooks->isr_end(g_hooks->user);
+    }
 }
 
 static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
@@ -125,6 +129,8 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)m->inv_err_V;
     r->psif_model_Wb = (double)m->psi_f_model_Wb;
+    r->id_meas_A = (double)m->id_A;
+    r->iq_meas_A = (double)m->iq_A;
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
     const bool faulted = (g_app.state == APP_STATE_FAULT);
@@ -252,11 +258,17 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     app_op_t op;
     op.mode = ctrl_mode_of(sc->controller.mode);
     op.method = (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED : CTRL_METHOD_CONVENTIONAL;
+    const sil_hooks_t *hooks = (ctl != NULL) ? ctl->hooks : NULL;
+    g_hooks = hooks;
+    if (hooks != NULL && hooks->start != NULL) {
+        hooks->start(hooks->user, &g_app);
+    }
     hal_isr_attach(sil_isr);
     app_request_start(&g_app);
 
     const double Ts = hc.inv.Ts_s;
-    const uint32_t n = (uint32_t)llround(sc->run.duration_s / Ts);
+    const bool endless = (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
+    const uint32_t n = endless ? UINT32_MAX : (uint32_t)llround(sc->run.duration_s / Ts);
     sil_refs_t refs;
     refs_init(&refs, sc);
     const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
@@ -269,7 +281,11 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
         if (refs_at(&refs, (double)k * Ts, &op)) {
             /* taken at the start of this period's ISR; an unchanged request
              * would only set the controller's reference to what it is */
-            app_request_op(&g_app, &op);
+            app_op_t req = op;
+            if (hooks != NULL && hooks->refs != NULL) {
+                hooks->refs(hooks->user, &req);
+            }
+            app_request_op(&g_app, &req);
         }
 
         const bool was_faulted = (g_app.state == APP_STATE_FAULT);
@@ -301,7 +317,11 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
         if (rc == 0 && stop != NULL && *stop != 0) {
             rc = SIL_STOPPED;   /* after a whole period: every row so far is complete */
         }
+        if (rc == 0 && hooks != NULL && hooks->period_end != NULL) {
+            rc = hooks->period_end(hooks->user);
+        }
     }
+    g_hooks = NULL;
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
     res->warnings = g_app.warnings;
@@ -334,7 +354,8 @@ static const sil_col_t COLS[] = {
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
     COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
-    COL(psif_model_Wb), COL(ia_adc_A), COL(ib_adc_A), COL(vdc_adc_V), COL(ia_offset_A), COL(ib_offset_A),
+    COL(psif_model_Wb), COL(id_meas_A), COL(iq_meas_A), COL(ia_adc_A), COL(ib_adc_A), COL(vdc_adc_V), COL(ia_offset_A),
+    COL(ib_offset_A),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 /* SIL_CSV_LINE_MAX counts one column per double of sil_row_t */

@@ -17,6 +17,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "app.h"
 #include "csv_num.h"
 #include "scenario.h"
 
@@ -39,6 +40,7 @@ typedef struct {
     double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; 0 unless in FAULT */
     double inv_err_est_V;                   /* inverter voltage error the controller identified (ctrl_mon_t.inv_err_V) */
     double psif_model_Wb;                   /* psi_f the deadbeat model uses (ctrl_mon_t.psi_f_model_Wb; design sec. 9f) */
+    double id_meas_A, iq_meas_A;            /* the controller's measured dq currents this period (ctrl_mon_t.id_A, iq_A) */
     double ia_adc_A, ib_adc_A, vdc_adc_V;   /* level 2's report (app_t.adc): the last ADC_CHECK period's readings (offsets in), 0 before one */
     double ia_offset_A, ib_offset_A;        /* the current offsets the app subtracts (0 until calibrated) */
 } sil_row_t;
@@ -75,6 +77,15 @@ typedef struct {
 /* Called for every logged row; a nonzero return stops the run. */
 typedef int (*sil_row_fn)(const sil_row_t *row, void *user);
 
+/* What a run's driver adds (drive_sil --link, tools/sil/link_sil.h); any member may be NULL. */
+typedef struct {
+    void (*start)(void *user, app_t *app);        /* after app_init, before the first period */
+    void (*isr_end)(void *user);                  /* after every app_isr call, in its context */
+    void (*refs)(void *user, app_op_t *op);       /* the scenario's operator request about to be made: may change it */
+    int (*period_end)(void *user);                /* the background after each period; nonzero ends the run */
+    void *user;
+} sil_hooks_t;
+
 /* Called every sil_ctl_t.tick_periods periods with the simulated time reached [s]. */
 typedef void (*sil_tick_fn)(double t_s, void *user);
 
@@ -84,6 +95,8 @@ typedef struct {
     sil_tick_fn on_tick;                 /* progress, or NULL */
     void *tick_user;
     uint32_t tick_periods;               /* periods between on_tick calls (> 0 with on_tick) */
+    const sil_hooks_t *hooks;            /* a driver's additions (drive_sil --link), or NULL; with
+                                          * period_end, run.duration_s = 0 runs until it ends the run */
 } sil_ctl_t;
 
 /* sil_run_ctl()'s return when *ctl->stop ended the run early. */
