@@ -152,7 +152,8 @@ typedef struct {
 /* Start-up: the board's configuration (firmware/board_cfg.h) into *cfg. */
 void app_cfg_default(app_cfg_t *cfg);
 
-/* Start-up: copy *cfg, init the controller, PWM off, state INIT. */
+/* Start-up: copy *cfg (or use it in place when cfg is &app->cfg), init the
+ * controller, PWM off, state INIT. */
 void app_init(app_t *app, const app_cfg_t *cfg);
 
 /* ISR context, once per period: hal_sample_read -> protection -> requests

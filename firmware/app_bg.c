@@ -15,7 +15,9 @@ void app_init(app_t *app, const app_cfg_t *cfg)
                                   cfg->ctrl.pole_pairs };
 
     hal_pwm_disable();
-    app->cfg = *cfg;
+    if (cfg != &app->cfg) {
+        app->cfg = *cfg; /* main.c builds it in place */
+    }
     app->state = APP_STATE_INIT;
     app->fault = APP_FAULT_NONE;
     app->snapshot = no_snapshot;

@@ -49,6 +49,23 @@ static void init_is_init_with_pwm_off(void **state)
     assert_int_equal(app.state, APP_STATE_INIT);
 }
 
+/* main.c builds the cfg in app->cfg itself and passes it: app_init then
+ * ends in the state a separate copy gives (cfg and controller alike). */
+static void init_with_its_own_cfg_in_place(void **state)
+{
+    (void)state;
+    static app_t in_place; /* large: not on the test's stack */
+    const app_cfg_t cfg = make_cfg(false, false);
+    init_app();
+    in_place.cfg = cfg;
+    expect_function_call(hal_pwm_disable);
+    app_init(&in_place, &in_place.cfg);
+    assert_memory_equal(&in_place.cfg, &app.cfg, sizeof cfg);
+    assert_memory_equal(&in_place.ctrl.cfg, &app.ctrl.cfg, sizeof app.ctrl.cfg);
+    assert_int_equal(in_place.ctrl.status, app.ctrl.status);
+    assert_int_equal(in_place.state, APP_STATE_INIT);
+}
+
 /* INIT -> RUN -> IDLE -> RUN with both sequence steps off; a start while
  * running is ignored. */
 static void start_runs_and_stop_idles(void **state)
@@ -263,6 +280,7 @@ int main(void)
         cmocka_unit_test(cfg_default_is_the_board),
         cmocka_unit_test(refused_ratings_fault_config_at_start),
         cmocka_unit_test(init_is_init_with_pwm_off),
+        cmocka_unit_test(init_with_its_own_cfg_in_place),
         cmocka_unit_test(start_runs_and_stop_idles),
         cmocka_unit_test(level4_own_limit_and_mode_then_restored),
         cmocka_unit_test(sequence_calibrates_aligns_runs),
