@@ -278,6 +278,11 @@ void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
     encoder_align(&c->enc, enc_count);
 }
 
+void ctrl_set_i_lim(ctrl_t *c, float i_lim_A)
+{
+    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= c->cfg.i_max_A)) ? i_lim_A : c->cfg.i_max_A;
+}
+
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
 {
     c->mode_req = mode;
@@ -313,6 +318,21 @@ rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 {
     return est_rsid_finish(&c->est);
+}
+
+void ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_win_t *win2_copy)
+{
+    est_rsid_stage_begin(&c->est, s, win2_copy);
+}
+
+bool ctrl_rsid_stage_step(ctrl_t *c, rs_ident_solver_t *s)
+{
+    return est_rsid_stage_step(&c->est, s);
+}
+
+rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r_solved)
+{
+    return est_rsid_finish_with(&c->est, r_solved);
 }
 
 bool ctrl_est_start(ctrl_t *c, float R_Ohm)

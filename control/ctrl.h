@@ -232,6 +232,11 @@ void ctrl_reset(ctrl_t *c);
  * (bumpless into speed mode). */
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode);
 
+/* The current limit the targets respect [A], as cfg.i_lim_A at init
+ * (outside (0, i_max_A]: i_max_A); from the next step. ISR (the app's
+ * state machine) or background while stopped. */
+void ctrl_set_i_lim(ctrl_t *c, float i_lim_A);
+
 /* As ctrl_set_mode; switchable at run time, bumpless (policy in the
  * header comment). Returns false (method unchanged) for PROPOSED when
  * ctrl_init did not return CTRL_CFG_OK. */
@@ -259,6 +264,18 @@ rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
  * otherwise stops the
  * observer and returns the reason. ISR once (about 20 divisions) or background. */
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
+
+/* A staged check of step 1's windows so far (est.h
+ * est_rsid_stage_begin/_step): window 2 copied into *win2_copy, *s the
+ * caller's solver; one stage per call of ctrl_rsid_stage_step, true when
+ * s->result and ctrl_rsid_out() are final (the d-axis and angle checks
+ * included). ISR (a bounded stage each). */
+void ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_win_t *win2_copy);
+bool ctrl_rsid_stage_step(ctrl_t *c, rs_ident_solver_t *s);
+
+/* Step 1 ends on a staged solve's result r (in ctrl_rsid_out()); the rest
+ * as ctrl_rsid_finish. No division. ISR once. */
+rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r);
 
 /* Step 2 without step 1, for an R the caller trusts (a recent
  * identification at the same winding temperature): R^ = R_Ohm, observer

@@ -218,9 +218,9 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
  * windows' own dL_j = (fd_j + dR id_j)/(w_j iq_j) must agree within it
  * too, |k (dL1 - dL2)|; else the model does not hold on the d axis and R^
  * hangs on it: refused (RS_IDENT_D_AXIS). */
-static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
+static rs_ident_result_t rsid_checks(const est_t *e, rs_ident_result_t r_solved, rs_ident_out_t *o)
 {
-    rs_ident_result_t r = rs_ident_solve(&e->ri, o);
+    rs_ident_result_t r = r_solved;
     o->R_d_axis_Ohm = 0.0f;
     o->angle_el_rad = 0.0f;
     if (r == RS_IDENT_OK) {
@@ -256,14 +256,42 @@ static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
     return r;
 }
 
+static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
+{
+    return rsid_checks(e, rs_ident_solve(&e->ri, o), o);
+}
+
 rs_ident_result_t est_rsid_check(const est_t *e, rs_ident_out_t *out)
 {
     return rsid_solve(e, out);
 }
 
+void est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_win_t *win2_copy)
+{
+    rs_ident_copy_window(win2_copy, &e->ri, RS_IDENT_WINDOW_2);
+    rs_ident_solve_begin(s, &e->ri, win2_copy, &e->rsid_out);
+}
+
+bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s)
+{
+    if (s->stage >= RS_IDENT_SOLVE_STAGES) {
+        return true; /* over: nothing more */
+    }
+    if (!rs_ident_solve_step(s, &e->rsid_out)) {
+        return false;
+    }
+    s->result = rsid_checks(e, s->result, &e->rsid_out);
+    return true;
+}
+
 rs_ident_result_t est_rsid_finish(est_t *e)
 {
-    rs_ident_result_t r = rsid_solve(e, &e->rsid_out);
+    return est_rsid_finish_with(e, rsid_solve(e, &e->rsid_out));
+}
+
+rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
+{
+    rs_ident_result_t r = r_solved;
 
     rs_ident_reset(&e->ri); /* a second finish without a begin finds no data */
     e->win = RS_IDENT_WINDOW_NONE;

@@ -181,6 +181,18 @@ rs_ident_result_t est_rsid_check(const est_t *e, rs_ident_out_t *out);
  * observer stops. ISR once or background. */
 rs_ident_result_t est_rsid_finish(est_t *e);
 
+/* The staged form of est_rsid_check (rs_ident_solve_begin/_step, for an
+ * ISR with a budget): window 2 as it is copied into *win2_copy (window 1
+ * is complete), the solve into est_rsid_out(); est_rsid_stage_step runs
+ * one stage per call and returns true when s->result and the output are
+ * final, the d-axis and angle checks included. ISR. */
+void est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_win_t *win2_copy);
+bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s);
+
+/* Step 1 ends on a staged solve's result r_solved: as est_rsid_finish
+ * without solving again. ISR once. */
+rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved);
+
 /* Step 2 without step 1 for a trusted R_Ohm in the band: false otherwise
  * or when init refused. ISR or background. */
 bool est_start_trusted(est_t *e, float R_Ohm);

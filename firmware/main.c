@@ -37,8 +37,8 @@
 extern CRC_TABLE flash_crc_table;
 #endif
 
-static app_t g_app;          /* the whole drive state; static so CCS can watch it */
-static app_cfg_t g_cfg;      /* static: in .ebss, not on the 1K-word stack (tools/check/ram_budget.py) */
+static app_t g_app;          /* the whole drive state, its cfg built in place (one copy in .ebss, none on
+                              * the 1K-word stack: tools/check/ram_budget.py); static so CCS can watch it */
 static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
@@ -102,8 +102,8 @@ int main(void)
     hal_init();  /* ramfuncs copied: its CRC record holds at either address */
     bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    app_cfg_default(&g_cfg);
-    app_init(&g_app, &g_cfg);
+    app_cfg_default(&g_app.cfg);
+    app_init(&g_app, &g_app.cfg);
     if (bad_record >= 0) {
         app_latch_startup_fault(&g_app, APP_FAULT_FLASH_CRC, (float)bad_record, 0.0f);
     } else if (g_reset_by_watchdog) {
@@ -111,9 +111,9 @@ int main(void)
     }
     cmd_init(&g_cmd);
     g_lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
-    g_lim.te_max_Nm = g_cfg.ctrl.te_max_Nm;
-    g_lim.u_max_V = g_cfg.ctrl.u_max_V;
-    lc.Ts_s = g_cfg.ctrl.Ts_s;
+    g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
+    g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    lc.Ts_s = g_app.cfg.ctrl.Ts_s;
     lc.baud = F28335_SCI_BAUD_ACTUAL;
     lc.firmware_id = FIRMWARE_ID;
     link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
