@@ -198,7 +198,9 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
         start_tracking(e);
     } else if (ev == R_TRACK_CYCLE) {
         /* rho = dR with the inverter error compensated: R^ += -k_R rho + rate, within the band */
+        const float fq_V = e->smo.fq_V;
         if (smo_set_R(&e->smo, e->smo.R_Ohm + e->rt.dR_step_Ohm)) {
+            psi_band_r_moved(&e->pb, e->smo.fq_V - fq_V); /* design sec. 9f */
             e->rt_flags &= (uint16_t)~EST_FLAG_R_HELD;
             e->force = EST_MOVED_ALL;
         } else {

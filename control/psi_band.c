@@ -41,6 +41,7 @@ void psi_band_start(psi_band_t *pb, float psi_Wb)
 {
     pb->frac = pb->cfg.unc_told_frac;
     pb->track = false;
+    pb->taken = false;
     pb->low = 0u;
     pb->final = false;
     pb->trust = false;
@@ -59,8 +60,18 @@ void psi_band_rebase(psi_band_t *pb, float dfq_V)
     pb->P_Wb += dfq_V * pb->inv_w_s_rad;
     pb->frac = pb->cfg.unc_ident_frac;
     pb->track = false;
+    pb->taken = false;
     pb->final = true;
     pb->h_Wb = pb->anchor_Wb;
+}
+
+void psi_band_r_moved(psi_band_t *pb, float dfq_V)
+{
+    pb->P_Wb += dfq_V * pb->inv_w_s_rad;
+    if (pb->taken && !pb->track) {
+        /* held since P settled on the R^ before: decided again on this one (tracking: P carries it) */
+        pb->h_Wb = mathx_clampf(pb->P_Wb, pb->cfg.psi_min_Wb, pb->cfg.psi_max_Wb);
+    }
 }
 
 void psi_band_hold(psi_band_t *pb, bool hold)
@@ -108,6 +119,7 @@ bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_
     pb->trust = pb->final && (pb->low == 0u);
     if (!pb->track && (mathx_fabsf(pb->P_Wb - pb->h_Wb) > 2.0f * band)) {
         pb->track = true; /* h is off by more than P can be */
+        pb->taken = true;
         pb->n = 0u;
         pb->P_snap_Wb = pb->P_Wb;
     }

@@ -78,6 +78,7 @@ typedef struct {
     uint16_t n;            /* decisions since P_snap */
     uint16_t k;            /* learning periods since the last decision */
     bool track;            /* the model follows P (else it holds h) */
+    bool taken;            /* h was taken from P since the last start or rebase (else the anchor) */
     uint16_t low;          /* below the speed floor (0: above): PSI_BAND_LOW_* bits */
     bool final;            /* the bound is final (inverter error identified or refused): the floor decides */
     bool trust;            /* the last decision was under the final bound and above the floor */
@@ -109,6 +110,13 @@ void psi_band_start(psi_band_t *pb, float psi_Wb);
  * under the coarse bound may have been the error). It changes at the next
  * psi_band_step (and `low` at its next decision). ISR. */
 void psi_band_rebase(psi_band_t *pb, float dfq_V);
+
+/* R^ moved (R tracking): f^_q moved by dfq_V [V] (bumpless in the
+ * observer), so psi_eq and P by dfq/w. A model taken from P carries the
+ * R^ error P had then as dR iq/w: held, it takes P again at once and
+ * holds that (from the next psi_band_step's decision); tracking, it goes
+ * on tracking; a model holding the anchor is left alone. ISR (an R-tracking cycle's end). */
+void psi_band_r_moved(psi_band_t *pb, float dfq_V);
 
 /* The inverter error could not be identified: the coarse bound stays,
  * and is final (the speed floor decides from now on). ISR. */

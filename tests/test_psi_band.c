@@ -86,6 +86,37 @@ static void test_rebase_returns_to_the_anchor(void **state)
     assert_true(fabsf(pb.psi_Wb - PSI0) < 1e-7f);
 }
 
+/* R^ moved by R tracking: f^_q by dfq, so psi_eq by dfq/w. A model taken
+ * from P (the 20 % error, tracked and settled under the fine bound
+ * 0.05 x 3.56 + 0.05 = 0.228 V) takes P again at once, shifted by
+ * dfq/w = 0.3 V / 157 rad/s = 1.91 mWb, and holds it; a model that held
+ * the anchor (P within 2 Vb/|w| of it) keeps the anchor. */
+static void test_r_moved_decides_again_a_taken_model(void **state)
+{
+    (void)state;
+    const float fq = -0.2f * PSI0 * W_EL;
+    setup();
+    psi_band_rebase(&pb, 0.0f);
+    assert_true(run(10000, PSI0, fq, W_EL, VE_TOLD, 0.0f) > 0);
+    assert_false(pb.track);
+    const float P_before = pb.P_Wb;
+    psi_band_r_moved(&pb, 0.3f);
+    assert_true(fabsf(pb.P_Wb - (P_before + 0.3f / W_EL)) < 1e-6f);
+    assert_int_equal(run(10, PSI0, fq + 0.3f, W_EL, VE_TOLD, 0.0f), 1);
+    assert_true(fabsf(pb.psi_Wb - (P_before + 0.3f / W_EL)) < 2e-5f); /* P's 10 periods of low-pass */
+    assert_false(pb.track);
+    const float psi_held = pb.psi_Wb;
+    assert_int_equal(run(2000, PSI0, fq + 0.3f, W_EL, VE_TOLD, 0.0f), 0);
+    assert_true(fabsf(pb.psi_Wb - psi_held) < 1e-7f);
+
+    setup();
+    psi_band_rebase(&pb, 0.0f);
+    assert_int_equal(run(5000, PSI0, 0.15f, W_EL, VE_TOLD, 0.0f), 0);
+    psi_band_r_moved(&pb, 0.25f);
+    assert_int_equal(run(2000, PSI0, 0.4f, W_EL, VE_TOLD, 0.0f), 0); /* 0.4 V < 2 x 0.228 V */
+    assert_true(fabsf(pb.psi_Wb - PSI0) < 1e-7f);
+}
+
 /* At or below w_min psi_eq is ill-conditioned: nothing moves. */
 static void test_holds_below_w_min(void **state)
 {
@@ -148,6 +179,7 @@ int main(void)
         cmocka_unit_test(test_holds_an_error_the_bound_explains),
         cmocka_unit_test(test_tracks_a_clear_error_then_settles),
         cmocka_unit_test(test_rebase_returns_to_the_anchor),
+        cmocka_unit_test(test_r_moved_decides_again_a_taken_model),
         cmocka_unit_test(test_holds_below_w_min),
         cmocka_unit_test(test_speed_floor),
         cmocka_unit_test(test_init_refuses_bad_cfg),
