@@ -91,6 +91,16 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
     if (s->vdc_V < app->cfg.prot.vdc_min_V) {
         const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.prot.vdc_min_V);
         latch_fault(app, &f, s);
+    } else if (app->commissioning) {
+        /* the told R, L, psi_f play no part: only the encoder's speed estimate is needed */
+        if ((ctrl_status(&app->ctrl) & CTRL_CFG_ENCODER) != 0u) {
+            const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)ctrl_status(&app->ctrl), 0.0f);
+            latch_fault(app, &f, s);
+        } else {
+            ctrl_reset(&app->ctrl);
+            app->state = APP_STATE_COMMISSION;
+            comm_start(&app->comm);
+        }
     } else if ((ctrl_status(&app->ctrl) & config_needed(app)) != 0u) {
         const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)ctrl_status(&app->ctrl), 0.0f);
         latch_fault(app, &f, s);
@@ -102,8 +112,12 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
     }
 }
 
-static void start_sequence(app_t *app, const hal_sample_t *s)
+static void start_sequence(app_t *app, const hal_sample_t *s, bool commission)
 {
+    app->commissioning = commission;
+    if (commission) {
+        app->comm_valid = false;
+    }
     app->warnings = 0u;
     app->rsid_refusal = app_step_running();
     if (app->cfg.calibrate) {
@@ -153,6 +167,36 @@ static void align_state(app_t *app, const hal_sample_t *s)
         ctrl_encoder_align(&app->ctrl, s->enc_count);
         app->aligned = true;
         leave_align(app);
+    }
+}
+
+/* COMMISSION: the sequence's vector through ctrl's output path; done:
+ * gates off, IDLE, the results valid, the measured offset taken. */
+static void commission_state(app_t *app, const hal_sample_t *s)
+{
+    comm_in_t in;
+    ab_t u;
+    app_step_t r;
+
+    in.ia_A = s->ia_A - app->offset_ia_A;
+    in.ib_A = s->ib_A - app->offset_ib_A;
+    in.vdc_V = s->vdc_V;
+    in.enc_count = s->enc_count;
+    in.speed_m_rad_s = ctrl_speed_m_rad_s(&app->ctrl);
+    r = comm_step(&app->comm, &in, &u);
+    ctrl_step_ab(&app->ctrl, u, s->vdc_V, &app->out);
+    if ((r.status != APP_STEP_FAULT) && ((app->out.flags & CTRL_FLAG_NONFINITE) != 0u)) {
+        r = app_step_fault(APP_FAULT_NONFINITE_OUTPUT, u.a, 0.0f);
+    }
+    if (r.status == APP_STEP_DONE) {
+        stop_to_idle(app);
+        app->comm_valid = true;
+        if (app->comm.res.pole_pairs == app->cfg.ctrl.pole_pairs) {
+            encoder_set_offset(&app->ctrl.enc, app->comm.res.enc_offset_el_rad);
+            app->aligned = true;
+        }
+    } else {
+        (void)output(app, r, s);
     }
 }
 
@@ -229,14 +273,18 @@ static void take_requests(app_t *app, const hal_sample_t *s)
     if (app->req_stop != 0u) {
         app->req_stop = 0u;
         app->req_start = 0u;
+        app->req_commission = 0u;
         if ((app->state == APP_STATE_CALIBRATE) || (app->state == APP_STATE_ALIGN) ||
-            (app->state == APP_STATE_IDENTIFY_R) || (app->state == APP_STATE_RUN)) {
+            (app->state == APP_STATE_IDENTIFY_R) || (app->state == APP_STATE_RUN) ||
+            (app->state == APP_STATE_COMMISSION)) {
             stop_to_idle(app);
         }
-    } else if (app->req_start != 0u) {
+    } else if ((app->req_start != 0u) || (app->req_commission != 0u)) {
+        const bool commission = (app->req_commission != 0u); /* wins over a start asked for with it */
         app->req_start = 0u; /* ignored unless stopped */
+        app->req_commission = 0u;
         if ((app->state == APP_STATE_INIT) || (app->state == APP_STATE_IDLE)) {
-            start_sequence(app, s);
+            start_sequence(app, s, commission);
         }
     }
 }
@@ -268,6 +316,7 @@ static app_step_t watch(app_t *app, const hal_sample_t *s)
 static void fault_state(app_t *app, const hal_sample_t *s)
 {
     app->req_start = 0u; /* a start asked for while faulted is not kept */
+    app->req_commission = 0u;
     app->req_stop = 0u;
     if (app->req_fault_reset != 0u) {
         app->req_fault_reset = 0u;
@@ -314,6 +363,9 @@ void app_isr(app_t *app)
                 break;
             case APP_STATE_RUN:
                 run_state(app, &s);
+                break;
+            case APP_STATE_COMMISSION:
+                commission_state(app, &s);
                 break;
             default: /* INIT, IDLE: outputs off, nothing to do */
                 break;

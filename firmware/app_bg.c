@@ -31,6 +31,10 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     calib_init(&app->cal, &cfg->cal, Ts);
     align_init(&app->aln, &cfg->aln, Ts);
     rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
+    comm_init(&app->comm, &cfg->comm, Ts, ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines);
+    app->commissioning = false;
+    app->comm_valid = false;
+    app->req_commission = 0u;
     app->warnings = 0u;
     app->rsid_refusal = app_step_running();
     app->req_start = 0u;
@@ -64,6 +68,11 @@ void app_background(app_t *app)
 void app_request_start(app_t *app)
 {
     app->req_start = 1u;
+}
+
+void app_request_commission(app_t *app)
+{
+    app->req_commission = 1u;
 }
 
 void app_request_op(app_t *app, const app_op_t *op)

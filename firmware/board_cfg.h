@@ -83,6 +83,37 @@
 #define BOARD_ALIGN_PREPOS_S     0.2f         /* hold at the pre-position: the rotor is off phase a's dead point before the turn [s] */
 #define BOARD_ALIGN_SETTLE_S     0.6f         /* hold on phase a: the rotor settles [s] */
 
+/* Commissioning (commission.h; methods and error budget in
+ * firmware/commission_design.md). Currents as shares of the commissioning
+ * current bound (the board: BOARD_I_LIMIT_A until the motor's rated current
+ * is a setting), speeds of the rated speed. */
+#define COMM_U_FRAC              0.9f         /* |u| / (vdc/sqrt 3) beyond which a stage is implausible (SPIN: top speed) [-] */
+#define COMM_R_I1_FRAC           0.35f        /* R: first DC current / bound [-] */
+#define COMM_R_I2_FRAC           0.7f         /* R: second DC current / bound: overshoot of the integral loop stays below 1 [-] */
+#define COMM_R_RAMP_S            0.3f         /* R: ramp of the first current: slower than the rotor's swing onto phase a [s] */
+#define COMM_R_SEEK_S            1.0f         /* R: first regulator, a full-bound error ramps the voltage through vdc in this [s] */
+#define COMM_R_BW_RAD_S          200.0f       /* R: alpha's integral regulator from R0: faster than the rotor's swing [rad/s] */
+#define COMM_R_SETTLE_S          0.15f        /* R: settling after a current change, with the rotor still [s] */
+#define COMM_R_STILL_MECH_DEG    0.5f         /* R: still = within this of the settling's start: the back-EMF on alpha is second order in the swing [deg] */
+#define COMM_R_WINDOW_S          0.1f         /* R: averaging window, 1000 periods [s] */
+#define COMM_R_MAX_S             3.0f         /* R: stage timeout [s] */
+#define COMM_L_STEP_FRAC         0.3f         /* L: current step / bound (voltage step R^ x this) [-] */
+#define COMM_L_RISE_FRAC         0.7f         /* L: a step ends at this share of its final change [-] */
+#define COMM_L_CYCLES            4U           /* L: down-and-up steps [-] */
+#define COMM_L_MAX_S             1.0f         /* L: stage timeout [s] */
+#define COMM_I_BW_RAD_S          1500.0f      /* ENCODER, SPIN: current PI from R^, L^; 0.15 / Ts [rad/s] */
+#define COMM_ENC_FRAC            0.5f         /* ENCODER: swept current / bound [-] */
+#define COMM_ENC_SPEED_EL_DEG_S  720.0f       /* ENCODER: sweep speed, two electrical turns a second [deg/s el] */
+#define COMM_ENC_HOLD_S          0.1f         /* ENCODER: hold before, between, after the sweeps [s] */
+#define COMM_P_TOL               0.2f         /* ENCODER: |counts-derived pole pairs - integer| accepted [-] */
+#define COMM_POLE_PAIRS_MAX      32U          /* ENCODER: most pole pairs accepted [-] */
+#define COMM_ENC_MAX_S           2.0f         /* ENCODER: stage timeout [s] */
+#define COMM_SPIN_FRAC           0.2f         /* SPIN: |i_q| / bound accelerating and braking [-] */
+#define COMM_SPIN_TOP_FRAC       0.4f         /* SPIN: top speed / rated speed [-] */
+#define COMM_SPIN_LO_FRAC        0.2f         /* SPIN: fits above this share of the top speed [-] */
+#define COMM_SPIN_SKIP_S         0.02f        /* SPIN: fits skip this after a current change: 10 / PLL bandwidth [s] */
+#define COMM_SPIN_MAX_S          2.0f         /* SPIN: stage timeout [s] */
+
 /* ---- controller tuning: the SIL scenario defaults (tools/sil/scenario.c) - */
 #define TUNE_SPEED_KP_NMS_RAD    0.5f         /* speed PI [N m / (rad/s)] */
 #define TUNE_SPEED_KI_NM_RAD     20.0f        /* speed PI [N m / rad] */

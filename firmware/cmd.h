@@ -28,6 +28,22 @@ typedef enum {
                               * one. Set the mode to windows, speeds or trusted; restart */
 } cmd_error_t;
 
+/* The last commissioning, as cmd_apply() found it (read only for the
+ * user; writing the values to flash is not done: the user copies them
+ * into the board's configuration). */
+typedef struct {
+    uint16_t state;        /* 0 none, 1 running (stage says which), 2 done (values valid), 3 refused (fault says why) */
+    uint16_t stage;        /* comm_stage_t reached (the refusing one) */
+    uint16_t fault;        /* app_fault_t of a refusal (COMM_*, or a protection's) */
+    float fault_value;     /* its measured value and limit (the fault snapshot) */
+    float fault_limit;
+    float R_Ohm, L_H, psi_f_Wb;
+    uint16_t pole_pairs;
+    float J_kgm2, B_Nms;
+    float enc_offset_el_rad;
+    float speed_kp_Nms_rad, speed_ki_Nm_rad;
+} cmd_comm_report_t;
+
 typedef struct {
     uint16_t run;          /* 1: start (calibration, alignment, identification, run); 0: stop */
     uint16_t fault_reset;  /* write 1 to clear a latched fault (ignored when none is); cmd_apply() sets it back to 0 */
@@ -39,6 +55,8 @@ typedef struct {
     float uq_ref_V;
     uint16_t error;        /* cmd_error_t of the last refused field, CMD_OK when all were taken */
     uint16_t run_taken;    /* last run value acted on: a start or stop is sent on a change only */
+    uint16_t commission;   /* write 1 while stopped (run 0): measure the motor (commission.h); cmd_apply() sets it back to 0 */
+    cmd_comm_report_t comm; /* the commissioning's report, written by cmd_apply() */
 } cmd_t;
 
 typedef struct {

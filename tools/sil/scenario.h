@@ -113,6 +113,9 @@ int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errle
  * R, L, psi_f to absolute values. Call once after loading. Returns 0, or -1 with err. */
 int scenario_finish(scenario_t *sc, char *err, size_t errlen);
 
+/* 1 when [section] name is a scenario key, else 0. */
+int scenario_key_known(const char *section, const char *name);
+
 /* The key table as help text: section, key, default, meaning. */
 void scenario_print_keys(FILE *f);
 

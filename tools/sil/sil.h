@@ -62,6 +62,12 @@ typedef struct {
     uint32_t gates_on_in_fault;          /* periods with the gates on while the app was in FAULT (latching call included): 0 */
     uint32_t fault_exits;                /* times the app left FAULT (no reset is requested in SIL: 0) */
     uint32_t pwm_periods;      /* periods with the gates on (0: the motor was never energised) */
+    /* commissioning (sil_ctl_t.commission) */
+    int comm_valid;            /* 1: the commissioning completed, the values below are its results */
+    int comm_stage;            /* comm_stage_t reached (a refusal's stage) */
+    double comm_R_ohm, comm_L_H, comm_psif_Wb, comm_J_kgm2, comm_B_Nms, comm_enc_offset_el_rad;
+    double comm_speed_kp_Nms_rad, comm_speed_ki_Nm_rad, comm_u_err_V;
+    uint32_t comm_pole_pairs;
 } sil_result_t;
 
 /* Called for every logged row; a nonzero return stops the run. */
@@ -76,6 +82,7 @@ typedef struct {
     sil_tick_fn on_tick;                 /* progress, or NULL */
     void *tick_user;
     uint32_t tick_periods;               /* periods between on_tick calls (> 0 with on_tick) */
+    int commission;                      /* 1: commission the motor instead of the scenario's run (sil_run_ctl) */
 } sil_ctl_t;
 
 /* sil_run_ctl()'s return when *ctl->stop ended the run early. */
@@ -86,7 +93,11 @@ typedef struct {
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res);
 
 /* sil_run() with controls (ctl may be NULL): also returns SIL_STOPPED when *ctl->stop
- * became nonzero (res then covers the periods run, every row of them delivered). */
+ * became nonzero (res then covers the periods run, every row of them delivered).
+ * With ctl->commission the app is asked to commission the motor (firmware/commission.h)
+ * instead of starting: [reference] and [load] play no part (no load), run.duration_s
+ * neither; the run ends in the period the app leaves COMMISSION (IDLE: res->comm_valid,
+ * or FAULT), or after the stages' timeouts and a second. */
 int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res);
 
 /* Longest CSV line of a row, with its newline: every column is one of sil_row_t's doubles,

@@ -15,7 +15,7 @@
 static const char *const STATE_NAMES[] = {
     [APP_STATE_INIT] = "INIT", [APP_STATE_IDLE] = "IDLE", [APP_STATE_CALIBRATE] = "CALIBRATE",
     [APP_STATE_ALIGN] = "ALIGN", [APP_STATE_IDENTIFY_R] = "IDENTIFY_R", [APP_STATE_RUN] = "RUN",
-    [APP_STATE_FAULT] = "FAULT",
+    [APP_STATE_FAULT] = "FAULT", [APP_STATE_COMMISSION] = "COMMISSION",
 };
 
 static const char *const FAULT_NAMES[] = {
@@ -30,6 +30,8 @@ static const char *const FAULT_NAMES[] = {
     [APP_FAULT_OPEN_PHASE] = "OPEN_PHASE", [APP_FAULT_CURRENT_SENSOR] = "CURRENT_SENSOR",
     [APP_FAULT_ENCODER_LOST] = "ENCODER_LOST",
     [APP_FAULT_WATCHDOG_RESET] = "WATCHDOG_RESET", [APP_FAULT_FLASH_CRC] = "FLASH_CRC",
+    [APP_FAULT_COMM_TIMEOUT] = "COMM_TIMEOUT", [APP_FAULT_COMM_NO_ROTATION] = "COMM_NO_ROTATION",
+    [APP_FAULT_COMM_IMPLAUSIBLE] = "COMM_IMPLAUSIBLE",
 };
 
 static const char *name_of(const char *const *names, size_t n, int v, const char *prefix, char *buf, size_t len)
