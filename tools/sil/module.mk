@@ -36,6 +36,13 @@ EXTRA_TESTS += test-drive-sil-cli
 test-drive-sil-cli: $(DRIVE_SIL)
 	@$(call suite,test-drive-sil-cli) tools/test_drive_sil_cli.sh $(DRIVE_SIL)
 
+# Commissioning on three motors, ideal and realistic board, and its refusals
+# (runs the built binary; standard-library Python).
+.PHONY: test-commission
+EXTRA_TESTS += test-commission
+test-commission: $(DRIVE_SIL)
+	@$(call suite,test-commission) python3 tools/test_commission.py $(DRIVE_SIL)
+
 # Acceptance of the proposed method on the simulated board (scenario files
 # of tools/scenarios/, and the controller alone on hal_sim).
 TEST_LIBS_test_sil_proposed := silrun firmware sim control
