@@ -4,10 +4,7 @@
 #   make test       all unit and SIL tests, then again under ASan/UBSan
 #   make sil        the paper's scenarios in SIL: CSV, plots, metrics report
 #   make check      portability and static gates (float-only, 16-bit int, cppcheck)
-#   make bench      speed and cost figures (printed, never asserted)
-#   make sweep      sensitivity maps of both methods into build/sweep/
-#   make firmware   the F28335 image (needs CG_TOOL_ROOT and C2000WARE_ROOT)
-#   make flash      program it with TI UniFlash (dslite.sh)
+#   make help       every target, one line each (the "## " text on its rule)
 
 SHELL := /bin/bash
 .DEFAULT_GOAL := all
@@ -132,43 +129,44 @@ endef
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 
-.PHONY: all test test-host test-san run-tests check firmware flash host-deps test-deps check-deps help FORCE
+.PHONY: all test test-host test-san run-tests check firmware flash host-deps test-deps check-deps help clean distclean FORCE
 
-all: $(TEST_BINS) $(HOST_PROGRAMS)
+all: $(TEST_BINS) $(HOST_PROGRAMS) ## the host build: every test runner, drive_sil and sil_bench
 
-FORCE:
+FORCE: ## (internal) a prerequisite that is never up to date
 
-help:
-	@sed -n '1,11p' Makefile
+help: ## this list
+	@echo 'Targets (README.md explains the main ones):'
+	@tools/make_help.sh $(MAKEFILE_LIST)
 
 # Debian packages the host build needs; installed when running as root.
 # tools/ensure_pkgs.sh serialises its calls, so rules asking at once under
 # -j wait for one another instead of racing apt.
-host-deps:
+host-deps: ## (internal) the Debian packages of the host build (as root: installs them)
 	@tools/ensure_pkgs.sh gcc libcmocka-dev libinih-dev
 
 # Everything `make test` installs, asked for once before its suites start.
 TEST_PKGS := gcc libcmocka-dev libinih-dev clang libclang-rt-14-dev python3
-test-deps:
+test-deps: ## (internal) every package `make test` needs, asked for once before its suites
 	@tools/ensure_pkgs.sh $(TEST_PKGS)
 
 # Each suite records its counts here (tools/suite.sh); `make test` sums them.
 RESULTS := $(BUILD)/test-results
 suite    = tools/suite.sh $1 $(RESULTS)
 
-run-tests: $(TEST_BINS)
+run-tests: $(TEST_BINS) ## (internal) run the C test runners of VARIANT
 	@$(call suite,test-$(VARIANT)) tools/run_tests.sh $(TEST_BINS)
 
-test-host:
+test-host: ## the C unit and SIL tests (cmocka runners), host build
 	@$(MAKE) --no-print-directory VARIANT=host run-tests
 
-test-san:
+test-san: ## the same under ASan/UBSan (build/san)
 	@$(MAKE) --no-print-directory VARIANT=san run-tests
 
 # Every suite runs (-k) even when one fails; the last line on stdout is
 # the verdict summed over all of them, and it sets the exit status.
 TEST_SUITES = test-host test-san $(EXTRA_TESTS)
-test:
+test: ## every suite (C, sanitizers, Python, CLI, fuzz pass, sweep nets); last line the summed verdict
 	@rm -rf $(RESULTS)
 	@$(MAKE) --no-print-directory test-deps
 	@$(MAKE) --no-print-directory -k $(TEST_SUITES) || true
@@ -177,21 +175,39 @@ test:
 # ---- portability and static gates ----------------------------------------
 PORTABLE_DIRS := control firmware hal/f28335
 
-check-deps:
+check-deps: ## (internal) the cross compilers and cppcheck of `make check`
 	@tools/ensure_pkgs.sh gcc-arm-none-eabi libnewlib-arm-none-eabi gcc-avr avr-libc cppcheck
 
-check: check-deps
+# Commit subjects after this baseline are at most 72 characters (the
+# history before it is left as it is).
+COMMIT_BASELINE    := 73c655a
+COMMIT_SUBJECT_MAX := 72
+
+check: check-deps ## portability, layer, target-build, ISR-path, RAM-budget, commit-subject and make-help gates
+	@tools/check/commit_subjects.sh $(COMMIT_BASELINE) $(COMMIT_SUBJECT_MAX)
+	@tools/make_help.sh --check $(MAKEFILE_LIST)
 	@tools/check/portability.sh $(BUILD)/check
 	@tools/check/target_cfg.sh
 	@tools/check/isr_path.sh $(BUILD)/check
 	@tools/check/ram_budget.sh $(BUILD)/check
 
+# ---- cleaning --------------------------------------------------------------
+# `make clean` keeps the Python venv: it is no build product of this tree's
+# sources and takes a network download to make again.
+clean: ## remove everything under build/ except the Python venv (build/venv)
+	@test -n "$(BUILD)" && test "$(BUILD)" != / || { echo "make clean: BUILD='$(BUILD)' refused" >&2; exit 2; }
+	@if [ -d "$(BUILD)" ]; then find "$(BUILD)" -mindepth 1 -maxdepth 1 ! -name venv -exec rm -rf {} +; fi
+
+distclean: ## remove build/ entirely, the venv included
+	@test -n "$(BUILD)" && test "$(BUILD)" != / || { echo "make distclean: BUILD='$(BUILD)' refused" >&2; exit 2; }
+	rm -rf "$(BUILD)"
+
 # ---- target build --------------------------------------------------------
-firmware:
+firmware: ## the F28335 image with TI's tools (needs CG_TOOL_ROOT and C2000WARE_ROOT)
 	@tools/check/ti_tools.sh
 	@$(MAKE) --no-print-directory -f firmware/target.mk BUILD=$(BUILD)
 
-flash:
+flash: ## program the image with TI UniFlash (dslite.sh)
 	@tools/check/ti_tools.sh
 	@$(MAKE) --no-print-directory -f firmware/target.mk flash BUILD=$(BUILD)
 

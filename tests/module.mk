@@ -18,7 +18,7 @@ FUZZ_STEPS ?= 100000000
 .PHONY: fuzz fuzz-short fuzz-deps
 EXTRA_TESTS += fuzz-short
 
-fuzz-deps:
+fuzz-deps: ## (internal) clang and its sanitizer runtime for the fuzzer
 	@tools/ensure_pkgs.sh clang libclang-rt-14-dev
 
 # The portable sources with their forced include (8-bit types poisoned), the harness without.
@@ -28,8 +28,8 @@ $(FUZZ_BIN): $(FUZZ_HARNESS) $(FUZZ_PORTABLE) $(FUZZ_HDRS) tests/module.mk | fuz
 	    $(FUZZ_CC) $(FUZZ_FLAGS) -include control/c28x_portable.h -c $$f -o $(@D)/obj/$$(basename $$f .c).o; done
 	$(FUZZ_CC) $(FUZZ_FLAGS) -o $@ $(FUZZ_HARNESS) $(patsubst %.c,$(@D)/obj/%.o,$(notdir $(FUZZ_PORTABLE))) -lm
 
-fuzz: $(FUZZ_BIN)
+fuzz: $(FUZZ_BIN) ## the control ISR under libFuzzer until FUZZ_STEPS ISR steps (10^8)
 	@tools/fuzz.sh long $(FUZZ_BIN) $(FUZZ_DIR) $(FUZZ_STEPS)
 
-fuzz-short: $(FUZZ_BIN)
+fuzz-short: $(FUZZ_BIN) ## (part of make test) a seeded fuzz pass of 4000 inputs
 	@$(call suite,fuzz-short) tools/fuzz.sh short $(FUZZ_BIN) $(FUZZ_DIR)

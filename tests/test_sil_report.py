@@ -95,57 +95,93 @@ class PlotLinks(Tmp):
 
 
 class ScenarioTable(Tmp):
+    RUNS = [("conv_L066", result(recovery_ms=12.0, speed_dip_rpm=77.58)),
+            ("conv_torque_step", result(speed_err_rpm=float("nan"), speed_err_max_rpm=float("nan"),
+                                        step_periods_95=2, step_overshoot_pct=0.3564,
+                                        step_settle_periods=None)),
+            ("broken", {"error": "broken.csv:3: column te_Nm: malformed number 'a|b'"})]
+
     def test_rows(self):
         self.touch("conv_L066.png", "conv_L066_psif150.png")
-        runs = [("conv_L066", result(recovery_ms=12.0, speed_dip_rpm=77.58)),
-                ("conv_torque_step", result(speed_err_rpm=float("nan"), speed_err_max_rpm=float("nan"),
-                                            step_periods_95=2, step_overshoot_pct=0.3564,
-                                            step_settle_periods=None)),
-                ("broken", {"error": "broken.csv:3: column te_Nm: malformed number 'a|b'"})]
-        lines = sil_report.scenario_table(runs, self.dir)
+        lines = sil_report.scenario_table(self.RUNS, self.dir)
         n = len(cells(lines[0]))
-        self.assertEqual(n, 15)
+        self.assertEqual(n, 8)
         for line in lines[1:]:
             self.assertEqual(len(cells(line)), n, line)     # every row as wide as the header
         self.assertEqual(cells(lines[2]), [
-            "conv_L066", "0.0123", "0.0234", "2.50", "1.000", "-0.500", "1.500", "-1.5000", "3.5000",
-            "12.0", "77.58", "-", "-", "-", "[conv_L066.png](conv_L066.png)"])
+            "conv_L066", "0.0123", "0.0234", "2.50", "1.000", "-0.500", "1.500", "[conv_L066.png](conv_L066.png)"])
         self.assertEqual(cells(lines[3]), [
-            "conv_torque_step", "0.0123", "0.0234", "2.50", "1.000", "-", "-", "-1.5000", "3.5000",
-            "-", "-", "2", "0.36", "-", "-"])
+            "conv_torque_step", "0.0123", "0.0234", "2.50", "1.000", "-", "-", "-"])
         self.assertEqual(cells(lines[4])[:2], ["broken", "error: broken.csv:3: column te_Nm: malformed number 'a|b'"])
-        self.assertEqual(cells(lines[4])[2:], [""] * 13)
+        self.assertEqual(cells(lines[4])[2:], [""] * 6)
+
+    def test_response_rows(self):
+        lines = sil_report.scenario_response_table(self.RUNS)
+        n = len(cells(lines[0]))
+        self.assertEqual(n, 8)
+        self.assertEqual(len(lines), 2 + 2)                 # the failed run is named in the first table only
+        for line in lines[1:]:
+            self.assertEqual(len(cells(line)), n, line)
+        self.assertEqual(cells(lines[2]), ["conv_L066", "-1.5000", "3.5000", "12.0", "77.58", "-", "-", "-"])
+        self.assertEqual(cells(lines[3]), ["conv_torque_step", "-1.5000", "3.5000", "-", "-", "2", "0.36", "-"])
 
 
 class CaseTable(Tmp):
+    CASES = [("L066", {"conv": result(), "prop": result(R_err_pct=0.013, L_err_pct=0.0, psif_err_pct=-0.01,
+                                                       t2_L_ms=19.0, t2_psif_ms=None, speed_dip_rpm=75.88)}),
+             ("L066_psif150", {"conv": result(L_err_pct=-34.0, psif_err_pct=50.0, t2_L_ms=None),
+                               "prop": result(step_periods_95=2, step_overshoot_pct=0.23)})]
+
     def test_rows(self):
         self.touch("L066_psif150_compare.png")
-        cases = [("L066", {"conv": result(), "prop": result(R_err_pct=0.013, L_err_pct=0.0, psif_err_pct=-0.01,
-                                                            t2_L_ms=19.0, t2_psif_ms=None, speed_dip_rpm=75.88)}),
-                 ("L066_psif150", {"conv": result(L_err_pct=-34.0, psif_err_pct=50.0, t2_L_ms=None),
-                                   "prop": result(step_periods_95=2, step_overshoot_pct=0.23)})]
+        cases = self.CASES
         real = {"real_conv_L066": result(te_err_Nm=0.08), "real_prop_L066": result(te_err_Nm=0.02),
                 "real_conv_L066_psif150": {"error": "failed"}, "real_prop_L066_psif150": result(te_err_Nm=0.03)}
         lines = sil_report.case_table(cases, self.dir, real)
         n = len(cells(lines[0]))
-        self.assertEqual(n, 16)
+        self.assertEqual(n, 9)
         self.assertEqual(len(lines), 2 + 4)
         for line in lines[1:]:
             self.assertEqual(len(cells(line)), n, line)
         rows = [cells(line) for line in lines[2:]]
         self.assertEqual([r[:2] for r in rows], [["L066", "conventional"], ["L066", "proposed"],
                                                  ["L066_psif150", "conventional"], ["L066_psif150", "proposed"]])
-        self.assertEqual(rows[1][2:], ["0.0123", "0.0200", "0.25", "1.000", "0.0234", "75.88", "+0.013", "+0.000",
-                                       "-0.010", "19.0", "-", "-", "-", "-"])
+        self.assertEqual(rows[1][2:], ["0.0123", "0.0200", "0.25", "1.000", "0.0234", "75.88", "-"])
         self.assertEqual(rows[0][3:5], ["0.0800", "-"])        # the conventional row has no ratio
         self.assertEqual(rows[2][3:5], ["-", "-"])             # its realistic run failed: no ratio either
         self.assertEqual(rows[3][3:5], ["0.0300", "-"])
-        self.assertEqual(rows[2][9:11], ["-34.000", "+50.000"])
-        self.assertEqual(rows[3][13:15], ["2", "0.23"])
         self.assertEqual(cells(sil_report.case_table(cases[:1], self.dir)[2])[3:5], ["-", "-"])   # no real runs
         # L066 has no comparison figure: no link, and not L066_psif150's
         self.assertEqual([r[-1] for r in rows], ["-", "-", "[L066_psif150_compare.png](L066_psif150_compare.png)",
                                                  "[L066_psif150_compare.png](L066_psif150_compare.png)"])
+
+    def test_small_ratio_keeps_its_digits(self):
+        # 0.00022 / 0.05 = 0.0044: two significant digits, not "0.00"
+        real = {"real_conv_L066": result(te_err_Nm=0.05), "real_prop_L066": result(te_err_Nm=0.00022)}
+        rows = [cells(x) for x in sil_report.case_table(self.CASES[:1], self.dir, real)[2:]]
+        self.assertEqual(rows[1][3:5], ["0.0002", "0.0044"])
+
+    def test_estimate_rows(self):
+        lines = sil_report.estimate_table(self.CASES)
+        n = len(cells(lines[0]))
+        self.assertEqual(n, 9)
+        self.assertEqual(len(lines), 2 + 4)
+        for line in lines[1:]:
+            self.assertEqual(len(cells(line)), n, line)
+        rows = [cells(line) for line in lines[2:]]
+        self.assertEqual(rows[1], ["L066", "proposed", "+0.013", "+0.000", "-0.010", "19.0", "-", "-", "-"])
+        self.assertEqual(rows[2][2:5], ["-", "-34.000", "+50.000"])
+        self.assertEqual(rows[3][7:9], ["2", "0.23"])
+
+
+class Significant(unittest.TestCase):
+    def test_sig(self):
+        cases = [(0.0044, "0.0044"), (0.004449, "0.0044"), (0.25, "0.25"), (1.25, "1.2"), (0.999, "1.0"),
+                 (9.96, "10"), (0.0995, "0.10"), (12.3, "12"), (123.4, "123"), (0.0, "0"), (-0.0044, "-0.0044"),
+                 (None, "-"), (float("nan"), "-"), (float("inf"), "-")]
+        for v, text in cases:
+            self.assertEqual(sil_report.sig(v), text, v)
+        self.assertEqual(sil_report.sig(0.012345, 3), "0.0123")
 
 
 class SeedTable(Tmp):
@@ -234,10 +270,15 @@ class Main(Tmp):
         self.assertIn("(3 scenarios, 1 cases)", out)
         lines = rep.splitlines()
         case_rows = [cells(x) for x in lines if x.startswith("| A |")]
-        self.assertEqual([r[1:3] for r in case_rows], [["conventional", "0.0100"], ["proposed", "0.0020"]])
+        # the torque table, then the estimates' table
+        self.assertEqual([r[1:3] for r in case_rows], [["conventional", "0.0100"], ["proposed", "0.0020"],
+                                                       ["conventional", "+0.000"], ["proposed", "+0.000"]])
+        self.assertLess(lines.index("## Case x method"), lines.index("### Estimates and torque step"))
         self.assertIn("(matplotlib not available: comparison and step-1 figures not drawn)", lines)
         scen = [cells(x)[:2] for x in lines if x.startswith(("| conv_", "| prop_"))]
-        self.assertEqual(scen, [["conv_A", "0.0100"], ["conv_B", "0.0100"], ["prop_A", "0.0020"]])
+        # the errors' table, then the currents' (id_A = 0 in DEFAULTS)
+        self.assertEqual(scen, [["conv_A", "0.0100"], ["conv_B", "0.0100"], ["prop_A", "0.0020"],
+                                ["conv_A", "+0.0000"], ["conv_B", "+0.0000"], ["prop_A", "+0.0000"]])
         self.assertNotIn("## Realistic board over noise seeds", lines)   # no seeds/ runs
 
     def test_report_with_seeds(self):
@@ -272,6 +313,34 @@ class Main(Tmp):
         with contextlib.redirect_stderr(err):
             self.assertEqual(sil_report.main(["--dir", self.dir]), 1)
         self.assertIn("no CSV in", err.getvalue())
+
+
+class StaleFigures(Tmp):
+    """Figures are drawn only when older than their runs: a report after one
+    run changed redraws that run's figures, not all of them."""
+    write_run = Main.write_run
+
+    def figures_of_main(self, *extra):
+        drawn = []
+        with mock.patch.object(sil_report, "draw_figures", lambda figs, jobs: drawn.extend(figs) or True), \
+                contextlib.redirect_stdout(io.StringIO()):
+            self.assertEqual(sil_report.main(["--dir", self.dir, *extra]), 0)
+        return sorted(os.path.basename(args[-1]) for _, args in drawn)
+
+    def test_only_stale(self):
+        for case in ("A", "B"):
+            self.write_run("conv_" + case, 0.01)
+            self.write_run("prop_" + case, 0.002)
+        self.assertEqual(self.figures_of_main(), ["A_compare.png", "B_compare.png"])
+        later = os.path.getmtime(os.path.join(self.dir, "prop_B.csv")) + 10
+        for case in ("A", "B"):
+            self.touch(case + "_compare.png")
+            os.utime(os.path.join(self.dir, case + "_compare.png"), (later, later))
+        self.assertEqual(self.figures_of_main(), [])
+        os.utime(os.path.join(self.dir, "prop_B.csv"), (later + 1, later + 1))   # run B again
+        self.assertEqual(self.figures_of_main(), ["B_compare.png"])
+        self.assertEqual(self.figures_of_main("--figures", "all"), ["A_compare.png", "B_compare.png"])
+        self.assertEqual(self.figures_of_main("--figures", "none"), [])
 
 
 if __name__ == "__main__":

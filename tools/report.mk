@@ -7,7 +7,7 @@
 #                     `make test`
 .PHONY: sil-report bench-ctrl bench-ctrl-deps test-tools
 
-sil-report:
+sil-report: ## rewrite build/sil/report.md from the runs there (system python3: tables only)
 	@python3 tools/sil_report.py --dir $(BUILD)/sil
 
 # Linked without PIE so callgrind's addresses match objdump's.
@@ -15,12 +15,12 @@ $(OUT)/bench_ctrl: $(call objs,tools/bench_ctrl.c) $(LIB_control)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) -no-pie -o $@ $(filter %.o,$^) $(filter %.a,$^) -lm
 
-bench-ctrl-deps:
+bench-ctrl-deps: ## (internal) valgrind and binutils for bench-ctrl
 	@tools/ensure_pkgs.sh valgrind binutils
 
 # Figures are for plain -O2 (VARIANT=o2, its own build directory; the
 # host build's -O3 and link-time optimisation would move them).
-bench-ctrl: bench-ctrl-deps
+bench-ctrl: bench-ctrl-deps ## instructions, divisions, sqrt and sin/cos per ctrl_step() (callgrind, -O2)
 	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/bench_ctrl
 	@tools/bench_ctrl.sh $(BUILD)/o2/bench_ctrl 20000
 
@@ -29,6 +29,6 @@ bench-ctrl: bench-ctrl-deps
 # written into the tree.
 EXTRA_TESTS += test-tools
 # tests/test_sweep.py runs the built drive_sil (its summary against metrics.py).
-test-tools: $(DRIVE_SIL)
+test-tools: $(DRIVE_SIL) ## (part of make test) the Python tools' unit tests, tests/test_*.py
 	@command -v python3 > /dev/null || tools/ensure_pkgs.sh python3
 	@DRIVE_SIL=$(DRIVE_SIL) PYTHONDONTWRITEBYTECODE=1 $(call suite,test-tools) python3 tools/run_py_tests.py tests

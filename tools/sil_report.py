@@ -2,10 +2,11 @@
 """sil_report.py - build/sil/report.md from the CSVs of `make sil`:
 
   1. one row of tools/metrics.py figures per scenario CSV, with links to
-     the plot drawn for exactly that scenario (<stem>.png / <stem>.svg);
-  2. the table case x method: every case that has both conv_<case>.csv
+     the plot drawn for exactly that scenario (<stem>.png / <stem>.svg),
+     in two tables (errors and plots; currents, load and torque step);
+  2. two tables case x method: every case that has both conv_<case>.csv
      and prop_<case>.csv (torque and flux error, ripple, speed dip at the
-     load step, R^/L^/psi_f^ error and time to 2 %, torque-step response),
+     load step; R^/L^/psi_f^ error and time to 2 %, torque-step response),
      with the realistic board's torque error beside the ideal one
      (real_conv_<case>.csv, real_prop_<case>.csv: ADC noise, dead time
      compensated 10 % short, device drop, 1000-line encoder, a warming
@@ -27,7 +28,11 @@ Windows: a run that reaches 1.05 s is measured over 0.8..0.95 s (steady,
 before the paper's load step) and its speed recovery and dip over
 0.95..1.05 s; a shorter run over its last quarter.
 
-Usage: sil_report.py [--dir build/sil] [--out build/sil/report.md]
+Figures are drawn only when older than their runs' CSV and resolved
+values or than this script (--figures all / none), in --jobs processes.
+The realistic / conventional ratio has two significant digits.
+
+Usage: sil_report.py [--dir build/sil] [--out build/sil/report.md] [--jobs N] [--figures stale|all|none]
 (--scenarios DIR is still accepted and ignored: the truth is in <stem>.resolved.json.)
 """
 import argparse
@@ -47,6 +52,7 @@ SHORT_RUN_TAIL = 0.25
 METHODS = (("conv", "conventional"), ("prop", "proposed"))
 STEP1_TAIL_S = 0.05       # the step-1 figure runs this far past step 2's start
 FIG_DPI = 110
+# The figures use fixed margins: tight_layout() would lay them out twice.
 
 
 def windows(col):
@@ -95,27 +101,62 @@ def pair_cases(results):
     return cases
 
 
+def sig(v, digits=2):
+    """v in fixed notation with `digits` significant digits (0.0044, 0.25,
+    1.2, 12): a ratio far below 1 keeps its figures instead of '0.00'."""
+    if v is None or not math.isfinite(v):
+        return "-"
+    if v == 0:
+        return "0"
+    decimals = max(0, digits - 1 - math.floor(math.log10(abs(v))))
+    text = format(v, f".{decimals}f")
+    # rounding may carry into one more digit (0.0995 -> 0.100): drop the extra decimal
+    if decimals > 0 and len(text.replace("-", "").replace(".", "").lstrip("0")) > digits:
+        text = format(v, f".{decimals - 1}f")
+    return text
+
+
+def error_row(stem, message, width):
+    msg = str(message).replace("|", "\\|").replace("\n", " ")
+    return f"| {stem} | error: {msg} |" + " |" * (width - 2)
+
+
 def scenario_table(runs, d):
+    """Every scenario's errors against its references, and its plots."""
     lines = [
         "| scenario | mean abs(Te-Te*) [N m] | Te ripple RMS [N m] | mean abs(psi-psi*) [mWb] | psi err [%] "
-        "| speed err [r/min] | max abs speed err [r/min] | id [A] | iq [A] | recovery [ms] | dip [r/min] "
-        "| step 95 % [periods] | overshoot [%] | settle 2 % [periods] | plots |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| speed err [r/min] | max abs speed err [r/min] | plots |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for stem, r in runs:
         if "error" in r:
-            msg = str(r["error"]).replace("|", "\\|").replace("\n", " ")
-            lines.append(f"| {stem} | error: {msg} |" + " |" * 13)
+            lines.append(error_row(stem, r["error"], 8))
             continue
         psi_mwb = r["psi_err_Wb"] * 1e3 if math.isfinite(r["psi_err_Wb"]) else math.nan
         lines.append(
             f"| {stem} | {cell(r['te_err_Nm'], '.4f')} | {cell(r['te_ripple_Nm'], '.4f')} "
             f"| {cell(psi_mwb, '.2f')} | {cell(r['psi_err_pct'], '.3f')} "
             f"| {cell(r['speed_err_rpm'], '+.3f')} | {cell(r['speed_err_max_rpm'], '.3f')} "
-            f"| {cell(r['id_A'], '+.4f')} | {cell(r['iq_A'], '.4f')} | {cell(r.get('recovery_ms'), '.1f')} "
+            f"| {plot_links(d, stem)} |")
+    return lines
+
+
+def scenario_response_table(runs):
+    """Every scenario's currents, load-step recovery and torque-step response
+    (the runs that failed are named in the first table)."""
+    lines = [
+        "| scenario | id [A] | iq [A] | recovery [ms] | dip [r/min] "
+        "| step 95 % [periods] | overshoot [%] | settle 2 % [periods] |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for stem, r in runs:
+        if "error" in r:
+            continue
+        lines.append(
+            f"| {stem} | {cell(r['id_A'], '+.4f')} | {cell(r['iq_A'], '.4f')} | {cell(r.get('recovery_ms'), '.1f')} "
             f"| {cell(r.get('speed_dip_rpm'), '.2f')} "
             f"| {cell(r.get('step_periods_95'), 'd')} | {cell(r.get('step_overshoot_pct'), '.2f')} "
-            f"| {cell(r.get('step_settle_periods'), 'd')} | {plot_links(d, stem)} |")
+            f"| {cell(r.get('step_settle_periods'), 'd')} |")
     return lines
 
 
@@ -125,34 +166,51 @@ def real_te(real, case, tag):
     return None if r is None or "error" in r else r.get("te_err_Nm")
 
 
+def case_rows(cases):
+    """(case, method name, result) of every measured run of the cases."""
+    for case, by_method in cases:
+        for tag, name in METHODS:
+            r = by_method.get(tag)
+            if r is not None and "error" not in r:
+                yield case, tag, name, r
+
+
 def case_table(cases, d, real=None):
-    """real: the results by stem, where real_<tag>_<case> gives the realistic column."""
+    """Torque and flux per case and method; real: the results by stem, where
+    real_<tag>_<case> gives the realistic columns."""
     lines = [
         "| case | method | mean abs(Te-Te*) [N m] | realistic mean abs(Te-Te*) [N m] | realistic / conventional "
-        "| psi err [%] | Te ripple RMS [N m] | speed dip [r/min] "
-        "| R^ err [%] | L^ err [%] | psi_f^ err [%] | L^ in 2 % [ms] | psi_f^ in 2 % [ms] "
-        "| step 95 % [periods] | overshoot [%] | figure |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| psi err [%] | Te ripple RMS [N m] | speed dip [r/min] | figure |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
-    for case, by_method in cases:
+    for case, tag, name, r in case_rows(cases):
         fig = f"{case}_compare.png"
         link = f"[{fig}]({fig})" if os.path.exists(os.path.join(d, fig)) else "-"
         conv_real = real_te(real, case, "conv")
-        for tag, name in METHODS:
-            r = by_method.get(tag)
-            if r is None or "error" in r:
-                continue
-            te_real = real_te(real, case, tag)
-            ratio = (te_real / conv_real if tag != "conv" and te_real is not None and conv_real
-                     else None)
-            lines.append(
-                f"| {case} | {name} | {cell(r['te_err_Nm'], '.4f')} | {cell(te_real, '.4f')} "
-                f"| {cell(ratio, '.2f')} | {cell(r['psi_err_pct'], '.3f')} "
-                f"| {cell(r['te_ripple_Nm'], '.4f')} | {cell(r.get('speed_dip_rpm'), '.2f')} "
-                f"| {cell(r.get('R_err_pct'), '+.3f')} | {cell(r.get('L_err_pct'), '+.3f')} "
-                f"| {cell(r.get('psif_err_pct'), '+.3f')} | {cell(r.get('t2_L_ms'), '.1f')} "
-                f"| {cell(r.get('t2_psif_ms'), '.1f')} | {cell(r.get('step_periods_95'), 'd')} "
-                f"| {cell(r.get('step_overshoot_pct'), '.2f')} | {link} |")
+        te_real = real_te(real, case, tag)
+        ratio = (te_real / conv_real if tag != "conv" and te_real is not None and conv_real
+                 else None)
+        lines.append(
+            f"| {case} | {name} | {cell(r['te_err_Nm'], '.4f')} | {cell(te_real, '.4f')} "
+            f"| {sig(ratio)} | {cell(r['psi_err_pct'], '.3f')} "
+            f"| {cell(r['te_ripple_Nm'], '.4f')} | {cell(r.get('speed_dip_rpm'), '.2f')} | {link} |")
+    return lines
+
+
+def estimate_table(cases):
+    """The estimates' errors and convergence, and the torque-step response,
+    per case and method."""
+    lines = [
+        "| case | method | R^ err [%] | L^ err [%] | psi_f^ err [%] | L^ in 2 % [ms] | psi_f^ in 2 % [ms] "
+        "| step 95 % [periods] | overshoot [%] |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for case, tag, name, r in case_rows(cases):
+        lines.append(
+            f"| {case} | {name} | {cell(r.get('R_err_pct'), '+.3f')} | {cell(r.get('L_err_pct'), '+.3f')} "
+            f"| {cell(r.get('psif_err_pct'), '+.3f')} | {cell(r.get('t2_L_ms'), '.1f')} "
+            f"| {cell(r.get('t2_psif_ms'), '.1f')} | {cell(r.get('step_periods_95'), 'd')} "
+            f"| {cell(r.get('step_overshoot_pct'), '.2f')} |")
     return lines
 
 
@@ -231,7 +289,7 @@ def compare_figure(plt, case, cols, truth, out):
     for j in range(2):
         axes[-1][j].set_xlabel("t [s]")
     fig.suptitle(f"case {case}: conventional vs proposed")
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.06, top=0.92, wspace=0.2, hspace=0.12)
     fig.savefig(out, dpi=FIG_DPI)
     plt.close(fig)
 
@@ -255,7 +313,7 @@ def step1_figure(plt, stem, col, truth, out):
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel("t [s] (dashed: step 2 starts)")
     fig.suptitle(f"{stem}: step 1 (offline R identification)")
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.14, right=0.97, bottom=0.08, top=0.93, hspace=0.12)
     fig.savefig(out, dpi=FIG_DPI)
     plt.close(fig)
     return True
@@ -265,10 +323,52 @@ def load_matplotlib():
     try:
         import matplotlib
         matplotlib.use("Agg")
+        matplotlib.rcParams["axes.formatter.useoffset"] = False
         import matplotlib.pyplot as plt
         return plt
     except ImportError:
         return None
+
+
+def stale(out, inputs):
+    """True when the figure out is missing or older than any of its inputs
+    (the run's CSV and resolved values, this script, metrics.py)."""
+    try:
+        t_out = os.path.getmtime(out)
+    except OSError:
+        return True
+    code = [os.path.abspath(__file__), os.path.abspath(metrics.__file__)]
+    return any(os.path.getmtime(p) > t_out for p in list(inputs) + code if os.path.exists(p))
+
+
+_FIGURES = []   # [(function, args)] of draw_figures(), inherited by its worker processes
+_PLT = None
+
+
+def _draw(i):
+    fn, args = _FIGURES[i]
+    fn(_PLT, *args)
+
+
+def draw_figures(figures, jobs):
+    """Draws [(function, args)] as function(plt, *args), in `jobs` processes;
+    False when matplotlib is not available."""
+    global _FIGURES, _PLT
+    if not figures:
+        return True
+    _PLT = load_matplotlib()
+    if _PLT is None:
+        return False
+    _FIGURES = figures
+    n = min(jobs, len(figures))
+    if n > 1:
+        import multiprocessing
+        with multiprocessing.get_context("fork").Pool(n) as pool:
+            pool.map(_draw, range(len(figures)), chunksize=1)
+    else:
+        for i in range(len(figures)):
+            _draw(i)
+    return True
 
 
 def main(argv=None):
@@ -276,6 +376,9 @@ def main(argv=None):
     ap.add_argument("--dir", default="build/sil")
     ap.add_argument("--scenarios", default=None, help="ignored (old command lines): the truth is in <stem>.resolved.json")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--jobs", type=int, default=1, help="processes drawing the figures (default 1)")
+    ap.add_argument("--figures", choices=("stale", "all", "none"), default="stale",
+                    help="draw the figures older than their runs (default), all, or none")
     a = ap.parse_args(argv)
     out = a.out or os.path.join(a.dir, "report.md")
     csvs = sorted(glob.glob(os.path.join(a.dir, "*.csv")))
@@ -283,7 +386,6 @@ def main(argv=None):
         print(f"sil_report.py: no CSV in {a.dir}", file=sys.stderr)
         return 1
 
-    plt = load_matplotlib()
     runs, cols, truths = [], {}, {}
     failed = 0
     for path in csvs:
@@ -297,16 +399,26 @@ def main(argv=None):
         except (OSError, ValueError, KeyError) as e:
             r = {"error": str(e)}
             failed += 1
+            print(f"sil_report.py: {stem}: {e}", file=sys.stderr)
         runs.append((stem, r))
-        if plt is not None and stem in cols and stem.startswith("prop_"):
-            step1_figure(plt, stem, cols[stem], truths[stem], os.path.join(a.dir, stem + "_step1.png"))
-
     cases = pair_cases(dict(runs))
-    if plt is not None:
-        for case, _ in cases:
-            compare_figure(plt, case, {tag: cols[f"{tag}_{case}"] for tag, _ in METHODS},
-                           {tag: truths[f"{tag}_{case}"] for tag, _ in METHODS},
-                           os.path.join(a.dir, f"{case}_compare.png"))
+
+    def inputs(*stems):
+        return [os.path.join(a.dir, s + ext) for s in stems for ext in (".csv", ".resolved.json")]
+
+    figures = []
+    for stem, col in cols.items():
+        png = os.path.join(a.dir, stem + "_step1.png")
+        if stem.startswith("prop_") and metrics.step2_start(col) is not None and \
+                (a.figures == "all" or a.figures == "stale" and stale(png, inputs(stem))):
+            figures.append((step1_figure, (stem, col, truths[stem], png)))
+    for case, _ in cases:
+        png = os.path.join(a.dir, f"{case}_compare.png")
+        stems = [f"{tag}_{case}" for tag, _ in METHODS]
+        if a.figures == "all" or a.figures == "stale" and stale(png, inputs(*stems)):
+            figures.append((compare_figure, (case, {tag: cols[f"{tag}_{case}"] for tag, _ in METHODS},
+                                             {tag: truths[f"{tag}_{case}"] for tag, _ in METHODS}, png)))
+    have_plt = draw_figures(figures, a.jobs)
 
     lines = [
         "# SIL report",
@@ -327,7 +439,11 @@ def main(argv=None):
         "3.0 -> 3.9 ohm over the run); the proposed method's error as a fraction of the conventional's.",
         "",
     ]
-    lines += case_table(cases, a.dir, dict(runs)) if cases else ["(no case with both conv_ and prop_ runs)"]
+    if cases:
+        lines += case_table(cases, a.dir, dict(runs))
+        lines += ["", "### Estimates and torque step", ""] + estimate_table(cases)
+    else:
+        lines.append("(no case with both conv_ and prop_ runs)")
     seeds = seed_table(a.dir)
     if seeds:
         lines += [
@@ -338,7 +454,8 @@ def main(argv=None):
         ] + seeds
     lines += ["", "## Every scenario", ""]
     lines += scenario_table(runs, a.dir)
-    if plt is None:
+    lines += ["", "### Currents, load step and torque step", ""] + scenario_response_table(runs)
+    if not have_plt:
         lines += ["", "(matplotlib not available: comparison and step-1 figures not drawn)"]
     lines.append("")
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)

@@ -32,7 +32,7 @@ SWEEP_REAL    := --set plant.adc_noise_A=0.02 --set plant.deadtime_s=1e-6 \
                  --set controller.deadtime_s=0.9e-6 --set plant.encoder_lines=1000
 SWEEP_SETS    := L_psif R_psif op
 
-sweep: $(VENV_STAMP) $(DRIVE_SIL)
+sweep: $(VENV_STAMP) $(DRIVE_SIL) ## sensitivity maps of both methods into build/sweep/ (PNGs, report.md)
 	@set -e; for s in $(SWEEP_SETS); do \
 	    case $$s in L_psif) g="$(SWEEP_L_PSIF)";; R_psif) g="$(SWEEP_R_PSIF)";; op) g="$(SWEEP_OP)";; esac; \
 	    echo "sweep $$s (ideal sensors)"; \
@@ -45,7 +45,7 @@ sweep: $(VENV_STAMP) $(DRIVE_SIL)
 # Regression net: fresh every time (no resume across builds), system python3.
 SWEEP_NET_DIR := $(OUT)/sweep_net
 EXTRA_TESTS += test-sweep-net
-test-sweep-net: $(DRIVE_SIL)
+test-sweep-net: $(DRIVE_SIL) ## (part of make test) 5 x 5 L x psi_f net: proposed never worse
 	@rm -rf $(SWEEP_NET_DIR)
 	@$(SWEEP_PY) --quiet --jobs 2 --grid controller.L_factor=0.5:2:5 --grid controller.psif_factor=0.5:2:5 \
 	    --log --out $(SWEEP_NET_DIR)
@@ -57,7 +57,7 @@ test-sweep-net: $(DRIVE_SIL)
 # flux (observer_design.md sec. 9f).
 SWEEP_LOW_DIR := $(OUT)/sweep_op_real_low
 EXTRA_TESTS += test-sweep-op-real
-test-sweep-op-real: $(DRIVE_SIL)
+test-sweep-op-real: $(DRIVE_SIL) ## (part of make test) realistic board at 100 and 371 r/min, six loads
 	@rm -rf $(SWEEP_LOW_DIR)
 	@$(SWEEP_PY) --quiet --jobs 2 --grid speed_rpm=100:371.4285714:2 --grid load_Nm=0.5:6:6 \
 	    --set 'reference.speed_rpm=0:0, 0.2:{speed_rpm}~' --set 'load.torque_Nm=0:2, 0.35:4, 0.6:{load_Nm}' \
@@ -65,7 +65,7 @@ test-sweep-op-real: $(DRIVE_SIL)
 	@$(call suite,test-sweep-op-real) python3 tools/sweep_check.py $(SWEEP_LOW_DIR)
 
 # 1000 points (25 x 20 x 2 methods) of the paper's 1.2 s switching scenario.
-bench-sweep: $(DRIVE_SIL)
+bench-sweep: $(DRIVE_SIL) ## drive_sil x real time and sweep points per second (part of bench)
 	@python3 tools/bench_drive_sil.py $(DRIVE_SIL)
 	@rm -rf $(OUT)/sweep_bench
 	@$(SWEEP_PY) --quiet --grid controller.L_factor=0.5:2:25 --grid controller.psif_factor=0.5:2:20 \

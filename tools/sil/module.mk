@@ -19,7 +19,9 @@ $(SIL_VERSION_C): FORCE
 	 line="const char sil_revision[] = \"$${rev:-unknown}\";"; \
 	 echo "$$line" | cmp -s - $@ || echo "$$line" > $@
 
-$(DRIVE_SIL): $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c $(SIL_VERSION_C)) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+DRIVE_SIL_INPUTS := $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c $(SIL_VERSION_C)) \
+                    $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+$(DRIVE_SIL): $(DRIVE_SIL_INPUTS)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
@@ -33,7 +35,7 @@ TEST_SRCS_test_sil_startup := tools/sil/sil.c
 # The CLI: exit status 2 and no CSV on bad input (runs the built binary).
 .PHONY: test-drive-sil-cli
 EXTRA_TESTS += test-drive-sil-cli
-test-drive-sil-cli: $(DRIVE_SIL)
+test-drive-sil-cli: $(DRIVE_SIL) ## (part of make test) drive_sil's command line: exit statuses, no CSV on bad input
 	@$(call suite,test-drive-sil-cli) tools/test_drive_sil_cli.sh $(DRIVE_SIL)
 
 # Commissioning on three motors, ideal and realistic board, and its refusals
