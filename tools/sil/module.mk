@@ -42,7 +42,7 @@ test-drive-sil-cli: $(DRIVE_SIL) ## (part of make test) drive_sil's command line
 # (runs the built binary; standard-library Python).
 .PHONY: test-commission
 EXTRA_TESTS += test-commission
-test-commission: $(DRIVE_SIL)
+test-commission: $(DRIVE_SIL) ## (part of make test) drive_sil --commission on three motors, ideal and realistic; refusals
 	@$(call suite,test-commission) python3 tools/test_commission.py $(DRIVE_SIL)
 
 # Acceptance of the proposed method on the simulated board (scenario files
