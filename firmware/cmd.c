@@ -17,25 +17,27 @@ void cmd_init(volatile cmd_t *cmd)
     cmd->error = (uint16_t)CMD_OK;
     cmd->run_taken = 0u;
     cmd->commission = 0u;
-    cmd->comm.state = 0u;
-    cmd->comm.stage = 0u;
-    cmd->comm.fault = 0u;
-    cmd->comm.fault_value = 0.0f;
-    cmd->comm.fault_limit = 0.0f;
-    cmd->comm.R_Ohm = 0.0f;
-    cmd->comm.L_H = 0.0f;
-    cmd->comm.psi_f_Wb = 0.0f;
-    cmd->comm.pole_pairs = 0u;
-    cmd->comm.J_kgm2 = 0.0f;
-    cmd->comm.B_Nms = 0.0f;
-    cmd->comm.enc_offset_el_rad = 0.0f;
-    cmd->comm.speed_kp_Nms_rad = 0.0f;
-    cmd->comm.speed_ki_Nm_rad = 0.0f;
 }
 
-/* The commissioning's report from the app (background: the ISR writes
- * comm.res before it sets comm_valid, and the stage and state are single words). */
-static void comm_report(volatile cmd_t *cmd, const app_t *app)
+void cmd_comm_report_init(volatile cmd_comm_report_t *rep)
+{
+    rep->state = 0u;
+    rep->stage = 0u;
+    rep->fault = 0u;
+    rep->fault_value = 0.0f;
+    rep->fault_limit = 0.0f;
+    rep->R_Ohm = 0.0f;
+    rep->L_H = 0.0f;
+    rep->psi_f_Wb = 0.0f;
+    rep->pole_pairs = 0u;
+    rep->J_kgm2 = 0.0f;
+    rep->B_Nms = 0.0f;
+    rep->enc_offset_el_rad = 0.0f;
+    rep->speed_kp_Nms_rad = 0.0f;
+    rep->speed_ki_Nm_rad = 0.0f;
+}
+
+void cmd_comm_report(volatile cmd_comm_report_t *rep, const app_t *app)
 {
     const comm_result_t *r = &app->comm.res;
     uint16_t state = 0u;
@@ -47,25 +49,25 @@ static void comm_report(volatile cmd_t *cmd, const app_t *app)
     } else if ((app->state == APP_STATE_FAULT) && (app->snapshot.state == APP_STATE_COMMISSION)) {
         state = 3u;
     } else {
-        state = cmd->comm.state; /* kept until the next commissioning */
+        state = rep->state; /* kept until the next commissioning */
     }
-    cmd->comm.state = state;
-    cmd->comm.stage = (uint16_t)app->comm.stage;
+    rep->state = state;
+    rep->stage = (uint16_t)app->comm.stage;
     if (state == 3u) {
-        cmd->comm.fault = (uint16_t)app->fault;
-        cmd->comm.fault_value = app->snapshot.value;
-        cmd->comm.fault_limit = app->snapshot.limit;
+        rep->fault = (uint16_t)app->fault;
+        rep->fault_value = app->snapshot.value;
+        rep->fault_limit = app->snapshot.limit;
     }
     if (state == 2u) {
-        cmd->comm.R_Ohm = r->R_Ohm;
-        cmd->comm.L_H = r->L_H;
-        cmd->comm.psi_f_Wb = r->psi_f_Wb;
-        cmd->comm.pole_pairs = r->pole_pairs;
-        cmd->comm.J_kgm2 = r->J_kgm2;
-        cmd->comm.B_Nms = r->B_Nms;
-        cmd->comm.enc_offset_el_rad = r->enc_offset_el_rad;
-        cmd->comm.speed_kp_Nms_rad = r->speed_kp_Nms_rad;
-        cmd->comm.speed_ki_Nm_rad = r->speed_ki_Nm_rad;
+        rep->R_Ohm = r->R_Ohm;
+        rep->L_H = r->L_H;
+        rep->psi_f_Wb = r->psi_f_Wb;
+        rep->pole_pairs = r->pole_pairs;
+        rep->J_kgm2 = r->J_kgm2;
+        rep->B_Nms = r->B_Nms;
+        rep->enc_offset_el_rad = r->enc_offset_el_rad;
+        rep->speed_kp_Nms_rad = r->speed_kp_Nms_rad;
+        rep->speed_ki_Nm_rad = r->speed_ki_Nm_rad;
     }
 }
 
@@ -138,6 +140,5 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
         }
         cmd->commission = 0u;
     }
-    comm_report(cmd, app);
     cmd->error = (uint16_t)err;
 }

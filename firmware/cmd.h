@@ -28,9 +28,10 @@ typedef enum {
                               * one. Set the mode to windows, speeds or trusted; restart */
 } cmd_error_t;
 
-/* The last commissioning, as cmd_apply() found it (read only for the
- * user; writing the values to flash is not done: the user copies them
- * into the board's configuration). */
+/* The last commissioning, as cmd_comm_report() found it (read only for
+ * the user; a separate object from cmd_t, which cmd_apply() copies whole;
+ * writing the values to flash is not done: the user copies them into the
+ * board's configuration). */
 typedef struct {
     uint16_t state;        /* 0 none, 1 running (stage says which), 2 done (values valid), 3 refused (fault says why) */
     uint16_t stage;        /* comm_stage_t reached (the refusing one) */
@@ -55,8 +56,8 @@ typedef struct {
     float uq_ref_V;
     uint16_t error;        /* cmd_error_t of the last refused field, CMD_OK when all were taken */
     uint16_t run_taken;    /* last run value acted on: a start or stop is sent on a change only */
-    uint16_t commission;   /* write 1 while stopped (run 0): measure the motor (commission.h); cmd_apply() sets it back to 0 */
-    cmd_comm_report_t comm; /* the commissioning's report, written by cmd_apply() */
+    uint16_t commission;   /* write 1 while stopped (run 0): measure the motor (commission.h); cmd_apply() sets it back to 0;
+                            * cmd_comm_report() tells how it went */
 } cmd_t;
 
 typedef struct {
@@ -70,5 +71,12 @@ void cmd_init(volatile cmd_t *cmd);
 
 /* Check the command and pass it to the drive. Background loop only. */
 void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app);
+
+/* Power-on report: nothing commissioned. Start-up. */
+void cmd_comm_report_init(volatile cmd_comm_report_t *rep);
+
+/* The commissioning's stage, outcome and values from the app into *rep.
+ * Background loop only (the ISR writes comm.res before comm_valid). */
+void cmd_comm_report(volatile cmd_comm_report_t *rep, const app_t *app);
 
 #endif /* CMD_H */

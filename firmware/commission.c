@@ -25,7 +25,20 @@ enum { E_HOLD_0 = 0, E_FWD, E_HOLD_1, E_BACK, E_HOLD_2 };
 /* SPIN phases */
 enum { S_ACCEL = 0, S_BRAKE };
 
-static const comm_ls_t LS_ZERO = { 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f };
+/* Field by field: a struct copy may become a memset, a library call
+ * that runs from flash (the ISR path's check, make check). */
+static void ls_clear(comm_ls_t *s)
+{
+    s->n = 0.0f;
+    s->s1 = 0.0f;
+    s->s2 = 0.0f;
+    s->sy = 0.0f;
+    s->s11 = 0.0f;
+    s->s12 = 0.0f;
+    s->s22 = 0.0f;
+    s->s1y = 0.0f;
+    s->s2y = 0.0f;
+}
 
 static void ls_add(comm_ls_t *s, float x1, float x2, float y)
 {
@@ -95,8 +108,6 @@ void comm_init(comm_t *m, const comm_cfg_t *cfg, float Ts_s, uint32_t enc_cpr)
 
 void comm_start(comm_t *m)
 {
-    const comm_result_t none = { 0.0f, 0.0f, 0.0f, 0u, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f };
-
     next_stage(m, COMM_STAGE_R);
     m->cycles = 0u;
     m->u_a_V = 0.0f;
@@ -119,9 +130,9 @@ void comm_start(comm_t *m)
     m->u_prev_V = 0.0f;
     m->u_prev2_V = 0.0f;
     m->di_prev_A = 0.0f;
-    m->ls = LS_ZERO;
-    m->ls2 = LS_ZERO;
-    m->ls3 = LS_ZERO;
+    ls_clear(&m->ls);
+    ls_clear(&m->ls2);
+    ls_clear(&m->ls3);
     m->iq_sum1 = 0.0f;
     m->w_sum1 = 0.0f;
     m->iq_sum2 = 0.0f;
@@ -133,7 +144,17 @@ void comm_start(comm_t *m)
     m->top_rad_s = 0.0f;
     m->w_ref_rad_s = 0.0f;
     m->y_ref_V = 0.0f;
-    m->res = none;
+    m->res.R_Ohm = 0.0f;
+    m->res.L_H = 0.0f;
+    m->res.psi_f_Wb = 0.0f;
+    m->res.pole_pairs = 0u;
+    m->res.J_kgm2 = 0.0f;
+    m->res.B_Nms = 0.0f;
+    m->res.enc_offset_el_rad = 0.0f;
+    m->res.speed_kp_Nms_rad = 0.0f;
+    m->res.speed_ki_Nm_rad = 0.0f;
+    m->res.u_err_V = 0.0f;
+    m->res.cpr_per_el = 0.0f;
 }
 
 /* The voltage limit of the stages [V]: u_frac of the inscribed circle. */
@@ -285,7 +306,7 @@ static app_step_t stage_l(comm_t *m, ab_t i)
             m->xd_V = m->u_a_V;
             m->xq_V = m->u_b_V;
             m->theta_c_rad = 0.0f;
-            m->ls = LS_ZERO;
+            ls_clear(&m->ls);
         } else {
             m->u_a_V = m->U2_V - R * dI;
             next_phase(m, L_DOWN);
@@ -421,7 +442,7 @@ static app_step_t stage_encoder(comm_t *m, const comm_in_t *in, ab_t i, ab_t *u_
             r = encoder_result(m);
             if (r.status == APP_STEP_DONE) {
                 next_stage(m, COMM_STAGE_SPIN);
-                m->ls = LS_ZERO;
+                ls_clear(&m->ls);
                 r = app_step_running();
             }
         }

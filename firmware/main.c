@@ -8,7 +8,10 @@
  * set its fields (see cmd.h): method 0/1 (conventional/proposed), mode
  * 0/1/2 (open loop/torque/speed), the reference, then run = 1. `g_app`
  * shows the state, the latched fault with its snapshot and the monitor
- * (g_app.ctrl.mon); g_cmd.error names a refused command.
+ * (g_app.ctrl.mon); g_cmd.error names a refused command. With run = 0,
+ * commission = 1 measures the motor (firmware/commission.h); g_comm
+ * reports the stage, then the values or the fault (they are not written
+ * to flash: copy them into board_cfg.h).
  * A reset by the watchdog (the background loop stopped kicking it: a
  * hang, a trap, an endless ISR) is latched as the fault WATCHDOG_RESET
  * (g_reset_by_watchdog also says so, and one line on the telemetry); the
@@ -36,6 +39,7 @@ extern CRC_TABLE flash_crc_table;
 static app_t g_app;          /* the whole drive state; static so CCS can watch it */
 static app_cfg_t g_cfg;      /* static: in .ebss, not on the 1K-word stack (tools/check/ram_budget.py) */
 static volatile cmd_t g_cmd; /* written by the operator from CCS (or a telemetry link) */
+static volatile cmd_comm_report_t g_comm; /* the last commissioning (g_cmd.commission = 1), read in CCS */
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char WATCHDOG_RESET_MSG[] = "reset by watchdog\r\n";
 
@@ -87,12 +91,14 @@ int main(void)
         app_latch_startup_fault(&g_app, APP_FAULT_WATCHDOG_RESET, 0.0f, 0.0f);
     }
     cmd_init(&g_cmd);
+    cmd_comm_report_init(&g_comm);
     lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
     lim.te_max_Nm = g_cfg.ctrl.te_max_Nm;
     lim.u_max_V = g_cfg.ctrl.u_max_V;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
     for (;;) {
         cmd_apply(&g_cmd, &lim, &g_app);
+        cmd_comm_report(&g_comm, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         hal_f28335_sci_pump();
     }
