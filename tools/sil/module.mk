@@ -26,6 +26,10 @@ $(DRIVE_SIL): $(DRIVE_SIL_INPUTS)
 	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
 TEST_LIBS_test_scenario := silrun firmware sim control
+TEST_LIBS_test_ini_edit := silrun
+# The app's commissioning in SIL (sil_run_ctl with commission).
+TEST_LIBS_test_sil_commission := silrun firmware sim control
+TEST_SRCS_test_sil_commission := tools/sil/sil.c
 TEST_LIBS_test_sil      := silrun firmware sim control
 TEST_SRCS_test_sil      := tools/sil/sil.c
 # The app's start-up sequence (calibrate, align, run) in SIL.
