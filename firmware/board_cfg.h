@@ -90,7 +90,8 @@
 #define COMM_U_FRAC              0.9f         /* |u| / (vdc/sqrt 3) beyond which a stage is implausible (SPIN: top speed) [-] */
 #define COMM_R_I1_FRAC           0.35f        /* R: first DC current / bound [-] */
 #define COMM_R_I2_FRAC           0.7f         /* R: second DC current / bound: overshoot of the integral loop stays below 1 [-] */
-#define COMM_R_RAMP_S            0.3f         /* R: ramp of the first current: slower than the rotor's swing onto phase a [s] */
+#define COMM_R_RAMP_S            0.3f         /* R: ramp of the first current at +90 deg el, and its turn onto phase a: slower than the rotor's swing [s] */
+#define COMM_R_KP_FRAC           0.05f        /* R: virtual resistance / (vdc / bound): the swing's induced current 5x smaller on the 540 V motor [-] */
 #define COMM_R_SEEK_S            1.0f         /* R: first regulator, a full-bound error ramps the voltage through vdc in this [s] */
 #define COMM_R_BW_RAD_S          200.0f       /* R: alpha's integral regulator from R0: faster than the rotor's swing [rad/s] */
 #define COMM_R_SETTLE_S          0.15f        /* R: settling after a current change, with the rotor still [s] */
@@ -99,7 +100,7 @@
 #define COMM_R_MAX_S             3.0f         /* R: stage timeout [s] */
 #define COMM_L_STEP_FRAC         0.3f         /* L: current step / bound (voltage step R^ x this) [-] */
 #define COMM_L_RISE_FRAC         0.7f         /* L: a step ends at this share of its final change [-] */
-#define COMM_L_CYCLES            4U           /* L: down-and-up steps [-] */
+#define COMM_L_CYCLES            8U           /* L: down-and-up steps [-] */
 #define COMM_L_MAX_S             1.0f         /* L: stage timeout [s] */
 #define COMM_I_BW_RAD_S          1500.0f      /* ENCODER, SPIN: current PI from R^, L^; 0.15 / Ts [rad/s] */
 #define COMM_ENC_FRAC            0.5f         /* ENCODER: swept current / bound [-] */

@@ -13,6 +13,7 @@
 /* The output vector's angle: the middle of the period it is applied in,
  * 1.5 periods after the sample (one period of computation delay). */
 #define OUT_ANGLE_PERIODS 1.5f
+#define HALF_PI_F (0.5f * MATHX_PI_F)
 /* Fewest samples a fit accepts. */
 #define FIT_N_MIN 20.0f
 
@@ -116,6 +117,9 @@ void comm_start(comm_t *m)
     m->xq_V = 0.0f;
     m->ki_V_As = 0.0f;
     m->ki0_V_As = 0.0f;
+    m->kp_V_A = 0.0f;
+    m->out_a_V = 0.0f;
+    m->out_b_V = 0.0f;
     m->i_ref_A = m->cfg.r_i1_frac * m->cfg.i_max_A;
     m->err_abs_A = 0.0f;
     m->sum_u = 0.0f;
@@ -163,6 +167,20 @@ static float u_limit_V(const comm_t *m, float vdc_V)
     return m->cfg.u_frac * vdc_V * MATHX_INV_SQRT3_F;
 }
 
+/* count - from [counts], the shorter way round the turn (signed). */
+static float count_diff(const comm_t *m, uint32_t count, uint32_t from)
+{
+    int32_t d = (int32_t)count - (int32_t)from;
+    const int32_t half = (int32_t)(m->enc_cpr / 2u);
+
+    if (d > half) {
+        d -= (int32_t)m->enc_cpr;
+    } else if (d < -half) {
+        d += (int32_t)m->enc_cpr;
+    }
+    return (float)d;
+}
+
 /* ---- R: integral regulator on alpha (I1, I2) and beta (0) --------------- */
 
 static void window_add(comm_t *m, float u, float i)
@@ -187,22 +205,38 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
     const float I1 = c->r_i1_frac * c->i_max_A;
     bool still;
     float e_a;
+    float i_ref_b = 0.0f;
 
-    if (m->phase == R_SEEK) { /* ramped: the rotor turns onto phase a without a swing */
-        m->i_ref_A = I1 * mathx_clampf((float)m->stage_ticks * m->Ts_s / c->r_ramp_s, 0.0f, 1.0f);
+    if (m->phase == R_SEEK) {
+        /* ramped at +90 deg, then turned onto phase a: the rotor follows
+         * without a swing, and no start angle is a dead point of both
+         * (startup_design.md, "Alignment") */
+        const float t = (float)m->stage_ticks * m->Ts_s;
+        const float mag = I1 * mathx_clampf(t / c->r_ramp_s, 0.0f, 1.0f);
+        const float phi = HALF_PI_F * (1.0f - mathx_clampf((t - c->r_ramp_s) / c->r_ramp_s, 0.0f, 1.0f));
+        float sn;
+        float cs;
+        mathx_sincosf(phi, &sn, &cs);
+        m->i_ref_A = mag * cs;
+        i_ref_b = mag * sn;
     }
     e_a = m->i_ref_A - i.a;
     app_step_t r = app_step_running();
 
+    /* integral, plus a virtual resistance that bounds the current the
+     * rotor's swing induces; beta's integral slow: a current the back-EMF
+     * drives on it damps the swing */
     m->u_a_V += m->ki_V_As * m->Ts_s * e_a;
-    m->u_b_V -= m->ki0_V_As * m->Ts_s * i.b; /* slow: the back-EMF on beta damps the rotor's swing onto phase a */
+    m->u_b_V += m->ki0_V_As * m->Ts_s * (i_ref_b - i.b);
+    m->out_a_V = m->u_a_V + m->kp_V_A * e_a;
+    m->out_b_V = m->u_b_V + m->kp_V_A * (i_ref_b - i.b);
     /* still: the count within one of where the settling began */
     if ((m->phase == R_SETTLE_1) || (m->phase == R_SETTLE_2)) {
         if (m->ticks == 0u) {
             m->count_last = count;
         }
     }
-    still = mathx_fabsf((float)((int32_t)count - (int32_t)m->count_last)) <=
+    still = mathx_fabsf(count_diff(m, count, m->count_last)) <=
             c->r_still_rad * (float)m->enc_cpr / MATHX_TWO_PI_F;
     if (!still) {
         m->count_last = count;
@@ -210,7 +244,7 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
     switch (m->phase) {
     case R_SEEK:
         m->err_abs_A += mathx_fabsf(e_a);
-        if (m->stage_ticks < periods(m, c->r_ramp_s)) {
+        if (m->stage_ticks < 2u * periods(m, c->r_ramp_s)) {
             m->err_abs_A = 0.0f;
             m->ticks = 0u;
         } else if (m->ticks >= periods(m, SEEK_BLOCK_S)) {
@@ -241,7 +275,7 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
             next_phase(m, R_SETTLE_1);
             break;
         }
-        window_add(m, m->u_a_V, i.a);
+        window_add(m, m->out_a_V, i.a);
         if (m->ticks >= periods(m, c->r_window_s)) {
             window_take(m, &m->U1_V, &m->I1_A);
             m->i_ref_A = c->r_i2_frac * c->i_max_A;
@@ -254,7 +288,7 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
             next_phase(m, R_SETTLE_2);
             break;
         }
-        window_add(m, m->u_a_V, i.a);
+        window_add(m, m->out_a_V, i.a);
         if (m->ticks >= periods(m, c->r_window_s)) {
             float R;
             window_take(m, &m->U2_V, &m->I2_A);
@@ -290,6 +324,7 @@ static app_step_t stage_l(comm_t *m, ab_t i)
     ls_add(&m->ls, di, (float)m->stage_ticks * m->Ts_s, m->y_Vs);
     m->di_prev_A = di;
     m->u_b_V -= m->ki0_V_As * m->Ts_s * i.b;
+    m->out_b_V = m->u_b_V - m->kp_V_A * i.b;
     if ((m->phase == L_DOWN) && (di <= -c->l_rise_frac * dI)) {
         m->u_a_V = m->U2_V;
         next_phase(m, L_UP);
@@ -304,7 +339,7 @@ static app_step_t stage_l(comm_t *m, ab_t i)
             m->res.L_H = L;
             next_stage(m, COMM_STAGE_ENCODER);
             m->xd_V = m->u_a_V;
-            m->xq_V = m->u_b_V;
+            m->xq_V = m->out_b_V;
             m->theta_c_rad = 0.0f;
             ls_clear(&m->ls);
         } else {
@@ -341,16 +376,10 @@ static float current_pi(comm_t *m, ab_t i, float s, float co, dq_t i_ref, float 
 /* Signed count change since the last period, the shorter way round [counts]. */
 static float count_step(comm_t *m, uint32_t count)
 {
-    int32_t d = (int32_t)count - (int32_t)m->count_last;
-    const int32_t half = (int32_t)(m->enc_cpr / 2u);
+    const float d = count_diff(m, count, m->count_last);
 
-    if (d > half) {
-        d -= (int32_t)m->enc_cpr;
-    } else if (d < -half) {
-        d += (int32_t)m->enc_cpr;
-    }
     m->count_last = count;
-    return (float)d;
+    return d;
 }
 
 /* ---- ENCODER: a vector swept one electrical turn forward and back -------- */
@@ -584,6 +613,7 @@ app_step_t comm_step(comm_t *m, const comm_in_t *in, ab_t *u_ab_V)
     if (m->stage == COMM_STAGE_R) {
         if ((m->phase == R_SEEK) && (m->ki_V_As <= 0.0f)) {
             m->ki0_V_As = in->vdc_V / (m->cfg.i_max_A * m->cfg.r_seek_s);
+            m->kp_V_A = m->cfg.r_kp_frac * in->vdc_V / m->cfg.i_max_A;
             m->ki_V_As = m->ki0_V_As;
         }
         r = stage_r(m, i, in->enc_count);
@@ -595,11 +625,15 @@ app_step_t comm_step(comm_t *m, const comm_in_t *in, ab_t *u_ab_V)
         r = stage_spin(m, in, i, u_ab_V);
     }
     if (open_loop) {
-        const float u_abs = mathx_sqrtf(m->u_a_V * m->u_a_V + m->u_b_V * m->u_b_V);
-        u_ab_V->a = m->u_a_V;
-        u_ab_V->b = m->u_b_V;
+        float u_abs;
+        if (m->stage == COMM_STAGE_L) {
+            m->out_a_V = m->u_a_V; /* open loop */
+        }
+        u_abs = mathx_sqrtf(m->out_a_V * m->out_a_V + m->out_b_V * m->out_b_V);
+        u_ab_V->a = m->out_a_V;
+        u_ab_V->b = m->out_b_V;
         m->u_prev2_V = m->u_prev_V;
-        m->u_prev_V = m->u_a_V;
+        m->u_prev_V = m->out_a_V;
         if ((r.status == APP_STEP_RUNNING) && (u_abs > u_limit_V(m, in->vdc_V))) {
             r = app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, u_abs, u_limit_V(m, in->vdc_V));
         }

@@ -4,7 +4,8 @@
  *   R        DC injection on phase a (alpha) at two currents under an
  *            integral current regulator; R = dU/dI (the inverter's
  *            constant voltage error and the device drop cancel). The
- *            rotor's d axis is pulled onto phase a on the way;
+ *            first current, ramped at +90 deg and turned onto phase a,
+ *            pulls the rotor's d axis there;
  *   L        open-loop voltage steps of +-R^ dI_L on alpha at standstill
  *            (the d axis), L from the integrated voltage balance
  *            L di = (du - R^ di) dt by least squares;
@@ -49,7 +50,8 @@ typedef struct {
     float u_frac;               /* |u| above this share of vdc/sqrt(3): implausible (R, L, ENCODER), top speed (SPIN) [-] */
     /* R */
     float r_i1_frac, r_i2_frac; /* the two DC currents / i_max [-] */
-    float r_ramp_s;             /* the first current's ramp from 0 [s] */
+    float r_ramp_s;             /* the first current's ramp from 0 at +90 deg el, then its turn onto phase a [s] */
+    float r_kp_frac;            /* virtual resistance / (vdc / i_max): bounds the current a swing induces [-] */
     float r_seek_s;             /* first regulator: a full i_max error ramps the voltage through vdc in this time [s] */
     float r_bw_rad_s;           /* integral regulator's bandwidth once R0 = U / I is known [rad/s] */
     float r_settle_s;           /* after each current change, with the rotor still [s] */
@@ -114,6 +116,8 @@ typedef struct {
     float xd_V, xq_V;           /* ENCODER, SPIN: PI integral states, dq [V] */
     float ki_V_As;              /* R: alpha's integral gain [V/(A s)] */
     float ki0_V_As;             /* R: the seek's (beta's throughout) [V/(A s)] */
+    float kp_V_A;               /* R, L: the virtual resistance of both axes (L: beta's) [V/A] */
+    float out_a_V, out_b_V;     /* R, L: the alpha-beta voltage commanded [V] */
     float i_ref_A;
     float err_abs_A;            /* R seek: summed |error| over a block */
     /* windows and fits */

@@ -8,7 +8,10 @@ on an ideal board (averaged inverter, no noise) and a realistic one
 and told R 1.5x, L 0.7x, psi_f 1.2x: R, L, psi_f within 3 %, J within
 10 %, the encoder offset within 2 electrical degrees, the pole pairs
 exact; OUT.ini keeps no active *_factor, carries the measured values and
-runs without a fault. A locked rotor, a lost encoder and an open phase
+runs without a fault. Start angles at the dead points of the alignment
+vectors (pi, 3 pi / 2) and on phase a, with a device drop and a
+1000-line encoder: the same tolerances, the current within its bound.
+A locked rotor, a lost encoder and an open phase
 end in a named fault with the gates off, exit 3 and no OUT.ini.
 Standard library only; prints "N passed, N failed" last.
 """
@@ -30,6 +33,8 @@ MOTORS = {
 TOL_REL = {"R_ohm": 0.03, "L_H": 0.03, "psif_Wb": 0.03, "J_kgm2": 0.10}
 TOL_OFFSET_DEG = 2.0
 TOLD_OFF = {"R_factor": 1.5, "L_factor": 0.7, "psif_factor": 1.2}
+START_ANGLES = (0.0, math.pi, 1.5 * math.pi)   # on phase a; dead points of the phase-a and +90 deg vectors
+HARD_BOARD = ("plant.device_drop_V=1.2", "plant.encoder_lines=1000")
 FAULTS = {  # --set, the fault names accepted
     "locked rotor": ("plant.speed_held=1", {"COMM_NO_ROTATION"}),
     "encoder lost": ("faults.encoder_lost_s=0", {"COMM_NO_ROTATION"}),
@@ -76,6 +81,21 @@ def commission(binary, path, out, sets=()):
     return subprocess.run(args, capture_output=True, text=True)
 
 
+def measured(r):
+    return {k: float(x) for k, x in re.findall(r"(\w+)=([-+\d.eE]+)", r.stdout)}
+
+
+def judge(name, d, v, off):
+    truth = {"R_ohm": d["R"], "L_H": d["L"], "psif_Wb": d["psi"], "J_kgm2": d["J"]}
+    errs = {k: v[k] / t - 1.0 for k, t in truth.items()}
+    check(all(abs(e) <= TOL_REL[k] for k, e in errs.items()),
+          "%s: %s" % (name, ", ".join("%s %+.2f %%" % (k, 100 * e) for k, e in errs.items())))
+    off_err = math.degrees((v["encoder_offset_el_rad"] - off + math.pi) % (2 * math.pi) - math.pi)
+    check(abs(off_err) <= TOL_OFFSET_DEG and int(v["pole_pairs"]) == d["p"],
+          "%s: offset %+.2f deg el, pole pairs %d" % (name, off_err, int(v["pole_pairs"])))
+    check(v["max_abs_i_A"] <= d["i"], "%s: max |i| %.2f A within %.2f A" % (name, v["max_abs_i_A"], d["i"]))
+
+
 def main():
     binary = sys.argv[1]
     with tempfile.TemporaryDirectory() as tmp:
@@ -91,15 +111,7 @@ def main():
                     if r.returncode != 0:
                         check(False, "%s: exit %d: %s" % (name, r.returncode, r.stderr.strip()))
                         continue
-                    v = {k: float(x) for k, x in re.findall(r"(\w+)=([-+\d.eE]+)", r.stdout)}
-                    truth = {"R_ohm": d["R"], "L_H": d["L"], "psif_Wb": d["psi"], "J_kgm2": d["J"]}
-                    errs = {k: v[k] / t - 1.0 for k, t in truth.items()}
-                    check(all(abs(e) <= TOL_REL[k] for k, e in errs.items()),
-                          "%s: %s" % (name, ", ".join("%s %+.2f %%" % (k, 100 * e) for k, e in errs.items())))
-                    off_err = math.degrees((v["encoder_offset_el_rad"] - d["off"] + math.pi) % (2 * math.pi) - math.pi)
-                    check(abs(off_err) <= TOL_OFFSET_DEG and int(v["pole_pairs"]) == d["p"],
-                          "%s: offset %+.2f deg el, pole pairs %d" % (name, off_err, int(v["pole_pairs"])))
-                    check(v["max_abs_i_A"] <= d["i"], "%s: max |i| %.2f A within %.2f A" % (name, v["max_abs_i_A"], d["i"]))
+                    judge(name, d, measured(r), d["off"])
                     with open(out) as f:
                         text = f.read()
                     active = [ln for ln in text.splitlines() if not ln.lstrip().startswith(";")]
@@ -108,6 +120,17 @@ def main():
                     check(ok, "%s: OUT.ini has the measured values, no active factor, [reference] kept" % name)
                     r2 = subprocess.run([binary, "--scenario", out, "--summary", "-"], capture_output=True, text=True)
                     check(r2.returncode == 0, "%s: OUT.ini runs without a fault (exit %d)" % (name, r2.returncode))
+            for angle in START_ANGLES:
+                name = "%s realistic, drop, 1000 lines, start %.0f deg el" % (m, math.degrees(angle))
+                path = os.path.join(tmp, "in.ini")
+                with open(path, "w") as f:
+                    f.write(scenario(m, True, True))
+                r = commission(binary, path, os.path.join(tmp, "angle.ini"),
+                               HARD_BOARD + ("plant.encoder_offset_el_rad=%.9g" % angle,))
+                if r.returncode != 0:
+                    check(False, "%s: exit %d: %s" % (name, r.returncode, r.stderr.strip()))
+                    continue
+                judge(name, d, measured(r), angle)
             for what, (s, names) in FAULTS.items():
                 path = os.path.join(tmp, "in.ini")
                 out = os.path.join(tmp, "fault.ini")
