@@ -141,6 +141,14 @@ def main():
                 ok = (r.returncode == 3 and mt is not None and mt.group(1) in names and mt.group(3) == "0" and
                       not os.path.exists(out))
                 check(ok, "%s %s: exit %d, %s" % (m, what, r.returncode, r.stderr.strip()))
+        # the command line: a bad OUT.ini path or a flag that does not go with it is bad input (exit 2)
+        path = os.path.join(tmp, "in.ini")
+        for what, extra in (("unwritable OUT.ini", ["--commission", os.path.join(tmp, "no", "x.ini")]),
+                            ("--commission with --summary", ["--commission", os.path.join(tmp, "x.ini"),
+                                                             "--summary", "-"])):
+            r = subprocess.run([binary, "--scenario", path] + extra, capture_output=True, text=True)
+            check(r.returncode == 2 and r.stderr.strip() != "" and not os.path.exists(os.path.join(tmp, "x.ini")),
+                  "CLI %s: exit %d, %s" % (what, r.returncode, r.stderr.strip()))
     print("commission: %d passed, %d failed" % (npass, nfail))
     return 1 if nfail else 0
 

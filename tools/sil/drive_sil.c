@@ -550,7 +550,7 @@ static void comm_edit(ini_edit_t *e, size_t *n, char (*val)[COMM_VALUE_LEN], con
 
 /* OUT.ini of a completed commissioning: the scenario file, the --set
  * overrides, the measured values; 0, or -1 (message printed, no file). */
-static int commission_write(const args_t *a, const sil_result_t *res)
+static int commission_write(const args_t *a, const sil_result_t *res, out_file_t *o)
 {
     static ini_edit_t e[COMM_EDITS_MAX];
     static char val[COMM_EDITS_MAX][COMM_VALUE_LEN];
@@ -585,22 +585,18 @@ static int commission_write(const args_t *a, const sil_result_t *res)
     if (in == NULL) {
         fprintf(stderr, "drive_sil: --scenario %s: cannot read it again: ", a->scenario_path);
         perror(NULL);
+        out_abandon(o);
         return -1;
     }
-    out_file_t o;
-    if (out_open(&o, a->commission_path, "--commission") != 0) {
-        fclose(in);
-        return -1;
-    }
-    fprintf(o.f, "; commissioned by drive_sil %s from %s\n", sil_revision, a->scenario_path);
-    const int rc = ini_edit_copy(in, o.f, e, n);
+    fprintf(o->f, "; commissioned by drive_sil %s from %s\n", sil_revision, a->scenario_path);
+    const int rc = ini_edit_copy(in, o->f, e, n);
     fclose(in);
     if (rc != 0) {
         fprintf(stderr, "drive_sil: --scenario %s: read error\n", a->scenario_path);
-        out_abandon(&o);
+        out_abandon(o);
         return -1;
     }
-    return out_commit(&o, "--commission");
+    return out_commit(o, "--commission");
 }
 
 static const char *comm_stage_name(int stage)
@@ -610,7 +606,7 @@ static const char *comm_stage_name(int stage)
 }
 
 /* The commissioning's outcome: OUT.ini and the values on stdout, or the refusal. */
-static int commission_finish(const args_t *a, const sil_result_t *res)
+static int commission_finish(const args_t *a, const sil_result_t *res, out_file_t *o)
 {
     char fbuf[NAME_LEN];
     if (!res->comm_valid) {
@@ -618,17 +614,18 @@ static int commission_finish(const args_t *a, const sil_result_t *res)
                 "gates on in fault: %u periods; no %s written\n",
                 summary_fault_name(res->final_fault, fbuf, sizeof fbuf), comm_stage_name(res->comm_stage),
                 res->fault_state, res->fault_value, res->fault_limit, res->gates_on_in_fault, a->commission_path);
+        out_abandon(o);
         return EXIT_FAULT;
     }
-    if (commission_write(a, res) != 0) {
+    if (commission_write(a, res, o) != 0) {
         return EXIT_FAILURE;
     }
     printf("drive_sil: commissioned: R_ohm=%.6g L_H=%.6g psif_Wb=%.6g pole_pairs=%u J_kgm2=%.6g B_Nms=%.6g "
            "encoder_offset_el_rad=%.6g speed_kp_Nms_rad=%.6g speed_ki_Nm_rad=%.6g u_err_V=%.4g max_abs_i_A=%.4g "
-           "t_s=%.4g -> %s\n",
+           "periods=%u -> %s\n",
            res->comm_R_ohm, res->comm_L_H, res->comm_psif_Wb, res->comm_pole_pairs, res->comm_J_kgm2,
            res->comm_B_Nms, res->comm_enc_offset_el_rad, res->comm_speed_kp_Nms_rad, res->comm_speed_ki_Nm_rad,
-           res->comm_u_err_V, res->max_abs_i_A, (double)res->periods * 1e-4, a->commission_path);
+           res->comm_u_err_V, res->max_abs_i_A, res->periods, a->commission_path);
     return EXIT_SUCCESS;
 }
 
@@ -663,6 +660,12 @@ int main(int argc, char **argv)
         out_abandon(&csv);
         return EXIT_BAD_INPUT;
     }
+    out_file_t comm_ini;   /* --commission's OUT.ini: opened now, so that a bad path is bad input */
+    if (out_open(&comm_ini, a.commission_path, "--commission") != 0) {
+        out_abandon(&csv);
+        out_abandon(&js);
+        return EXIT_BAD_INPUT;
+    }
     static summary_t sum;
     static csv_writer_t writer;
     summary_init(&sum, &sc, t0, t1);
@@ -677,6 +680,7 @@ int main(int argc, char **argv)
                     strerror(err));
             out_abandon(&csv);
             out_abandon(&js);
+        out_abandon(&comm_ini);
             return EXIT_FAILURE;
         }
     }
@@ -698,6 +702,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "drive_sil: --out %s: write error: %s\n", a.out_path, strerror(err));
         out_abandon(&csv);
         out_abandon(&js);
+        out_abandon(&comm_ini);
         return EXIT_FAILURE;
     }
     if (stopped) {
@@ -708,9 +713,11 @@ int main(int argc, char **argv)
     const int csv_in_place = (csv.f != NULL && csv.tmp_path == NULL);
     if (out_commit(&csv, "--out") != 0 || resolved_write(&a, &sc, csv_in_place) != 0) {
         out_abandon(&js);
+        out_abandon(&comm_ini);
         return EXIT_FAILURE;
     }
     if (out_commit(&js, "--summary") != 0) {
+        out_abandon(&comm_ini);
         return EXIT_FAILURE;
     }
     if (sink.csv != NULL && writer.capped) {
@@ -718,8 +725,9 @@ int main(int argc, char **argv)
                 a.out_path, writer.t_capped_s, a.max_csv_mb);
     }
     if (a.commission_path != NULL && !stopped) {
-        return commission_finish(&a, &res);
+        return commission_finish(&a, &res, &comm_ini);
     }
+    out_abandon(&comm_ini);   /* stopped by a signal: no OUT.ini */
     if (a.out_path != NULL && !summary_on_stdout(&a)) {
         char sbuf[NAME_LEN];
         char fbuf[NAME_LEN];
