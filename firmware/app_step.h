@@ -22,7 +22,7 @@ typedef enum {
     APP_STATE_IDENTIFY_R = 4,
     APP_STATE_RUN = 5,
     APP_STATE_FAULT = 6,
-    APP_STATE_COMMISSION = 7         /* measuring the motor (commission.h) */
+    APP_STATE_COMMISSION = 10        /* measuring the motor (commission.h); 7-9 and faults 22-24 are kept for the bring-up levels */
 } app_state_t;
 
 typedef enum {
@@ -49,9 +49,9 @@ typedef enum {
     APP_FAULT_WATCHDOG_RESET = 20,   /* start-up: the last reset was the watchdog's (app_latch_startup_fault) */
     APP_FAULT_FLASH_CRC = 21,        /* start-up: the program image fails its linker CRC (flash_crc.h); no reset clears it */
     /* commissioning (commission.h; the stage in comm_t.stage): */
-    APP_FAULT_COMM_TIMEOUT = 22,     /* a stage outlasted its timeout (value: its time [s], limit: the timeout) */
-    APP_FAULT_COMM_NO_ROTATION = 23, /* the swept vector moved the count by less than half an electrical turn at the most pole pairs */
-    APP_FAULT_COMM_IMPLAUSIBLE = 24  /* a stage's measurement or the voltage it needed outside its plausible range */
+    APP_FAULT_COMM_TIMEOUT = 25,     /* a stage outlasted its timeout (value: its time [s], limit: the timeout) */
+    APP_FAULT_COMM_NO_ROTATION = 26, /* the swept vector moved the count by less than half an electrical turn at the most pole pairs */
+    APP_FAULT_COMM_IMPLAUSIBLE = 27  /* a stage's measurement or the voltage it needed outside its plausible range */
 } app_fault_t;
 
 typedef enum {
