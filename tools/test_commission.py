@@ -8,7 +8,8 @@ on an ideal board (averaged inverter, no noise) and a realistic one
 and told R 1.5x, L 0.7x, psi_f 1.2x: R, L, psi_f within 3 %, J within
 10 %, the encoder offset within 2 electrical degrees, the pole pairs
 exact; OUT.ini keeps no active *_factor, carries the measured values and
-runs without a fault. Start angles at the dead points of the alignment
+runs without a fault. Told values the observer refuses (a start faults
+CONFIG) do not stop it. Start angles at the dead points of the alignment
 vectors (pi, 3 pi / 2) and on phase a, with a device drop and a
 1000-line encoder: the same tolerances, the current within its bound.
 A locked rotor, a lost encoder and an open phase
@@ -141,6 +142,18 @@ def main():
                 ok = (r.returncode == 3 and mt is not None and mt.group(1) in names and mt.group(3) == "0" and
                       not os.path.exists(out))
                 check(ok, "%s %s: exit %d, %s" % (m, what, r.returncode, r.stderr.strip()))
+        # told values the observer refuses (the small motor's 0.2 mH under the
+        # default gains: a start faults CONFIG) do not stop the commissioning
+        path = os.path.join(tmp, "in.ini")
+        with open(path, "w") as f:
+            f.write(scenario("small", True, True))
+        proposed = ("controller.method=proposed", "identify.mode=speeds")
+        r0 = subprocess.run([binary, "--scenario", path, "--summary", "-"] + [a for p in proposed for a in ("--set", p)],
+                            capture_output=True, text=True)
+        r = commission(binary, path, os.path.join(tmp, "prop.ini"), proposed)
+        check('"CONFIG"' in r0.stdout and r.returncode == 0,
+              "small, proposed method refused at start (%s), commissions: exit %d" %
+              ("CONFIG" if '"CONFIG"' in r0.stdout else "no CONFIG", r.returncode))
         # the command line: a bad OUT.ini path or a flag that does not go with it is bad input (exit 2)
         path = os.path.join(tmp, "in.ini")
         for what, extra in (("unwritable OUT.ini", ["--commission", os.path.join(tmp, "no", "x.ini")]),
