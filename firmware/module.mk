@@ -24,3 +24,7 @@ TEST_SRCS_test_rsid_seq := tests/mock_hal.c
 # What runs before the drive: the flash CRC check and the start-up faults.
 TEST_LIBS_test_startup := firmware control
 TEST_SRCS_test_startup := tests/mock_hal.c
+
+# The commissioning's step machine on a small test-side motor.
+TEST_LIBS_test_commission := firmware control
+TEST_SRCS_test_commission := tests/mock_hal.c
