@@ -190,13 +190,19 @@ static void window_add(comm_t *m, float u, float i)
     m->n_win += 1.0f;
 }
 
+static void window_drop(comm_t *m)
+{
+    m->sum_u = 0.0f;
+    m->sum_i = 0.0f;
+    m->n_win = 0.0f;
+}
+
+/* The window's means (it has at least one period), emptied. */
 static void window_take(comm_t *m, float *U, float *I)
 {
     *U = m->sum_u / m->n_win;
     *I = m->sum_i / m->n_win;
-    m->sum_u = 0.0f;
-    m->sum_i = 0.0f;
-    m->n_win = 0.0f;
+    window_drop(m);
 }
 
 static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
@@ -206,6 +212,7 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
     bool still;
     float e_a;
     float i_ref_b = 0.0f;
+    app_step_t r = app_step_running();
 
     if (m->phase == R_SEEK) {
         /* ramped at +90 deg, then turned onto phase a: the rotor follows
@@ -221,7 +228,6 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
         i_ref_b = mag * sn;
     }
     e_a = m->i_ref_A - i.a;
-    app_step_t r = app_step_running();
 
     /* integral, plus a virtual resistance that bounds the current the
      * rotor's swing induces; beta's integral slow: a current the back-EMF
@@ -230,7 +236,7 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
     m->u_b_V += m->ki0_V_As * m->Ts_s * (i_ref_b - i.b);
     m->out_a_V = m->u_a_V + m->kp_V_A * e_a;
     m->out_b_V = m->u_b_V + m->kp_V_A * (i_ref_b - i.b);
-    /* still: the count within one of where the settling began */
+    /* still: the count within r_still_rad of where the settling began */
     if ((m->phase == R_SETTLE_1) || (m->phase == R_SETTLE_2)) {
         if (m->ticks == 0u) {
             m->count_last = count;
@@ -271,7 +277,7 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
         break;
     case R_WIN_1:
         if (!still) {
-            window_take(m, &m->U1_V, &m->I1_A);
+            window_drop(m);
             next_phase(m, R_SETTLE_1);
             break;
         }
@@ -284,7 +290,7 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
         break;
     default: /* R_WIN_2 */
         if (!still) {
-            window_take(m, &m->U2_V, &m->I2_A);
+            window_drop(m);
             next_phase(m, R_SETTLE_2);
             break;
         }
@@ -332,7 +338,7 @@ static app_step_t stage_l(comm_t *m, ab_t i)
         m->cycles++;
         if (m->cycles >= c->l_cycles) {
             const float L = ls_coef1(&m->ls);
-            /* a time constant of at least a period, and one that the step timed */
+            /* a time constant L / R of at least a period */
             if (!mathx_isfinitef(L) || !(L > R * m->Ts_s)) {
                 return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, L, R * m->Ts_s);
             }
