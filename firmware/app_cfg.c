@@ -46,6 +46,7 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->comm.u_frac = COMM_U_FRAC;
     cfg->comm.r_i1_frac = COMM_R_I1_FRAC;
     cfg->comm.r_i2_frac = COMM_R_I2_FRAC;
+    cfg->comm.r_prepos_el_rad = COMM_R_PREPOS_EL_DEG * RAD_PER_DEG;
     cfg->comm.r_ramp_s = COMM_R_RAMP_S;
     cfg->comm.r_kp_frac = COMM_R_KP_FRAC;
     cfg->comm.r_seek_s = COMM_R_SEEK_S;

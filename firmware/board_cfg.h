@@ -90,7 +90,12 @@
 #define COMM_U_FRAC              0.9f         /* |u| / (vdc/sqrt 3) beyond which a stage is implausible (SPIN: top speed) [-] */
 #define COMM_R_I1_FRAC           0.35f        /* R: first DC current / bound [-] */
 #define COMM_R_I2_FRAC           0.7f         /* R: second DC current / bound: overshoot of the integral loop stays below 1 [-] */
-#define COMM_R_RAMP_S            0.3f         /* R: ramp of the first current at +90 deg el, and its turn onto phase a: slower than the rotor's swing [s] */
+/* R: the first current's pre-position: any angle with sin != 0 leaves no
+ * start angle a dead point of both vectors; 60 deg (0.87 of 90 deg's
+ * torque) keeps every phase at half the current or more, so the open-phase
+ * check (ratio 0.2) never sees a phase idle, as at 90 deg (phase a: 0). */
+#define COMM_R_PREPOS_EL_DEG     60.0f        /* [deg el] */
+#define COMM_R_RAMP_S            0.3f         /* R: ramp of the first current at the pre-position, and its turn onto phase a: slower than the rotor's swing [s] */
 #define COMM_R_KP_FRAC           0.05f        /* R: virtual resistance / (vdc / bound): the swing's induced current 5x smaller on the 540 V motor [-] */
 #define COMM_R_SEEK_S            1.0f         /* R: first regulator, a full-bound error ramps the voltage through vdc in this [s] */
 #define COMM_R_BW_RAD_S          200.0f       /* R: alpha's integral regulator from R0: faster than the rotor's swing [rad/s] */

@@ -13,7 +13,6 @@
 /* The output vector's angle: the middle of the period it is applied in,
  * 1.5 periods after the sample (one period of computation delay). */
 #define OUT_ANGLE_PERIODS 1.5f
-#define HALF_PI_F (0.5f * MATHX_PI_F)
 /* Fewest samples a fit accepts. */
 #define FIT_N_MIN 20.0f
 
@@ -215,12 +214,12 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
     app_step_t r = app_step_running();
 
     if (m->phase == R_SEEK) {
-        /* ramped at +90 deg, then turned onto phase a: the rotor follows
-         * without a swing, and no start angle is a dead point of both
-         * (startup_design.md, "Alignment") */
+        /* ramped at the pre-position, then turned onto phase a: the rotor
+         * follows without a swing, and no start angle is a dead point of
+         * both (startup_design.md, "Alignment") */
         const float t = (float)m->stage_ticks * m->Ts_s;
         const float mag = I1 * mathx_clampf(t / c->r_ramp_s, 0.0f, 1.0f);
-        const float phi = HALF_PI_F * (1.0f - mathx_clampf((t - c->r_ramp_s) / c->r_ramp_s, 0.0f, 1.0f));
+        const float phi = c->r_prepos_el_rad * (1.0f - mathx_clampf((t - c->r_ramp_s) / c->r_ramp_s, 0.0f, 1.0f));
         float sn;
         float cs;
         mathx_sincosf(phi, &sn, &cs);

@@ -4,7 +4,7 @@
  *   R        DC injection on phase a (alpha) at two currents under an
  *            integral current regulator; R = dU/dI (the inverter's
  *            constant voltage error and the device drop cancel). The
- *            first current, ramped at +90 deg and turned onto phase a,
+ *            first current, ramped at +60 deg and turned onto phase a,
  *            pulls the rotor's d axis there;
  *   L        open-loop voltage steps of +-R^ dI_L on alpha at standstill
  *            (the d axis), L from the integrated voltage balance
@@ -50,7 +50,8 @@ typedef struct {
     float u_frac;               /* |u| above this share of vdc/sqrt(3): implausible (R, L, ENCODER), top speed (SPIN) [-] */
     /* R */
     float r_i1_frac, r_i2_frac; /* the two DC currents / i_max [-] */
-    float r_ramp_s;             /* the first current's ramp from 0 at +90 deg el, then its turn onto phase a [s] */
+    float r_prepos_el_rad;      /* the first current's pre-position from phase a: sin != 0 [rad el] */
+    float r_ramp_s;             /* the first current's ramp from 0 at the pre-position, then its turn onto phase a [s] */
     float r_kp_frac;            /* virtual resistance / (vdc / i_max): bounds the current a swing induces [-] */
     float r_seek_s;             /* first regulator: a full i_max error ramps the voltage through vdc in this time [s] */
     float r_bw_rad_s;           /* integral regulator's bandwidth once R0 = U / I is known [rad/s] */
