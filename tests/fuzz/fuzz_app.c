@@ -29,7 +29,8 @@
  *              records run): EV_TRIP the trip input, EV_MISSED a missed
  *              period before each, EV_LONG_ISR an ISR over its budget,
  *              EV_COUNT_JUMP the count jumps to record[13..14] x 131
- *   command:   record[1] & 7 the cmd_t field, record[2..3] a uint16 value,
+ *   command:   record[1] & 7 the cmd_t field (1: fault_reset bit 0 and
+ *              commission bit 1 of the value), record[2..3] a uint16 value,
  *              bit 3 of record[1]: record[4..7] a float's bits, else
  *              record[2..3] scaled
  */
@@ -60,10 +61,10 @@ enum { EV_TRIP = 0xF1, EV_MISSED = 0xF2, EV_LONG_ISR = 0xF3, EV_COUNT_JUMP = 0xF
 #define STEP_DIV 4                           /* plausible count step: int8 / 4 -> |step| <= 32 < jump limit */
 #define REF_SCALE_PER_LSB (1.0f / 8.0f)
 
-#define N_STATES 7u
+#define N_STATES 8u
 static uint64_t g_isr_steps;
 static uint64_t g_inputs;
-static uint64_t g_state_steps[N_STATES]; /* ISR steps that ended in each app_state_t */
+static uint64_t g_state_steps[N_STATES]; /* ISR steps that ended in each app_state_t (state_index) */
 #define N_FAULTS 32u
 static uint64_t g_faults[N_FAULTS];      /* faults latched, by app_fault_t */
 
@@ -145,6 +146,15 @@ static void operator_restart(void)
 }
 
 /* One ISR call with sample s, then the output rules the app itself owns. */
+/* The report's column of a state: INIT .. FAULT, then COMMISSION; N_STATES for a value out of app_state_t. */
+static uint32_t state_index(app_state_t st)
+{
+    if ((uint32_t)st <= (uint32_t)APP_STATE_FAULT) {
+        return (uint32_t)st;
+    }
+    return (st == APP_STATE_COMMISSION) ? N_STATES - 1u : N_STATES;
+}
+
 static void isr_step(const hal_sample_t *s, const uint8_t *r)
 {
     fuzz_hal_period_t p;
@@ -164,10 +174,10 @@ static void isr_step(const hal_sample_t *s, const uint8_t *r)
     if ((g_h.app.state == APP_STATE_FAULT) && (fault_before == APP_FAULT_NONE)) {
         g_faults[(uint32_t)g_h.app.fault % N_FAULTS]++;
     }
-    g_state_steps[(uint32_t)g_h.app.state % N_STATES]++;
-    if ((uint32_t)g_h.app.state >= N_STATES) {
+    if (state_index(g_h.app.state) >= N_STATES) {
         fuzz_hal_fail("state out of app_state_t");
     }
+    g_state_steps[state_index(g_h.app.state) % N_STATES]++;
     if ((g_h.app.state == APP_STATE_FAULT) != (g_h.app.fault != APP_FAULT_NONE)) {
         fuzz_hal_fail("a fault code without FAULT, or FAULT without one");
     }
@@ -222,7 +232,7 @@ static void command(const uint8_t *r)
 
     switch (r[1] & 7u) {
     case 0: g_h.cmd.run = v & 1u; break;
-    case 1: g_h.cmd.fault_reset = v & 1u; break;
+    case 1: g_h.cmd.fault_reset = v & 1u; g_h.cmd.commission = (v >> 1) & 1u; break;
     case 2: g_h.cmd.method = v; break;
     case 3: g_h.cmd.mode = v; break;
     case 4: g_h.cmd.speed_ref_rpm = f; break;
@@ -259,7 +269,7 @@ __attribute__((destructor)) static void report(void)
 {
     printf("fuzz_app: %llu ISR steps, %llu inputs\n", (unsigned long long)g_isr_steps,
            (unsigned long long)g_inputs);
-    printf("fuzz_app: steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT:");
+    printf("fuzz_app: steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT COMMISSION:");
     for (uint32_t k = 0u; k < N_STATES; k++) {
         printf(" %llu", (unsigned long long)g_state_steps[k]);
     }
