@@ -43,6 +43,15 @@
  * L > (Ks/phi + R_max) Ts / 2 (smo_init), so an estimate near the floor
  * still leaves the linear region a pole margin. */
 #define OBS_L_MIN_STABILITY_MARGIN 1.25f
+/* ctrl_obs_gains_design (observer_design.md sec. 3b): the lowest floor of
+ * L^ the gain must allow, x the told L (an L told 1.4x high leaves the
+ * true one at 0.71x); the R^ band's top that (36) leaves, x G (the
+ * band's 0.9 (Ks - ef_max)/phi with Ks = 2 ef_max); Ks over ef_max:
+ * (36)'s floor ef_max / (1 - 0.45) with a 10 % margin. Table I: Ks 100 V,
+ * G = 40 V/A, R^ up to 18 Ohm, the cap 0.8 L/(1.45 Ts) = 61 V/A not reached. */
+#define OBS_L_FLOOR_SHARE 0.5f
+#define OBS_R_TOP_PER_G   0.45f
+#define OBS_KS_PER_EF     2.0f
 #define HALF 0.5f
 /* The default R^ band's top stays this fraction of the largest R that
  * meets (36) with the observer's default gains (18 Ohm for Table I). */
@@ -81,7 +90,37 @@ static uint16_t map_dbdtc_flags(uint16_t f)
     return out;
 }
 
+void ctrl_obs_gains_default(ctrl_obs_gains_t *g)
+{
+    g->Ks_V = SMO_KS_DEFAULT_V;
+    g->phi_A = SMO_PHI_DEFAULT_A;
+    g->ef_max_V = SMO_EF_MAX_DEFAULT_V;
+}
+
+bool ctrl_obs_gains_design(float Ts_s, float R_Ohm, float L_H, float ef_max_V, float phi_A,
+                           ctrl_obs_gains_t *g, float *G_max_V_A)
+{
+    /* 1.25 (Ts/2)(G + R_max) <= L_FLOOR_SHARE L with R_max <= R_TOP_PER_G G */
+    const float G_max = (2.0f * OBS_L_FLOOR_SHARE * L_H / (OBS_L_MIN_STABILITY_MARGIN * Ts_s)) /
+                        (1.0f + OBS_R_TOP_PER_G);
+    g->Ks_V = OBS_KS_PER_EF * ef_max_V;
+    g->phi_A = phi_A;
+    g->ef_max_V = ef_max_V;
+    if (g->Ks_V / phi_A > G_max) {
+        g->phi_A = g->Ks_V / G_max;   /* the cap: a wider layer keeps (36)'s margin */
+    }
+    *G_max_V_A = G_max;
+    return (G_max > 0.0f) && (OBS_R_TOP_PER_G * (g->Ks_V / g->phi_A) >= R_Ohm);
+}
+
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm)
+{
+    ctrl_obs_gains_t g;
+    ctrl_obs_gains_default(&g);
+    ctrl_cfg_proposed_with(cfg, R_min_Ohm, R_max_Ohm, &g);
+}
+
+void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, const ctrl_obs_gains_t *g)
 {
     smo_cfg_t *sc = &cfg->smo;
     param_est_cfg_t *ec = &cfg->pe;
@@ -89,6 +128,9 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
     cfg->R_min_Ohm = R_min_Ohm;
     cfg->R_max_Ohm = R_max_Ohm;
     smo_cfg_defaults(sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
+    sc->Ks_V = g->Ks_V;
+    sc->phi_A = g->phi_A;
+    sc->ef_max_V = g->ef_max_V;
     const float L_stable_H = OBS_L_MIN_STABILITY_MARGIN * HALF * cfg->Ts_s *
                              (sc->Ks_V / sc->phi_A + R_max_Ohm);
     /* not capped at L_max: a floor above it is refused by smo_init */
@@ -107,10 +149,15 @@ void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Oh
 
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
 {
-    smo_cfg_t sc;
-    smo_cfg_defaults(&sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
+    ctrl_obs_gains_t g;
+    ctrl_obs_gains_default(&g);
+    ctrl_rsid_band_with(cfg, &g, R_min_Ohm, R_max_Ohm);
+}
+
+void ctrl_rsid_band_with(const ctrl_cfg_t *cfg, const ctrl_obs_gains_t *g, float *R_min_Ohm, float *R_max_Ohm)
+{
     /* (36): Ks > ef_max + R_max phi, with a margin */
-    const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (sc.Ks_V - sc.ef_max_V) / sc.phi_A;
+    const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (g->Ks_V - g->ef_max_V) / g->phi_A;
     const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->R_Ohm;
     *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->R_Ohm;
     *R_max_Ohm = (R_top_Ohm < R_ks_Ohm) ? R_top_Ohm : R_ks_Ohm;
@@ -325,7 +372,10 @@ static void start_tracking(ctrl_t *c)
     /* psi^ learns only where w psi_f dominates what the identification may have left */
     const float w_min = r_track_w_psi_min(&c->rt, c->cfg.psi_f_Wb);
     c->pe.cfg.w_min_rad_s = (w_min > c->cfg.pe.w_min_rad_s) ? w_min : c->cfg.pe.w_min_rad_s;
-    r_track_start(&c->rt, (c->cfg.track_R != 0u) ? R_TRACK_TRACK : R_TRACK_OFF);
+    r_track_start(&c->rt, (c->cfg.track_R != CTRL_TRACK_R_OFF) ? R_TRACK_TRACK : R_TRACK_OFF);
+    if (c->cfg.track_R == CTRL_TRACK_R_AUTO) {
+        r_track_delay(&c->rt, c->cfg.rtrack.auto_delay_periods);
+    }
 }
 
 /* Step 2 starts: estimator running, R tracked when configured. */
@@ -431,6 +481,13 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm)
     return true;
 }
 
+void ctrl_set_i_limit(ctrl_t *c, float i_lim_A)
+{
+    const float cfg_A = ((c->cfg.i_lim_A > 0.0f) && (c->cfg.i_lim_A <= c->cfg.i_max_A)) ? c->cfg.i_lim_A
+                                                                                         : c->cfg.i_max_A;
+    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= cfg_A)) ? i_lim_A : cfg_A;
+}
+
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
 {
     c->ref = *ref;
@@ -448,6 +505,10 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
         /* u(k) is the clamped voltage the last step realised, as the observer needs */
         const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
         if (c->rt.phase != R_TRACK_OFF) {
+            if ((c->lim.dpsi_Wb > 0.0f) || ((c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u)) {
+                /* tracking only: the field weakened or the voltage at its limit (last period) */
+                r_track_hold(&c->rt);
+            }
             ctrl_r_track_step(c, i_dq_A, omega_el_rad_s); /* may end step 1 */
         }
         if (c->ident == CTRL_IDENT_STEP1) {

@@ -75,6 +75,13 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
 #define CTRL_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f holds (within what the voltage it cannot explain allows; design sec. 9f) */
 
+/* ctrl_cfg_t.track_R: off; on from step 2's start; auto from
+ * rtrack.auto_delay_periods after it (step 1's R^ holds that long: a
+ * winding's thermal time constant is minutes; design sec. 9d). */
+#define CTRL_TRACK_R_OFF  0u
+#define CTRL_TRACK_R_ON   1u
+#define CTRL_TRACK_R_AUTO 2u
+
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
     float R_Ohm;               /* controller's stator resistance (may differ from the motor's) */
@@ -107,7 +114,7 @@ typedef struct {
     param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
-    uint16_t track_R;           /* 1: R^ tracked in step 2 by the injection (design sec. 9) */
+    uint16_t track_R;           /* CTRL_TRACK_R_*: R^ tracked in step 2 by the injection (design sec. 9d) */
     est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
 } ctrl_cfg_t;
 
@@ -195,6 +202,27 @@ typedef struct {
     ctrl_mon_t mon;
 } ctrl_t;
 
+/* The observer's switching gain, boundary layer and the disturbance
+ * error condition (36) must dominate (smo_cfg_t Ks_V, phi_A, ef_max_V). */
+typedef struct {
+    float Ks_V;                 /* switching gain [V] */
+    float phi_A;                /* boundary layer [A]; G = Ks/phi [V/A] */
+    float ef_max_V;             /* |f^ - f| (36) must dominate [V] */
+} ctrl_obs_gains_t;
+
+/* Background: smo.h's design defaults (Table I: 100 V, 2.5 A, 50 V). */
+void ctrl_obs_gains_default(ctrl_obs_gains_t *g);
+
+/* Background: the gains for a motor (observer_design.md sec. 3b): Ks =
+ * 2 ef_max_V ((36) with R^ up to 0.45 G and a 10 % margin), phi = phi_A
+ * unless G = Ks/phi would pass the discrete stability bound with L^'s
+ * floor at half the told L_H and the margin OBS_L_MIN_STABILITY_MARGIN
+ * (*G_max_V_A), then phi = Ks / G_max. Returns false (g filled all the
+ * same) when the band's top 0.45 G leaves out R_Ohm, or G_max <= 0: no
+ * gain satisfies both bounds. */
+bool ctrl_obs_gains_design(float Ts_s, float R_Ohm, float L_H, float ef_max_V, float phi_A,
+                           ctrl_obs_gains_t *g, float *G_max_V_A);
+
 /* Fills the proposed method's settings of *cfg from its other fields
  * (set those first) with the modules' design defaults, the R^ band
  * [R_min_Ohm, R_max_Ohm] (absolute: the nominal R may be far from the
@@ -202,11 +230,17 @@ typedef struct {
  * Background, before ctrl_init. */
 void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
 
+/* As ctrl_cfg_proposed_defaults with the observer's gains *g. Background. */
+void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, const ctrl_obs_gains_t *g);
+
 /* The default R^ band for cfg->R_Ohm (set it first): rs_ident.h's
  * RS_IDENT_BAND_*_FACTOR x R_Ohm, the top kept below the largest R^ the
  * observer's default gains take under condition (36) (observer_design.md
  * sec. 6), and not below R_Ohm. Background, before ctrl_cfg_proposed_defaults. */
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
+
+/* As ctrl_rsid_band_default under condition (36) with the gains *g. Background. */
+void ctrl_rsid_band_with(const ctrl_cfg_t *cfg, const ctrl_obs_gains_t *g, float *R_min_Ohm, float *R_max_Ohm);
 
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method
  * conventional. Returns the set of refusals of every block (CTRL_CFG_*):
@@ -263,6 +297,11 @@ bool ctrl_est_start(ctrl_t *c, float R_Ohm);
 /* References [rad/s mech, N m, V]. As ctrl_set_mode: a multi-word copy
  * the ISR must not be interrupted in by another writer. */
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref);
+
+/* The targets' current limit [A] from now on, i_lim_A in (0, cfg.i_lim_A]
+ * (else cfg's). Background: one 32-bit store, the ISR reads the old
+ * value or the new one. */
+void ctrl_set_i_limit(ctrl_t *c, float i_lim_A);
 
 /* Every period, in every state, first: the encoder count [counts] into
  * the angle and speed estimate. ctrl owns the encoder: ctrl_step uses what

@@ -16,6 +16,7 @@ void r_track_cfg_defaults(r_track_cfg_t *cfg)
     cfg->blank_periods = R_TRACK_BLANK_DEFAULT;
     cfg->ident_cycles = R_TRACK_IDENT_CYCLES_DEFAULT;
     cfg->ident_delay_periods = R_TRACK_IDENT_DELAY_DEFAULT;
+    cfg->auto_delay_periods = R_TRACK_AUTO_DELAY_DEFAULT;
     cfg->iq_min_A = R_TRACK_IQ_MIN_DEFAULT_A;
     cfg->iq_step_max_A = R_TRACK_IQ_STEP_DEFAULT_A;
     cfg->k_R = R_TRACK_K_R_DEFAULT;
@@ -85,6 +86,25 @@ void r_track_start(r_track_t *rt, r_track_phase_t phase)
     rt->phase = phase;
     rt->i_inj_A = (phase == R_TRACK_IDENT) ? rt->cfg.i_ident_A : rt->cfg.i_track_A;
     rt->wait = (phase == R_TRACK_IDENT) ? rt->cfg.ident_delay_periods : 0u;
+}
+
+void r_track_delay(r_track_t *rt, uint16_t periods)
+{
+    if ((rt->phase == R_TRACK_TRACK) && (rt->wait < periods)) {
+        rt->wait = periods;
+    }
+}
+
+void r_track_hold(r_track_t *rt)
+{
+    if (rt->phase != R_TRACK_TRACK) {
+        return;
+    }
+    clear_cycle(rt);
+    rt->ref_q[0] = 0.0f;
+    rt->ref_q[1] = 0.0f;
+    rt->id_expect_A = 0.0f;
+    r_track_delay(rt, rt->cfg.seg_periods);
 }
 
 /* Sign of the reference in segment seg: + - - +. */

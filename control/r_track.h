@@ -52,6 +52,7 @@
 #define R_TRACK_BLANK_DEFAULT        30u    /* periods skipped after a segment starts */
 #define R_TRACK_IDENT_CYCLES_DEFAULT 3u     /* 0.12 s */
 #define R_TRACK_IDENT_DELAY_DEFAULT  1000u  /* 0.1 s: L^, psi^ settle first (psi^: 6 time constants) */
+#define R_TRACK_AUTO_DELAY_DEFAULT   10000u /* 1 s: tracking's start in track_R auto */
 #define R_TRACK_IQ_MIN_DEFAULT_A     1.0f
 #define R_TRACK_IQ_STEP_DEFAULT_A    0.2f
 #define R_TRACK_K_R_DEFAULT          0.5f   /* per cycle */
@@ -86,6 +87,7 @@ typedef struct {
     uint16_t blank_periods;   /* periods skipped at each segment's start, < seg_periods */
     uint16_t ident_cycles;    /* cycles averaged for Ve */
     uint16_t ident_delay_periods; /* IDENT waits this long, without injection, before its first cycle */
+    uint16_t auto_delay_periods;  /* ctrl's track_R auto: TRACK waits this long after step 2's start */
     float iq_min_A;           /* |mean iq| below: cycle held */
     float iq_step_max_A;      /* |mean iq(+) - mean iq(-)| above: cycle held */
     float k_R;                /* fraction of rho corrected per cycle, (0, 1] */
@@ -136,6 +138,15 @@ void r_track_reset(r_track_t *rt);
 
 /* Starts phase (sums cleared, cycle from its start); nothing when invalid. ISR or background. */
 void r_track_start(r_track_t *rt, r_track_phase_t phase);
+
+/* TRACK: no injection for the next periods [-] (at least; ISR). */
+void r_track_delay(r_track_t *rt, uint16_t periods);
+
+/* TRACK: the cycle under way dropped, no injection until a segment
+ * after the last call (the field weakened or the voltage at its limit:
+ * the cycle would read the weakening loop or the clamp, not R; design
+ * sec. 9d); nothing in other phases. ISR. */
+void r_track_hold(r_track_t *rt);
 
 /* One period: z_V = fd^ - w L^ iq [V], measured id_A, iq_A [A], the
  * observer's omega_el_rad_s [rad/s] and L_H = L^ [H]. ISR. */

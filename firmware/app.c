@@ -81,29 +81,38 @@ static ctrl_status_t config_needed(const app_t *app)
                                                 : (ctrl_status_t)(CTRL_CFG_NEEDED_ALWAYS | CTRL_CFG_NEEDED_PROPOSED);
 }
 
+/* CONFIG when a controller block in needed or the parameter set (the
+ * ratings, the ADC range: they bound a commissioning's currents too) was
+ * refused; the value: ctrl_init's refusals, the parameter set's above them. */
+static app_step_t config_refusal(const app_t *app, ctrl_status_t needed)
+{
+    if (((ctrl_status(&app->ctrl) & needed) != 0u) || (app->cfg.params_refused != 0u)) {
+        const uint16_t why =
+            (uint16_t)(ctrl_status(&app->ctrl) | (uint16_t)(app->cfg.params_refused << APP_PARAMS_REFUSED_SHIFT));
+        return app_step_fault(APP_FAULT_CONFIG, (float)why, 0.0f);
+    }
+    return app_step_running();
+}
+
 /* After CALIBRATE, done or skipped: the bus must be up from here on, and
  * every controller block this start needs accepted by ctrl_init (CONFIG,
  * the refusals in the snapshot's value); both are checked on this call's
  * samples before anything is energised. */
 static void leave_calibrate(app_t *app, const hal_sample_t *s)
 {
+    /* the told R, L, psi_f play no part in a commissioning: it needs only the encoder's speed estimate */
+    const app_step_t cfg = config_refusal(app, app->commissioning ? CTRL_CFG_ENCODER : config_needed(app));
+
     protect_arm_uv(&app->prot);
     if (s->vdc_V < app->cfg.prot.vdc_min_V) {
         const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.prot.vdc_min_V);
         latch_fault(app, &f, s);
+    } else if (cfg.status == APP_STEP_FAULT) {
+        latch_fault(app, &cfg, s);
     } else if (app->commissioning) {
-        /* the told R, L, psi_f play no part: only the encoder's speed estimate is needed */
-        if ((ctrl_status(&app->ctrl) & CTRL_CFG_ENCODER) != 0u) {
-            const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)ctrl_status(&app->ctrl), 0.0f);
-            latch_fault(app, &f, s);
-        } else {
-            ctrl_reset(&app->ctrl);
-            app->state = APP_STATE_COMMISSION;
-            comm_start(&app->comm);
-        }
-    } else if ((ctrl_status(&app->ctrl) & config_needed(app)) != 0u) {
-        const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)ctrl_status(&app->ctrl), 0.0f);
-        latch_fault(app, &f, s);
+        ctrl_reset(&app->ctrl);
+        app->state = APP_STATE_COMMISSION;
+        comm_start(&app->comm);
     } else if (app->cfg.align && !app->aligned) {
         app->state = APP_STATE_ALIGN;
         align_start(&app->aln);

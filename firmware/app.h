@@ -71,6 +71,10 @@
  * `flags` carries both. Cleared at the next start. */
 #define APP_WARN_STEP1_REFUSED 0x1000u /* step 1 refused R^ (rsid_refusal says why): conventional method */
 
+/* CONFIG's snapshot value: ctrl_init's refusals (ctrl_status_t, bits up to
+ * 0x0100) | app_cfg_t.params_refused shifted this far. */
+#define APP_PARAMS_REFUSED_SHIFT 12u
+
 /* The app's configuration: the controller's, and each piece's own (the
  * step's init takes it as it is: one home per value). */
 typedef struct {
@@ -82,6 +86,13 @@ typedef struct {
     align_cfg_t aln;            /* ALIGN (align.h) */
     rsid_seq_cfg_t rsid;        /* IDENTIFY_R: step 1 of the proposed method and its refusal policy (rsid_seq.h) */
     comm_cfg_t comm;            /* COMMISSION (commission.h) */
+    /* The I^2t budget (app_background): above i2t_rated_A the budget
+     * (i_peak^2 - i_rated^2) t_peak drains by (i^2 - i_rated^2) dt; spent,
+     * the targets' current limit is i2t_rated_A until half of it is back. */
+    float i2t_rated_A;          /* continuous current [A]; <= 0: no budget */
+    float i2t_budget_A2s;       /* [A^2 s] */
+    uint16_t params_refused;    /* drive_params_derive's refusals of the ratings and the ADC range
+                                 * (DRIVE_DERIVE_RATINGS, _ADC_RANGE; 0: none): a start faults CONFIG */
 } app_cfg_t;
 
 /* The operator's input: references, mode, method (app_request_op). */
@@ -99,6 +110,9 @@ typedef struct {
     ctrl_t ctrl;
     ctrl_out_t out;
     uint32_t ticks;                /* ISR calls since app_init */
+    uint32_t i2t_ticks;            /* app_background: ticks at its last call */
+    float i2t_used_A2s;            /* I^2t budget spent [A^2 s] */
+    bool i2t_limited;              /* the current limit is i2t_rated_A */
     float offset_ia_A, offset_ib_A;  /* subtracted from ia, ib: 0 until a calibration is accepted [A] */
     bool aligned;                  /* encoder offset set by an alignment since power-up */
     bool pwm_on;                   /* outputs enabled by the app */
@@ -136,7 +150,9 @@ void app_init(app_t *app, const app_cfg_t *cfg);
  * run-time check -> hal_isr_ack. */
 void app_isr(app_t *app);
 
-/* Background loop: services the watchdog. */
+/* Background loop: services the watchdog; the I^2t budget from the
+ * monitor's current (app_cfg_t i2t_*), limiting the targets' current to
+ * the continuous one while it is spent (ctrl_set_i_limit). */
 void app_background(app_t *app);
 
 /* Background: INIT or IDLE -> the start sequence at the next ISR. */

@@ -23,6 +23,9 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     (void)ctrl_init(&app->ctrl, &cfg->ctrl); /* status kept in ctrl.status; a start checks it when needed */
     app->out = zero_voltage;
     app->ticks = 0u;
+    app->i2t_ticks = 0u;
+    app->i2t_used_A2s = 0.0f;
+    app->i2t_limited = false;
     app->offset_ia_A = 0.0f;
     app->offset_ib_A = 0.0f;
     app->aligned = false;
@@ -59,9 +62,40 @@ void app_latch_startup_fault(app_t *app, app_fault_t fault, float value, float l
     app->fault = fault;
 }
 
+/* The budget is given back down to this share before the peak current is again allowed. */
+#define I2T_RESTORE_SHARE 0.5f
+
+/* The I^2t budget over the ISR periods since the last call. */
+static void i2t_step(app_t *app)
+{
+    const app_cfg_t *c = &app->cfg;
+    const uint32_t now = app->ticks;
+    const ctrl_mon_t *m = ctrl_monitor(&app->ctrl);
+    const float dt_s = (float)(now - app->i2t_ticks) * c->ctrl.Ts_s;
+    const float i2 = (app->state == APP_STATE_RUN || app->state == APP_STATE_IDENTIFY_R)
+                         ? (m->id_A * m->id_A + m->iq_A * m->iq_A) : 0.0f;
+    float used = app->i2t_used_A2s + (i2 - c->i2t_rated_A * c->i2t_rated_A) * dt_s;
+
+    app->i2t_ticks = now;
+    used = (used > 0.0f) ? used : 0.0f;
+    used = (used < c->i2t_budget_A2s) ? used : c->i2t_budget_A2s;
+    app->i2t_used_A2s = used;
+    if (!app->i2t_limited && (used >= c->i2t_budget_A2s)) {
+        app->i2t_limited = true;
+        ctrl_set_i_limit(&app->ctrl, c->i2t_rated_A);
+    } else if (app->i2t_limited && (used <= I2T_RESTORE_SHARE * c->i2t_budget_A2s)) {
+        app->i2t_limited = false;
+        ctrl_set_i_limit(&app->ctrl, 0.0f); /* the configured limit again */
+    } else {
+        /* unchanged */
+    }
+}
+
 void app_background(app_t *app)
 {
-    (void)app;
+    if ((app->cfg.i2t_rated_A > 0.0f) && (app->cfg.i2t_budget_A2s > 0.0f)) {
+        i2t_step(app);
+    }
     hal_watchdog_kick();
 }
 

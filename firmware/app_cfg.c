@@ -17,13 +17,11 @@ void app_cfg_default(app_cfg_t *cfg)
     drive_params_board(&p);
     drive_params_to_app_cfg(&p, cfg);
     cfg->prot.watch.op_window_s = BOARD_OPEN_PHASE_WINDOW_S;
-    cfg->prot.watch.op_i_min_A = BOARD_OPEN_PHASE_I_MIN_A;
     cfg->prot.watch.op_ratio = BOARD_OPEN_PHASE_RATIO;
-    cfg->prot.watch.op_u_min_V = BOARD_OPEN_PHASE_U_MIN_V;
-    cfg->prot.watch.stuck_delta_A = BOARD_I_STUCK_DELTA_A;
     cfg->prot.watch.stuck_angle_el_rad = BOARD_I_STUCK_ANGLE_EL_DEG * RAD_PER_DEG;
     cfg->prot.watch.stuck_span_A = BOARD_I_STUCK_SPAN_A;
     cfg->prot.watch.stuck_zero_A = BOARD_I_STUCK_ZERO_A;
+    cfg->prot.watch.stuck_min_periods = (uint32_t)BOARD_I_STUCK_MIN_PERIODS;
     cfg->prot.watch.enc_lost_counts = BOARD_ENC_LOST_COUNTS;
     cfg->prot.watch.enc_stall_s = BOARD_ENC_STALL_S;
     cfg->prot.watch.enc_stall_te_frac = BOARD_ENC_STALL_TE_FRAC;
@@ -33,15 +31,12 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->cal.samples = (uint32_t)BOARD_CAL_SAMPLES;
     cfg->cal.offset_max_A = BOARD_I_OFFSET_MAX_A;
     cfg->align = (BOARD_ENC_OFFSET_KNOWN == 0U);
-    cfg->aln.u_V = BOARD_ALIGN_CURRENT_A * MOTOR_R_OHM;
     cfg->aln.prepos_el_rad = BOARD_ALIGN_PREPOS_EL_DEG * RAD_PER_DEG;
     cfg->aln.ramp_s = BOARD_ALIGN_RAMP_S;
     cfg->aln.prepos_s = BOARD_ALIGN_PREPOS_S;
     cfg->aln.settle_s = BOARD_ALIGN_SETTLE_S;
 
     cfg->ctrl.track_R = BOARD_TRACK_R;
-    cfg->comm.i_max_A = BOARD_I_LIMIT_A;
-    cfg->comm.speed_max_rad_s = MOTOR_RATED_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
     cfg->comm.pole_pairs_max = (uint16_t)COMM_POLE_PAIRS_MAX;
     cfg->comm.u_frac = COMM_U_FRAC;
     cfg->comm.r_i1_frac = COMM_R_I1_FRAC;
@@ -70,16 +65,8 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->comm.spin_lo_frac = COMM_SPIN_LO_FRAC;
     cfg->comm.spin_skip_s = COMM_SPIN_SKIP_S;
     cfg->comm.spin_max_s = COMM_SPIN_MAX_S;
-    /* the default speed PI per kg m^2: its crossover kept for any J (comm_speed_pi) */
-    cfg->comm.speed_kp_per_J_1_s = TUNE_SPEED_KP_NMS_RAD / MOTOR_J_KGM2;
-    cfg->comm.speed_ki_per_J_1_s2 = TUNE_SPEED_KI_NM_RAD / MOTOR_J_KGM2;
     cfg->rsid.mode = (app_rsid_mode_t)BOARD_RSID_MODE;
-    cfg->rsid.settle_1_s = BOARD_RSID_SETTLE_1_S;
     cfg->rsid.window_s = BOARD_RSID_WINDOW_S;
-    cfg->rsid.settle_2_s = BOARD_RSID_SETTLE_2_S;
-    cfg->rsid.speed_1_rad_s = BOARD_RSID_SPEED_1_RPM * MATHX_RAD_S_PER_RPM_F;
-    cfg->rsid.speed_2_rad_s = BOARD_RSID_SPEED_2_RPM * MATHX_RAD_S_PER_RPM_F;
-    cfg->rsid.accel_rad_s2 = BOARD_RSID_ACCEL_RPM_S * MATHX_RAD_S_PER_RPM_F;
     cfg->rsid.window_max_s = BOARD_RSID_WINDOW_MAX_S;
     cfg->rsid.repeats_max = (uint16_t)BOARD_RSID_REPEATS_MAX;
     cfg->rsid.on_refusal = (app_rsid_refusal_t)BOARD_RSID_ON_REFUSAL;

@@ -37,7 +37,7 @@ typedef enum {
     APP_FAULT_ENCODER = 8,
     APP_FAULT_OVERRUN = 9,
     APP_FAULT_CURRENT_OFFSET = 10,
-    APP_FAULT_CONFIG = 11,           /* identification asked for, ctrl_init refused the observer's settings */
+    APP_FAULT_CONFIG = 11,           /* a block the start needs refused by ctrl_init, or the ratings or ADC range by drive_params_derive */
     APP_FAULT_RSID_TOO_FEW = 12,     /* IDENTIFY_R: a window shorter than rs_ident's n_min */
     APP_FAULT_RSID_NOT_STEADY = 13,  /* R^ too uncertain: noise or a transient (snapshot: se of R^, its limit) */
     APP_FAULT_RSID_DEGENERATE = 14,  /* the two operating points too alike for (41) */

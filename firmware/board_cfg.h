@@ -16,17 +16,30 @@
 
 /* ---- protection limits (used by the application) ---------------------- */
 #define BOARD_VDC_NOMINAL_V      311.0f       /* rectified 220 V AC [V] (assumed; paper gives none) */
-/* Software trip on any phase current: above the 11.1 A that the 12 N m
- * torque limit asks for (12 / (1.5 p psi_f)), with room for one period of
- * deadbeat overshoot, below the sensors' 15 A full scale and hardware trip. */
-#define BOARD_OVERCURRENT_A      14.0f        /* [A] */
-/* Stator-current limit the controller's targets respect (oplim.h): the
- * 11.1 A of the 12 N m torque limit plus margin, below the trip with room
- * for a period of deadbeat overshoot and the switching ripple. */
-#define BOARD_I_LIMIT_A          12.0f        /* [A] */
+/* The current ADC's range, +-: 10 A/V around 1.5 V of a 0..3 V input. */
+#define BOARD_I_FULL_SCALE_A     (0.5f * BOARD_I_GAIN_A_PER_V * BOARD_ADC_FULL_SCALE_V) /* 15 A */
+/* ---- the reference design: the paper motor on this board -------------
+ * Values that scale with one quantity of the motor or the board are
+ * given here at the reference and scaled in proportion by
+ * drive_params_derive() (params_design.md: each rule and its reason);
+ * for the reference itself they are these constants to the bit. */
+#define REF_I_RATED_A            (6.0f / (1.5f * 3.0f * 0.24f)) /* 5.56 A: 6 N m (Table I) */
+#define REF_I_PEAK_A             (2.0f * REF_I_RATED_A)  /* 11.1 A: 12 N m */
+#define REF_T_RATED_NM           6.0f         /* [N m] */
+#define REF_VDC_V                311.0f       /* [V] */
+#define REF_I_FULL_SCALE_A       15.0f        /* current ADC range [A] */
+#define REF_J_KGM2               0.00129f     /* [kg m^2] */
+#define REF_SPEED_BW_RAD_S       387.596899f  /* speed-loop crossover: 0.5 / 0.00129 [rad/s] */
+#define REF_PSI_F_WB             0.24f        /* [Wb] */
+#define REF_R_OHM                3.0f         /* [Ohm] */
+/* limits (sec. 2): the targets' current limit above i_peak; the software
+ * trip above it by a period of deadbeat overshoot and the ripple, at most
+ * 14/15 of the ADC's range; overspeed 1.2 x n_max */
+#define REF_I_LIMIT_A            12.0f        /* at REF_I_PEAK_A [A] */
+#define REF_I_TRIP_A             14.0f        /* at REF_I_PEAK_A, and at most at REF_I_FULL_SCALE_A [A] */
+#define LIM_OVERSPEED_PER_MAX    1.2f         /* overspeed trip / n_max [-] */
 #define BOARD_VDC_MIN_V          200.0f       /* undervoltage trip [V] */
 #define BOARD_VDC_MAX_V          400.0f       /* overvoltage trip [V] */
-#define BOARD_OVERSPEED_RPM      2400.0f      /* 1.2 x rated speed [r/min] */
 /* Control ISR: 15000 CPU cycles per period; the rest is the background
  * loop's (watchdog, telemetry) and the interrupt entry/exit. */
 #define BOARD_ISR_PERIOD_CYCLES  (BOARD_SYSCLK_HZ / BOARD_PWM_FREQ_HZ) /* [cycles] */
@@ -40,10 +53,11 @@
  * dead-time feedforward (3 V), below 25 V. The window slides by a quarter
  * (PROTECT_OP_SUBWINDOWS): SIL 65-100 ms, noise 0-0.15 A, 0-2000 r/min. */
 #define BOARD_OPEN_PHASE_WINDOW_S  0.1f       /* [s] */
-#define BOARD_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i| to judge by [A] */
+#define REF_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i| to judge by, at REF_I_RATED_A [A] */
 #define BOARD_OPEN_PHASE_RATIO     0.2f       /* mean |i_x| / mean |i| below it: no current in phase x [-] */
-#define BOARD_OPEN_PHASE_U_MIN_V   25.0f      /* ... while phase x was given this mean |u_x| (below half a turn) [V] */
-/* Frozen current reading: half an ADC step is "unchanged". In a net turn
+#define REF_OPEN_PHASE_U_MIN_V   25.0f      /* ... while phase x was given this mean |u_x|, at REF_VDC_V [V] */
+/* Frozen current reading: half an ADC step of the range is "unchanged"
+ * (drive_params.c, from the ADC range). In a net turn
  * of 15 deg el a field-oriented current |i| moves each reading by at least
  * |i| (1 - cos 7.5 deg) = 0.0086 |i| and the other by at most
  * 2 |i| sin 7.5 deg = 0.26 |i|: the other sweeping 0.5 A means |i| >= 1.9 A,
@@ -51,10 +65,14 @@
  * 100 r/min the frozen reading's runaway reaches the overcurrent trip in
  * 13-21 ms, 15 deg takes 8 ms. A reading frozen near zero is what an open
  * phase gives too: OPEN_PHASE judges that one. */
-#define BOARD_I_STUCK_DELTA_A    (0.5f * BOARD_I_GAIN_A_PER_V * BOARD_ADC_FULL_SCALE_V / BOARD_ADC_COUNTS) /* [A] */
 #define BOARD_I_STUCK_ANGLE_EL_DEG 15.0f      /* net rotor turn with one reading unchanged [deg el] */
 #define BOARD_I_STUCK_SPAN_A     0.5f         /* ... while the other reading swept this [A] */
 #define BOARD_I_STUCK_ZERO_A     0.1f         /* ... and the frozen reading is beyond +- this [A] */
+/* ... for at least 16 periods: ADC noise of 2 codes rms keeps a code
+ * 0.2 of the periods, 16 in a row 1e-11 (4 periods at 4 pole pairs,
+ * 1500 r/min: 1e-3, a false trip within seconds); at Table I's 100 r/min
+ * the 15 deg take 83 periods, at 2000 r/min 4 (then 1.6 ms). */
+#define BOARD_I_STUCK_MIN_PERIODS 16U         /* [periods] */
 /* Lost encoder: the PLL (500 rad/s) runs on past a count that stops from
  * speed; a healthy count lags the estimate by a few counts (a full-torque
  * reversal: about 16), so 100 counts (3.6 deg) is a lost signal. At low
@@ -74,7 +92,7 @@
  * rotor 180 deg from the last vector gets no torque; app.h derives why
  * the two never both leave it there). */
 #define BOARD_ENC_OFFSET_KNOWN   0U           /* 1: BOARD_ENC_OFFSET_EL_RAD is measured, no alignment [-] */
-#define BOARD_ALIGN_CURRENT_A    3.0f         /* d-axis current aimed at, about half rated; voltage = this x MOTOR_R_OHM [A] */
+#define REF_ALIGN_CURRENT_A      3.0f         /* d-axis current aimed at, about half rated, at REF_I_RATED_A; voltage = it x told R [A] */
 #define BOARD_ALIGN_PREPOS_EL_DEG 90.0f       /* pre-position vector from phase a: 90 gives the most torque on the turn to phase a [deg el] */
 #define BOARD_ALIGN_RAMP_S       0.2f         /* voltage ramp from 0, and the turn onto phase a: no torque jerk [s] */
 /* The two holds: SIL (Table I, 1 us dead time, no friction; 36 start
@@ -84,9 +102,8 @@
 #define BOARD_ALIGN_SETTLE_S     0.6f         /* hold on phase a: the rotor settles [s] */
 
 /* Commissioning (commission.h; methods and error budget in
- * firmware/commission_design.md). Currents as shares of the commissioning
- * current bound (the board: BOARD_I_LIMIT_A until the motor's rated current
- * is a setting), speeds of the rated speed. */
+ * firmware/commission_design.md). Currents as shares of the motor's rated
+ * current, speeds of its rated speed (drive_params_to_app_cfg). */
 #define COMM_U_FRAC              0.9f         /* |u| / (vdc/sqrt 3) beyond which a stage is implausible (SPIN: top speed) [-] */
 #define COMM_R_I1_FRAC           0.35f        /* R: first DC current / bound [-] */
 #define COMM_R_I2_FRAC           0.7f         /* R: second DC current / bound: overshoot of the integral loop stays below 1 [-] */
@@ -121,26 +138,55 @@
 #define COMM_SPIN_MAX_S          2.0f         /* SPIN: stage timeout [s] */
 
 /* ---- controller tuning: the SIL scenario defaults (tools/sil/scenario.c) - */
-#define TUNE_SPEED_KP_NMS_RAD    0.5f         /* speed PI [N m / (rad/s)] */
-#define TUNE_SPEED_KI_NM_RAD     20.0f        /* speed PI [N m / rad] */
+/* Speed PI (params_design.md sec. 3): kp = J w_c, ki = kp w_c x 0.103;
+ * w_c = 0.5 / 0.00129 = 388 rad/s, the paper motor's kp 0.5 and ki 20. */
+#define TUNE_SPEED_BW_RAD_S      REF_SPEED_BW_RAD_S /* speed-loop crossover w_c [rad/s] */
 #define TUNE_ENC_PLL_BW_RAD_S    500.0f       /* speed estimator bandwidth [rad/s] */
-#define TUNE_TE_MAX_PER_RATED    2.0f         /* torque limit / rated torque: 12 N m [-] */
 #define TUNE_U_MARGIN            0.92f        /* steady-state share of Vdc/sqrt(3) for flux weakening (oplim.h) [-] */
 
 /* Step 1 of the proposed method (IDENTIFY_R, app.h). Off by default (the
  * conventional method); with the proposed one, 2: the board commands two
  * speeds at the load present (a dyno or the driven machine must load it). */
 #define BOARD_RSID_MODE          0U           /* app_rsid_mode_t: 0 off, 1 windows, 2 speeds, 3 trusted R [-] */
-#define BOARD_RSID_SPEED_1_RPM   500.0f       /* first point [r/min] */
-#define BOARD_RSID_SPEED_2_RPM   1000.0f      /* second point: (41) needs w1 iq2 != w2 iq1 [r/min] */
-#define BOARD_RSID_ACCEL_RPM_S   2500.0f      /* ramp of the commanded speed: 500 r/min in 0.2 s [r/min/s] */
-#define BOARD_RSID_SETTLE_1_S    0.28f        /* entry to window 1: ramp + speed loop settled (SIL, Table I) [s] */
+/* Speeds, ramp and settle times from the ratings and the speed loop
+ * (params_design.md sec. 4; the paper motor's in brackets). */
+#define RSID_SPEED_1_PER_RATED   0.25f        /* first point, x n_rated (500 r/min) [-] */
+#define RSID_SPEED_2_PER_RATED   0.5f         /* second point: (41) needs w1 iq2 != w2 iq1 (1000 r/min) [-] */
+#define REF_RSID_ACCEL_RPM_S     2500.0f      /* ramp: the first point in 0.2 s, at REF's n_rated [r/min/s] */
+#define RSID_RAMP_TORQUE_PER_RATED 0.25f      /* ... at most this x T_rated accelerating J [-] */
+#define REF_RSID_SETTLE_2_S      0.14f        /* window 1 to 2: 5.6 / w_i, the PI's integral corner, at REF_SPEED_BW [s] */
+#define RSID_SETTLE_1_PER_2      2.0f         /* settle_1 = this x settle_2: the start's transient too (0.28 s) [-] */
 #define BOARD_RSID_WINDOW_S      0.06f        /* averaging window, 600 periods [s] */
-#define BOARD_RSID_SETTLE_2_S    0.14f        /* window 1 to window 2: the speed loop settles after the change [s] */
 #define BOARD_RSID_WINDOW_MAX_S  0.3f         /* window 2 lengthened up to this while se(R^) is too large [s] */
 #define BOARD_RSID_REPEATS_MAX   2U           /* speeds mode: both windows repeated at most this often [-] */
 #define BOARD_RSID_ON_REFUSAL    0U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning [-] */
-#define BOARD_TRACK_R            0U           /* 1: R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9) [-] */
+#define BOARD_TRACK_R            2U           /* CTRL_TRACK_R_*: 0 off, 1 on, 2 auto (1 s after step 2): R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9d; held while the field is weakened or the voltage at its limit) [-] */
+
+/* The proposed method's amplitudes and thresholds (params_design.md
+ * sec. 5), at the reference; scaled by the rated current (I), the rated
+ * torque (T) or the bus (V). */
+#define REF_OBS_EF_MAX_V         50.0f        /* (V) |f^ - f| the observer must dominate, (36) [V] */
+#define REF_OBS_PHI_A            2.5f         /* (I) boundary layer: G = 2 ef_max / phi = 40 V/A [A] */
+#define REF_EST_DI_MAX_A         0.5f         /* (I) est_gate: current step that pauses step 2 [A] */
+#define REF_EST_DTE_MAX_NM       0.3f         /* (T) est_gate: torque-reference step [N m] */
+#define REF_RT_I_IDENT_A         1.0f         /* (I) r_track: injection identifying the inverter error [A] */
+#define REF_RT_I_TRACK_A         0.5f         /* r_track: injection tracking R: R I (1.5 V) in proportion to the bus [A] */
+#define RT_I_TRACK_MAX_PER_RATED 0.1f         /* ... at most this x i_rated [-] */
+#define REF_RT_IQ_MIN_A          1.0f         /* (I) r_track: |iq| below: cycle held [A] */
+#define REF_RT_IQ_STEP_A         0.2f         /* (I) r_track: iq change within a cycle: held [A] */
+#define REF_RT_VE_MAX_V          20.0f        /* (V) r_track: |Ve| beyond: no inverter error [V] */
+/* The estimator's speed floor: w psi_f against the voltage the drive
+ * cannot explain, (4/pi) bus (dead-time uncertainty x f_s + device drop
+ * per bus): 30 rad/s el for psi_f 0.24 Wb at 311 V; scaled by that
+ * voltage over psi_f. |w iq| floor of L^: w_min x 1 A at the rated current. */
+#define EST_DT_UNC_S             0.1e-6f      /* dead time left unknown once measured [s] */
+#define EST_DROP_UNC_PER_VDC     (1.0f / 311.0f) /* device on-state drop left unknown, x bus: 1 V at 311 V (the devices' voltage class follows the bus) [-] */
+#define REF_EST_W_MIN_RAD_S      30.0f        /* [rad/s el] */
+#define REF_EST_WIQ_MIN_A_RAD_S  30.0f        /* (I, x w_min) [A rad/s] */
+/* Speed PI: kp = J w_c; its integral corner w_i = ki/kp in proportion to
+ * w_c (40 rad/s at the reference: ki 20). */
+#define REF_SPEED_KP_NMS_RAD     0.5f         /* at REF_J, REF_SPEED_BW [N m s/rad] */
+#define REF_SPEED_KI_NM_RAD      20.0f        /* at REF_J, REF_SPEED_BW (x J w_c^2) [N m/rad] */
 
 /* Bounds on what the controller's model may see (as in tools/sil/sil.c). */
 #define MODEL_I_BOUND_PER_TRIP   5.0f         /* x software overcurrent threshold [-] */
@@ -153,7 +199,16 @@
 #define MOTOR_PSI_F_WB           0.24f        /* permanent-magnet flux linkage [Wb] */
 #define MOTOR_POLE_PAIRS         3U           /* pole pairs [-] */
 #define MOTOR_J_KGM2             0.00129f     /* rotor inertia [kg m^2] */
+#define MOTOR_B_NMS              0.0f         /* viscous friction [N m s/rad] (the paper gives none) */
 #define MOTOR_RATED_SPEED_RPM    2000.0f      /* [r/min] */
 #define MOTOR_RATED_TORQUE_NM    6.0f         /* [N m]; iq = 6 / (1.5 * 3 * 0.24) = 5.56 A */
+/* The paper's ratings as the [motor] section states them (firmware/params_design.md):
+ * the rated current is the rated torque's, T = 1.5 p psi_f i; the short-time
+ * current twice that for 1 s (the paper gives no figure: assumed); the
+ * highest speed the rated one (overspeed trips at 1.2x it). */
+#define MOTOR_I_RATED_A          (MOTOR_RATED_TORQUE_NM / (1.5f * (float)MOTOR_POLE_PAIRS * MOTOR_PSI_F_WB)) /* 5.56 A */
+#define MOTOR_I_PEAK_A           (2.0f * MOTOR_I_RATED_A)  /* [A]: 12 N m */
+#define MOTOR_T_PEAK_S           1.0f         /* [s] */
+#define MOTOR_MAX_SPEED_RPM      MOTOR_RATED_SPEED_RPM     /* [r/min] */
 
 #endif /* BOARD_CFG_H */

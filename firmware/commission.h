@@ -76,7 +76,8 @@ typedef struct {
     float spin_lo_frac;         /* fits use speeds above this share of the top [-] */
     float spin_skip_s;          /* fits skip this after each current change: the speed estimate's lag settles [s] */
     float spin_max_s;           /* stage timeout [s] */
-    /* speed PI from J^: kp = kp_per_J J^, ki = ki_per_J J^ (comm_speed_pi) */
+    /* speed PI from J^: kp = kp_per_J J^, ki = ki_per_J J^ (comm_speed_pi; the
+     * parameter set's rule at its crossover, drive_speed_pi with J = 1) */
     float speed_kp_per_J_1_s;   /* [N m s/rad per kg m^2 = 1/s] */
     float speed_ki_per_J_1_s2;  /* [N m/rad per kg m^2 = 1/s^2] */
 } comm_cfg_t;
@@ -154,9 +155,8 @@ void comm_start(comm_t *m);
  * (COMM_*) with the measured value and its limit, else RUNNING. */
 app_step_t comm_step(comm_t *m, const comm_in_t *in, ab_t *u_ab_V);
 
-/* The speed PI's gains from an inertia [kg m^2]: the default PI's
- * (board_cfg.h TUNE_SPEED_*) scaled by J / the paper motor's J (the same
- * crossover). Any context. */
+/* The speed PI's gains from an inertia [kg m^2]: the parameter set's
+ * rule (drive_speed_pi, linear in J) through cfg's gains per kg m^2. Any context. */
 void comm_speed_pi(const comm_cfg_t *cfg, float J_kgm2, float *kp_Nms_rad, float *ki_Nm_rad);
 
 #endif /* COMMISSION_H */

@@ -1,11 +1,16 @@
-/* drive_params.c - the one parameter set and its mapping; see drive_params.h. */
+/* drive_params.c - the one parameter set, its derived values and its
+ * mapping; see drive_params.h and params_design.md. */
 #include "drive_params.h"
 
 #include "board_cfg.h"
 #include "mathx.h"
 
 #define S_PER_NS 1.0e-9f
-#define DEFAULT_BAND (-1.0f) /* R^ band end: ctrl_rsid_band_default()'s */
+#define DEFAULT_BAND (-1.0f) /* R^ band end: ctrl_rsid_band_with()'s */
+#define TORQUE_PER_P_PSI_I 1.5f /* Te = 1.5 p psi_f iq (SPMSM, i_d = 0) */
+#define SQRT3 1.7320508f
+/* A per-leg square wave of amplitude dv has the fundamental (4/pi) dv. */
+#define FUNDAMENTAL_OF_SQUARE 1.27323954f
 
 void drive_params_board(drive_params_t *p)
 {
@@ -14,38 +19,181 @@ void drive_params_board(drive_params_t *p)
     p->motor.psi_f_Wb = MOTOR_PSI_F_WB;
     p->motor.pole_pairs = (uint16_t)MOTOR_POLE_PAIRS;
     p->motor.J_kgm2 = MOTOR_J_KGM2;
-    p->motor.rated_torque_Nm = MOTOR_RATED_TORQUE_NM;
+    p->motor.B_Nms = MOTOR_B_NMS;
+
+    p->rating.i_rated_A = MOTOR_I_RATED_A;
+    p->rating.i_peak_A = MOTOR_I_PEAK_A;
+    p->rating.t_peak_s = MOTOR_T_PEAK_S;
+    p->rating.n_rated_rad_s = MOTOR_RATED_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
+    p->rating.n_max_rad_s = MOTOR_MAX_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
 
     p->board.Ts_s = 1.0f / (float)BOARD_PWM_FREQ_HZ;
     p->board.deadtime_s = (float)BOARD_DEADTIME_NS * S_PER_NS;
     p->board.vdc_nominal_V = BOARD_VDC_NOMINAL_V;
     p->board.u_bound_V = BOARD_VDC_MAX_V;
+    p->board.i_full_scale_A = BOARD_I_FULL_SCALE_A;
     p->board.enc_lines = (uint32_t)BOARD_ENC_LINES;
     p->board.enc_offset_el_rad = BOARD_ENC_OFFSET_EL_RAD;
     p->board.isr_period_cycles = (uint32_t)BOARD_ISR_PERIOD_CYCLES;
     p->board.isr_budget_cycles = (uint32_t)BOARD_ISR_BUDGET_CYCLES;
 
-    p->limits.i_trip_A = BOARD_OVERCURRENT_A;
-    p->limits.i_limit_A = BOARD_I_LIMIT_A;
+    p->limits.i_trip_A = DRIVE_PARAM_DERIVED;
+    p->limits.i_limit_A = DRIVE_PARAM_DERIVED;
     p->limits.vdc_max_V = BOARD_VDC_MAX_V;
     p->limits.vdc_min_V = BOARD_VDC_MIN_V;
-    p->limits.speed_max_rad_s = BOARD_OVERSPEED_RPM * MATHX_RAD_S_PER_RPM_F;
-    p->limits.te_max_Nm = TUNE_TE_MAX_PER_RATED * MOTOR_RATED_TORQUE_NM;
+    p->limits.speed_max_rad_s = DRIVE_PARAM_DERIVED;
+    p->limits.te_max_Nm = DRIVE_PARAM_DERIVED;
 
-    p->tuning.speed_kp_Nms_rad = TUNE_SPEED_KP_NMS_RAD;
-    p->tuning.speed_ki_Nm_rad = TUNE_SPEED_KI_NM_RAD;
+    p->tuning.speed_bw_rad_s = TUNE_SPEED_BW_RAD_S;
+    p->tuning.speed_kp_Nms_rad = DRIVE_PARAM_DERIVED;
+    p->tuning.speed_ki_Nm_rad = DRIVE_PARAM_DERIVED;
     p->tuning.pll_bw_rad_s = TUNE_ENC_PLL_BW_RAD_S;
     p->tuning.u_margin = TUNE_U_MARGIN;
     p->tuning.R_min_Ohm = DEFAULT_BAND;
     p->tuning.R_max_Ohm = DEFAULT_BAND;
+
+    p->step1.settle_1_s = DRIVE_PARAM_DERIVED;
+    p->step1.settle_2_s = DRIVE_PARAM_DERIVED;
+    p->step1.speed_1_rad_s = DRIVE_PARAM_DERIVED;
+    p->step1.speed_2_rad_s = DRIVE_PARAM_DERIVED;
+    p->step1.accel_rad_s2 = DRIVE_PARAM_DERIVED;
 }
 
-void drive_params_to_app_cfg(const drive_params_t *p, app_cfg_t *cfg)
+float drive_rated_torque_Nm(const drive_params_t *p)
 {
+    return TORQUE_PER_P_PSI_I * (float)p->motor.pole_pairs * p->motor.psi_f_Wb * p->rating.i_rated_A;
+}
+
+/* *x = v unless the user set it (>= 0; NaN and DRIVE_PARAM_DERIVED are not). */
+static void derive(float *x, float v)
+{
+    if (!(*x >= 0.0f)) {
+        *x = v;
+    }
+}
+
+static float min_f(float a, float b)
+{
+    return (a < b) ? a : b;
+}
+
+/* ref_value x (q / q_ref): a value in proportion to q, ref_value at the
+ * reference to the bit (q / q_ref is 1 there). */
+static float scaled(float ref_value, float q, float q_ref)
+{
+    return ref_value * (q / q_ref);
+}
+
+void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float *ki_Nm_rad)
+{
+    /* kp = J w_c, ki = kp w_i, w_i in proportion to w_c (params_design.md sec. 3) */
+    const float bw = speed_bw_rad_s / REF_SPEED_BW_RAD_S;
+    *kp_Nms_rad = REF_SPEED_KP_NMS_RAD * (J_kgm2 / REF_J_KGM2) * bw;
+    *ki_Nm_rad = REF_SPEED_KI_NM_RAD * (J_kgm2 / REF_J_KGM2) * bw * bw;
+}
+
+drive_derive_t drive_params_derive(drive_params_t *p)
+{
+    const drive_rating_t *r = &p->rating;
+    drive_derive_t st = DRIVE_DERIVE_OK;
+    const float kt_Nm_A = TORQUE_PER_P_PSI_I * (float)p->motor.pole_pairs * p->motor.psi_f_Wb;
+    const float n_rated_ref_rad_s = MOTOR_RATED_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
+
+    if (!(r->i_rated_A > 0.0f) || !(r->i_peak_A >= r->i_rated_A) || !(r->t_peak_s > 0.0f) ||
+        !(r->n_rated_rad_s > 0.0f) || !(r->n_max_rad_s >= r->n_rated_rad_s)) {
+        st |= DRIVE_DERIVE_RATINGS;
+    }
+    /* sec. 2: limits from the ratings and the ADC's range */
+    derive(&p->limits.te_max_Nm, kt_Nm_A * r->i_peak_A);
+    derive(&p->limits.i_limit_A, scaled(REF_I_LIMIT_A, r->i_peak_A, REF_I_PEAK_A));
+    derive(&p->limits.i_trip_A, min_f(scaled(REF_I_TRIP_A, r->i_peak_A, REF_I_PEAK_A),
+                                      scaled(REF_I_TRIP_A, p->board.i_full_scale_A, REF_I_FULL_SCALE_A)));
+    derive(&p->limits.speed_max_rad_s, LIM_OVERSPEED_PER_MAX * r->n_max_rad_s);
+    if (!(p->limits.i_limit_A < p->limits.i_trip_A)) {
+        st |= DRIVE_DERIVE_ADC_RANGE;
+    }
+    /* sec. 3: speed PI from J and the crossover */
+    const float bw = p->tuning.speed_bw_rad_s / REF_SPEED_BW_RAD_S;
+    float kp;
+    float ki;
+    drive_speed_pi(p->motor.J_kgm2, p->tuning.speed_bw_rad_s, &kp, &ki);
+    derive(&p->tuning.speed_kp_Nms_rad, kp);
+    derive(&p->tuning.speed_ki_Nm_rad, ki);
+    /* sec. 4: step 1 from the ratings and the speed loop's settling (1 / w_i) */
+    derive(&p->step1.settle_2_s, REF_RSID_SETTLE_2_S / bw);
+    derive(&p->step1.settle_1_s, RSID_SETTLE_1_PER_2 * p->step1.settle_2_s);
+    derive(&p->step1.speed_1_rad_s, RSID_SPEED_1_PER_RATED * r->n_rated_rad_s);
+    derive(&p->step1.speed_2_rad_s, RSID_SPEED_2_PER_RATED * r->n_rated_rad_s);
+    derive(&p->step1.accel_rad_s2,
+           min_f(scaled(REF_RSID_ACCEL_RPM_S * MATHX_RAD_S_PER_RPM_F, r->n_rated_rad_s, n_rated_ref_rad_s),
+                 RSID_RAMP_TORQUE_PER_RATED * kt_Nm_A * r->i_rated_A / p->motor.J_kgm2));
+    /* sec. 6: back-EMF at n_max against the bus's phase-voltage limit */
+    if (r->n_max_rad_s * (float)p->motor.pole_pairs * p->motor.psi_f_Wb > p->board.vdc_nominal_V / SQRT3) {
+        st |= DRIVE_DERIVE_WARN_BEMF;
+    }
+    ctrl_obs_gains_t g;
+    float G_max;
+    if (!drive_params_obs_gains(p, &g, &G_max)) {
+        st |= DRIVE_DERIVE_OBSERVER;
+    }
+    return st;
+}
+
+bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float *G_max_V_A)
+{
+    return ctrl_obs_gains_design(p->board.Ts_s, p->motor.R_Ohm, p->motor.L_H,
+                                 scaled(REF_OBS_EF_MAX_V, p->board.vdc_nominal_V, REF_VDC_V),
+                                 scaled(REF_OBS_PHI_A, p->rating.i_rated_A, REF_I_RATED_A), g, G_max_V_A);
+}
+
+/* The voltage the drive cannot explain [V]: (4/pi) bus (dead-time
+ * uncertainty x f_s + device drop per bus). */
+static float unexplained_V(float vdc_V, float Ts_s)
+{
+    return FUNDAMENTAL_OF_SQUARE * vdc_V * (EST_DT_UNC_S / Ts_s + EST_DROP_UNC_PER_VDC);
+}
+
+/* sec. 5: step 2's thresholds, the injections and the speed floor. */
+static void estimator_from(const drive_params_t *p, ctrl_cfg_t *c)
+{
+    const float i_r = p->rating.i_rated_A;
+    const float T_r = drive_rated_torque_Nm(p);
+    const float vdc = p->board.vdc_nominal_V;
+    c->gate.di_max_A = scaled(REF_EST_DI_MAX_A, i_r, REF_I_RATED_A);
+    c->gate.dte_max_Nm = scaled(REF_EST_DTE_MAX_NM, T_r, REF_T_RATED_NM);
+    c->rtrack.i_ident_A = scaled(REF_RT_I_IDENT_A, i_r, REF_I_RATED_A);
+    /* R I against the PWM's voltage noise, which scales with the bus */
+    c->rtrack.i_track_A = min_f(scaled(REF_RT_I_TRACK_A, vdc / p->motor.R_Ohm, REF_VDC_V / REF_R_OHM),
+                                RT_I_TRACK_MAX_PER_RATED * i_r);
+    c->rtrack.iq_min_A = scaled(REF_RT_IQ_MIN_A, i_r, REF_I_RATED_A);
+    c->rtrack.iq_step_max_A = scaled(REF_RT_IQ_STEP_A, i_r, REF_I_RATED_A);
+    c->rtrack.ve_max_V = scaled(REF_RT_VE_MAX_V, vdc, REF_VDC_V);
+    /* w_min psi_f in proportion to the voltage the drive cannot explain */
+    const float w_min = scaled(REF_EST_W_MIN_RAD_S, unexplained_V(vdc, p->board.Ts_s),
+                               unexplained_V(REF_VDC_V, p->board.Ts_s)) * (REF_PSI_F_WB / p->motor.psi_f_Wb);
+    c->pe.w_min_rad_s = w_min;
+    c->pe.wiq_min_A_rad_s = scaled(REF_EST_WIQ_MIN_A_RAD_S, w_min * i_r, REF_EST_W_MIN_RAD_S * REF_I_RATED_A);
+}
+
+void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
+{
+    drive_params_t d = *p_in;
+    const drive_params_t *p = &d;
     ctrl_cfg_t *c = &cfg->ctrl;
+    ctrl_obs_gains_t g;
+    float G_max;
     float R_min_Ohm;
     float R_max_Ohm;
 
+    /* sec. 3: the I^2t budget of the short-time current */
+    cfg->i2t_rated_A = p->rating.i_rated_A;
+    cfg->comm.i_max_A = p->rating.i_rated_A;          /* the commissioning's bounds: the ratings */
+    cfg->comm.speed_max_rad_s = p->rating.n_rated_rad_s;
+    /* the speed PI from the measured J: the parameter set's rule, linear in J */
+    drive_speed_pi(1.0f, p->tuning.speed_bw_rad_s, &cfg->comm.speed_kp_per_J_1_s, &cfg->comm.speed_ki_per_J_1_s2);
+    cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
+                          p->rating.t_peak_s;
+    cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));
     c->Ts_s = p->board.Ts_s;
     c->R_Ohm = p->motor.R_Ohm;
     c->L_H = p->motor.L_H;
@@ -72,14 +220,28 @@ void drive_params_to_app_cfg(const drive_params_t *p, app_cfg_t *cfg)
     cfg->prot.speed_max_rad_s = p->limits.speed_max_rad_s;
     cfg->prot.isr_period_cycles = p->board.isr_period_cycles;
     cfg->prot.isr_budget_cycles = p->board.isr_budget_cycles;
+    /* half an ADC step of the current range (+- full scale over the counts) */
+    cfg->prot.watch.stuck_delta_A = p->board.i_full_scale_A / BOARD_ADC_COUNTS;
+    cfg->prot.watch.op_i_min_A = scaled(REF_OPEN_PHASE_I_MIN_A, p->rating.i_rated_A, REF_I_RATED_A);
+    cfg->prot.watch.op_u_min_V = scaled(REF_OPEN_PHASE_U_MIN_V, p->board.vdc_nominal_V, REF_VDC_V);
+    cfg->aln.u_V = scaled(REF_ALIGN_CURRENT_A, p->rating.i_rated_A, REF_I_RATED_A) * p->motor.R_Ohm;
 
-    /* the proposed method's settings for these values; the R^ band in ohms */
-    ctrl_rsid_band_default(c, &R_min_Ohm, &R_max_Ohm);
+    cfg->rsid.settle_1_s = p->step1.settle_1_s;
+    cfg->rsid.settle_2_s = p->step1.settle_2_s;
+    cfg->rsid.speed_1_rad_s = p->step1.speed_1_rad_s;
+    cfg->rsid.speed_2_rad_s = p->step1.speed_2_rad_s;
+    cfg->rsid.accel_rad_s2 = p->step1.accel_rad_s2;
+
+    /* the proposed method's settings for these values; the R^ band in ohms.
+     * Gains refused here make smo_init refuse too (CONFIG at the start). */
+    (void)drive_params_obs_gains(p, &g, &G_max);
+    ctrl_rsid_band_with(c, &g, &R_min_Ohm, &R_max_Ohm);
     if (p->tuning.R_min_Ohm >= 0.0f) {
         R_min_Ohm = p->tuning.R_min_Ohm;
     }
     if (p->tuning.R_max_Ohm > 0.0f) {
         R_max_Ohm = p->tuning.R_max_Ohm;
     }
-    ctrl_cfg_proposed_defaults(c, R_min_Ohm, R_max_Ohm);
+    ctrl_cfg_proposed_with(c, R_min_Ohm, R_max_Ohm, &g);
+    estimator_from(p, c);
 }

@@ -2,6 +2,8 @@
 # the cmocka mock of the HAL.
 TEST_LIBS_test_app := firmware control
 TEST_SRCS_test_app := tests/mock_hal.c
+# The values derived from the motor's data (params_design.md).
+TEST_LIBS_test_drive_params := firmware control
 
 # Closed-loop acceptance of the conventional DB-DTC on the simulated board.
 TEST_LIBS_test_sil_conventional := silrun firmware sim control

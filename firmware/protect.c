@@ -230,17 +230,19 @@ static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
         if (!p->st_seeded || (mathx_fabsf(rd[c] - p->st_last_A[c]) > w->stuck_delta_A)) {
             p->st_last_A[c] = rd[c];
             p->st_angle_el_rad[c] = 0.0f;
+            p->st_periods[c] = 0u;
             p->st_other_min_A[c] = other;
             p->st_other_max_A[c] = other;
         } else {
             p->st_angle_el_rad[c] += turn;
+            p->st_periods[c]++;
             p->st_other_min_A[c] = (other < p->st_other_min_A[c]) ? other : p->st_other_min_A[c];
             p->st_other_max_A[c] = (other > p->st_other_max_A[c]) ? other : p->st_other_max_A[c];
         }
     }
     p->st_seeded = true;
     for (c = 0u; c < N_READINGS; c++) {
-        if ((mathx_fabsf(p->st_angle_el_rad[c]) >= w->stuck_angle_el_rad) &&
+        if ((mathx_fabsf(p->st_angle_el_rad[c]) >= w->stuck_angle_el_rad) && (p->st_periods[c] >= w->stuck_min_periods) &&
             (mathx_fabsf(p->st_last_A[c]) > w->stuck_zero_A) &&
             (p->st_other_max_A[c] - p->st_other_min_A[c] >= w->stuck_span_A)) {
             return app_step_fault(APP_FAULT_CURRENT_SENSOR, mathx_fabsf(p->st_angle_el_rad[c]), w->stuck_angle_el_rad);

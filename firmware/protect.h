@@ -40,7 +40,10 @@
  *                     (by less than stuck_delta_A, half an ADC step) and
  *                     beyond +- stuck_zero_A while the rotor turned (net)
  *                     stuck_angle_el_rad and the other reading moved over
- *                     stuck_span_A: a field-oriented current turns with
+ *                     stuck_span_A, for at least stuck_min_periods (a
+ *                     fast motor turns 15 deg el in 4 periods, where ADC
+ *                     noise of 2 codes rms keeps a code by chance one
+ *                     period in a thousand): a field-oriented current turns with
  *                     the rotor, so both readings move. A reading stuck
  *                     near 0 A looks like an open phase and is judged by
  *                     OPEN_PHASE. Not observable at standstill on a
@@ -81,6 +84,7 @@ typedef struct {
     float stuck_angle_el_rad;   /* net rotor turn with one reading unchanged [rad el] ... */
     float stuck_span_A;         /* ... while the other one moved over this [A] */
     float stuck_zero_A;         /* ... and it is beyond +- this (near 0: OPEN_PHASE's) [A] */
+    uint32_t stuck_min_periods; /* ... for at least this many periods (noise keeps one ADC code that long only by chance) */
     float enc_lost_counts;      /* counts the speed estimate says were missed [counts] */
     float enc_stall_s;          /* no count change this long ... [s] */
     float enc_stall_te_frac;    /* ... at |te_ref| >= this x the controller's torque limit [-] */
@@ -166,6 +170,7 @@ typedef struct {
     /* protect_watch: CURRENT_SENSOR, per reading (0 ia, 1 ib) since it last changed */
     float st_last_A[2];
     float st_angle_el_rad[2];      /* net turn, signed [rad el] */
+    uint32_t st_periods[2];        /* periods unchanged */
     float st_other_min_A[2], st_other_max_A[2];
     bool st_seeded;
     /* protect_watch: ENCODER_LOST */

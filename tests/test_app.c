@@ -4,6 +4,7 @@
  * of the HAL (tests/mock_hal.c, tests/app_harness.h). Each step's own
  * tests: test_calib, test_align, test_rsid_seq, test_protect. */
 #include "app_harness.h"
+#include "drive_params.h"
 
 /* ---- configuration ------------------------------------------------------ */
 
@@ -15,7 +16,7 @@ static void cfg_default_is_the_board(void **state)
     assert_float_equal(cfg.ctrl.Ts_s, 1e-4, 1e-9);
     assert_float_equal(cfg.ctrl.R_Ohm, MOTOR_R_OHM, 0.0);
     assert_int_equal(cfg.ctrl.enc_lines, BOARD_ENC_LINES);
-    assert_float_equal(cfg.prot.i_max_A, BOARD_OVERCURRENT_A, 0.0);
+    assert_float_equal(cfg.prot.i_max_A, 14.0, 0.0); /* the reference design, to the bit */
     assert_float_equal(cfg.prot.vdc_max_V, BOARD_VDC_MAX_V, 0.0);
     assert_float_equal(cfg.prot.vdc_min_V, BOARD_VDC_MIN_V, 0.0);
     assert_float_equal(cfg.prot.speed_max_rad_s, SPEED_MAX, 1e-3);
@@ -25,7 +26,7 @@ static void cfg_default_is_the_board(void **state)
     assert_int_equal(cfg.cal.samples, BOARD_CAL_SAMPLES);
     assert_float_equal(cfg.cal.offset_max_A, BOARD_I_OFFSET_MAX_A, 0.0);
     assert_true(cfg.align == (BOARD_ENC_OFFSET_KNOWN == 0u));
-    assert_float_equal(cfg.aln.u_V, BOARD_ALIGN_CURRENT_A * MOTOR_R_OHM, 1e-6); /* 9 V */
+    assert_float_equal(cfg.aln.u_V, 3.0 * MOTOR_R_OHM, 0.0); /* 3 A x 3 Ohm, to the bit */
     assert_float_equal(cfg.aln.prepos_el_rad, BOARD_ALIGN_PREPOS_EL_DEG * PI_F / 180.0f, 1e-6);
     assert_float_equal(cfg.aln.prepos_s, BOARD_ALIGN_PREPOS_S, 0.0);
     assert_float_equal(cfg.aln.settle_s, BOARD_ALIGN_SETTLE_S, 0.0);
@@ -202,10 +203,34 @@ static void refused_block_faults_config_at_start(void **state)
     }
 }
 
+/* Ratings the drive cannot run (a rated current beyond the ADC range:
+ * i_limit reaches the trip) fault CONFIG at the start, the refusal in the
+ * snapshot's value above ctrl_init's bits, PWM never enabled. */
+static void refused_ratings_fault_config_at_start(void **state)
+{
+    (void)state;
+    app_cfg_t cfg = make_cfg(false, false);
+    drive_params_t p;
+    drive_params_board(&p);
+    p.rating.i_rated_A = 10.0f;
+    p.rating.i_peak_A = 20.0f;
+    drive_params_to_app_cfg(&p, &cfg);
+    assert_int_equal(cfg.params_refused, DRIVE_DERIVE_ADC_RANGE);
+    init_cfg(&cfg);
+    hal_sample_t s = sample(0.0f, 0.0f, VDC);
+    app_request_start(&app);
+    isr_fault(&s, 0);
+    assert_int_equal(app.fault, APP_FAULT_CONFIG);
+    assert_float_equal(app.snapshot.value, (float)(app.ctrl.status | (DRIVE_DERIVE_ADC_RANGE << APP_PARAMS_REFUSED_SHIFT)),
+                       0.0);
+    assert_false(app.pwm_on);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(cfg_default_is_the_board),
+        cmocka_unit_test(refused_ratings_fault_config_at_start),
         cmocka_unit_test(init_is_init_with_pwm_off),
         cmocka_unit_test(start_runs_and_stop_idles),
         cmocka_unit_test(sequence_calibrates_aligns_runs),

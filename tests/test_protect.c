@@ -13,11 +13,12 @@
 #define STALL_N     10           /* ENCODER_LOST at the torque limit [periods] */
 #define TE_MAX      12.0f
 #define POLES       3u
+#define STUCK_MIN_N 8u      /* periods a reading must stay unchanged (below the 14 of the 15 deg case) */
 
 static protect_cfg_t prot_cfg(void)
 {
     const protect_watch_cfg_t w = { OP_WINDOW * 1e-4f, 1.0f, 0.2f, 25.0f, 3.662e-3f, PI_F / 12.0f, 0.5f, 0.1f,
-                                    100.0f, STALL_N * 1e-4f, 0.9f };
+                                    STUCK_MIN_N, 100.0f, STALL_N * 1e-4f, 0.9f };
     const protect_cfg_t cfg = { I_MAX, VDC_MAX, VDC_MIN, SPEED_MAX, PERIOD_CYC, BUDGET_CYC, w };
     return cfg;
 }
@@ -521,6 +522,30 @@ static void frozen_current_reading_found_after_15_deg(void **state)
     }
 }
 
+/* A fast turn: the same frozen reading, the turn at 15 deg after 14
+ * periods, but at least 20 periods unchanged asked for: the fault at the
+ * 21st period, not before (noise keeps an ADC code a few periods by chance). */
+static void frozen_current_reading_needs_its_periods(void **state)
+{
+    (void)state;
+    protect_cfg_t cfg = prot_cfg();
+    cfg.watch.stuck_min_periods = 20u;
+    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES };
+    protect_t p;
+    protect_init(&p, &cfg, &drv);
+    uint32_t count = 0u;
+    app_step_t r = app_step_running();
+    int k;
+    for (k = 0; (k < 40) && (r.status == APP_STEP_RUNNING); k++) {
+        protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
+        count += 10u;
+        const protect_watch_in_t in = watch_in(1.0f, 0.1f * (float)k, NULL, true, 0.0f, 0.0f);
+        r = protect_watch(&p, &in);
+    }
+    assert_int_equal(r.fault, APP_FAULT_CURRENT_SENSOR);
+    assert_int_equal(k, 21);
+}
+
 /* The count stops at 94.25 rad/s (15 counts per period by the estimate):
  * 105 missed counts at the 7th frozen period cross 100. At the torque limit
  * (11 N m >= 0.9 x 12) with no count for STALL_N periods: the stall rule;
@@ -582,6 +607,7 @@ int main(void)
         cmocka_unit_test(open_phase_found_at_the_window_end),
         cmocka_unit_test(open_phase_voltage_averaged_per_part_and_half_turn),
         cmocka_unit_test(frozen_current_reading_found_after_15_deg),
+        cmocka_unit_test(frozen_current_reading_needs_its_periods),
         cmocka_unit_test(lost_encoder_found_moving_and_at_the_torque_limit),
     };
     return cmocka_run_group_tests_name("protect", tests, NULL, NULL);

@@ -96,14 +96,26 @@ static void defaults_come_from_the_parameter_set(void **state)
     assert_float_equal(sc.plant.J_kgm2, p.motor.J_kgm2, 1e-12);
     assert_int_equal(sc.plant.encoder_lines, p.board.enc_lines);
     assert_float_equal(sc.controller.pll_bw_rad_s, p.tuning.pll_bw_rad_s, 0.0);
-    assert_float_equal(sc.controller.i_max_A, p.limits.i_trip_A, 0.0);
-    assert_float_equal(sc.controller.te_max_Nm, p.limits.te_max_Nm, 0.0);
-    /* 2400 r/min, from rad/s back to the key's unit */
-    assert_float_equal(sc.controller.overspeed_rpm, 2400.0, 0.0);
-    /* step 1's timing: the app's start-up settings (app_cfg_default) */
+    /* the ratings: the paper motor's (5.56 A = 6 N m / (1.5 x 3 x 0.24)), every digit of the float */
+    assert_true((float)sc.motor.i_rated_A == p.rating.i_rated_A);
+    assert_true(isnan(sc.motor.i_peak_A));   /* 2 x i_rated */
+    assert_float_equal(sc.motor.n_rated_rpm, 2000.0, 1e-3);
+    /* derived keys: unset until scenario_finish derives them from the motor's data */
+    assert_true(isnan(sc.controller.te_max_Nm));
+    assert_true(isnan(sc.identify.settle_1_s));
+    char err[SCENARIO_ERR_LEN];
+    assert_int_equal(scenario_finish(&sc, err, sizeof err), 0);
     static app_cfg_t ac;
     app_cfg_default(&ac);
-    assert_true(sc.identify.settle_1_s == 0.28);
+    assert_float_equal(sc.controller.i_max_A, ac.prot.i_max_A, 0.0);
+    assert_float_equal(sc.controller.te_max_Nm, ac.ctrl.te_max_Nm, 0.0);
+    assert_float_equal(sc.controller.speed_kp_Nms_rad, 0.5, 0.0);
+    assert_float_equal(sc.controller.speed_ki_Nm_rad, 20.0, 0.0);
+    /* 1.2 x 2000 r/min, from rad/s back to the key's unit */
+    assert_float_equal(sc.controller.overspeed_rpm, 2400.0, 1e-3);
+    /* step 1's timing: derived as the app's start-up settings (app_cfg_default) */
+    assert_float_equal(sc.identify.settle_1_s, ac.rsid.settle_1_s, 0.0);
+    assert_float_equal(sc.identify.settle_1_s, 0.28, 1e-7);
     assert_float_equal(sc.identify.window_s, ac.rsid.window_s, 1e-9);
     assert_float_equal(sc.identify.speed_2_rpm, 1000.0, 0.0);
     assert_int_equal(sc.identify.repeats_max, ac.rsid.repeats_max);
@@ -291,6 +303,63 @@ static void plant_resistance_profile(void **state)
     expect_error("[plant]\ndevice_drop_V = -1\n", 2, "device_drop_V");
 }
 
+/* The small motor of the any-motor campaign with only its data: the
+ * derived keys follow it (hand values: kt = 0.048 N m/A, i_peak 12.5 A,
+ * te_max 0.6 N m, kp = 0.5 x 2e-5/0.00129, speeds 750/1500 r/min). */
+static const char SMALL[] = "[plant]\nR_ohm = 0.1\nL_H = 0.0002\npsif_Wb = 0.008\npole_pairs = 4\n"
+                            "J_kgm2 = 2e-5\nvdc_V = 24\n[motor]\ni_rated_A = 6.25\nn_rated_rpm = 3000\n"
+                            "[controller]\nmethod = proposed\n[identify]\nmode = speeds\n";
+
+static void motor_section_derives_the_keys(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN] = "";
+    assert_int_equal(load_text(&sc, SMALL, err), 0);
+    assert_float_equal(sc.controller.te_max_Nm, 0.6, 1e-5);
+    assert_float_equal(sc.controller.speed_kp_Nms_rad, 0.5 * 2e-5 / 0.00129, 1e-7);
+    assert_float_equal(sc.identify.speed_1_rpm, 750.0, 1e-3);
+    assert_float_equal(sc.identify.speed_2_rpm, 1500.0, 1e-3);
+    assert_float_equal(sc.controller.overspeed_rpm, 3600.0, 1e-2);
+    assert_float_equal(sc.controller.J_kgm2, 2e-5, 1e-12);   /* told: the plant's */
+    assert_int_equal(scenario_key_set(&sc, "controller", "te_max_Nm"), 0);
+    /* a key an override sets stays and is marked set */
+    scenario_defaults(&sc);
+    const char *path = write_ini(SMALL);
+    assert_int_equal(scenario_load(&sc, path, err, sizeof err), 0);
+    unlink(path);
+    assert_int_equal(scenario_set(&sc, "controller.te_max_Nm=0.5", err, sizeof err), 0);
+    assert_int_equal(scenario_finish(&sc, err, sizeof err), 0);
+    assert_float_equal(sc.controller.te_max_Nm, 0.5, 0.0);
+    assert_int_equal(scenario_key_set(&sc, "controller", "te_max_Nm"), 1);
+}
+
+/* A motor the drive cannot run: refused naming the keys. */
+static void motor_the_drive_cannot_run_refused(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN] = "";
+    /* L 20 uH at 10 kHz: no observer gain (proposed only) */
+    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 20e-6\n[controller]\nmethod = proposed\n"
+                                    "[identify]\nmode = speeds\n", err), -1);
+    print_message("  -> %s\n", err);
+    assert_non_null(strstr(err, "[controller] L_H, R_ohm: no observer gain"));
+    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 20e-6\n", err), 0);   /* conventional runs */
+    /* a rated current beyond the 15 A ADC */
+    expect_error("[motor]\ni_rated_A = 10\n", 2, "i_peak_A");
+    expect_error("[motor]\ni_rated_A = 5\ni_peak_A = 4\n", 2, "ratings do not fit");
+    /* back-EMF at n_max beyond the bus: a warning naming the keys, no refusal */
+    assert_int_equal(load_text(&sc, "[motor]\nn_max_rpm = 2500\n", err), 0);
+    char w[SCENARIO_ERR_LEN];
+    scenario_warnings(&sc, w, sizeof w);
+    assert_non_null(strstr(w, "BEMF_ABOVE_BUS"));
+    assert_non_null(strstr(w, "n_max_rpm"));
+    assert_int_equal(load_text(&sc, "", err), 0);
+    scenario_warnings(&sc, w, sizeof w);
+    assert_string_equal(w, "");
+}
+
 /* Inputs whose first message used to name a symptom: an empty value, a
  * key given again, a section line without its ']', a key before any
  * section - each named as what it is, at its own line. */
@@ -425,6 +494,8 @@ int main(void)
         cmocka_unit_test(set_overrides_and_replaces_profiles),
         cmocka_unit_test(plant_resistance_profile),
         cmocka_unit_test(bad_inputs_name_file_line_key),
+        cmocka_unit_test(motor_section_derives_the_keys),
+        cmocka_unit_test(motor_the_drive_cannot_run_refused),
         cmocka_unit_test(messages_name_the_real_problem),
         cmocka_unit_test(plausibility_bounds),
         cmocka_unit_test(faults_section),

@@ -51,7 +51,7 @@ static void setup(inv_model_t model, double vdc_V, bool speed_held, mismatch_t m
         .speed_ki_Nm_rad = 20.0f, .te_max_Nm = 12.0f, .i_max_A = 60.0f, .u_max_V = 5000.0f,
         .omega_max_el_rad_s = 3000.0f, .psi_max_Wb = 1.0f,
     };
-    cfg.prot.i_max_A = BOARD_OVERCURRENT_A;
+    cfg.prot.i_max_A = REF_I_TRIP_A;
     /* the board's bus limits scaled to this bus; running from t = 0, as in the paper */
     cfg.prot.vdc_max_V = (float)vdc_V * (BOARD_VDC_MAX_V / BOARD_VDC_NOMINAL_V);
     cfg.prot.vdc_min_V = (float)vdc_V * (BOARD_VDC_MIN_V / BOARD_VDC_NOMINAL_V);

@@ -108,7 +108,7 @@ static void open_phase(void **state)
         const double dt = assert_latched(phases[p], &res, APP_FAULT_OPEN_PHASE);
         assert_true(dt <= 1.25 * BOARD_OPEN_PHASE_WINDOW_S);
         assert_true(res.fault_value < res.fault_limit);
-        assert_true(res.fault_limit >= BOARD_OPEN_PHASE_RATIO * BOARD_OPEN_PHASE_I_MIN_A);
+        assert_true(res.fault_limit >= BOARD_OPEN_PHASE_RATIO * REF_OPEN_PHASE_I_MIN_A);
     }
 }
 
@@ -126,8 +126,8 @@ static void phase_to_phase_short(void **state)
     assert_float_equal(res.fault_value, 0.0, 0.0);
     run(sets, 3, 0.4, &res);
     assert_true(assert_latched("short b-c, software", &res, APP_FAULT_OVERCURRENT) <= 2.0 * TS_S);
-    assert_true(res.fault_value > BOARD_OVERCURRENT_A);
-    assert_float_equal(res.fault_limit, BOARD_OVERCURRENT_A, 1e-6);
+    assert_true(res.fault_value > REF_I_TRIP_A);
+    assert_float_equal(res.fault_limit, REF_I_TRIP_A, 1e-6);
 }
 
 /* A current channel freezes at its reading: CURRENT_SENSOR once the rotor

@@ -139,20 +139,20 @@ class CaseTable(Tmp):
                 "real_conv_L066_psif150": {"error": "failed"}, "real_prop_L066_psif150": result(te_err_Nm=0.03)}
         lines = sil_report.case_table(cases, self.dir, real)
         n = len(cells(lines[0]))
-        self.assertEqual(n, 9)
+        self.assertEqual(n, 10)
         self.assertEqual(len(lines), 2 + 4)
         for line in lines[1:]:
             self.assertEqual(len(cells(line)), n, line)
         rows = [cells(line) for line in lines[2:]]
         self.assertEqual([r[:2] for r in rows], [["L066", "conventional"], ["L066", "proposed"],
                                                  ["L066_psif150", "conventional"], ["L066_psif150", "proposed"]])
-        self.assertEqual(rows[1][2:], ["0.0123", "0.0200", "0.25", "1.000", "0.0234", "75.88", "-"])
+        self.assertEqual(rows[1][2:], ["0.0123", "0.0200", "0.25", "1.000", "0.0234", "75.88", "-", "paper"])
         self.assertEqual(rows[0][3:5], ["0.0800", "-"])        # the conventional row has no ratio
         self.assertEqual(rows[2][3:5], ["-", "-"])             # its realistic run failed: no ratio either
         self.assertEqual(rows[3][3:5], ["0.0300", "-"])
         self.assertEqual(cells(sil_report.case_table(cases[:1], self.dir)[2])[3:5], ["-", "-"])   # no real runs
         # L066 has no comparison figure: no link, and not L066_psif150's
-        self.assertEqual([r[-1] for r in rows], ["-", "-", "[L066_psif150_compare.png](L066_psif150_compare.png)",
+        self.assertEqual([r[-2] for r in rows], ["-", "-", "[L066_psif150_compare.png](L066_psif150_compare.png)",
                                                  "[L066_psif150_compare.png](L066_psif150_compare.png)"])
 
     def test_small_ratio_keeps_its_digits(self):
@@ -164,12 +164,12 @@ class CaseTable(Tmp):
     def test_estimate_rows(self):
         lines = sil_report.estimate_table(self.CASES)
         n = len(cells(lines[0]))
-        self.assertEqual(n, 9)
+        self.assertEqual(n, 10)
         self.assertEqual(len(lines), 2 + 4)
         for line in lines[1:]:
             self.assertEqual(len(cells(line)), n, line)
         rows = [cells(line) for line in lines[2:]]
-        self.assertEqual(rows[1], ["L066", "proposed", "+0.013", "+0.000", "-0.010", "19.0", "-", "-", "-"])
+        self.assertEqual(rows[1], ["L066", "proposed", "+0.013", "+0.000", "-0.010", "19.0", "-", "-", "-", "paper"])
         self.assertEqual(rows[2][2:5], ["-", "-34.000", "+50.000"])
         self.assertEqual(rows[3][7:9], ["2", "0.23"])
 
@@ -221,6 +221,14 @@ class WindowsAndTruth(Tmp):
         self.assertAlmostEqual(a, 0.15, places=12)
         self.assertAlmostEqual(b, 0.2 + 1e-9, places=15)
         self.assertIsNone(load)
+        win, load = sil_report.windows({"t_s": [0.0, 2.9999]})     # a long run: its last 0.5 s, no load window
+        self.assertAlmostEqual(win[0], 2.4999, places=9)
+        self.assertIsNone(load)
+
+    def test_motor_column(self):
+        cases = [("motor_small", {"conv": result(), "prop": result()})]
+        for table in (sil_report.case_table(cases, self.dir), sil_report.estimate_table(cases)):
+            self.assertEqual([cells(x)[-1] for x in table[2:]], ["small", "small"])
 
     def write_resolved(self, stem, plant):
         with open(os.path.join(self.dir, stem + ".resolved.json"), "w") as f:

@@ -124,8 +124,8 @@ static void usage(FILE *f)
             "the source revision drive_sil was built from.\n"
             "--commission OUT.ini measures the motor (firmware/commission.h) on the\n"
             "scenario's plant and board with a free shaft ([reference], [load] ignored,\n"
-            "[faults] applied; the current bound is [controller] i_limit_A, the speed\n"
-            "bound overspeed_rpm) and writes OUT.ini: the scenario with the overrides\n"
+            "[faults] applied; the current bound is [motor] i_rated_A, the speed\n"
+            "bound n_rated_rpm) and writes OUT.ini: the scenario with the overrides\n"
             "and the measured R_ohm, L_H, psif_Wb, pole_pairs, J_kgm2, B_Nms,\n"
             "encoder_offset_el_rad and speed gains in [controller] (a value with no key\n"
             "in this drive_sil as a comment), R_factor, L_factor, psif_factor commented\n"
@@ -253,9 +253,21 @@ static int load_scenario(const args_t *a, scenario_t *sc)
     if (load_base(a, sc) != 0) {
         return -1;
     }
+    /* A commissioning neither uses the method nor the told R, L, psi_f: the
+     * proposed method's refusals of them (no observer gain, no step 1) do
+     * not stop it. OUT.ini keeps the file's method (it is written from the
+     * file's text). */
+    if (a->commission_path != NULL && scenario_set(sc, "controller.method=conventional", err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s\n", err);
+        return -1;
+    }
     if (scenario_finish(sc, err, sizeof err) != 0) {
         fprintf(stderr, "drive_sil: %s\n", err);
         return -1;
+    }
+    scenario_warnings(sc, err, sizeof err);
+    if (err[0] != '\0') {
+        fprintf(stderr, "drive_sil: warning: %s\n", err);
     }
     return 0;
 }

@@ -47,7 +47,7 @@ test-drive-sil-cli: $(DRIVE_SIL) ## (part of make test) drive_sil's command line
 .PHONY: test-commission
 EXTRA_TESTS += test-commission
 test-commission: $(DRIVE_SIL) ## (part of make test) drive_sil --commission on three motors, ideal and realistic; refusals
-	@$(call suite,test-commission) python3 tools/test_commission.py $(DRIVE_SIL)
+	@$(call suite,test-commission) python3 tools/test_commission.py $(DRIVE_SIL) tools/scenarios
 
 # Acceptance of the proposed method on the simulated board (scenario files
 # of tools/scenarios/, and the controller alone on hal_sim).
@@ -66,6 +66,9 @@ TEST_SRCS_test_sil_faults := tools/sil/sil.c
 # band, the refusal policy; both methods on the same scenarios.
 TEST_LIBS_test_sil_identify := silrun firmware sim control
 TEST_SRCS_test_sil_identify := tools/sil/sil.c
+# Three motors told only their data (tools/scenarios/*_motor_*.ini).
+TEST_LIBS_test_sil_motors := silrun firmware sim control
+TEST_SRCS_test_sil_motors := tools/sil/sil.c
 
 # The proposed method on a real inverter: inverter error, warming winding (issue 13).
 TEST_LIBS_test_sil_inverter := silrun firmware sim control

@@ -39,6 +39,7 @@ static const char *const PHASE_NAMES[] = { "a", "b", "c", NULL };
 static const char *const PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
 static const char *const CHANNEL_NAMES[] = { "a", "b", NULL };
 static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
+static const char *const TRACK_NAMES[] = { "off", "on", "auto", NULL };
 
 /* Keys whose default is not text of this table but a configuration's
  * value: the drive's parameter set (firmware/drive_params.h, the board's
@@ -46,6 +47,9 @@ static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
  * for the simulated board's own settings (ideal inverter and ADC), its
  * defaults (hal_sim_default_cfg). See params_default(). */
 static const char PARAMS[] = "(drive_params)";
+/* Keys derived in scenario_finish from the motor's data (drive_params_derive;
+ * firmware/params_design.md) unless set: NaN until then. */
+static const char DERIVED[] = "(derived)";
 
 #define UINT32_MAX_D 4294967295.0
 #define UINT16_MAX_D 65535.0        /* drive_params_t's pole_pairs is 16 bits */
@@ -59,6 +63,11 @@ static const char PARAMS[] = "(drive_params)";
 #define ENUM(s, k, f, d, n, h) { s, k, K_ENUM, F(f), d, 0.0, 0.0, false, n, h, 0 }
 #define PROF(s, k, f, h) { s, k, K_PROFILE, F(f), "", 0.0, 0.0, false, NULL, h, 0 }
 /* [faults]: a time >= 0, default unset (NaN: the fault never happens). */
+/* DRV: > 0 (DRVNN >= 0, DRVANY finite), derived unless set; TOLD: > 0 (TOLDNN >= 0), default the plant's. */
+#define DRV(s, k, f, h) { s, k, K_REAL, F(f), DERIVED, 0.0, HUGE_VAL, true, NULL, h, 0 }
+#define DRVNN(s, k, f, h) { s, k, K_REAL, F(f), DERIVED, 0.0, HUGE_VAL, false, NULL, h, 0 }
+#define DRVANY(s, k, f, h) { s, k, K_REAL, F(f), DERIVED, -HUGE_VAL, HUGE_VAL, false, NULL, h, 0 }
+#define TOLDNN(s, k, f, h) { s, k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, false, NULL, h, 0 }
 #define WHEN(k, f, h) { "faults", k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, false, NULL, h, 0 }
 
 static const sc_key_t KEYS[] = {
@@ -88,33 +97,45 @@ static const sc_key_t KEYS[] = {
     UINT("plant", "seed", plant.seed, PARAMS, 0.0, UINT32_MAX_D, "noise seed"),
     POS("plant", "trip_A", plant.trip_A, PARAMS, "hardware overcurrent trip level [A]"),
 
+    POS("motor", "i_rated_A", motor.i_rated_A, PARAMS, "continuous current, peak of the phase current [A]; T_rated = 1.5 p psi_f i_rated"),
+    OPT("motor", "i_peak_A", motor.i_peak_A, "short-time current [A] (default 2 x i_rated_A)"),
+    POS("motor", "t_peak_s", motor.t_peak_s, PARAMS, "how long i_peak_A may last [s]"),
+    POS("motor", "n_rated_rpm", motor.n_rated_rpm, PARAMS, "rated speed [r/min]"),
+    OPT("motor", "n_max_rpm", motor.n_max_rpm, "highest speed [r/min] (default n_rated_rpm)"),
+
     OPT("controller", "R_ohm", controller.R_ohm, "controller's R [ohm] (default R_factor x plant)"),
     OPT("controller", "L_H", controller.L_H, "controller's L [H] (default L_factor x plant)"),
     OPT("controller", "psif_Wb", controller.psif_Wb, "controller's psi_f [Wb] (default psif_factor x plant)"),
     OPT("controller", "R_factor", controller.R_factor, "controller's R / plant R (default 1)"),
     OPT("controller", "L_factor", controller.L_factor, "controller's L / plant L (default 1)"),
     OPT("controller", "psif_factor", controller.psif_factor, "controller's psi_f / plant psi_f (default 1)"),
+    OPT("controller", "J_kgm2", controller.J_kgm2, "controller's inertia [kg m^2] (default the plant's)"),
+    TOLDNN("controller", "B_Nms", controller.B_Nms, "controller's viscous friction [N m s/rad] (default the plant's)"),
+    POS("controller", "speed_bw_rad_s", controller.speed_bw_rad_s, PARAMS,
+        "speed-loop crossover [rad/s]: speed_kp = J w_c, speed_ki = kp w_c 0.103"),
     ENUM("controller", "method", controller.method, "conventional", METHOD_NAMES, "conventional | proposed"),
     ENUM("controller", "mode", controller.mode, "speed", MODE_NAMES, "speed | torque | open_loop"),
-    POS("controller", "speed_kp_Nms_rad", controller.speed_kp_Nms_rad, PARAMS, "speed PI proportional gain"),
-    POS("controller", "speed_ki_Nm_rad", controller.speed_ki_Nm_rad, PARAMS, "speed PI integral gain"),
+    DRV("controller", "speed_kp_Nms_rad", controller.speed_kp_Nms_rad, "speed PI proportional gain (J_kgm2 x speed_bw_rad_s)"),
+    DRV("controller", "speed_ki_Nm_rad", controller.speed_ki_Nm_rad, "speed PI integral gain (speed_kp x speed_bw_rad_s x 0.103)"),
     POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, PARAMS, "speed estimator bandwidth [rad/s]"),
-    POS("controller", "te_max_Nm", controller.te_max_Nm, PARAMS, "torque reference limit [N m]"),
-    POS("controller", "i_max_A", controller.i_max_A, PARAMS, "software overcurrent threshold [A] (BOARD_OVERCURRENT_A)"),
-    /* operating limits (issue 12) */
-    POS("controller", "i_limit_A", controller.i_limit_A, PARAMS, "stator-current limit the targets respect [A] (BOARD_I_LIMIT_A)"),
-    POS("controller", "overspeed_rpm", controller.overspeed_rpm, PARAMS, "overspeed trip [r/min] (BOARD_OVERSPEED_RPM)"),
+    DRV("controller", "te_max_Nm", controller.te_max_Nm, "torque reference limit [N m] (1.5 p psi_f i_peak_A)"),
+    DRV("controller", "i_max_A", controller.i_max_A,
+        "software overcurrent threshold [A] (1.26 i_peak_A, at most 14/15 adc_full_scale_A)"),
+    DRV("controller", "i_limit_A", controller.i_limit_A, "stator-current limit the targets respect [A] (1.08 i_peak_A)"),
+    DRV("controller", "overspeed_rpm", controller.overspeed_rpm, "overspeed trip [r/min] (1.2 n_max_rpm)"),
     { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
     OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.1 x controller's R: ctrl_rsid_band_default)"),
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 6 x controller's R, at most the observer's eq. (36) bound)"),
 
     ENUM("identify", "mode", identify.mode, PARAMS, RSID_NAMES, "step 1 of the proposed method: off | windows | speeds | trusted"),
-    NN("identify", "settle_1_s", identify.settle_1_s, PARAMS, "start of IDENTIFY_R to window 1 [s]"),
+    DRVNN("identify", "settle_1_s", identify.settle_1_s, "start of IDENTIFY_R to window 1 [s] (2 x settle_2_s)"),
     POS("identify", "window_s", identify.window_s, PARAMS, "each averaging window [s]"),
-    NN("identify", "settle_2_s", identify.settle_2_s, PARAMS, "end of window 1 to window 2 [s]"),
-    ANY("identify", "speed_1_rpm", identify.speed_1_rpm, PARAMS, "speeds mode: speed of point 1 [r/min]"),
-    ANY("identify", "speed_2_rpm", identify.speed_2_rpm, PARAMS, "speeds mode: speed of point 2 [r/min]"),
-    POS("identify", "accel_rpm_s", identify.accel_rpm_s, PARAMS, "speeds mode: ramp of the commanded speed [r/min/s]"),
+    DRVNN("identify", "settle_2_s", identify.settle_2_s,
+          "end of window 1 to window 2 [s] (5.6 / w_i, the speed PI's integral corner)"),
+    DRVANY("identify", "speed_1_rpm", identify.speed_1_rpm, "speeds mode: speed of point 1 [r/min] (0.25 n_rated_rpm)"),
+    DRVANY("identify", "speed_2_rpm", identify.speed_2_rpm, "speeds mode: speed of point 2 [r/min] (0.5 n_rated_rpm)"),
+    DRV("identify", "accel_rpm_s", identify.accel_rpm_s,
+        "speeds mode: ramp of the commanded speed [r/min/s] (speed_1 in 0.2 s, at most 0.25 T_rated / J)"),
     /* step 1 on a real ADC (issue 13 part A; rs_ident.h, observer_design.md sec. 6) */
     POS("identify", "R_se_max_rel", identify.R_se_max_rel, PARAMS, "largest standard error of R^ accepted, x R^"),
     POS("identify", "batch_s", identify.batch_s, PARAMS, "batch of the standard error's batch means [s]"),
@@ -124,8 +145,8 @@ static const sc_key_t KEYS[] = {
          "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large"),
     ENUM("identify", "on_refusal", identify.on_refusal, PARAMS, REFUSAL_NAMES,
          "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
-    ENUM("identify", "track_R", identify.track_R, PARAMS, ONOFF_NAMES,
-         "off | on: R^ tracked in step 2 by a d-current injection (a warming winding)"),
+    ENUM("identify", "track_R", identify.track_R, PARAMS, TRACK_NAMES,
+         "off | on | auto: R^ tracked in step 2 by a d-current injection (a warming winding); auto: from 1 s after step 2; both held while the field is weakened or the voltage at its limit"),
 
     PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
     PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),
@@ -169,6 +190,12 @@ typedef char sc_key_table_fits[(N_KEYS <= SCENARIO_MAX_KEYS) ? 1 : -1];
 static void *field(scenario_t *sc, const sc_key_t *k)
 {
     return (char *)sc + k->offset;
+}
+
+/* A K_REAL key's value in a scenario read only. */
+static double real_value(const scenario_t *sc, const sc_key_t *k)
+{
+    return *(const double *)(const void *)((const char *)sc + k->offset);
 }
 
 static int find_key(const char *section, const char *name, int *section_known)
@@ -372,6 +399,10 @@ static const sc_param_t PARAM_KEYS[] = {
     P("plant", "psif_Wb", motor.psi_f_Wb, PK_FLOAT, 1.0),
     P("plant", "pole_pairs", motor.pole_pairs, PK_U16, 1.0),
     P("plant", "J_kgm2", motor.J_kgm2, PK_FLOAT, 1.0),
+    P("motor", "i_rated_A", rating.i_rated_A, PK_FLOAT, 1.0),
+    P("motor", "t_peak_s", rating.t_peak_s, PK_FLOAT, 1.0),
+    P("motor", "n_rated_rpm", rating.n_rated_rad_s, PK_FLOAT, SIM_RPM_PER_RAD_S),
+    P("controller", "speed_bw_rad_s", tuning.speed_bw_rad_s, PK_FLOAT, 1.0),
     P("plant", "vdc_V", board.vdc_nominal_V, PK_FLOAT, 1.0),
     P("plant", "encoder_lines", board.enc_lines, PK_U32, 1.0),
     P("plant", "encoder_offset_el_rad", board.enc_offset_el_rad, PK_FLOAT, 1.0),
@@ -388,20 +419,9 @@ static const sc_param_t PARAM_KEYS[] = {
     S("plant", "adc_noise_A", sens.adc_noise_A, PK_DOUBLE, 1.0),
     S("plant", "seed", sens.seed, PK_U32, 1.0),
     S("plant", "trip_A", trip_current_A, PK_DOUBLE, 1.0),
-    P("controller", "speed_kp_Nms_rad", tuning.speed_kp_Nms_rad, PK_FLOAT, 1.0),
-    P("controller", "speed_ki_Nm_rad", tuning.speed_ki_Nm_rad, PK_FLOAT, 1.0),
     P("controller", "pll_bw_rad_s", tuning.pll_bw_rad_s, PK_FLOAT, 1.0),
-    P("controller", "te_max_Nm", limits.te_max_Nm, PK_FLOAT, 1.0),
-    P("controller", "i_max_A", limits.i_trip_A, PK_FLOAT, 1.0),
-    P("controller", "i_limit_A", limits.i_limit_A, PK_FLOAT, 1.0),
-    P("controller", "overspeed_rpm", limits.speed_max_rad_s, PK_FLOAT, SIM_RPM_PER_RAD_S),
     A("identify", "mode", rsid.mode, PK_ENUM, 1.0),
-    A("identify", "settle_1_s", rsid.settle_1_s, PK_FLOAT, 1.0),
     A("identify", "window_s", rsid.window_s, PK_FLOAT, 1.0),
-    A("identify", "settle_2_s", rsid.settle_2_s, PK_FLOAT, 1.0),
-    A("identify", "speed_1_rpm", rsid.speed_1_rad_s, PK_FLOAT, SIM_RPM_PER_RAD_S),
-    A("identify", "speed_2_rpm", rsid.speed_2_rad_s, PK_FLOAT, SIM_RPM_PER_RAD_S),
-    A("identify", "accel_rpm_s", rsid.accel_rad_s2, PK_FLOAT, SIM_RPM_PER_RAD_S),
     A("identify", "R_se_max_rel", ctrl.rsid.R_se_max_rel, PK_FLOAT, 1.0),
     A("identify", "batch_s", ctrl.rsid.n_batch, PK_PERIODS, 1.0),
     A("identify", "window_max_s", rsid.window_max_s, PK_FLOAT, 1.0),
@@ -457,6 +477,12 @@ static const char *params_default(const sc_key_t *k, char *buf, size_t len)
             const double v = param_value(q, at, &ac);
             if (k->kind != K_ENUM) {
                 snprintf(buf, len, "%.6g", v);
+                /* a float read back from 6 digits that is not the same float
+                 * (a derived constant): every digit of it */
+                if (q->kind == PK_FLOAT &&
+                    (float)(strtod(buf, NULL) / q->scale) != *(const float *)(const void *)at) {
+                    snprintf(buf, len, "%.9g", v);
+                }
                 continue;
             }
             for (size_t n = 0; k->names[n] != NULL; n++) {
@@ -472,6 +498,9 @@ static const char *params_default(const sc_key_t *k, char *buf, size_t len)
 /* A key's default as text: the table's, or the parameter set's; NULL: unset. */
 static const char *default_text(const sc_key_t *k, char *buf, size_t len)
 {
+    if (k->def == DERIVED) {
+        return NULL;
+    }
     return (k->def == PARAMS) ? params_default(k, buf, len) : k->def;
 }
 
@@ -739,18 +768,151 @@ static int check_faults(const scenario_t *sc, char *err, size_t errlen)
     return -1;
 }
 
-/* [controller] i_limit_A (issue 12): the targets' current limit must stay
- * below the overcurrent trip, or the drive would trip where it should limit. */
+/* [controller] i_limit_A: the targets' current limit must stay below the
+ * overcurrent trip, or the drive would trip where it should limit. Set by
+ * the user: named; derived: the rating and the ADC range named. */
 static int check_limits(const scenario_t *sc, char *err, size_t errlen)
 {
     int known = 0;
     const int i = find_key("controller", "i_limit_A", &known);
+    const int i_pk = find_key("motor", "i_peak_A", &known);
+    const int i_ir = find_key("motor", "i_rated_A", &known);
     if (sc->controller.i_limit_A < sc->controller.i_max_A) {
         return 0;
     }
-    snprintf(err, errlen, "%s: [controller] i_limit_A: %g A is not below the overcurrent trip i_max_A (%g A)",
-             sc->origin[i], sc->controller.i_limit_A, sc->controller.i_max_A);
+    if (sc->origin[i][0] != '\0') {
+        snprintf(err, errlen, "%s: [controller] i_limit_A: %g A is not below the overcurrent trip i_max_A (%g A)",
+                 sc->origin[i], sc->controller.i_limit_A, sc->controller.i_max_A);
+        return -1;
+    }
+    const char *where = (sc->origin[i_pk][0] != '\0') ? sc->origin[i_pk] : sc->origin[i_ir];
+    snprintf(err, errlen,
+             "%s: [motor] i_peak_A: the current limit it asks for (i_limit_A %g A) reaches the overcurrent trip "
+             "(i_max_A %g A: 1.26 x i_peak_A, at most 14/15 of [plant] adc_full_scale_A = %g A): a rated "
+             "current beyond the ADC's range; a wider ADC range or a lower i_peak_A",
+             (where[0] != '\0') ? where : "[motor]", sc->controller.i_limit_A, sc->controller.i_max_A,
+             sc->plant.adc_full_scale_A);
     return -1;
+}
+
+/* The keys where a finished scenario's value of a derived key came from. */
+typedef struct {
+    const char *section, *name;
+    size_t p_offset;           /* of the float in drive_params_t */
+    double scale;              /* key unit per parameter unit */
+} sc_derived_t;
+#define D(s, k, f, scale, from) { s, k, offsetof(drive_params_t, f), scale },
+static const sc_derived_t DERIVED_KEYS[] = { DRIVE_DERIVED_KEYS(D) };
+#undef D
+
+/* A key's value into the parameter set: NaN (left to derive) as DRIVE_PARAM_DERIVED. */
+static float told_or_derived(double v, double scale)
+{
+    return isnan(v) ? DRIVE_PARAM_DERIVED : (float)(v / scale);
+}
+
+void scenario_params(const scenario_t *sc, drive_params_t *p)
+{
+    hal_sim_cfg_t hs;
+    hal_sim_default_cfg(&hs);
+    drive_params_board(p);
+    p->motor.R_Ohm = (float)sc->controller.R_ohm;
+    p->motor.L_H = (float)sc->controller.L_H;
+    p->motor.psi_f_Wb = (float)sc->controller.psif_Wb;
+    p->motor.pole_pairs = (uint16_t)sc->plant.pole_pairs;
+    p->motor.J_kgm2 = (float)sc->controller.J_kgm2;
+    p->motor.B_Nms = (float)sc->controller.B_Nms;
+    p->rating.i_rated_A = (float)sc->motor.i_rated_A;
+    p->rating.i_peak_A = (float)(isnan(sc->motor.i_peak_A) ? 2.0 * sc->motor.i_rated_A : sc->motor.i_peak_A);
+    p->rating.t_peak_s = (float)sc->motor.t_peak_s;
+    p->rating.n_rated_rad_s = (float)(sc->motor.n_rated_rpm / SIM_RPM_PER_RAD_S);
+    p->rating.n_max_rad_s = (float)((isnan(sc->motor.n_max_rpm) ? sc->motor.n_rated_rpm : sc->motor.n_max_rpm) /
+                                    SIM_RPM_PER_RAD_S);
+    p->board.Ts_s = (float)hs.inv.Ts_s;
+    /* the dead time as if measured, unless the scenario gives the controller another */
+    p->board.deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
+    /* the board's bus limits relative to its nominal bus, at the scenario's bus */
+    const float bus_scale = (float)sc->plant.vdc_V / p->board.vdc_nominal_V;
+    p->limits.vdc_max_V = p->limits.vdc_max_V * bus_scale;
+    p->limits.vdc_min_V = p->limits.vdc_min_V * bus_scale;
+    p->board.vdc_nominal_V = (float)sc->plant.vdc_V;
+    p->board.i_full_scale_A = (float)sc->plant.adc_full_scale_A;
+    p->board.enc_lines = sc->plant.encoder_lines;
+    /* align off: told the plant's offset, as if measured; on: not told (0), the alignment finds it */
+    p->board.enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)sc->plant.encoder_offset_el_rad;
+    p->tuning.speed_bw_rad_s = (float)sc->controller.speed_bw_rad_s;
+    p->tuning.pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
+    p->tuning.R_min_Ohm = isnan(sc->controller.R_min_ohm) ? p->tuning.R_min_Ohm : (float)sc->controller.R_min_ohm;
+    p->tuning.R_max_Ohm = isnan(sc->controller.R_max_ohm) ? p->tuning.R_max_Ohm : (float)sc->controller.R_max_ohm;
+    for (size_t j = 0; j < sizeof DERIVED_KEYS / sizeof DERIVED_KEYS[0]; j++) {
+        int known = 0;
+        const sc_derived_t *d = &DERIVED_KEYS[j];
+        const int i = find_key(d->section, d->name, &known);
+        const double v = real_value(sc, &KEYS[i]);
+        *(float *)(void *)((char *)p + d->p_offset) = told_or_derived(v, d->scale);
+    }
+}
+
+int scenario_key_set(const scenario_t *sc, const char *section, const char *name)
+{
+    int known = 0;
+    const int i = find_key(section, name, &known);
+    return (i >= 0 && sc->origin[i][0] != '\0') ? 1 : 0;
+}
+
+void scenario_warnings(const scenario_t *sc, char *buf, size_t len)
+{
+    buf[0] = '\0';
+    if ((sc->derive_status & DRIVE_DERIVE_WARN_BEMF) != 0u) {
+        const double n_max = isnan(sc->motor.n_max_rpm) ? sc->motor.n_rated_rpm : sc->motor.n_max_rpm;
+        const double e_V = n_max / SIM_RPM_PER_RAD_S * (double)sc->plant.pole_pairs * sc->controller.psif_Wb;
+        snprintf(buf, len,
+                 "BEMF_ABOVE_BUS: the back-EMF at [motor] n_max_rpm = %g r/min is %.4g V, beyond the bus's "
+                 "phase-voltage limit [plant] vdc_V / sqrt(3) = %.4g V (a trip there generates into the bus)",
+                 n_max, e_V, sc->plant.vdc_V / sqrt(3.0));
+    }
+}
+
+/* The derived keys left unset: derived from the motor's data (drive_params_derive);
+ * a motor the drive cannot run refused, naming the keys. */
+static int derive_keys(scenario_t *sc, char *err, size_t errlen)
+{
+    drive_params_t p;
+    int known = 0;
+    const int i_ir = find_key("motor", "i_rated_A", &known);
+    scenario_params(sc, &p);
+    const drive_derive_t st = drive_params_derive(&p);
+    sc->derive_status = st;
+    if ((st & DRIVE_DERIVE_RATINGS) != 0u) {
+        snprintf(err, errlen,
+                 "%s: [motor]: ratings do not fit: i_rated_A %g A, i_peak_A %g A (>= i_rated_A), t_peak_s %g s, "
+                 "n_rated_rpm %g, n_max_rpm %g (>= n_rated_rpm)",
+                 (sc->origin[i_ir][0] != '\0') ? sc->origin[i_ir] : "[motor]", (double)p.rating.i_rated_A,
+                 (double)p.rating.i_peak_A, (double)p.rating.t_peak_s, (double)p.rating.n_rated_rad_s * SIM_RPM_PER_RAD_S,
+                 (double)p.rating.n_max_rad_s * SIM_RPM_PER_RAD_S);
+        return -1;
+    }
+    if ((st & DRIVE_DERIVE_OBSERVER) != 0u && sc->controller.method == SC_METHOD_PROPOSED) {
+        ctrl_obs_gains_t g;
+        float G_max;
+        (void)drive_params_obs_gains(&p, &g, &G_max);
+        snprintf(err, errlen,
+                 "[controller] L_H, R_ohm: no observer gain for this motor: the discrete stability bound with "
+                 "L^'s floor at half the told L (%g H) allows G = Ks/phi <= %.4g V/A at Ts = %g s, and eq. (36) "
+                 "then accepts R^ only up to %.4g ohm, below the told R_ohm %g ohm (a shorter PWM period or "
+                 "method = conventional)",
+                 sc->controller.L_H, (double)G_max, (double)p.board.Ts_s, 0.45 * (double)G_max, sc->controller.R_ohm);
+        return -1;
+    }
+    for (size_t j = 0; j < sizeof DERIVED_KEYS / sizeof DERIVED_KEYS[0]; j++) {
+        const sc_derived_t *d = &DERIVED_KEYS[j];
+        const int i = find_key(d->section, d->name, &known);
+        double *v = (double *)field(sc, &KEYS[i]);
+        if (isnan(*v)) {
+            *v = (double)*(const float *)(const void *)((const char *)&p + d->p_offset) * d->scale;
+        }
+    }
+    return 0;
 }
 
 /* Where bound b's value came from, for its message: the key's line, else
@@ -791,7 +953,8 @@ static bool bound_broken(const scenario_t *sc, const sc_bound_t *b, double *v, d
         return false;
     }
     *v = (b->kind == B_UINT) ? (double)*(const uint32_t *)(const void *)at : *(const double *)(const void *)at;
-    return !(*v >= b->lo && *v <= b->hi);
+    /* NaN: a derived key not yet derived (derive_keys runs after) */
+    return !isnan(*v) && !(*v >= b->lo && *v <= b->hi);
 }
 
 /* Every BOUNDS value within its bound; else err names key, value and bound. */
@@ -828,8 +991,14 @@ int scenario_finish(scenario_t *sc, char *err, size_t errlen)
                 sc->controller.psif_factor, err, errlen) != 0) {
         return -1;
     }
-    if (check_bounds(sc, err, errlen) != 0 || check_faults(sc, err, errlen) != 0 ||
-        check_limits(sc, err, errlen) != 0) {
+    if (isnan(sc->controller.J_kgm2)) {
+        sc->controller.J_kgm2 = sc->plant.J_kgm2;
+    }
+    if (isnan(sc->controller.B_Nms)) {
+        sc->controller.B_Nms = sc->plant.B_Nms;
+    }
+    if (check_bounds(sc, err, errlen) != 0 || derive_keys(sc, err, errlen) != 0 ||
+        check_faults(sc, err, errlen) != 0 || check_limits(sc, err, errlen) != 0) {
         return -1;
     }
     return check_identify(sc, err, errlen);
@@ -846,7 +1015,7 @@ void scenario_print_keys(FILE *f)
         }
         char buf[32];
         const char *text = default_text(k, buf, sizeof buf);
-        const char *def = (text == NULL) ? "-" : ((k->kind == K_PROFILE) ? "0" : text);
+        const char *def = (k->def == DERIVED) ? "derived" : ((text == NULL) ? "-" : ((k->kind == K_PROFILE) ? "0" : text));
         fprintf(f, "    %-22s %-13s %s\n", k->name, def, k->help);
     }
 }

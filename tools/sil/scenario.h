@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "drive_params.h"
 #include "profile.h"
 
 #define SCENARIO_ERR_LEN 512
@@ -50,13 +51,22 @@ typedef struct {
         uint32_t seed;
         double trip_A;
     } plant;
+    struct {                       /* [motor]: the ratings (default: the paper motor's) */
+        double i_rated_A, i_peak_A, t_peak_s;  /* i_peak NaN: 2 x i_rated */
+        double n_rated_rpm, n_max_rpm;         /* n_max NaN: n_rated */
+    } motor;
     struct {                       /* [controller]: the controller's values */
         double R_ohm, L_H, psif_Wb;            /* NaN: factor x plant value */
+        double J_kgm2, B_Nms;                  /* NaN: the plant's */
+        double speed_bw_rad_s;                 /* speed-loop crossover [rad/s] */
         double R_factor, L_factor, psif_factor;
         uint32_t method;           /* sc_method_t */
         uint32_t mode;             /* sc_mode_t */
+        /* speed_kp, speed_ki, te_max, i_max, i_limit, overspeed and
+         * [identify]'s settle, speeds and accel: NaN until scenario_finish
+         * derives them (drive_params_derive) */
         double speed_kp_Nms_rad, speed_ki_Nm_rad, pll_bw_rad_s, te_max_Nm, i_max_A;
-        double i_limit_A, overspeed_rpm;   /* issue 12: current limit, overspeed trip */
+        double i_limit_A, overspeed_rpm;   /* current limit, overspeed trip */
         double R_min_ohm, R_max_ohm;           /* R^ band; NaN: the board's factors x R_ohm */
         double deadtime_s;                     /* dead time the controller compensates; NaN: the plant's */
     } controller;
@@ -68,7 +78,7 @@ typedef struct {
         double R_se_max_rel, batch_s, window_max_s;
         uint32_t repeats_max;
         uint32_t on_refusal;       /* sc_refusal_t */
-        uint32_t track_R;          /* sc_onoff_t: R^ tracked in step 2 (ctrl_cfg_t.track_R) */
+        uint32_t track_R;          /* off | on | auto: R^ tracked in step 2 (ctrl_cfg_t.track_R, CTRL_TRACK_R_*) */
     } identify;
     struct {
         profile_t speed_rpm, torque_Nm, ud_V, uq_V;
@@ -95,6 +105,7 @@ typedef struct {
         double gate_trip_s;
         double isr_overrun_s, isr_overrun_run_s;
     } faults;
+    uint32_t derive_status;        /* drive_derive_t of scenario_finish (warnings) */
     /* where each key was last set ("" = default), for messages */
     char origin[SCENARIO_MAX_KEYS][SCENARIO_ORIGIN_LEN];
 } scenario_t;
@@ -108,13 +119,25 @@ int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen);
 /* Apply one "section.key=value" override. Returns 0, or -1 with err filled. */
 int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen);
 
-/* Cross-key checks (absolute vs factor; plausibility bounds, the controller's after its factor; method = proposed needs step 1 or a
- * trusted R: no silent fallback to the conventional method) and resolution of the controller's
- * R, L, psi_f to absolute values. Call once after loading. Returns 0, or -1 with err. */
+/* Cross-key checks (absolute vs factor; plausibility bounds, the controller's after its factor;
+ * method = proposed needs step 1 or a trusted R: no silent fallback to the conventional method),
+ * resolution of the controller's R, L, psi_f, J, B to absolute values and of the derived keys
+ * (drive_params_derive: a motor the drive cannot run refused, naming the keys; warnings in
+ * derive_status). Call once after loading. Returns 0, or -1 with err. */
 int scenario_finish(scenario_t *sc, char *err, size_t errlen);
 
 /* 1 when [section] name is a scenario key, else 0. */
 int scenario_key_known(const char *section, const char *name);
+
+/* The drive's parameter set of a finished scenario (Ts: the simulated board's).
+ * The derived values left to derive (DRIVE_PARAM_DERIVED) unless finished. */
+void scenario_params(const scenario_t *sc, drive_params_t *p);
+
+/* 1 when [section] key was set by the scenario or an override, 0 when default or derived. */
+int scenario_key_set(const scenario_t *sc, const char *section, const char *name);
+
+/* The warnings of derive_status as text ("" if none), naming the keys. */
+void scenario_warnings(const scenario_t *sc, char *buf, size_t len);
 
 /* The key table as help text: section, key, default, meaning. */
 void scenario_print_keys(FILE *f);

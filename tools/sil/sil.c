@@ -55,31 +55,9 @@ static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
 static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_t *ac)
 {
     drive_params_t p;
-    drive_params_board(&p);
-    p.motor.R_Ohm = (float)sc->controller.R_ohm;
-    p.motor.L_H = (float)sc->controller.L_H;
-    p.motor.psi_f_Wb = (float)sc->controller.psif_Wb;
-    p.motor.pole_pairs = (uint16_t)sc->plant.pole_pairs;
+    scenario_params(sc, &p);
     p.board.Ts_s = (float)hc->inv.Ts_s;
-    /* the dead time as if measured, unless the scenario gives the controller another */
-    p.board.deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
     p.board.u_bound_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
-    p.board.enc_lines = sc->plant.encoder_lines;
-    /* align off: told the plant's offset, as if measured; on: not told (0), the alignment finds it */
-    p.board.enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)sc->plant.encoder_offset_el_rad;
-    p.tuning.pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
-    p.tuning.speed_kp_Nms_rad = (float)sc->controller.speed_kp_Nms_rad;
-    p.tuning.speed_ki_Nm_rad = (float)sc->controller.speed_ki_Nm_rad;
-    p.tuning.R_min_Ohm = isnan(sc->controller.R_min_ohm) ? p.tuning.R_min_Ohm : (float)sc->controller.R_min_ohm;
-    p.tuning.R_max_Ohm = isnan(sc->controller.R_max_ohm) ? p.tuning.R_max_Ohm : (float)sc->controller.R_max_ohm;
-    p.limits.te_max_Nm = (float)sc->controller.te_max_Nm;
-    p.limits.i_trip_A = (float)sc->controller.i_max_A;
-    p.limits.i_limit_A = (float)sc->controller.i_limit_A;
-    p.limits.speed_max_rad_s = (float)(sc->controller.overspeed_rpm / SIM_RPM_PER_RAD_S);
-    /* the board's bus limits relative to its nominal bus, at the scenario's bus */
-    const float bus_scale = (float)sc->plant.vdc_V / p.board.vdc_nominal_V;
-    p.limits.vdc_max_V = p.limits.vdc_max_V * bus_scale;
-    p.limits.vdc_min_V = p.limits.vdc_min_V * bus_scale;
 
     app_cfg_default(ac);   /* the board's start-up sequence, watch and ISR timing */
     drive_params_to_app_cfg(&p, ac);
@@ -88,7 +66,7 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->align = (sc->run.align == SC_ON);
     c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
     c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
-    c->track_R = (sc->identify.track_R == SC_ON) ? 1u : 0u;
+    c->track_R = (uint16_t)sc->identify.track_R;   /* TRACK_NAMES: as CTRL_TRACK_R_* */
     ac->rsid.mode = (app_rsid_mode_t)sc->identify.mode;
     ac->rsid.settle_1_s = (float)sc->identify.settle_1_s;
     ac->rsid.window_s = (float)sc->identify.window_s;
@@ -98,10 +76,6 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     ac->rsid.accel_rad_s2 = (float)(sc->identify.accel_rpm_s / SIM_RPM_PER_RAD_S);
     ac->rsid.window_max_s = (float)sc->identify.window_max_s;
     ac->rsid.repeats_max = (uint16_t)sc->identify.repeats_max;
-    /* commissioning: the current bound is the current limit and the speed
-     * bound the overspeed trip until the motor's ratings are scenario keys */
-    ac->comm.i_max_A = (float)sc->controller.i_limit_A;
-    ac->comm.speed_max_rad_s = (float)(sc->controller.overspeed_rpm / SIM_RPM_PER_RAD_S);
     ac->rsid.on_refusal = (sc->identify.on_refusal == SC_REFUSAL_CONVENTIONAL) ? APP_RSID_REFUSAL_CONVENTIONAL
                                                                                : APP_RSID_REFUSAL_FAULT;
 }
@@ -429,6 +403,60 @@ static void json_flt(FILE *f, const char *key, float v, const char *sep)
     }
 }
 
+/* One derived value: {"value": v, "source": "derived"|"set", "from": "keys"}. */
+static void json_derived(FILE *f, const char *key, double v, int set, const char *from, const char *sep)
+{
+    fprintf(f, "  \"%s\": {", key);
+    json_flt(f, "value", (float)v, ", ");   /* a float of the drive's parameter set */
+    fprintf(f, "\"source\": \"%s\", \"from\": \"%s\"}%s", set ? "set" : "derived", from, sep);
+}
+
+/* The values derived from the motor's data (firmware/params_design.md):
+ * the keys' (DRIVE_DERIVED_KEYS, set or derived) and the settings without
+ * a key (always derived), as the run used them. */
+static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
+{
+    const ctrl_cfg_t *c = &ac->ctrl;
+    drive_params_t p;
+    char name[64];
+    scenario_params(sc, &p);   /* finished: the derived keys' values */
+    fputs(" \"derived\": {\n", f);
+#define X(s, k, fld, scale, from)                                                                \
+    snprintf(name, sizeof name, "%s.%s", s, k);                                                   \
+    json_derived(f, name, (double)p.fld * (scale), scenario_key_set(sc, s, k), from, ",\n");
+    DRIVE_DERIVED_KEYS(X)
+#undef X
+    static const char I[] = "motor.i_rated_A";
+    static const char V[] = "plant.vdc_V";
+    json_derived(f, "observer.Ks_V", (double)c->smo.Ks_V, 0, "plant.vdc_V (2 ef_max)", ",\n");
+    json_derived(f, "observer.phi_A", (double)c->smo.phi_A, 0,
+                 "motor.i_rated_A; capped by controller.L_H controller.R_ohm and Ts", ",\n");
+    json_derived(f, "observer.ef_max_V", (double)c->smo.ef_max_V, 0, V, ",\n");
+    json_derived(f, "observer.L_min_H", (double)c->smo.L_min_H, 0, "controller.L_H observer gains", ",\n");
+    json_derived(f, "controller.R_max_ohm", (double)c->R_max_Ohm, scenario_key_set(sc, "controller", "R_max_ohm"),
+                 "controller.R_ohm observer gains", ",\n");
+    json_derived(f, "estimator.w_min_rad_s", (double)c->pe.w_min_rad_s, 0, "plant.vdc_V controller.psif_Wb", ",\n");
+    json_derived(f, "estimator.wiq_min_A_rad_s", (double)c->pe.wiq_min_A_rad_s, 0,
+                 "estimator.w_min_rad_s motor.i_rated_A", ",\n");
+    json_derived(f, "gate.di_max_A", (double)c->gate.di_max_A, 0, I, ",\n");
+    json_derived(f, "gate.dte_max_Nm", (double)c->gate.dte_max_Nm, 0, "motor.i_rated_A controller.psif_Wb plant.pole_pairs", ",\n");
+    json_derived(f, "r_track.i_ident_A", (double)c->rtrack.i_ident_A, 0, I, ",\n");
+    json_derived(f, "r_track.i_track_A", (double)c->rtrack.i_track_A, 0, I, ",\n");
+    json_derived(f, "r_track.iq_min_A", (double)c->rtrack.iq_min_A, 0, I, ",\n");
+    json_derived(f, "r_track.iq_step_max_A", (double)c->rtrack.iq_step_max_A, 0, I, ",\n");
+    json_derived(f, "r_track.ve_max_V", (double)c->rtrack.ve_max_V, 0, V, ",\n");
+    json_derived(f, "align.u_V", (double)ac->aln.u_V, 0, "motor.i_rated_A controller.R_ohm", ",\n");
+    json_derived(f, "open_phase.u_min_V", (double)ac->prot.watch.op_u_min_V, 0, V, ",\n");
+    json_derived(f, "open_phase.i_min_A", (double)ac->prot.watch.op_i_min_A, 0, I, "\n");
+    char w[SCENARIO_ERR_LEN];
+    scenario_warnings(sc, w, sizeof w);
+    fputs(" },\n \"warnings\": [", f);
+    if (w[0] != '\0') {
+        summary_json_string(f, w);
+    }
+    fputs("]}\n", f);
+}
+
 void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path)
 {
     const app_cfg_t *ac = &g_app.cfg;
@@ -463,5 +491,6 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path
     json_flt(f, "i_max_A", ac->prot.i_max_A, ", ");
     json_flt(f, "i_limit_A", c->i_lim_A, ", ");
     json_flt(f, "overspeed_rpm", (float)((double)ac->prot.speed_max_rad_s * SIM_RPM_PER_RAD_S), ", ");
-    json_num(f, "config_status", (double)ctrl_status(&g_app.ctrl), "}}\n");
+    json_num(f, "config_status", (double)ctrl_status(&g_app.ctrl), "},\n");
+    resolved_derived(f, sc, ac);
 }

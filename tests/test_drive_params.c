@@ -1,0 +1,197 @@
+/* Unit tests for firmware/drive_params: the values derived from the
+ * motor's data (firmware/params_design.md). The paper motor on the board
+ * gets the constants the drive had before they were derived, to the bit;
+ * other motors get them in proportion, by hand-computed figures; a motor
+ * the drive cannot run is refused by name; a value the user set stays. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "app.h"
+#include "board_cfg.h"
+#include "drive_params.h"
+#include "mathx.h"
+
+#define RPM (0.104719755)   /* rad/s per r/min */
+
+/* The paper motor's parameter set, mapped: every derived value is the
+ * constant it replaced (hand values of board_cfg.h, smo.h, est_gate.h,
+ * r_track.h, param_est.h before the derivation). */
+static void paper_motor_gets_the_old_constants_to_the_bit(void **state)
+{
+    (void)state;
+    static app_cfg_t cfg;
+    app_cfg_default(&cfg);
+    const ctrl_cfg_t *c = &cfg.ctrl;
+    assert_float_equal(c->speed_kp_Nms_rad, 0.5f, 0.0);
+    assert_float_equal(c->speed_ki_Nm_rad, 20.0f, 0.0);
+    assert_float_equal(c->te_max_Nm, 12.0f, 0.0);
+    assert_float_equal(c->i_lim_A, 12.0f, 0.0);
+    assert_float_equal(cfg.prot.i_max_A, 14.0f, 0.0);
+    assert_float_equal(c->smo.Ks_V, 100.0f, 0.0);
+    assert_float_equal(c->smo.phi_A, 2.5f, 0.0);
+    assert_float_equal(c->smo.ef_max_V, 50.0f, 0.0);
+    assert_float_equal(c->R_max_Ohm, 18.0f, 0.0);
+    assert_float_equal(c->gate.di_max_A, 0.5f, 0.0);
+    assert_float_equal(c->gate.dte_max_Nm, 0.3f, 0.0);
+    assert_float_equal(c->rtrack.i_ident_A, 1.0f, 0.0);
+    assert_float_equal(c->rtrack.i_track_A, 0.5f, 0.0);
+    assert_float_equal(c->rtrack.iq_min_A, 1.0f, 0.0);
+    assert_float_equal(c->rtrack.iq_step_max_A, 0.2f, 0.0);
+    assert_float_equal(c->rtrack.ve_max_V, 20.0f, 0.0);
+    assert_float_equal(c->pe.w_min_rad_s, 30.0f, 0.0);
+    assert_float_equal(c->pe.wiq_min_A_rad_s, 30.0f, 0.0);
+    assert_float_equal(cfg.aln.u_V, 9.0f, 0.0);
+    assert_float_equal(cfg.prot.watch.op_u_min_V, 25.0f, 0.0);
+    assert_float_equal(cfg.prot.watch.op_i_min_A, 1.0f, 0.0);
+    assert_float_equal(cfg.rsid.settle_1_s, 0.28f, 0.0);
+    assert_float_equal(cfg.rsid.settle_2_s, 0.14f, 0.0);
+    assert_float_equal(cfg.rsid.speed_1_rad_s, 500.0 * RPM, 1e-4);
+    assert_float_equal(cfg.rsid.speed_2_rad_s, 1000.0 * RPM, 1e-4);
+    assert_float_equal(cfg.rsid.accel_rad_s2, 2500.0 * RPM, 1e-3);
+    assert_float_equal(cfg.prot.speed_max_rad_s, 2400.0 * RPM, 1e-3);
+}
+
+/* The small motor of the any-motor campaign: R 0.1 ohm, L 0.2 mH,
+ * psi_f 0.008 Wb, p 4, J 2e-5, 24 V bus, rated 6.25 A (0.3 N m), 3000 r/min. */
+static void small_motor(drive_params_t *p)
+{
+    drive_params_board(p);
+    p->motor.R_Ohm = 0.1f;
+    p->motor.L_H = 0.0002f;
+    p->motor.psi_f_Wb = 0.008f;
+    p->motor.pole_pairs = 4u;
+    p->motor.J_kgm2 = 2.0e-5f;
+    p->board.vdc_nominal_V = 24.0f;
+    p->rating.i_rated_A = 6.25f;
+    p->rating.i_peak_A = 12.5f;
+    p->rating.n_rated_rad_s = (float)(3000.0 * RPM);
+    p->rating.n_max_rad_s = (float)(3000.0 * RPM);
+}
+
+/* Hand values: kt = 1.5 x 4 x 0.008 = 0.048 N m/A; te_max 0.048 x 12.5 = 0.6;
+ * i_limit 12 x 12.5/11.11 = 13.5 A; trip min(14 x 12.5/11.11, 14 x 15/15) = 14 A;
+ * kp = 0.5 x 2e-5/0.00129 = 0.00775; ki = 20 x 2e-5/0.00129 = 0.310;
+ * speeds 750, 1500 r/min; overspeed 3600 r/min. */
+static void small_motor_limits_and_speed_loop(void **state)
+{
+    (void)state;
+    drive_params_t p;
+    small_motor(&p);
+    const drive_derive_t st = drive_params_derive(&p);
+    assert_int_equal(st & DRIVE_DERIVE_REFUSED, 0);
+    assert_float_equal(p.limits.te_max_Nm, 0.6, 1e-5);
+    assert_float_equal(p.limits.i_limit_A, 13.5, 1e-4);
+    assert_float_equal(p.limits.i_trip_A, 14.0, 1e-4);
+    assert_float_equal(p.tuning.speed_kp_Nms_rad, 0.5 * 2e-5 / 0.00129, 1e-7);
+    assert_float_equal(p.tuning.speed_ki_Nm_rad, 20.0 * 2e-5 / 0.00129, 1e-5);
+    assert_float_equal(p.step1.speed_1_rad_s, 750.0 * RPM, 1e-3);
+    assert_float_equal(p.step1.speed_2_rad_s, 1500.0 * RPM, 1e-3);
+    assert_float_equal(p.limits.speed_max_rad_s, 3600.0 * RPM, 1e-2);
+    /* ramp: 750 r/min in 0.2 s = 3750 r/min/s, below 0.25 T_rated / J = 3750 rad/s^2 */
+    assert_float_equal(p.step1.accel_rad_s2, 3750.0 * RPM, 1e-2);
+}
+
+/* The observer's gains for the small motor (observer_design.md sec. 3b):
+ * ef_max = 50 x 24/311 = 3.859 V, Ks = 7.717 V; the stability cap
+ * G_max = 2 x 0.5 x 0.2 mH / (1.25 x 0.1 ms) / 1.45 = 1.103 V/A is below
+ * Ks / (2.5 x 6.25/5.56 = 2.81 A) = 2.75 V/A, so phi = 7.717/1.103 = 6.99 A;
+ * ctrl_init then accepts the proposed method. */
+static void small_motor_observer_gain_capped_and_accepted(void **state)
+{
+    (void)state;
+    drive_params_t p;
+    ctrl_obs_gains_t g;
+    float G_max;
+    small_motor(&p);
+    assert_true(drive_params_obs_gains(&p, &g, &G_max));
+    assert_float_equal(G_max, 1.6 / 1.45, 1e-5);
+    assert_float_equal(g.ef_max_V, 50.0 * 24.0 / 311.0, 1e-5);
+    assert_float_equal(g.Ks_V, 100.0 * 24.0 / 311.0, 1e-5);
+    assert_float_equal(g.phi_A, (100.0 * 24.0 / 311.0) / (1.6 / 1.45), 1e-4);
+
+    static app_cfg_t cfg;
+    static ctrl_t ctrl;
+    app_cfg_default(&cfg);
+    drive_params_to_app_cfg(&p, &cfg);
+    cfg.ctrl.u_max_V = 24.0f;
+    assert_int_equal(ctrl_init(&ctrl, &cfg.ctrl) & CTRL_CFG_NEEDED_PROPOSED, 0);
+    /* the bound itself, as smo_init checks it */
+    const smo_cfg_t *s = &cfg.ctrl.smo;
+    assert_true(s->Ks_V / s->phi_A < 2.0f * s->L_min_H / s->Ts_s - cfg.ctrl.R_max_Ohm);
+    assert_true(s->L_min_H <= 0.5f * cfg.ctrl.L_H);
+}
+
+/* L 20 uH at 10 kHz: G_max = 0.11 V/A, the band's top 0.45 G = 0.05 ohm
+ * leaves out R = 0.1 ohm: refused (OBSERVER), the rest derived. */
+static void observer_refused_when_no_gain_fits(void **state)
+{
+    (void)state;
+    drive_params_t p;
+    small_motor(&p);
+    p.motor.L_H = 20.0e-6f;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, DRIVE_DERIVE_OBSERVER);
+}
+
+/* i_peak 20 A on the board's 15 A ADC: i_limit 21.6 A against a trip of at
+ * most 14 A: refused (ADC_RANGE). Ratings that contradict: RATINGS. */
+static void ratings_beyond_the_adc_or_inconsistent_refused(void **state)
+{
+    (void)state;
+    drive_params_t p;
+    drive_params_board(&p);
+    p.rating.i_rated_A = 10.0f;
+    p.rating.i_peak_A = 20.0f;
+    assert_true((drive_params_derive(&p) & DRIVE_DERIVE_ADC_RANGE) != 0u);
+    drive_params_board(&p);
+    p.rating.i_peak_A = 0.5f * p.rating.i_rated_A;
+    assert_true((drive_params_derive(&p) & DRIVE_DERIVE_RATINGS) != 0u);
+}
+
+/* A value the user set stays; the speed PI scales with w_c (kp x2, ki x4,
+ * settle / 2). */
+static void set_values_stay_and_bandwidth_scales(void **state)
+{
+    (void)state;
+    drive_params_t p;
+    drive_params_board(&p);
+    p.limits.te_max_Nm = 5.0f;
+    p.step1.settle_1_s = 0.0f;
+    p.tuning.speed_bw_rad_s = 2.0f * TUNE_SPEED_BW_RAD_S;
+    (void)drive_params_derive(&p);
+    assert_float_equal(p.limits.te_max_Nm, 5.0, 0.0);
+    assert_float_equal(p.step1.settle_1_s, 0.0, 0.0);
+    assert_float_equal(p.tuning.speed_kp_Nms_rad, 1.0, 1e-6);
+    assert_float_equal(p.tuning.speed_ki_Nm_rad, 80.0, 1e-4);
+    assert_float_equal(p.step1.settle_2_s, 0.07, 1e-7);
+}
+
+/* Back-EMF at n_max: 3 x 0.24 x 2000 r/min = 150.8 V, below 311/sqrt(3) =
+ * 179.6 V; at 2500 r/min 188.5 V: the warning, no refusal. */
+static void back_emf_beyond_the_bus_warns(void **state)
+{
+    (void)state;
+    drive_params_t p;
+    drive_params_board(&p);
+    assert_int_equal(drive_params_derive(&p), DRIVE_DERIVE_OK);
+    drive_params_board(&p);
+    p.rating.n_max_rad_s = (float)(2500.0 * RPM);
+    assert_int_equal(drive_params_derive(&p), DRIVE_DERIVE_WARN_BEMF);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(paper_motor_gets_the_old_constants_to_the_bit),
+        cmocka_unit_test(small_motor_limits_and_speed_loop),
+        cmocka_unit_test(small_motor_observer_gain_capped_and_accepted),
+        cmocka_unit_test(observer_refused_when_no_gain_fits),
+        cmocka_unit_test(ratings_beyond_the_adc_or_inconsistent_refused),
+        cmocka_unit_test(set_values_stay_and_bandwidth_scales),
+        cmocka_unit_test(back_emf_beyond_the_bus_warns),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
