@@ -47,7 +47,7 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # unless listed); the HAL marks its ISR-path functions with CODE_SECTION
 # "ramfuncs" itself (hal_init must run from flash). tools/check/isr_path.sh
 # (make check) fails if a function the ISR reaches would run from flash.
-FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_bg.c firmware/flash_crc.c
+FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_bg.c firmware/flash_crc.c firmware/drive_params.c
 RAMFUNC_SRCS := $(filter-out $(FLASH_SRCS),$(wildcard control/*.c) $(wildcard firmware/*.c))
 
 APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*.c) $(wildcard hal/f28335/*.c)
