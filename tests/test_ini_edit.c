@@ -1,6 +1,6 @@
 /* Unit tests for tools/sil/ini_edit: drive_sil --commission's OUT.ini is
  * the input with keys replaced in place, missing ones added at their
- * section's end (a missing section appended), removed keys kept as
+ * section's end (before its trailing blank lines; a missing section appended), removed keys kept as
  * comments, notes as comments; every other line as it was. Expected texts
  * written out by hand. */
 #include <stdarg.h>
@@ -54,10 +54,12 @@ static void keys_set_removed_noted_and_added(void **state)
         { "controller", "J_kgm2", "0.01", INI_NOTE, "no key" },
         { "controller", "R_ohm", "0.501", INI_SET, NULL },   /* the last of a key counts */
         { "run", "duration_s", "3", INI_SET, NULL },
+        { "plant", "L_H", "0.011", INI_SET, NULL },         /* added before the blank line ending [plant] */
     };
     const char *want = "; a scenario\n"
                        "[plant]\n"
                        "R_ohm = 0.5\n"
+                       "L_H = 0.011\n"
                        "\n"
                        "[controller]\n"
                        "; measured\n"

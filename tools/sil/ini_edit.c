@@ -65,10 +65,15 @@ int ini_edit_copy(FILE *in, FILE *out, const ini_edit_t *e, size_t n)
         n = INI_EDITS_MAX;
     }
     memset(done, 0, sizeof done);
+    unsigned blanks = 0u;   /* blank lines held back: a section's additions go before them */
     while (fgets(line, sizeof line, in) != NULL) {
         const char *p = line;
         while (*p == ' ' || *p == '\t') {
             p++;
+        }
+        if (*p == '\n' || *p == '\r' || *p == '\0') {
+            blanks++;
+            continue;
         }
         if (*p == '[') {
             const char *end = strchr(p, ']');
@@ -76,11 +81,12 @@ int ini_edit_copy(FILE *in, FILE *out, const ini_edit_t *e, size_t n)
                 flush_section(out, e, n, section, done);
                 trimmed(p + 1, (size_t)(end - p - 1), section, sizeof section);
             }
-            fputs(line, out);
-            continue;
+        }
+        for (; blanks > 0u; blanks--) {
+            fputc('\n', out);
         }
         const char *eq = strpbrk(p, "=:");
-        if (*p == ';' || *p == '#' || eq == NULL) {
+        if (*p == '[' || *p == ';' || *p == '#' || eq == NULL) {
             fputs(line, out);
             continue;
         }
@@ -108,6 +114,9 @@ int ini_edit_copy(FILE *in, FILE *out, const ini_edit_t *e, size_t n)
         return -1;
     }
     flush_section(out, e, n, section, done);
+    for (; blanks > 0u; blanks--) {
+        fputc('\n', out);
+    }
     for (size_t i = 0; i < n; i++) {
         if (!done[i] && e[i].kind != INI_REMOVE && edit_of(e, n, e[i].section, e[i].key) == (int)i) {
             fprintf(out, "\n[%s]\n", e[i].section);
