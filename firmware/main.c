@@ -2,20 +2,22 @@
  * main.c - F28335 target entry: bring up the board, configure the drive
  * from board_cfg.h (app_cfg_default), run the control ISR (ADC SEQ1,
  * 10 kHz) from RAM and the background loop (watchdog via app_background,
- * the operator's command block, telemetry pump).
+ * the operator's command block, the link on SCI-A).
  *
- * Operating the board: in CCS, add `g_cmd` to the expressions window and
- * set its fields (see cmd.h): method 0/1 (conventional/proposed), mode
- * 0/1/2 (open loop/torque/speed), the reference, then run = 1. `g_app`
- * shows the state, the latched fault with its snapshot and the monitor
- * (g_app.ctrl.mon); g_cmd.error names a refused command. With run = 0,
- * commission = 1 measures the motor (firmware/commission.h); g_comm
- * reports the stage, then the values or the fault (they are not written
- * to flash: copy them into board_cfg.h).
+ * Operating the board: drivetool over SCI-A (firmware/link_protocol.md,
+ * tools/drivetool/README.md), or in CCS: add `g_cmd` to the expressions
+ * window and set its fields (see cmd.h): method 0/1 (conventional/
+ * proposed), mode 0/1/2 (open loop/torque/speed), the reference, then
+ * run = 1. `g_app` shows the state, the latched fault with its snapshot
+ * and the monitor (g_app.ctrl.mon); g_cmd.error names a refused command.
+ * With run = 0, commission = 1 measures the motor (firmware/commission.h);
+ * g_comm reports the stage, then the values or the fault (they are not
+ * written to flash: copy them into board_cfg.h).
  * A reset by the watchdog (the background loop stopped kicking it: a
  * hang, a trap, an endless ISR) is latched as the fault WATCHDOG_RESET
- * (g_reset_by_watchdog also says so, and one line on the telemetry); the
- * operator clears it with fault_reset. Before anything runs, the program
+ * (g_reset_by_watchdog and the link's variable reset_by_watchdog also say
+ * so; no text goes to the port: one protocol per port); the operator
+ * clears it with fault_reset. Before anything runs, the program
  * image is checked against the CRCs the linker recorded
  * (f28335_flash.cmd, crc_table(_flash_crc_table)): a mismatch latches
  * FLASH_CRC (snapshot value: the failing record's index), which no reset
@@ -29,6 +31,8 @@
 #include "flash_crc.h"
 #include "hal.h"
 #include "hal_f28335.h"
+#include "hal_f28335_cfg.h"
+#include "link.h"
 
 #if defined(__TMS320C28XX__)
 #include <crc_tbl.h>
@@ -38,10 +42,31 @@ extern CRC_TABLE flash_crc_table;
 
 static app_t g_app;          /* the whole drive state; static so CCS can watch it */
 static app_cfg_t g_cfg;      /* static: in .ebss, not on the 1K-word stack (tools/check/ram_budget.py) */
-static volatile cmd_t g_cmd; /* written by the operator from CCS (or a telemetry link) */
+static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
+static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
+static link_t g_link;        /* the link on SCI-A (link.h) */
 static volatile cmd_comm_report_t g_comm; /* the last commissioning (g_cmd.commission = 1), read in CCS */
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
-static const char WATCHDOG_RESET_MSG[] = "reset by watchdog\r\n";
+static const char FIRMWARE_ID[] = "f28335 db-dtc";
+#define SCI_READ_MAX F28335_SCI_FIFO_DEPTH
+
+/* Background: SCI-A's received bytes into the link, its replies out, never waiting. */
+static void link_service(void)
+{
+    uint16_t rx[SCI_READ_MAX];
+    uint16_t b;
+    const uint16_t n = hal_f28335_sci_read(rx, SCI_READ_MAX);
+    for (uint16_t k = 0U; k < n; k++) {
+        (void)link_rx_put(&g_link, rx[k]);   /* a full queue is counted by the link */
+    }
+    g_link.stats.err_line = (uint16_t)(hal_f28335_sci_errors.word_errors + hal_f28335_sci_errors.fifo_overflows +
+                                       hal_f28335_sci_errors.rx_errors);
+    link_poll(&g_link);
+    while (hal_f28335_sci_tx_free() > 0U && link_tx_get(&g_link, &b)) {
+        (void)hal_f28335_sci_putc(b);
+    }
+    hal_f28335_sci_pump();
+}
 
 /* Start-up, before interrupts: the index of the first CRC record of the
  * image that fails (flash_crc.h), or -1 when all match. */
@@ -69,20 +94,18 @@ static HAL_INTERRUPT void ctrl_isr(void)
 {
     hal_f28335_isr_timing_begin();
     app_isr(&g_app);
+    link_isr(&g_link);       /* capture and stream sampling of this period */
     hal_f28335_isr_timing_end();
 }
 
 int main(void)
 {
-    cmd_limits_t lim;
+    link_cfg_t lc;
     int16_t bad_record;
 
     hal_init();  /* ramfuncs copied: its CRC record holds at either address */
     bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    if (g_reset_by_watchdog) {
-        (void)hal_f28335_sci_write(WATCHDOG_RESET_MSG, (uint16_t)(sizeof WATCHDOG_RESET_MSG - 1u));
-    }
     app_cfg_default(&g_cfg);
     app_init(&g_app, &g_cfg);
     if (bad_record >= 0) {
@@ -92,14 +115,19 @@ int main(void)
     }
     cmd_init(&g_cmd);
     cmd_comm_report_init(&g_comm);
-    lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
-    lim.te_max_Nm = g_cfg.ctrl.te_max_Nm;
-    lim.u_max_V = g_cfg.ctrl.u_max_V;
+    g_lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
+    g_lim.te_max_Nm = g_cfg.ctrl.te_max_Nm;
+    g_lim.u_max_V = g_cfg.ctrl.u_max_V;
+    lc.Ts_s = g_cfg.ctrl.Ts_s;
+    lc.baud = F28335_SCI_BAUD_ACTUAL;
+    lc.firmware_id = FIRMWARE_ID;
+    link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
+    g_link.stats.reset_by_watchdog = g_reset_by_watchdog ? 1U : 0U;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
     for (;;) {
-        cmd_apply(&g_cmd, &lim, &g_app);
+        cmd_apply(&g_cmd, &g_lim, &g_app);
         cmd_comm_report(&g_comm, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
-        hal_f28335_sci_pump();
+        link_service();
     }
 }

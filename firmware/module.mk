@@ -23,6 +23,12 @@ TEST_SRCS_test_protect  := tests/mock_hal.c
 TEST_LIBS_test_rsid_seq := firmware control
 TEST_SRCS_test_rsid_seq := tests/mock_hal.c
 
+# The link (link_protocol.md): codec against the golden vectors, the
+# dispatcher, capture and stream against the HAL mock.
+TEST_LIBS_test_link_codec := firmware control
+TEST_LIBS_test_link := firmware control
+TEST_SRCS_test_link := tests/mock_hal.c
+
 # What runs before the drive: the flash CRC check and the start-up faults.
 TEST_LIBS_test_startup := firmware control
 TEST_SRCS_test_startup := tests/mock_hal.c

@@ -1,4 +1,4 @@
-# tests/: the ISR fuzz harness (tests/fuzz/, libFuzzer, clang from Debian).
+# tests/: the fuzz harnesses (tests/fuzz/, libFuzzer, clang from Debian).
 #   make fuzz        >= FUZZ_STEPS ISR steps (default 10^8), corpus kept in build/fuzz/corpus
 #   make fuzz-short  a seeded pass of a few seconds; part of make test
 # Built with clang, ASan and UBSan (float-cast-overflow included), from the
@@ -33,3 +33,22 @@ fuzz: $(FUZZ_BIN) ## the control ISR under libFuzzer until FUZZ_STEPS ISR steps 
 
 fuzz-short: $(FUZZ_BIN) ## (part of make test) a seeded fuzz pass of 4000 inputs
 	@$(call suite,fuzz-short) tools/fuzz.sh short $(FUZZ_BIN) $(FUZZ_DIR)
+
+# The link's parser and dispatcher (tests/fuzz/fuzz_link.c), on the same
+# objects as fuzz_app:
+#   make fuzz-link        >= FUZZ_LINK_FRAMES framed requests (default 10^7)
+#   make fuzz-link-short  a seeded pass of a few seconds; part of make test
+FUZZ_LINK_BIN    := $(FUZZ_DIR)/fuzz_link
+FUZZ_LINK_FRAMES ?= 10000000
+.PHONY: fuzz-link fuzz-link-short
+EXTRA_TESTS += fuzz-link-short
+
+$(FUZZ_LINK_BIN): tests/fuzz/fuzz_link.c tests/fuzz/fuzz_hal.c $(FUZZ_BIN)
+	$(FUZZ_CC) $(FUZZ_FLAGS) -o $@ tests/fuzz/fuzz_link.c tests/fuzz/fuzz_hal.c \
+	    $(patsubst %.c,$(FUZZ_DIR)/obj/%.o,$(notdir $(FUZZ_PORTABLE))) -lm
+
+fuzz-link: $(FUZZ_LINK_BIN) ## the link's parser and dispatcher under libFuzzer until FUZZ_LINK_FRAMES frames (10^7)
+	@tools/fuzz_link.sh long $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link $(FUZZ_LINK_FRAMES)
+
+fuzz-link-short: $(FUZZ_LINK_BIN) ## (part of make test) a seeded fuzz pass of the link, 3000 inputs
+	@$(call suite,fuzz-link-short) tools/fuzz_link.sh short $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link

@@ -211,8 +211,10 @@ static void init_sets_sci_and_timer(void **state)
     assert_int_equal(SciaRegs.SCIHBAUD, 0);
     assert_int_equal(SciaRegs.SCILBAUD, 40);
     assert_int_equal(SciaRegs.SCICCR.all, 0x0007);            /* 8N1 */
-    assert_int_equal(SciaRegs.SCICTL1.all, 0x0022);           /* TX on, out of reset */
+    assert_int_equal(SciaRegs.SCICTL1.all, 0x0023);           /* RX and TX on, out of reset */
     assert_int_equal(SciaRegs.SCIFFTX.all, 0xE040);
+    /* RXFFOVRCLR 1 << 14 | RXFIFORESET 1 << 13 | RXFFINTCLR 1 << 6 = 0x6040: FIFO on, no interrupt */
+    assert_int_equal(SciaRegs.SCIFFRX.all, 0x6040);
     assert_int_equal(CpuTimer2Regs.PRD.all, 0xFFFFFFFFUL);
     assert_int_equal(CpuTimer2Regs.TPR.all, 0);
     assert_int_equal(CpuTimer2Regs.TCR.bit.TSS, 0);           /* running */
@@ -617,12 +619,68 @@ static void sci_queue_reports_what_fits(void **state)
     (void)state;
     char big[300];
     memset(big, 'x', sizeof big);
-    /* 256 slots, one kept empty to tell full from empty: 255 fit. */
-    assert_int_equal(hal_f28335_sci_write(big, 300), 255);
+    /* 32 slots, one kept empty to tell full from empty: 31 fit. */
+    assert_int_equal(hal_f28335_sci_write(big, 300), 31);
     assert_int_equal(hal_f28335_sci_write(big, 1), 0);
     SciaRegs.SCIFFTX.bit.TXFFST = 0U;
     hal_f28335_sci_pump();                       /* 16 leave for the FIFO */
     assert_int_equal(hal_f28335_sci_write(big, 300), 16);
+}
+
+static void sci_baud_from_lspclk_with_its_error(void **state)
+{
+    (void)state;
+    /* 37.5 MHz / (8 x 41) = 114329 baud: -0.76 %, -75 parts in 10000 (integer division) */
+    assert_int_equal(F28335_SCI_BAUD_ACTUAL, 114329);
+    assert_int_equal(F28335_SCI_ERROR_PER_10K, -75);
+}
+
+static void sci_read_takes_the_fifo_without_waiting(void **state)
+{
+    (void)state;
+    uint16_t buf[32];
+    /* the fake's FIFO holds 3 words reading 'A' (the register keeps its value) */
+    SciaRegs.SCIFFRX.bit.RXFFST = 3U;
+    SciaRegs.SCIRXBUF.all = 'A';
+    assert_int_equal(hal_f28335_sci_read(buf, 32), 3);
+    assert_int_equal(buf[0], 'A');
+    assert_int_equal(buf[2], 'A');
+    /* no more than asked */
+    assert_int_equal(hal_f28335_sci_read(buf, 2), 2);
+    /* an empty FIFO: nothing, at once */
+    SciaRegs.SCIFFRX.bit.RXFFST = 0U;
+    assert_int_equal(hal_f28335_sci_read(buf, 32), 0);
+    assert_int_equal(hal_f28335_sci_errors.word_errors, 0);
+}
+
+static void sci_read_drops_garbled_words_and_clears_errors(void **state)
+{
+    (void)state;
+    uint16_t buf[32];
+    SciaRegs.SCIFFRX.bit.RXFFST = 2U;
+    SciaRegs.SCIRXBUF.all = 0x8041U;             /* SCIFFFE: a framing error on this word */
+    assert_int_equal(hal_f28335_sci_read(buf, 32), 0);
+    assert_int_equal(hal_f28335_sci_errors.word_errors, 2);
+    SciaRegs.SCIFFRX.bit.RXFFST = 0U;
+    SciaRegs.SCIFFRX.bit.RXFFOVF = 1U;           /* a word was lost */
+    SciaRegs.SCIRXST.bit.RXERROR = 1U;           /* break or overrun */
+    SciaRegs.SCICTL1.bit.SWRESET = 1U;
+    assert_int_equal(hal_f28335_sci_read(buf, 32), 0);
+    assert_int_equal(hal_f28335_sci_errors.fifo_overflows, 1);
+    assert_int_equal(SciaRegs.SCIFFRX.bit.RXFFOVRCLR, 1);     /* cleared by writing 1 */
+    assert_int_equal(hal_f28335_sci_errors.rx_errors, 1);
+    assert_int_equal(SciaRegs.SCICTL1.bit.SWRESET, 1);        /* reset, then running again */
+}
+
+static void sci_putc_queues_bytes(void **state)
+{
+    (void)state;
+    assert_int_equal(hal_f28335_sci_tx_free(), 31);
+    assert_true(hal_f28335_sci_putc(0x1FFU));     /* the low 8 bits */
+    assert_int_equal(hal_f28335_sci_tx_free(), 30);
+    SciaRegs.SCIFFTX.bit.TXFFST = 0U;
+    hal_f28335_sci_pump();
+    assert_int_equal(SciaRegs.SCITXBUF, 0xFF);
 }
 
 #define T(fn) cmocka_unit_test_setup(fn, setup)
@@ -638,6 +696,10 @@ int main(void)
         T(init_sets_pin_mux),
         T(init_sets_adc),
         T(init_sets_eqep),
+        cmocka_unit_test(sci_baud_from_lspclk_with_its_error),
+        T(sci_read_takes_the_fifo_without_waiting),
+        T(sci_read_drops_garbled_words_and_clears_errors),
+        T(sci_putc_queues_bytes),
         T(init_sets_sci_and_timer),
         T(init_enables_only_the_trip_interrupt),
         T(every_pie_vector_is_set_and_forces_the_outputs_off),

@@ -43,7 +43,7 @@ static void commissions_the_paper_motor(void **state)
     char err[SCENARIO_ERR_LEN];
     const char *sets[] = { "plant.encoder_offset_el_rad=2.0", "run.align=on", "run.log_every=1",
                            "controller.R_factor=1.5", "controller.L_factor=0.7", "controller.psif_factor=1.2" };
-    sil_ctl_t ctl = { NULL, NULL, NULL, 0u, 1 };
+    sil_ctl_t ctl = { NULL, NULL, NULL, 0u, NULL, 1 };
     sil_result_t res;
     (void)state;
     scenario_defaults(&sc);

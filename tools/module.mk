@@ -10,11 +10,12 @@ $(SIL_BENCH): $(call objs,tools/sil_bench.c tools/sil/sil.c) $(LIB_silrun) $(LIB
 
 .PHONY: bench sil sil-update sil-plots-update venv plot
 
-bench: ## SIL speed, the controller's cost per ctrl_step() and sweep points per second (printed)
+bench: ## SIL speed, the controller's cost per ctrl_step(), sweep points per second, the link's ISR cost and B/s (printed)
 	@$(MAKE) --no-print-directory VARIANT=host $(BUILD)/host/sil_bench
 	@$(BUILD)/host/sil_bench
 	@$(MAKE) --no-print-directory VARIANT=host bench-ctrl
 	@$(MAKE) --no-print-directory VARIANT=host bench-sweep
+	@$(MAKE) --no-print-directory VARIANT=host bench-link
 
 # ---- the Python venv (matplotlib) and sil-plot --------------------------
 VENV         := $(BUILD)/venv
@@ -129,3 +130,30 @@ $(SIL_REPORT): $(SIL_CSVS) $(SIL_SEED_RUNS) $(SIL_LIST_STAMP) tools/sil_report.p
 EXTRA_TESTS += test-ensure-pkgs
 test-ensure-pkgs: ## (part of make test) tools/ensure_pkgs.sh under -j, against a fake apt-get
 	@$(call suite,test-ensure-pkgs) tools/test_ensure_pkgs.sh
+
+# drivetool (tools/drivetool/, the link's host tool) into the venv:
+# build/venv/bin/drivetool. Installed from a copy, so pip's build leaves
+# nothing in the source tree.
+DRIVETOOL      := $(VENV)/bin/drivetool
+DRIVETOOL_SRCS := $(wildcard tools/drivetool/pyproject.toml tools/drivetool/drivetool/*.py)
+.PHONY: drivetool
+drivetool: $(DRIVETOOL) ## build/venv/bin/drivetool: the drive's link tool (tools/drivetool/README.md)
+$(DRIVETOOL): $(VENV_STAMP) $(DRIVETOOL_SRCS)
+	@rm -rf $(BUILD)/drivetool-src && mkdir -p $(BUILD)/drivetool-src
+	@cp -r tools/drivetool/pyproject.toml tools/drivetool/drivetool $(BUILD)/drivetool-src/
+	$(VENV)/bin/python -m pip install -q --no-deps $(BUILD)/drivetool-src
+	@touch $@
+
+# The link's figures (make bench): its cost in the control ISR (callgrind,
+# plain -O2 as bench-ctrl) and the bytes per second drivetool gets from
+# drive_sil --link at 115200 and 937500 baud (tools/bench_link.py).
+$(OUT)/bench_link: $(call objs,tools/bench_link.c) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) -no-pie -o $@ $(filter %.o,$^) $(filter %.a,$^) -lm
+
+.PHONY: bench-link
+bench-link: bench-ctrl-deps $(DRIVETOOL) ## link_isr's instructions per period, drivetool's B/s over drive_sil at 115200 and 937500 (part of bench)
+	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/bench_link
+	@tools/bench_link.sh $(BUILD)/o2/bench_link 20000
+	@$(MAKE) --no-print-directory VARIANT=host $(BUILD)/host/drive_sil
+	@$(VENV)/bin/python tools/bench_link.py $(BUILD)/host/drive_sil

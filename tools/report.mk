@@ -24,11 +24,12 @@ bench-ctrl: bench-ctrl-deps ## instructions, divisions, sqrt and sin/cos per ctr
 	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/bench_ctrl
 	@tools/bench_ctrl.sh $(BUILD)/o2/bench_ctrl 20000
 
-# Standard-library unittest under the system python3 (no venv, no
-# matplotlib: sil_report.py imports it only to draw). No bytecode is
-# written into the tree.
+# Standard-library unittest under the project's venv python (pyserial
+# for drivetool's tests; sil_report.py imports matplotlib only to draw).
+# No bytecode is written into the tree.
 EXTRA_TESTS += test-tools
-# tests/test_sweep.py runs the built drive_sil (its summary against metrics.py).
-test-tools: $(DRIVE_SIL) ## (part of make test) the Python tools' unit tests, tests/test_*.py
-	@command -v python3 > /dev/null || tools/ensure_pkgs.sh python3
-	@DRIVE_SIL=$(DRIVE_SIL) PYTHONDONTWRITEBYTECODE=1 $(call suite,test-tools) python3 tools/run_py_tests.py tests
+# tests/test_sweep.py runs the built drive_sil (its summary against metrics.py);
+# tests/test_drivetool_sil.py runs drive_sil --link with the installed drivetool.
+test-tools: $(DRIVE_SIL) $(DRIVETOOL) ## (part of make test) the Python tools' unit tests, tests/test_*.py
+	@DRIVE_SIL=$(DRIVE_SIL) DRIVETOOL=$(DRIVETOOL) PYTHONDONTWRITEBYTECODE=1 $(call suite,test-tools) \
+	    $(VENV)/bin/python tools/run_py_tests.py tests

@@ -49,6 +49,13 @@ expect_bad "zero duration" --scenario "$(bad z '[run]\nduration_s = 0\n')" --out
 expect_bad "negative duration" --scenario "$good" --set run.duration_s=-1 --out "$dir/out.csv"
 expect_bad "bad --set" --scenario "$good" --set plant.nokey=1 --out "$dir/out.csv"
 expect_bad "unwritable output" --scenario "$good" --out "$dir/no/such/dir/out.csv"
+# the link's flags (tools/sil/link_sil.h)
+expect_bad "--baud without --link" --scenario "$good" --out "$dir/out.csv" --baud 9600
+expect_bad "--link of no kind" --scenario "$good" --out "$dir/out.csv" --link udp:5555
+expect_bad "--link port out of range" --scenario "$good" --out "$dir/out.csv" --link tcp:70000
+expect_bad "--baud out of range" --scenario "$good" --out "$dir/out.csv" --link tcp:0 --baud 12
+expect_bad "negative --realtime" --scenario "$good" --out "$dir/out.csv" --link tcp:0 --realtime -1
+expect_bad "--link with --batch" --scenario "$good" --link tcp:0 --batch
 
 if "$bin" --help > /dev/null && "$bin" --scenario "$good" --out "$dir/out.csv" > /dev/null &&
         head -n 1 "$dir/out.csv" | grep -q '^t_s,' && ! compgen -G "$dir/out.csv.tmp*" > /dev/null; then

@@ -74,10 +74,20 @@
 #define F28335_QPOSMAX           (4UL * BOARD_ENC_LINES - 1UL)   /* 9999 for 2500 lines */
 
 /* ---- SCI-A (SPRUG03 "Baud rate") ---------------------------------------- */
+/* The link's rate (firmware/link_protocol.md). Set at build time, e.g.
+ * -DF28335_SCI_BAUD=937500UL: exact (BRR 4); 115200 is -0.76 %; 921600 is
+ * not reachable (BRR 4.09 -> 4 gives 937500, +1.7 %); the top is
+ * LSPCLK / 16 = 2.34 Mbaud (BRR 1). */
+#ifndef F28335_SCI_BAUD
 #define F28335_SCI_BAUD          115200UL
+#endif
 /* BRR = LSPCLK / (baud * 8) - 1 = 37.5 MHz / 921600 - 1 = 39.69 -> 40
  * (rounded); actual 37.5 MHz / (41 * 8) = 114329 baud, -0.76 %. */
 #define F28335_SCI_BRR           ((uint16_t)((F28335_LSPCLK_HZ + 4UL * F28335_SCI_BAUD) / (8UL * F28335_SCI_BAUD) - 1UL))
+/* The rate BRR gives, and its error in parts per 10000 of the asked one (-76 at 115200) */
+#define F28335_SCI_BAUD_ACTUAL   (F28335_LSPCLK_HZ / (8UL * ((uint32_t)F28335_SCI_BRR + 1UL)))
+#define F28335_SCI_ERROR_PER_10K (((int32_t)F28335_SCI_BAUD_ACTUAL - (int32_t)F28335_SCI_BAUD) * 10000L / (int32_t)F28335_SCI_BAUD)
+#define F28335_SCI_ERROR_MAX_PER_10K 200L   /* +-2 %: both ends' errors add up within 8N1's ~4.5 % */
 #define F28335_SCI_FIFO_DEPTH    16U
 
 #endif /* HAL_F28335_CFG_H */

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # isr_path.sh [OUTDIR] - host gate of `make check` (D14): the control ISR
-# path reaches no library function except the FPU fast-RTS members that
+# path (app_isr, and link_isr, the link's capture and stream that main.c's
+# ISR calls after it) reaches no library function except the FPU fast-RTS members that
 # f28335_flash.cmd places in RAM.
 #
 # On the F28335 the ISR runs from RAM (ramfuncs), but cl2000 implements
@@ -48,7 +49,7 @@ if [ $fail -eq 0 ]; then
     if ! arm-none-eabi-gcc "${flags[@]}" -nostdlib -nostartfiles -Wl,--gc-sections \
             -Wl,--unresolved-symbols=ignore-all -Wl,-e,app_isr \
             -Wl,-u,hal_f28335_isr_timing_begin -Wl,-u,hal_f28335_isr_timing_end \
-            -Wl,-u,f28335_unexpected_isr -Wl,-q -Wl,-Map,"$out/isr_path.map" \
+            -Wl,-u,f28335_unexpected_isr -Wl,-u,link_isr -Wl,-q -Wl,-Map,"$out/isr_path.map" \
             "${objs[@]}" -o "$elf" 2> "$out/link.log"; then
         echo "FAIL ISR-path link:"; sed 's/^/    /' "$out/link.log"
         fail=1

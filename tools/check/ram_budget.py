@@ -44,10 +44,14 @@ target's, from the first source available:
    49 + 16 + 43 + 21 = 129 instructions (counted there), at most 2 words
    each (no C28x instruction is longer): FASTRTS_WORDS.
    data (.ebss): the .bss/.data/COMMON bytes of the image's objects
-   counted as one word per byte. An upper bound: a type of 16 bits or
-   more takes half as many words on the C28x as bytes on ARM, a char or
-   bool (8-bit on ARM) one word, and ARM's alignment in bytes is never
-   below the C28x's in words. Plus RTS_EBSS_WORDS for the RTS library's own
+   built again with bool as a 16-bit type, at one word per two bytes. An
+   upper bound: the portable sources have no 8-bit type (c28x_portable.h
+   poisons them), so with bool widened every scalar is 16 bits or more,
+   which takes half as many words on the C28x as bytes on ARM (an enum:
+   4 bytes on ARM, 1 word on the C28x: over), and ARM's alignment in bytes
+   is never below twice the C28x's in words. A file defining a writable
+   char object (one word per character on the C28x) is counted at one
+   word per byte instead. Plus RTS_EBSS_WORDS for the RTS library's own
    variables (errno, the exit and lock pointers: about 10 words in TI's
    F2833x example maps).
    stack (.stack): the range holds the whole --stack_size of target.mk
@@ -71,8 +75,10 @@ import argparse
 import glob
 import os
 import re
+import shutil
 import subprocess
 import sys
+import tempfile
 
 MARGIN_MIN = 0.10
 FASTRTS_WORDS = 2 * (49 + 16 + 43 + 21)
@@ -243,6 +249,32 @@ def data_bytes(obj):
     return total
 
 
+# isr_path.sh's flags for the ARM build, and bool widened to 16 bits
+# (stdbool.h's guard set first, so that it does not define bool as _Bool).
+WIDE_BOOL_FLAGS = ['-mthumb', '-march=armv7-a+fp', '-mfloat-abi=hard', '-O2', '-std=c99', '-fdata-sections',
+                   '-include', 'control/c28x_portable.h', '-D_STDBOOL_H', '-Dbool=uint16_t', '-Dtrue=1',
+                   '-Dfalse=0', '-D__bool_true_false_are_defined=1', '-Icontrol', '-Ihal', '-Ifirmware',
+                   '-Ihal/f28335', '-Itests/c2000_fake/include']
+CHAR_OBJECT = re.compile(r'(?m)^\s*(static\s+)?(volatile\s+)?(unsigned\s+|signed\s+)?char\s+\w+\s*\[')
+
+
+def data_words(src, obj, tmpdir):
+    """An upper bound of src's data in C28x words (see the docstring); obj is
+    its isr_path.sh object, read at one word per byte when src defines a
+    writable char object."""
+    b = data_bytes(obj)
+    if b == 0:
+        return 0
+    if CHAR_OBJECT.search(read(src)):
+        return b
+    wide = os.path.join(tmpdir, os.path.basename(obj))
+    out = subprocess.run(['arm-none-eabi-gcc'] + WIDE_BOOL_FLAGS + ['-c', src, '-o', wide],
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        die("%s does not compile with bool widened to 16 bits:\n%s" % (src, out.stderr))
+    return (data_bytes(wide) + 1) // 2
+
+
 def callgraph(objdir):
     size, calls = {}, {}
     for f in glob.glob(os.path.join(objdir, '*.ci')):
@@ -297,12 +329,14 @@ def estimate(objdir, mk):
     if not objs:
         die("no objects in %s (run tools/check/isr_path.sh first)" % objdir)
     code_b = code_w = 0
-    data_b = 0
+    data_b = data_w = 0
+    tmpdir = tempfile.mkdtemp()
     for o in objs:
         src = obj_source(o)
         if src is None:
             continue  # the register fake: not in the image
         data_b += data_bytes(o)
+        data_w += data_words(src, o, tmpdir)
         funcs = disassemble(o)
         if src.startswith('hal/') or src in flash_srcs:
             keep = ram_functions(src)
@@ -312,7 +346,8 @@ def estimate(objdir, mk):
             code_b += funcs[fn][0]
             code_w += funcs[fn][1]
     stack = stack_need(objdir)
-    return {'code_bytes': code_b, 'code_words': code_w, 'data_bytes': data_b, 'stack': stack}
+    shutil.rmtree(tmpdir, ignore_errors=True)
+    return {'code_bytes': code_b, 'code_words': code_w, 'data_bytes': data_b, 'data_words': data_w, 'stack': stack}
 
 
 def stack_size_words(mk):
@@ -380,9 +415,9 @@ def main():
                                      "+ fast-RTS <= %d)" % (w, est['code_bytes'], est['code_words'], factor,
                                                             FASTRTS_WORDS))
                     elif sec == '.ebss':
-                        w = est['data_bytes'] + RTS_EBSS_WORDS
-                        parts.append(".ebss <= %d words (%d B at 1 word/B + RTS %d)" % (w, est['data_bytes'],
-                                                                                          RTS_EBSS_WORDS))
+                        w = est['data_words'] + RTS_EBSS_WORDS
+                        parts.append(".ebss <= %d words (%d B Thumb-2 with bool widened, at 1 word per 2 B; "
+                                     "+ RTS %d)" % (w, 2 * est['data_words'], RTS_EBSS_WORDS))
                     else:
                         w = 0
                         parts.append("%s 0 words (--heap_size=0)" % sec)

@@ -45,6 +45,7 @@
 #include "app_step.h"
 #include "csv_writer.h"
 #include "ini_edit.h"
+#include "link_sil.h"
 #include "scenario.h"
 #include "sil.h"
 #include "sil_version.h"
@@ -76,6 +77,7 @@ typedef struct {
     double max_csv_mb;           /* the CSV stops growing here */
     const char *sets[MAX_SETS];
     int n_sets;
+    link_sil_opts_t link;        /* --link, --baud, --realtime (link_sil.h) */
 } args_t;
 
 /* An output written to a temporary name and renamed when complete, or
@@ -109,7 +111,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: drive_sil --scenario FILE [--set section.key=value ...]\n"
             "                 [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]\n"
-            "                 [--max-csv-mb N]\n"
+            "                 [--max-csv-mb N] [--link tcp:PORT | --link pty [--baud B] [--realtime F]]\n"
             "       drive_sil --scenario FILE [--set ...] --commission OUT.ini [--out FILE.csv]\n"
             "       drive_sil --help | --version\n"
             "Runs the drive firmware on the simulated board for one scenario (INI)\n"
@@ -119,6 +121,10 @@ static void usage(FILE *f)
             "last quarter. --check validates the scenario and overrides, runs nothing.\n"
             "--batch runs one point per stdin line \"ID<TAB>section.key=value<TAB>...\"\n"
             "(overrides on top of the scenario's) and prints one summary line per point.\n"
+            "--link serves the drive's link (firmware/link_protocol.md) on 127.0.0.1:PORT\n"
+            "or a pty for drivetool, paced at --baud (115200) in simulated time;\n"
+            "--realtime F paces the run to wall time (0: unpaced); with --link,\n"
+            "run.duration_s = 0 runs until drivetool quit (tools/sil/link_sil.h).\n"
             "--max-csv-mb N (default %g): the CSV stops at the last whole row below N MB\n"
             "(2^20 bytes) with a warning; the run and --summary go on. --version prints\n"
             "the source revision drive_sil was built from.\n"
@@ -154,6 +160,13 @@ static int parse_args(int argc, char **argv, args_t *a)
     const char *max_csv_mb = NULL;
     for (int i = 1; i < argc; i++) {
         const char *s = argv[i];
+        const int link_arg = link_sil_arg(&a->link, argc, argv, &i);
+        if (link_arg != 0) {
+            if (link_arg < 0) {
+                return -1;
+            }
+            continue;
+        }
         if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
             usage(stdout);
             exit(EXIT_SUCCESS);
@@ -208,13 +221,23 @@ static int parse_args(int argc, char **argv, args_t *a)
         fprintf(stderr, "drive_sil: --batch writes its summaries to stdout (no --out, --summary, --check)\n");
         return -1;
     }
-    if (a->commission_path != NULL && (a->batch || a->check || a->summary_path != NULL || a->window != NULL)) {
-        fprintf(stderr, "drive_sil: --commission writes OUT.ini (and --out's trace): no --batch, --check, --summary, --window\n");
+    if (a->commission_path != NULL &&
+        (a->batch || a->check || a->summary_path != NULL || a->window != NULL || a->link.on)) {
+        fprintf(stderr, "drive_sil: --commission writes OUT.ini (and --out's trace): no --batch, --check, --summary, "
+                        "--window, --link\n");
         return -1;
     }
     if (a->scenario_path == NULL ||
         (!a->check && !a->batch && a->out_path == NULL && a->summary_path == NULL && a->commission_path == NULL)) {
         fprintf(stderr, "drive_sil: --scenario and --out or --summary are required (see --help)\n");
+        return -1;
+    }
+    if ((a->link.baud != 0 || a->link.realtime > 0.0) && !a->link.on) {
+        fprintf(stderr, "drive_sil: --baud and --realtime pace the link: they need --link\n");
+        return -1;
+    }
+    if (a->link.on && a->batch) {
+        fprintf(stderr, "drive_sil: --link serves one run: not with --batch\n");
         return -1;
     }
     if (a->out_path != NULL && strcmp(a->out_path, "-") == 0) {
@@ -234,6 +257,7 @@ static int load_base(const args_t *a, scenario_t *sc)
 {
     char err[SCENARIO_ERR_LEN];
     scenario_defaults(sc);
+    sc->run.endless_ok = (a->link.on != 0);   /* duration_s = 0: until the host quits */
     if (scenario_load(sc, a->scenario_path, err, sizeof err) != 0) {
         fprintf(stderr, "drive_sil: %s\n", err);
         return -1;
@@ -701,11 +725,25 @@ int main(int argc, char **argv)
     prog.next_s = PROGRESS_AFTER_S;
     prog.duration_s = sc.run.duration_s;
     prog.shown = 0;
-    const sil_ctl_t ctl = { &g_signal, isatty(STDERR_FILENO) ? on_tick : NULL, &prog, PROGRESS_TICK_PERIODS,
+    sil_hooks_t hooks;
+    if (a.link.on && link_sil_open(&a.link, &hooks) != 0) {   /* the port is taken: a bad --link */
+        if (csv.f != NULL) {
+            (void)csv_writer_finish(&writer);
+        }
+        out_abandon(&csv);
+        out_abandon(&js);
+        return EXIT_BAD_INPUT;
+    }
+    /* no progress line for a run with no end (--link, duration 0) */
+    const int show = isatty(STDERR_FILENO) && sc.run.duration_s > 0.0;
+    const sil_ctl_t ctl = { &g_signal, show ? on_tick : NULL, &prog, PROGRESS_TICK_PERIODS, a.link.on ? &hooks : NULL,
                             a.commission_path != NULL };
     sil_result_t res;
-    /* stopped early by a signal, or by a failed write (seen below) */
+    /* stopped early by a signal, by a failed write (seen below) or by the link's quit */
     const int stopped = (sil_run_ctl(&sc, on_row, &sink, &ctl, &res) == SIL_STOPPED);
+    if (a.link.on) {
+        link_sil_close();
+    }
     if (prog.shown) {
         fputc('\n', stderr);
     }

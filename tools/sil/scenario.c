@@ -344,11 +344,26 @@ static int parse_rprofile(const sc_key_t *k, profile_t *p, double *t0, const cha
 }
 
 /* Set key i from text v; append: extend a profile instead of replacing it. */
+/* True when v spells the number zero ("0", "0.0", "0e3"). */
+static bool zero_text(const char *v)
+{
+    char *end;
+    const double x = strtod(v, &end);
+    while (*end == ' ' || *end == '\t') {
+        end++;
+    }
+    return end != v && *end == '\0' && !(x < 0.0) && !(x > 0.0);
+}
+
 static int set_value(scenario_t *sc, int i, const char *v, bool append, char *err, size_t errlen)
 {
     const sc_key_t *k = &KEYS[i];
     switch (k->kind) {
     case K_REAL:
+        if (sc->run.endless_ok && (double *)field(sc, k) == &sc->run.duration_s && zero_text(v)) {
+            sc->run.duration_s = 0.0;   /* run until the link's host ends it (drive_sil --link) */
+            return 0;
+        }
         return parse_real(k, v, (double *)field(sc, k), err, errlen);
     case K_UINT:
         return parse_uint(k, v, (uint32_t *)field(sc, k), err, errlen);

@@ -13,6 +13,7 @@
 #ifndef SCENARIO_H
 #define SCENARIO_H
 
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -87,7 +88,8 @@ typedef struct {
         profile_t torque_Nm;
     } load;
     struct {
-        double duration_s;
+        double duration_s;         /* 0 only when endless_ok: until the host ends the run */
+        bool endless_ok;           /* set by the caller after scenario_defaults: duration_s = 0 accepted (drive_sil --link) */
         uint32_t log_every;        /* periods between logged rows */
         uint32_t calibrate;        /* 1: the app measures the current offsets at start (sc_onoff_t) */
         uint32_t align;            /* 1: the app aligns the rotor; the controller is not told the encoder offset */

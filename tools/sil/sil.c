@@ -20,10 +20,14 @@
 #define COMM_RUN_MARGIN_S 1.0            /* a commissioning run's length beyond its stages' timeouts: calibration [s] */
 
 static app_t g_app;
+static const sil_hooks_t *g_hooks;   /* of the run under way, or NULL */
 
 static void sil_isr(void)
 {
     app_isr(&g_app);
+    if (g_hooks != NULL && g_hooks->isr_end != NULL) {
+        g_hooks->isr_end(g_hooks->user);
+    }
 }
 
 static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
@@ -124,6 +128,8 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)m->inv_err_V;
     r->psif_model_Wb = (double)m->psi_f_model_Wb;
+    r->id_meas_A = (double)m->id_A;
+    r->iq_meas_A = (double)m->iq_A;
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
     const bool faulted = (g_app.state == APP_STATE_FAULT);
@@ -246,6 +252,11 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     app_op_t op;
     op.mode = ctrl_mode_of(sc->controller.mode);
     op.method = (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED : CTRL_METHOD_CONVENTIONAL;
+    const sil_hooks_t *hooks = (ctl != NULL) ? ctl->hooks : NULL;
+    g_hooks = hooks;
+    if (hooks != NULL && hooks->start != NULL) {
+        hooks->start(hooks->user, &g_app);
+    }
     hal_isr_attach(sil_isr);
     const bool commission = (ctl != NULL) && (ctl->commission != 0);
     if (commission) {
@@ -258,7 +269,8 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     const comm_cfg_t *cc = &ac.comm;
     const double comm_s = (double)(cc->r_max_s + cc->l_max_s + cc->enc_max_s + cc->spin_max_s) +
                           COMM_RUN_MARGIN_S;
-    const uint32_t n = (uint32_t)llround((commission ? comm_s : sc->run.duration_s) / Ts);
+    const bool endless = !commission && (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
+    const uint32_t n = endless ? UINT32_MAX : (uint32_t)llround((commission ? comm_s : sc->run.duration_s) / Ts);
     sil_refs_t refs;
     refs_init(&refs, sc);
     const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
@@ -280,7 +292,11 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
         } else if (refs_at(&refs, (double)k * Ts, &op)) {
             /* taken at the start of this period's ISR; an unchanged request
              * would only set the controller's reference to what it is */
-            app_request_op(&g_app, &op);
+            app_op_t req = op;
+            if (hooks != NULL && hooks->refs != NULL) {
+                hooks->refs(hooks->user, &req);
+            }
+            app_request_op(&g_app, &req);
         }
 
         const bool was_faulted = (g_app.state == APP_STATE_FAULT);
@@ -312,7 +328,11 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
         if (rc == 0 && stop != NULL && *stop != 0) {
             rc = SIL_STOPPED;   /* after a whole period: every row so far is complete */
         }
+        if (rc == 0 && hooks != NULL && hooks->period_end != NULL) {
+            rc = hooks->period_end(hooks->user);
+        }
     }
+    g_hooks = NULL;
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
     res->warnings = g_app.warnings;
@@ -352,7 +372,7 @@ static const sil_col_t COLS[] = {
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
     COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
-    COL(psif_model_Wb),
+    COL(psif_model_Wb), COL(id_meas_A), COL(iq_meas_A),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 /* SIL_CSV_LINE_MAX counts one column per double of sil_row_t */

@@ -17,6 +17,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "app.h"
 #include "csv_num.h"
 #include "scenario.h"
 
@@ -39,6 +40,7 @@ typedef struct {
     double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; 0 unless in FAULT */
     double inv_err_est_V;                   /* inverter voltage error the controller identified (ctrl_mon_t.inv_err_V) */
     double psif_model_Wb;                   /* psi_f the deadbeat model uses (ctrl_mon_t.psi_f_model_Wb; design sec. 9f) */
+    double id_meas_A, iq_meas_A;            /* the controller's measured dq currents this period (ctrl_mon_t.id_A, iq_A) */
 } sil_row_t;
 
 typedef struct {
@@ -73,6 +75,15 @@ typedef struct {
 /* Called for every logged row; a nonzero return stops the run. */
 typedef int (*sil_row_fn)(const sil_row_t *row, void *user);
 
+/* What a run's driver adds (drive_sil --link, tools/sil/link_sil.h); any member may be NULL. */
+typedef struct {
+    void (*start)(void *user, app_t *app);        /* after app_init, before the first period */
+    void (*isr_end)(void *user);                  /* after every app_isr call, in its context */
+    void (*refs)(void *user, app_op_t *op);       /* the scenario's operator request about to be made: may change it */
+    int (*period_end)(void *user);                /* the background after each period; nonzero ends the run */
+    void *user;
+} sil_hooks_t;
+
 /* Called every sil_ctl_t.tick_periods periods with the simulated time reached [s]. */
 typedef void (*sil_tick_fn)(double t_s, void *user);
 
@@ -82,6 +93,8 @@ typedef struct {
     sil_tick_fn on_tick;                 /* progress, or NULL */
     void *tick_user;
     uint32_t tick_periods;               /* periods between on_tick calls (> 0 with on_tick) */
+    const sil_hooks_t *hooks;            /* a driver's additions (drive_sil --link), or NULL; with
+                                          * period_end, run.duration_s = 0 runs until it ends the run */
     int commission;                      /* 1: commission the motor instead of the scenario's run (sil_run_ctl) */
 } sil_ctl_t;
 

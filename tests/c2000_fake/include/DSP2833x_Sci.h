@@ -48,6 +48,39 @@ struct SCIFFTX_BITS {
 };
 union SCIFFTX_REG { Uint16 all; struct SCIFFTX_BITS bit; };
 
+struct SCIRXST_BITS {
+    Uint16 rsvd:1;             /* 0 */
+    Uint16 RXWAKE:1;           /* 1 */
+    Uint16 PE:1;               /* 2 parity error */
+    Uint16 OE:1;               /* 3 overrun error */
+    Uint16 FE:1;               /* 4 framing error */
+    Uint16 BRKDT:1;            /* 5 break detected */
+    Uint16 RXRDY:1;            /* 6 */
+    Uint16 RXERROR:1;          /* 7 any of BRKDT, FE, OE, PE */
+    Uint16 rsvd1:8;            /* 15:8 */
+};
+union SCIRXST_REG { Uint16 all; struct SCIRXST_BITS bit; };
+
+struct SCIRXBUF_BITS {
+    Uint16 RXDT:8;             /* 7:0 received character */
+    Uint16 rsvd:6;             /* 13:8 */
+    Uint16 SCIFFPE:1;          /* 14 parity error of this FIFO word */
+    Uint16 SCIFFFE:1;          /* 15 framing error of this FIFO word */
+};
+union SCIRXBUF_REG { Uint16 all; struct SCIRXBUF_BITS bit; };
+
+struct SCIFFRX_BITS {
+    Uint16 RXFFIL:5;           /* 4:0 interrupt level */
+    Uint16 RXFFIENA:1;         /* 5 */
+    Uint16 RXFFINTCLR:1;       /* 6 */
+    Uint16 RXFFINT:1;          /* 7 */
+    Uint16 RXFFST:5;           /* 12:8 words in the receive FIFO */
+    Uint16 RXFIFORESET:1;      /* 13 0 = held in reset */
+    Uint16 RXFFOVRCLR:1;       /* 14 write 1: clear RXFFOVF */
+    Uint16 RXFFOVF:1;          /* 15 a word was lost: the FIFO was full */
+};
+union SCIFFRX_REG { Uint16 all; struct SCIFFRX_BITS bit; };
+
 struct SCIFFCT_BITS {
     Uint16 FFTXDLY:8;          /* 7:0 delay between FIFO words, in baud clocks */
     Uint16 rsvd:5;             /* 12:8 */
@@ -63,13 +96,13 @@ struct SCI_REGS {                      /* word offset */
     Uint16             SCIHBAUD;       /* 0x2 BRR high byte */
     Uint16             SCILBAUD;       /* 0x3 BRR low byte */
     union SCICTL2_REG  SCICTL2;        /* 0x4 */
-    Uint16             SCIRXST;        /* 0x5 (unused here) */
+    union SCIRXST_REG  SCIRXST;        /* 0x5 */
     Uint16             SCIRXEMU;       /* 0x6 */
-    Uint16             SCIRXBUF;       /* 0x7 (unused here) */
+    union SCIRXBUF_REG SCIRXBUF;       /* 0x7 */
     Uint16             rsvd1;          /* 0x8 */
     Uint16             SCITXBUF;       /* 0x9 */
     union SCIFFTX_REG  SCIFFTX;        /* 0xA */
-    Uint16             SCIFFRX;        /* 0xB (unused here) */
+    union SCIFFRX_REG  SCIFFRX;        /* 0xB */
     union SCIFFCT_REG  SCIFFCT;        /* 0xC */
     Uint16             rsvd2;          /* 0xD */
     Uint16             rsvd3;          /* 0xE */

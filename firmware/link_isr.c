@@ -1,0 +1,200 @@
+/* link_isr.c - the link's control-ISR part: the capture and the stream's
+ * sampling (link.h, link_protocol.md "Capture", "Stream") and the
+ * variables' values they read (link_var_get, link_vars.h). Compiled into
+ * RAM with the ISR path; the rest of the link (link.c, link_vars.c,
+ * link_codec.c) runs from flash. */
+#include "link.h"
+
+#include "mathx.h"
+
+#define COUNT16_MAX 0xFFFFu
+#define INT16_FULL_SCALE 32767.0f
+#define ROUND_HALF 0.5f
+
+/* ---- the variables' values (link_vars.h): read by the ISR, so they live here, in RAM ---- */
+
+static link_val_t of_u(uint32_t u)
+{
+    link_val_t v;
+    v.u = u;
+    v.f = (float)u;
+    return v;
+}
+
+static link_val_t of_f(float f)
+{
+    link_val_t v;
+    v.u = 0u;
+    v.f = f;
+    return v;
+}
+
+link_val_t link_var_get(const link_target_t *t, uint16_t id)
+{
+    const app_t *a = t->app;
+    const ctrl_mon_t *m = &a->ctrl.mon;
+    switch (id) {
+    case LV_STATE: return of_u((uint32_t)a->state);
+    case LV_FAULT: return of_u((uint32_t)a->fault);
+    case LV_FLAGS: return of_u((uint32_t)(a->out.flags | a->warnings)); /* as the CSV's flags */
+    case LV_SPEED_EST_RPM: return of_f(m->speed_mech_rad_s / MATHX_RAD_S_PER_RPM_F);
+    case LV_SPEED_REF_RPM: return of_f(a->op_taken.ref.speed_ref_rad_s / MATHX_RAD_S_PER_RPM_F);
+    case LV_TE_CMD_NM: return of_f(a->op_taken.ref.te_ref_Nm);
+    case LV_TE_REF_NM: return of_f(m->te_ref_Nm);
+    case LV_TE_EST_NM: return of_f(m->te_est_Nm);
+    case LV_PSI_REF_WB: return of_f(m->psi_ref_Wb);
+    case LV_PSI_EST_WB: return of_f(m->psi_est_Wb);
+    case LV_ID_MEAS_A: return of_f(m->id_A);
+    case LV_IQ_MEAS_A: return of_f(m->iq_A);
+    case LV_UD_CMD_V: return of_f(m->ud_V);
+    case LV_UQ_CMD_V: return of_f(m->uq_V);
+    case LV_UD_REF_V: return of_f(a->op_taken.ref.ud_ref_V);
+    case LV_UQ_REF_V: return of_f(a->op_taken.ref.uq_ref_V);
+    case LV_R_EST_OHM: return of_f(m->R_est_Ohm);
+    case LV_L_EST_H: return of_f(m->L_est_H);
+    case LV_PSIF_EST_WB: return of_f(m->psi_f_est_Wb);
+    case LV_EST: return of_u((uint32_t)m->ident);
+    case LV_EST_HOLD: return of_u((uint32_t)m->est_hold);
+    case LV_METHOD: return of_u((uint32_t)a->op_taken.method);
+    case LV_MODE: return of_u((uint32_t)a->op_taken.mode);
+    case LV_CMD_ERROR: return of_u((uint32_t)t->cmd->error);
+    case LV_TICKS: return of_u(a->ticks);
+    case LV_LINK_WRITES: return of_u(t->stats->writes);
+    case LV_LINK_ERR_CRC: return of_u((uint32_t)t->stats->err_crc);
+    case LV_LINK_ERR_FRAMING: return of_u((uint32_t)t->stats->err_framing);
+    case LV_LINK_ERR_OVERRUN: return of_u((uint32_t)t->stats->err_overrun);
+    case LV_LINK_STREAM_DROPPED: return of_u((uint32_t)t->stats->stream_dropped);
+    case LV_LINK_ERR_LINE: return of_u((uint32_t)t->stats->err_line);
+    case LV_RESET_BY_WATCHDOG: return of_u((uint32_t)t->stats->reset_by_watchdog);
+    default: return of_u(0u);
+    }
+}
+
+/* ---- capture and stream ---- */
+
+static void count16(uint16_t *c)
+{
+    if (*c < COUNT16_MAX) {
+        (*c)++;
+    }
+}
+
+static int16_t to_count(float v, float per_lsb)
+{
+    const float x = v * per_lsb;
+    if (!mathx_isfinitef(x)) {
+        return 0;
+    }
+    const float r = (x >= 0.0f) ? x + ROUND_HALF : x - ROUND_HALF;
+    return (int16_t)mathx_clampf(r, -INT16_FULL_SCALE, INT16_FULL_SCALE);
+}
+
+/* Whether the trigger fires on this sample (trig_ready kept for the next). */
+static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre)
+{
+    const uint16_t st = (uint16_t)t->app->state;
+    bool fire = false;
+    switch (c->trig) {
+    case LINK_TRIG_ABOVE: {
+        const float v = link_var_get(t, c->trig_id).f;
+        if (v > c->level) {
+            fire = c->trig_ready && enough_pre;
+            c->trig_ready = false;
+        } else if (v <= c->level - c->hyst) {
+            c->trig_ready = true;
+        }
+        break;
+    }
+    case LINK_TRIG_BELOW: {
+        const float v = link_var_get(t, c->trig_id).f;
+        if (v < c->level) {
+            fire = c->trig_ready && enough_pre;
+            c->trig_ready = false;
+        } else if (v >= c->level + c->hyst) {
+            c->trig_ready = true;
+        }
+        break;
+    }
+    case LINK_TRIG_FAULT:
+        fire = enough_pre && st == (uint16_t)APP_STATE_FAULT && c->last_app_state != (uint16_t)APP_STATE_FAULT;
+        break;
+    case LINK_TRIG_STATE:
+        fire = enough_pre && st != c->last_app_state;
+        break;
+    default:
+        fire = enough_pre;
+        break;
+    }
+    c->last_app_state = st;
+    return fire;
+}
+
+static void capture_isr(link_capture_t *c, const link_target_t *t)
+{
+    const uint16_t state = c->state;
+    if (state != LINK_CAP_PRE && state != LINK_CAP_POST) {
+        return;
+    }
+    if (c->dec_left > 0u) {
+        c->dec_left--;
+        return;
+    }
+    c->dec_left = (uint16_t)(c->decimate - 1u);
+    const uint32_t index = t->app->ticks - 1u;   /* ticks counts this period's call already */
+    int16_t *row = &c->buf[c->head * LINK_CAP_CHANNELS];
+    for (uint16_t k = 0u; k < c->nch; k++) {
+        row[k] = to_count(link_var_get(t, c->ids[k]).f, c->per_lsb[k]);
+    }
+    c->head = (uint16_t)(c->head + 1u);
+    c->head = (c->head >= c->samples) ? 0u : c->head;
+    c->filled = (c->filled < c->samples) ? (uint16_t)(c->filled + 1u) : c->filled;
+    if (state == LINK_CAP_POST) {
+        c->post_left--;
+        if (c->post_left == 0u) {
+            c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
+            c->state = LINK_CAP_DONE;
+        }
+        return;
+    }
+    if (triggered(c, t, c->filled > c->pre)) {
+        c->trig_index = index;
+        c->post_left = (uint16_t)(c->samples - c->pre - 1u);
+        if (c->post_left == 0u) {
+            c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
+            c->state = LINK_CAP_DONE;
+        } else {
+            c->state = LINK_CAP_POST;
+        }
+    }
+}
+
+static void stream_isr(link_t *l)
+{
+    link_stream_t *s = &l->stream;
+    const uint16_t n = s->n;
+    if (n == 0u) {
+        return;
+    }
+    if (s->dec_left > 0u) {
+        s->dec_left--;
+        return;
+    }
+    s->dec_left = (uint16_t)(s->decimate - 1u);
+    const uint16_t w = s->wr;
+    const uint16_t next = (uint16_t)((w + 1u) & (LINK_STREAM_ROWS - 1u));
+    if (next == s->rd) {
+        count16(&l->stats.stream_dropped);
+        return;
+    }
+    s->index[w] = l->t.app->ticks - 1u;
+    for (uint16_t k = 0u; k < n; k++) {
+        s->val[w][k] = link_var_get(&l->t, s->ids[k]);
+    }
+    s->wr = next;
+}
+
+void link_isr(link_t *l)
+{
+    capture_isr(&l->cap, &l->t);
+    stream_isr(l);
+}

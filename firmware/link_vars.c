@@ -1,0 +1,200 @@
+/* link_vars.c - the link's variable table; see link_vars.h. */
+#include "link_vars.h"
+
+#include "link_codec.h"
+#include "mathx.h"
+
+#define U16_MAX_F 65535.0f
+#define U32_MAX_F 4294967295.0f
+/* Ranges of quantities with no configured limit, from the nominal value they scale with. */
+#define FLUX_RANGE_PER_PSIF 2.0f      /* |psi_s|, psi_f^ up to twice the PM flux */
+#define L_RANGE_PER_L 2.0f            /* L^ up to twice the nominal inductance */
+#define FNV_OFFSET 2166136261ul
+#define FNV_PRIME 16777619ul
+#define FLOAT_BYTES 4u
+
+#define R LINK_ACC_READ
+#define W LINK_ACC_WRITE
+#define WS LINK_ACC_WRITE_STOPPED
+static const link_var_t VARS[LV_COUNT] = {
+    [LV_STATE] = { "state", "", LINK_T_U16, R },
+    [LV_FAULT] = { "fault", "", LINK_T_U16, R },
+    [LV_FLAGS] = { "flags", "", LINK_T_U16, R },
+    [LV_SPEED_EST_RPM] = { "speed_est_rpm", "r/min", LINK_T_F32, R },
+    [LV_SPEED_REF_RPM] = { "speed_ref_rpm", "r/min", LINK_T_F32, W },
+    [LV_TE_CMD_NM] = { "te_cmd_Nm", "N m", LINK_T_F32, W },
+    [LV_TE_REF_NM] = { "te_ref_Nm", "N m", LINK_T_F32, R },
+    [LV_TE_EST_NM] = { "te_est_Nm", "N m", LINK_T_F32, R },
+    [LV_PSI_REF_WB] = { "psi_ref_Wb", "Wb", LINK_T_F32, R },
+    [LV_PSI_EST_WB] = { "psi_est_Wb", "Wb", LINK_T_F32, R },
+    [LV_ID_MEAS_A] = { "id_meas_A", "A", LINK_T_F32, R },
+    [LV_IQ_MEAS_A] = { "iq_meas_A", "A", LINK_T_F32, R },
+    [LV_UD_CMD_V] = { "ud_cmd_V", "V", LINK_T_F32, R },
+    [LV_UQ_CMD_V] = { "uq_cmd_V", "V", LINK_T_F32, R },
+    [LV_UD_REF_V] = { "ud_ref_V", "V", LINK_T_F32, W },
+    [LV_UQ_REF_V] = { "uq_ref_V", "V", LINK_T_F32, W },
+    [LV_R_EST_OHM] = { "R_est_ohm", "Ohm", LINK_T_F32, R },
+    [LV_L_EST_H] = { "L_est_H", "H", LINK_T_F32, R },
+    [LV_PSIF_EST_WB] = { "psif_est_Wb", "Wb", LINK_T_F32, R },
+    [LV_EST] = { "est", "", LINK_T_U16, R },
+    [LV_EST_HOLD] = { "est_hold", "", LINK_T_U16, R },
+    [LV_METHOD] = { "method", "", LINK_T_U16, WS },
+    [LV_MODE] = { "mode", "", LINK_T_U16, WS },
+    [LV_CMD_ERROR] = { "cmd_error", "", LINK_T_U16, R },
+    [LV_TICKS] = { "ticks", "", LINK_T_U32, R },
+    [LV_LINK_WRITES] = { "link_writes", "", LINK_T_U32, R },
+    [LV_LINK_ERR_CRC] = { "link_err_crc", "", LINK_T_U16, R },
+    [LV_LINK_ERR_FRAMING] = { "link_err_framing", "", LINK_T_U16, R },
+    [LV_LINK_ERR_OVERRUN] = { "link_err_overrun", "", LINK_T_U16, R },
+    [LV_LINK_STREAM_DROPPED] = { "link_stream_dropped", "", LINK_T_U16, R },
+    [LV_LINK_ERR_LINE] = { "link_err_line", "", LINK_T_U16, R },
+    [LV_RESET_BY_WATCHDOG] = { "reset_by_watchdog", "", LINK_T_U16, R },
+};
+#undef R
+#undef W
+#undef WS
+
+const link_var_t *link_var(uint16_t id)
+{
+    return &VARS[(id < (uint16_t)LV_COUNT) ? id : 0u];
+}
+
+static void sym(float x, float *lo, float *hi)
+{
+    *lo = -x;
+    *hi = x;
+}
+
+void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
+{
+    const app_cfg_t *c = &t->app->cfg;
+    const float speed_max_rpm = c->prot.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F;
+    const float flux_max_Wb = FLUX_RANGE_PER_PSIF * c->ctrl.psi_f_Wb;
+    *lo = 0.0f;
+    switch (id) {
+    case LV_SPEED_EST_RPM: sym(speed_max_rpm, lo, hi); break;
+    case LV_SPEED_REF_RPM: sym(t->lim->speed_max_rpm, lo, hi); break;
+    case LV_TE_CMD_NM: sym(t->lim->te_max_Nm, lo, hi); break;
+    case LV_TE_REF_NM: case LV_TE_EST_NM: sym(c->ctrl.te_max_Nm, lo, hi); break;
+    case LV_PSI_REF_WB: case LV_PSI_EST_WB: case LV_PSIF_EST_WB: sym(flux_max_Wb, lo, hi); break;
+    case LV_ID_MEAS_A: case LV_IQ_MEAS_A: sym(c->prot.i_max_A, lo, hi); break;
+    case LV_UD_CMD_V: case LV_UQ_CMD_V: sym(c->ctrl.u_max_V, lo, hi); break;
+    case LV_UD_REF_V: case LV_UQ_REF_V: sym(t->lim->u_max_V, lo, hi); break;
+    case LV_R_EST_OHM: *hi = c->ctrl.R_max_Ohm; break;
+    case LV_L_EST_H: *hi = L_RANGE_PER_L * c->ctrl.L_H; break;
+    case LV_STATE: *hi = (float)APP_STATE_FAULT; break;
+    case LV_METHOD: *hi = (float)CTRL_METHOD_PROPOSED; break;
+    case LV_MODE: *hi = (float)CTRL_MODE_SPEED; break;
+    default: *hi = (link_var(id)->type == LINK_T_U32) ? U32_MAX_F : U16_MAX_F; break;
+    }
+}
+
+/* The command block set to what the drive runs with (app.op_req), run and fault reset untouched. */
+static void cmd_sync(const link_target_t *t)
+{
+    const app_t *a = t->app;
+    volatile cmd_t *c = t->cmd;
+    c->method = (uint16_t)a->op_req.method;
+    c->mode = (uint16_t)a->op_req.mode;
+    c->speed_ref_rpm = a->op_req.ref.speed_ref_rad_s / MATHX_RAD_S_PER_RPM_F;
+    c->te_ref_Nm = a->op_req.ref.te_ref_Nm;
+    c->ud_ref_V = a->op_req.ref.ud_ref_V;
+    c->uq_ref_V = a->op_req.ref.uq_ref_V;
+}
+
+/* Put v into the command field of id (a writable id). */
+static void cmd_field_set(volatile cmd_t *c, uint16_t id, link_val_t v)
+{
+    switch (id) {
+    case LV_SPEED_REF_RPM: c->speed_ref_rpm = v.f; break;
+    case LV_TE_CMD_NM: c->te_ref_Nm = v.f; break;
+    case LV_UD_REF_V: c->ud_ref_V = v.f; break;
+    case LV_UQ_REF_V: c->uq_ref_V = v.f; break;
+    /* a value beyond 16 bits must not wrap into a valid one */
+    case LV_METHOD: c->method = (v.u > 0xFFFFul) ? 0xFFFFu : (uint16_t)v.u; break;
+    case LV_MODE: c->mode = (v.u > 0xFFFFul) ? 0xFFFFu : (uint16_t)v.u; break;
+    default: break;
+    }
+}
+
+static bool stopped(const app_t *a)
+{
+    return (a->state == APP_STATE_INIT) || (a->state == APP_STATE_IDLE) || (a->state == APP_STATE_FAULT);
+}
+
+uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool *access_refused)
+{
+    const link_var_t *d = link_var(id);
+    *access_refused = (id >= (uint16_t)LV_COUNT) || (d->access == (uint16_t)LINK_ACC_READ) ||
+                      ((d->access == (uint16_t)LINK_ACC_WRITE_STOPPED) && !stopped(t->app));
+    if (*access_refused) {
+        return (uint16_t)CMD_OK;
+    }
+    cmd_sync(t);
+    cmd_field_set(t->cmd, id, v);
+    cmd_apply(t->cmd, t->lim, t->app);
+    const uint16_t err = t->cmd->error;
+    if (err != (uint16_t)CMD_OK) {
+        cmd_sync(t);                     /* the refused value out of the block: it would be refused again */
+        cmd_apply(t->cmd, t->lim, t->app);
+        t->cmd->error = err;             /* still named for the expressions window */
+    }
+    return err;
+}
+
+bool link_action(const link_target_t *t, uint16_t action)
+{
+    volatile cmd_t *c = t->cmd;
+    switch (action) {
+    case LINK_ACTION_START:
+        c->run = 1u;
+        c->run_taken = 0u;               /* an edge: cmd_apply acts on a change only */
+        break;
+    case LINK_ACTION_STOP:
+    case LINK_ACTION_QUIT:
+        c->run = 0u;
+        c->run_taken = 1u;
+        break;
+    case LINK_ACTION_FAULT_RESET:
+        c->fault_reset = 1u;
+        break;
+    default:
+        return false;
+    }
+    cmd_sync(t);
+    cmd_apply(c, t->lim, t->app);
+    return true;
+}
+
+static uint32_t fnv(uint32_t h, uint16_t byte)
+{
+    return (h ^ (uint32_t)(byte & 0x00FFu)) * FNV_PRIME;
+}
+
+static uint32_t fnv_str(uint32_t h, const char *s)
+{
+    for (uint16_t i = 0u; s[i] != '\0'; i++) {
+        h = fnv(h, (uint16_t)s[i]);
+    }
+    return fnv(h, 0u);
+}
+
+uint32_t link_vars_hash(const link_target_t *t)
+{
+    uint32_t h = FNV_OFFSET;
+    for (uint16_t i = 0u; i < (uint16_t)LV_COUNT; i++) {
+        float lo;
+        float hi;
+        uint16_t b[FLOAT_BYTES * 2u];
+        link_var_limits(t, i, &lo, &hi);
+        (void)link_put_f32(b, link_put_f32(b, 0u, lo), hi);
+        h = fnv_str(h, VARS[i].name);
+        h = fnv_str(h, VARS[i].unit);
+        h = fnv(h, VARS[i].type);
+        h = fnv(h, VARS[i].access);
+        for (uint16_t k = 0u; k < FLOAT_BYTES * 2u; k++) {
+            h = fnv(h, b[k]);
+        }
+    }
+    return h;
+}

@@ -1,0 +1,93 @@
+/*
+ * link_vars.h - the one variable table of the link (link_protocol.md,
+ * "Variables"): what the firmware computes and what the operator sets
+ * through cmd_t, each with id (its index), name, type, unit, limits and
+ * access. Where drive_sil's CSV shows the same quantity the name is the
+ * CSV's. Writes go through cmd_apply() only; the table has no pointer
+ * into the drive, values are fetched by id.
+ */
+#ifndef LINK_VARS_H
+#define LINK_VARS_H
+
+#include <stdint.h>
+
+#include "app.h"
+#include "cmd.h"
+
+typedef enum { LINK_T_U16 = 0, LINK_T_U32 = 1, LINK_T_F32 = 2 } link_type_t;
+typedef enum {
+    LINK_ACC_READ = 0,          /* read only */
+    LINK_ACC_WRITE = 1,         /* read and write in any state */
+    LINK_ACC_WRITE_STOPPED = 2  /* write only in INIT, IDLE or FAULT */
+} link_access_t;
+
+typedef enum {
+    LV_STATE = 0, LV_FAULT, LV_FLAGS, LV_SPEED_EST_RPM, LV_SPEED_REF_RPM, LV_TE_CMD_NM, LV_TE_REF_NM,
+    LV_TE_EST_NM, LV_PSI_REF_WB, LV_PSI_EST_WB, LV_ID_MEAS_A, LV_IQ_MEAS_A, LV_UD_CMD_V, LV_UQ_CMD_V,
+    LV_UD_REF_V, LV_UQ_REF_V, LV_R_EST_OHM, LV_L_EST_H, LV_PSIF_EST_WB, LV_EST, LV_EST_HOLD,
+    LV_METHOD, LV_MODE, LV_CMD_ERROR, LV_TICKS, LV_LINK_WRITES, LV_LINK_ERR_CRC, LV_LINK_ERR_FRAMING,
+    LV_LINK_ERR_OVERRUN, LV_LINK_STREAM_DROPPED, LV_LINK_ERR_LINE, LV_RESET_BY_WATCHDOG,
+    LV_COUNT
+} link_var_id_t;
+
+typedef struct {
+    const char *name;
+    const char *unit;           /* "" for a count or a code */
+    uint16_t type;              /* link_type_t */
+    uint16_t access;            /* link_access_t */
+} link_var_t;
+
+/* The link's own counts (link.c), shown as variables. Saturating. */
+typedef struct {
+    uint32_t writes;            /* WRITE and ACTION requests executed (a repeat answered from the cache is not) */
+    uint16_t err_crc, err_framing, err_overrun, stream_dropped;
+    uint16_t err_line;          /* the port's own receive errors (garbled characters, FIFO overflows): set by the glue */
+    uint16_t reset_by_watchdog; /* 1: the last reset was the watchdog's (set by the glue at start-up) */
+} link_stats_t;
+
+/* What the table reads and writes. */
+typedef struct {
+    app_t *app;
+    volatile cmd_t *cmd;        /* the operator's block: writes land here, then cmd_apply() */
+    const cmd_limits_t *lim;
+    const link_stats_t *stats;
+} link_target_t;
+
+/* A value: integers in u (and f as float), floats in f. */
+typedef struct {
+    uint32_t u;
+    float f;
+} link_val_t;
+
+/* The descriptor of id (< LV_COUNT). Any context. */
+const link_var_t *link_var(uint16_t id);
+
+/* Its value now. ISR (capture, stream) or background. */
+link_val_t link_var_get(const link_target_t *t, uint16_t id);
+
+/* Its limits [lo, hi] in its unit: the range the command accepts or the value can reach on
+ * this drive, from the configuration (capture scaling, LIST_VARS). Background or ISR. */
+void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi);
+
+/* Write v (integers in u, floats in f) through cmd_apply(): the other fields of the command
+ * are first set to what the drive runs with (app.op_req), a refused value is put back. Returns
+ * CMD_OK or the cmd_error_t cmd_apply() named; *access_refused true when the table's access
+ * refused it before cmd_apply() (read-only, or write-when-stopped while running). Background. */
+uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool *access_refused);
+
+/* 32-bit FNV-1a over every descriptor (name, unit, type, access) and its limits on this drive
+ * (the scale follows from them): HELLO's table hash, the host's cache key. Background. */
+uint32_t link_vars_hash(const link_target_t *t);
+
+
+typedef enum {
+    LINK_ACTION_START = 1,      /* the start sequence (cmd run 0 -> 1) */
+    LINK_ACTION_STOP = 2,       /* to IDLE, PWM off */
+    LINK_ACTION_FAULT_RESET = 3,/* clear a latched fault */
+    LINK_ACTION_QUIT = 4        /* the SIL: stop, then end the run (the firmware only stops) */
+} link_action_t;
+
+/* Carry out an action through cmd_apply() (start and stop as an edge of cmd.run, so a start after a
+ * fault starts again). Returns false for an unknown action. Background. */
+bool link_action(const link_target_t *t, uint16_t action);
+#endif /* LINK_VARS_H */

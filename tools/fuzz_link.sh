@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# fuzz_link.sh short|long BIN DIR [FRAMES] - run the link's fuzz harness (tests/fuzz/fuzz_link.c).
+#   short  a seeded pass from the seed corpus (a few seconds): make test's
+#   long   chunks of libFuzzer runs on the corpus DIR/corpus until the
+#          harness has framed FRAMES requests (default 10^7)
+# Prints "fuzz-link: N frames, N inputs, S s, N findings"; a finding leaves
+# DIR/crash-* and exits 1.
+set -uo pipefail
+mode=$1 bin=$2 dir=$3 target=${4:-10000000}
+SHORT_RUNS=3000
+SHORT_SEED=1
+CHUNK_RUNS=100000
+MAX_LEN=2048
+opts=(-max_len=$MAX_LEN -timeout=20 -rss_limit_mb=2048 -artifact_prefix="$dir/" -print_final_stats=0)
+mkdir -p "$dir"
+
+# Seeds (the record format is in tests/fuzz/fuzz_link.c): HELLO, LIST_VARS
+# from 0, READ of state, WRITE speed_ref_rpm 500, a capture armed on
+# speed_est_rpm > 250 with periods crossing it then read, a stream, ACTION start.
+seed_corpus() { # dir
+    printf '\x00\x01\x01\x00\x00\x02\x02\x02\x00\x00\x00\x03\x03\x02\x00\x00' >"$1/seed_hello_list_read"
+    printf '\x00\x04\x05\x06\x04\x00\x00\x00\xfa\x43\x00\x05\x06\x01\x01' >"$1/seed_write_start"
+    printf '\x00\x07\x07\x16\x01\x00\x02\x00\x08\x00\x01\x03\x00\x00\x00\x7a\x43\x00\x00\x00\x00\x02\x0b\x00\x03\x00' >"$1/seed_capture"
+    printf '\xf0\x0f\x05\x00\x00\x10\x00\xf0\x0f\x05\x00\x40\x10\x00\xf0\x0f\x05\x00\x08\x10\x00' >>"$1/seed_capture"
+    printf '\x00\x08\x08\x00\x00\x09\x09\x04\x00\x00\x08\x00' >>"$1/seed_capture"
+    printf '\x00\x06\x0a\x04\x32\x00\x0b\x00\xf0\x3f\x05\x00\x00\x10\x00' >"$1/seed_stream"
+    printf '\xc5\x08\x11\x00\x05\xff\x00\x00\x31\x32\x00\x01\x01\x00' >"$1/seed_garbage"
+}
+
+frames=0 inputs=0
+start=$(date +%s)
+run_chunk() { # corpus-dir extra-options...
+    local out rc f i
+    out=$("$bin" "${opts[@]}" "${@:2}" "$1" 2>"$dir/last.log")
+    rc=$?
+    f=$(printf '%s\n' "$out" | sed -n 's/^fuzz_link: \([0-9]*\) frames, \([0-9]*\) inputs.*/\1/p' | tail -n 1)
+    i=$(printf '%s\n' "$out" | sed -n 's/^fuzz_link: \([0-9]*\) frames, \([0-9]*\) inputs.*/\2/p' | tail -n 1)
+    frames=$((frames + ${f:-0}))
+    inputs=$((inputs + ${i:-0}))
+    if [ $rc -ne 0 ]; then
+        tail -n 40 "$dir/last.log" >&2
+        echo "fuzz-link: FINDING after $frames frames ($(ls "$dir"/crash-* "$dir"/timeout-* "$dir"/oom-* 2>/dev/null | tr '\n' ' '))" >&2
+        echo "fuzz-link: 0 passed, 1 failed"
+        exit 1
+    fi
+}
+
+case $mode in
+short)
+    corpus=$(mktemp -d)
+    trap 'rm -rf "$corpus"' EXIT
+    seed_corpus "$corpus"
+    run_chunk "$corpus" -seed=$SHORT_SEED -runs=$SHORT_RUNS
+    ;;
+long)
+    mkdir -p "$dir/corpus"
+    seed_corpus "$dir/corpus"
+    while [ "$frames" -lt "$target" ]; do
+        run_chunk "$dir/corpus" -runs=$CHUNK_RUNS
+        echo "fuzz-link: $frames frames so far ($(( $(date +%s) - start )) s)"
+    done
+    ;;
+*)
+    echo "usage: fuzz_link.sh short|long BIN DIR [FRAMES]" >&2
+    exit 2
+    ;;
+esac
+echo "fuzz-link: $frames frames, $inputs inputs, $(( $(date +%s) - start )) s, 0 findings"
+echo "fuzz-link: 1 passed, 0 failed"

@@ -1,0 +1,370 @@
+/* link_sil.c - the link's byte pipe in the SIL (TCP or pty), paced at the baud rate; see link_sil.h. */
+#define _DEFAULT_SOURCE   /* cfmakeraw */
+#define _XOPEN_SOURCE 600 /* posix_openpt, grantpt, ptsname */
+#include "link_sil.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+#include <termios.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "link.h"
+#include "mathx.h"
+
+#define IN_MAX 4096                 /* bytes from the host waiting for the line */
+#define BITS_PER_BYTE_8N1 10.0
+#define BAUD_MIN 300L
+#define BAUD_MAX 12000000L
+#define REALTIME_CHECK_PERIODS 16u  /* wall clock read every this many periods */
+#define NS_PER_S 1e9
+#define FIRMWARE_ID "drive_sil"
+#define CLOSE_WAIT_MS 2000           /* pty: at most this long for the host to read the last reply */
+#define CLOSE_POLL_NS 1000000L      /* 1 ms */
+#define CLOSE_SETTLE_POLLS 20
+
+typedef struct {
+    link_sil_opts_t o;
+    int listen_fd;
+    int fd;                         /* the client or the pty master; -1: none */
+    int slave_fd;                   /* pty: kept open so the master never reads EOF */
+    link_t link;
+    cmd_t cmd;
+    cmd_limits_t lim;
+    app_t *app;
+    unsigned char in[IN_MAX];
+    size_t in_n, in_off;
+    double bytes_per_period, rx_credit, tx_credit;
+    double Ts_s;
+    struct timespec t0;
+    uint32_t k;
+} link_sil_t;
+
+static link_sil_t g;
+
+int link_sil_arg(link_sil_opts_t *o, int argc, char **argv, int *i)
+{
+    const char *s = argv[*i];
+    if (strcmp(s, "--link") != 0 && strcmp(s, "--baud") != 0 && strcmp(s, "--realtime") != 0) {
+        return 0;
+    }
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "drive_sil: %s needs a value\n", s);
+        return -1;
+    }
+    const char *v = argv[++*i];
+    char *end = NULL;
+    if (strcmp(s, "--link") == 0) {
+        o->on = 1;
+        if (strcmp(v, "pty") == 0) {
+            o->pty = 1;
+            return 1;
+        }
+        if (strncmp(v, "tcp:", 4) == 0) {
+            long port = strtol(v + 4, &end, 10);
+            if (end != v + 4 && *end == '\0' && port >= 0 && port <= 65535) {
+                o->port = (int)port;
+                return 1;
+            }
+        }
+        fprintf(stderr, "drive_sil: --link %s: expected tcp:PORT (0..65535) or pty\n", v);
+        return -1;
+    }
+    if (strcmp(s, "--baud") == 0) {
+        long b = strtol(v, &end, 10);
+        if (end != v && *end == '\0' && b >= BAUD_MIN && b <= BAUD_MAX) {
+            o->baud = b;
+            return 1;
+        }
+        fprintf(stderr, "drive_sil: --baud %s: expected a whole number in %ld..%ld\n", v, BAUD_MIN, BAUD_MAX);
+        return -1;
+    }
+    double f = strtod(v, &end);
+    if (end != v && *end == '\0' && isfinite(f) && f >= 0.0) {
+        o->realtime = f;
+        return 1;
+    }
+    fprintf(stderr, "drive_sil: --realtime %s: expected a factor >= 0 (1 real time, 0 unpaced)\n", v);
+    return -1;
+}
+
+static int set_nonblock(int fd)
+{
+    int fl = fcntl(fd, F_GETFL, 0);
+    return (fl < 0 || fcntl(fd, F_SETFL, fl | O_NONBLOCK) != 0) ? -1 : 0;
+}
+
+static int open_tcp(int port)
+{
+    int fd = socket(AF_INET, SOCK_STREAM, 0);
+    if (fd < 0) {
+        perror("drive_sil: --link: socket");
+        return -1;
+    }
+    int one = 1;
+    (void)setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    struct sockaddr_in a;
+    memset(&a, 0, sizeof a);
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons((uint16_t)port);
+    socklen_t len = sizeof a;
+    if (bind(fd, (struct sockaddr *)&a, sizeof a) != 0 || listen(fd, 1) != 0 || set_nonblock(fd) != 0 ||
+        getsockname(fd, (struct sockaddr *)&a, &len) != 0) {
+        fprintf(stderr, "drive_sil: --link tcp:%d: cannot listen on 127.0.0.1:%d: %s\n", port, port, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    g.listen_fd = fd;
+    fprintf(stderr, "listening on 127.0.0.1:%d\n", (int)ntohs(a.sin_port));
+    return 0;
+}
+
+static int open_pty(void)
+{
+    int m = posix_openpt(O_RDWR | O_NOCTTY);
+    if (m < 0 || grantpt(m) != 0 || unlockpt(m) != 0 || set_nonblock(m) != 0) {
+        perror("drive_sil: --link pty");
+        if (m >= 0) {
+            close(m);
+        }
+        return -1;
+    }
+    const char *path = ptsname(m);
+    int s = (path != NULL) ? open(path, O_RDWR | O_NOCTTY) : -1;
+    struct termios t;
+    if (s < 0 || tcgetattr(s, &t) != 0) {
+        perror("drive_sil: --link pty");
+        close(m);
+        return -1;
+    }
+    cfmakeraw(&t);
+    (void)tcsetattr(s, TCSANOW, &t);
+    g.fd = m;
+    g.slave_fd = s;
+    fprintf(stderr, "link on %s\n", path);
+    return 0;
+}
+
+/* The client went away: what was on the wire is lost. */
+static void disconnect(void)
+{
+    close(g.fd);
+    g.fd = -1;
+    g.in_n = 0;
+    g.in_off = 0;
+    link_drop(&g.link);
+}
+
+static void on_start(void *user, app_t *app)
+{
+    (void)user;
+    const app_cfg_t *c = &app->cfg;
+    link_cfg_t lc;
+    g.app = app;
+    g.Ts_s = (double)c->ctrl.Ts_s;
+    g.bytes_per_period = (double)g.o.baud / BITS_PER_BYTE_8N1 * g.Ts_s;
+    g.lim.speed_max_rpm = c->prot.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F;
+    g.lim.te_max_Nm = c->ctrl.te_max_Nm;
+    g.lim.u_max_V = c->ctrl.u_max_V;
+    cmd_init(&g.cmd);
+    g.cmd.run = 1u;        /* sil_run starts the drive itself */
+    g.cmd.run_taken = 1u;
+    lc.Ts_s = c->ctrl.Ts_s;
+    lc.baud = (uint32_t)g.o.baud;
+    lc.firmware_id = FIRMWARE_ID;
+    link_init(&g.link, &lc, app, &g.cmd, &g.lim);
+    clock_gettime(CLOCK_MONOTONIC, &g.t0);
+    g.k = 0u;
+}
+
+static void on_isr_end(void *user)
+{
+    (void)user;
+    link_isr(&g.link);
+}
+
+/* Fields the host wrote keep the host's value over the scenario's profile. */
+static void on_refs(void *user, app_op_t *op)
+{
+    (void)user;
+    const uint32_t w = g.link.written;
+    const volatile app_op_t *cur = &g.app->op_req;
+    if (w & (1ul << LV_SPEED_REF_RPM)) {
+        op->ref.speed_ref_rad_s = cur->ref.speed_ref_rad_s;
+    }
+    if (w & (1ul << LV_TE_CMD_NM)) {
+        op->ref.te_ref_Nm = cur->ref.te_ref_Nm;
+    }
+    if (w & (1ul << LV_UD_REF_V)) {
+        op->ref.ud_ref_V = cur->ref.ud_ref_V;
+    }
+    if (w & (1ul << LV_UQ_REF_V)) {
+        op->ref.uq_ref_V = cur->ref.uq_ref_V;
+    }
+    if (w & (1ul << LV_MODE)) {
+        op->mode = cur->mode;
+    }
+    if (w & (1ul << LV_METHOD)) {
+        op->method = cur->method;
+    }
+}
+
+static void accept_client(void)
+{
+    if (g.fd >= 0 || g.listen_fd < 0) {
+        return;
+    }
+    int c = accept(g.listen_fd, NULL, NULL);
+    if (c < 0) {
+        return;
+    }
+    int one = 1;
+    (void)setsockopt(c, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    if (set_nonblock(c) != 0) {
+        close(c);
+        return;
+    }
+    g.fd = c;
+    link_drop(&g.link);    /* a new cable: nothing of the last client's */
+}
+
+/* Host -> drive: read what the host sent, deliver it at the line's rate. */
+static void receive(void)
+{
+    if (g.fd >= 0 && g.in_off == g.in_n) {
+        g.in_off = 0;
+        g.in_n = 0;
+        ssize_t r = read(g.fd, g.in, sizeof g.in);
+        if (r > 0) {
+            g.in_n = (size_t)r;
+        } else if (!g.o.pty && (r == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR))) {
+            disconnect();
+            return;
+        }
+    }
+    g.rx_credit += g.bytes_per_period;
+    while (g.rx_credit >= 1.0 && g.in_off < g.in_n) {
+        (void)link_rx_put(&g.link, g.in[g.in_off++]);   /* a full queue counts an overrun, as the SCI */
+        g.rx_credit -= 1.0;
+    }
+    if (g.in_off == g.in_n && g.rx_credit > 1.0) {
+        g.rx_credit = 1.0;   /* an idle line banks no bytes */
+    }
+}
+
+/* Drive -> host: at the line's rate; with no client the bytes are lost. */
+static void transmit(void)
+{
+    unsigned char out[IN_MAX];
+    size_t n = 0;
+    uint16_t b;
+    g.tx_credit += g.bytes_per_period;
+    while (g.tx_credit >= 1.0 && n < sizeof out && link_tx_get(&g.link, &b)) {
+        out[n++] = (unsigned char)b;
+        g.tx_credit -= 1.0;
+    }
+    if (link_tx_pending(&g.link) == 0u && g.tx_credit > 1.0) {
+        g.tx_credit = 1.0;
+    }
+    size_t off = 0;
+    while (g.fd >= 0 && off < n) {
+        ssize_t w = write(g.fd, out + off, n - off);
+        if (w > 0) {
+            off += (size_t)w;
+        } else if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
+            if (g.o.pty) {
+                break;       /* nobody reads the pty: the bytes are lost */
+            }
+        } else {
+            if (!g.o.pty) {
+                disconnect();
+            }
+            break;
+        }
+    }
+}
+
+static void pace(void)
+{
+    g.k++;
+    if (g.o.realtime <= 0.0 || (g.k % REALTIME_CHECK_PERIODS) != 0u) {
+        return;
+    }
+    const double due_s = (double)g.k * g.Ts_s / g.o.realtime;
+    struct timespec now;
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    const double el_s = (double)(now.tv_sec - g.t0.tv_sec) + (double)(now.tv_nsec - g.t0.tv_nsec) / NS_PER_S;
+    if (due_s > el_s) {
+        const double d = due_s - el_s;
+        struct timespec ts = { (time_t)d, (long)((d - floor(d)) * NS_PER_S) };
+        nanosleep(&ts, NULL);
+    }
+}
+
+static int on_period_end(void *user)
+{
+    (void)user;
+    accept_client();
+    receive();
+    link_poll(&g.link);
+    transmit();
+    pace();
+    return (g.link.quit && link_tx_pending(&g.link) == 0u) ? 1 : 0;
+}
+
+int link_sil_open(const link_sil_opts_t *o, sil_hooks_t *hooks)
+{
+    memset(&g, 0, sizeof g);
+    g.o = *o;
+    if (g.o.baud == 0) {
+        g.o.baud = LINK_SIL_BAUD_DEFAULT;
+    }
+    g.listen_fd = -1;
+    g.fd = -1;
+    g.slave_fd = -1;
+    if ((o->pty ? open_pty() : open_tcp(o->port)) != 0) {
+        return -1;
+    }
+    hooks->start = on_start;
+    hooks->isr_end = on_isr_end;
+    hooks->refs = on_refs;
+    hooks->period_end = on_period_end;
+    hooks->user = NULL;
+    return 0;
+}
+
+void link_sil_close(void)
+{
+    /* pty: closing the master drops what the host has not read yet; wait until it has read
+     * quit's reply (the tty layer moves written bytes to the reader's side a little later:
+     * a few polls first) */
+    int pending = 0;
+    for (int k = 0; g.o.pty && g.slave_fd >= 0 && k < CLOSE_WAIT_MS; k++) {
+        if (ioctl(g.slave_fd, FIONREAD, &pending) != 0 || (pending == 0 && k >= CLOSE_SETTLE_POLLS)) {
+            break;
+        }
+        const struct timespec ts = { 0, CLOSE_POLL_NS };
+        nanosleep(&ts, NULL);
+    }
+    if (g.fd >= 0) {
+        /* the last reply (quit's) is on its way: let the peer read it before the close */
+        shutdown(g.fd, SHUT_WR);
+        close(g.fd);
+    }
+    if (g.slave_fd >= 0) {
+        close(g.slave_fd);
+    }
+    if (g.listen_fd >= 0) {
+        close(g.listen_fd);
+    }
+    g.fd = g.slave_fd = g.listen_fd = -1;
+}

@@ -1,0 +1,46 @@
+/*
+ * link_sil.h - drive_sil's side of the link (firmware/link_protocol.md):
+ *   --link tcp:PORT   listen on 127.0.0.1:PORT (0: any free port) before the
+ *                     first period; prints "listening on 127.0.0.1:PORT" on
+ *                     stderr. One client at a time; when it disconnects the
+ *                     bytes not yet delivered are dropped (a pulled cable)
+ *                     and the next connection is accepted.
+ *   --link pty        a pseudo-terminal; prints "link on /dev/pts/N" on stderr
+ *   --baud B          the line's rate in simulated time (default 115200, 8N1:
+ *                     B/10 bytes per second each way), so overruns behave
+ *                     as on the board
+ *   --realtime F      pace the simulation to wall time (1 real time, 2 twice
+ *                     as fast; 0, the default, unpaced)
+ * The firmware's link (firmware/link.h) runs as on the board: link_isr()
+ * after every ISR call, link_poll() in the background after each period.
+ * A value written over the link overrides the scenario's profile for that
+ * variable from then on. ACTION quit stops the drive and ends the run once
+ * its reply is sent (the CSV is kept, complete).
+ */
+#ifndef LINK_SIL_H
+#define LINK_SIL_H
+
+#include "sil.h"
+
+#define LINK_SIL_BAUD_DEFAULT 115200L
+
+typedef struct {
+    int on;                 /* --link given */
+    int pty;                /* 1: --link pty, 0: tcp */
+    int port;
+    long baud;
+    double realtime;
+} link_sil_opts_t;
+
+/* Parse argv[*i] if it is one of the options above (advancing *i past its value): 1 taken,
+ * 0 not a link option, -1 bad (message printed). */
+int link_sil_arg(link_sil_opts_t *o, int argc, char **argv, int *i);
+
+/* Open the port (listening socket or pty) and announce it on stderr; fills *hooks for
+ * sil_ctl_t.hooks. 0, or -1 with a message. */
+int link_sil_open(const link_sil_opts_t *o, sil_hooks_t *hooks);
+
+/* Close the port. */
+void link_sil_close(void);
+
+#endif /* LINK_SIL_H */
