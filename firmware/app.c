@@ -183,16 +183,13 @@ static void align_state(app_t *app, const hal_sample_t *s)
  * gates off, IDLE, the results valid, the measured offset taken. */
 static void commission_state(app_t *app, const hal_sample_t *s)
 {
-    comm_in_t in;
     ab_t u;
     app_step_t r;
 
-    in.ia_A = s->ia_A - app->offset_ia_A;
-    in.ib_A = s->ib_A - app->offset_ib_A;
-    in.vdc_V = s->vdc_V;
-    in.enc_count = s->enc_count;
-    in.speed_m_rad_s = ctrl_speed_m_rad_s(&app->ctrl);
-    r = comm_step(&app->comm, &in, &u);
+    { /* the inputs' scope ends here: 8 B less of app_isr's frame (the stack's RAM gate) */
+        const ctrl_in_t in = ctrl_input(app, s);
+        r = comm_step(&app->comm, &in, ctrl_speed_m_rad_s(&app->ctrl), &u);
+    }
     ctrl_step_ab(&app->ctrl, u, s->vdc_V, &app->out);
     if ((r.status != APP_STEP_FAULT) && ((app->out.flags & CTRL_FLAG_NONFINITE) != 0u)) {
         r = app_step_fault(APP_FAULT_NONFINITE_OUTPUT, u.a, 0.0f);

@@ -142,7 +142,8 @@ typedef struct {
 /* Start-up: the board's configuration (firmware/board_cfg.h) into *cfg. */
 void app_cfg_default(app_cfg_t *cfg);
 
-/* Start-up: copy *cfg, init the controller, PWM off, state INIT. */
+/* Start-up: copy *cfg (cfg may be &app->cfg: configured in place), init
+ * the controller, PWM off, state INIT. */
 void app_init(app_t *app, const app_cfg_t *cfg);
 
 /* ISR context, once per period: hal_sample_read -> protection -> requests

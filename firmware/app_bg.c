@@ -16,7 +16,9 @@ void app_init(app_t *app, const app_cfg_t *cfg)
                                   cfg->ctrl.pole_pairs };
 
     hal_pwm_disable();
-    app->cfg = *cfg;
+    if (&app->cfg != cfg) { /* main.c configures app->cfg in place */
+        app->cfg = *cfg;
+    }
     app->state = APP_STATE_INIT;
     app->fault = APP_FAULT_NONE;
     app->snapshot = no_snapshot;

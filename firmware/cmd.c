@@ -16,11 +16,11 @@ void cmd_init(volatile cmd_t *cmd)
     cmd->uq_ref_V = 0.0f;
     cmd->error = (uint16_t)CMD_OK;
     cmd->run_taken = 0u;
-    cmd->commission = 0u;
 }
 
-void cmd_comm_report_init(volatile cmd_comm_report_t *rep)
+void cmd_comm_init(volatile cmd_comm_t *rep)
 {
+    rep->start = 0u;
     rep->state = 0u;
     rep->stage = 0u;
     rep->fault = 0u;
@@ -37,11 +37,17 @@ void cmd_comm_report_init(volatile cmd_comm_report_t *rep)
     rep->speed_ki_Nm_rad = 0.0f;
 }
 
-void cmd_comm_report(volatile cmd_comm_report_t *rep, const app_t *app)
+void cmd_comm_apply(volatile cmd_comm_t *rep, const volatile cmd_t *cmd, app_t *app)
 {
     const comm_result_t *r = &app->comm.res;
     uint16_t state = 0u;
 
+    if (rep->start != 0u) {
+        if (cmd->run == 0u) {
+            app_request_commission(app); /* acted on only while stopped (INIT, IDLE) */
+        }
+        rep->start = 0u;
+    }
     if (app->comm_valid) {
         state = 2u;
     } else if (app->state == APP_STATE_COMMISSION) {
@@ -133,12 +139,6 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
             app_request_stop(app);
         }
         cmd->run_taken = c.run;
-    }
-    if (c.commission != 0u) {
-        if (c.run == 0u) {
-            app_request_commission(app); /* acted on only while stopped (INIT, IDLE) */
-        }
-        cmd->commission = 0u;
     }
     cmd->error = (uint16_t)err;
 }

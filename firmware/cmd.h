@@ -28,11 +28,13 @@ typedef enum {
                               * one. Set the mode to windows, speeds or trusted; restart */
 } cmd_error_t;
 
-/* The last commissioning, as cmd_comm_report() found it (read only for
- * the user; a separate object from cmd_t, which cmd_apply() copies whole;
- * writing the values to flash is not done: the user copies them into the
- * board's configuration). */
+/* The commissioning's request and report (cmd_comm_apply): a separate
+ * object from cmd_t, which cmd_apply() copies whole on the stack. The
+ * values are not written to flash: the user copies them into the board's
+ * configuration. */
 typedef struct {
+    uint16_t start;        /* write 1 while stopped (cmd_t.run 0): measure the motor (commission.h);
+                            * cmd_comm_apply() sets it back to 0. The rest is read only: */
     uint16_t state;        /* 0 none, 1 running (stage says which), 2 done (values valid), 3 refused (fault says why) */
     uint16_t stage;        /* comm_stage_t reached (the refusing one) */
     uint16_t fault;        /* app_fault_t of a refusal (COMM_*, or a protection's) */
@@ -43,7 +45,7 @@ typedef struct {
     float J_kgm2, B_Nms;
     float enc_offset_el_rad;
     float speed_kp_Nms_rad, speed_ki_Nm_rad;
-} cmd_comm_report_t;
+} cmd_comm_t;
 
 typedef struct {
     uint16_t run;          /* 1: start (calibration, alignment, identification, run); 0: stop */
@@ -56,8 +58,6 @@ typedef struct {
     float uq_ref_V;
     uint16_t error;        /* cmd_error_t of the last refused field, CMD_OK when all were taken */
     uint16_t run_taken;    /* last run value acted on: a start or stop is sent on a change only */
-    uint16_t commission;   /* write 1 while stopped (run 0): measure the motor (commission.h); cmd_apply() sets it back to 0;
-                            * cmd_comm_report() tells how it went */
 } cmd_t;
 
 typedef struct {
@@ -72,11 +72,13 @@ void cmd_init(volatile cmd_t *cmd);
 /* Check the command and pass it to the drive. Background loop only. */
 void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app);
 
-/* Power-on report: nothing commissioned. Start-up. */
-void cmd_comm_report_init(volatile cmd_comm_report_t *rep);
+/* Power-on: no request, nothing commissioned. Start-up. */
+void cmd_comm_init(volatile cmd_comm_t *cc);
 
-/* The commissioning's stage, outcome and values from the app into *rep.
- * Background loop only (the ISR writes comm.res before comm_valid). */
-void cmd_comm_report(volatile cmd_comm_report_t *rep, const app_t *app);
+/* A start request passed to the app while the command block is stopped
+ * (cmd->run 0; the app acts only in INIT or IDLE), then the stage,
+ * outcome and values from the app into *cc. Background loop only (the ISR
+ * writes comm.res before comm_valid). */
+void cmd_comm_apply(volatile cmd_comm_t *cc, const volatile cmd_t *cmd, app_t *app);
 
 #endif /* CMD_H */

@@ -420,7 +420,7 @@ static app_step_t encoder_result(comm_t *m)
     return app_step_done();
 }
 
-static app_step_t stage_encoder(comm_t *m, const comm_in_t *in, ab_t i, ab_t *u_ab)
+static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
 {
     const comm_cfg_t *c = &m->cfg;
     const float step = c->enc_speed_el_rad_s * m->Ts_s;
@@ -534,11 +534,10 @@ static app_step_t spin_result(comm_t *m)
     return app_step_done();
 }
 
-static app_step_t stage_spin(comm_t *m, const comm_in_t *in, ab_t i, ab_t *u_ab)
+static app_step_t stage_spin(comm_t *m, const ctrl_in_t *in, ab_t i, float w, ab_t *u_ab)
 {
     const comm_cfg_t *c = &m->cfg;
     const float p = (float)m->res.pole_pairs;
-    const float w = in->speed_m_rad_s;
     const float top = c->spin_top_frac * c->speed_max_rad_s;
     const float lo = c->spin_lo_frac * top;
     const bool fit = (m->ticks >= periods(m, c->spin_skip_s)) && (w >= lo);
@@ -604,7 +603,7 @@ static float stage_max_s(const comm_t *m)
     }
 }
 
-app_step_t comm_step(comm_t *m, const comm_in_t *in, ab_t *u_ab_V)
+app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *u_ab_V)
 {
     const ab_t i = clarke_2ph(in->ia_A, in->ib_A);
     const bool open_loop = (m->stage == COMM_STAGE_R) || (m->stage == COMM_STAGE_L); /* u from u_a, u_b */
@@ -627,7 +626,7 @@ app_step_t comm_step(comm_t *m, const comm_in_t *in, ab_t *u_ab_V)
     } else if (m->stage == COMM_STAGE_ENCODER) {
         r = stage_encoder(m, in, i, u_ab_V);
     } else {
-        r = stage_spin(m, in, i, u_ab_V);
+        r = stage_spin(m, in, i, speed_m_rad_s, u_ab_V);
     }
     if (open_loop) {
         float u_abs;

@@ -33,6 +33,7 @@
 
 #include "app_step.h"
 #include "clarke_park.h"
+#include "ctrl.h"
 
 typedef enum {
     COMM_STAGE_NONE = 0,
@@ -92,13 +93,6 @@ typedef struct {                /* what the commissioning measured */
     float cpr_per_el;           /* counts per electrical turn, measured [counts] */
 } comm_result_t;
 
-typedef struct {                /* one period's inputs */
-    float ia_A, ib_A;           /* offset-corrected phase currents [A] */
-    float vdc_V;
-    uint32_t enc_count;
-    float speed_m_rad_s;        /* the encoder PLL's mechanical speed [rad/s] */
-} comm_in_t;
-
 /* Least-squares sums of y against up to two regressors (x1, x2) and a constant. */
 typedef struct {
     float n, s1, s2, sy, s11, s12, s22, s1y, s2y;
@@ -149,11 +143,13 @@ void comm_init(comm_t *m, const comm_cfg_t *cfg, float Ts_s, uint32_t enc_cpr);
 /* ISR, on entering COMMISSION (PWM about to go on, rotor at rest). */
 void comm_start(comm_t *m);
 
-/* ISR, once per period: the stationary-frame voltage to apply over the
- * coming period into *u_ab_V [V]; DONE in the period the last stage's
- * results are in m->res (the sequence then turns the gates off), FAULT
- * (COMM_*) with the measured value and its limit, else RUNNING. */
-app_step_t comm_step(comm_t *m, const comm_in_t *in, ab_t *u_ab_V);
+/* ISR, once per period, on the period's samples *in (currents offset-
+ * corrected) and the encoder PLL's mechanical speed speed_m_rad_s
+ * [rad/s]: the stationary-frame voltage to apply over the coming period
+ * into *u_ab_V [V]; DONE in the period the last stage's results are in
+ * m->res (the sequence then turns the gates off), FAULT (COMM_*) with the
+ * measured value and its limit, else RUNNING. */
+app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *u_ab_V);
 
 /* The speed PI's gains from an inertia [kg m^2]: the parameter set's
  * rule (drive_speed_pi, linear in J) through cfg's gains per kg m^2. Any context. */

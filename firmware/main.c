@@ -10,7 +10,7 @@
  * proposed), mode 0/1/2 (open loop/torque/speed), the reference, then
  * run = 1. `g_app` shows the state, the latched fault with its snapshot
  * and the monitor (g_app.ctrl.mon); g_cmd.error names a refused command.
- * With run = 0, commission = 1 measures the motor (firmware/commission.h);
+ * With run = 0, g_comm.start = 1 measures the motor (firmware/commission.h);
  * g_comm reports the stage, then the values or the fault (they are not
  * written to flash: copy them into board_cfg.h).
  * A reset by the watchdog (the background loop stopped kicking it: a
@@ -41,11 +41,10 @@ extern CRC_TABLE flash_crc_table;
 #endif
 
 static app_t g_app;          /* the whole drive state; static so CCS can watch it */
-static app_cfg_t g_cfg;      /* static: in .ebss, not on the 1K-word stack (tools/check/ram_budget.py) */
 static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
-static volatile cmd_comm_report_t g_comm; /* the last commissioning (g_cmd.commission = 1), read in CCS */
+static volatile cmd_comm_t g_comm; /* the commissioning: g_comm.start = 1 while stopped; its report */
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
 #define SCI_READ_MAX F28335_SCI_FIFO_DEPTH
@@ -106,19 +105,21 @@ int main(void)
     hal_init();  /* ramfuncs copied: its CRC record holds at either address */
     bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    app_cfg_default(&g_cfg);
-    app_init(&g_app, &g_cfg);
+    /* configured in place: one copy of the configuration in .ebss, none on
+     * the 1K-word stack (tools/check/ram_budget.py) */
+    app_cfg_default(&g_app.cfg);
+    app_init(&g_app, &g_app.cfg);
     if (bad_record >= 0) {
         app_latch_startup_fault(&g_app, APP_FAULT_FLASH_CRC, (float)bad_record, 0.0f);
     } else if (g_reset_by_watchdog) {
         app_latch_startup_fault(&g_app, APP_FAULT_WATCHDOG_RESET, 0.0f, 0.0f);
     }
     cmd_init(&g_cmd);
-    cmd_comm_report_init(&g_comm);
+    cmd_comm_init(&g_comm);
     g_lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
-    g_lim.te_max_Nm = g_cfg.ctrl.te_max_Nm;
-    g_lim.u_max_V = g_cfg.ctrl.u_max_V;
-    lc.Ts_s = g_cfg.ctrl.Ts_s;
+    g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
+    g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    lc.Ts_s = g_app.cfg.ctrl.Ts_s;
     lc.baud = F28335_SCI_BAUD_ACTUAL;
     lc.firmware_id = FIRMWARE_ID;
     link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
@@ -126,7 +127,7 @@ int main(void)
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
     for (;;) {
         cmd_apply(&g_cmd, &g_lim, &g_app);
-        cmd_comm_report(&g_comm, &g_app);
+        cmd_comm_apply(&g_comm, &g_cmd, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         link_service();
     }

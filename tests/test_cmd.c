@@ -215,22 +215,25 @@ static void fault_reset_outside_fault_is_dropped(void **state)
     }
 }
 
-/* commission = 1 is a request while stopped, never while run = 1 (the
- * drive would be asked to start and commission at once); it is set back
- * to 0 either way. */
+/* start = 1 is a request while stopped, never while run = 1 (the drive
+ * would be asked to start and commission at once); it is set back to 0
+ * either way. */
 static void commission_is_requested_only_while_stopped(void **state)
 {
+    static volatile cmd_comm_t cc;
     (void)state;
-    cmd.commission = 1u;
-    cmd_apply(&cmd, &LIM, &app);
+    cmd_comm_init(&cc);
+    cc.start = 1u;
+    cmd_comm_apply(&cc, &cmd, &app);
     assert_int_equal(app.req_commission, 1u);
-    assert_int_equal(cmd.commission, 0u);
+    assert_int_equal(cc.start, 0u);
     app.req_commission = 0u;
     cmd.run = 1u;
-    cmd.commission = 1u;
     cmd_apply(&cmd, &LIM, &app);
+    cc.start = 1u;
+    cmd_comm_apply(&cc, &cmd, &app);
     assert_int_equal(app.req_commission, 0u);
-    assert_int_equal(cmd.commission, 0u);
+    assert_int_equal(cc.start, 0u);
     assert_int_equal(app.req_start, 1u);
 }
 
@@ -238,14 +241,14 @@ static void commission_is_requested_only_while_stopped(void **state)
  * refusal's fault with value and limit, which stays after a reset. */
 static void commission_report_follows_the_app(void **state)
 {
-    static volatile cmd_comm_report_t rep;
+    static volatile cmd_comm_t rep;
     (void)state;
-    cmd_comm_report_init(&rep);
-    cmd_comm_report(&rep, &app);
+    cmd_comm_init(&rep);
+    cmd_comm_apply(&rep, &cmd, &app);
     assert_int_equal(rep.state, 0u);
     app.state = APP_STATE_COMMISSION;
     app.comm.stage = COMM_STAGE_L;
-    cmd_comm_report(&rep, &app);
+    cmd_comm_apply(&rep, &cmd, &app);
     assert_int_equal(rep.state, 1u);
     assert_int_equal(rep.stage, (uint16_t)COMM_STAGE_L);
     app.state = APP_STATE_IDLE;
@@ -254,7 +257,7 @@ static void commission_report_follows_the_app(void **state)
     app.comm.res.R_Ohm = 2.5f;
     app.comm.res.pole_pairs = 4u;
     app.comm.res.J_kgm2 = 0.01f;
-    cmd_comm_report(&rep, &app);
+    cmd_comm_apply(&rep, &cmd, &app);
     assert_int_equal(rep.state, 2u);
     assert_float_equal(rep.R_Ohm, 2.5f, 0.0f);
     assert_int_equal(rep.pole_pairs, 4u);
@@ -266,14 +269,14 @@ static void commission_report_follows_the_app(void **state)
     app.snapshot.state = APP_STATE_COMMISSION;
     app.snapshot.value = 3.0f;
     app.snapshot.limit = 156.25f;
-    cmd_comm_report(&rep, &app);
+    cmd_comm_apply(&rep, &cmd, &app);
     assert_int_equal(rep.state, 3u);
     assert_int_equal(rep.fault, (uint16_t)APP_FAULT_COMM_NO_ROTATION);
     assert_int_equal(rep.stage, (uint16_t)COMM_STAGE_ENCODER);
     assert_float_equal(rep.fault_value, 3.0f, 0.0f);
     assert_float_equal(rep.fault_limit, 156.25f, 0.0f);
     app.state = APP_STATE_IDLE; /* reset: the refusal stays reported */
-    cmd_comm_report(&rep, &app);
+    cmd_comm_apply(&rep, &cmd, &app);
     assert_int_equal(rep.state, 3u);
 }
 

@@ -90,14 +90,13 @@ static app_step_t run(comm_t *c, const comm_cfg_t *cfg, motor_t *m, uint32_t *n)
     comm_init(c, cfg, (float)TS, CPR);
     comm_start(c);
     for (*n = 0u; *n < PERIODS_MAX && r.status == APP_STEP_RUNNING; (*n)++) {
-        comm_in_t in;
+        ctrl_in_t in;
         ab_t u;
         in.ia_A = (float)m->ia;
         in.ib_A = (float)(-0.5 * m->ia + S3_2 * m->ib);
         in.vdc_V = (float)VDC;
         in.enc_count = count_of(m);
-        in.speed_m_rad_s = (float)(m->dir * m->pll_vel);
-        r = comm_step(c, &in, &u);
+        r = comm_step(c, &in, (float)(m->dir * m->pll_vel), &u);
         motor_period(m);            /* the last call's voltage over this period */
         m->ua = (double)u.a;
         m->ub = (double)u.b;

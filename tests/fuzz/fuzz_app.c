@@ -89,6 +89,7 @@ static float f32_at(const uint8_t *p)
 typedef struct {
     app_t app;
     volatile cmd_t cmd;
+    volatile cmd_comm_t comm;   /* the commissioning's request and report */
     cmd_limits_t lim;
     uint32_t base_cycles;
     uint32_t count;
@@ -119,6 +120,7 @@ static void configure(const uint8_t *h)
     fuzz_hal_reset();
     app_init(&g_h.app, &cfg);
     cmd_init(&g_h.cmd);
+    cmd_comm_init(&g_h.comm);
     g_h.cmd.method = (uint16_t)((h[0] >> 4) & 1u);
     g_h.cmd.mode = (uint16_t)((((h[0] >> 5) & 3u) == 3u) ? 2u : ((h[0] >> 5) & 3u));
     g_h.cmd.run = (uint16_t)((h[0] >> 7) & 1u);
@@ -232,7 +234,7 @@ static void command(const uint8_t *r)
 
     switch (r[1] & 7u) {
     case 0: g_h.cmd.run = v & 1u; break;
-    case 1: g_h.cmd.fault_reset = v & 1u; g_h.cmd.commission = (v >> 1) & 1u; break;
+    case 1: g_h.cmd.fault_reset = v & 1u; g_h.comm.start = (v >> 1) & 1u; break;
     case 2: g_h.cmd.method = v; break;
     case 3: g_h.cmd.mode = v; break;
     case 4: g_h.cmd.speed_ref_rpm = f; break;
@@ -241,6 +243,7 @@ static void command(const uint8_t *r)
     default: g_h.cmd.uq_ref_V = f; break;
     }
     cmd_apply(&g_h.cmd, &g_h.lim, &g_h.app);
+    cmd_comm_apply(&g_h.comm, &g_h.cmd, &g_h.app);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
