@@ -330,6 +330,11 @@ void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
     encoder_align(&c->enc, enc_count);
 }
 
+void ctrl_set_i_lim(ctrl_t *c, float i_lim_A)
+{
+    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= c->cfg.i_max_A)) ? i_lim_A : c->cfg.i_max_A;
+}
+
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
 {
     c->mode_req = mode;
@@ -445,7 +450,12 @@ rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
 
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 {
-    rs_ident_result_t r = rs_ident_solve(&c->ri, &c->rsid_out);
+    return ctrl_rsid_finish_with(c, rs_ident_solve(&c->ri, &c->rsid_out));
+}
+
+rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r_solved)
+{
+    rs_ident_result_t r = r_solved;
 
     rs_ident_reset(&c->ri); /* a second finish without a begin finds no data */
     c->rsid_win = RS_IDENT_WINDOW_NONE;

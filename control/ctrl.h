@@ -189,7 +189,7 @@ typedef struct {
     param_est_t pe;             /* step 2 */
     rs_ident_t ri;              /* step 1 windows */
     rs_ident_window_t rsid_win; /* window the coming periods go into */
-    rs_ident_out_t rsid_out;    /* last ctrl_rsid_finish() result (R^, window means) */
+    rs_ident_out_t rsid_out;    /* last step-1 result (R^, window means): ctrl_rsid_finish's, or a staged check's */
     r_track_t rt;               /* d-axis injection (inverter error, R tracking) */
     float inv_dv_V;             /* per-leg voltage error identified on top of the dead time's [V] */
     uint16_t rt_flags;          /* CTRL_FLAG_INV_UNIDENTIFIED, CTRL_FLAG_R_HELD while they last */
@@ -260,6 +260,11 @@ void ctrl_reset(ctrl_t *c);
  * (bumpless into speed mode). */
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode);
 
+/* The current limit the targets respect [A], as cfg.i_lim_A at init
+ * (outside (0, i_max_A]: i_max_A); from the next step. ISR (the app's
+ * state machine) or background while stopped. */
+void ctrl_set_i_lim(ctrl_t *c, float i_lim_A);
+
 /* As ctrl_set_mode; switchable at run time, bumpless (policy in the
  * header comment). Returns false (method unchanged) for PROPOSED when
  * ctrl_init did not return CTRL_CFG_OK. */
@@ -287,6 +292,12 @@ rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
  * otherwise stops the
  * observer and returns the reason. ISR once (about 20 divisions) or background. */
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
+
+/* Step 1 ends on a solve the caller made into c->rsid_out (of c->ri's
+ * windows, window 2 perhaps a copy: rs_ident_solve_begin/_step): r as
+ * ctrl_rsid_finish's solve would give it; the rest as ctrl_rsid_finish.
+ * No division. ISR once. */
+rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r);
 
 /* Step 2 without step 1, for an R the caller trusts (a recent
  * identification at the same winding temperature): R^ = R_Ohm, observer

@@ -166,14 +166,12 @@ static bool hex_chord(const float a[3], const float b[3], float fixed, float r, 
     for (j = 0; j < 3; j++) {
         const float c = fixed * b[j];
         if (mathx_fabsf(a[j]) > SIDE_PARALLEL_EPS) {
+            /* t in [-c/a - |r/a|, -c/a + |r/a|]: either sign of a, no branch */
             const float inv_a = 1.0f / a[j];
-            float t1 = (-r - c) * inv_a;
-            float t2 = (r - c) * inv_a;
-            if (a[j] < 0.0f) {
-                const float t = t1;
-                t1 = t2;
-                t2 = t;
-            }
+            const float mid = -c * inv_a;
+            const float half = mathx_fabsf(r * inv_a);
+            const float t1 = mid - half;
+            const float t2 = mid + half;
             lo = (t1 > lo) ? t1 : lo;
             hi = (t2 < hi) ? t2 : hi;
         } else if (mathx_fabsf(c) > r) {

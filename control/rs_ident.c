@@ -1,6 +1,8 @@
 /* rs_ident.c - step 1, offline stator resistance; see rs_ident.h. */
 #include "rs_ident.h"
 
+#include <stddef.h>
+
 #include "mathx.h"
 
 /* Fixed iteration count of the dR/dpsi/dL solve (design sec. 1c): dL
@@ -78,6 +80,34 @@ void rs_ident_reset(rs_ident_t *ri)
             w->mcs[ch][1] = 0.0f;
         }
     }
+}
+
+/* n floats from src to dst: a loop, no library memcpy (from flash on the target's ISR path). */
+static void copy_floats(float *dst, const float *src, int16_t n)
+{
+    int16_t k;
+    for (k = 0; k < n; k++) {
+        dst[k] = src[k];
+    }
+}
+
+void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_window_t win)
+{
+    const rs_ident_win_t *w = &src->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1];
+
+    dst->n = w->n;
+    copy_floats(dst->x0, w->x0, (int16_t)RS_CH_COUNT);
+    copy_floats(dst->s1, w->s1, (int16_t)RS_CH_COUNT);
+    dst->s2_iq = w->s2_iq;
+    dst->bn = w->bn;
+    copy_floats(dst->bsum, w->bsum, (int16_t)RS_ST_COUNT);
+    dst->nb = w->nb;
+    copy_floats(dst->m1, w->m1, (int16_t)RS_ST_COUNT);
+    copy_floats(dst->m2, w->m2, (int16_t)RS_ST_PAIRS);
+    copy_floats(dst->bcs, w->bcs, 2);
+    copy_floats(dst->g, w->g, 5);
+    copy_floats(&dst->mcs[0][0], &w->mcs[0][0], (int16_t)(2 * RS_ST_COUNT));
+    dst->km_iq = w->km_iq;
 }
 
 /* rs_ident_win_t.g */
@@ -281,73 +311,79 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
     }
 }
 
-rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
+/* The solve's stages (rs_ident_solve_step): one per call. */
+typedef enum { STAGE_WIN_0 = 0, STAGE_WIN_1, STAGE_POINTS, STAGE_SE_0, STAGE_SE_1, STAGE_DONE } stage_t;
+
+/* Window j's means, iq's slope and the ripple fit into *s and *out
+ * (design sec. 6e, 6f); RS_IDENT_OK or why the window is refused. */
+static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
-    const rs_ident_cfg_t *c = &ri->cfg;
-    float fd[2];
-    float fq[2];
-    float id[2];
-    float iq[2];
-    float w[2];
+    const rs_ident_cfg_t *c = &s->ri->cfg;
+    const rs_ident_win_t *wn = s->win[j];
+
+    out->batches[j] = wn->nb;
+    if ((wn->n < c->n_min) || (wn->nb < RS_IDENT_BATCHES_MIN)) {
+        return RS_IDENT_TOO_FEW;
+    }
+    const float inv_n = 1.0f / (float)wn->n; /* n >= n_min >= 2 */
+    s->fd[j] = wn->x0[RS_CH_FD] + wn->s1[RS_CH_FD] * inv_n;
+    s->fq[j] = wn->x0[RS_CH_FQ] + wn->s1[RS_CH_FQ] * inv_n;
+    s->id[j] = wn->x0[RS_CH_ID] + wn->s1[RS_CH_ID] * inv_n;
+    s->iq[j] = wn->x0[RS_CH_IQ] + wn->s1[RS_CH_IQ] * inv_n;
+    s->w[j] = wn->x0[RS_CH_W] + wn->s1[RS_CH_W] * inv_n;
+    const float m1 = wn->s1[RS_CH_IQ] * inv_n;
+    const float var = wn->s2_iq * inv_n - m1 * m1; /* >= 0 up to rounding */
+    out->iq_std_A[j] = mathx_sqrtf(var);
+    out->mean_fd_V[j] = s->fd[j];
+    out->mean_fq_V[j] = s->fq[j];
+    out->mean_id_A[j] = s->id[j];
+    out->mean_iq_A[j] = s->iq[j];
+    out->mean_w_rad_s[j] = s->w[j];
+    if (!mathx_isfinitef(s->fd[j] + s->fq[j] + s->id[j] + s->iq[j] + s->w[j] + wn->s2_iq)) {
+        return RS_IDENT_NON_FINITE;
+    }
+    /* sec. 6f: iq's slope over the window, least squares on its batch
+     * means: sum (k - kbar) m_k / sum (k - kbar)^2, kbar = (nb - 1)/2 */
+    const float nbf = (float)wn->nb;
+    const float kbar = HALF * (nbf - 1.0f);
+    const float skk = nbf * (nbf * nbf - 1.0f) * INV_12;
+    s->diq_dt[j] = (c->Ts_s > 0.0f) ? (wn->km_iq - kbar * wn->m1[RS_ST_IQ]) / (skk * (float)c->n_batch * c->Ts_s)
+                                    : 0.0f;
+    out->diq_dt_A_s[j] = s->diq_dt[j];
+    /* sec. 6e: the means over whole turns where the ripple fit holds */
+    s->fit[j] = ripple_fit(wn, s->Gi[j]);
+    out->ripple_fit[j] = s->fit[j];
+    if (s->fit[j]) {
+        float(*Gi)[3] = s->Gi[j];
+        float h[3];
+        zt_channel(wn, RS_ST_FQ, h);
+        s->fq[j] = wn->x0[RS_CH_FQ] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
+        zt_channel(wn, RS_ST_IQ, h);
+        s->iq[j] = wn->x0[RS_CH_IQ] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
+        zt_channel(wn, RS_ST_W, h);
+        s->w[j] = wn->x0[RS_CH_W] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
+        out->mean_fq_V[j] = s->fq[j];
+        out->mean_iq_A[j] = s->iq[j];
+        out->mean_w_rad_s[j] = s->w[j];
+    }
+    return RS_IDENT_OK;
+}
+
+/* dR, dpsi, dL from both windows' points (design sec. 1c; (41), (42)
+ * with the signs corrected) into *s and *out; RS_IDENT_OK or why not. */
+static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
+{
+    const rs_ident_cfg_t *c = &s->ri->cfg;
+    const float *fd = s->fd;
+    const float *fq = s->fq;
+    const float *id = s->id;
+    const float *iq = s->iq;
+    const float *w = s->w;
+    const float *diq_dt = s->diq_dt;
     float inv_wiq[2];
-    bool use_wiq[2];
-    bool fit[2];
-    float Gi[2][3][3];
-    float diq_dt[2];
     int16_t j;
     int16_t it;
 
-    zero_out(out, c->R_nom_Ohm);
-    if (!ri->valid) {
-        return RS_IDENT_INVALID_CFG;
-    }
-    for (j = 0; j < 2; j++) {
-        const rs_ident_win_t *wn = &ri->win[j];
-        out->batches[j] = wn->nb;
-        if ((wn->n < c->n_min) || (wn->nb < RS_IDENT_BATCHES_MIN)) {
-            return RS_IDENT_TOO_FEW;
-        }
-        const float inv_n = 1.0f / (float)wn->n; /* n >= n_min >= 2 */
-        fd[j] = wn->x0[RS_CH_FD] + wn->s1[RS_CH_FD] * inv_n;
-        fq[j] = wn->x0[RS_CH_FQ] + wn->s1[RS_CH_FQ] * inv_n;
-        id[j] = wn->x0[RS_CH_ID] + wn->s1[RS_CH_ID] * inv_n;
-        iq[j] = wn->x0[RS_CH_IQ] + wn->s1[RS_CH_IQ] * inv_n;
-        w[j] = wn->x0[RS_CH_W] + wn->s1[RS_CH_W] * inv_n;
-        const float m1 = wn->s1[RS_CH_IQ] * inv_n;
-        const float var = wn->s2_iq * inv_n - m1 * m1; /* >= 0 up to rounding */
-        out->iq_std_A[j] = mathx_sqrtf(var);
-        out->mean_fd_V[j] = fd[j];
-        out->mean_fq_V[j] = fq[j];
-        out->mean_id_A[j] = id[j];
-        out->mean_iq_A[j] = iq[j];
-        out->mean_w_rad_s[j] = w[j];
-        if (!mathx_isfinitef(fd[j] + fq[j] + id[j] + iq[j] + w[j] + wn->s2_iq)) {
-            return RS_IDENT_NON_FINITE;
-        }
-        /* sec. 6f: iq's slope over the window, least squares on its batch
-         * means: sum (k - kbar) m_k / sum (k - kbar)^2, kbar = (nb - 1)/2 */
-        const float nbf = (float)wn->nb;
-        const float kbar = HALF * (nbf - 1.0f);
-        const float skk = nbf * (nbf * nbf - 1.0f) * INV_12;
-        diq_dt[j] = (c->Ts_s > 0.0f) ? (wn->km_iq - kbar * wn->m1[RS_ST_IQ]) / (skk * (float)c->n_batch * c->Ts_s)
-                                     : 0.0f;
-        out->diq_dt_A_s[j] = diq_dt[j];
-        /* sec. 6e: the means over whole turns where the ripple fit holds */
-        fit[j] = ripple_fit(wn, Gi[j]);
-        out->ripple_fit[j] = fit[j];
-        if (fit[j]) {
-            float h[3];
-            zt_channel(wn, RS_ST_FQ, h);
-            fq[j] = wn->x0[RS_CH_FQ] + Gi[j][0][0] * h[0] + Gi[j][0][1] * h[1] + Gi[j][0][2] * h[2];
-            zt_channel(wn, RS_ST_IQ, h);
-            iq[j] = wn->x0[RS_CH_IQ] + Gi[j][0][0] * h[0] + Gi[j][0][1] * h[1] + Gi[j][0][2] * h[2];
-            zt_channel(wn, RS_ST_W, h);
-            w[j] = wn->x0[RS_CH_W] + Gi[j][0][0] * h[0] + Gi[j][0][1] * h[1] + Gi[j][0][2] * h[2];
-            out->mean_fq_V[j] = fq[j];
-            out->mean_iq_A[j] = iq[j];
-            out->mean_w_rad_s[j] = w[j];
-        }
-    }
     /* (41)'s denominator: equal speeds need iq1 != iq2, equal loads w1 != w2 */
     const float den = iq[1] * w[0] - iq[0] * w[1];
     const float a1 = mathx_fabsf(iq[1] * w[0]);
@@ -364,9 +400,9 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     int16_t n_wiq = 0;
     for (j = 0; j < 2; j++) {
         const float wiq = w[j] * iq[j];
-        use_wiq[j] = mathx_fabsf(wiq) > WIQ_MIN_A_RAD_S;
-        inv_wiq[j] = use_wiq[j] ? 1.0f / wiq : 0.0f;
-        n_wiq = (int16_t)(n_wiq + (use_wiq[j] ? 1 : 0));
+        const bool use_wiq = mathx_fabsf(wiq) > WIQ_MIN_A_RAD_S;
+        inv_wiq[j] = use_wiq ? 1.0f / wiq : 0.0f;
+        n_wiq = (int16_t)(n_wiq + (use_wiq ? 1 : 0));
     }
     const float inv_n_wiq = (n_wiq == 2) ? 0.5f : 1.0f;
 
@@ -397,13 +433,22 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     out->dR_Ohm = dR;
     out->dL_H = dL;
     out->dpsi_Wb = dpsi;
+    s->abs_inv_den = mathx_fabsf(inv_den);
+    return RS_IDENT_OK;
+}
 
-    /* design sec. 6: delta dR = -(w1 delta r2 - w2 delta r1) / den */
-    const float abs_inv_den = mathx_fabsf(inv_den);
-    for (j = 0; j < 2; j++) {
-        out->r_se_V[j] = mathx_sqrtf(residual_se2(&ri->win[j], dR, dpsi, fit[j], Gi[j]));
-        out->R_se_part_Ohm[j] = mathx_fabsf(w[1 - j]) * out->r_se_V[j] * abs_inv_den;
-    }
+/* design sec. 6: window j's share of se(R^), delta dR = -(w1 delta r2 - w2 delta r1) / den */
+static void solve_se(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+{
+    out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], out->dR_Ohm, out->dpsi_Wb, s->fit[j], s->Gi[j]));
+    out->R_se_part_Ohm[j] = mathx_fabsf(s->w[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
+}
+
+/* se(R^) against its limit, then the band. */
+static rs_ident_result_t solve_verdict(const rs_ident_cfg_t *c, rs_ident_out_t *out)
+{
+    const float R_est = out->R_raw_Ohm;
+
     out->R_se_Ohm = mathx_sqrtf(out->R_se_part_Ohm[0] * out->R_se_part_Ohm[0] +
                                 out->R_se_part_Ohm[1] * out->R_se_part_Ohm[1]);
     /* against |R^|, not below R_min: an R^ near 0 is judged by the band */
@@ -417,4 +462,62 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     }
     out->R_est_Ohm = R_est;
     return RS_IDENT_OK;
+}
+
+void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_win_t *win_2,
+                          rs_ident_out_t *out)
+{
+    s->ri = ri;
+    s->win[0] = &ri->win[0];
+    s->win[1] = (win_2 != NULL) ? win_2 : &ri->win[1];
+    s->stage = (uint16_t)STAGE_WIN_0;
+    s->result = RS_IDENT_OK;
+    s->abs_inv_den = 0.0f;
+    zero_out(out, ri->cfg.R_nom_Ohm);
+}
+
+bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out)
+{
+    rs_ident_result_t r = s->result;
+
+    if (r == RS_IDENT_OK) { /* a refusal skips the stages left, not the calls */
+        switch ((stage_t)s->stage) {
+        case STAGE_WIN_0:
+            r = s->ri->valid ? solve_window(s, 0, out) : RS_IDENT_INVALID_CFG;
+            break;
+        case STAGE_WIN_1:
+            r = solve_window(s, 1, out);
+            break;
+        case STAGE_POINTS:
+            r = solve_points(s, out);
+            break;
+        case STAGE_SE_0:
+            solve_se(s, 0, out);
+            break;
+        case STAGE_SE_1:
+            solve_se(s, 1, out);
+            r = solve_verdict(&s->ri->cfg, out);
+            break;
+        case STAGE_DONE:
+        default:
+            break;
+        }
+    }
+    s->result = r;
+    if (s->stage < (uint16_t)STAGE_DONE) {
+        s->stage++;
+    }
+    return s->stage == (uint16_t)STAGE_DONE;
+}
+
+rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
+{
+    rs_ident_solver_t s;
+    bool done = false;
+
+    rs_ident_solve_begin(&s, ri, NULL, out);
+    while (!done) {
+        done = rs_ident_solve_step(&s, out);
+    }
+    return s.result;
 }

@@ -143,6 +143,10 @@ bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg);
 /* Empties both windows. Background or ISR. */
 void rs_ident_reset(rs_ident_t *ri);
 
+/* Window win of *src into *dst, field by field (no library memcpy): the
+ * window as it is, for a staged solve while the original goes on filling. ISR. */
+void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_window_t win);
+
 /* One period, after smo_step(): the observer's fd_V, fq_V [V] and the
  * measured id_A, iq_A [A], omega_el_rad_s [rad/s] into window win
  * (RS_IDENT_WINDOW_NONE: ignored). No division. ISR. */
@@ -156,7 +160,39 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
 
 /* Checks the windows and solves (design sec. 1c, 6); *out is filled as far
  * as the checks got (R_est_Ohm = R_nom unless OK); the windows are left as
- * they are. Background, or ISR (about 25 divisions, 4 square roots). */
+ * they are. Background, or ISR (about 25 divisions, 4 square roots: an
+ * ISR with a budget uses the stages below). */
 rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
+
+/* rs_ident_solve in RS_IDENT_SOLVE_STAGES bounded stages, one per call
+ * (each window's means and ripple fit, the points' solve, each window's
+ * standard error): the same result and *out, always after exactly that
+ * many calls (a refusal skips the work left, not the calls). The windows
+ * solved must not change until the last stage: an ISR that goes on
+ * filling window 2 solves a copy of it (rs_ident_copy_window). */
+#define RS_IDENT_SOLVE_STAGES 5u
+
+typedef struct {
+    const rs_ident_t *ri;     /* the configuration */
+    const rs_ident_win_t *win[2];  /* the windows solved: ri's, or a copy of window 2 */
+    uint16_t stage;           /* the next stage */
+    rs_ident_result_t result; /* valid once rs_ident_solve_step returned true */
+    float fd[2], fq[2], id[2], iq[2], w[2];   /* the windows' points */
+    float diq_dt[2];          /* iq's mean slope per window [A/s] */
+    bool fit[2];              /* the ripple fit holds */
+    float Gi[2][3][3];        /* its inverse normal matrices */
+    float abs_inv_den;        /* 1 / |(41)'s denominator| [1/(A rad/s)] */
+} rs_ident_solver_t;
+
+/* Starts a staged solve of *ri's windows, window 2 from *win_2 instead
+ * when not NULL (a copy); *out to its empty values (R_est_Ohm = R_nom).
+ * No division. ISR. */
+void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_win_t *win_2,
+                          rs_ident_out_t *out);
+
+/* One stage into *out; true when the solve is over (s->result, *out as
+ * rs_ident_solve leaves them; further calls do nothing). At most about 8
+ * divisions and 3 square roots. ISR. */
+bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out);
 
 #endif /* RS_IDENT_H */

@@ -58,10 +58,11 @@ static void enter_run(app_t *app)
     app->rsid.handover = false;
 }
 
-/* After ALIGN, done or skipped: step 1 of the proposed method, or RUN. */
+/* After ALIGN, done or skipped: step 1 of the proposed method, or RUN
+ * (level 4: RUN, no step 1 or 2). */
 static void leave_align(app_t *app)
 {
-    if (app->cfg.rsid.mode == APP_RSID_OFF) {
+    if ((app->cfg.rsid.mode == APP_RSID_OFF) || (app->level == LEVEL_TORQUE)) {
         enter_run(app);
     } else if (app->cfg.rsid.mode == APP_RSID_TRUSTED) {
         enter_run(app);
@@ -77,7 +78,7 @@ static void leave_align(app_t *app)
 /* The controller's blocks this start needs (ctrl.h CTRL_CFG_NEEDED_*). */
 static ctrl_status_t config_needed(const app_t *app)
 {
-    return (app->cfg.rsid.mode == APP_RSID_OFF) ? CTRL_CFG_NEEDED_ALWAYS
+    return ((app->cfg.rsid.mode == APP_RSID_OFF) || (app->level < LEVEL_FULL)) ? CTRL_CFG_NEEDED_ALWAYS
                                                 : (ctrl_status_t)(CTRL_CFG_NEEDED_ALWAYS | CTRL_CFG_NEEDED_PROPOSED);
 }
 
@@ -100,11 +101,14 @@ static app_step_t config_refusal(const app_t *app, ctrl_status_t needed)
  * samples before anything is energised. */
 static void leave_calibrate(app_t *app, const hal_sample_t *s)
 {
+    const bool bus = (app->level > LEVEL_ADC); /* levels 1-2 run without the DC bus */
     /* the told R, L, psi_f play no part in a commissioning: it needs only the encoder's speed estimate */
     const app_step_t cfg = config_refusal(app, app->commissioning ? CTRL_CFG_ENCODER : config_needed(app));
 
-    protect_arm_uv(&app->prot);
-    if (s->vdc_V < app->cfg.prot.vdc_min_V) {
+    if (bus) {
+        protect_arm_uv(&app->prot);
+    }
+    if (bus && (s->vdc_V < app->cfg.prot.vdc_min_V)) {
         const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.prot.vdc_min_V);
         latch_fault(app, &f, s);
     } else if (cfg.status == APP_STEP_FAULT) {
@@ -113,6 +117,11 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
         ctrl_reset(&app->ctrl);
         app->state = APP_STATE_COMMISSION;
         comm_start(&app->comm);
+    } else if (app->level == LEVEL_ADC) {
+        app->state = APP_STATE_ADC_CHECK;
+    } else if (app->level == LEVEL_ROTATE) {
+        app->state = APP_STATE_ENC_CHECK;
+        level_rot_start(&app->rot);
     } else if (app->cfg.align && !app->aligned) {
         app->state = APP_STATE_ALIGN;
         align_start(&app->aln);
@@ -121,15 +130,42 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
     }
 }
 
+/* Level 4's own current limit, mode and method; the operator's mode and
+ * method (and the configured limit) back at the first start at another
+ * level. */
+static void level_control(app_t *app, uint16_t was)
+{
+    if (app->level == LEVEL_TORQUE) {
+        ctrl_set_i_lim(&app->ctrl, app->cfg.lvl.i_lim_4_A);
+        ctrl_set_mode(&app->ctrl, CTRL_MODE_TORQUE);
+        (void)ctrl_set_method(&app->ctrl, CTRL_METHOD_CONVENTIONAL);
+    } else if (was == LEVEL_TORQUE) {
+        ctrl_set_i_lim(&app->ctrl, app->cfg.ctrl.i_lim_A);
+        ctrl_set_mode(&app->ctrl, app->op_taken.mode);
+        (void)ctrl_set_method(&app->ctrl, app->op_taken.method);
+    }
+}
+
+/* A start, or (commission) a commissioning: that runs as at the full
+ * level (the bus armed, no level's check), whatever level is asked for. */
 static void start_sequence(app_t *app, const hal_sample_t *s, bool commission)
 {
+    const uint16_t was = app->level;
+
+    app->level = commission ? LEVEL_FULL : app->req_level;
     app->commissioning = commission;
     if (commission) {
         app->comm_valid = false;
     }
     app->warnings = 0u;
     app->rsid_refusal = app_step_running();
-    if (app->cfg.calibrate) {
+    level_control(app, was);
+    if (app->level <= LEVEL_ADC) {
+        protect_disarm_uv(&app->prot);
+    }
+    if (app->level == LEVEL_PWM) {
+        app->state = APP_STATE_PWM_CHECK;
+    } else if (app->cfg.calibrate || (app->level == LEVEL_ADC)) {
         app->state = APP_STATE_CALIBRATE;
         calib_start(&app->cal);
     } else {
@@ -233,6 +269,43 @@ static void identify_state(app_t *app, const hal_sample_t *s)
     }
 }
 
+/* PWM_CHECK (level 1): the fixed duties, outputs on. */
+static void pwm_check_state(app_t *app, const hal_sample_t *s)
+{
+    int16_t k;
+
+    for (k = 0; k < 3; k++) {
+        app->out.duty[k] = app->cfg.lvl.pwm_duty[k];
+    }
+    app->out.flags = 0u;
+    (void)output(app, app_step_running(), s);
+}
+
+/* ADC_CHECK (level 2): outputs off, the readings into the report. */
+static void adc_check_state(app_t *app, const hal_sample_t *s)
+{
+    app->adc.ia_A = s->ia_A;
+    app->adc.ib_A = s->ib_A;
+    app->adc.vdc_V = s->vdc_V;
+}
+
+/* ENC_CHECK (level 3): the turning vector through ctrl's output path; the
+ * check's verdict ends it (IDLE) or latches its fault. */
+static void enc_check_state(app_t *app, const hal_sample_t *s)
+{
+    const ab_t i = clarke_2ph(s->ia_A - app->offset_ia_A, s->ib_A - app->offset_ib_A);
+    ab_t u;
+    app_step_t r = level_rot_step(&app->rot, i.a, i.b, s->enc_count, &u);
+
+    ctrl_step_ab(&app->ctrl, u, s->vdc_V, &app->out);
+    if ((app->out.flags & CTRL_FLAG_NONFINITE) != 0u) {
+        r = app_step_fault(APP_FAULT_NONFINITE_OUTPUT, u.a, 0.0f);
+    }
+    if (output(app, r, s).status == APP_STEP_DONE) {
+        stop_to_idle(app);
+    }
+}
+
 /* RUN: ctrl_step every period; after SPEEDS, at the handover ramp until
  * the outside reference is reached. */
 static void run_state(app_t *app, const hal_sample_t *s)
@@ -261,10 +334,11 @@ static void take_operator(app_t *app)
         const app_op_t op = app->op_req;
         app->req_op = 0u;
         ctrl_set_ref(&app->ctrl, &op.ref);
-        if (op.mode != app->op_taken.mode) {
+        /* level 4 holds its own mode and method (level_control) */
+        if ((op.mode != app->op_taken.mode) && (app->level != LEVEL_TORQUE)) {
             ctrl_set_mode(&app->ctrl, op.mode);
         }
-        if (op.method != app->op_taken.method) {
+        if ((op.method != app->op_taken.method) && (app->level != LEVEL_TORQUE)) {
             (void)ctrl_set_method(&app->ctrl, op.method); /* refused: unchanged (cmd checks it first) */
         }
         app->op_taken = op;
@@ -280,9 +354,7 @@ static void take_requests(app_t *app, const hal_sample_t *s)
         app->req_stop = 0u;
         app->req_start = 0u;
         app->req_commission = 0u;
-        if ((app->state == APP_STATE_CALIBRATE) || (app->state == APP_STATE_ALIGN) ||
-            (app->state == APP_STATE_IDENTIFY_R) || (app->state == APP_STATE_RUN) ||
-            (app->state == APP_STATE_COMMISSION)) {
+        if ((app->state != APP_STATE_INIT) && (app->state != APP_STATE_IDLE)) { /* FAULT is not here */
             stop_to_idle(app);
         }
     } else if ((app->req_start != 0u) || (app->req_commission != 0u)) {
@@ -333,6 +405,36 @@ static void fault_state(app_t *app, const hal_sample_t *s)
     }
 }
 
+/* The states but RUN and FAULT: their step for this period. */
+static void other_state(app_t *app, const hal_sample_t *s)
+{
+    switch (app->state) {
+    case APP_STATE_CALIBRATE:
+        calibrate_state(app, s);
+        break;
+    case APP_STATE_ALIGN:
+        align_state(app, s);
+        break;
+    case APP_STATE_IDENTIFY_R:
+        identify_state(app, s);
+        break;
+    case APP_STATE_PWM_CHECK:
+        pwm_check_state(app, s);
+        break;
+    case APP_STATE_ADC_CHECK:
+        adc_check_state(app, s);
+        break;
+    case APP_STATE_ENC_CHECK:
+        enc_check_state(app, s);
+        break;
+    case APP_STATE_COMMISSION:
+        commission_state(app, s);
+        break;
+    default: /* INIT, IDLE: outputs off, nothing to do */
+        break;
+    }
+}
+
 void app_isr(app_t *app)
 {
     hal_sample_t s;
@@ -357,24 +459,10 @@ void app_isr(app_t *app)
             latch_fault(app, &f, &s);
         } else {
             take_requests(app, &s);
-            switch (app->state) {
-            case APP_STATE_CALIBRATE:
-                calibrate_state(app, &s);
-                break;
-            case APP_STATE_ALIGN:
-                align_state(app, &s);
-                break;
-            case APP_STATE_IDENTIFY_R:
-                identify_state(app, &s);
-                break;
-            case APP_STATE_RUN:
-                run_state(app, &s);
-                break;
-            case APP_STATE_COMMISSION:
-                commission_state(app, &s);
-                break;
-            default: /* INIT, IDLE: outputs off, nothing to do */
-                break;
+            if (app->state == APP_STATE_RUN) {
+                run_state(app, &s); /* the common period first: no dispatch */
+            } else {
+                other_state(app, &s);
             }
         }
     }

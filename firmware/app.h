@@ -49,7 +49,20 @@
  *
  * Protection (protect.h) in every state but FAULT, and from the state's
  * own step: NONFINITE_OUTPUT (controller or alignment output),
- * CURRENT_OFFSET (CALIBRATE), RSID_* and CONFIG (IDENTIFY_R).
+ * CURRENT_OFFSET (CALIBRATE), RSID_* and CONFIG (IDENTIFY_R),
+ * ENCODER_DIRECTION, POLE_PAIRS, PHASE_ORDER (ENC_CHECK).
+ *
+ * Build levels (level.h), taken at a start (app_request_level before it):
+ *   level 1  INIT/IDLE --start--> PWM_CHECK (until stopped)
+ *   level 2  --start--> CALIBRATE --> ADC_CHECK (until stopped)
+ *   level 3  --start--> (CALIBRATE) --> ENC_CHECK --checked--> IDLE
+ *            (or FAULT: ENCODER_DIRECTION, POLE_PAIRS, PHASE_ORDER)
+ *   level 4  the sequence above, torque mode, conventional, no step 1,
+ *            current limit lvl.i_lim_4_A
+ *   level 5  the sequence above as configured
+ * PWM_CHECK, ADC_CHECK, ENC_CHECK --stop--> IDLE. Undervoltage is not
+ * checked at levels 1-2 (no DC bus); CALIBRATE runs at level 2 whatever
+ * cfg.calibrate says (the offsets are what it reports).
  */
 #ifndef APP_H
 #define APP_H
@@ -63,6 +76,7 @@
 #include "commission.h"
 #include "ctrl.h"
 #include "hal.h"
+#include "level.h"
 #include "protect.h"
 #include "rsid_seq.h"
 
@@ -93,7 +107,14 @@ typedef struct {
     float i2t_budget_A2s;       /* [A^2 s] */
     uint16_t params_refused;    /* drive_params_derive's refusals of the ratings and the ADC range
                                  * (DRIVE_DERIVE_RATINGS, _ADC_RANGE; 0: none): a start faults CONFIG */
+    level_cfg_t lvl;            /* the build levels (level.h) */
 } app_cfg_t;
+
+/* Level 2's report: the ADC's readings of the last ADC_CHECK period. */
+typedef struct {
+    float ia_A, ib_A;           /* as read, offsets not removed [A] */
+    float vdc_V;                /* [V] */
+} app_adc_t;
 
 /* The operator's input: references, mode, method (app_request_op). */
 typedef struct {
@@ -126,6 +147,9 @@ typedef struct {
     bool comm_valid;               /* comm.res holds a completed commissioning's results */
     uint16_t warnings;             /* APP_WARN_* since the last start */
     app_step_t rsid_refusal;       /* APP_WARN_STEP1_REFUSED: the fault step 1 would have latched */
+    uint16_t level;                /* the build level of the last start (level.h) */
+    level_rot_t rot;               /* ENC_CHECK: level 3's rotation and its figures (rot.out) */
+    app_adc_t adc;                 /* ADC_CHECK: level 2's report */
     /* Requests: one word each, so that setting (background) and clearing
      * (ISR) are single stores and cannot lose one another. */
     volatile uint16_t req_start;
@@ -136,14 +160,15 @@ typedef struct {
      * req_op = 0 and req_op = 1, taken by the ISR at its next start. */
     volatile app_op_t op_req;
     volatile uint16_t req_op;
+    volatile uint16_t req_level;   /* the build level the next start takes */
     app_op_t op_taken;             /* the last request the ISR took */
 } app_t;
 
 /* Start-up: the board's configuration (firmware/board_cfg.h) into *cfg. */
 void app_cfg_default(app_cfg_t *cfg);
 
-/* Start-up: copy *cfg (cfg may be &app->cfg: configured in place), init
- * the controller, PWM off, state INIT. */
+/* Start-up: copy *cfg (or use it in place when cfg is &app->cfg), init the
+ * controller, PWM off, state INIT. */
 void app_init(app_t *app, const app_cfg_t *cfg);
 
 /* ISR context, once per period: hal_sample_read -> protection -> requests
@@ -168,7 +193,11 @@ void app_request_commission(app_t *app);
  * _method there: the background never writes the controller). */
 void app_request_op(app_t *app, const app_op_t *op);
 
-/* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN, COMMISSION -> IDLE at the next ISR, PWM off. */
+/* Background: the build level (LEVEL_MIN .. LEVEL_MAX, level.h) the next
+ * start runs; another value is ignored. */
+void app_request_level(app_t *app, uint16_t level);
+
+/* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN, COMMISSION and the levels' states -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);
 
 /* Start-up, after app_init and before the ISR is attached: a fault found

@@ -5,19 +5,18 @@
 
 /* Duty that gives zero line-to-line voltage: the outputs' state while off. */
 #define DUTY_ZERO_VOLTAGE 0.5f
-#define ENC_COUNTS_PER_LINE 4u      /* x4 quadrature decoding */
 
 void app_init(app_t *app, const app_cfg_t *cfg)
 {
     const float Ts = cfg->ctrl.Ts_s;
     const app_snapshot_t no_snapshot = { { 0.0f, 0.0f, 0.0f, 0u }, APP_STATE_INIT, 0.0f, 0.0f };
     const ctrl_out_t zero_voltage = { { DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE }, 0u };
-    const protect_drive_t drv = { Ts, ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.te_max_Nm,
+    const protect_drive_t drv = { Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.te_max_Nm,
                                   cfg->ctrl.pole_pairs };
 
     hal_pwm_disable();
-    if (&app->cfg != cfg) { /* main.c configures app->cfg in place */
-        app->cfg = *cfg;
+    if (cfg != &app->cfg) {
+        app->cfg = *cfg; /* main.c builds it in place */
     }
     app->state = APP_STATE_INIT;
     app->fault = APP_FAULT_NONE;
@@ -36,10 +35,16 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     calib_init(&app->cal, &cfg->cal, Ts);
     align_init(&app->aln, &cfg->aln, Ts);
     rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
-    comm_init(&app->comm, &cfg->comm, Ts, ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines);
+    comm_init(&app->comm, &cfg->comm, Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines);
     app->commissioning = false;
     app->comm_valid = false;
     app->req_commission = 0u;
+    level_rot_init(&app->rot, &cfg->lvl, &cfg->ctrl, Ts);
+    app->level = cfg->lvl.level;
+    app->req_level = cfg->lvl.level;
+    app->adc.ia_A = 0.0f;
+    app->adc.ib_A = 0.0f;
+    app->adc.vdc_V = 0.0f;
     app->warnings = 0u;
     app->rsid_refusal = app_step_running();
     app->req_start = 0u;
@@ -118,6 +123,13 @@ void app_request_op(app_t *app, const app_op_t *op)
     app->op_req.mode = op->mode;
     app->op_req.method = op->method;
     app->req_op = 1u;
+}
+
+void app_request_level(app_t *app, uint16_t level)
+{
+    if ((level >= LEVEL_MIN) && (level <= LEVEL_MAX)) {
+        app->req_level = level;
+    }
 }
 
 void app_request_stop(app_t *app)

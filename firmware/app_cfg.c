@@ -70,4 +70,11 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->rsid.window_max_s = BOARD_RSID_WINDOW_MAX_S;
     cfg->rsid.repeats_max = (uint16_t)BOARD_RSID_REPEATS_MAX;
     cfg->rsid.on_refusal = (app_rsid_refusal_t)BOARD_RSID_ON_REFUSAL;
+
+    cfg->lvl.level = (uint16_t)BOARD_LEVEL;
+    cfg->lvl.pwm_duty[0] = BOARD_LEVEL1_DUTY_A;
+    cfg->lvl.pwm_duty[1] = BOARD_LEVEL1_DUTY_B;
+    cfg->lvl.pwm_duty[2] = BOARD_LEVEL1_DUTY_C;
+    cfg->lvl.speed_m_rad_s = BOARD_LEVEL3_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
+    cfg->lvl.ramp_s = BOARD_ALIGN_RAMP_S;
 }

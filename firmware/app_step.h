@@ -22,7 +22,10 @@ typedef enum {
     APP_STATE_IDENTIFY_R = 4,
     APP_STATE_RUN = 5,
     APP_STATE_FAULT = 6,
-    APP_STATE_COMMISSION = 10        /* measuring the motor (commission.h); 7-9 and faults 22-24 are kept for the bring-up levels */
+    APP_STATE_PWM_CHECK = 7,    /* level 1: fixed duties, a pattern for the scope */
+    APP_STATE_ADC_CHECK = 8,    /* level 2: PWM off, the ADC's readings and offsets reported */
+    APP_STATE_ENC_CHECK = 9,    /* level 3: open-loop rotation, the encoder and wiring checked */
+    APP_STATE_COMMISSION = 10   /* measuring the motor (commission.h) */
 } app_state_t;
 
 typedef enum {
@@ -48,6 +51,9 @@ typedef enum {
     APP_FAULT_ENCODER_LOST = 19,     /* the count stopped while moving, or no count at the torque limit (protect.h) */
     APP_FAULT_WATCHDOG_RESET = 20,   /* start-up: the last reset was the watchdog's (app_latch_startup_fault) */
     APP_FAULT_FLASH_CRC = 21,        /* start-up: the program image fails its linker CRC (flash_crc.h); no reset clears it */
+    APP_FAULT_ENCODER_DIRECTION = 22, /* level 3: the count ran against the commanded rotation (enc_check.h) */
+    APP_FAULT_POLE_PAIRS = 23,       /* level 3: the counts per commanded turn give other pole pairs (enc_check.h) */
+    APP_FAULT_PHASE_ORDER = 24,      /* level 3: the current vector turned against the commanded one (enc_check.h) */
     /* commissioning (commission.h; the stage in comm_t.stage): */
     APP_FAULT_COMM_TIMEOUT = 25,     /* a stage outlasted its timeout (value: its time [s], limit: the timeout) */
     APP_FAULT_COMM_NO_ROTATION = 26, /* the swept vector moved the count by less than half an electrical turn at the most pole pairs */
@@ -85,6 +91,9 @@ static inline app_step_t app_step_fault(app_fault_t fault, float value, float li
     const app_step_t r = { APP_STEP_FAULT, fault, value, limit };
     return r;
 }
+
+/* Encoder counts per line: x4 quadrature decoding (eQEP, hal_sim). */
+#define APP_ENC_COUNTS_PER_LINE 4u
 
 /* Whole periods of Ts_s in t_s, rounded; 0 for a non-positive time, at
  * most 1e9 (28 h at 10 kHz: the float-to-integer cast stays defined). */

@@ -137,6 +137,14 @@
 #define COMM_SPIN_SKIP_S         0.02f        /* SPIN: fits skip this after a current change: 10 / PLL bandwidth [s] */
 #define COMM_SPIN_MAX_S          2.0f         /* SPIN: stage timeout [s] */
 
+/* Build levels of the first power-up (level.h); the app starts at BOARD_LEVEL. */
+#define BOARD_LEVEL              5U           /* 1 PWM, 2 ADC, 3 open-loop rotation, 4 torque control, 5 the drive [-] */
+#define BOARD_LEVEL1_DUTY_A      0.25f        /* level 1's duties: each leg its own on the scope [-] */
+#define BOARD_LEVEL1_DUTY_B      0.50f
+#define BOARD_LEVEL1_DUTY_C      0.75f
+#define BOARD_LEVEL3_SPEED_RPM   60.0f        /* level 3's rotation: slow enough for the rotor to follow the vector [r/min] */
+#define BOARD_LEVEL4_I_LIMIT_PER_LIMIT 0.3f   /* level 4's current limit, x the drive's current limit [-] */
+
 /* ---- controller tuning: the SIL scenario defaults (tools/sil/scenario.c) - */
 /* Speed PI (params_design.md sec. 3): kp = J w_c, ki = kp w_c x 0.103;
  * w_c = 0.5 / 0.00129 = 388 rad/s, the paper motor's kp 0.5 and ki 20. */
@@ -171,7 +179,7 @@
 #define REF_EST_DTE_MAX_NM       0.3f         /* (T) est_gate: torque-reference step [N m] */
 #define REF_RT_I_IDENT_A         1.0f         /* (I) r_track: injection identifying the inverter error [A] */
 #define REF_RT_I_TRACK_A         0.5f         /* r_track: injection tracking R: R I (1.5 V) in proportion to the bus [A] */
-#define RT_I_TRACK_MAX_PER_RATED 0.1f         /* ... at most this x i_rated [-] */
+#define RT_I_TRACK_MAX_PER_RATED 0.2f         /* ... at most this x i_rated: copper loss <= 4 % of the rated [-] */
 #define REF_RT_IQ_MIN_A          1.0f         /* (I) r_track: |iq| below: cycle held [A] */
 #define REF_RT_IQ_STEP_A         0.2f         /* (I) r_track: iq change within a cycle: held [A] */
 #define REF_RT_VE_MAX_V          20.0f        /* (V) r_track: |Ve| beyond: no inverter error [V] */

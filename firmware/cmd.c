@@ -16,6 +16,28 @@ void cmd_init(volatile cmd_t *cmd)
     cmd->uq_ref_V = 0.0f;
     cmd->error = (uint16_t)CMD_OK;
     cmd->run_taken = 0u;
+    cmd->level = 0u;
+    cmd->level_now = 0u;
+    cmd->ia_adc_A = 0.0f;
+    cmd->ib_adc_A = 0.0f;
+    cmd->vdc_adc_V = 0.0f;
+    cmd->ia_offset_A = 0.0f;
+    cmd->ib_offset_A = 0.0f;
+    cmd->enc_counts = 0;
+    cmd->pole_pairs_est = 0.0f;
+}
+
+/* The drive's reports into the block (level.h: levels 2 and 3). */
+static void report(volatile cmd_t *cmd, const app_t *app)
+{
+    cmd->level_now = app->level;
+    cmd->ia_adc_A = app->adc.ia_A;
+    cmd->ib_adc_A = app->adc.ib_A;
+    cmd->vdc_adc_V = app->adc.vdc_V;
+    cmd->ia_offset_A = app->offset_ia_A;
+    cmd->ib_offset_A = app->offset_ib_A;
+    cmd->enc_counts = app->rot.out.counts;
+    cmd->pole_pairs_est = app->rot.out.pole_pairs_est;
 }
 
 void cmd_comm_init(volatile cmd_comm_t *rep)
@@ -128,6 +150,12 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
     }
     app_request_op(app, &op); /* the ISR takes it at the start of its next period */
 
+    if (c.level > LEVEL_MAX) {
+        err = CMD_ERR_LEVEL;
+    } else if (c.level != 0u) {
+        app_request_level(app, c.level); /* taken at the next start */
+    }
+
     if (c.fault_reset != 0u) {
         app_fault_reset(app);
         cmd->fault_reset = 0u;
@@ -141,4 +169,5 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
         cmd->run_taken = c.run;
     }
     cmd->error = (uint16_t)err;
+    report(cmd, app);
 }

@@ -23,9 +23,10 @@ typedef enum {
     CMD_ERR_SPEED,       /* speed reference not finite or beyond cmd_limits_t */
     CMD_ERR_TORQUE,      /* torque reference not finite or beyond cmd_limits_t */
     CMD_ERR_VOLTAGE,     /* open-loop voltage not finite or beyond cmd_limits_t */
-    CMD_ERR_METHOD_NO_STEP1  /* proposed method refused: step 1 is off (BOARD_RSID_MODE 0), or refused R^
+    CMD_ERR_METHOD_NO_STEP1, /* proposed method refused: step 1 is off (BOARD_RSID_MODE 0), or refused R^
                               * at this start (APP_WARN_STEP1_REFUSED); it would run as the conventional
                               * one. Set the mode to windows, speeds or trusted; restart */
+    CMD_ERR_LEVEL        /* level is not 0 (keep) or 1 .. 5 (level.h) */
 } cmd_error_t;
 
 /* The commissioning's request and report (cmd_comm_apply): a separate
@@ -58,6 +59,17 @@ typedef struct {
     float uq_ref_V;
     uint16_t error;        /* cmd_error_t of the last refused field, CMD_OK when all were taken */
     uint16_t run_taken;    /* last run value acted on: a start or stop is sent on a change only */
+    uint16_t level;        /* build level the next start runs (level.h): 1 PWM, 2 ADC, 3 encoder check,
+                            * 4 torque control, 5 the drive; 0 keeps the app's (BOARD_LEVEL at power-on) */
+    /* Reports, written by cmd_apply() from the drive (watch them; writes are overwritten). */
+    uint16_t level_now;    /* the level of the last start */
+    float ia_adc_A;        /* level 2: the current ADC's readings, offsets not removed [A] */
+    float ib_adc_A;
+    float vdc_adc_V;       /* level 2: the bus reading [V] */
+    float ia_offset_A;     /* the current offsets the drive subtracts (0 until calibrated) [A] */
+    float ib_offset_A;
+    int32_t enc_counts;    /* level 3: the count's travel over the check (sign: against the commanded turn if < 0) */
+    float pole_pairs_est;  /* level 3: the pole pairs the counts gave (whole and equal to the motor's: right) */
 } cmd_t;
 
 typedef struct {

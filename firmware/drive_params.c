@@ -225,6 +225,9 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     cfg->prot.watch.op_i_min_A = scaled(REF_OPEN_PHASE_I_MIN_A, p->rating.i_rated_A, REF_I_RATED_A);
     cfg->prot.watch.op_u_min_V = scaled(REF_OPEN_PHASE_U_MIN_V, p->board.vdc_nominal_V, REF_VDC_V);
     cfg->aln.u_V = scaled(REF_ALIGN_CURRENT_A, p->rating.i_rated_A, REF_I_RATED_A) * p->motor.R_Ohm;
+    /* level 3 turns the rotor with the alignment's current; level 4 runs at a fraction of the limit */
+    cfg->lvl.i_A = scaled(REF_ALIGN_CURRENT_A, p->rating.i_rated_A, REF_I_RATED_A);
+    cfg->lvl.i_lim_4_A = BOARD_LEVEL4_I_LIMIT_PER_LIMIT * c->i_lim_A;
 
     cfg->rsid.settle_1_s = p->step1.settle_1_s;
     cfg->rsid.settle_2_s = p->step1.settle_2_s;

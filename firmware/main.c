@@ -40,7 +40,8 @@
 extern CRC_TABLE flash_crc_table;
 #endif
 
-static app_t g_app;          /* the whole drive state; static so CCS can watch it */
+static app_t g_app;          /* the whole drive state, its cfg built in place (one copy in .ebss, none on
+                              * the 1K-word stack: tools/check/ram_budget.py); static so CCS can watch it */
 static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
@@ -105,8 +106,6 @@ int main(void)
     hal_init();  /* ramfuncs copied: its CRC record holds at either address */
     bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    /* configured in place: one copy of the configuration in .ebss, none on
-     * the 1K-word stack (tools/check/ram_budget.py) */
     app_cfg_default(&g_app.cfg);
     app_init(&g_app, &g_app.cfg);
     if (bad_record >= 0) {

@@ -61,6 +61,11 @@ void protect_arm_uv(protect_t *p)
     p->uv_armed = true;
 }
 
+void protect_disarm_uv(protect_t *p)
+{
+    p->uv_armed = false;
+}
+
 app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset_ia_A, float offset_ib_A,
                          float speed_m_rad_s)
 {

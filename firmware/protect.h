@@ -188,6 +188,10 @@ void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles);
 /* ISR: from now on an undervoltage is a fault (kept armed). */
 void protect_arm_uv(protect_t *p);
 
+/* ISR: no undervoltage check until the next protect_arm_uv (build levels
+ * 1-2 run without the DC bus, level.h). */
+void protect_disarm_uv(protect_t *p);
+
 /* ISR: the checks above on this call's samples *s, the current offsets
  * [A] and the speed estimate [rad/s, mechanical]: RUNNING when all pass,
  * else FAULT with the first failing check, its quantity and limit. */

@@ -19,6 +19,8 @@ void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
     q->speed_ref_rad_s = 0.0f;
     q->handover = false;
     q->result = RS_IDENT_OK;
+    q->check = RSID_CHECK_NONE;
+    q->check_tick = 0u;
 }
 
 void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
@@ -27,6 +29,7 @@ void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
     q->repeats = 0u;
     q->speed_ref_rad_s = speed_now_rad_s; /* SPEEDS ramps from here */
     q->handover = false;
+    q->check = RSID_CHECK_NONE;
 }
 
 /* The commanded speed one period on towards target at accel (a step when
@@ -83,28 +86,41 @@ static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
 
 typedef enum { AFTER_GO_ON = 0, AFTER_REPEAT = 1, AFTER_FINISH = 2 } after_t;
 
-/* At window 2's nominal end or later (rsid_seq.h): go on filling window 2
- * (between checks, or R^ refused only for its standard error with window
- * 1's share below the limit and room for another batch), repeat both
- * windows (SPEEDS: window 1's share too large, repeats left), or finish. */
-static after_t after_window_2(rsid_seq_t *q, const ctrl_t *c)
+/* A check of the windows as at q->check_tick came back with r, *o
+ * (rsid_seq.h): go on filling window 2 (R^ refused only for its standard
+ * error with window 1's share below the limit and room for another
+ * batch), repeat both windows (SPEEDS: window 1's share too large,
+ * repeats left), or finish. */
+static after_t after_check(const rsid_seq_t *q, rs_ident_result_t r, const rs_ident_out_t *o)
 {
-    rs_ident_out_t o;
-    const uint32_t k = q->ticks;
+    if (r != RS_IDENT_NOT_STEADY) {
+        return AFTER_FINISH;
+    }
+    if (o->R_se_part_Ohm[0] <= o->R_se_max_Ohm) {
+        /* a longer window 2 can help */
+        return (q->check_tick - q->win2_tick + q->check_ticks > q->win2_max_ticks) ? AFTER_FINISH : AFTER_GO_ON;
+    }
+    return ((q->cfg.mode == APP_RSID_SPEEDS) && (q->repeats < q->cfg.repeats_max)) ? AFTER_REPEAT : AFTER_FINISH;
+}
+
+/* At window 2's nominal end, and every batch after it while no check is
+ * under way: a copy of window 2 as it is now, and the staged solve of it
+ * with window 1 (complete, unchanged until the check ends)
+ * started (one stage per period from the next, the result acted on in the
+ * period after the last: the ISR's worst period stays near its typical
+ * one; window 2 goes on filling meanwhile). */
+static void check_begin(rsid_seq_t *q, ctrl_t *c)
+{
     const uint32_t batch = c->ri.cfg.n_batch;
 
     q->check_ticks = (batch > 0u) ? batch : 1u;
-    if (mathx_umod_u32(k - q->end_tick, q->check_ticks) != 0u) { /* no 32-bit %: RTS call from flash */
-        return AFTER_GO_ON; /* between checks */
+    if (mathx_umod_u32(q->ticks - q->end_tick, q->check_ticks) != 0u) { /* no 32-bit %: RTS call from flash */
+        return; /* between checks */
     }
-    if (ctrl_rsid_check(c, &o) != RS_IDENT_NOT_STEADY) {
-        return AFTER_FINISH;
-    }
-    if (o.R_se_part_Ohm[0] <= o.R_se_max_Ohm) {
-        /* a longer window 2 can help */
-        return (k - q->win2_tick + q->check_ticks > q->win2_max_ticks) ? AFTER_FINISH : AFTER_GO_ON;
-    }
-    return ((q->cfg.mode == APP_RSID_SPEEDS) && (q->repeats < q->cfg.repeats_max)) ? AFTER_REPEAT : AFTER_FINISH;
+    rs_ident_copy_window(&q->win2, &c->ri, RS_IDENT_WINDOW_2); /* window 1 is complete: not copied */
+    rs_ident_solve_begin(&q->solver, &c->ri, &q->win2, &c->rsid_out);
+    q->check_tick = q->ticks;
+    q->check = RSID_CHECK_SOLVING;
 }
 
 app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
@@ -116,7 +132,7 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
     if ((k >= q->win1_tick) && (k < q->win1_tick + q->window_ticks)) {
         win = RS_IDENT_WINDOW_1;
     } else if (k >= q->win2_tick) {
-        win = RS_IDENT_WINDOW_2; /* up to end_tick, and on while lengthened */
+        win = RS_IDENT_WINDOW_2; /* up to end_tick, and on while lengthened or checked */
     }
     ctrl_rsid_window(c, win);
     if (q->cfg.mode == APP_RSID_SPEEDS) {
@@ -139,7 +155,20 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
     if (q->ticks < q->end_tick) {
         return app_step_running();
     }
-    const after_t next = after_window_2(q, c);
+    if (q->check == RSID_CHECK_NONE) {
+        check_begin(q, c);
+        return app_step_running();
+    }
+    if (q->check == RSID_CHECK_SOLVING) {
+        /* the sequence acts on the result from the next period: the last
+         * stage and the start of step 2 do not share one */
+        if (rs_ident_solve_step(&q->solver, &c->rsid_out)) {
+            q->check = RSID_CHECK_SOLVED;
+        }
+        return app_step_running();
+    }
+    q->check = RSID_CHECK_NONE;
+    const after_t next = after_check(q, q->solver.result, ctrl_rsid_out(c));
     if (next == AFTER_REPEAT) {
         /* back to point 1 (the target follows ticks), settle_2 after the
          * ramp, both windows once more: their sums go on accumulating */
@@ -149,7 +178,7 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
     if (next != AFTER_FINISH) {
         return app_step_running();
     }
-    q->result = ctrl_rsid_finish(c);
+    q->result = ctrl_rsid_finish_with(c, q->solver.result);
     if (q->result != RS_IDENT_OK) {
         return refusal(c, q->result);
     }

@@ -3,7 +3,8 @@
  * IDENTIFY_R state, app.h; paper sec. V-B): ctrl_step every period
  * (conventional control, observer running) and, from IDENTIFY_R's first
  * period, settle_1_s, window 1 (window_s), settle_2_s, window 2, then
- * ctrl_rsid_finish(): R^ into the observer, step 2 (L^, psi_f^) starts.
+ * the check below, then ctrl_rsid_finish_with(): R^ into the observer,
+ * step 2 (L^, psi_f^) starts.
  * The operating points (mode):
  *   WINDOWS  set from outside (a dyno's load, the speed reference): the
  *            sequence only times the windows;
@@ -17,10 +18,16 @@
  * The speed it commands goes into its own ctrl_step only: ctrl.ref keeps
  * the outside reference throughout. A refused R^ is a fault naming the
  * reason (RSID_*) with the quantity and its limit.
- * Window 2 is lengthened (issue 13; observer_design.md sec. 6): at its
- * nominal end, and every batch after it, the windows so far are solved
- * (ctrl_rsid_check); while R^ is refused only for its standard error
- * (NOT_STEADY), window 1's share of it is below the limit (so more of
+ * The windows are checked at window 2's nominal end, and every batch
+ * after it while window 2 is lengthened: window 1 (complete) with a copy
+ * of window 2 (rs_ident_copy_window) is solved in RS_IDENT_SOLVE_STAGES
+ * stages, one per period
+ * (rs_ident_solve_step: no ISR period carries a whole solve), while
+ * window 2 goes on filling; the sequence acts on the result in the period
+ * after the last stage (ctrl_rsid_finish_with: R^ as at the check),
+ * RSID_CHECK_PERIODS periods after the check's.
+ * Window 2 is lengthened (observer_design.md sec. 6): while R^ is refused
+ * only for its standard error (NOT_STEADY), window 1's share of it is below the limit (so more of
  * window 2 can help) and window 2 is shorter than window_max_s, window 2
  * goes on. Window 2's operating point must hold that long (WINDOWS: the
  * outside's load and speed). In SPEEDS mode, when window 1's share alone
@@ -67,6 +74,16 @@ typedef struct {
     app_rsid_refusal_t on_refusal; /* a refused step 1: fault, or conventional with a warning (app.c) */
 } rsid_seq_cfg_t;
 
+/* The check of the windows (see above). */
+typedef enum {
+    RSID_CHECK_NONE = 0,        /* none under way: one starts at the next check tick */
+    RSID_CHECK_SOLVING = 1,     /* a stage per period */
+    RSID_CHECK_SOLVED = 2       /* the sequence acts on the result in the next period */
+} rsid_check_t;
+
+/* Periods from a check's to the one that acts on it: the stages and one. */
+#define RSID_CHECK_PERIODS (RS_IDENT_SOLVE_STAGES + 1u)
+
 typedef struct {
     rsid_seq_cfg_t cfg;
     uint32_t win1_tick, win2_tick, end_tick;  /* window starts and the end, periods from the start */
@@ -80,6 +97,11 @@ typedef struct {
     float speed_ref_rad_s;      /* SPEEDS: the ramped reference (IDENTIFY_R, then the handover) [rad/s] */
     bool handover;              /* RUN after SPEEDS: still ramping to the outside reference */
     rs_ident_result_t result;   /* the last step 1's (R^ etc. in the controller's step-1 result) */
+    /* the check of the windows, solved in stages over the periods after it */
+    rsid_check_t check;         /* where the check is */
+    uint32_t check_tick;        /* the tick it was started at */
+    rs_ident_win_t win2;        /* window 2 then (rs_ident_copy_window) */
+    rs_ident_solver_t solver;   /* the solve, into the controller's step-1 result (ctrl_rsid_out) */
 } rsid_seq_t;
 
 /* Start-up: copy *cfg, derive the periods at Ts_s [s]. */

@@ -367,18 +367,29 @@ static inline float te_plan(te_plan_t plan, int k)
     return 4.0f;
 }
 
-/* IDENTIFY_R's periods 0 .. RSID_END - 2 with the window each one goes into. */
-static inline void identify_until_last(te_plan_t plan)
+/* The period that acts on the check of the windows taken in period
+ * RSID_END - 1 (their nominal end): the staged solve's (rsid_seq.h). */
+#define RSID_LAST     (RSID_END - 1 + (int)RSID_CHECK_PERIODS)
+
+/* IDENTIFY_R's periods from .. to - 1 with the window each one goes into
+ * (window 2 on past its nominal end while the check is solved). */
+static inline void identify_periods(int from, int to, te_plan_t plan)
 {
-    for (int k = 0; k < RSID_END - 1; k++) {
+    for (int k = from; k < to; k++) {
         dyno_isr(te_plan(plan, k), false);
         assert_int_equal(app.state, APP_STATE_IDENTIFY_R);
         const rs_ident_window_t w = (k >= RSID_WIN1 && k < RSID_WIN1 + RSID_WIN) ? RS_IDENT_WINDOW_1
                                   : ((k >= RSID_WIN2) ? RS_IDENT_WINDOW_2 : RS_IDENT_WINDOW_NONE);
         assert_int_equal(app.ctrl.rsid_win, w);
     }
+}
+
+/* IDENTIFY_R's periods 0 .. RSID_LAST - 1. */
+static inline void identify_until_last(te_plan_t plan)
+{
+    identify_periods(0, RSID_LAST, plan);
     assert_int_equal(app.ctrl.ri.win[0].n, RSID_WIN);
-    assert_int_equal(app.ctrl.ri.win[1].n, RSID_WIN - 1);
+    assert_int_equal(app.ctrl.ri.win[1].n, RSID_LAST - RSID_WIN2);
 }
 
 #endif /* APP_HARNESS_H */

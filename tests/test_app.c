@@ -49,6 +49,23 @@ static void init_is_init_with_pwm_off(void **state)
     assert_int_equal(app.state, APP_STATE_INIT);
 }
 
+/* main.c builds the cfg in app->cfg itself and passes it: app_init then
+ * ends in the state a separate copy gives (cfg and controller alike). */
+static void init_with_its_own_cfg_in_place(void **state)
+{
+    (void)state;
+    static app_t in_place; /* large: not on the test's stack */
+    const app_cfg_t cfg = make_cfg(false, false);
+    init_app();
+    in_place.cfg = cfg;
+    expect_function_call(hal_pwm_disable);
+    app_init(&in_place, &in_place.cfg);
+    assert_memory_equal(&in_place.cfg, &app.cfg, sizeof cfg);
+    assert_memory_equal(&in_place.ctrl.cfg, &app.ctrl.cfg, sizeof app.ctrl.cfg);
+    assert_int_equal(in_place.ctrl.status, app.ctrl.status);
+    assert_int_equal(in_place.state, APP_STATE_INIT);
+}
+
 /* INIT -> RUN -> IDLE -> RUN with both sequence steps off; a start while
  * running is ignored. */
 static void start_runs_and_stop_idles(void **state)
@@ -226,13 +243,46 @@ static void refused_ratings_fault_config_at_start(void **state)
     assert_false(app.pwm_on);
 }
 
+/* Level 4: torque mode, the conventional method and 0.3 x the board's
+ * current limit from its start; a start at level 5 gives back the
+ * operator's speed mode (taken in the level-4 start's call, then
+ * overridden by the level) and the configured limit (make_cfg: none, so i_max_A). Another level than 1..5
+ * is not taken. */
+static void level4_own_limit_and_mode_then_restored(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s = sample(0.5f, -0.2f, VDC);
+    app_op_t op = app.op_taken;
+    op.mode = CTRL_MODE_SPEED; /* the operator's, taken in the start's ISR call before the start */
+    app_request_op(&app, &op);
+    app_request_level(&app, 7u);
+    assert_int_equal(app.req_level, app.cfg.lvl.level);
+    app_request_level(&app, LEVEL_TORQUE);
+    start(&s);
+    assert_int_equal(app.level, LEVEL_TORQUE);
+    drive_params_t p;
+    drive_params_board(&p);
+    (void)drive_params_derive(&p);
+    assert_float_equal(app.ctrl.i_lim_A, BOARD_LEVEL4_I_LIMIT_PER_LIMIT * p.limits.i_limit_A, 1e-6);
+    assert_int_equal(ctrl_mode(&app.ctrl), CTRL_MODE_TORQUE);
+    assert_int_equal(ctrl_method(&app.ctrl), CTRL_METHOD_CONVENTIONAL);
+    isr_stop(&s);
+    app_request_level(&app, LEVEL_FULL);
+    start(&s);
+    assert_float_equal(app.ctrl.i_lim_A, app.cfg.ctrl.i_max_A, 0.0);
+    assert_int_equal(ctrl_mode(&app.ctrl), CTRL_MODE_SPEED);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(cfg_default_is_the_board),
         cmocka_unit_test(refused_ratings_fault_config_at_start),
         cmocka_unit_test(init_is_init_with_pwm_off),
+        cmocka_unit_test(init_with_its_own_cfg_in_place),
         cmocka_unit_test(start_runs_and_stop_idles),
+        cmocka_unit_test(level4_own_limit_and_mode_then_restored),
         cmocka_unit_test(sequence_calibrates_aligns_runs),
         cmocka_unit_test(stop_during_calibrate_and_align),
         cmocka_unit_test(isr_call_order),

@@ -280,9 +280,46 @@ static void commission_report_follows_the_app(void **state)
     assert_int_equal(rep.state, 3u);
 }
 
+/* The build level: 1..5 asked for the next start, 0 keeps the app's, 6
+ * refused (CMD_ERR_LEVEL, the last request kept); the reports copied. */
+static void level_requested_and_reported(void **state)
+{
+    (void)state;
+    assert_int_equal(app.req_level, app.cfg.lvl.level); /* at power-on: the board's */
+    cmd.level = 3u;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_OK);
+    assert_int_equal(app.req_level, 3u);
+    cmd.level = 6u;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_ERR_LEVEL);
+    assert_int_equal(app.req_level, 3u);
+    cmd.level = 0u;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_OK);
+    assert_int_equal(app.req_level, 3u);
+    app.adc.ia_A = 0.125f;
+    app.adc.ib_A = -0.25f;
+    app.adc.vdc_V = 1.5f;
+    app.offset_ia_A = 0.0625f;
+    app.offset_ib_A = -0.03125f;
+    app.rot.out.counts = -10000;
+    app.rot.out.pole_pairs_est = 3.0f;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.level_now, app.cfg.lvl.level); /* no start yet */
+    assert_float_equal(cmd.ia_adc_A, 0.125, 0.0);
+    assert_float_equal(cmd.ib_adc_A, -0.25, 0.0);
+    assert_float_equal(cmd.vdc_adc_V, 1.5, 0.0);
+    assert_float_equal(cmd.ia_offset_A, 0.0625, 0.0);
+    assert_float_equal(cmd.ib_offset_A, -0.03125, 0.0);
+    assert_int_equal(cmd.enc_counts, -10000);
+    assert_float_equal(cmd.pole_pairs_est, 3.0, 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(level_requested_and_reported, setup),
         cmocka_unit_test_setup(run_change_sends_one_start_then_one_stop, setup),
         cmocka_unit_test_setup(references_reach_the_controller_in_si_units, setup),
         cmocka_unit_test_setup(refused_reference_keeps_the_old_value_and_is_named, setup),

@@ -125,6 +125,27 @@ static void small_motor_observer_gain_capped_and_accepted(void **state)
     assert_true(s->L_min_H <= 0.5f * cfg.ctrl.L_H);
 }
 
+/* The tracking injection (params_design.md sec. 6): R I = 1.5 V x bus /
+ * 311 V, at most 0.2 i_rated. Small motor: 0.5 A x (24/0.1) / (311/3) =
+ * 1.158 A, below 0.2 x 6.25 = 1.25 A; the large one (0.5 ohm, 540 V,
+ * 9.52 A): 5.21 A by the bus, capped at 1.905 A. */
+static void tracking_injection_by_bus_then_capped(void **state)
+{
+    (void)state;
+    drive_params_t p;
+    static app_cfg_t cfg;
+    small_motor(&p);
+    app_cfg_default(&cfg);
+    drive_params_to_app_cfg(&p, &cfg);
+    assert_float_equal(cfg.ctrl.rtrack.i_track_A, 0.5 * (24.0 / 0.1) / (311.0 / 3.0), 1e-5);
+    p.motor.R_Ohm = 0.5f;
+    p.board.vdc_nominal_V = 540.0f;
+    p.rating.i_rated_A = 9.5238f;
+    p.rating.i_peak_A = 2.0f * 9.5238f;
+    drive_params_to_app_cfg(&p, &cfg);
+    assert_float_equal(cfg.ctrl.rtrack.i_track_A, 0.2 * 9.5238, 1e-5);
+}
+
 /* L 20 uH at 10 kHz: G_max = 0.11 V/A, the band's top 0.45 G = 0.05 ohm
  * leaves out R = 0.1 ohm: refused (OBSERVER), the rest derived. */
 static void observer_refused_when_no_gain_fits(void **state)
@@ -188,6 +209,7 @@ int main(void)
         cmocka_unit_test(paper_motor_gets_the_old_constants_to_the_bit),
         cmocka_unit_test(small_motor_limits_and_speed_loop),
         cmocka_unit_test(small_motor_observer_gain_capped_and_accepted),
+        cmocka_unit_test(tracking_injection_by_bus_then_capped),
         cmocka_unit_test(observer_refused_when_no_gain_fits),
         cmocka_unit_test(ratings_beyond_the_adc_or_inconsistent_refused),
         cmocka_unit_test(set_values_stay_and_bandwidth_scales),

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "obs_plant.h"
 #include "rs_ident.h"
@@ -411,6 +412,38 @@ static void other_refusals(void **state)
     assert_false(rs_ident_init(&ri, &c));
 }
 
+/* The staged solve: done after exactly RS_IDENT_SOLVE_STAGES calls, OK
+ * or refused in its first stage, with rs_ident_solve's result and *out
+ * (the paper case's R^ as analytic_paper_case checks it); more calls
+ * change nothing. */
+static void staged_solve_takes_its_stages(void **state)
+{
+    (void)state;
+    const double w = op_w_el(500.0);
+    rs_ident_t ri = make(R_NOM);
+    feed_analytic(&ri, RS_IDENT_WINDOW_1, R_NOM, OP_L0, OP_PSI0, 0.0, op_iq_of_te(2.0), w, 500);
+    for (int pass = 0; pass < 2; pass++) {
+        rs_ident_out_t whole, staged;
+        rs_ident_solver_t s;
+        memset(&whole, 0, sizeof whole); /* the padding compared too */
+        memset(&staged, 0, sizeof staged);
+        const rs_ident_result_t r = rs_ident_solve(&ri, &whole);
+        assert_int_equal(r, (pass == 0) ? RS_IDENT_TOO_FEW : RS_IDENT_OK);
+        rs_ident_solve_begin(&s, &ri, NULL, &staged);
+        for (unsigned k = 1u; k < RS_IDENT_SOLVE_STAGES; k++) {
+            assert_false(rs_ident_solve_step(&s, &staged));
+        }
+        assert_true(rs_ident_solve_step(&s, &staged));
+        assert_int_equal(s.result, r);
+        assert_memory_equal(&staged, &whole, sizeof whole);
+        assert_true(rs_ident_solve_step(&s, &staged));
+        assert_int_equal(s.result, r);
+        assert_memory_equal(&staged, &whole, sizeof whole);
+        /* window 2 for the second pass */
+        feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, OP_L0, OP_PSI0, 0.0, op_iq_of_te(4.0), w, 500);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -424,6 +457,7 @@ int main(void)
         cmocka_unit_test(scatter_along_the_model_is_taken),
         cmocka_unit_test(out_of_band_is_refused),
         cmocka_unit_test(other_refusals),
+        cmocka_unit_test(staged_solve_takes_its_stages),
     };
     return cmocka_run_group_tests_name("rs_ident", tests, NULL, NULL);
 }

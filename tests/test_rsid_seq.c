@@ -47,7 +47,7 @@ static void identify_windows_aligns_identifies_runs(void **state)
     assert_int_equal(app.ctrl.ident, CTRL_IDENT_STEP1);
     dyno_start(R_TRUE);
     identify_until_last(TE_TWO_LOADS);
-    dyno_isr(te_plan(TE_TWO_LOADS, RSID_END - 1), false);
+    dyno_isr(te_plan(TE_TWO_LOADS, RSID_LAST), false);
     assert_int_equal(app.state, APP_STATE_RUN);
     assert_int_equal(app.fault, APP_FAULT_NONE);
     assert_int_equal(app.rsid.result, RS_IDENT_OK);
@@ -70,11 +70,12 @@ static void identify_fault_case(app_cfg_t *cfg, double R_true, te_plan_t plan, b
     assert_int_equal(app.ctrl.status, CTRL_CFG_OK);
     start_and_align();
     dyno_start(R_true);
-    identify_until_last(plan);
+    identify_periods(0, RSID_END - 1, plan);
     if (nan_window) {
         app.ctrl.ri.win[1].s1[RS_CH_FQ] = NAN; /* what no finite sample can give: a corrupted sum */
     }
-    dyno_isr(te_plan(plan, RSID_END - 1), true);
+    identify_periods(RSID_END - 1, RSID_LAST, plan); /* the check's copy taken in the first */
+    dyno_isr(te_plan(plan, RSID_LAST), true);
     assert_int_equal(app.state, APP_STATE_FAULT);
     assert_int_equal(app.fault, fault);
     assert_false(app.pwm_on);

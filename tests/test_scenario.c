@@ -452,6 +452,33 @@ static void bad_inputs_name_file_line_key(void **state)
 
 /* [faults]: every time unset (never) by default, the parts' defaults, a
  * full section parsed, and bad values named. */
+/* The build level and the wrong boards' keys: defaults, resolution, refusals. */
+static void level_and_wrong_board_keys(void **state)
+{
+    (void)state;
+    scenario_t sc;
+    char err[SCENARIO_ERR_LEN] = "";
+    assert_int_equal(load_text(&sc, "[plant]\npole_pairs = 4\n", err), 0);
+    assert_int_equal(sc.run.level, 5u);
+    assert_int_equal(sc.controller.pole_pairs, 4u);                          /* the plant's */
+    assert_float_equal(sc.run.level4_i_limit_A, 0.3 * sc.controller.i_limit_A, 1e-12);
+    assert_int_equal(sc.plant.encoder_direction, SC_DIRECTION_FORWARD);
+    assert_int_equal(sc.plant.phase_order, SC_PHASES_ABC);
+    assert_int_equal(load_text(&sc, "[plant]\nencoder_direction = -1\nphase_order = acb\n"
+                                    "[controller]\npole_pairs = 2\n[run]\nlevel = 3\nlevel4_i_limit_A = 2\n", err), 0);
+    assert_int_equal(sc.plant.encoder_direction, SC_DIRECTION_REVERSED);
+    assert_int_equal(sc.plant.phase_order, SC_PHASES_ACB);
+    assert_int_equal(sc.controller.pole_pairs, 2u);
+    assert_int_equal(sc.run.level, 3u);
+    assert_float_equal(sc.run.level4_i_limit_A, 2.0, 0.0);
+    expect_error("[run]\nlevel = 0\n", 2, "level");
+    expect_error("[run]\nlevel = 6\n", 2, "level");
+    expect_error("[run]\nlevel4_i_limit_A = 13\n", 2, "level4_i_limit_A"); /* above the 12 A limit */
+    expect_error("[plant]\nencoder_direction = 2\n", 2, "encoder_direction");
+    expect_error("[plant]\nphase_order = bac\n", 2, "phase_order");
+    expect_error("[controller]\npole_pairs = 65\n", 2, "pole_pairs");
+}
+
 static void faults_section(void **state)
 {
     (void)state;
@@ -498,6 +525,7 @@ int main(void)
         cmocka_unit_test(motor_the_drive_cannot_run_refused),
         cmocka_unit_test(messages_name_the_real_problem),
         cmocka_unit_test(plausibility_bounds),
+        cmocka_unit_test(level_and_wrong_board_keys),
         cmocka_unit_test(faults_section),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

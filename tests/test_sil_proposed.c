@@ -40,7 +40,8 @@
 /* timeline of the scenarios (tools/scenarios/prop_*.ini) */
 #define WIN_T0    0.80      /* the paper's steady window */
 #define WIN_T1    0.95
-#define T_STEP2   0.54      /* end of step 1 */
+/* end of step 1: the check at window 2's end (0.54 s), solved over the periods after it */
+#define T_STEP2   (0.54 + (double)RSID_CHECK_PERIODS * TS)
 
 /* acceptance limits of the issue */
 #define EST_TOL        0.01   /* R^, L^, psi^ within 1 % */

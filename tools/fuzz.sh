@@ -31,7 +31,7 @@ seed_corpus() { # dir
 }
 
 steps=0 inputs=0
-states=(0 0 0 0 0 0 0 0)   # ISR steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT COMMISSION
+states=(0 0 0 0 0 0 0 0 0 0 0)   # ISR steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT PWM_CHECK ADC_CHECK ENC_CHECK COMMISSION
 start=$(date +%s)
 run_chunk() { # corpus-dir extra-options...
     local out rc s i
@@ -71,5 +71,5 @@ long)
     exit 2
     ;;
 esac
-echo "fuzz: ISR steps ending in INIT ${states[0]}, IDLE ${states[1]}, CALIBRATE ${states[2]}, ALIGN ${states[3]}, IDENTIFY_R ${states[4]}, RUN ${states[5]}, FAULT ${states[6]}, COMMISSION ${states[7]}"
+echo "fuzz: ISR steps ending in INIT ${states[0]}, IDLE ${states[1]}, CALIBRATE ${states[2]}, ALIGN ${states[3]}, IDENTIFY_R ${states[4]}, RUN ${states[5]}, FAULT ${states[6]}, PWM_CHECK ${states[7]}, ADC_CHECK ${states[8]}, ENC_CHECK ${states[9]}, COMMISSION ${states[10]}"
 echo "fuzz: $steps ISR steps, $inputs inputs, $(( $(date +%s) - start )) s, 0 findings"

@@ -2,10 +2,12 @@
 #   make sil-report   build/sil/report.md from the CSVs of `make sil`
 #   make bench-ctrl   instructions, divisions, square roots and sin/cos per
 #                     ctrl_step() (callgrind, x86-64 -O2); printed only
+#   make bench-isr    app_isr's instructions per period, typical and worst,
+#                     per method (callgrind, x86-64 -O2, tools/bench_isr.sh)
 #   make test-tools   tests of the report's tools (tests/test_*.py: metrics.py
 #                     on hand-computed CSVs, sil_report.py's tables); part of
 #                     `make test`
-.PHONY: sil-report bench-ctrl bench-ctrl-deps test-tools
+.PHONY: sil-report bench-ctrl bench-ctrl-deps bench-isr test-tools
 
 sil-report: ## rewrite build/sil/report.md from the runs there (system python3: tables only)
 	@python3 tools/sil_report.py --dir $(BUILD)/sil
@@ -23,6 +25,12 @@ bench-ctrl-deps: ## (internal) valgrind and binutils for bench-ctrl
 bench-ctrl: bench-ctrl-deps ## instructions, divisions, sqrt and sin/cos per ctrl_step() (callgrind, -O2)
 	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/bench_ctrl
 	@tools/bench_ctrl.sh $(BUILD)/o2/bench_ctrl 20000
+
+# The worst ISR period against the typical one over a run through every
+# state (tools/bench_isr.ini); a few minutes: one callgrind dump per period.
+bench-isr: bench-ctrl-deps ## app_isr instructions per period, typical and worst per method (callgrind, -O2)
+	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/drive_sil
+	@tools/bench_isr.sh $(BUILD)/o2/drive_sil tools/bench_isr.ini
 
 # Standard-library unittest under the project's venv python (pyserial
 # for drivetool's tests; sil_report.py imports matplotlib only to draw).

@@ -143,7 +143,10 @@ if [ $rc_check -eq 0 ] && [ $rc_batch -eq 0 ] && grep -q '"fault_name": "HW_TRIP
 else
     failed "drive_sil CLI a faulting scenario: --check exit $rc_check, --batch exit $rc_batch"
 fi
-if "$bin" --help | grep -q "^  3    the run ended in FAULT"; then
+# the help into a file first: grep -q stops reading at its match, and
+# under pipefail the writer's SIGPIPE would fail the pipeline
+"$bin" --help > "$dir/help" 2>&1
+if grep -q "^  3    the run ended in FAULT" "$dir/help"; then
     pass "drive_sil CLI --help documents the exit status"
 else
     failed "drive_sil CLI --help: no exit status 3"
@@ -192,7 +195,7 @@ if [ $rc -eq 0 ] || [ $rc -eq 3 ]; then
 else
     failed "drive_sil CLI a speed reference above the overspeed trip: exit $rc, $(head -n 1 "$dir/err")"
 fi
-if "$bin" --help | grep -q "\[plant\] J_kgm2 *1e-08 .. 100 kg m^2"; then
+if "$bin" --help > "$dir/help" 2>&1 && grep -q "\[plant\] J_kgm2 *1e-08 .. 100 kg m^2" "$dir/help"; then
     pass "drive_sil CLI --help lists the plausibility bounds"
 else
     failed "drive_sil CLI --help: no plausibility bounds"

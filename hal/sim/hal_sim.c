@@ -300,6 +300,12 @@ static void sample_at_period_start(void)
     const hal_sim_cfg_t *c = &g_sim.cfg;
     hal_sim_truth_t *tr = &g_sim.truth;
     memcpy(g_sim.duty_active, g_sim.duty_shadow, sizeof g_sim.duty_active);
+    if (c->phases_acb) {
+        /* the motor's phases b and c driven by legs c and b */
+        const double d = g_sim.duty_active[1];
+        g_sim.duty_active[1] = g_sim.duty_active[2];
+        g_sim.duty_active[2] = d;
+    }
     faults_start();
 
     double i_abc[N_PHASES];
@@ -317,6 +323,9 @@ static void sample_at_period_start(void)
     g_sim.sample.ib_A = (float)sensor_adc_current_A(&g_sim.sens, &g_sim.prng, i_leg[1], c->sens.adc_offset_b_A);
     g_sim.sample.vdc_V = g_sim.vdc_reading_V;
     g_sim.sample.enc_count = sensor_encoder_count(&g_sim.sens, g_sim.plant.x.theta_m_rad);
+    if (c->enc_reversed && (g_sim.sample.enc_count != 0u)) {
+        g_sim.sample.enc_count = g_sim.sens.enc_cpr - g_sim.sample.enc_count; /* A and B swapped */
+    }
     faults_samples(&g_sim.sample, g_sim.faults_new);
 
     tr->t_s = g_sim.t_s;

@@ -32,6 +32,8 @@ typedef struct {
     inv_cfg_t inv;               /* inverter model, bus, period, dead time */
     sensors_cfg_t sens;          /* encoder, ADC */
     double trip_current_A;       /* hardware overcurrent comparator on |ia|, |ib|, |ic| */
+    bool enc_reversed;           /* a wrong board: the count runs down as the rotor turns forward */
+    bool phases_acb;             /* a wrong board: legs b and c swapped before the current sensors and the motor */
 } hal_sim_cfg_t;
 
 /* Fault injection (the scenario's [faults] section, hal/sim/README.md):

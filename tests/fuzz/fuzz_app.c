@@ -61,10 +61,10 @@ enum { EV_TRIP = 0xF1, EV_MISSED = 0xF2, EV_LONG_ISR = 0xF3, EV_COUNT_JUMP = 0xF
 #define STEP_DIV 4                           /* plausible count step: int8 / 4 -> |step| <= 32 < jump limit */
 #define REF_SCALE_PER_LSB (1.0f / 8.0f)
 
-#define N_STATES 8u
+#define N_STATES 11u   /* app_state_t's values, INIT .. COMMISSION */
 static uint64_t g_isr_steps;
 static uint64_t g_inputs;
-static uint64_t g_state_steps[N_STATES]; /* ISR steps that ended in each app_state_t (state_index) */
+static uint64_t g_state_steps[N_STATES]; /* ISR steps that ended in each app_state_t */
 #define N_FAULTS 32u
 static uint64_t g_faults[N_FAULTS];      /* faults latched, by app_fault_t */
 
@@ -148,15 +148,6 @@ static void operator_restart(void)
 }
 
 /* One ISR call with sample s, then the output rules the app itself owns. */
-/* The report's column of a state: INIT .. FAULT, then COMMISSION; N_STATES for a value out of app_state_t. */
-static uint32_t state_index(app_state_t st)
-{
-    if ((uint32_t)st <= (uint32_t)APP_STATE_FAULT) {
-        return (uint32_t)st;
-    }
-    return (st == APP_STATE_COMMISSION) ? N_STATES - 1u : N_STATES;
-}
-
 static void isr_step(const hal_sample_t *s, const uint8_t *r)
 {
     fuzz_hal_period_t p;
@@ -176,10 +167,10 @@ static void isr_step(const hal_sample_t *s, const uint8_t *r)
     if ((g_h.app.state == APP_STATE_FAULT) && (fault_before == APP_FAULT_NONE)) {
         g_faults[(uint32_t)g_h.app.fault % N_FAULTS]++;
     }
-    if (state_index(g_h.app.state) >= N_STATES) {
+    if ((uint32_t)g_h.app.state >= N_STATES) {
         fuzz_hal_fail("state out of app_state_t");
     }
-    g_state_steps[state_index(g_h.app.state) % N_STATES]++;
+    g_state_steps[(uint32_t)g_h.app.state % N_STATES]++;
     if ((g_h.app.state == APP_STATE_FAULT) != (g_h.app.fault != APP_FAULT_NONE)) {
         fuzz_hal_fail("a fault code without FAULT, or FAULT without one");
     }
@@ -272,7 +263,8 @@ __attribute__((destructor)) static void report(void)
 {
     printf("fuzz_app: %llu ISR steps, %llu inputs\n", (unsigned long long)g_isr_steps,
            (unsigned long long)g_inputs);
-    printf("fuzz_app: steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT COMMISSION:");
+    printf("fuzz_app: steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT PWM_CHECK ADC_CHECK ENC_CHECK "
+           "COMMISSION:");
     for (uint32_t k = 0u; k < N_STATES; k++) {
         printf(" %llu", (unsigned long long)g_state_steps[k]);
     }

@@ -40,6 +40,8 @@ static const char *const PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
 static const char *const CHANNEL_NAMES[] = { "a", "b", NULL };
 static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
 static const char *const TRACK_NAMES[] = { "off", "on", "auto", NULL };
+static const char *const DIRECTION_NAMES[] = { "1", "-1", NULL };   /* sc_direction_t */
+static const char *const ORDER_NAMES[] = { "abc", "acb", NULL };   /* sc_phase_order_t */
 
 /* Keys whose default is not text of this table but a configuration's
  * value: the drive's parameter set (firmware/drive_params.h, the board's
@@ -90,6 +92,10 @@ static const sc_key_t KEYS[] = {
     UINT("plant", "encoder_lines", plant.encoder_lines, PARAMS, 1.0, 1.0e6, "encoder lines (x4 counts)"),
     ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, PARAMS,
         "electrical angle of the d axis at count 0 [rad]; the controller is told the same unless run.align = on"),
+    ENUM("plant", "encoder_direction", plant.encoder_direction, "1", DIRECTION_NAMES,
+         "1 | -1: the encoder counts up (1) or down (-1, A and B swapped) as the rotor turns forward"),
+    ENUM("plant", "phase_order", plant.phase_order, "abc", ORDER_NAMES,
+         "abc | acb: acb swaps the inverter's legs b and c on their way to the current sensors and the motor"),
     POS("plant", "adc_full_scale_A", plant.adc_full_scale_A, PARAMS, "current ADC range +-[A] (12 bit)"),
     ANY("plant", "adc_offset_a_A", plant.adc_offset_a_A, PARAMS, "phase-a ADC offset [A]"),
     ANY("plant", "adc_offset_b_A", plant.adc_offset_b_A, PARAMS, "phase-b ADC offset [A]"),
@@ -113,6 +119,8 @@ static const sc_key_t KEYS[] = {
     TOLDNN("controller", "B_Nms", controller.B_Nms, "controller's viscous friction [N m s/rad] (default the plant's)"),
     POS("controller", "speed_bw_rad_s", controller.speed_bw_rad_s, PARAMS,
         "speed-loop crossover [rad/s]: speed_kp = J w_c, speed_ki = kp w_c 0.103"),
+    UINT("controller", "pole_pairs", controller.pole_pairs, "0", 0.0, 64.0,
+         "pole pairs the controller is told (0: the plant's)"),
     ENUM("controller", "method", controller.method, "conventional", METHOD_NAMES, "conventional | proposed"),
     ENUM("controller", "mode", controller.mode, "speed", MODE_NAMES, "speed | torque | open_loop"),
     DRV("controller", "speed_kp_Nms_rad", controller.speed_kp_Nms_rad, "speed PI proportional gain (J_kgm2 x speed_bw_rad_s)"),
@@ -161,6 +169,11 @@ static const sc_key_t KEYS[] = {
          "off | on: current-offset calibration at start (both off: RUN at t = 0)"),
     ENUM("run", "align", run.align, "off", ONOFF_NAMES,
          "off | on: rotor alignment identifies the encoder offset (off: the controller is told it)"),
+    UINT("run", "level", run.level, "5", 1.0, 5.0,
+         "build level (app.h): 1 PWM pattern, 2 ADC readings, 3 open-loop rotation and encoder check, "
+         "4 torque control at level4_i_limit_A, 5 the full drive"),
+    OPT("run", "level4_i_limit_A", run.level4_i_limit_A,
+        "level 4's current limit [A] (default 0.3 x [controller] i_limit_A)"),
 
     /* [faults]: fault injection on the simulated board (hal_sim.h); each from its time on */
     WHEN("open_phase_s", faults.open_phase_s, "time the phase `open_phase` opens [s] (default never)"),
@@ -834,7 +847,7 @@ void scenario_params(const scenario_t *sc, drive_params_t *p)
     p->motor.R_Ohm = (float)sc->controller.R_ohm;
     p->motor.L_H = (float)sc->controller.L_H;
     p->motor.psi_f_Wb = (float)sc->controller.psif_Wb;
-    p->motor.pole_pairs = (uint16_t)sc->plant.pole_pairs;
+    p->motor.pole_pairs = (uint16_t)sc->controller.pole_pairs;   /* what the controller is told */
     p->motor.J_kgm2 = (float)sc->controller.J_kgm2;
     p->motor.B_Nms = (float)sc->controller.B_Nms;
     p->rating.i_rated_A = (float)sc->motor.i_rated_A;
@@ -880,7 +893,7 @@ void scenario_warnings(const scenario_t *sc, char *buf, size_t len)
     buf[0] = '\0';
     if ((sc->derive_status & DRIVE_DERIVE_WARN_BEMF) != 0u) {
         const double n_max = isnan(sc->motor.n_max_rpm) ? sc->motor.n_rated_rpm : sc->motor.n_max_rpm;
-        const double e_V = n_max / SIM_RPM_PER_RAD_S * (double)sc->plant.pole_pairs * sc->controller.psif_Wb;
+        const double e_V = n_max / SIM_RPM_PER_RAD_S * (double)sc->controller.pole_pairs * sc->controller.psif_Wb;
         snprintf(buf, len,
                  "BEMF_ABOVE_BUS: the back-EMF at [motor] n_max_rpm = %g r/min is %.4g V, beyond the bus's "
                  "phase-voltage limit [plant] vdc_V / sqrt(3) = %.4g V (a trip there generates into the bus)",
@@ -928,6 +941,19 @@ static int derive_keys(scenario_t *sc, char *err, size_t errlen)
         }
     }
     return 0;
+}
+
+/* Level 4's current limit: below the limit of the full drive. */
+static int check_level(const scenario_t *sc, char *err, size_t errlen)
+{
+    int known = 0;
+    const int i = find_key("run", "level4_i_limit_A", &known);
+    if (sc->run.level4_i_limit_A <= sc->controller.i_limit_A) {
+        return 0;
+    }
+    snprintf(err, errlen, "%s: [run] level4_i_limit_A: %g A is above [controller] i_limit_A (%g A)",
+             sc->origin[i], sc->run.level4_i_limit_A, sc->controller.i_limit_A);
+    return -1;
 }
 
 /* Where bound b's value came from, for its message: the key's line, else
@@ -998,6 +1024,9 @@ static int check_bounds(const scenario_t *sc, char *err, size_t errlen)
 
 int scenario_finish(scenario_t *sc, char *err, size_t errlen)
 {
+    if (sc->controller.pole_pairs == 0u) {
+        sc->controller.pole_pairs = sc->plant.pole_pairs;
+    }
     if (resolve(sc, "R_ohm", "R_factor", sc->plant.R_ohm, &sc->controller.R_ohm,
                 sc->controller.R_factor, err, errlen) != 0 ||
         resolve(sc, "L_H", "L_factor", sc->plant.L_H, &sc->controller.L_H,
@@ -1012,8 +1041,15 @@ int scenario_finish(scenario_t *sc, char *err, size_t errlen)
     if (isnan(sc->controller.B_Nms)) {
         sc->controller.B_Nms = sc->plant.B_Nms;
     }
-    if (check_bounds(sc, err, errlen) != 0 || derive_keys(sc, err, errlen) != 0 ||
-        check_faults(sc, err, errlen) != 0 || check_limits(sc, err, errlen) != 0) {
+    if (check_bounds(sc, err, errlen) != 0 || derive_keys(sc, err, errlen) != 0) {
+        return -1;
+    }
+    /* level 4's limit from the current limit, derived or set */
+    if (isnan(sc->run.level4_i_limit_A)) {
+        sc->run.level4_i_limit_A = SC_LEVEL4_I_LIMIT_PER_LIMIT * sc->controller.i_limit_A;
+    }
+    if (check_level(sc, err, errlen) != 0 || check_faults(sc, err, errlen) != 0 ||
+        check_limits(sc, err, errlen) != 0) {
         return -1;
     }
     return check_identify(sc, err, errlen);

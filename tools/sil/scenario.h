@@ -32,6 +32,12 @@ typedef enum { SC_OFF = 0, SC_ON = 1 } sc_onoff_t;
 typedef enum { SC_RSID_OFF = 0, SC_RSID_WINDOWS = 1, SC_RSID_SPEEDS = 2, SC_RSID_TRUSTED = 3 } sc_rsid_mode_t;
 /* [identify] on_refusal: as app_rsid_refusal_t */
 typedef enum { SC_REFUSAL_FAULT = 0, SC_REFUSAL_CONVENTIONAL = 1 } sc_refusal_t;
+/* [plant] encoder_direction: "1" | "-1" */
+typedef enum { SC_DIRECTION_FORWARD = 0, SC_DIRECTION_REVERSED = 1 } sc_direction_t;
+/* [plant] phase_order */
+typedef enum { SC_PHASES_ABC = 0, SC_PHASES_ACB = 1 } sc_phase_order_t;
+/* [run] level4_i_limit_A's default, x [controller] i_limit_A */
+#define SC_LEVEL4_I_LIMIT_PER_LIMIT 0.3
 
 
 typedef struct {
@@ -48,6 +54,8 @@ typedef struct {
         double deadtime_s, substep_s;
         uint32_t encoder_lines;
         double encoder_offset_el_rad;
+        uint32_t encoder_direction;        /* sc_direction_t */
+        uint32_t phase_order;              /* sc_phase_order_t */
         double adc_full_scale_A, adc_offset_a_A, adc_offset_b_A, adc_noise_A;
         uint32_t seed;
         double trip_A;
@@ -70,6 +78,7 @@ typedef struct {
         double i_limit_A, overspeed_rpm;   /* current limit, overspeed trip */
         double R_min_ohm, R_max_ohm;           /* R^ band; NaN: the board's factors x R_ohm */
         double deadtime_s;                     /* dead time the controller compensates; NaN: the plant's */
+        uint32_t pole_pairs;                   /* pole pairs the controller is told; 0 (default): the plant's */
     } controller;
     struct {                       /* [identify]: step 1 of the proposed method (app IDENTIFY_R) */
         uint32_t mode;             /* sc_rsid_mode_t */
@@ -93,6 +102,8 @@ typedef struct {
         uint32_t log_every;        /* periods between logged rows */
         uint32_t calibrate;        /* 1: the app measures the current offsets at start (sc_onoff_t) */
         uint32_t align;            /* 1: the app aligns the rotor; the controller is not told the encoder offset */
+        uint32_t level;            /* build level 1..5 (app.h) */
+        double level4_i_limit_A;   /* level 4's current limit; NaN: SC_LEVEL4_I_LIMIT_PER_LIMIT x i_limit_A */
     } run;
     struct {                       /* [faults]: injected on the simulated board (hal_sim_faults_t); times NaN: never */
         double open_phase_s;

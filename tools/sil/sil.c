@@ -67,6 +67,8 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     drive_params_to_app_cfg(&p, ac);
     ctrl_cfg_t *c = &ac->ctrl;
     ac->calibrate = (sc->run.calibrate == SC_ON);
+    ac->lvl.level = (uint16_t)sc->run.level;
+    ac->lvl.i_lim_4_A = (float)sc->run.level4_i_limit_A;
     ac->align = (sc->run.align == SC_ON);
     c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
     c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
@@ -135,6 +137,11 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     const bool faulted = (g_app.state == APP_STATE_FAULT);
     r->fault_value = faulted ? (double)g_app.snapshot.value : 0.0;
     r->fault_limit = faulted ? (double)g_app.snapshot.limit : 0.0;
+    r->ia_adc_A = (double)g_app.adc.ia_A;
+    r->ib_adc_A = (double)g_app.adc.ib_A;
+    r->vdc_adc_V = (double)g_app.adc.vdc_V;
+    r->ia_offset_A = (double)g_app.offset_ia_A;
+    r->ib_offset_A = (double)g_app.offset_ib_A;
 }
 
 /* The scenario's profiles of a run, read by cursors at its periods' times. */
@@ -340,6 +347,12 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     res->enc_offset_el_rad = (double)ctrl_enc_offset_el_rad(&g_app.ctrl);
     res->i_offset_a_A = (double)g_app.offset_ia_A;
     res->i_offset_b_A = (double)g_app.offset_ib_A;
+    res->level = (int)g_app.level;
+    res->enc_counts = (double)g_app.rot.out.counts;
+    res->enc_angle_el_rad = (double)g_app.rot.out.angle_el_rad;
+    res->enc_pole_pairs = (double)g_app.rot.out.pole_pairs_est;
+    res->enc_i_pos_A = (double)g_app.rot.out.i_pos_A;
+    res->enc_i_neg_A = (double)g_app.rot.out.i_neg_A;
     const comm_result_t *cr = &g_app.comm.res;
     res->comm_valid = g_app.comm_valid ? 1 : 0;
     res->comm_stage = (int)g_app.comm.stage;
@@ -372,7 +385,8 @@ static const sil_col_t COLS[] = {
     COL(id_A), COL(iq_A), COL(ud_V), COL(uq_V), COL(ud_cmd_V), COL(uq_cmd_V),
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
     COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
-    COL(psif_model_Wb), COL(id_meas_A), COL(iq_meas_A),
+    COL(psif_model_Wb), COL(id_meas_A), COL(iq_meas_A), COL(ia_adc_A), COL(ib_adc_A), COL(vdc_adc_V), COL(ia_offset_A),
+    COL(ib_offset_A),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 /* SIL_CSV_LINE_MAX counts one column per double of sil_row_t */
@@ -494,13 +508,16 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path
     json_num(f, "J_kgm2", sc->plant.J_kgm2, ", ");
     json_num(f, "vdc_V", sc->plant.vdc_V, ", ");
     json_num(f, "deadtime_s", sc->plant.deadtime_s, ", ");
-    json_num(f, "encoder_lines", (double)sc->plant.encoder_lines, "},\n");
+    json_num(f, "encoder_lines", (double)sc->plant.encoder_lines, ", ");
+    json_num(f, "encoder_direction", (sc->plant.encoder_direction == SC_DIRECTION_REVERSED) ? -1.0 : 1.0, ", ");
+    fprintf(f, "\"phase_order\": \"%s\"},\n", (sc->plant.phase_order == SC_PHASES_ACB) ? "acb" : "abc");
     fprintf(f, " \"controller\": {\"method\": \"%s\", \"mode\": \"%s\", ",
             METHOD[(sc->controller.method == SC_METHOD_PROPOSED) ? 1 : 0],
             MODE[(sc->controller.mode <= SC_MODE_OPEN_LOOP) ? sc->controller.mode : 0u]);
     json_flt(f, "R_ohm", c->R_Ohm, ", ");
     json_flt(f, "L_H", c->L_H, ", ");
     json_flt(f, "psif_Wb", c->psi_f_Wb, ", ");
+    json_num(f, "pole_pairs", (double)c->pole_pairs, ", ");
     json_flt(f, "R_min_ohm", c->R_min_Ohm, ", ");
     json_flt(f, "R_max_ohm", c->R_max_Ohm, ", ");
     json_flt(f, "deadtime_s", c->deadtime_s, ", ");

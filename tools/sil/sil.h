@@ -41,6 +41,8 @@ typedef struct {
     double inv_err_est_V;                   /* inverter voltage error the controller identified (ctrl_mon_t.inv_err_V) */
     double psif_model_Wb;                   /* psi_f the deadbeat model uses (ctrl_mon_t.psi_f_model_Wb; design sec. 9f) */
     double id_meas_A, iq_meas_A;            /* the controller's measured dq currents this period (ctrl_mon_t.id_A, iq_A) */
+    double ia_adc_A, ib_adc_A, vdc_adc_V;   /* level 2's report (app_t.adc): the last ADC_CHECK period's readings (offsets in), 0 before one */
+    double ia_offset_A, ib_offset_A;        /* the current offsets the app subtracts (0 until calibrated) */
 } sil_row_t;
 
 typedef struct {
@@ -64,6 +66,12 @@ typedef struct {
     uint32_t gates_on_in_fault;          /* periods with the gates on while the app was in FAULT (latching call included): 0 */
     uint32_t fault_exits;                /* times the app left FAULT (no reset is requested in SIL: 0) */
     uint32_t pwm_periods;      /* periods with the gates on (0: the motor was never energised) */
+    int level;                 /* the build level run ([run] level) */
+    /* level 3's check at the end (enc_check_out_t; zeros until a check ends) */
+    double enc_counts;         /* the count's travel over the check [counts] */
+    double enc_angle_el_rad;   /* the commanded angle's travel [rad el] */
+    double enc_pole_pairs;     /* the pole pairs the counts give */
+    double enc_i_pos_A, enc_i_neg_A;   /* the current's positive and negative sequence [A] */
     /* commissioning (sil_ctl_t.commission) */
     int comm_valid;            /* 1: the commissioning completed, the values below are its results */
     int comm_stage;            /* comm_stage_t reached (a refusal's stage) */

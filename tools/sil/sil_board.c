@@ -27,6 +27,8 @@ void sil_board_from(const scenario_t *sc, hal_sim_cfg_t *hc)
     hc->sens.adc_noise_A = sc->plant.adc_noise_A;
     hc->sens.seed = sc->plant.seed;
     hc->trip_current_A = sc->plant.trip_A;
+    hc->enc_reversed = (sc->plant.encoder_direction == SC_DIRECTION_REVERSED);
+    hc->phases_acb = (sc->plant.phase_order == SC_PHASES_ACB);
 }
 
 void sil_board_default(hal_sim_cfg_t *hc)
