@@ -113,10 +113,12 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
         latch_fault(app, &f, s);
     } else if (cfg.status == APP_STEP_FAULT) {
         latch_fault(app, &cfg, s);
+#if COMM_IN_IMAGE
     } else if (app->commissioning) {
         ctrl_reset(&app->ctrl);
         app->state = APP_STATE_COMMISSION;
         comm_start(&app->comm);
+#endif
     } else if (app->level == LEVEL_ADC) {
         app->state = APP_STATE_ADC_CHECK;
     } else if (app->level == LEVEL_ROTATE) {
@@ -215,6 +217,7 @@ static void align_state(app_t *app, const hal_sample_t *s)
     }
 }
 
+#if COMM_IN_IMAGE
 /* COMMISSION: the sequence's vector through ctrl's output path; done:
  * gates off, IDLE, the results valid, the measured offset taken. */
 static void commission_state(app_t *app, const hal_sample_t *s)
@@ -241,6 +244,7 @@ static void commission_state(app_t *app, const hal_sample_t *s)
         (void)output(app, r, s);
     }
 }
+#endif
 
 /* A refusal of R^ itself (not the controller's output, not its settings). */
 static bool is_rsid_refusal(app_fault_t f)
@@ -427,9 +431,11 @@ static void other_state(app_t *app, const hal_sample_t *s)
     case APP_STATE_ENC_CHECK:
         enc_check_state(app, s);
         break;
+#if COMM_IN_IMAGE
     case APP_STATE_COMMISSION:
         commission_state(app, s);
         break;
+#endif
     default: /* INIT, IDLE: outputs off, nothing to do */
         break;
     }

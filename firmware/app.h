@@ -99,7 +99,9 @@ typedef struct {
     bool align;                 /* encoder offset unknown: align the rotor once per power-up */
     align_cfg_t aln;            /* ALIGN (align.h) */
     rsid_seq_cfg_t rsid;        /* IDENTIFY_R: step 1 of the proposed method and its refusal policy (rsid_seq.h) */
+#if COMM_IN_IMAGE
     comm_cfg_t comm;            /* COMMISSION (commission.h) */
+#endif
     /* The I^2t budget (app_background): above i2t_rated_A the budget
      * (i_peak^2 - i_rated^2) t_peak drains by (i^2 - i_rated^2) dt; spent,
      * the targets' current limit is i2t_rated_A until half of it is back. */
@@ -142,7 +144,9 @@ typedef struct {
     calib_t cal;                   /* CALIBRATE */
     align_t aln;                   /* ALIGN */
     rsid_seq_t rsid;               /* IDENTIFY_R, and the handover in RUN */
+#if COMM_IN_IMAGE
     comm_t comm;                   /* COMMISSION: its stage stays at a refusal's */
+#endif
     bool commissioning;            /* this start is a commissioning (CALIBRATE leads to COMMISSION) */
     bool comm_valid;               /* comm.res holds a completed commissioning's results */
     uint16_t warnings;             /* APP_WARN_* since the last start */
@@ -185,7 +189,8 @@ void app_background(app_t *app);
 void app_request_start(app_t *app);
 
 /* Background: INIT or IDLE -> CALIBRATE (if on) -> COMMISSION at the next
- * ISR; the results in app->comm.res once app->comm_valid. */
+ * ISR; the results in app->comm.res once app->comm_valid. Ignored in an
+ * image without the commissioning (COMM_IN_IMAGE 0, commission.h). */
 void app_request_commission(app_t *app);
 
 /* Background: the operator's references, mode and method; the ISR takes

@@ -61,6 +61,7 @@ void cmd_comm_init(volatile cmd_comm_t *rep)
 
 void cmd_comm_apply(volatile cmd_comm_t *rep, const volatile cmd_t *cmd, app_t *app)
 {
+#if COMM_IN_IMAGE
     const comm_result_t *r = &app->comm.res;
     uint16_t state = 0u;
 
@@ -97,6 +98,11 @@ void cmd_comm_apply(volatile cmd_comm_t *rep, const volatile cmd_t *cmd, app_t *
         rep->speed_kp_Nms_rad = r->speed_kp_Nms_rad;
         rep->speed_ki_Nm_rad = r->speed_ki_Nm_rad;
     }
+#else
+    (void)cmd;
+    (void)app;
+    rep->start = 0u; /* no commissioning in this image (commission.h COMM_IN_IMAGE) */
+#endif
 }
 
 /* True when x is finite and |x| <= lim (a NaN fails both). */

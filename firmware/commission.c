@@ -4,6 +4,8 @@
 
 #include "mathx.h"
 
+#if COMM_IN_IMAGE
+
 /* Torque per (pole pair x flux x i_q) of an SPMSM: Te = 1.5 p psi_f i_q. */
 #define TORQUE_FACTOR 1.5f
 /* R seek: the regulator's error is judged over blocks of this length, and
@@ -649,3 +651,5 @@ app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *
     m->stage_ticks++;
     return r;
 }
+
+#endif /* COMM_IN_IMAGE */
