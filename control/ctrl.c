@@ -1,25 +1,14 @@
 /*
  * ctrl.c - the drive controller; see ctrl.h.
  *
- * Cost per ctrl_step() in speed mode on the normal path, as measured by
- * `make bench-ctrl` (callgrind, x86-64 -O2; the bench closes the loop over
- * a motor model; how it was brought down: observer_design.md sec. 10):
- *   instructions: conventional 994; proposed (step 2 running) 1343
- *            (+35 %); proposed with track_R (observer_design.md sec. 9)
- *            1405; the dead-time feedforward is about 100 of them (both);
- *   sin/cos: one angle (mathx_sincosf at theta; the advanced angle is a
- *            rotation by a short series), both methods;
- *   divisions: conventional 2 (MTPA's q flux L Te* / kt, svpwm_duty's
- *            1/Vdc); proposed 3.62 on average: + 1 guarded one in the
- *            transfer law whose turn it is (param_est: the laws
- *            alternate), 0.5 in the observer's gain (L^'s turns), 2 in
- *            dbdtc_set_params only when L^ or psi^ moved by more than
- *            CTRL_MODEL_UPDATE_REL (0.12 per step); with track_R 3.84
- *            (the injection moves the estimates past it in 17 % of the
- *            periods: 0.34); plus 3 only in the periods the hexagon limit
- *            acts; none more while the field is weakened (oplim.h);
- *   square roots: 3 (MTPA, eq. 17, the monitor's |psi_s|), both methods,
- *            + 1 while the field is weakened.
+ * Cost per ctrl_step(): `make bench-ctrl` measures it (instructions,
+ * divisions, square roots and sin/cos per step, both methods, track_R on
+ * and off). Where the divisions are: MTPA's q flux and svpwm_duty's 1/Vdc
+ * (both methods); the transfer law whose turn it is and the observer's
+ * gain on L^'s turns (proposed); dbdtc_set_params only when the model
+ * moved by more than CTRL_MODEL_UPDATE_REL; 3 more only in the periods
+ * the hexagon limit acts. One sin/cos (the advanced angle is a rotation
+ * by a short series).
  */
 #include "ctrl.h"
 
@@ -68,15 +57,17 @@
  * flux targets is 1e-4 of theirs, and the 2 divisions of
  * dbdtc_set_params are saved in the periods of steady state. */
 #define CTRL_MODEL_UPDATE_REL 1.0e-4f
-/* A per-leg square wave of amplitude dv (dead time, device drop) has the
- * rotor-frame fundamental (4/pi) dv against the current (design sec. 9). */
-#define FUNDAMENTAL_OF_SQUARE 1.27323954f
-#define QUARTER_PI 0.785398163f
-
 /* What db.par holds (ctrl_t.model_src). */
-#define MODEL_OBSERVER 0u      /* the observer's estimates, up to date */
+#define MODEL_EST      0u      /* the estimation's model */
 #define MODEL_NOMINAL  1u      /* the configured parameters */
-#define MODEL_STALE    2u      /* the observer's, but R^ changed since */
+
+/* ctrl_cfg_t.track_R is the estimation's */
+typedef char ctrl_track_r_is_est[((CTRL_TRACK_R_OFF == EST_TRACK_R_OFF) && (CTRL_TRACK_R_ON == EST_TRACK_R_ON) &&
+                                  (CTRL_TRACK_R_AUTO == EST_TRACK_R_AUTO)) ? 1 : -1];
+
+/* ctrl_ident_t is the estimation's phase */
+typedef char ctrl_ident_is_est_phase[((CTRL_IDENT_OFF == (int)EST_OFF) && (CTRL_IDENT_STEP1 == (int)EST_STEP1) &&
+                                      (CTRL_IDENT_STEP2 == (int)EST_STEP2)) ? 1 : -1];
 
 static uint16_t map_dbdtc_flags(uint16_t f)
 {
@@ -164,48 +155,27 @@ void ctrl_rsid_band_with(const ctrl_cfg_t *cfg, const ctrl_obs_gains_t *g, float
     *R_max_Ohm = (*R_max_Ohm > cfg->R_Ohm) ? *R_max_Ohm : cfg->R_Ohm;
 }
 
-/* The proposed method's blocks, with the fields that repeat ctrl_cfg_t taken from it. */
-static ctrl_status_t init_proposed(ctrl_t *c, const ctrl_cfg_t *cfg)
+/* The estimation, with the told values and bounds from ctrl_cfg_t. */
+static ctrl_status_t init_est(ctrl_t *c, const ctrl_cfg_t *cfg)
 {
-    smo_cfg_t sc = cfg->smo;
-    param_est_cfg_t ec = cfg->pe;
-    rs_ident_cfg_t rc = cfg->rsid;
-    est_gate_cfg_t gc = cfg->gate;
-
-    sc.Ts_s = cfg->Ts_s;
-    sc.R_Ohm = cfg->R_Ohm;
-    sc.L_H = cfg->L_H;
-    sc.psi_f_Wb = cfg->psi_f_Wb;
-    sc.R_min_Ohm = cfg->R_min_Ohm;
-    sc.R_max_Ohm = cfg->R_max_Ohm;
-    sc.i_max_A = cfg->i_max_A;
-    sc.u_max_V = cfg->u_max_V;
-    sc.omega_max_rad_s = cfg->omega_max_el_rad_s;
-    ec.Ts_s = cfg->Ts_s;
-    rc.R_nom_Ohm = cfg->R_Ohm;
-    rc.Ts_s = cfg->Ts_s;
-    rc.R_min_Ohm = cfg->R_min_Ohm;
-    rc.R_max_Ohm = cfg->R_max_Ohm;
-    gc.Ts_s = cfg->Ts_s;
-    const ctrl_status_t gate = est_gate_init(&c->gate, &gc) ? CTRL_CFG_OK : CTRL_CFG_GATE;
-
-    if (smo_init(&c->smo, &sc) != SMO_CFG_OK) {
-        (void)param_est_init(&c->pe, &ec, &c->smo); /* refused too: frozen for good */
-        (void)rs_ident_init(&c->ri, &rc);
-        return (ctrl_status_t)(CTRL_CFG_OBSERVER | gate);
-    }
-    if (!r_track_init(&c->rt, &cfg->rtrack)) {
-        (void)param_est_init(&c->pe, &ec, &c->smo);
-        (void)rs_ident_init(&c->ri, &rc);
-        return CTRL_CFG_RTRACK;
-    }
-    psi_band_cfg_t bc;
-    psi_band_cfg_defaults(&bc, cfg->Ts_s, ec.w_min_rad_s, ec.psi_min_Wb, ec.psi_max_Wb);
-    if (!param_est_init(&c->pe, &ec, &c->smo) || !psi_band_init(&c->pb, &bc)) {
-        (void)rs_ident_init(&c->ri, &rc);
-        return (ctrl_status_t)(CTRL_CFG_ESTIMATOR | gate);
-    }
-    return (ctrl_status_t)((rs_ident_init(&c->ri, &rc) ? CTRL_CFG_OK : CTRL_CFG_RSID) | gate);
+    est_cfg_t e;
+    e.Ts_s = cfg->Ts_s;
+    e.R_Ohm = cfg->R_Ohm;
+    e.L_H = cfg->L_H;
+    e.psi_f_Wb = cfg->psi_f_Wb;
+    e.R_min_Ohm = cfg->R_min_Ohm;
+    e.R_max_Ohm = cfg->R_max_Ohm;
+    e.i_max_A = cfg->i_max_A;
+    e.u_max_V = cfg->u_max_V;
+    e.omega_max_el_rad_s = cfg->omega_max_el_rad_s;
+    e.deadtime_s = c->deadtime_frac * cfg->Ts_s; /* as taken (0 when refused) */
+    e.smo = cfg->smo;
+    e.pe = cfg->pe;
+    e.rsid = cfg->rsid;
+    e.rtrack = cfg->rtrack;
+    e.track_R = cfg->track_R;
+    e.gate = cfg->gate;
+    return est_init(&c->est, &e);
 }
 
 /* status with bit added unless ok. */
@@ -219,7 +189,6 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     encoder_cfg_t ec;
     dbdtc_cfg_t dc;
     pi_cfg_t pc;
-    const rs_ident_out_t no_result = { 0 };
     ctrl_status_t status = CTRL_CFG_OK;
 
     c->cfg = *cfg;
@@ -260,9 +229,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
                                                 ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
     oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
-    c->status = (ctrl_status_t)(status | init_proposed(c, cfg));
-    c->rsid_out = no_result;
-    c->rsid_out.R_est_Ohm = cfg->R_Ohm;
+    c->status = (ctrl_status_t)(status | init_est(c, cfg));
     c->mode = CTRL_MODE_TORQUE;
     c->mode_req = CTRL_MODE_TORQUE;
     c->method = CTRL_METHOD_CONVENTIONAL;
@@ -279,17 +246,7 @@ void ctrl_reset(ctrl_t *c)
 {
     dbdtc_reset(&c->db);
     c->model_src = MODEL_NOMINAL;
-    smo_reset(&c->smo);
-    param_est_reset(&c->pe);
-    rs_ident_reset(&c->ri);
-    c->rsid_win = RS_IDENT_WINDOW_NONE;
-    c->ident = CTRL_IDENT_OFF;
-    r_track_reset(&c->rt);
-    c->inv_dv_V = 0.0f;
-    c->rt_flags = 0u;
-    c->psi_held = 0u;
-    c->pe.cfg.w_min_rad_s = c->cfg.pe.w_min_rad_s;
-    est_gate_reset(&c->gate, &c->smo);
+    est_reset(&c->est);
     oplim_reset(&c->lim);
     c->flags_last = 0u;
     pi_reset(&c->speed_pi, 0.0f);
@@ -307,16 +264,7 @@ void ctrl_reset(ctrl_t *c)
     c->mon.te_est_Nm = 0.0f;
     c->mon.psi_ref_Wb = 0.0f;
     c->mon.psi_est_Wb = 0.0f;
-    c->mon.R_est_Ohm = c->db.par.R_Ohm;
-    c->mon.L_est_H = c->db.par.L_H;
-    c->mon.psi_f_est_Wb = c->db.par.psi_f_Wb;
-    c->mon.fd_est_V = 0.0f;
-    c->mon.fq_est_V = 0.0f;
-    c->mon.ident = CTRL_IDENT_OFF;
-    c->mon.est_hold = 0u;
     c->mon.model_from_observer = 0u;
-    c->mon.inv_err_V = 0.0f;
-    c->mon.psi_f_model_Wb = c->db.par.psi_f_Wb;
 }
 
 void ctrl_track(ctrl_t *c, uint32_t enc_count)
@@ -354,141 +302,45 @@ bool ctrl_rsid_begin(ctrl_t *c)
     if ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) {
         return false;
     }
-    smo_reset(&c->smo); /* nominal R, L, psi: rs_ident's dR is relative to them */
-    param_est_run(&c->pe, false);
-    rs_ident_reset(&c->ri);
-    c->rsid_win = RS_IDENT_WINDOW_NONE;
-    c->ident = CTRL_IDENT_STEP1;
-    r_track_reset(&c->rt); /* identified again after this step 1 */
-    c->inv_dv_V = 0.0f;
-    c->pe.cfg.w_min_rad_s = c->cfg.pe.w_min_rad_s;
-    c->rt_flags = 0u;
-    return true;
+    return est_rsid_begin(&c->est);
 }
 
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
 {
-    c->rsid_win = win;
-}
-
-/* R^ tracked from now on when configured. */
-static void start_tracking(ctrl_t *c)
-{
-    /* psi^ learns only where w psi_f dominates what the identification may have left */
-    const float w_min = r_track_w_psi_min(&c->rt, c->cfg.psi_f_Wb);
-    c->pe.cfg.w_min_rad_s = (w_min > c->cfg.pe.w_min_rad_s) ? w_min : c->cfg.pe.w_min_rad_s;
-    r_track_start(&c->rt, (c->cfg.track_R != CTRL_TRACK_R_OFF) ? R_TRACK_TRACK : R_TRACK_OFF);
-    if (c->cfg.track_R == CTRL_TRACK_R_AUTO) {
-        r_track_delay(&c->rt, c->cfg.rtrack.auto_delay_periods);
-    }
-}
-
-/* Step 2 starts: estimator running, R tracked when configured. */
-static void start_step2(ctrl_t *c)
-{
-    param_est_run(&c->pe, true);
-    est_gate_reset(&c->gate, &c->smo);
-    psi_band_start(&c->pb, c->smo.psi_f_Wb); /* the model's value then (design sec. 9f) */
-    c->ident = CTRL_IDENT_STEP2;
-    if (c->model_src == MODEL_OBSERVER) {
-        c->model_src = MODEL_STALE;
-    }
-    start_tracking(c);
-}
-
-/* Per-leg voltage error dv_V [V] of the dead time's shape added to the
- * compensation, bumplessly: f^ takes the fundamental -(4/pi) dv i/|i| it
- * no longer has to explain (design sec. 9). 1 square root, 1 division, once. */
-static void add_inverter_error(ctrl_t *c, float dv_V, dq_t i_dq_A)
-{
-    const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
-    float dfq = 0.0f;
-    c->inv_dv_V += dv_V;
-    if (i_abs > 0.0f) {
-        const float k = -FUNDAMENTAL_OF_SQUARE * dv_V / i_abs;
-        dfq = k * i_dq_A.q;
-        c->smo.fd_V += k * i_dq_A.d;
-        c->smo.fq_V += dfq;
-    }
-    psi_band_rebase(&c->pb, dfq); /* the fine bound from here (design sec. 9f) */
-}
-
-/* The injection's period: after step 1 the inverter error, in step 2 R^. */
-static void ctrl_r_track_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
-{
-    const float z = c->smo.fd_V - omega_el_rad_s * c->smo.L_H * i_dq_A.q; /* L^ law's invariant */
-    const r_track_event_t ev = r_track_step(&c->rt, z, i_dq_A.d, i_dq_A.q, omega_el_rad_s, c->smo.L_H);
-
-    if (ev == R_TRACK_IDENT_DONE) {
-        add_inverter_error(c, QUARTER_PI * c->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */
-        c->rt_flags = 0u;
-        start_tracking(c);
-    } else if (ev == R_TRACK_IDENT_REFUSED) {
-        c->rt_flags = CTRL_FLAG_INV_UNIDENTIFIED; /* says so, and keeps the dead time as told */
-        start_tracking(c);
-    } else if (ev == R_TRACK_CYCLE) {
-        /* rho = dR with the inverter error compensated: R^ += -k_R rho + rate, within the band */
-        if (smo_set_R(&c->smo, c->smo.R_Ohm + c->rt.dR_step_Ohm)) {
-            c->rt_flags &= (uint16_t)~CTRL_FLAG_R_HELD;
-            if (c->model_src == MODEL_OBSERVER) {
-                c->model_src = MODEL_STALE;
-            }
-        } else {
-            c->rt_flags |= CTRL_FLAG_R_HELD;
-        }
-    } else if (ev == R_TRACK_HELD) {
-        c->rt_flags |= CTRL_FLAG_R_HELD;
-    } else {
-        /* cycle under way */
-    }
+    est_rsid_window(&c->est, win);
 }
 
 rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
 {
-    return rs_ident_solve(&c->ri, out);
+    return est_rsid_check(&c->est, out);
 }
 
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 {
-    return ctrl_rsid_finish_with(c, rs_ident_solve(&c->ri, &c->rsid_out));
+    return est_rsid_finish(&c->est);
+}
+
+void ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_win_t *win2_copy)
+{
+    est_rsid_stage_begin(&c->est, s, win2_copy);
+}
+
+bool ctrl_rsid_stage_step(ctrl_t *c, rs_ident_solver_t *s)
+{
+    return est_rsid_stage_step(&c->est, s);
 }
 
 rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r_solved)
 {
-    rs_ident_result_t r = r_solved;
-
-    rs_ident_reset(&c->ri); /* a second finish without a begin finds no data */
-    c->rsid_win = RS_IDENT_WINDOW_NONE;
-    if (c->ident != CTRL_IDENT_STEP1) {
-        r = RS_IDENT_TOO_FEW; /* no step 1 under way */
-    } else if ((r == RS_IDENT_OK) && !smo_set_R(&c->smo, c->rsid_out.R_est_Ohm)) {
-        r = RS_IDENT_OUT_OF_BAND; /* same band as rs_ident's: not expected */
-    }
-    if (r == RS_IDENT_OK) {
-        start_step2(c);
-        /* first the inverter error, at R^ = R0 (design sec. 9) */
-        r_track_start(&c->rt, R_TRACK_IDENT);
-    } else {
-        c->ident = CTRL_IDENT_OFF;
-    }
-    return r;
+    return est_rsid_finish_with(&c->est, r_solved);
 }
 
 bool ctrl_est_start(ctrl_t *c, float R_Ohm)
 {
-    /* ! (in band): NaN fails too */
-    if (((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) ||
-        !((R_Ohm >= c->cfg.R_min_Ohm) && (R_Ohm <= c->cfg.R_max_Ohm))) {
+    if ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) {
         return false;
     }
-    if (c->ident == CTRL_IDENT_OFF) {
-        smo_reset(&c->smo); /* seeded with i(k) at the next step, f^ = 0 */
-    }
-    (void)smo_set_R(&c->smo, R_Ohm); /* in band: accepted */
-    rs_ident_reset(&c->ri);
-    c->rsid_win = RS_IDENT_WINDOW_NONE;
-    start_step2(c); /* no inverter-error identification: R is trusted, not measured */
-    return true;
+    return est_start_trusted(&c->est, R_Ohm);
 }
 
 void ctrl_set_i_limit(ctrl_t *c, float i_lim_A)
@@ -504,69 +356,36 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
 }
 
 /*
- * The model: parameters in use (in c->db.par) and the state at k+1 that
- * compensates the one-period delay; the one place the methods differ
- * (steps 2-4 of the header's sequence).
+ * The model stage: the parameters in use (c->db.par) and the state at
+ * k+1 that compensates the one-period delay; the one place the methods
+ * differ. The proposed method takes the estimation's model as its src
+ * says (est.h): the state from the observer's i^(k+1) (eq. 11, 12), or
+ * eq. (10) with held estimates; the told model otherwise, as the
+ * conventional method. 2 divisions in dbdtc_set_params, only when the
+ * model moved by more than CTRL_MODEL_UPDATE_REL or was re-based.
  */
-static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s, float sin_el, float cos_el,
-                                      float vdc_V)
+static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
 {
-    if (c->ident != CTRL_IDENT_OFF) {
-        /* u(k) is the clamped voltage the last step realised, as the observer needs */
-        const dq_t i_hat = smo_step(&c->smo, i_dq_A, omega_el_rad_s, c->u_applied_V); /* (51b), (55) */
-        if (c->rt.phase != R_TRACK_OFF) {
-            if ((c->lim.dpsi_Wb > 0.0f) || ((c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u)) {
-                /* tracking only: the field weakened or the voltage at its limit (last period) */
-                r_track_hold(&c->rt);
-            }
-            ctrl_r_track_step(c, i_dq_A, omega_el_rad_s); /* may end step 1 */
+    const est_out_t *e = est_output(&c->est);
+    if ((c->method == CTRL_METHOD_PROPOSED) && (e->src != EST_SRC_TOLD)) {
+        const dbdtc_par_t *p = &c->db.par;
+        if ((c->model_src != MODEL_EST) || ((e->moved & EST_MOVED_ALL) != 0u) ||
+            (((e->moved & EST_MOVED_LPSI) != 0u) &&
+             ((mathx_fabsf(e->L_H - p->L_H) > CTRL_MODEL_UPDATE_REL * p->L_H) ||
+              (mathx_fabsf(e->psi_f_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb)))) {
+            dbdtc_set_params(&c->db, e->R_Ohm, e->L_H, e->psi_f_Wb);
+            c->model_src = MODEL_EST;
+            c->mon.model_from_observer = 1u; /* the monitor's, written when it changes */
         }
-        if (c->ident == CTRL_IDENT_STEP1) {
-            /* the angle for the fit of the electrical-frequency ripple (design sec. 6e) */
-            rs_ident_step_el(&c->ri, c->rsid_win, c->smo.fd_V, c->smo.fq_V, i_dq_A.d, i_dq_A.q,
-                             omega_el_rad_s, cos_el, sin_el);
-        } else {
-            /* pause and hold while the laws' assumptions are broken (est_gate.h); the
-             * injected d current is no transient (design sec. 9) */
-            dq_t i_gate = i_dq_A;
-            i_gate.d -= c->rt.id_expect_A;
-            uint16_t moved = est_gate_step(&c->gate, &c->smo, omega_el_rad_s, i_gate, c->mon.te_ref_Nm,
-                                           (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u) ? 1u : 0u;
-            c->psi_held = CTRL_FLAG_PSI_HELD;
-            if (c->gate.reasons == 0u) {
-                moved |= param_est_step(&c->pe, &c->smo, omega_el_rad_s, i_dq_A.q);
-                /* the model's psi_f: only what the voltage it cannot explain
-                 * (the inverter error compensated, noise) cannot fake (design sec. 9f) */
-                if (psi_band_step(&c->pb, c->smo.psi_f_Wb, c->smo.fq_V, omega_el_rad_s,
-                                  FUNDAMENTAL_OF_SQUARE * c->deadtime_frac * vdc_V, FUNDAMENTAL_OF_SQUARE * c->inv_dv_V)) {
-                    moved = 1u;
-                    c->psi_held = 0u;
-                }
-            } else {
-                psi_band_pause(&c->pb);
-            }
-            if (c->method == CTRL_METHOD_PROPOSED) {
-                /* 2 divisions, only when an estimate moved by more than
-                 * CTRL_MODEL_UPDATE_REL since the model took it */
-                const dbdtc_par_t *p = &c->db.par;
-                const bool far = (mathx_fabsf(c->smo.L_H - p->L_H) > CTRL_MODEL_UPDATE_REL * p->L_H) ||
-                                 (mathx_fabsf(c->pb.psi_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb);
-                if (((moved != 0u) && far) || (c->model_src != MODEL_OBSERVER)) {
-                    dbdtc_set_params(&c->db, c->smo.R_Ohm, c->smo.L_H, c->pb.psi_Wb);
-                    c->model_src = MODEL_OBSERVER;
-                }
-                if (!est_gate_f_usable(&c->gate)) {
-                    /* f^ carries a current transient: eq. (10)-(12) with the
-                     * held estimates (design sec. 7) */
-                    return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s);
-                }
-                return dbdtc_state_from_currents(&c->db, i_hat); /* replaces eq. (10) */
-            }
+        if (e->src == EST_SRC_OBSERVER) {
+            return dbdtc_state_from_currents(&c->db, est_i_hat_A(&c->est)); /* replaces eq. (10) */
         }
+        return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s);
     }
     if (c->model_src != MODEL_NOMINAL) {
-        dbdtc_reset(&c->db); /* back from the proposed method: 2 divisions once */
+        dbdtc_reset(&c->db); /* back to the told model: 2 divisions once */
         c->model_src = MODEL_NOMINAL;
+        c->mon.model_from_observer = 0u;
     }
     return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s); /* eq. (10)-(12) */
 }
@@ -579,7 +398,8 @@ static dbdtc_state_t ctrl_model_step(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_
 static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
 {
     const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
-    const float dv_sum = c->deadtime_frac * vdc_V + c->inv_dv_V;
+    /* below the speed floor the conventional path: the told dead time only */
+    const float dv_sum = c->deadtime_frac * vdc_V + est_output(&c->est)->inv_dv_V;
     const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
     const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
     const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);
@@ -638,121 +458,173 @@ void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out)
     output_duties(c, duty, mathx_isfinitef(chk) && ((pwm_flags & SVPWM_INVALID_INPUT) == 0u), flags, out);
 }
 
-void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
-{
-    const ctrl_cfg_t *cfg = &c->cfg;
-    float s;
-    float co;
-    float sa;
-    float ca;
-    float te_ref = 0.0f;
-    float psi_ref = 0.0f;
-    uint16_t flags = 0u;
-    dq_t u;
-    dq_t u_cmd;
-    ab_t u_real;
+/* One period's working values, stage to stage. */
+typedef struct {
+    float s, co;             /* sin, cos of theta_el(k) */
+    float omega;             /* w(k) [rad/s electrical] */
+    dq_t i_dq;               /* i(k) [A] */
+    dbdtc_state_t x;         /* the model's state at k+1 */
+    float te_ref;            /* Te* [N m] (0 in open loop) */
+    float psi_ref;           /* psi_s* [Wb] (0 in open loop) */
+    dq_t u;                  /* the voltage for [k+1, k+2] [V] */
     svpwm_duty_t duty;
-    uint16_t pwm_flags;
-    float chk;
+    uint16_t flags;          /* CTRL_FLAG_* */
+} ctrl_period_t;
 
+/* Stage mode: the mode asked for, bumplessly into speed mode. */
+static void stage_mode(ctrl_t *c)
+{
     if (c->mode_req != c->mode) {
         if (c->mode_req == CTRL_MODE_SPEED) {
-            pi_reset(&c->speed_pi, c->mon.te_est_Nm); /* bumpless: start from the torque there is */
+            pi_reset(&c->speed_pi, c->mon.te_est_Nm); /* start from the torque there is */
         }
         c->mode = c->mode_req;
     }
+}
 
-    /* angle and speed (this period's ctrl_track), current in the rotor frame */
+/* Stage sample: angle and speed (this period's ctrl_track), i(k) in the rotor frame. */
+static void stage_sample(ctrl_t *c, const ctrl_in_t *in, ctrl_period_t *p)
+{
     if (!c->tracked) {
         encoder_step(&c->enc, in->enc_count);
     }
     c->tracked = false;
-    const float theta = c->enc.theta_e_rad;
-    const float omega = c->enc.omega_e_rad_s;
-    mathx_sincosf(theta, &s, &co);
-    const dq_t i_dq = park(clarke_2ph(in->ia_A, in->ib_A), s, co);
+    p->omega = c->enc.omega_e_rad_s;
+    mathx_sincosf(c->enc.theta_e_rad, &p->s, &p->co);
+    p->i_dq = park(clarke_2ph(in->ia_A, in->ib_A), p->s, p->co);
+}
 
-    /* delay compensation and the parameters in use */
-    const dbdtc_state_t x = ctrl_model_step(c, i_dq, omega, s, co, in->vdc_V);
-    const dbdtc_par_t *par = &c->db.par;
+/* Stage estimate: the estimation's period (est.h) on i(k), w(k) and the
+ * voltage u(k) the last period realised. */
+static void stage_estimate(ctrl_t *c, const ctrl_period_t *p, float vdc_V)
+{
+    est_in_t *e = &c->est_in; /* in ctrl_t, not on the ISR's stack */
+    e->i_dq_A = p->i_dq;
+    e->omega_el_rad_s = p->omega;
+    e->sin_el = p->s;
+    e->cos_el = p->co;
+    e->u_V = c->u_applied_V;
+    e->vdc_V = vdc_V;
+    e->te_ref_Nm = c->mon.te_ref_Nm;
+    e->voltage_limited = (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u;
+    e->dpsi_weak_Wb = c->lim.dpsi_Wb;
+    est_step(&c->est, e);
+}
 
-    if (c->mode == CTRL_MODE_OPEN_LOOP) {
-        u.d = mathx_clampf(c->ref.ud_ref_V, -cfg->u_max_V, cfg->u_max_V);
-        u.q = mathx_clampf(c->ref.uq_ref_V, -cfg->u_max_V, cfg->u_max_V);
+/* Stage references: Te* from the speed PI (speed mode) or the reference (torque mode). */
+static void stage_references(ctrl_t *c, ctrl_period_t *p)
+{
+    p->te_ref = 0.0f;
+    if (c->mode == CTRL_MODE_SPEED) {
+        p->te_ref = pi_step(&c->speed_pi, c->ref.speed_ref_rad_s - c->enc.omega_m_rad_s);
+    } else if (c->mode == CTRL_MODE_TORQUE) {
+        p->te_ref = mathx_clampf(c->ref.te_ref_Nm, -c->cfg.te_max_Nm, c->cfg.te_max_Nm);
     } else {
-        if (c->mode == CTRL_MODE_SPEED) {
-            te_ref = pi_step(&c->speed_pi, c->ref.speed_ref_rad_s - c->enc.omega_m_rad_s);
-        } else {
-            te_ref = mathx_clampf(c->ref.te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
-        }
-        /* current limit, MTPA (sec. III), flux weakening (oplim.h) */
-        const oplim_out_t tgt = oplim_targets(&c->lim, par, c->i_lim_A, te_ref);
-        te_ref = tgt.te_Nm;
-        psi_ref = tgt.psi_Wb;
-        psi_ref = r_track_psi_ref(&c->rt, psi_ref, par->L_H); /* + L id* (design sec. 9) */
-        flags |= map_dbdtc_flags(dbdtc_solve(&c->db, &x, te_ref, psi_ref, omega, &u)); /* eq. (17) */
-        oplim_fw_update(&c->lim, u, c->u_lim_per_vdc * in->vdc_V);
+        /* open loop: no torque reference */
     }
+}
 
-    /* applied over [k+1, k+2]: rotor angle of its middle */
-    rotate_sincos(s, co, ANGLE_ADVANCE_PERIODS * omega * cfg->Ts_s, &sa, &ca);
-    flags |= map_dbdtc_flags(dbdtc_limit(&u, sa, ca, in->vdc_V));
-    const dq_t u_dt = deadtime_error(c, i_dq, sa, ca, in->vdc_V);
-    u_cmd.d = u.d - u_dt.d; /* fed forward: the inverter adds u_dt back */
-    u_cmd.q = u.q - u_dt.q;
-    pwm_flags = svpwm_duty(park_inv(u_cmd, sa, ca), in->vdc_V, &duty, &u_real);
-    if ((pwm_flags & SVPWM_SATURATED) != 0u) {
-        flags |= CTRL_FLAG_VOLTAGE_LIMIT;
+/* Stage limits: current limit, MTPA (sec. III), flux weakening (oplim.h)
+ * -> Te*, psi_s*; the injection's L id* on psi_s* (design sec. 9). */
+static void stage_limits(ctrl_t *c, ctrl_period_t *p)
+{
+    p->psi_ref = 0.0f;
+    if (c->mode != CTRL_MODE_OPEN_LOOP) {
+        const oplim_out_t tgt = oplim_targets(&c->lim, &c->db.par, c->i_lim_A, p->te_ref);
+        p->te_ref = tgt.te_Nm;
+        p->psi_ref = est_psi_ref(&c->est, tgt.psi_Wb, c->db.par.L_H);
     }
-    /* what the inverter will realise is what the next prediction and the
-     * observer use (a dead-time error left in it would end up in f^, then
-     * in psi_f^: 1 us at 311 V put +10 % into psi_f^ in the SIL) */
+}
+
+/* Stage deadbeat: eq. (17) -> u(k+1), the field weakening's voltage
+ * check; open loop: u from the reference. */
+static void stage_deadbeat(ctrl_t *c, ctrl_period_t *p, float vdc_V)
+{
+    p->flags = 0u;
+    if (c->mode == CTRL_MODE_OPEN_LOOP) {
+        p->u.d = mathx_clampf(c->ref.ud_ref_V, -c->cfg.u_max_V, c->cfg.u_max_V);
+        p->u.q = mathx_clampf(c->ref.uq_ref_V, -c->cfg.u_max_V, c->cfg.u_max_V);
+    } else {
+        p->flags = map_dbdtc_flags(dbdtc_solve(&c->db, &p->x, p->te_ref, p->psi_ref, p->omega, &p->u));
+        oplim_fw_update(&c->lim, p->u, c->u_lim_per_vdc * vdc_V);
+    }
+}
+
+/* Stage modulate: at the angle of the middle of [k+1, k+2], the
+ * torque-first hexagon limit, the dead time's error fed forward, SVPWM;
+ * what the inverter will realise is u(k) for the next period's
+ * prediction and estimation (a dead-time error left in it would end up
+ * in f^, then in psi_f^: 1 us at 311 V put +10 % into psi_f^ in the SIL);
+ * the speed PI's anti-windup on the torque it achieves. */
+static void stage_modulate(ctrl_t *c, ctrl_period_t *p, float vdc_V)
+{
+    float sa;
+    float ca;
+    ab_t u_real;
+    dq_t u_cmd;
+
+    rotate_sincos(p->s, p->co, ANGLE_ADVANCE_PERIODS * p->omega * c->cfg.Ts_s, &sa, &ca);
+    p->flags |= map_dbdtc_flags(dbdtc_limit(&p->u, sa, ca, vdc_V));
+    const dq_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V);
+    u_cmd.d = p->u.d - u_dt.d; /* fed forward: the inverter adds u_dt back */
+    u_cmd.q = p->u.q - u_dt.q;
+    if ((svpwm_duty(park_inv(u_cmd, sa, ca), vdc_V, &p->duty, &u_real) & SVPWM_SATURATED) != 0u) {
+        p->flags |= CTRL_FLAG_VOLTAGE_LIMIT;
+    }
     c->u_applied_V = park(u_real, sa, ca);
     c->u_applied_V.d += u_dt.d;
     c->u_applied_V.q += u_dt.q;
-
     if (c->mode == CTRL_MODE_SPEED) {
-        /* anti-windup on the torque the applied voltage achieves */
-        pi_apply(&c->speed_pi, dbdtc_torque_after(&c->db, &x, c->u_applied_V.q, omega));
+        pi_apply(&c->speed_pi, dbdtc_torque_after(&c->db, &p->x, c->u_applied_V.q, p->omega));
     }
+}
 
-    c->mon.theta_el_rad = theta;
-    c->mon.omega_el_rad_s = omega;
+/* Stage monitor: what the period saw and decided. */
+static void stage_monitor(ctrl_t *c, const ctrl_period_t *p)
+{
+    c->mon.theta_el_rad = c->enc.theta_e_rad;
+    c->mon.omega_el_rad_s = p->omega;
     c->mon.speed_mech_rad_s = c->enc.omega_m_rad_s;
-    c->mon.id_A = i_dq.d;
-    c->mon.iq_A = i_dq.q;
+    c->mon.id_A = p->i_dq.d;
+    c->mon.iq_A = p->i_dq.q;
     c->mon.ud_V = c->u_applied_V.d;
     c->mon.uq_V = c->u_applied_V.q;
-    c->mon.te_ref_Nm = te_ref;
-    c->mon.te_est_Nm = x.te_Nm;
-    c->mon.psi_ref_Wb = psi_ref;
-    c->mon.psi_est_Wb = mathx_sqrtf(x.psi_dq_Wb.d * x.psi_dq_Wb.d + x.psi_dq_Wb.q * x.psi_dq_Wb.q);
-    if (c->ident != CTRL_IDENT_OFF) { /* the observer's estimates, used or not */
-        c->mon.R_est_Ohm = c->smo.R_Ohm;
-        c->mon.L_est_H = c->smo.L_H;
-        c->mon.psi_f_est_Wb = c->smo.psi_f_Wb;
-        c->mon.fd_est_V = c->smo.fd_V;
-        c->mon.fq_est_V = c->smo.fq_V;
-    } else {
-        c->mon.R_est_Ohm = par->R_Ohm;
-        c->mon.L_est_H = par->L_H;
-        c->mon.psi_f_est_Wb = par->psi_f_Wb;
-        c->mon.fd_est_V = 0.0f;
-        c->mon.fq_est_V = 0.0f;
-    }
-    c->mon.ident = c->ident;
-    c->mon.est_hold = c->gate.reasons;
-    c->mon.model_from_observer = (c->model_src == MODEL_OBSERVER) ? 1u : 0u;
-    c->mon.inv_err_V = FUNDAMENTAL_OF_SQUARE * c->inv_dv_V;
-    c->mon.psi_f_model_Wb = par->psi_f_Wb;
+    c->mon.te_ref_Nm = p->te_ref;
+    c->mon.te_est_Nm = p->x.te_Nm;
+    c->mon.psi_ref_Wb = p->psi_ref;
+    c->mon.psi_est_Wb = mathx_sqrtf(p->x.psi_dq_Wb.d * p->x.psi_dq_Wb.d + p->x.psi_dq_Wb.q * p->x.psi_dq_Wb.q);
+}
 
-    /* One finiteness check per ISR: NaN and Inf survive a sum. The inputs
-     * are in it because the blocks clamp (a NaN would become a bound); the
-     * observer state because it carries over to the next periods. */
-    chk = in->ia_A + in->ib_A + in->vdc_V + c->ref.speed_ref_rad_s + c->ref.te_ref_Nm +
-          c->ref.ud_ref_V + c->ref.uq_ref_V + omega + x.te_Nm + u.d + u.q + duty.a + duty.b +
-          duty.c + c->u_applied_V.d + c->u_applied_V.q + c->smo.fd_V + c->smo.fq_V +
-          c->smo.i_hat_A.d + c->smo.i_hat_A.q + c->smo.L_H + c->smo.psi_f_Wb;
-    c->flags_last = flags; /* before any NONFINITE: the gate's voltage check */
-    output_duties(c, duty, mathx_isfinitef(chk), flags | c->rt_flags | ((c->ident == CTRL_IDENT_STEP2) ? c->psi_held : 0u), out);
+/* Stage output: one finiteness check per ISR (NaN and Inf survive a sum;
+ * the inputs are in it because the blocks clamp, a NaN would become a
+ * bound; the estimation's state because it carries over), the duties and
+ * flags. */
+static void stage_output(ctrl_t *c, const ctrl_period_t *p, const ctrl_in_t *in, ctrl_out_t *out)
+{
+    const est_out_t *e = est_output(&c->est);
+    const dq_t f = est_f_V(&c->est);
+    const dq_t i_hat = est_i_hat_A(&c->est);
+    const float chk = in->ia_A + in->ib_A + in->vdc_V + c->ref.speed_ref_rad_s + c->ref.te_ref_Nm +
+                      c->ref.ud_ref_V + c->ref.uq_ref_V + p->omega + p->x.te_Nm + p->u.d + p->u.q +
+                      p->duty.a + p->duty.b + p->duty.c + c->u_applied_V.d + c->u_applied_V.q + f.d + f.q +
+                      i_hat.d + i_hat.q + e->L_H + est_psi_f_obs_Wb(&c->est);
+    c->flags_last = p->flags; /* before any NONFINITE: the estimation's voltage check */
+    output_duties(c, p->duty, mathx_isfinitef(chk), (uint16_t)(p->flags | e->flags), out);
+}
+
+/* The ISR's order: each stage one call. */
+void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+{
+    ctrl_period_t p;
+
+    stage_mode(c);                             /* the mode asked for */
+    stage_sample(c, in, &p);                   /* angle, speed, i(k) */
+    stage_estimate(c, &p, in->vdc_V);          /* observer, steps 1 and 2 (est.h) */
+    p.x = ctrl_model(c, p.i_dq, p.omega);      /* the model in use and the state at k+1 */
+    stage_references(c, &p);                   /* Te*: speed PI or torque reference */
+    stage_limits(c, &p);                       /* current limit, MTPA, flux weakening: Te*, psi_s* */
+    stage_deadbeat(c, &p, in->vdc_V);          /* eq. (17): u(k+1) */
+    stage_modulate(c, &p, in->vdc_V);          /* hexagon, dead time, SVPWM, u realised */
+    stage_monitor(c, &p);                      /* monitor */
+    stage_output(c, &p, in, out);              /* finiteness, duties, flags */
 }

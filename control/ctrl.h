@@ -1,47 +1,22 @@
 /*
  * ctrl.h - the drive controller: one ctrl_step() per 10 kHz PWM period.
  *
- *   encoder -> theta_el, omega_el
- *   Clarke/Park of the sampled currents (one sincos at theta_el)
- *   model: parameters in use and the predicted state at k+1 (delay
- *          compensation), from one place: ctrl_model_step(); conventional
- *          method = nominal parameters and eq. (10)-(12)
- *   speed PI -> Te* (speed mode; |Te*| <= te_max_Nm, anti-windup fed by
- *          the torque the applied voltage achieves) | Te* from the
- *          reference (torque mode)
- *   current limit, MTPA -> psi_s*, flux weakening (oplim.h); DB-DTC (eq. 17) -> u_dq(k+1)
- *   (open-loop mode: u_dq(k+1) from the reference)
- *   torque-first hexagon limit, inverse Park and SVPWM at the angle of the
- *   middle of the period the voltage is applied in: theta + 1.5*omega*Ts,
- *   with the dead time's voltage error (cfg.deadtime_s) fed forward
- *   the realised voltage is kept for the next step's prediction.
+ * The ISR's order is ctrl_step()'s body (ctrl.c): its named stages -
+ * mode, sample, estimate, references, limits, deadbeat, modulate,
+ * realised voltage, monitor - each one call. The estimation of the
+ * proposed method (observer, step 1, step 2, inverter error, speed floor)
+ * has one owner, est.h; ctrl_step takes its output model and status.
  *
- * Proposed method (paper sec. V; observer_design.md sec. 2), per period:
- *   1. encoder + Park -> i(k), w(k)
- *   2. when the observer runs: i^(k+1) = smo_step(i(k), w(k), u(k)), u(k)
- *      the clamped voltage realised over [k, k+1] (kept by the last step)
- *   3. step 1 (ctrl_rsid_begin .. ctrl_rsid_finish): conventional control
- *      with the nominal parameters whatever the method; the observer's
- *      fd^, fq^ and i(k), w(k) go into the window the caller selected
- *   4. step 2 (after ctrl_rsid_finish OK or ctrl_est_start): est_gate
- *      pauses/holds, param_est on the observer state; with
- *      CTRL_METHOD_PROPOSED the model takes the estimates R^, L^, psi^ and
- *      x(k+1) from i^(k+1) (eq. 11, 12) instead of eq. (10); for 30 ms
- *      after a current transient eq. (10) with the held estimates (design
- *      sec. 7); targets (oplim), eq. (17), limit, SVPWM as above
- *   5. monitor: fd^, fq^ and R^, L^, psi^ while the observer runs
- * Inverter error and warming winding (observer_design.md sec. 9, r_track.h):
- *   0.1 s into step 2, a 1 A square-wave i_d (no torque) for 0.12 s gives
- *   the inverter voltage error the dead-time compensation left; it is fed
- *   forward from then on, so psi^ does not learn it as flux. With
- *   cfg.track_R a 0.5 A injection then keeps R^ on the winding's R.
- * Method switching policy (bumpless both ways): once step 2 has started,
- * observer and estimator keep running whatever the method, so
+ * Methods: the conventional method uses the told model and eq. (10)-(12);
+ * the proposed method the estimation's model (paper sec. V; design:
+ * observer_design.md), which is the told one until step 2 runs and below
+ * the speed floor. Method switching (bumpless both ways): once step 2 has
+ * started, the estimation keeps running whatever the method, so
  * CONVENTIONAL -> PROPOSED takes a converged observer and PROPOSED ->
- * CONVENTIONAL only swaps the model back to the nominal parameters and
- * eq. (10). PROPOSED before step 2 has started (no R^ identified or
- * trusted) controls exactly as CONVENTIONAL: the observer's psi^ would
- * otherwise absorb the resistance error (design sec. 4, "skipping step 1").
+ * CONVENTIONAL only swaps the model back to the told parameters and eq.
+ * (10). PROPOSED before step 2 has started (no R^ identified or trusted)
+ * controls exactly as CONVENTIONAL: the observer's psi^ would otherwise
+ * absorb the resistance error (design sec. 4, "skipping step 1").
  *
  * Non-finite inputs or results give 50 % duties and CTRL_FLAG_NONFINITE.
  */
@@ -54,14 +29,9 @@
 #include "clarke_park.h"
 #include "dbdtc.h"
 #include "encoder.h"
-#include "est_gate.h"
+#include "est.h"
 #include "oplim.h"
-#include "param_est.h"
 #include "pi.h"
-#include "psi_band.h"
-#include "r_track.h"
-#include "rs_ident.h"
-#include "smo.h"
 
 typedef enum { CTRL_MODE_OPEN_LOOP = 0, CTRL_MODE_TORQUE = 1, CTRL_MODE_SPEED = 2 } ctrl_mode_t;
 typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_method_t;
@@ -71,9 +41,27 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_FLUX_UNREACHABLE 0x0002u /* negative discriminant: flux target not reachable in one period */
 #define CTRL_FLAG_NONFINITE        0x0004u /* a non-finite value appeared; duties are 0.5 and the app must fault */
 /* Inverter error and R tracking (observer_design.md sec. 9); high bits, set while it lasts: */
-#define CTRL_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
-#define CTRL_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
-#define CTRL_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f holds (within what the voltage it cannot explain allows; design sec. 9f) */
+#define CTRL_FLAG_INV_UNIDENTIFIED EST_FLAG_INV_UNIDENTIFIED /* 0x0100: the inverter error could not be identified: not compensated */
+#define CTRL_FLAG_R_HELD           EST_FLAG_R_HELD /* 0x0200: track_R: the last cycle was held (no current, transient, band) */
+#define CTRL_FLAG_PSI_HELD         EST_FLAG_PSI_HELD /* 0x0400: step 2: the model's psi_f holds (design sec. 9f) */
+#define CTRL_FLAG_ANGLE_SUSPECT    EST_FLAG_ANGLE_SUSPECT /* 0x0800: step 1 suggests an encoder angle error: L^ held */
+
+/* Why the estimates are held: ctrl_mon_t.est_hold, the CSV's est_hold (0:
+ * step 2 learning; psi_f^ is then a magnet-temperature indicator). While
+ * any bit is set, the estimate columns show the values the model holds.
+ * The first five are est_gate.h's (step 2 paused, estimates from before
+ * the transient). */
+#define CTRL_EST_HOLD_ACCEL       EST_HOLD_ACCEL       /* 0x0001 speed changing faster than its estimate follows */
+#define CTRL_EST_HOLD_CURRENT     EST_HOLD_CURRENT     /* 0x0002 current transient */
+#define CTRL_EST_HOLD_TORQUE      EST_HOLD_TORQUE      /* 0x0004 torque-command transient */
+#define CTRL_EST_HOLD_VOLTAGE     EST_HOLD_VOLTAGE     /* 0x0008 voltage limit: the applied voltage is not the model's */
+#define CTRL_EST_HOLD_SETTLE      EST_HOLD_SETTLE      /* 0x0010 one of those cleared, the hold time running */
+#define CTRL_EST_HOLD_SPEED_FLOOR EST_HOLD_SPEED_FLOOR /* 0x0020 below the speed where w psi_f dominates the voltage
+                                                        * the drive cannot explain (psi_band.h): the last trusted
+                                                        * or the told model, the conventional torque path */
+#define CTRL_EST_HOLD_NO_STEP2    EST_HOLD_NO_STEP2    /* 0x0040 step 2 not running (observer off, step 1, step 1
+                                                        * refused): the told values */
+#define CTRL_EST_HOLD_ANGLE       EST_HOLD_ANGLE       /* 0x0080 L^ held: step 1 suggests an angle error */
 
 /* ctrl_cfg_t.track_R: off; on from step 2's start; auto from
  * rtrack.auto_delay_periods after it (step 1's R^ holds that long: a
@@ -122,15 +110,15 @@ typedef struct {
  * must not run: the app refuses a start that needs one (CONFIG fault). */
 typedef uint16_t ctrl_status_t;
 #define CTRL_CFG_OK         ((ctrl_status_t)0x0000u)
-#define CTRL_CFG_OBSERVER   ((ctrl_status_t)0x0001u) /* smo_init refused: see ctrl_t.smo.status (stability, (36)) */
-#define CTRL_CFG_ESTIMATOR  ((ctrl_status_t)0x0002u) /* param_est_init refused */
-#define CTRL_CFG_RSID       ((ctrl_status_t)0x0004u) /* rs_ident_init refused */
+#define CTRL_CFG_OBSERVER   EST_CFG_OBSERVER         /* 0x0001 smo_init refused (stability, (36)) */
+#define CTRL_CFG_ESTIMATOR  EST_CFG_ESTIMATOR        /* 0x0002 param_est_init or psi_band_init refused */
+#define CTRL_CFG_RSID       EST_CFG_RSID             /* 0x0004 rs_ident_init refused */
 #define CTRL_CFG_ENCODER    ((ctrl_status_t)0x0008u) /* encoder_init refused (e.g. PLL bandwidth x Ts above its bound) */
 #define CTRL_CFG_SPEED_PI   ((ctrl_status_t)0x0010u) /* pi_init refused the speed PI's gains or limits */
 #define CTRL_CFG_DBDTC      ((ctrl_status_t)0x0020u) /* dbdtc_init refused the model's parameters or bounds */
 #define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts */
-#define CTRL_CFG_GATE       ((ctrl_status_t)0x0080u) /* est_gate_init refused (step 2's pause and hold) */
-#define CTRL_CFG_RTRACK     ((ctrl_status_t)0x0100u) /* r_track_init refused (d-current injection, design sec. 9) */
+#define CTRL_CFG_GATE       EST_CFG_GATE             /* 0x0080 est_gate_init refused (step 2's pause and hold) */
+#define CTRL_CFG_RTRACK     EST_CFG_RTRACK           /* 0x0100 r_track_init refused (d-current injection, design sec. 9) */
 /* Needed by every method (encoder, speed loop, model, output path)... */
 #define CTRL_CFG_NEEDED_ALWAYS   ((ctrl_status_t)(CTRL_CFG_ENCODER | CTRL_CFG_SPEED_PI | CTRL_CFG_DBDTC | CTRL_CFG_DEADTIME))
 /* ...and by the proposed method's steps 1 and 2. */
@@ -160,14 +148,8 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
     float ud_V, uq_V;                     /* rotor-frame voltage commanded for the next period, after the hexagon clamp */
     float te_ref_Nm, te_est_Nm;           /* torque reference and the controller's torque estimate (at k+1) */
     float psi_ref_Wb, psi_est_Wb;         /* stator-flux reference and estimate (at k+1) */
-    float R_est_Ohm, L_est_H, psi_f_est_Wb;   /* observer estimates while it runs, else the nominal parameters */
-    float fd_est_V, fq_est_V;             /* observer disturbances [V] (0 while the observer is stopped) */
-    ctrl_ident_t ident;                     /* step of the proposed method */
-    uint16_t est_hold;                    /* EST_GATE_* why step 2's laws are paused (0: learning) */
-    uint16_t model_from_observer;         /* 1: this step's model was the observer's (proposed, step 2) */
-    float inv_err_V;                      /* inverter voltage error identified after step 1 (dq magnitude, design sec. 9) */
-    float psi_f_model_Wb;                 /* the psi_f the deadbeat model uses [Wb] (design sec. 9f) */
-} ctrl_mon_t;
+    uint16_t model_from_observer;         /* 1: this step's model was the estimation's (proposed, step 2) */
+} ctrl_mon_t;                           /* the estimation's model and status: ctrl_est() */
 
 typedef struct {
     ctrl_cfg_t cfg;
@@ -184,20 +166,10 @@ typedef struct {
     float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */
     oplim_t lim;                /* current limit and flux weakening (oplim.h) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */
-    ctrl_ident_t ident;         /* step of the proposed method */
-    smo_t smo;                  /* observer: R^, L^, psi^, f^, i^ */
-    param_est_t pe;             /* step 2 */
-    rs_ident_t ri;              /* step 1 windows */
-    rs_ident_window_t rsid_win; /* window the coming periods go into */
-    rs_ident_out_t rsid_out;    /* last step-1 result (R^, window means): ctrl_rsid_finish's, or a staged check's */
-    r_track_t rt;               /* d-axis injection (inverter error, R tracking) */
-    float inv_dv_V;             /* per-leg voltage error identified on top of the dead time's [V] */
-    uint16_t rt_flags;          /* CTRL_FLAG_INV_UNIDENTIFIED, CTRL_FLAG_R_HELD while they last */
-    uint16_t psi_held;          /* CTRL_FLAG_PSI_HELD when the model's psi_f did not move in the last step-2 period */
-    psi_band_t pb;              /* the model's psi_f: the observer's through a dead band (design sec. 9f) */
-    est_gate_t gate;            /* pause and hold of step 2 */
-    uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the gate's voltage check) */
-    uint16_t model_src;         /* what db.par holds: nominal, the observer's, or stale (ctrl.c MODEL_*) */
+    est_t est;                  /* the proposed method's estimation (est.h): only through its calls */
+    est_in_t est_in;            /* the estimation's inputs of this period (ctrl.c stage_estimate) */
+    uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the estimation's voltage check) */
+    uint16_t model_src;         /* what db.par holds: the told model or the estimation's (ctrl.c MODEL_*) */
     bool tracked;               /* ctrl_track ran this period: ctrl_step leaves the encoder alone */
     ctrl_mon_t mon;
 } ctrl_t;
@@ -293,10 +265,16 @@ rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
  * observer and returns the reason. ISR once (about 20 divisions) or background. */
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
 
-/* Step 1 ends on a solve the caller made into c->rsid_out (of c->ri's
- * windows, window 2 perhaps a copy: rs_ident_solve_begin/_step): r as
- * ctrl_rsid_finish's solve would give it; the rest as ctrl_rsid_finish.
- * No division. ISR once. */
+/* A staged check of step 1's windows so far (est.h
+ * est_rsid_stage_begin/_step): window 2 copied into *win2_copy, *s the
+ * caller's solver; one stage per call of ctrl_rsid_stage_step, true when
+ * s->result and ctrl_rsid_out() are final (the d-axis and angle checks
+ * included). ISR (a bounded stage each). */
+void ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_win_t *win2_copy);
+bool ctrl_rsid_stage_step(ctrl_t *c, rs_ident_solver_t *s);
+
+/* Step 1 ends on a staged solve's result r (in ctrl_rsid_out()); the rest
+ * as ctrl_rsid_finish. No division. ISR once. */
 rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r);
 
 /* Step 2 without step 1, for an R the caller trusts (a recent
@@ -384,13 +362,26 @@ static inline const ctrl_ref_t *ctrl_ref(const ctrl_t *c)
  * standard errors. */
 static inline const rs_ident_out_t *ctrl_rsid_out(const ctrl_t *c)
 {
-    return &c->rsid_out;
+    return est_rsid_out(&c->est);
 }
 
-/* The step-1 settings ctrl_init gave rs_ident (R band, limits). */
+/* The step-1 settings ctrl_init gave rs_ident (R band, limits, batch). */
 static inline const rs_ident_cfg_t *ctrl_rsid_cfg(const ctrl_t *c)
 {
-    return &c->ri.cfg;
+    return est_rsid_cfg(&c->est);
+}
+
+/* The estimation (est.h readers: est_output() - the model, its status
+ * and phase - est_psi_f_obs_Wb(), est_f_V()). */
+static inline const est_t *ctrl_est(const ctrl_t *c)
+{
+    return &c->est;
+}
+
+/* Where the proposed method's steps stand now. */
+static inline ctrl_ident_t ctrl_ident(const ctrl_t *c)
+{
+    return (ctrl_ident_t)est_output(&c->est)->phase;
 }
 
 #endif /* CTRL_H */

@@ -49,7 +49,6 @@ bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *sm
     pe->valid = cfg_valid(cfg, smo);
     /* per update, every PARAM_EST_LAW_PERIODS periods */
     const float Tu_s = PARAM_EST_LAW_PERIODS * cfg->Ts_s;
-    pe->gamma_L_Tu = pe->valid ? cfg->gamma_L_1_s * Tu_s : 0.0f;
     pe->kpsi = pe->valid ? cfg->gamma_psi_1_s * Tu_s : 0.0f;
     pe->dL_max_H = pe->valid ? cfg->L_rate_max_H_s * Tu_s : 0.0f;
     pe->dpsi_max_Wb = pe->valid ? cfg->psi_rate_max_Wb_s * Tu_s : 0.0f;
@@ -62,6 +61,13 @@ void param_est_reset(param_est_t *pe)
     pe->running = false;
     pe->phase_psi = true; /* the first update is L^'s */
     pe->flags_last = 0u;
+    param_est_hold_L(pe, false);
+}
+
+void param_est_hold_L(param_est_t *pe, bool hold)
+{
+    /* the L law's gain: zero holds L^ without a test in the ISR's path */
+    pe->gamma_L_Tu = (pe->valid && !hold) ? pe->cfg.gamma_L_1_s * (PARAM_EST_LAW_PERIODS * pe->cfg.Ts_s) : 0.0f;
 }
 
 void param_est_run(param_est_t *pe, bool run)
@@ -69,7 +75,7 @@ void param_est_run(param_est_t *pe, bool run)
     pe->running = run && pe->valid;
 }
 
-uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A)
+uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A, float w_min_rad_s)
 {
     const param_est_cfg_t *c = &pe->cfg;
     uint16_t flags = 0u;
@@ -102,7 +108,7 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
     }
     /* Replaces (43)-(50): fq = -dpsi w at equilibrium (design 1e); psi^
      * takes fq^ at the speed-independent rate gamma_psi. */
-    if (pe->phase_psi && (mathx_fabsf(w) > c->w_min_rad_s)) {
+    if (pe->phase_psi && (mathx_fabsf(w) > w_min_rad_s)) {
         const float delta_V = pe->kpsi * smo->fq_V;
         const float psi_tgt = smo->psi_f_Wb + mathx_clampf(delta_V / w, -pe->dpsi_max_Wb, pe->dpsi_max_Wb);
         const float psi_new = mathx_clampf(psi_tgt, c->psi_min_Wb, c->psi_max_Wb);

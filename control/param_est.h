@@ -53,7 +53,7 @@ typedef struct {
     float gamma_L_1_s;        /* slow rate of L^ [1/s] */
     float gamma_psi_1_s;      /* slow rate of psi^ [1/s] */
     float wiq_min_A_rad_s;    /* freeze L^ when |w iq| <= this [A rad/s] */
-    float w_min_rad_s;        /* freeze psi^ when |w| <= this [rad/s electrical] */
+    float w_min_rad_s;        /* freeze psi^ when |w| <= this [rad/s electrical] (the default speed floor) */
     float L_min_H;            /* clamps */
     float L_max_H;
     float psi_min_Wb;
@@ -66,7 +66,7 @@ typedef struct {
     param_est_cfg_t cfg;
     bool valid;
     bool running;             /* run/freeze switch; false after init and reset */
-    float gamma_L_Tu;         /* gamma_L Tu, per law step [1], Tu = PARAM_EST_LAW_PERIODS Ts */
+    float gamma_L_Tu;         /* gamma_L Tu, per law step [1], Tu = PARAM_EST_LAW_PERIODS Ts (0: L^ held) */
     float kpsi;               /* gamma_psi Tu [1] */
     float dL_max_H;           /* L_rate_max Tu: largest step of L^ per update [H] */
     float dpsi_max_Wb;        /* psi_rate_max Tu [Wb] */
@@ -89,9 +89,15 @@ void param_est_reset(param_est_t *pe);
 /* Run/freeze switch: run = true starts step 2 (after smo_set_R()). Background or ISR. */
 void param_est_run(param_est_t *pe, bool run);
 
+/* L^ held (hold = true) while psi^ goes on: an angle error would be
+ * learned as L (est.h). Cleared by param_est_reset. Background or ISR. */
+void param_est_hold_L(param_est_t *pe, bool hold);
+
 /* One period, after smo_step() of the same period: the transfer laws on
- * *smo with the measured iq_A(k) [A] and omega_el_rad_s(k) [rad/s].
- * Returns PARAM_EST_* bits. ISR (2 guarded divisions + 1 in smo_set_L). */
-uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A);
+ * *smo with the measured iq_A(k) [A] and omega_el_rad_s(k) [rad/s]; psi^
+ * freezes at |w| <= w_min_rad_s (the caller's speed floor, at least
+ * cfg.w_min_rad_s). Returns PARAM_EST_* bits. ISR (2 guarded divisions
+ * + 1 in smo_set_L). */
+uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A, float w_min_rad_s);
 
 #endif /* PARAM_EST_H */

@@ -25,6 +25,13 @@
  * identified on top) takes the coarse frac until the inverter error is
  * identified, the fine one after (psi_band_rebase).
  *
+ * Speed floor: where Vb/|w| exceeds unexplained_max x |P| (the estimate),
+ * or |w| <= w_min, the voltage the drive cannot explain may fake more of
+ * psi_f than the model may carry: `low` says so, decided at every decision
+ * once the bound is final (psi_band_rebase, psi_band_bound_final;
+ * hysteresis PSI_BAND_LOW_HYST), and at once when |w| <= w_min. The caller then keeps the told model and the
+ * conventional torque path (observer_design.md, "speed floor").
+ *
  * Calling context: ISR (psi_band_step, psi_band_rebase, psi_band_start),
  * background (psi_band_init).
  */
@@ -43,6 +50,11 @@
 #define PSI_BAND_SETTLE_DEFAULT_S      0.02f /* P settled: moved by less than ... */
 #define PSI_BAND_SETTLE_FRAC_DEFAULT   0.05f /* ... this x Vb/|w| in that time: within 0.08 Vb/|w| of its end */
 #define PSI_BAND_DECIDE_PERIODS        10u   /* learning periods per decision (1 division) */
+#define PSI_BAND_UNEXPLAINED_MAX_DEFAULT 0.05f /* Vb/|w| above this x psi_f: below the speed floor */
+#define PSI_BAND_LOW_HYST              1.2f  /* leave the floor at 1/1.2 of that: no chatter at the floor */
+#define PSI_BAND_LOW_W    0x0001u /* |w| <= w_min (set at once; cleared at the next decision or pause above) */
+#define PSI_BAND_LOW_BAND 0x0002u /* Vb/|w| > unexplained_max |P| (every decision, once the bound is final) */
+#define PSI_BAND_LOW_HELD 0x0004u /* the caller holds the model at every speed (psi_band_hold) */
 
 typedef struct {
     float Ts_s;            /* control period [s] */
@@ -56,6 +68,7 @@ typedef struct {
     float unc_abs_V;       /* Vb's absolute part [V] */
     float settle_s;        /* P settled: moved by less than settle_frac Vb/|w| in this time [s] */
     float settle_frac;     /* [1] */
+    float unexplained_max; /* speed floor: Vb/|w| above this x |P| [1] */
 } psi_band_cfg_t;
 
 typedef struct {
@@ -65,6 +78,9 @@ typedef struct {
     uint16_t n;            /* decisions since P_snap */
     uint16_t k;            /* learning periods since the last decision */
     bool track;            /* the model follows P (else it holds h) */
+    uint16_t low;          /* below the speed floor (0: above): PSI_BAND_LOW_* bits */
+    bool final;            /* the bound is final (inverter error identified or refused): the floor decides */
+    bool trust;            /* the last decision was under the final bound and above the floor */
     float frac;            /* Vb's fraction in use */
     float anchor_Wb;       /* the model's psi_f when step 2 started */
     float h_Wb;            /* the value held */
@@ -80,7 +96,7 @@ void psi_band_cfg_defaults(psi_band_cfg_t *cfg, float Ts_s, float w_min_rad_s, f
 
 /* Copies cfg; false (and a = 0: nothing moves) unless 0 < Ts < tau,
  * Ts <= settle_s <= 1 s, w_min > 0, 0 < psi_min <= psi_max, fractions and
- * abs_V >= 0, all finite. Background. */
+ * abs_V >= 0, 0 < unexplained_max, all finite. Background. */
 bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg);
 
 /* Step 2 starts from psi_Wb [Wb] (the model's value then): anchor, P and
@@ -91,12 +107,20 @@ void psi_band_start(psi_band_t *pb, float psi_Wb);
  * [V] (bumpless in the observer), so psi_eq by dfq/w; the model holds the
  * anchor again unless P is far from it under the fine bound (what it took
  * under the coarse bound may have been the error). It changes at the next
- * psi_band_step. ISR. */
+ * psi_band_step (and `low` at its next decision). ISR. */
 void psi_band_rebase(psi_band_t *pb, float dfq_V);
 
-/* Learning paused (the step-2 gate): the next psi_band_step takes 1/w
- * afresh. ISR. */
-void psi_band_pause(psi_band_t *pb);
+/* The inverter error could not be identified: the coarse bound stays,
+ * and is final (the speed floor decides from now on). ISR. */
+void psi_band_bound_final(psi_band_t *pb);
+
+/* The caller holds the model at every speed (hold = true: `low` keeps
+ * PSI_BAND_LOW_HELD until psi_band_start or hold = false). ISR. */
+void psi_band_hold(psi_band_t *pb, bool hold);
+
+/* Learning paused (the step-2 gate) at w [rad/s electrical]: the next
+ * psi_band_step takes 1/w afresh; PSI_BAND_LOW_W follows w. ISR. */
+void psi_band_pause(psi_band_t *pb, float omega_el_rad_s);
 
 /* One learning period (not during the step-2 gate's pauses): the
  * observer's psi^ [Wb] and fq^ [V], w [rad/s electrical], the fundamentals

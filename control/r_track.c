@@ -113,21 +113,10 @@ static float seg_sign(uint16_t seg)
     return ((seg == 0u) || (seg == (SEGMENTS - 1u))) ? 1.0f : -1.0f;
 }
 
-float r_track_id_ref(const r_track_t *rt)
-{
-    return ((rt->phase == R_TRACK_OFF) || (rt->wait > 0u)) ? 0.0f : rt->s_now * rt->i_inj_A;
-}
-
 float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb)
 {
     const float unc = rt->cfg.ve_unc_frac * mathx_fabsf(rt->Ve_V) + rt->cfg.ve_unc_abs_V;
     return (psi_f_Wb > 0.0f) ? unc / (rt->cfg.psi_tol * psi_f_Wb) : 0.0f;
-}
-
-float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H)
-{
-    const float psi = psi_s_Wb + L_H * r_track_id_ref(rt);
-    return (psi > 0.0f) ? psi : psi_s_Wb;
 }
 
 /* End of a cycle: rho, or a hold. IDENT also sums the valid cycles and

@@ -153,8 +153,12 @@ void r_track_hold(r_track_t *rt);
 r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
                              float L_H);
 
-/* d-current reference for the voltage computed this period [A] (0 when OFF). ISR. */
-float r_track_id_ref(const r_track_t *rt);
+/* d-current reference for the voltage computed this period [A] (0 when
+ * OFF). ISR (inline: every period while the injection runs). */
+static inline float r_track_id_ref(const r_track_t *rt)
+{
+    return ((rt->phase == R_TRACK_OFF) || (rt->wait > 0u)) ? 0.0f : rt->s_now * rt->i_inj_A;
+}
 
 /* Lowest |w| [rad/s el] at which psi^ may learn once the inverter error
  * Ve_V was identified (0 when refused), for the nominal psi_f_Wb:
@@ -166,6 +170,10 @@ float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb);
  * amplitude is psi_f/psi_s* of id*: 3 % less at 6 N m; the demodulation
  * uses the measured id). psi_s_Wb unchanged when OFF or the result is not
  * positive. ISR. */
-float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H);
+static inline float r_track_psi_ref(const r_track_t *rt, float psi_s_Wb, float L_H)
+{
+    const float psi = psi_s_Wb + L_H * r_track_id_ref(rt);
+    return (psi > 0.0f) ? psi : psi_s_Wb;
+}
 
 #endif /* R_TRACK_H */

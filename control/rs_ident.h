@@ -67,7 +67,9 @@ typedef enum {
     RS_IDENT_NOT_STEADY = 3,    /* standard error of R^ above R_se_max_rel |R^| (noise, transient) */
     RS_IDENT_DEGENERATE = 4,    /* operating points too alike: denominator of (41) too small */
     RS_IDENT_NON_FINITE = 5,    /* NaN/Inf in the data or the result */
-    RS_IDENT_OUT_OF_BAND = 6    /* R^ outside [R_min, R_max] */
+    RS_IDENT_OUT_OF_BAND = 6,   /* R^ outside [R_min, R_max] */
+    RS_IDENT_D_AXIS = 7         /* R^ hangs on the d-axis term dL w id (field weakening, voltage limit) more
+                                 * than se(R^)'s limit allows (est.c, observer_design.md sec. 6g) */
 } rs_ident_result_t;
 
 typedef struct {
@@ -120,6 +122,10 @@ typedef struct {
     float R_se_Ohm;           /* standard error of R^ (0 until the solve got that far) */
     float R_se_max_Ohm;       /*   and the limit it was held to */
     float R_se_part_Ohm[2];   /* window j's share: |w_other| se(r_j) / |den| */
+    float angle_el_rad;       /* angle error the windows' dL_j suggest: (dL1 - dL2) / (psi_f (1/iq2 - 1/iq1))
+                               * [rad el] (est.c; 0 unless both |w iq| and the iq differ enough) */
+    float R_d_axis_Ohm;       /* R^'s d-axis uncertainty |w1 w2 (id2 - id1) (dL1 - dL2) / den| where the d-axis
+                               * correction exceeds se(R^)'s limit (est.c; else 0) */
     float r_se_V[2];          /* standard error of the residual's mean per window */
     bool ripple_fit[2];       /* the means are the ripple fit's intercepts (sec. 6e) */
     float diq_dt_A_s[2];      /* mean diq/dt per window (0 without Ts_s) [A/s] */

@@ -176,6 +176,12 @@ dq_t smo_step(smo_t *smo, dq_t i_A, float omega_el_rad_s, dq_t u_V)
     return smo->i_hat_A;
 }
 
+void smo_shift_f(smo_t *smo, float dfd_V, float dfq_V)
+{
+    smo->fd_V += dfd_V;
+    smo->fq_V += dfq_V;
+}
+
 bool smo_set_R(smo_t *smo, float R_Ohm)
 {
     const smo_cfg_t *c = &smo->cfg;

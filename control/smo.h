@@ -128,4 +128,10 @@ float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A);
  * the given omega_el_rad_s; returns the psi^ now in use. ISR. */
 float smo_set_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s);
 
+/* A voltage the model now compensates: f^ gives up (dfd_V, dfq_V) [V] it
+ * no longer has to explain (the inverter error identified, design sec.
+ * 9); the caller's compensation moves u by the same, so the prediction
+ * does not move (bumpless). ISR. */
+void smo_shift_f(smo_t *smo, float dfd_V, float dfq_V);
+
 #endif /* SMO_H */

@@ -33,6 +33,7 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
 {
     const app_t *a = t->app;
     const ctrl_mon_t *m = &a->ctrl.mon;
+    const est_out_t *e = est_output(ctrl_est(&a->ctrl)); /* the estimation's model and status */
     switch (id) {
     case LV_STATE: return of_u((uint32_t)a->state);
     case LV_FAULT: return of_u((uint32_t)a->fault);
@@ -50,11 +51,11 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_UQ_CMD_V: return of_f(m->uq_V);
     case LV_UD_REF_V: return of_f(a->op_taken.ref.ud_ref_V);
     case LV_UQ_REF_V: return of_f(a->op_taken.ref.uq_ref_V);
-    case LV_R_EST_OHM: return of_f(m->R_est_Ohm);
-    case LV_L_EST_H: return of_f(m->L_est_H);
-    case LV_PSIF_EST_WB: return of_f(m->psi_f_est_Wb);
-    case LV_EST: return of_u((uint32_t)m->ident);
-    case LV_EST_HOLD: return of_u((uint32_t)m->est_hold);
+    case LV_R_EST_OHM: return of_f(e->R_Ohm);
+    case LV_L_EST_H: return of_f(e->L_H);
+    case LV_PSIF_EST_WB: return of_f(e->psi_f_Wb);
+    case LV_EST: return of_u((uint32_t)e->phase);
+    case LV_EST_HOLD: return of_u((uint32_t)e->hold);
     case LV_METHOD: return of_u((uint32_t)a->op_taken.method);
     case LV_MODE: return of_u((uint32_t)a->op_taken.mode);
     case LV_CMD_ERROR: return of_u((uint32_t)t->cmd->error);

@@ -75,6 +75,8 @@ static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
         return app_step_fault(APP_FAULT_RSID_OUT_OF_BAND, R_hat,
                               (R_hat > rc->R_max_Ohm) ? rc->R_max_Ohm : rc->R_min_Ohm);
     }
+    case RS_IDENT_D_AXIS:
+        return app_step_fault(APP_FAULT_RSID_D_AXIS, o->R_d_axis_Ohm, o->R_se_max_Ohm); /* R^'s d-axis share, the limit */
     case RS_IDENT_INVALID_CFG:
         return app_step_fault(APP_FAULT_CONFIG, o->R_est_Ohm, 0.0f);
     case RS_IDENT_TOO_FEW:
@@ -111,14 +113,13 @@ static after_t after_check(const rsid_seq_t *q, rs_ident_result_t r, const rs_id
  * one; window 2 goes on filling meanwhile). */
 static void check_begin(rsid_seq_t *q, ctrl_t *c)
 {
-    const uint32_t batch = c->ri.cfg.n_batch;
+    const uint32_t batch = ctrl_rsid_cfg(c)->n_batch;
 
     q->check_ticks = (batch > 0u) ? batch : 1u;
     if (mathx_umod_u32(q->ticks - q->end_tick, q->check_ticks) != 0u) { /* no 32-bit %: RTS call from flash */
         return; /* between checks */
     }
-    rs_ident_copy_window(&q->win2, &c->ri, RS_IDENT_WINDOW_2); /* window 1 is complete: not copied */
-    rs_ident_solve_begin(&q->solver, &c->ri, &q->win2, &c->rsid_out);
+    ctrl_rsid_stage_begin(c, &q->solver, &q->win2); /* window 1 is complete: only window 2 copied */
     q->check_tick = q->ticks;
     q->check = RSID_CHECK_SOLVING;
 }
@@ -162,7 +163,7 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
     if (q->check == RSID_CHECK_SOLVING) {
         /* the sequence acts on the result from the next period: the last
          * stage and the start of step 2 do not share one */
-        if (rs_ident_solve_step(&q->solver, &c->rsid_out)) {
+        if (ctrl_rsid_stage_step(c, &q->solver)) {
             q->check = RSID_CHECK_SOLVED;
         }
         return app_step_running();

@@ -380,7 +380,7 @@ static inline void identify_periods(int from, int to, te_plan_t plan)
         assert_int_equal(app.state, APP_STATE_IDENTIFY_R);
         const rs_ident_window_t w = (k >= RSID_WIN1 && k < RSID_WIN1 + RSID_WIN) ? RS_IDENT_WINDOW_1
                                   : ((k >= RSID_WIN2) ? RS_IDENT_WINDOW_2 : RS_IDENT_WINDOW_NONE);
-        assert_int_equal(app.ctrl.rsid_win, w);
+        assert_int_equal(app.ctrl.est.win, w);
     }
 }
 
@@ -388,8 +388,8 @@ static inline void identify_periods(int from, int to, te_plan_t plan)
 static inline void identify_until_last(te_plan_t plan)
 {
     identify_periods(0, RSID_LAST, plan);
-    assert_int_equal(app.ctrl.ri.win[0].n, RSID_WIN);
-    assert_int_equal(app.ctrl.ri.win[1].n, RSID_LAST - RSID_WIN2);
+    assert_int_equal(app.ctrl.est.ri.win[0].n, RSID_WIN);
+    assert_int_equal(app.ctrl.est.ri.win[1].n, RSID_LAST - RSID_WIN2);
 }
 
 #endif /* APP_HARNESS_H */

@@ -1,8 +1,8 @@
 /*
  * The application on the real F28335 HAL over the register fake: what the
  * operator's commands and the protection do to the registers. Covers
- * issue 14 D2 (a fault reset written outside FAULT) and D7 (limp mode at
- * run time) end to end: cmd_apply -> app -> hal/f28335 -> ePWM registers.
+ * a fault reset written outside FAULT and limp mode at
+ * run time end to end: cmd_apply -> app -> hal/f28335 -> ePWM registers.
  * Samples are set as ADC results; every expected value is derived in the
  * comments.
  */

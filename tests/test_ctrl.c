@@ -283,9 +283,9 @@ static void monitor_filled(void **state)
     ctrl_in_t in = { 0.0f, 0.0f, 300.0f, 0u };
     ctrl_out_t out;
     ctrl_step(&c, &in, &out);
-    assert_float_equal(c.mon.L_est_H, 1.5 * LS, 1e-9);
-    assert_float_equal(c.mon.R_est_Ohm, RS, 1e-6);
-    assert_float_equal(c.mon.psi_f_est_Wb, PSIF, 1e-7);
+    assert_float_equal(est_output(ctrl_est(&c))->L_H, 1.5 * LS, 1e-9);
+    assert_float_equal(est_output(ctrl_est(&c))->R_Ohm, RS, 1e-6);
+    assert_float_equal(est_output(ctrl_est(&c))->psi_f_Wb, PSIF, 1e-7);
     assert_float_equal(c.mon.te_ref_Nm, 2.0, 1e-6);
     /* MTPA with the controller's L: sqrt(psi_f^2 + (L Te/(1.5 p psi_f))^2) */
     const double psq = 1.5 * LS * 2.0 / (1.5 * PP * PSIF);
@@ -293,7 +293,7 @@ static void monitor_filled(void **state)
     /* from rest with zero voltage applied: nothing moves, psi = psi_f */
     assert_float_equal(c.mon.te_est_Nm, 0.0, 1e-6);
     assert_float_equal(c.mon.psi_est_Wb, PSIF, 1e-6);
-    assert_float_equal(c.mon.fd_est_V, 0.0, 0.0);
+    assert_float_equal(est_f_V(ctrl_est(&c)).d, 0.0, 0.0);
 }
 
 /* ctrl_init reports every block's refusal as its own bit; a valid
@@ -343,7 +343,7 @@ static void init_reports_each_refusal(void **state)
 }
 
 /* The default R^ band holds the motor's R with margin for a controller R
- * from 0.25x to 5x it (issue 13), and the observer built on it is valid:
+ * from 0.25x to 5x it, and the observer built on it is valid:
  * by hand, [0.1, 6] x Rs with the top at 0.9 (Ks - ef_max) / phi =
  * 0.9 x (100 - 50) / 2.5 = 18 Ohm. */
 static void default_band_holds_the_motor_r(void **state)

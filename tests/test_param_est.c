@@ -60,7 +60,7 @@ static conv_t run_case(double rpm, double Lf, double psif, double iq_ref, int n)
     for (int k = 0; k < n; k++) {
         const double t = (k + 1) * OP_TS;
         (void)smo_step(&r.smo, dq(p.id, p.iq), (float)w, dq(ud, uq));
-        (void)param_est_step(&r.pe, &r.smo, (float)w, (float)p.iq);
+        (void)param_est_step(&r.pe, &r.smo, (float)w, (float)p.iq, r.pe.cfg.w_min_rad_s);
         op_step(&p, ud, uq, w);
         const double eL = fabs(r.smo.L_H / OP_L0 - 1.0);
         const double ep = fabs(r.smo.psi_f_Wb / OP_PSI0 - 1.0);
@@ -120,7 +120,7 @@ static void converged_estimates_hold_through_load_step(void **state)
         double ud, uq;
         op_u_for(&p, 0.0, op_iq_of_te(k < 5000 ? 2.0 : 4.0), w, &ud, &uq);
         (void)smo_step(&r.smo, dq(p.id, p.iq), (float)w, dq(ud, uq));
-        (void)param_est_step(&r.pe, &r.smo, (float)w, (float)p.iq);
+        (void)param_est_step(&r.pe, &r.smo, (float)w, (float)p.iq, r.pe.cfg.w_min_rad_s);
         op_step(&p, ud, uq, w);
         if (k >= 4900) {
             worst_L = fmax(worst_L, fabs(r.smo.L_H / OP_L0 - 1.0));
@@ -156,7 +156,7 @@ static void freezes_below_thresholds_and_when_stopped(void **state)
         uint16_t any = 0u;
         for (int k = 0; k < 2000; k++) {
             (void)smo_step(&r.smo, dq(p.id, p.iq), (float)ops[m][0], dq(ud, uq));
-            any |= param_est_step(&r.pe, &r.smo, (float)ops[m][0], (float)p.iq);
+            any |= param_est_step(&r.pe, &r.smo, (float)ops[m][0], (float)p.iq, r.pe.cfg.w_min_rad_s);
             op_step(&p, ud, uq, ops[m][0]);
         }
         assert_float_equal(r.smo.L_H, L0h, 0.0);
@@ -192,7 +192,7 @@ static void clamps_hold(void **state)
     uint16_t last = 0u;
     for (int k = 0; k < 5000; k++) {
         (void)smo_step(&r.smo, dq(p.id, p.iq), (float)w, dq(ud, uq));
-        last = param_est_step(&r.pe, &r.smo, (float)w, (float)p.iq);
+        last = param_est_step(&r.pe, &r.smo, (float)w, (float)p.iq, r.pe.cfg.w_min_rad_s);
         op_step(&p, ud, uq, w);
         if (k >= 1) { /* each law has had its turn (L^ at k = 0, psi^ at k = 1) */
             assert_true(r.smo.L_H >= pc.L_min_H && r.smo.L_H <= pc.L_max_H);
@@ -227,7 +227,7 @@ static void transfer_laws_are_bumpless(void **state)
         const double inv_q = w * (double)r.smo.psi_f_Wb + r.smo.fq_V;
         const float L_before = r.smo.L_H;
         const float psi_before = r.smo.psi_f_Wb;
-        (void)param_est_step(&r.pe, &r.smo, (float)w, iq);
+        (void)param_est_step(&r.pe, &r.smo, (float)w, iq, r.pe.cfg.w_min_rad_s);
         if (k >= 1 && k < 100) { /* early on (after the seeding step) the updates are large */
             /* the laws take turns, L^ first (PARAM_EST_LAW_PERIODS) */
             const bool L_turn = (k % 2) == 0;
@@ -323,7 +323,7 @@ static void full_sequence_step1_then_step2(void **state)
             assert_true(smo_set_R(&smo, o.R_est_Ohm));
             param_est_run(&pe, true);
         }
-        (void)param_est_step(&pe, &smo, (float)w, (float)p.iq);
+        (void)param_est_step(&pe, &smo, (float)w, (float)p.iq, pe.cfg.w_min_rad_s);
         op_step(&p, ud, uq, w);
     }
     printf("    full sequence: R^ %+.4f %%, L^ %+.4f %%, psi^ %+.4f %%\n",

@@ -95,6 +95,36 @@ static void test_holds_below_w_min(void **state)
     assert_true(fabsf(pb.P_Wb - PSI0) < 1e-7f);
 }
 
+/* The speed floor. Ve_found 2.5 V: fine Vb = 0.05 x 3.56 + 0.3 x 2.5 + 0.05
+ * = 0.978 V; 5 % of P = 0.24 Wb is 0.012 Wb, so w_floor = 0.978 / 0.012 =
+ * 81.5 rad/s, left at 81.5 x 1.2 = 97.8 rad/s. Not decided before the
+ * bound is final; |w| <= w_min sets LOW_W at once. */
+static void test_speed_floor(void **state)
+{
+    (void)state;
+    setup();
+    run(20, PSI0, 0.0f, 31.4f, VE_TOLD, 2.5f);
+    assert_int_equal(pb.low, 0u);                    /* coarse bound: not final */
+    psi_band_rebase(&pb, 0.0f);
+    run(20, PSI0, 0.0f, 31.4f, VE_TOLD, 2.5f);
+    assert_int_equal(pb.low, PSI_BAND_LOW_BAND);     /* 0.031 Wb > 0.012 Wb */
+    run(20, PSI0, 0.0f, 90.0f, VE_TOLD, 2.5f);
+    assert_int_equal(pb.low, PSI_BAND_LOW_BAND);     /* 0.0109 x 1.2 > 0.012: stays */
+    run(20, PSI0, 0.0f, 100.0f, VE_TOLD, 2.5f);
+    assert_int_equal(pb.low, 0u);                    /* 0.00978 x 1.2 < 0.012: leaves */
+    run(20, PSI0, 0.0f, 90.0f, VE_TOLD, 2.5f);
+    assert_int_equal(pb.low, 0u);                    /* 0.0109 < 0.012: above the floor */
+    run(1, PSI0, 0.0f, 20.0f, VE_TOLD, 2.5f);
+    assert_int_equal(pb.low & PSI_BAND_LOW_W, PSI_BAND_LOW_W);
+    psi_band_pause(&pb, 157.0f);
+    assert_int_equal(pb.low, 0u);
+    /* refused identification: the coarse bound made final */
+    setup();
+    psi_band_bound_final(&pb);
+    run(20, PSI0, 0.0f, 31.4f, VE_TOLD, 0.0f);       /* (0.5 x 3.56 + 0.05) / 31.4 = 0.058 Wb */
+    assert_int_equal(pb.low, PSI_BAND_LOW_BAND);
+}
+
 static void test_init_refuses_bad_cfg(void **state)
 {
     (void)state;
@@ -104,6 +134,9 @@ static void test_init_refuses_bad_cfg(void **state)
     assert_false(psi_band_init(&pb, &c));
     psi_band_cfg_defaults(&c, TS, 30.0f, 0.3f * PSI0, 3.0f * PSI0);
     c.unc_abs_V = NAN;
+    assert_false(psi_band_init(&pb, &c));
+    psi_band_cfg_defaults(&c, TS, 30.0f, 0.3f * PSI0, 3.0f * PSI0);
+    c.unexplained_max = 0.0f;
     assert_false(psi_band_init(&pb, &c));
     psi_band_cfg_defaults(&c, TS, 30.0f, 3.0f * PSI0, 0.3f * PSI0);
     assert_false(psi_band_init(&pb, &c));
@@ -116,6 +149,7 @@ int main(void)
         cmocka_unit_test(test_tracks_a_clear_error_then_settles),
         cmocka_unit_test(test_rebase_returns_to_the_anchor),
         cmocka_unit_test(test_holds_below_w_min),
+        cmocka_unit_test(test_speed_floor),
         cmocka_unit_test(test_init_refuses_bad_cfg),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -44,35 +44,36 @@ static void identify_windows_aligns_identifies_runs(void **state)
     assert_int_equal(app.rsid.end_tick, RSID_END);
     start_and_align();
     assert_int_equal(app.state, APP_STATE_IDENTIFY_R); /* in the aligning call */
-    assert_int_equal(app.ctrl.ident, CTRL_IDENT_STEP1);
+    assert_int_equal(ctrl_ident(&app.ctrl), CTRL_IDENT_STEP1);
     dyno_start(R_TRUE);
     identify_until_last(TE_TWO_LOADS);
     dyno_isr(te_plan(TE_TWO_LOADS, RSID_LAST), false);
     assert_int_equal(app.state, APP_STATE_RUN);
     assert_int_equal(app.fault, APP_FAULT_NONE);
     assert_int_equal(app.rsid.result, RS_IDENT_OK);
-    assert_int_equal(app.ctrl.ident, CTRL_IDENT_STEP2);
+    assert_int_equal(ctrl_ident(&app.ctrl), CTRL_IDENT_STEP2);
     /* the dyno's R within rs_ident's 1 % acceptance, and it is the observer's */
-    assert_float_equal(app.ctrl.rsid_out.R_est_Ohm, R_TRUE, 0.01 * R_TRUE);
-    assert_float_equal(app.ctrl.smo.R_Ohm, app.ctrl.rsid_out.R_est_Ohm, 0.0);
+    assert_float_equal(ctrl_rsid_out(&app.ctrl)->R_est_Ohm, R_TRUE, 0.01 * R_TRUE);
+    assert_float_equal(app.ctrl.est.smo.R_Ohm, ctrl_rsid_out(&app.ctrl)->R_est_Ohm, 0.0);
     assert_false(app.rsid.handover); /* WINDOWS: the outside's reference throughout */
     dyno_isr(4.0f, false);
     assert_int_equal(app.state, APP_STATE_RUN);
-    assert_int_equal(app.ctrl.mon.ident, CTRL_IDENT_STEP2);
+    assert_int_equal(ctrl_ident(&app.ctrl), CTRL_IDENT_STEP2);
 }
 
-/* Each refusal of step 1: its fault in the last IDENTIFY_R call, the
- * duties of that call written, then PWM off in the same call, the
- * snapshot of that call's sample. */
+/* Each refusal of step 1 with on_refusal = fault: its fault in the last
+ * IDENTIFY_R call, the duties of that call written, then PWM off in the
+ * same call, the snapshot of that call's sample. */
 static void identify_fault_case(app_cfg_t *cfg, double R_true, te_plan_t plan, bool nan_window, app_fault_t fault)
 {
+    cfg->rsid.on_refusal = APP_RSID_REFUSAL_FAULT;
     init_cfg(cfg);
     assert_int_equal(app.ctrl.status, CTRL_CFG_OK);
     start_and_align();
     dyno_start(R_true);
     identify_periods(0, RSID_END - 1, plan);
     if (nan_window) {
-        app.ctrl.ri.win[1].s1[RS_CH_FQ] = NAN; /* what no finite sample can give: a corrupted sum */
+        app.ctrl.est.ri.win[1].s1[RS_CH_FQ] = NAN; /* what no finite sample can give: a corrupted sum */
     }
     identify_periods(RSID_END - 1, RSID_LAST, plan); /* the check's copy taken in the first */
     dyno_isr(te_plan(plan, RSID_LAST), true);
@@ -80,7 +81,7 @@ static void identify_fault_case(app_cfg_t *cfg, double R_true, te_plan_t plan, b
     assert_int_equal(app.fault, fault);
     assert_false(app.pwm_on);
     assert_snapshot(&dyno_last, APP_STATE_IDENTIFY_R);
-    assert_int_equal(app.ctrl.ident, CTRL_IDENT_OFF); /* observer stopped */
+    assert_int_equal(ctrl_ident(&app.ctrl), CTRL_IDENT_OFF); /* observer stopped */
 }
 
 static void identify_too_few_faults(void **state)
@@ -101,7 +102,7 @@ static void identify_not_steady_faults(void **state)
     cfg.ctrl.rsid.R_se_max_rel = 1e-5f;
     identify_fault_case(&cfg, R_TRUE, TE_UNSTEADY_WIN2, false, APP_FAULT_RSID_NOT_STEADY);
     print_message("not steady: se(R^) %.3g Ohm, limit %.3g Ohm\n", app.snapshot.value, app.snapshot.limit);
-    assert_float_equal(app.snapshot.value, app.ctrl.rsid_out.R_se_Ohm, 0.0);
+    assert_float_equal(app.snapshot.value, ctrl_rsid_out(&app.ctrl)->R_se_Ohm, 0.0);
     assert_float_equal(app.snapshot.limit, 1e-5 * fabs(R_TRUE), 1e-3 * 1e-5 * R_TRUE);
     assert_true(app.snapshot.value > app.snapshot.limit);
 }
@@ -141,21 +142,21 @@ static void identify_trusted_and_off_skip_step_1(void **state)
     init_cfg(&cfg);
     start_and_align();
     assert_int_equal(app.state, APP_STATE_RUN);
-    assert_int_equal(app.ctrl.ident, CTRL_IDENT_STEP2);
-    assert_float_equal(app.ctrl.smo.R_Ohm, 3.0, 0.0);
+    assert_int_equal(ctrl_ident(&app.ctrl), CTRL_IDENT_STEP2);
+    assert_float_equal(app.ctrl.est.smo.R_Ohm, 3.0, 0.0);
     dyno_start(3.0);
     dyno_isr(2.0f, false);
     assert_int_equal(app.state, APP_STATE_RUN);
-    assert_int_equal(app.ctrl.mon.ident, CTRL_IDENT_STEP2);
+    assert_int_equal(ctrl_ident(&app.ctrl), CTRL_IDENT_STEP2);
 
     cfg = rsid_cfg(APP_RSID_OFF, true);
     init_cfg(&cfg);
     start_and_align();
     assert_int_equal(app.state, APP_STATE_RUN);
-    assert_int_equal(app.ctrl.ident, CTRL_IDENT_OFF);
+    assert_int_equal(ctrl_ident(&app.ctrl), CTRL_IDENT_OFF);
     dyno_start(3.0);
     dyno_isr(2.0f, false);
-    assert_int_equal(app.ctrl.mon.ident, CTRL_IDENT_OFF);
+    assert_int_equal(ctrl_ident(&app.ctrl), CTRL_IDENT_OFF);
 }
 
 /* Observer settings ctrl_init refused (a band whose top breaks (36)):

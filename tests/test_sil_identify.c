@@ -1,5 +1,5 @@
-/* Step 1 of the proposed method on a real ADC (issue 13 part A;
- * control/observer_design.md sec. 6) in the SIL: switching inverter, the
+/* Step 1 of the proposed method on a real ADC
+ * (control/observer_design.md sec. 6) in the SIL: switching inverter, the
  * scenarios of tools/scenarios/ (paper timeline: windows 0.28-0.34 s at
  * 2 N m and 0.48-0.54 s at 4 N m), both methods on the same scenario.
  *  - ADC noise 0.05 A rms, seeds 1-5, L = 1.5 L0 and psi_f = 0.5 psi_f0:
@@ -76,6 +76,39 @@ static int on_row(const sil_row_t *r, void *user)
 
 /* tools/scenarios/<name>.ini with the overrides (NULL-terminated), until duration_s. */
 static sil_result_t last_res;
+
+/* the angle case's step-2 rows: the warning, est_hold's bit, L^ */
+static long angle_rows;
+static long angle_warned;
+static double angle_L_dev;
+
+static int on_row_angle(const sil_row_t *r, void *user)
+{
+    if ((int)r->est == CTRL_IDENT_STEP2) {
+        const unsigned flags = (unsigned)r->flags;
+        const unsigned hold = (unsigned)r->est_hold;
+        angle_rows++;
+        if (((flags & CTRL_FLAG_ANGLE_SUSPECT) != 0u) && ((hold & CTRL_EST_HOLD_ANGLE) != 0u)) {
+            angle_warned++;
+        }
+        angle_L_dev = fmax(angle_L_dev, fabs(r->L_est_H / 0.011 - 1.0));
+    }
+    return on_row(r, user);
+}
+
+static fig_t run_with(const char *name, const char *const *sets, sil_row_fn fn)
+{
+    scenario_t sc;
+    static const char *const log_every_1[] = { "run.log_every=1", NULL };
+    fig_t f = { 0.0, 0.0, NAN, NAN, NAN, NAN, 0, 0.0, 0 };
+
+    sil_scenario_open(&sc, name);
+    sil_scenario_set(&sc, log_every_1);
+    sil_scenario_set(&sc, sets);
+    sil_scenario_finish(&sc);
+    assert_int_equal(sil_run(&sc, fn, &f, &last_res), 0);
+    return f;
+}
 
 static fig_t run(const char *name, const char *const *sets)
 {
@@ -188,7 +221,8 @@ static void inertia_10x_default_timing(void **state)
  * limit, so R^ is refused at window 2's nominal end (0.54 s). */
 static fig_t lengthen_case(const char *seed)
 {
-    const char *const sets[] = { NOISE_A, seed, "identify.R_se_max_rel=0.003", "run.duration_s=0.9", NULL };
+    const char *const sets[] = { NOISE_A, seed, "identify.R_se_max_rel=0.003", "run.duration_s=0.9",
+                                 "identify.on_refusal=fault", NULL };
     return run("prop_paper", sets);
 }
 
@@ -225,7 +259,8 @@ static void speeds_mode_repeats_both_windows(void **state)
                                  "reference.speed_rpm=500", "run.duration_s=3", NULL };
     const char *const no_repeat[] = { NOISE_A, "plant.seed=1", "identify.R_se_max_rel=0.0025", "identify.mode=speeds",
                                       "identify.speed_1_rpm=1000", "identify.speed_2_rpm=500", "load.torque_Nm=3",
-                                      "reference.speed_rpm=500", "run.duration_s=3", "identify.repeats_max=0", NULL };
+                                      "reference.speed_rpm=500", "run.duration_s=3", "identify.repeats_max=0",
+                                      "identify.on_refusal=fault", NULL };
     (void)state;
     const fig_t a = run("prop_L150", no_repeat);
     const fig_t b = run("prop_L150", base);
@@ -262,11 +297,57 @@ static void refusal_runs_conventional_with_the_warning(void **state)
     assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_OUT_OF_BAND);
     assert_true(fabs(te_p - te_c) <= 0.005);
 
-    /* the same refusal with the default policy: the fault, PWM off */
-    const char *const fault[] = { "controller.R_min_ohm=5", NULL };
+    /* the same refusal with on_refusal = fault: the fault, PWM off */
+    const char *const fault[] = { "controller.R_min_ohm=5", "identify.on_refusal=fault", NULL };
     const fig_t q = run("prop_R430", fault);
     assert_int_equal((int)q.fault, APP_FAULT_RSID_OUT_OF_BAND);
     assert_true(isnan(q.t_warn));
+}
+
+/* Step 1 in field weakening (bus 250 V, 1800 r/min, L 1.4x, psi_f 0.85x
+ * told): the windows' id differ by 1.4 A, and the d-axis term moves R^ by
+ * |w1 w2 (id2 - id1) dL / den| ~ 1.4 Ohm, 40x se(R^)'s limit (R^ came
+ * out -21 %): refused with RSID_D_AXIS (on_refusal = conventional: RUN,
+ * the warning, no step 2). At the paper's 500 r/min with L 1.5x (id ~ 0)
+ * the share is 0.009 Ohm, a fifth of the limit: taken (case L150 above). */
+static void field_weakened_step1_refused(void **state)
+{
+    const char *const sets[] = { "plant.model=switching", "plant.vdc_V=250", "controller.L_factor=1.4",
+                                 "controller.psif_factor=0.85", "reference.speed_rpm=0:0, 0.2:1800~",
+                                 "load.torque_Nm=0:2, 0.35:4, 0.6:6", "run.duration_s=0.7", NULL };
+    (void)state;
+    const fig_t p = run("prop_paper", sets);
+    print_message("field weakening in step 1: state %d, fault %d, refusal %d (RSID_D_AXIS %d)\n", (int)p.state,
+                  (int)p.fault, last_res.rsid_refusal, (int)APP_FAULT_RSID_D_AXIS);
+    assert_int_equal((int)p.state, APP_STATE_RUN);
+    assert_int_equal((int)p.fault, APP_FAULT_NONE);
+    assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_D_AXIS);
+    assert_true(isnan(p.R_first)); /* no step 2 */
+}
+
+/* An encoder count jump of 46 (4.97 el. deg) at 0.1 s, 1500 r/min, 4 N m:
+ * step 1's windows (2 and 4 N m) read the angle error from their dL_j
+ * (observer_design.md sec. 6h): flag 0x0800 and est_hold 0x0080 in step
+ * 2, L^ held at the told (exact) value instead of -51 %, no fault. */
+static void angle_error_holds_L(void **state)
+{
+    const char *const sets[] = { "plant.model=switching", "reference.speed_rpm=0:0, 0.2:1500~",
+                                 "faults.encoder_jump_s=0.1", "faults.encoder_jump_counts=46",
+                                 "run.duration_s=1.2", NULL };
+    (void)state;
+    angle_rows = 0;
+    angle_warned = 0;
+    angle_L_dev = 0.0;
+    const fig_t p = run_with("prop_paper", sets, on_row_angle);
+    print_message("encoder 5 el. deg off: step 2 rows %ld, warned %ld, max |L^/L - 1| %.3f %%\n", angle_rows,
+                  angle_warned, 100.0 * angle_L_dev);
+    assert_int_equal((int)p.state, APP_STATE_RUN);
+    assert_int_equal((int)p.fault, APP_FAULT_NONE);
+    assert_true(angle_rows > 0);
+    /* every step-2 row but the first: its flags are those of the period
+     * whose end started step 2 */
+    assert_true(angle_warned >= angle_rows - 1);
+    assert_true(angle_L_dev <= 0.05);
 }
 
 int main(void)
@@ -280,6 +361,8 @@ int main(void)
         cmocka_unit_test(window_2_lengthened_then_taken_or_refused),
         cmocka_unit_test(speeds_mode_repeats_both_windows),
         cmocka_unit_test(refusal_runs_conventional_with_the_warning),
+        cmocka_unit_test(field_weakened_step1_refused),
+        cmocka_unit_test(angle_error_holds_L),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,4 +1,4 @@
-/* The proposed method on a real inverter (issue 13 part B): inverter
+/* The proposed method on a real inverter: inverter
  * voltage error not learned as flux, resistance tracked in service
  * (control/observer_design.md sec. 9), on the simulated board with the
  * switching inverter and the paper's timeline (tools/scenarios/prop_paper.ini,
@@ -44,7 +44,7 @@
 #define T_POINT    0.35     /* each point [s]: ramp 0.1 s, settle, measure */
 #define T_MEASURE  0.2      /* from the point's start to its window */
 #define RAMP_S     0.1
-/* acceptance (issue 13) */
+/* acceptance */
 #define TE_MARGIN_NM    0.005
 #define PSI_TOL         0.02
 #define PSI_TOL_MIN_RPM 200.0

@@ -1,4 +1,4 @@
-/* Issue 12 in the SIL (switching inverter, Table I motor): limits that hold
+/* Operating limits in the SIL (switching inverter, Table I motor): limits that hold
  * whatever the estimates do, estimation that pauses through transients,
  * flux weakening at the voltage limit. Every case runs both methods on the
  * same scenario (tools/scenarios/prop_lim_*, prop_fw_*; the method

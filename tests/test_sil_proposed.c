@@ -383,7 +383,7 @@ static void identify_speeds_handover_ramps(void **state)
 /* Step 1 at one operating point: the app faults with the reason. */
 static void identify_degenerate_faults(void **state)
 {
-    const char *const sets[] = { "load.torque_Nm=2", NULL };
+    const char *const sets[] = { "load.torque_Nm=2", "identify.on_refusal=fault", NULL };
     (void)state;
     run_scenario("prop_L150", sets, 0.0);
     print_message("step 1 at one load: state %d, fault %d\n", (int)fig.state, (int)fig.fault);
@@ -394,7 +394,7 @@ static void identify_degenerate_faults(void **state)
 /* R^ outside the band (true R = 3 ohm, band from 5 ohm): OUT_OF_BAND. */
 static void identify_out_of_band_faults(void **state)
 {
-    const char *const sets[] = { "controller.R_min_ohm=5", NULL };
+    const char *const sets[] = { "controller.R_min_ohm=5", "identify.on_refusal=fault", NULL };
     (void)state;
     run_scenario("prop_R430", sets, 0.0);
     assert_int_equal((int)fig.state, APP_STATE_FAULT);
@@ -517,11 +517,11 @@ static void method_switch_bumpless(void **state)
     c_run(4.0, 200, &dev_back);
     print_message("method switching at 4 N m, L = 1.5 L0: max |Te - Te*| proposed %.4f, after -> conventional %.4f, "
                   "after -> proposed %.4f N m; L^ %+.3f %%\n",
-                  dev_prop, dev_conv, dev_back, 100.0 * (c.smo.L_H / L0 - 1.0));
-    assert_int_equal(c.ident, CTRL_IDENT_STEP2);
+                  dev_prop, dev_conv, dev_back, 100.0 * (c.est.smo.L_H / L0 - 1.0));
+    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_STEP2);
     assert_true(dev_conv <= SWITCH_TE_DEV_MAX_NM);
     assert_true(dev_back <= SWITCH_TE_DEV_MAX_NM);
-    assert_true(fabs(c.smo.L_H / L0 - 1.0) <= EST_TOL);
+    assert_true(fabs(c.est.smo.L_H / L0 - 1.0) <= EST_TOL);
 }
 
 /* PROPOSED before step 2 controls as CONVENTIONAL; ctrl_est_start with the
@@ -532,15 +532,15 @@ static void step2_without_step1(void **state)
     assert_int_equal(c_setup(1.5, 2.0f * (float)R0), CTRL_CFG_OK);
     assert_true(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
     c_run(4.0, 100, NULL);
-    assert_int_equal(c.ident, CTRL_IDENT_OFF);
+    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_OFF);
     assert_int_equal(c.mon.model_from_observer, 0u);
     assert_false(ctrl_est_start(&c, 100.0f));   /* outside the band */
     assert_false(ctrl_est_start(&c, NAN));
     assert_true(ctrl_est_start(&c, (float)R0));
     c_run(4.0, 2000, NULL);
-    assert_int_equal(c.ident, CTRL_IDENT_STEP2);
+    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_STEP2);
     assert_int_equal(c.mon.model_from_observer, 1u);
-    assert_true(fabs(c.smo.L_H / L0 - 1.0) <= EST_TOL);
+    assert_true(fabs(c.est.smo.L_H / L0 - 1.0) <= EST_TOL);
 }
 
 /* Step-1 failures: one operating point -> DEGENERATE, no window -> TOO_FEW;
@@ -550,7 +550,7 @@ static void step1_failures(void **state)
     (void)state;
     assert_int_equal(c_setup(1.0, 2.0f * (float)R0), CTRL_CFG_OK);
     assert_int_equal(c_step1(3.0, 3.0), RS_IDENT_DEGENERATE);
-    assert_int_equal(c.ident, CTRL_IDENT_OFF);
+    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_OFF);
     assert_int_equal(ctrl_rsid_finish(&c), RS_IDENT_TOO_FEW); /* no step 1 under way */
     assert_true(ctrl_rsid_begin(&c));
     assert_int_equal(ctrl_rsid_finish(&c), RS_IDENT_TOO_FEW);
@@ -563,7 +563,7 @@ static void init_refuses_unstable_observer(void **state)
     double dev = 0.0;
     (void)state;
     assert_int_equal(c_setup(1.0, 60.0f), CTRL_CFG_OBSERVER);
-    assert_true(c.smo.status != SMO_CFG_OK);
+    assert_true(c.est.smo.status != SMO_CFG_OK);
     assert_false(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
     assert_false(ctrl_rsid_begin(&c));
     assert_false(ctrl_est_start(&c, (float)R0));

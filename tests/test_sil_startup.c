@@ -237,9 +237,47 @@ static void alignment_from_every_start_angle(void **state)
                   1e3 * worst, worst_at, 1e3 * COUNT_EL_RAD, 1e3 * ALIGN_TOL_EL_RAD);
 }
 
+/* [controller] encoder_offset_el_rad: what the controller is told. Align
+ * off: the told value, not the plant's, is the controller's offset (by
+ * default the plant's); align on: the alignment's measurement replaces it. */
+static double told_offset(const char *const *sets)
+{
+    char err[SCENARIO_ERR_LEN];
+    scenario_t sc;
+    scenario_defaults(&sc);
+    for (int i = 0; sets[i] != NULL; i++) {
+        if (scenario_set(&sc, sets[i], err, sizeof err) != 0) {
+            fail_msg("%s", err);
+        }
+    }
+    assert_int_equal(scenario_finish(&sc, err, sizeof err), 0);
+    sil_result_t res;
+    assert_int_equal(sil_run(&sc, NULL, NULL, &res), 0);
+    return res.enc_offset_el_rad;
+}
+
+static void controller_encoder_offset_told(void **state)
+{
+    (void)state;
+    const char *const told[] = { "plant.encoder_offset_el_rad=0.3", "controller.encoder_offset_el_rad=0.2",
+                                 "run.duration_s=0.01", NULL };
+    const char *const dflt[] = { "plant.encoder_offset_el_rad=0.3", "run.duration_s=0.01", NULL };
+    const char *const aligned[] = { "plant.encoder_offset_el_rad=0.3", "controller.encoder_offset_el_rad=0.2",
+                                    "run.align=on", "reference.speed_rpm=0", "run.duration_s=1.35", NULL };
+    const double a = told_offset(told);
+    const double b = told_offset(dflt);
+    const double c = told_offset(aligned);
+    print_message("controller's encoder offset: told 0.2 -> %.4f, default -> %.4f, aligned (plant 0.3) -> %.4f rad\n",
+                  a, b, c);
+    assert_float_equal(a, 0.2, 1e-6);
+    assert_float_equal(b, 0.3, 1e-6);
+    assert_float_equal(c, 0.3, 0.01); /* a count of 2500 lines is 7.5 mrad el */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(controller_encoder_offset_told),
         cmocka_unit_test(startup_offset_2rad_averaged),
         cmocka_unit_test(startup_offset_minus_2_9rad_averaged),
         cmocka_unit_test(startup_offset_2rad_switching),

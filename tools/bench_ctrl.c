@@ -92,7 +92,7 @@ int main(int argc, char **argv)
         }
     }
     printf("bench_ctrl: %s, %ld steps, mean duty a %.4f, flags %u, L^ %.5f H, Te* %.3f N m, iq %.3f A\n",
-           proposed ? "proposed" : "conventional", n, sum / (double)n, out.flags, (double)c.mon.L_est_H,
+           proposed ? "proposed" : "conventional", n, sum / (double)n, out.flags, (double)est_output(ctrl_est(&c))->L_H,
            (double)c.mon.te_ref_Nm, iq);
     return 0;
 }

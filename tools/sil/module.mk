@@ -53,7 +53,7 @@ test-commission: $(DRIVE_SIL) ## (part of make test) drive_sil --commission on t
 # of tools/scenarios/, and the controller alone on hal_sim).
 TEST_LIBS_test_sil_proposed := silrun firmware sim control
 TEST_SRCS_test_sil_proposed := tools/sil/sil.c
-# Issue 12: current and torque limits, estimation through transients, flux
+# Current and torque limits, estimation through transients, flux
 # weakening; both methods on the scenarios prop_lim_*, prop_fw_*.
 TEST_LIBS_test_sil_limits := silrun firmware sim control
 TEST_SRCS_test_sil_limits := tools/sil/sil.c
@@ -62,7 +62,7 @@ TEST_SRCS_test_sil_limits := tools/sil/sil.c
 TEST_LIBS_test_sil_faults := silrun firmware sim control
 TEST_SRCS_test_sil_faults := tools/sil/sil.c
 
-# Step 1 on a real ADC (issue 13 part A): noise, offsets, inertia, the R^
+# Step 1 on a real ADC: noise, offsets, inertia, the R^
 # band, the refusal policy; both methods on the same scenarios.
 TEST_LIBS_test_sil_identify := silrun firmware sim control
 TEST_SRCS_test_sil_identify := tools/sil/sil.c
@@ -70,7 +70,7 @@ TEST_SRCS_test_sil_identify := tools/sil/sil.c
 TEST_LIBS_test_sil_motors := silrun firmware sim control
 TEST_SRCS_test_sil_motors := tools/sil/sil.c
 
-# The proposed method on a real inverter: inverter error, warming winding (issue 13).
+# The proposed method on a real inverter: inverter error, warming winding.
 TEST_LIBS_test_sil_inverter := silrun firmware sim control
 TEST_SRCS_test_sil_inverter := tools/sil/sil.c
 # The CSV's number format (csv_num.c, in libsilrun) against printf.

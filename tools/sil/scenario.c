@@ -132,6 +132,9 @@ static const sc_key_t KEYS[] = {
     DRV("controller", "i_limit_A", controller.i_limit_A, "stator-current limit the targets respect [A] (1.08 i_peak_A)"),
     DRV("controller", "overspeed_rpm", controller.overspeed_rpm, "overspeed trip [r/min] (1.2 n_max_rpm)"),
     { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
+    { "controller", "encoder_offset_el_rad", K_REAL, F(controller.encoder_offset_el_rad), NULL, -HUGE_VAL, HUGE_VAL, false, NULL,
+      "encoder offset the controller is told [rad, electrical], sign as plant.encoder_offset_el_rad "
+      "(default the plant's; run.align = on: the alignment's measurement replaces it)", 0 },
     OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.1 x controller's R: ctrl_rsid_band_default)"),
     OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 6 x controller's R, at most the observer's eq. (36) bound)"),
 
@@ -866,8 +869,11 @@ void scenario_params(const scenario_t *sc, drive_params_t *p)
     p->board.vdc_nominal_V = (float)sc->plant.vdc_V;
     p->board.i_full_scale_A = (float)sc->plant.adc_full_scale_A;
     p->board.enc_lines = sc->plant.encoder_lines;
-    /* align off: told the plant's offset, as if measured; on: not told (0), the alignment finds it */
-    p->board.enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)sc->plant.encoder_offset_el_rad;
+    /* align off: told [controller] encoder_offset_el_rad, else the plant's as if measured;
+     * on: the alignment's measurement replaces it */
+    const double enc_told = isnan(sc->controller.encoder_offset_el_rad) ? sc->plant.encoder_offset_el_rad
+                                                                        : sc->controller.encoder_offset_el_rad;
+    p->board.enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)enc_told;
     p->tuning.speed_bw_rad_s = (float)sc->controller.speed_bw_rad_s;
     p->tuning.pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
     p->tuning.R_min_Ohm = isnan(sc->controller.R_min_ohm) ? p->tuning.R_min_Ohm : (float)sc->controller.R_min_ohm;

@@ -120,18 +120,22 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->ud_cmd_V = (double)m->ud_V;
     r->uq_cmd_V = (double)m->uq_V;
     r->load_Nm = tr.load_Nm;
-    r->R_est_ohm = (double)m->R_est_Ohm;
-    r->L_est_H = (double)m->L_est_H;
-    r->psif_est_Wb = (double)m->psi_f_est_Wb;
-    r->fd_est = (double)m->fd_est_V;
-    r->fq_est = (double)m->fq_est_V;
-    r->est = (double)m->ident;
-    r->est_hold = (double)m->est_hold;
+    const est_t *es = ctrl_est(&g_app.ctrl);
+    const est_out_t *eo = est_output(es);
+    const dq_t f = est_f_V(es);
+    r->R_est_ohm = (double)eo->R_Ohm;
+    r->L_est_H = (double)eo->L_H;
+    r->psif_est_Wb = (double)eo->psi_f_Wb;
+    r->fd_est = (double)f.d;
+    r->fq_est = (double)f.q;
+    r->est = (double)eo->phase;
+    r->est_hold = (double)eo->hold;
     r->R_ohm = tr.R_Ohm;
-    r->inv_err_est_V = (double)m->inv_err_V;
-    r->psif_model_Wb = (double)m->psi_f_model_Wb;
+    r->inv_err_est_V = (double)eo->inv_err_V;
+    r->psif_model_Wb = r->psif_est_Wb; /* the older name */
     r->id_meas_A = (double)m->id_A;
     r->iq_meas_A = (double)m->iq_A;
+    r->psif_obs_Wb = (double)((eo->phase == EST_OFF) ? eo->psi_f_Wb : est_psi_f_obs_Wb(es));
     r->pwm = tr.pwm_enabled ? 1.0 : 0.0;
     r->inj = (double)tr.faults_active;
     const bool faulted = (g_app.state == APP_STATE_FAULT);
@@ -386,7 +390,7 @@ static const sil_col_t COLS[] = {
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
     COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
     COL(psif_model_Wb), COL(id_meas_A), COL(iq_meas_A), COL(ia_adc_A), COL(ib_adc_A), COL(vdc_adc_V), COL(ia_offset_A),
-    COL(ib_offset_A),
+    COL(ib_offset_A), COL(psif_obs_Wb),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 /* SIL_CSV_LINE_MAX counts one column per double of sil_row_t */

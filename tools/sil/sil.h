@@ -34,15 +34,16 @@ typedef struct {
     double R_est_ohm, L_est_H, psif_est_Wb, fd_est, fq_est;
     double est;                             /* ctrl_ident_t: 0 observer off, 1 step 1, 2 step 2 */
     double R_ohm;                           /* true stator resistance at t_k (warms with [plant] R_ohm's profile) */
-    double est_hold;                        /* EST_GATE_* bits: why step 2's laws pause (0: learning) */
+    double est_hold;                        /* CTRL_EST_HOLD_* bits: why the estimates are held (0: learning) */
     double pwm;                             /* 1: gates on during [t_k, t_k + Ts] */
     double inj;                             /* hal_sim_fault_bit_t of the injected faults active ([faults]) */
     double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; 0 unless in FAULT */
-    double inv_err_est_V;                   /* inverter voltage error the controller identified (ctrl_mon_t.inv_err_V) */
-    double psif_model_Wb;                   /* psi_f the deadbeat model uses (ctrl_mon_t.psi_f_model_Wb; design sec. 9f) */
+    double inv_err_est_V;                   /* inverter voltage error the controller identified (est_output()->inv_err_V) */
+    double psif_model_Wb;                   /* = psif_est_Wb (older name) */
     double id_meas_A, iq_meas_A;            /* the controller's measured dq currents this period (ctrl_mon_t.id_A, iq_A) */
     double ia_adc_A, ib_adc_A, vdc_adc_V;   /* level 2's report (app_t.adc): the last ADC_CHECK period's readings (offsets in), 0 before one */
     double ia_offset_A, ib_offset_A;        /* the current offsets the app subtracts (0 until calibrated) */
+    double psif_obs_Wb;                     /* the observer's internal psi^ (est_psi_f_obs_Wb) */
 } sil_row_t;
 
 typedef struct {

@@ -1,0 +1,349 @@
+/*
+ * est.h - the proposed method's estimation under one owner: the observer
+ * (smo.h), step 1 (rs_ident.h), step 2's transfer laws (param_est.h) and
+ * when they may learn (est_gate.h), the inverter error and R tracking by
+ * d-current injection (r_track.h), and the model's psi_f through a dead
+ * band with its speed floor (psi_band.h). Design: observer_design.md.
+ *
+ * One est_step() per period, one output (est_out_t): the motor model - R,
+ * L, psi_f and the inverter voltage error to compensate - that the
+ * deadbeat law, MTPA and the limits use, how to use it (src), and what
+ * is held and why (hold). Nothing outside est.c touches est_t's members
+ * (`make check`, tools/check/est_owner.sh): the controller reads
+ * est_output() and calls the functions below.
+ *
+ * Order inside est_step (the phase's part of it):
+ *   observer: i^(k+1), f^ from i(k), w(k), u(k)            (smo_step)
+ *   injection: inverter error after step 1, R^ in step 2   (r_track)
+ *   step 1: the window sums                                (rs_ident)
+ *   step 2: gate (pause, restore), transfer laws at the speed floor
+ *           input, the model's psi_f and the floor         (est_gate,
+ *           param_est, psi_band)
+ *   output: the model and its status
+ */
+#ifndef EST_H
+#define EST_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "clarke_park.h"
+#include "est_gate.h"
+#include "param_est.h"
+#include "psi_band.h"
+#include "r_track.h"
+#include "rs_ident.h"
+#include "smo.h"
+
+typedef enum {
+    EST_OFF = 0,          /* observer stopped: the told model */
+    EST_STEP1 = 1,        /* observer runs, R^ being identified: the told model */
+    EST_STEP2 = 2         /* observer, transfer laws, injection: the estimated model */
+} est_phase_t;
+
+/* Why the model's values are held (est_out_t.hold; 0: step 2 learning,
+ * the estimates are measurements). The first five are est_gate.h's. */
+#define EST_HOLD_ACCEL       0x0001u /* speed changing faster than its estimate follows */
+#define EST_HOLD_CURRENT     0x0002u /* current transient */
+#define EST_HOLD_TORQUE      0x0004u /* torque-command transient */
+#define EST_HOLD_VOLTAGE     0x0008u /* voltage limit: the applied voltage is not the model's */
+#define EST_HOLD_SETTLE      0x0010u /* one of those cleared, the hold time running */
+#define EST_HOLD_SPEED_FLOOR 0x0020u /* below the speed floor (psi_band.h): the last trusted or the told model */
+#define EST_HOLD_NO_STEP2    0x0040u /* step 2 not running: the told model */
+#define EST_HOLD_ANGLE       0x0080u /* L^ held: step 1's windows suggest an angle error (EST_FLAG_ANGLE_SUSPECT) */
+
+/* est_out_t.flags: bits of the controller's output flags. */
+#define EST_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
+#define EST_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
+#define EST_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f did not move this period */
+#define EST_FLAG_ANGLE_SUSPECT    0x0800u /* step 1's windows suggest an encoder angle error: L^ held (a warning) */
+
+/* est_out_t.src: how the model is used. */
+#define EST_SRC_TOLD     0u /* the told values, eq. (10), the told dead time: the conventional path */
+#define EST_SRC_OBSERVER 1u /* step 2's estimates, the state at k+1 from i^(k+1) (eq. 11, 12) */
+#define EST_SRC_HELD     2u /* held estimates, eq. (10) with them (after a current transient, or
+                             * the last trusted ones below the speed floor) */
+
+/* est_out_t.moved */
+#define EST_MOVED_LPSI 0x0001u /* L or psi_f may have moved: worth taking when far enough */
+#define EST_MOVED_ALL  0x0002u /* R changed or the model was re-based: take it */
+
+/* est_cfg_t.track_R: off; on from step 2's start; auto from
+ * rtrack.auto_delay_periods after it (step 1's R^ holds that long: a
+ * winding's thermal time constant is minutes; design sec. 9d). */
+#define EST_TRACK_R_OFF  0u
+#define EST_TRACK_R_ON   1u
+#define EST_TRACK_R_AUTO 2u
+
+/* What est_init refused (bits; the same as ctrl.h's CTRL_CFG_*). */
+typedef uint16_t est_status_t;
+#define EST_CFG_OK        ((est_status_t)0x0000u)
+#define EST_CFG_OBSERVER  ((est_status_t)0x0001u) /* smo_init refused (stability, (36)) */
+#define EST_CFG_ESTIMATOR ((est_status_t)0x0002u) /* param_est_init or psi_band_init refused */
+#define EST_CFG_RSID      ((est_status_t)0x0004u) /* rs_ident_init refused */
+#define EST_CFG_GATE      ((est_status_t)0x0080u) /* est_gate_init refused */
+#define EST_CFG_RTRACK    ((est_status_t)0x0100u) /* r_track_init refused */
+
+typedef struct {
+    float Ts_s;                 /* control period [s] */
+    float R_Ohm, L_H, psi_f_Wb; /* the told model [Ohm, H, Wb] */
+    float R_min_Ohm;            /* accepted R^ band [Ohm] */
+    float R_max_Ohm;
+    float i_max_A;              /* bounds the observer's inputs take */
+    float u_max_V;
+    float omega_max_el_rad_s;
+    float deadtime_s;           /* the told dead time (its fundamental bounds psi_band's Vb) [s] */
+    smo_cfg_t smo;              /* observer gains and ranges (the told values and bounds from above) */
+    param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
+    rs_ident_cfg_t rsid;        /* step-1 checks */
+    r_track_cfg_t rtrack;       /* d-axis injection */
+    uint16_t track_R;           /* EST_TRACK_R_*: R^ tracked in step 2 by the injection */
+    est_gate_cfg_t gate;        /* when step 2 may learn */
+} est_cfg_t;
+
+typedef struct {                /* what est_t keeps of est_cfg_t (the blocks keep their own) */
+    float R_Ohm, L_H, psi_f_Wb; /* the told model [Ohm, H, Wb] */
+    float R_min_Ohm;            /* accepted R^ band [Ohm] */
+    float R_max_Ohm;
+    float w_min_rad_s;          /* pe.w_min_rad_s: the psi^ law's own speed floor [rad/s el] */
+    float wiq_min_A_rad_s;      /* pe.wiq_min_A_rad_s: the L^ law's |w iq| floor [A rad/s] */
+    uint16_t track_R;           /* EST_TRACK_R_* */
+    uint16_t auto_delay_periods; /* rtrack.auto_delay_periods */
+} est_told_t;
+
+typedef struct {                /* one period's inputs */
+    dq_t i_dq_A;                /* i(k), rotor frame [A] */
+    float omega_el_rad_s;       /* w(k) [rad/s electrical] */
+    float sin_el, cos_el;       /* of theta_el(k) */
+    dq_t u_V;                   /* u(k): the voltage realised over [k, k+1] [V] */
+    float vdc_V;                /* bus [V] */
+    float te_ref_Nm;            /* the last period's torque reference [N m] */
+    bool voltage_limited;       /* the last period's voltage was clamped */
+    float dpsi_weak_Wb;         /* the flux reference's weakening (oplim's dpsi; > 0: weakened) [Wb] */
+} est_in_t;
+
+typedef struct {                /* the output: written by est_step and the phase changes */
+    float R_Ohm, L_H, psi_f_Wb; /* the motor model [Ohm, H, Wb] */
+    float inv_dv_V;             /* per-leg inverter error to compensate beyond the told dead time [V] */
+    float inv_err_V;            /* the identified inverter error, rotor-frame fundamental [V] (monitor) */
+    uint16_t src;               /* EST_SRC_* */
+    uint16_t moved;             /* EST_MOVED_* this period */
+    uint16_t hold;              /* EST_HOLD_* */
+    uint16_t flags;             /* EST_FLAG_* */
+    est_phase_t phase;
+} est_out_t;
+
+typedef struct {
+    est_told_t cfg;
+    est_status_t status;
+    float ve_told_per_vdc;      /* the told dead time's rotor-frame fundamental per bus volt, (4/pi) td/Ts [1] */
+    est_phase_t phase;
+    smo_t smo;
+    param_est_t pe;
+    rs_ident_t ri;
+    rs_ident_window_t win;      /* window the coming periods go into */
+    rs_ident_out_t rsid_out;    /* last est_rsid_finish() result */
+    r_track_t rt;
+    psi_band_t pb;
+    est_gate_t gate;
+    float inv_dv_V;             /* per-leg error identified on top of the told dead time [V] */
+    float w_psi_min_rad_s;      /* the transfer laws' speed floor for psi^ (param_est_step's input) */
+    uint16_t rt_flags;          /* EST_FLAG_INV_UNIDENTIFIED, EST_FLAG_R_HELD while they last */
+    uint16_t force;             /* EST_MOVED_ALL due at the next output */
+    uint16_t hold_fixed;        /* EST_HOLD_ANGLE while an angle error is suspected (else 0) */
+    bool trusted;               /* the model was taken above the speed floor as psi_band decided it under
+                                 * the final bound (the last trusted model, kept below the floor) */
+    est_out_t out;
+} est_t;
+
+/* Builds everything; the told values and bounds of *cfg are written into
+ * its smo/pe/rsid/gate members first (*cfg is the caller's scratch: no
+ * second copy on the start-up stack). Returns the refusals (EST_CFG_*);
+ * a refused estimation must not be started. Background. */
+est_status_t est_init(est_t *e, est_cfg_t *cfg);
+
+/* Observer stopped, estimates back to the told values, windows emptied.
+ * Background, or ISR before PWM is enabled. */
+void est_reset(est_t *e);
+
+/* Step 1 begins: observer restarted from the told values, step 2 and the
+ * injection stopped, windows emptied. False when init refused. ISR or background. */
+bool est_rsid_begin(est_t *e);
+
+/* Window the following periods are averaged into. ISR or background. */
+void est_rsid_window(est_t *e, rs_ident_window_t win);
+
+/* Step 1 under way: solves on the windows so far, changes nothing. ISR or background. */
+rs_ident_result_t est_rsid_check(const est_t *e, rs_ident_out_t *out);
+
+/* Step 1 ends: solves; on RS_IDENT_OK R^ into the observer (bumpless) and
+ * step 2 starts with the inverter-error identification; otherwise the
+ * observer stops. ISR once or background. */
+rs_ident_result_t est_rsid_finish(est_t *e);
+
+/* The staged form of est_rsid_check (rs_ident_solve_begin/_step, for an
+ * ISR with a budget): window 2 as it is copied into *win2_copy (window 1
+ * is complete), the solve into est_rsid_out(); est_rsid_stage_step runs
+ * one stage per call and returns true when s->result and the output are
+ * final, the d-axis and angle checks included. ISR. */
+void est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_win_t *win2_copy);
+bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s);
+
+/* Step 1 ends on a staged solve's result r_solved: as est_rsid_finish
+ * without solving again. ISR once. */
+rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved);
+
+/* Step 2 without step 1 for a trusted R_Ohm in the band: false otherwise
+ * or when init refused. ISR or background. */
+bool est_start_trusted(est_t *e, float R_Ohm);
+
+/* An injection event of the period (r_track_step's; est_step calls it,
+ * nothing else): the inverter error into the compensation, R^ tracked,
+ * the holds. ISR. */
+void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A);
+
+/* est_hold while psi_band's `low` holds the model: the gate's reasons,
+ * the speed floor when it is the speed, the angle hold. ISR. */
+static inline uint16_t est_hold_low(const est_t *e)
+{
+    const uint16_t floor = ((e->pb.low & (PSI_BAND_LOW_W | PSI_BAND_LOW_BAND)) != 0u) ? EST_HOLD_SPEED_FLOOR : 0u;
+    return (uint16_t)(e->gate.reasons | e->hold_fixed | floor);
+}
+
+/* Step 2's part of est_step after the observer: the gate (pause,
+ * restore), the transfer laws at the speed floor, the model's psi_f and
+ * the floor; then the model and its status. ISR. */
+static inline void est_step2(est_t *e, const est_in_t *in)
+{
+    est_out_t *o = &e->out;
+    const float w = in->omega_el_rad_s;
+    /* the injected d current is no transient (design sec. 9) */
+    dq_t i_gate = in->i_dq_A;
+    i_gate.d -= e->rt.id_expect_A;
+    uint16_t moved = est_gate_step(&e->gate, &e->smo, w, i_gate, in->te_ref_Nm, in->voltage_limited)
+                         ? EST_MOVED_LPSI : 0u;
+    uint16_t psi_held = EST_FLAG_PSI_HELD;
+
+    if (e->gate.reasons == 0u) {
+        if (param_est_step(&e->pe, &e->smo, w, in->i_dq_A.q, e->w_psi_min_rad_s) != 0u) {
+            moved = EST_MOVED_LPSI;
+        }
+        /* the model's psi_f: only what the voltage it cannot explain (the
+         * inverter error compensated, noise) cannot fake (design sec. 9f) */
+        if (psi_band_step(&e->pb, e->smo.psi_f_Wb, e->smo.fq_V, w, e->ve_told_per_vdc * in->vdc_V, o->inv_err_V)) {
+            moved = EST_MOVED_LPSI;
+            psi_held = 0u;
+        }
+    } else {
+        psi_band_pause(&e->pb, w);
+    }
+    if (e->pb.low == 0u) {
+        o->R_Ohm = e->smo.R_Ohm;
+        o->L_H = e->smo.L_H;
+        o->psi_f_Wb = e->pb.psi_Wb;
+        o->inv_dv_V = e->inv_dv_V;
+        /* f^ carries a current transient: eq. (10) with the held estimates (design sec. 7) */
+        o->src = est_gate_f_usable(&e->gate) ? EST_SRC_OBSERVER : EST_SRC_HELD;
+        o->hold = e->gate.reasons; /* (an angle hold keeps pb.low set: the branches below) */
+        e->trusted = e->pb.trust; /* taken above the floor as decided under the final bound */
+    } else if (e->trusted) {
+        /* below the floor: the last trusted model (as it is in *o), eq. (10) */
+        o->src = EST_SRC_HELD;
+        o->hold = est_hold_low(e);
+        moved = 0u;
+    } else {
+        /* below the floor, nothing trusted: the told model, the conventional path */
+        o->R_Ohm = e->cfg.R_Ohm;
+        o->L_H = e->cfg.L_H;
+        o->psi_f_Wb = e->cfg.psi_f_Wb;
+        o->inv_dv_V = 0.0f;
+        o->src = EST_SRC_TOLD;
+        o->hold = est_hold_low(e);
+    }
+    o->moved = (uint16_t)(moved | e->force);
+    e->force = 0u;
+    o->flags = (uint16_t)(e->rt_flags | psi_held);
+}
+
+/* One period, every period (nothing while off): observer, injection,
+ * step 1's window sums or step 2; the output model and status. Inline:
+ * the ISR's cost (the rare work is in est.c). ISR. */
+static inline void est_step(est_t *e, const est_in_t *in)
+{
+    if (e->phase == EST_OFF) {
+        return;
+    }
+    /* u(k) is the clamped voltage the last step realised, as the observer needs */
+    (void)smo_step(&e->smo, in->i_dq_A, in->omega_el_rad_s, in->u_V); /* i^(k+1): (51b), (55) */
+    if (e->rt.phase != R_TRACK_OFF) {
+        if ((in->dpsi_weak_Wb > 0.0f) || ((e->gate.reasons & (EST_GATE_ACCEL | EST_GATE_VOLTAGE)) != 0u)) {
+            /* tracking only: the injection would read the weakening loop, the clamp (the gate's
+             * voltage reason) or the speed estimate's lag in a ramp (its acceleration reason),
+             * not R (design sec. 9d) */
+            r_track_hold(&e->rt);
+        }
+        /* z: the L^ law's invariant */
+        const float z = e->smo.fd_V - in->omega_el_rad_s * e->smo.L_H * in->i_dq_A.q;
+        const r_track_event_t ev = r_track_step(&e->rt, z, in->i_dq_A.d, in->i_dq_A.q, in->omega_el_rad_s, e->smo.L_H);
+        if (ev != R_TRACK_NONE) {
+            est_r_track_event(e, ev, in->i_dq_A);
+        }
+    }
+    if (e->phase == EST_STEP1) {
+        /* the angle for the fit of the electrical-frequency ripple (design sec. 6e) */
+        rs_ident_step_el(&e->ri, e->win, e->smo.fd_V, e->smo.fq_V, in->i_dq_A.d, in->i_dq_A.q, in->omega_el_rad_s,
+                         in->cos_el, in->sin_el);
+    } else {
+        est_step2(e, in);
+    }
+}
+
+/* The flux reference psi_ref_Wb [Wb] with the injection's L id* added
+ * for the model's L_H [H] (none while the injection is off). ISR. */
+static inline float est_psi_ref(const est_t *e, float psi_ref_Wb, float L_H)
+{
+    return (e->rt.phase == R_TRACK_OFF) ? psi_ref_Wb : r_track_psi_ref(&e->rt, psi_ref_Wb, L_H);
+}
+
+/* ---- readers (any context) ---- */
+
+static inline const est_out_t *est_output(const est_t *e)
+{
+    return &e->out;
+}
+
+/* The observer's i^(k+1) of the last est_step [A] (src OBSERVER). */
+static inline dq_t est_i_hat_A(const est_t *e)
+{
+    return e->smo.i_hat_A;
+}
+
+/* The observer's internal psi^ [Wb]: it carries the voltage the model
+ * cannot explain as Vu/w, no measurement (the told psi_f while off). */
+static inline float est_psi_f_obs_Wb(const est_t *e)
+{
+    return e->smo.psi_f_Wb;
+}
+
+/* The observer's disturbances f^_d, f^_q [V] (0 while off). */
+static inline dq_t est_f_V(const est_t *e)
+{
+    dq_t f = { 0.0f, 0.0f };
+    if (e->phase != EST_OFF) {
+        f.d = e->smo.fd_V;
+        f.q = e->smo.fq_V;
+    }
+    return f;
+}
+
+static inline const rs_ident_out_t *est_rsid_out(const est_t *e)
+{
+    return &e->rsid_out;
+}
+
+static inline const rs_ident_cfg_t *est_rsid_cfg(const est_t *e)
+{
+    return &e->ri.cfg;
+}
+
+#endif /* EST_H */

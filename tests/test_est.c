@@ -1,0 +1,123 @@
+/* Unit tests for control/est: the estimation's one output. While step 2
+ * does not run it is the told model on the conventional path with
+ * est_hold NO_STEP2; step 2 with a trusted R gives the observer's model
+ * above the speed floor and the told one (the conventional path, no
+ * inverter compensation) below it; a refused start or a finish without a
+ * step 1 changes nothing. Expected values from the told configuration
+ * and est.h's rules. */
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <setjmp.h>
+#include <cmocka.h>
+#include <math.h>
+
+#include "ctrl.h"
+#include "est.h"
+
+#define TS   1e-4f
+#define RS   3.0f
+#define LS   0.011f
+#define PSIF 0.24f
+
+static est_t e;
+
+static void init(void)
+{
+    ctrl_cfg_t c = { .Ts_s = TS, .R_Ohm = RS, .L_H = LS, .psi_f_Wb = PSIF, .pole_pairs = 3u,
+                     .i_max_A = 60.0f, .u_max_V = 500.0f, .omega_max_el_rad_s = 3000.0f, .psi_max_Wb = 1.0f };
+    float R_min;
+    float R_max;
+    ctrl_rsid_band_default(&c, &R_min, &R_max);
+    ctrl_cfg_proposed_defaults(&c, R_min, R_max);
+    est_cfg_t ec = { .Ts_s = TS, .R_Ohm = RS, .L_H = LS, .psi_f_Wb = PSIF, .R_min_Ohm = R_min,
+                     .R_max_Ohm = R_max, .i_max_A = c.i_max_A, .u_max_V = c.u_max_V,
+                     .omega_max_el_rad_s = c.omega_max_el_rad_s, .deadtime_s = 0.0f, .smo = c.smo, .pe = c.pe,
+                     .rsid = c.rsid, .rtrack = c.rtrack, .track_R = 0u, .gate = c.gate };
+    assert_int_equal(est_init(&e, &ec), EST_CFG_OK);
+}
+
+/* n periods at a held operating point: i = (0, iq), w, the voltage of
+ * the told model's steady state u = (-w L iq, R iq + w psi_f). */
+static void run(int n, float iq, float w)
+{
+    est_in_t in = { .i_dq_A = { 0.0f, iq }, .omega_el_rad_s = w, .sin_el = 0.0f, .cos_el = 1.0f,
+                    .u_V = { -w * LS * iq, RS * iq + w * PSIF }, .vdc_V = 311.0f, .te_ref_Nm = 2.0f,
+                    .voltage_limited = false };
+    for (int k = 0; k < n; k++) {
+        est_step(&e, &in);
+    }
+}
+
+static void off_is_the_told_model(void **state)
+{
+    (void)state;
+    init();
+    run(10, 2.0f, 157.0f);
+    const est_out_t *o = est_output(&e);
+    assert_int_equal(o->phase, EST_OFF);
+    assert_int_equal(o->src, EST_SRC_TOLD);
+    assert_int_equal(o->hold, EST_HOLD_NO_STEP2);
+    assert_float_equal(o->R_Ohm, RS, 0.0);
+    assert_float_equal(o->L_H, LS, 0.0);
+    assert_float_equal(o->psi_f_Wb, PSIF, 0.0);
+    assert_float_equal(o->inv_dv_V, 0.0, 0.0);
+    assert_float_equal(est_f_V(&e).q, 0.0, 0.0);
+    /* no step 1 under way: a finish refuses and stays off */
+    assert_int_equal(est_rsid_finish(&e), RS_IDENT_TOO_FEW);
+    assert_int_equal(est_output(&e)->phase, EST_OFF);
+    /* an R outside the band is refused */
+    assert_false(est_start_trusted(&e, 100.0f * RS));
+    assert_int_equal(est_output(&e)->phase, EST_OFF);
+}
+
+static void trusted_start_above_and_below_the_floor(void **state)
+{
+    (void)state;
+    init();
+    assert_true(est_start_trusted(&e, 1.1f * RS));
+    /* 500 r/min (157 rad/s el), the told model exact: above the floor the
+     * observer's model, R the trusted one */
+    run(200, 2.0f, 157.0f);
+    const est_out_t *o = est_output(&e);
+    assert_int_equal(o->phase, EST_STEP2);
+    assert_int_equal(o->hold & EST_HOLD_SPEED_FLOOR, 0u);
+    assert_true(o->src != EST_SRC_TOLD);
+    assert_float_equal(o->R_Ohm, 1.1 * RS, 1e-6);
+    /* at standstill (|w| <= w_min): the floor at once; the model taken
+     * above it is kept (trusted), eq. (10) */
+    run(1, 2.0f, 0.0f);
+    o = est_output(&e);
+    assert_int_equal(o->hold & EST_HOLD_SPEED_FLOOR, EST_HOLD_SPEED_FLOOR);
+    assert_int_equal(o->src, EST_SRC_HELD);
+    assert_float_equal(o->R_Ohm, 1.1 * RS, 1e-6);
+    assert_int_equal(o->moved, 0u);
+}
+
+static void floor_before_any_trusted_model_is_the_told_one(void **state)
+{
+    (void)state;
+    init();
+    assert_true(est_start_trusted(&e, 1.1f * RS));
+    /* step 2 starts at standstill: nothing taken above the floor yet */
+    run(5, 2.0f, 0.0f);
+    const est_out_t *o = est_output(&e);
+    assert_int_equal(o->hold & EST_HOLD_SPEED_FLOOR, EST_HOLD_SPEED_FLOOR);
+    assert_int_equal(o->src, EST_SRC_TOLD);
+    assert_float_equal(o->R_Ohm, RS, 0.0);
+    assert_float_equal(o->inv_dv_V, 0.0, 0.0);
+    /* reset: off, told */
+    est_reset(&e);
+    assert_int_equal(est_output(&e)->phase, EST_OFF);
+    assert_int_equal(est_output(&e)->hold, EST_HOLD_NO_STEP2);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(off_is_the_told_model),
+        cmocka_unit_test(trusted_start_above_and_below_the_floor),
+        cmocka_unit_test(floor_before_any_trusted_model_is_the_told_one),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
