@@ -82,6 +82,19 @@ static ctrl_status_t config_needed(const app_t *app)
                                                 : (ctrl_status_t)(CTRL_CFG_NEEDED_ALWAYS | CTRL_CFG_NEEDED_PROPOSED);
 }
 
+/* CONFIG when a controller block in needed or the parameter set (the
+ * ratings, the ADC range: they bound a commissioning's currents too) was
+ * refused; the value: ctrl_init's refusals, the parameter set's above them. */
+static app_step_t config_refusal(const app_t *app, ctrl_status_t needed)
+{
+    if (((ctrl_status(&app->ctrl) & needed) != 0u) || (app->cfg.params_refused != 0u)) {
+        const uint16_t why =
+            (uint16_t)(ctrl_status(&app->ctrl) | (uint16_t)(app->cfg.params_refused << APP_PARAMS_REFUSED_SHIFT));
+        return app_step_fault(APP_FAULT_CONFIG, (float)why, 0.0f);
+    }
+    return app_step_running();
+}
+
 /* After CALIBRATE, done or skipped: the bus must be up from here on, and
  * every controller block this start needs accepted by ctrl_init (CONFIG,
  * the refusals in the snapshot's value); both are checked on this call's
@@ -89,6 +102,8 @@ static ctrl_status_t config_needed(const app_t *app)
 static void leave_calibrate(app_t *app, const hal_sample_t *s)
 {
     const bool bus = (app->level > LEVEL_ADC); /* levels 1-2 run without the DC bus */
+    /* the told R, L, psi_f play no part in a commissioning: it needs only the encoder's speed estimate */
+    const app_step_t cfg = config_refusal(app, app->commissioning ? CTRL_CFG_ENCODER : config_needed(app));
 
     if (bus) {
         protect_arm_uv(&app->prot);
@@ -96,11 +111,14 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
     if (bus && (s->vdc_V < app->cfg.prot.vdc_min_V)) {
         const app_step_t f = app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, app->cfg.prot.vdc_min_V);
         latch_fault(app, &f, s);
-    } else if (((ctrl_status(&app->ctrl) & config_needed(app)) != 0u) || (app->cfg.params_refused != 0u)) {
-        /* the value: ctrl_init's refusals, the parameter set's above them */
-        const uint16_t why = (uint16_t)(ctrl_status(&app->ctrl) | (uint16_t)(app->cfg.params_refused << APP_PARAMS_REFUSED_SHIFT));
-        const app_step_t f = app_step_fault(APP_FAULT_CONFIG, (float)why, 0.0f);
-        latch_fault(app, &f, s);
+    } else if (cfg.status == APP_STEP_FAULT) {
+        latch_fault(app, &cfg, s);
+#if COMM_IN_IMAGE
+    } else if (app->commissioning) {
+        ctrl_reset(&app->ctrl);
+        app->state = APP_STATE_COMMISSION;
+        comm_start(&app->comm);
+#endif
     } else if (app->level == LEVEL_ADC) {
         app->state = APP_STATE_ADC_CHECK;
     } else if (app->level == LEVEL_ROTATE) {
@@ -130,11 +148,17 @@ static void level_control(app_t *app, uint16_t was)
     }
 }
 
-static void start_sequence(app_t *app, const hal_sample_t *s)
+/* A start, or (commission) a commissioning: that runs as at the full
+ * level (the bus armed, no level's check), whatever level is asked for. */
+static void start_sequence(app_t *app, const hal_sample_t *s, bool commission)
 {
     const uint16_t was = app->level;
 
-    app->level = app->req_level;
+    app->level = commission ? LEVEL_FULL : app->req_level;
+    app->commissioning = commission;
+    if (commission) {
+        app->comm_valid = false;
+    }
     app->warnings = 0u;
     app->rsid_refusal = app_step_running();
     level_control(app, was);
@@ -192,6 +216,35 @@ static void align_state(app_t *app, const hal_sample_t *s)
         leave_align(app);
     }
 }
+
+#if COMM_IN_IMAGE
+/* COMMISSION: the sequence's vector through ctrl's output path; done:
+ * gates off, IDLE, the results valid, the measured offset taken. */
+static void commission_state(app_t *app, const hal_sample_t *s)
+{
+    ab_t u;
+    app_step_t r;
+
+    { /* the inputs' scope ends here: 8 B less of app_isr's frame (the stack's RAM gate) */
+        const ctrl_in_t in = ctrl_input(app, s);
+        r = comm_step(&app->comm, &in, ctrl_speed_m_rad_s(&app->ctrl), &u);
+    }
+    ctrl_step_ab(&app->ctrl, u, s->vdc_V, &app->out);
+    if ((r.status != APP_STEP_FAULT) && ((app->out.flags & CTRL_FLAG_NONFINITE) != 0u)) {
+        r = app_step_fault(APP_FAULT_NONFINITE_OUTPUT, u.a, 0.0f);
+    }
+    if (r.status == APP_STEP_DONE) {
+        stop_to_idle(app);
+        app->comm_valid = true;
+        if (app->comm.res.pole_pairs == app->cfg.ctrl.pole_pairs) {
+            encoder_set_offset(&app->ctrl.enc, app->comm.res.enc_offset_el_rad);
+            app->aligned = true;
+        }
+    } else {
+        (void)output(app, r, s);
+    }
+}
+#endif
 
 /* A refusal of R^ itself (not the controller's output, not its settings). */
 static bool is_rsid_refusal(app_fault_t f)
@@ -304,13 +357,16 @@ static void take_requests(app_t *app, const hal_sample_t *s)
     if (app->req_stop != 0u) {
         app->req_stop = 0u;
         app->req_start = 0u;
+        app->req_commission = 0u;
         if ((app->state != APP_STATE_INIT) && (app->state != APP_STATE_IDLE)) { /* FAULT is not here */
             stop_to_idle(app);
         }
-    } else if (app->req_start != 0u) {
+    } else if ((app->req_start != 0u) || (app->req_commission != 0u)) {
+        const bool commission = (app->req_commission != 0u); /* wins over a start asked for with it */
         app->req_start = 0u; /* ignored unless stopped */
+        app->req_commission = 0u;
         if ((app->state == APP_STATE_INIT) || (app->state == APP_STATE_IDLE)) {
-            start_sequence(app, s);
+            start_sequence(app, s, commission);
         }
     }
 }
@@ -342,6 +398,7 @@ static app_step_t watch(app_t *app, const hal_sample_t *s)
 static void fault_state(app_t *app, const hal_sample_t *s)
 {
     app->req_start = 0u; /* a start asked for while faulted is not kept */
+    app->req_commission = 0u;
     app->req_stop = 0u;
     if (app->req_fault_reset != 0u) {
         app->req_fault_reset = 0u;
@@ -374,6 +431,11 @@ static void other_state(app_t *app, const hal_sample_t *s)
     case APP_STATE_ENC_CHECK:
         enc_check_state(app, s);
         break;
+#if COMM_IN_IMAGE
+    case APP_STATE_COMMISSION:
+        commission_state(app, s);
+        break;
+#endif
     default: /* INIT, IDLE: outputs off, nothing to do */
         break;
     }

@@ -6,6 +6,9 @@
  *   IDLE --start--> (the same sequence)
  *   CALIBRATE, ALIGN, IDENTIFY_R, RUN --stop--> IDLE
  *   INIT, IDLE, CALIBRATE, ALIGN, IDENTIFY_R, RUN --protection--> FAULT
+ *   INIT, IDLE --commission--> CALIBRATE (if on) --> COMMISSION
+ *              --measured--> IDLE (results in comm.res, comm_valid)
+ *   COMMISSION --stop--> IDLE; --refused (COMM_*)--> FAULT
  *   INIT --start-up fault (app_latch_startup_fault)--> FAULT
  *   IDENTIFY_R --R^ refused--> FAULT (the reason in the code), or with
  *              rsid.on_refusal = CONVENTIONAL --> RUN, conventional method,
@@ -28,6 +31,12 @@
  *              proposed-method settings ctrl_init refused cannot identify:
  *              a start then faults CONFIG before anything is energised.
  *   RUN        ctrl_step every period.
+ *   COMMISSION commission.h: measures R, L, the encoder's direction,
+ *              offset and pole pairs, psi_f, J and B on a free shaft
+ *              without the controller's told R, L, psi_f (its voltage
+ *              through ctrl_step_ab, as ALIGN's); needs only the encoder
+ *              block of ctrl_init. The measured offset replaces the
+ *              controller's (as an alignment) when the pole pairs agree.
  * Why the sequence is built this way (dead points of the alignment,
  * open-loop voltage, the handover): firmware/startup_design.md.
  *
@@ -64,6 +73,7 @@
 #include "align.h"
 #include "app_step.h"
 #include "calib.h"
+#include "commission.h"
 #include "ctrl.h"
 #include "hal.h"
 #include "level.h"
@@ -89,6 +99,9 @@ typedef struct {
     bool align;                 /* encoder offset unknown: align the rotor once per power-up */
     align_cfg_t aln;            /* ALIGN (align.h) */
     rsid_seq_cfg_t rsid;        /* IDENTIFY_R: step 1 of the proposed method and its refusal policy (rsid_seq.h) */
+#if COMM_IN_IMAGE
+    comm_cfg_t comm;            /* COMMISSION (commission.h) */
+#endif
     /* The I^2t budget (app_background): above i2t_rated_A the budget
      * (i_peak^2 - i_rated^2) t_peak drains by (i^2 - i_rated^2) dt; spent,
      * the targets' current limit is i2t_rated_A until half of it is back. */
@@ -131,6 +144,11 @@ typedef struct {
     calib_t cal;                   /* CALIBRATE */
     align_t aln;                   /* ALIGN */
     rsid_seq_t rsid;               /* IDENTIFY_R, and the handover in RUN */
+#if COMM_IN_IMAGE
+    comm_t comm;                   /* COMMISSION: its stage stays at a refusal's */
+#endif
+    bool commissioning;            /* this start is a commissioning (CALIBRATE leads to COMMISSION) */
+    bool comm_valid;               /* comm.res holds a completed commissioning's results */
     uint16_t warnings;             /* APP_WARN_* since the last start */
     app_step_t rsid_refusal;       /* APP_WARN_STEP1_REFUSED: the fault step 1 would have latched */
     uint16_t level;                /* the build level of the last start (level.h) */
@@ -139,6 +157,7 @@ typedef struct {
     /* Requests: one word each, so that setting (background) and clearing
      * (ISR) are single stores and cannot lose one another. */
     volatile uint16_t req_start;
+    volatile uint16_t req_commission;
     volatile uint16_t req_stop;
     volatile uint16_t req_fault_reset;
     /* The operator's request: written whole by the background between
@@ -169,6 +188,11 @@ void app_background(app_t *app);
 /* Background: INIT or IDLE -> the start sequence at the next ISR. */
 void app_request_start(app_t *app);
 
+/* Background: INIT or IDLE -> CALIBRATE (if on) -> COMMISSION at the next
+ * ISR; the results in app->comm.res once app->comm_valid. Ignored in an
+ * image without the commissioning (COMM_IN_IMAGE 0, commission.h). */
+void app_request_commission(app_t *app);
+
 /* Background: the operator's references, mode and method; the ISR takes
  * them together at the start of its next call (ctrl_set_ref, _mode,
  * _method there: the background never writes the controller). */
@@ -178,7 +202,7 @@ void app_request_op(app_t *app, const app_op_t *op);
  * start runs; another value is ignored. */
 void app_request_level(app_t *app, uint16_t level);
 
-/* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN and the levels' states -> IDLE at the next ISR, PWM off. */
+/* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN, COMMISSION and the levels' states -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);
 
 /* Start-up, after app_init and before the ISR is attached: a fault found

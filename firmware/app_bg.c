@@ -35,6 +35,12 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     calib_init(&app->cal, &cfg->cal, Ts);
     align_init(&app->aln, &cfg->aln, Ts);
     rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
+#if COMM_IN_IMAGE
+    comm_init(&app->comm, &cfg->comm, Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines);
+#endif
+    app->commissioning = false;
+    app->comm_valid = false;
+    app->req_commission = 0u;
     level_rot_init(&app->rot, &cfg->lvl, &cfg->ctrl, Ts);
     app->level = cfg->lvl.level;
     app->req_level = cfg->lvl.level;
@@ -105,6 +111,15 @@ void app_background(app_t *app)
 void app_request_start(app_t *app)
 {
     app->req_start = 1u;
+}
+
+void app_request_commission(app_t *app)
+{
+#if COMM_IN_IMAGE
+    app->req_commission = 1u;
+#else
+    (void)app;
+#endif
 }
 
 void app_request_op(app_t *app, const app_op_t *op)

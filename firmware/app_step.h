@@ -24,7 +24,8 @@ typedef enum {
     APP_STATE_FAULT = 6,
     APP_STATE_PWM_CHECK = 7,    /* level 1: fixed duties, a pattern for the scope */
     APP_STATE_ADC_CHECK = 8,    /* level 2: PWM off, the ADC's readings and offsets reported */
-    APP_STATE_ENC_CHECK = 9     /* level 3: open-loop rotation, the encoder and wiring checked */
+    APP_STATE_ENC_CHECK = 9,    /* level 3: open-loop rotation, the encoder and wiring checked */
+    APP_STATE_COMMISSION = 10   /* measuring the motor (commission.h) */
 } app_state_t;
 
 typedef enum {
@@ -53,7 +54,11 @@ typedef enum {
     APP_FAULT_ENCODER_DIRECTION = 22, /* level 3: the count ran against the commanded rotation (enc_check.h) */
     APP_FAULT_POLE_PAIRS = 23,       /* level 3: the counts per commanded turn give other pole pairs (enc_check.h) */
     APP_FAULT_PHASE_ORDER = 24,      /* level 3: the current vector turned against the commanded one (enc_check.h) */
-    APP_FAULT_RSID_D_AXIS = 25       /* R^ hangs on the d-axis term (field weakening) (snapshot: that uncertainty of R^, the limit) */
+    APP_FAULT_RSID_D_AXIS = 25,      /* R^ hangs on the d-axis term (field weakening) (snapshot: that uncertainty of R^, the limit) */
+    /* commissioning (commission.h; the stage in comm_t.stage): */
+    APP_FAULT_COMM_TIMEOUT = 26,     /* a stage outlasted its timeout (value: its time [s], limit: the timeout) */
+    APP_FAULT_COMM_NO_ROTATION = 27, /* the swept vector moved the count by less than half an electrical turn at the most pole pairs */
+    APP_FAULT_COMM_IMPLAUSIBLE = 28  /* a stage's measurement or the voltage it needed outside its plausible range */
 } app_fault_t;
 
 typedef enum {

@@ -40,6 +40,71 @@ static void report(volatile cmd_t *cmd, const app_t *app)
     cmd->pole_pairs_est = app->rot.out.pole_pairs_est;
 }
 
+void cmd_comm_init(volatile cmd_comm_t *rep)
+{
+    rep->start = 0u;
+    rep->state = 0u;
+    rep->stage = 0u;
+    rep->fault = 0u;
+    rep->fault_value = 0.0f;
+    rep->fault_limit = 0.0f;
+    rep->R_Ohm = 0.0f;
+    rep->L_H = 0.0f;
+    rep->psi_f_Wb = 0.0f;
+    rep->pole_pairs = 0u;
+    rep->J_kgm2 = 0.0f;
+    rep->B_Nms = 0.0f;
+    rep->enc_offset_el_rad = 0.0f;
+    rep->speed_kp_Nms_rad = 0.0f;
+    rep->speed_ki_Nm_rad = 0.0f;
+}
+
+void cmd_comm_apply(volatile cmd_comm_t *rep, const volatile cmd_t *cmd, app_t *app)
+{
+#if COMM_IN_IMAGE
+    const comm_result_t *r = &app->comm.res;
+    uint16_t state = 0u;
+
+    if (rep->start != 0u) {
+        if (cmd->run == 0u) {
+            app_request_commission(app); /* acted on only while stopped (INIT, IDLE) */
+        }
+        rep->start = 0u;
+    }
+    if (app->comm_valid) {
+        state = 2u;
+    } else if (app->state == APP_STATE_COMMISSION) {
+        state = 1u;
+    } else if ((app->state == APP_STATE_FAULT) && (app->snapshot.state == APP_STATE_COMMISSION)) {
+        state = 3u;
+    } else {
+        state = rep->state; /* kept until the next commissioning */
+    }
+    rep->state = state;
+    rep->stage = (uint16_t)app->comm.stage;
+    if (state == 3u) {
+        rep->fault = (uint16_t)app->fault;
+        rep->fault_value = app->snapshot.value;
+        rep->fault_limit = app->snapshot.limit;
+    }
+    if (state == 2u) {
+        rep->R_Ohm = r->R_Ohm;
+        rep->L_H = r->L_H;
+        rep->psi_f_Wb = r->psi_f_Wb;
+        rep->pole_pairs = r->pole_pairs;
+        rep->J_kgm2 = r->J_kgm2;
+        rep->B_Nms = r->B_Nms;
+        rep->enc_offset_el_rad = r->enc_offset_el_rad;
+        rep->speed_kp_Nms_rad = r->speed_kp_Nms_rad;
+        rep->speed_ki_Nm_rad = r->speed_ki_Nm_rad;
+    }
+#else
+    (void)cmd;
+    (void)app;
+    rep->start = 0u; /* no commissioning in this image (commission.h COMM_IN_IMAGE) */
+#endif
+}
+
 /* True when x is finite and |x| <= lim (a NaN fails both). */
 static bool within(float x, float lim)
 {

@@ -29,6 +29,25 @@ typedef enum {
     CMD_ERR_LEVEL        /* level is not 0 (keep) or 1 .. 5 (level.h) */
 } cmd_error_t;
 
+/* The commissioning's request and report (cmd_comm_apply): a separate
+ * object from cmd_t, which cmd_apply() copies whole on the stack. The
+ * values are not written to flash: the user copies them into the board's
+ * configuration. */
+typedef struct {
+    uint16_t start;        /* write 1 while stopped (cmd_t.run 0): measure the motor (commission.h);
+                            * cmd_comm_apply() sets it back to 0. The rest is read only: */
+    uint16_t state;        /* 0 none, 1 running (stage says which), 2 done (values valid), 3 refused (fault says why) */
+    uint16_t stage;        /* comm_stage_t reached (the refusing one) */
+    uint16_t fault;        /* app_fault_t of a refusal (COMM_*, or a protection's) */
+    float fault_value;     /* its measured value and limit (the fault snapshot) */
+    float fault_limit;
+    float R_Ohm, L_H, psi_f_Wb;
+    uint16_t pole_pairs;
+    float J_kgm2, B_Nms;
+    float enc_offset_el_rad;
+    float speed_kp_Nms_rad, speed_ki_Nm_rad;
+} cmd_comm_t;
+
 typedef struct {
     uint16_t run;          /* 1: start (calibration, alignment, identification, run); 0: stop */
     uint16_t fault_reset;  /* write 1 to clear a latched fault (ignored when none is); cmd_apply() sets it back to 0 */
@@ -64,5 +83,14 @@ void cmd_init(volatile cmd_t *cmd);
 
 /* Check the command and pass it to the drive. Background loop only. */
 void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app);
+
+/* Power-on: no request, nothing commissioned. Start-up. */
+void cmd_comm_init(volatile cmd_comm_t *cc);
+
+/* A start request passed to the app while the command block is stopped
+ * (cmd->run 0; the app acts only in INIT or IDLE), then the stage,
+ * outcome and values from the app into *cc. Background loop only (the ISR
+ * writes comm.res before comm_valid). */
+void cmd_comm_apply(volatile cmd_comm_t *cc, const volatile cmd_t *cmd, app_t *app);
 
 #endif /* CMD_H */

@@ -84,6 +84,14 @@ static float scaled(float ref_value, float q, float q_ref)
     return ref_value * (q / q_ref);
 }
 
+void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float *ki_Nm_rad)
+{
+    /* kp = J w_c, ki = kp w_i, w_i in proportion to w_c (params_design.md sec. 3) */
+    const float bw = speed_bw_rad_s / REF_SPEED_BW_RAD_S;
+    *kp_Nms_rad = REF_SPEED_KP_NMS_RAD * (J_kgm2 / REF_J_KGM2) * bw;
+    *ki_Nm_rad = REF_SPEED_KI_NM_RAD * (J_kgm2 / REF_J_KGM2) * bw * bw;
+}
+
 drive_derive_t drive_params_derive(drive_params_t *p)
 {
     const drive_rating_t *r = &p->rating;
@@ -104,11 +112,13 @@ drive_derive_t drive_params_derive(drive_params_t *p)
     if (!(p->limits.i_limit_A < p->limits.i_trip_A)) {
         st |= DRIVE_DERIVE_ADC_RANGE;
     }
-    /* sec. 3: speed PI from J and the crossover: kp = J w_c, ki = kp w_i, w_i in proportion to w_c */
+    /* sec. 3: speed PI from J and the crossover */
     const float bw = p->tuning.speed_bw_rad_s / REF_SPEED_BW_RAD_S;
-    const float kp = REF_SPEED_KP_NMS_RAD * (p->motor.J_kgm2 / REF_J_KGM2) * bw;
+    float kp;
+    float ki;
+    drive_speed_pi(p->motor.J_kgm2, p->tuning.speed_bw_rad_s, &kp, &ki);
     derive(&p->tuning.speed_kp_Nms_rad, kp);
-    derive(&p->tuning.speed_ki_Nm_rad, REF_SPEED_KI_NM_RAD * (p->motor.J_kgm2 / REF_J_KGM2) * bw * bw);
+    derive(&p->tuning.speed_ki_Nm_rad, ki);
     /* sec. 4: step 1 from the ratings and the speed loop's settling (1 / w_i) */
     derive(&p->step1.settle_2_s, REF_RSID_SETTLE_2_S / bw);
     derive(&p->step1.settle_1_s, RSID_SETTLE_1_PER_2 * p->step1.settle_2_s);
@@ -177,6 +187,12 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
 
     /* sec. 3: the I^2t budget of the short-time current */
     cfg->i2t_rated_A = p->rating.i_rated_A;
+#if COMM_IN_IMAGE
+    cfg->comm.i_max_A = p->rating.i_rated_A;          /* the commissioning's bounds: the ratings */
+    cfg->comm.speed_max_rad_s = p->rating.n_rated_rad_s;
+    /* the speed PI from the measured J: the parameter set's rule, linear in J */
+    drive_speed_pi(1.0f, p->tuning.speed_bw_rad_s, &cfg->comm.speed_kp_per_J_1_s, &cfg->comm.speed_ki_per_J_1_s2);
+#endif
     cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
                           p->rating.t_peak_s;
     cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));

@@ -121,6 +121,10 @@ typedef uint16_t drive_derive_t;
 /* Rated torque 1.5 p psi_f i_rated (SPMSM, i_d = 0) [N m]. Any context. */
 float drive_rated_torque_Nm(const drive_params_t *p);
 
+/* The speed PI's gains for an inertia J_kgm2 [kg m^2] at the crossover
+ * speed_bw_rad_s [rad/s] (params_design.md sec. 3): linear in J. Any context. */
+void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float *ki_Nm_rad);
+
 /* Start-up or host: the values of *p left to derive from the others (the formulas
  * of params_design.md); returns the refusals and warnings. Idempotent. */
 drive_derive_t drive_params_derive(drive_params_t *p);

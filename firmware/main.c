@@ -10,6 +10,9 @@
  * proposed), mode 0/1/2 (open loop/torque/speed), the reference, then
  * run = 1. `g_app` shows the state, the latched fault with its snapshot
  * and the monitor (g_app.ctrl.mon); g_cmd.error names a refused command.
+ * With run = 0, g_comm.start = 1 measures the motor (firmware/commission.h);
+ * g_comm reports the stage, then the values or the fault (they are not
+ * written to flash: copy them into board_cfg.h).
  * A reset by the watchdog (the background loop stopped kicking it: a
  * hang, a trap, an endless ISR) is latched as the fault WATCHDOG_RESET
  * (g_reset_by_watchdog and the link's variable reset_by_watchdog also say
@@ -42,6 +45,7 @@ static app_t g_app;          /* the whole drive state, its cfg built in place (o
 static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
+static volatile cmd_comm_t g_comm; /* the commissioning: g_comm.start = 1 while stopped; its report */
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
 #define SCI_READ_MAX F28335_SCI_FIFO_DEPTH
@@ -110,6 +114,7 @@ int main(void)
         app_latch_startup_fault(&g_app, APP_FAULT_WATCHDOG_RESET, 0.0f, 0.0f);
     }
     cmd_init(&g_cmd);
+    cmd_comm_init(&g_comm);
     g_lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
     g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
     g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
@@ -121,6 +126,7 @@ int main(void)
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
     for (;;) {
         cmd_apply(&g_cmd, &g_lim, &g_app);
+        cmd_comm_apply(&g_comm, &g_cmd, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         link_service();
     }

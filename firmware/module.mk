@@ -33,6 +33,10 @@ TEST_SRCS_test_link := tests/mock_hal.c
 TEST_LIBS_test_startup := firmware control
 TEST_SRCS_test_startup := tests/mock_hal.c
 
+# The commissioning's step machine on a small test-side motor.
+TEST_LIBS_test_commission := firmware control
+TEST_SRCS_test_commission := tests/mock_hal.c
+
 # The encoder and wiring check (enc_check.h) on hand-made periods, and the
 # build levels on the simulated board (tests/test_sil_levels.c).
 TEST_LIBS_test_enc_check := firmware control

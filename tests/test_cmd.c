@@ -215,6 +215,71 @@ static void fault_reset_outside_fault_is_dropped(void **state)
     }
 }
 
+/* start = 1 is a request while stopped, never while run = 1 (the drive
+ * would be asked to start and commission at once); it is set back to 0
+ * either way. */
+static void commission_is_requested_only_while_stopped(void **state)
+{
+    static volatile cmd_comm_t cc;
+    (void)state;
+    cmd_comm_init(&cc);
+    cc.start = 1u;
+    cmd_comm_apply(&cc, &cmd, &app);
+    assert_int_equal(app.req_commission, 1u);
+    assert_int_equal(cc.start, 0u);
+    app.req_commission = 0u;
+    cmd.run = 1u;
+    cmd_apply(&cmd, &LIM, &app);
+    cc.start = 1u;
+    cmd_comm_apply(&cc, &cmd, &app);
+    assert_int_equal(app.req_commission, 0u);
+    assert_int_equal(cc.start, 0u);
+    assert_int_equal(app.req_start, 1u);
+}
+
+/* The report: nothing, running with its stage, the values once valid, a
+ * refusal's fault with value and limit, which stays after a reset. */
+static void commission_report_follows_the_app(void **state)
+{
+    static volatile cmd_comm_t rep;
+    (void)state;
+    cmd_comm_init(&rep);
+    cmd_comm_apply(&rep, &cmd, &app);
+    assert_int_equal(rep.state, 0u);
+    app.state = APP_STATE_COMMISSION;
+    app.comm.stage = COMM_STAGE_L;
+    cmd_comm_apply(&rep, &cmd, &app);
+    assert_int_equal(rep.state, 1u);
+    assert_int_equal(rep.stage, (uint16_t)COMM_STAGE_L);
+    app.state = APP_STATE_IDLE;
+    app.comm_valid = true;
+    app.comm.stage = COMM_STAGE_DONE;
+    app.comm.res.R_Ohm = 2.5f;
+    app.comm.res.pole_pairs = 4u;
+    app.comm.res.J_kgm2 = 0.01f;
+    cmd_comm_apply(&rep, &cmd, &app);
+    assert_int_equal(rep.state, 2u);
+    assert_float_equal(rep.R_Ohm, 2.5f, 0.0f);
+    assert_int_equal(rep.pole_pairs, 4u);
+    assert_float_equal(rep.J_kgm2, 0.01f, 0.0f);
+    app.comm_valid = false;
+    app.comm.stage = COMM_STAGE_ENCODER;
+    app.state = APP_STATE_FAULT;
+    app.fault = APP_FAULT_COMM_NO_ROTATION;
+    app.snapshot.state = APP_STATE_COMMISSION;
+    app.snapshot.value = 3.0f;
+    app.snapshot.limit = 156.25f;
+    cmd_comm_apply(&rep, &cmd, &app);
+    assert_int_equal(rep.state, 3u);
+    assert_int_equal(rep.fault, (uint16_t)APP_FAULT_COMM_NO_ROTATION);
+    assert_int_equal(rep.stage, (uint16_t)COMM_STAGE_ENCODER);
+    assert_float_equal(rep.fault_value, 3.0f, 0.0f);
+    assert_float_equal(rep.fault_limit, 156.25f, 0.0f);
+    app.state = APP_STATE_IDLE; /* reset: the refusal stays reported */
+    cmd_comm_apply(&rep, &cmd, &app);
+    assert_int_equal(rep.state, 3u);
+}
+
 /* The build level: 1..5 asked for the next start, 0 keeps the app's, 6
  * refused (CMD_ERR_LEVEL, the last request kept); the reports copied. */
 static void level_requested_and_reported(void **state)
@@ -263,6 +328,8 @@ int main(void)
         cmocka_unit_test_setup(proposed_method_is_taken_or_refused_by_its_configuration, setup),
         cmocka_unit_test_setup(fault_reset_is_passed_once_and_cleared, setup),
         cmocka_unit_test_setup(fault_reset_outside_fault_is_dropped, setup),
+        cmocka_unit_test_setup(commission_is_requested_only_while_stopped, setup),
+        cmocka_unit_test_setup(commission_report_follows_the_app, setup),
     };
     return cmocka_run_group_tests_name("cmd", tests, NULL, NULL);
 }

@@ -16,7 +16,8 @@ mkdir -p "$dir"
 
 # Seed inputs (tests/fuzz/fuzz_app.c has the format): a start in speed,
 # torque and open-loop mode, then plausible periods with the count moving,
-# the persistent operator on; the first with calibration and alignment.
+# the persistent operator on; the first with calibration and alignment;
+# a commissioning (calibrated) asked for by the command block while stopped.
 seed_corpus() { # dir
     local rec='\x10\x3f\x05\x03\x00\x00\x00\x00\x00\x00\x00\x04\x00\x00\x00\x00'
     local body='' k
@@ -25,10 +26,12 @@ seed_corpus() { # dir
     printf "\xa0\x00\x01\x00\x00\x00\x00\x00$body" >"$1/seed_torque"
     printf "\x80\x00\x01\x00\x00\x00\x00\x00$body" >"$1/seed_open_loop"
     printf "\xd4\x10\x01\x00\x00\x00\x00\x00$body" >"$1/seed_proposed_windows"
+    printf "\x01\x08\x00\x00\x00\x00\x00\x00\xc0\x01\x02\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00$body" \
+        >"$1/seed_commission"
 }
 
 steps=0 inputs=0
-states=(0 0 0 0 0 0 0)   # ISR steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT
+states=(0 0 0 0 0 0 0 0 0 0 0)   # ISR steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT PWM_CHECK ADC_CHECK ENC_CHECK COMMISSION
 start=$(date +%s)
 run_chunk() { # corpus-dir extra-options...
     local out rc s i
@@ -68,5 +71,5 @@ long)
     exit 2
     ;;
 esac
-echo "fuzz: ISR steps ending in INIT ${states[0]}, IDLE ${states[1]}, CALIBRATE ${states[2]}, ALIGN ${states[3]}, IDENTIFY_R ${states[4]}, RUN ${states[5]}, FAULT ${states[6]}"
+echo "fuzz: ISR steps ending in INIT ${states[0]}, IDLE ${states[1]}, CALIBRATE ${states[2]}, ALIGN ${states[3]}, IDENTIFY_R ${states[4]}, RUN ${states[5]}, FAULT ${states[6]}, PWM_CHECK ${states[7]}, ADC_CHECK ${states[8]}, ENC_CHECK ${states[9]}, COMMISSION ${states[10]}"
 echo "fuzz: $steps ISR steps, $inputs inputs, $(( $(date +%s) - start )) s, 0 findings"

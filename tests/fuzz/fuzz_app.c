@@ -29,7 +29,8 @@
  *              records run): EV_TRIP the trip input, EV_MISSED a missed
  *              period before each, EV_LONG_ISR an ISR over its budget,
  *              EV_COUNT_JUMP the count jumps to record[13..14] x 131
- *   command:   record[1] & 7 the cmd_t field, record[2..3] a uint16 value,
+ *   command:   record[1] & 7 the cmd_t field (1: fault_reset bit 0 and
+ *              commission bit 1 of the value), record[2..3] a uint16 value,
  *              bit 3 of record[1]: record[4..7] a float's bits, else
  *              record[2..3] scaled
  */
@@ -60,7 +61,7 @@ enum { EV_TRIP = 0xF1, EV_MISSED = 0xF2, EV_LONG_ISR = 0xF3, EV_COUNT_JUMP = 0xF
 #define STEP_DIV 4                           /* plausible count step: int8 / 4 -> |step| <= 32 < jump limit */
 #define REF_SCALE_PER_LSB (1.0f / 8.0f)
 
-#define N_STATES 7u
+#define N_STATES 11u   /* app_state_t's values, INIT .. COMMISSION */
 static uint64_t g_isr_steps;
 static uint64_t g_inputs;
 static uint64_t g_state_steps[N_STATES]; /* ISR steps that ended in each app_state_t */
@@ -88,6 +89,7 @@ static float f32_at(const uint8_t *p)
 typedef struct {
     app_t app;
     volatile cmd_t cmd;
+    volatile cmd_comm_t comm;   /* the commissioning's request and report */
     cmd_limits_t lim;
     uint32_t base_cycles;
     uint32_t count;
@@ -118,6 +120,7 @@ static void configure(const uint8_t *h)
     fuzz_hal_reset();
     app_init(&g_h.app, &cfg);
     cmd_init(&g_h.cmd);
+    cmd_comm_init(&g_h.comm);
     g_h.cmd.method = (uint16_t)((h[0] >> 4) & 1u);
     g_h.cmd.mode = (uint16_t)((((h[0] >> 5) & 3u) == 3u) ? 2u : ((h[0] >> 5) & 3u));
     g_h.cmd.run = (uint16_t)((h[0] >> 7) & 1u);
@@ -164,10 +167,10 @@ static void isr_step(const hal_sample_t *s, const uint8_t *r)
     if ((g_h.app.state == APP_STATE_FAULT) && (fault_before == APP_FAULT_NONE)) {
         g_faults[(uint32_t)g_h.app.fault % N_FAULTS]++;
     }
-    g_state_steps[(uint32_t)g_h.app.state % N_STATES]++;
     if ((uint32_t)g_h.app.state >= N_STATES) {
         fuzz_hal_fail("state out of app_state_t");
     }
+    g_state_steps[(uint32_t)g_h.app.state % N_STATES]++;
     if ((g_h.app.state == APP_STATE_FAULT) != (g_h.app.fault != APP_FAULT_NONE)) {
         fuzz_hal_fail("a fault code without FAULT, or FAULT without one");
     }
@@ -222,7 +225,7 @@ static void command(const uint8_t *r)
 
     switch (r[1] & 7u) {
     case 0: g_h.cmd.run = v & 1u; break;
-    case 1: g_h.cmd.fault_reset = v & 1u; break;
+    case 1: g_h.cmd.fault_reset = v & 1u; g_h.comm.start = (v >> 1) & 1u; break;
     case 2: g_h.cmd.method = v; break;
     case 3: g_h.cmd.mode = v; break;
     case 4: g_h.cmd.speed_ref_rpm = f; break;
@@ -231,6 +234,7 @@ static void command(const uint8_t *r)
     default: g_h.cmd.uq_ref_V = f; break;
     }
     cmd_apply(&g_h.cmd, &g_h.lim, &g_h.app);
+    cmd_comm_apply(&g_h.comm, &g_h.cmd, &g_h.app);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -259,7 +263,8 @@ __attribute__((destructor)) static void report(void)
 {
     printf("fuzz_app: %llu ISR steps, %llu inputs\n", (unsigned long long)g_isr_steps,
            (unsigned long long)g_inputs);
-    printf("fuzz_app: steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT:");
+    printf("fuzz_app: steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT PWM_CHECK ADC_CHECK ENC_CHECK "
+           "COMMISSION:");
     for (uint32_t k = 0u; k < N_STATES; k++) {
         printf(" %llu", (unsigned long long)g_state_steps[k]);
     }

@@ -3,6 +3,7 @@
  *   drive_sil --scenario FILE [--set section.key=value ...]
  *             [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]
  *             [--max-csv-mb N]
+ *   drive_sil --scenario FILE [--set ...] --commission OUT.ini [--out FILE.csv]
  *   drive_sil --help | --version
  * Runs the firmware application on the simulated board (sil.h) and writes
  * one CSV row per logged period (--out; beside it OUT.resolved.json, the run's
@@ -24,6 +25,12 @@
  * (SIGINT, SIGTERM, SIGHUP: the handler only sets a flag; the run stops
  * after the period it is in, the CSV keeps the rows so far under its own
  * name).
+ * --commission OUT.ini measures the motor instead (firmware/commission.h:
+ * the scenario's plant and board, a free shaft, [reference] and [load]
+ * ignored, [faults] applied) and writes OUT.ini: the scenario file with
+ * the --set overrides and the measured values in [controller], its
+ * R_factor, L_factor, psif_factor kept as comments. A refusal writes no
+ * OUT.ini, names the fault, the stage, the value and its limit, exits 3.
  */
 #include <errno.h>
 #include <math.h>
@@ -37,6 +44,7 @@
 
 #include "app_step.h"
 #include "csv_writer.h"
+#include "ini_edit.h"
 #include "link_sil.h"
 #include "scenario.h"
 #include "sil.h"
@@ -63,6 +71,7 @@ typedef struct {
     const char *out_path;        /* CSV, or NULL */
     const char *summary_path;    /* JSON, "-" for stdout, or NULL */
     const char *window;          /* "T0:T1", or NULL for the default */
+    const char *commission_path; /* --commission OUT.ini, or NULL */
     int check;                   /* validate only */
     int batch;                   /* one run per stdin line */
     double max_csv_mb;           /* the CSV stops growing here */
@@ -103,6 +112,7 @@ static void usage(FILE *f)
             "usage: drive_sil --scenario FILE [--set section.key=value ...]\n"
             "                 [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]\n"
             "                 [--max-csv-mb N] [--link tcp:PORT | --link pty [--baud B] [--realtime F]]\n"
+            "       drive_sil --scenario FILE [--set ...] --commission OUT.ini [--out FILE.csv]\n"
             "       drive_sil --help | --version\n"
             "Runs the drive firmware on the simulated board for one scenario (INI)\n"
             "and writes the CSV trace (--out) and/or the steady window's figures as\n"
@@ -118,6 +128,14 @@ static void usage(FILE *f)
             "--max-csv-mb N (default %g): the CSV stops at the last whole row below N MB\n"
             "(2^20 bytes) with a warning; the run and --summary go on. --version prints\n"
             "the source revision drive_sil was built from.\n"
+            "--commission OUT.ini measures the motor (firmware/commission.h) on the\n"
+            "scenario's plant and board with a free shaft ([reference], [load] ignored,\n"
+            "[faults] applied; the current bound is [motor] i_rated_A, the speed\n"
+            "bound n_rated_rpm) and writes OUT.ini: the scenario with the overrides\n"
+            "and the measured R_ohm, L_H, psif_Wb, pole_pairs, J_kgm2, B_Nms,\n"
+            "encoder_offset_el_rad and speed gains in [controller] (a value with no key\n"
+            "in this drive_sil as a comment), R_factor, L_factor, psif_factor commented\n"
+            "out. A refusal (exit 3) writes none and names fault, stage, value, limit.\n"
             "On a terminal, a run longer than %g s of wall time shows its progress on stderr.\n"
             "Exit status:\n"
             "  0    the run ended outside FAULT (--check: the input is good; --batch: every\n"
@@ -168,6 +186,8 @@ static int parse_args(int argc, char **argv, args_t *a)
             slot = &a->out_path;
         } else if (strcmp(s, "--summary") == 0) {
             slot = &a->summary_path;
+        } else if (strcmp(s, "--commission") == 0) {
+            slot = &a->commission_path;
         } else if (strcmp(s, "--window") == 0) {
             slot = &a->window;
         } else if (strcmp(s, "--max-csv-mb") == 0) {
@@ -201,7 +221,14 @@ static int parse_args(int argc, char **argv, args_t *a)
         fprintf(stderr, "drive_sil: --batch writes its summaries to stdout (no --out, --summary, --check)\n");
         return -1;
     }
-    if (a->scenario_path == NULL || (!a->check && !a->batch && a->out_path == NULL && a->summary_path == NULL)) {
+    if (a->commission_path != NULL &&
+        (a->batch || a->check || a->summary_path != NULL || a->window != NULL || a->link.on)) {
+        fprintf(stderr, "drive_sil: --commission writes OUT.ini (and --out's trace): no --batch, --check, --summary, "
+                        "--window, --link\n");
+        return -1;
+    }
+    if (a->scenario_path == NULL ||
+        (!a->check && !a->batch && a->out_path == NULL && a->summary_path == NULL && a->commission_path == NULL)) {
         fprintf(stderr, "drive_sil: --scenario and --out or --summary are required (see --help)\n");
         return -1;
     }
@@ -248,6 +275,14 @@ static int load_scenario(const args_t *a, scenario_t *sc)
 {
     char err[SCENARIO_ERR_LEN];
     if (load_base(a, sc) != 0) {
+        return -1;
+    }
+    /* A commissioning neither uses the method nor the told R, L, psi_f: the
+     * proposed method's refusals of them (no observer gain, no step 1) do
+     * not stop it. OUT.ini keeps the file's method (it is written from the
+     * file's text). */
+    if (a->commission_path != NULL && scenario_set(sc, "controller.method=conventional", err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s\n", err);
         return -1;
     }
     if (scenario_finish(sc, err, sizeof err) != 0) {
@@ -536,6 +571,100 @@ static int run_batch(const args_t *a)
     return EXIT_SUCCESS;
 }
 
+#define COMM_VALUE_LEN 32
+#define COMM_EDITS_MAX (MAX_SETS + 16)
+
+/* One measured value into [controller]: the key if this drive_sil has it, else a note. */
+static void comm_edit(ini_edit_t *e, size_t *n, char (*val)[COMM_VALUE_LEN], const char *key, double v)
+{
+    snprintf(val[*n], COMM_VALUE_LEN, "%.9g", v);
+    const int known = scenario_key_known("controller", key);
+    e[*n] = (ini_edit_t){ "controller", key, val[*n], known ? INI_SET : INI_NOTE,
+                          known ? NULL : "measured by --commission; this drive_sil has no key for it" };
+    (*n)++;
+}
+
+/* OUT.ini of a completed commissioning: the scenario file, the --set
+ * overrides, the measured values; 0, or -1 (message printed, no file). */
+static int commission_write(const args_t *a, const sil_result_t *res, out_file_t *o)
+{
+    static ini_edit_t e[COMM_EDITS_MAX];
+    static char val[COMM_EDITS_MAX][COMM_VALUE_LEN];
+    static char sets[MAX_SETS][BATCH_LINE_LEN / 8];
+    size_t n = 0;
+    for (int i = 0; i < a->n_sets; i++) {   /* checked by scenario_set: "section.key=value" */
+        snprintf(sets[i], sizeof sets[i], "%s", a->sets[i]);
+        char *dot = strchr(sets[i], '.');
+        char *eq = (dot != NULL) ? strchr(dot, '=') : NULL;
+        if (eq == NULL) {
+            continue;
+        }
+        *dot = '\0';
+        *eq = '\0';
+        e[n++] = (ini_edit_t){ sets[i], dot + 1, eq + 1, INI_SET, NULL };
+    }
+    static const char *const FACTORS[] = { "R_factor", "L_factor", "psif_factor" };
+    for (size_t i = 0; i < sizeof FACTORS / sizeof FACTORS[0]; i++) {
+        e[n++] = (ini_edit_t){ "controller", FACTORS[i], NULL, INI_REMOVE, "the commissioning measured the value" };
+    }
+    comm_edit(e, &n, val, "R_ohm", res->comm_R_ohm);
+    comm_edit(e, &n, val, "L_H", res->comm_L_H);
+    comm_edit(e, &n, val, "psif_Wb", res->comm_psif_Wb);
+    comm_edit(e, &n, val, "pole_pairs", (double)res->comm_pole_pairs);
+    comm_edit(e, &n, val, "J_kgm2", res->comm_J_kgm2);
+    comm_edit(e, &n, val, "B_Nms", res->comm_B_Nms);
+    comm_edit(e, &n, val, "encoder_offset_el_rad", res->comm_enc_offset_el_rad);
+    comm_edit(e, &n, val, "speed_kp_Nms_rad", res->comm_speed_kp_Nms_rad);
+    comm_edit(e, &n, val, "speed_ki_Nm_rad", res->comm_speed_ki_Nm_rad);
+
+    FILE *in = fopen(a->scenario_path, "r");
+    if (in == NULL) {
+        fprintf(stderr, "drive_sil: --scenario %s: cannot read it again: ", a->scenario_path);
+        perror(NULL);
+        out_abandon(o);
+        return -1;
+    }
+    fprintf(o->f, "; commissioned by drive_sil %s from %s\n", sil_revision, a->scenario_path);
+    const int rc = ini_edit_copy(in, o->f, e, n);
+    fclose(in);
+    if (rc != 0) {
+        fprintf(stderr, "drive_sil: --scenario %s: read error\n", a->scenario_path);
+        out_abandon(o);
+        return -1;
+    }
+    return out_commit(o, "--commission");
+}
+
+static const char *comm_stage_name(int stage)
+{
+    static const char *const NAMES[] = { "NONE", "R", "L", "ENCODER", "SPIN", "DONE" };
+    return (stage >= 0 && (size_t)stage < sizeof NAMES / sizeof NAMES[0]) ? NAMES[stage] : "?";
+}
+
+/* The commissioning's outcome: OUT.ini and the values on stdout, or the refusal. */
+static int commission_finish(const args_t *a, const sil_result_t *res, out_file_t *o)
+{
+    char fbuf[NAME_LEN];
+    if (!res->comm_valid) {
+        fprintf(stderr, "drive_sil: --commission: refused: %s in stage %s (state %d): value %.6g, limit %.6g; "
+                "gates on in fault: %u periods; no %s written\n",
+                summary_fault_name(res->final_fault, fbuf, sizeof fbuf), comm_stage_name(res->comm_stage),
+                res->fault_state, res->fault_value, res->fault_limit, res->gates_on_in_fault, a->commission_path);
+        out_abandon(o);
+        return EXIT_FAULT;
+    }
+    if (commission_write(a, res, o) != 0) {
+        return EXIT_FAILURE;
+    }
+    printf("drive_sil: commissioned: R_ohm=%.6g L_H=%.6g psif_Wb=%.6g pole_pairs=%u J_kgm2=%.6g B_Nms=%.6g "
+           "encoder_offset_el_rad=%.6g speed_kp_Nms_rad=%.6g speed_ki_Nm_rad=%.6g u_err_V=%.4g max_abs_i_A=%.4g "
+           "periods=%u -> %s\n",
+           res->comm_R_ohm, res->comm_L_H, res->comm_psif_Wb, res->comm_pole_pairs, res->comm_J_kgm2,
+           res->comm_B_Nms, res->comm_enc_offset_el_rad, res->comm_speed_kp_Nms_rad, res->comm_speed_ki_Nm_rad,
+           res->comm_u_err_V, res->max_abs_i_A, res->periods, a->commission_path);
+    return EXIT_SUCCESS;
+}
+
 int main(int argc, char **argv)
 {
     args_t a;
@@ -567,6 +696,12 @@ int main(int argc, char **argv)
         out_abandon(&csv);
         return EXIT_BAD_INPUT;
     }
+    out_file_t comm_ini;   /* --commission's OUT.ini: opened now, so that a bad path is bad input */
+    if (out_open(&comm_ini, a.commission_path, "--commission") != 0) {
+        out_abandon(&csv);
+        out_abandon(&js);
+        return EXIT_BAD_INPUT;
+    }
     static summary_t sum;
     static csv_writer_t writer;
     summary_init(&sum, &sc, t0, t1);
@@ -581,6 +716,7 @@ int main(int argc, char **argv)
                     strerror(err));
             out_abandon(&csv);
             out_abandon(&js);
+        out_abandon(&comm_ini);
             return EXIT_FAILURE;
         }
     }
@@ -600,7 +736,8 @@ int main(int argc, char **argv)
     }
     /* no progress line for a run with no end (--link, duration 0) */
     const int show = isatty(STDERR_FILENO) && sc.run.duration_s > 0.0;
-    const sil_ctl_t ctl = { &g_signal, show ? on_tick : NULL, &prog, PROGRESS_TICK_PERIODS, a.link.on ? &hooks : NULL };
+    const sil_ctl_t ctl = { &g_signal, show ? on_tick : NULL, &prog, PROGRESS_TICK_PERIODS, a.link.on ? &hooks : NULL,
+                            a.commission_path != NULL };
     sil_result_t res;
     /* stopped early by a signal, by a failed write (seen below) or by the link's quit */
     const int stopped = (sil_run_ctl(&sc, on_row, &sink, &ctl, &res) == SIL_STOPPED);
@@ -615,6 +752,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "drive_sil: --out %s: write error: %s\n", a.out_path, strerror(err));
         out_abandon(&csv);
         out_abandon(&js);
+        out_abandon(&comm_ini);
         return EXIT_FAILURE;
     }
     if (stopped) {
@@ -625,15 +763,21 @@ int main(int argc, char **argv)
     const int csv_in_place = (csv.f != NULL && csv.tmp_path == NULL);
     if (out_commit(&csv, "--out") != 0 || resolved_write(&a, &sc, csv_in_place) != 0) {
         out_abandon(&js);
+        out_abandon(&comm_ini);
         return EXIT_FAILURE;
     }
     if (out_commit(&js, "--summary") != 0) {
+        out_abandon(&comm_ini);
         return EXIT_FAILURE;
     }
     if (sink.csv != NULL && writer.capped) {
         fprintf(stderr, "drive_sil: warning: --out %s: holds the rows to t < %.6g s only (--max-csv-mb %g)\n",
                 a.out_path, writer.t_capped_s, a.max_csv_mb);
     }
+    if (a.commission_path != NULL && !stopped) {
+        return commission_finish(&a, &res, &comm_ini);
+    }
+    out_abandon(&comm_ini);   /* stopped by a signal: no OUT.ini */
     if (a.out_path != NULL && !summary_on_stdout(&a)) {
         char sbuf[NAME_LEN];
         char fbuf[NAME_LEN];

@@ -26,6 +26,10 @@ $(DRIVE_SIL): $(DRIVE_SIL_INPUTS)
 	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
 TEST_LIBS_test_scenario := silrun firmware sim control
+TEST_LIBS_test_ini_edit := silrun
+# The app's commissioning in SIL (sil_run_ctl with commission).
+TEST_LIBS_test_sil_commission := silrun firmware sim control
+TEST_SRCS_test_sil_commission := tools/sil/sil.c
 TEST_LIBS_test_sil      := silrun firmware sim control
 TEST_SRCS_test_sil      := tools/sil/sil.c
 # The app's start-up sequence (calibrate, align, run) in SIL.
@@ -37,6 +41,13 @@ TEST_SRCS_test_sil_startup := tools/sil/sil.c
 EXTRA_TESTS += test-drive-sil-cli
 test-drive-sil-cli: $(DRIVE_SIL) ## (part of make test) drive_sil's command line: exit statuses, no CSV on bad input
 	@$(call suite,test-drive-sil-cli) tools/test_drive_sil_cli.sh $(DRIVE_SIL)
+
+# Commissioning on three motors, ideal and realistic board, and its refusals
+# (runs the built binary; standard-library Python).
+.PHONY: test-commission
+EXTRA_TESTS += test-commission
+test-commission: $(DRIVE_SIL) ## (part of make test) drive_sil --commission on three motors, ideal and realistic; refusals
+	@$(call suite,test-commission) python3 tools/test_commission.py $(DRIVE_SIL) tools/scenarios
 
 # Acceptance of the proposed method on the simulated board (scenario files
 # of tools/scenarios/, and the controller alone on hal_sim).

@@ -228,6 +228,12 @@ static int find_key(const char *section, const char *name, int *section_known)
     return -1;
 }
 
+int scenario_key_known(const char *section, const char *name)
+{
+    int known;
+    return find_key(section, name, &known) >= 0;
+}
+
 /* ---- plausibility ----------------------------------------------------------
  * Bounds that refuse the absurd (a unit slip: mH written as H, a typo), not
  * the merely beyond-limit: a value past the drive's ratings or trips runs and

@@ -140,6 +140,9 @@ int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errle
  * derive_status). Call once after loading. Returns 0, or -1 with err. */
 int scenario_finish(scenario_t *sc, char *err, size_t errlen);
 
+/* 1 when [section] name is a scenario key, else 0. */
+int scenario_key_known(const char *section, const char *name);
+
 /* The drive's parameter set of a finished scenario (Ts: the simulated board's).
  * The derived values left to derive (DRIVE_PARAM_DERIVED) unless finished. */
 void scenario_params(const scenario_t *sc, drive_params_t *p);

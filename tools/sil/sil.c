@@ -17,6 +17,7 @@
 /* Bounds the controller's model clamps to (ctrl_cfg_t): generous, never the active limit.
  * The current, speed and flux bounds are the board's (board_cfg.h MODEL_*). */
 #define MODEL_U_BOUND_PER_VDC 1.0        /* |ud|, |uq| bound / bus (the hexagon clamps at 2/3) */
+#define COMM_RUN_MARGIN_S 1.0            /* a commissioning run's length beyond its stages' timeouts: calibration [s] */
 
 static app_t g_app;
 static const sil_hooks_t *g_hooks;   /* of the run under way, or NULL */
@@ -268,11 +269,19 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
         hooks->start(hooks->user, &g_app);
     }
     hal_isr_attach(sil_isr);
-    app_request_start(&g_app);
+    const bool commission = (ctl != NULL) && (ctl->commission != 0);
+    if (commission) {
+        app_request_commission(&g_app);
+    } else {
+        app_request_start(&g_app);
+    }
 
     const double Ts = hc.inv.Ts_s;
-    const bool endless = (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
-    const uint32_t n = endless ? UINT32_MAX : (uint32_t)llround(sc->run.duration_s / Ts);
+    const comm_cfg_t *cc = &ac.comm;
+    const double comm_s = (double)(cc->r_max_s + cc->l_max_s + cc->enc_max_s + cc->spin_max_s) +
+                          COMM_RUN_MARGIN_S;
+    const bool endless = !commission && (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
+    const uint32_t n = endless ? UINT32_MAX : (uint32_t)llround((commission ? comm_s : sc->run.duration_s) / Ts);
     sil_refs_t refs;
     refs_init(&refs, sc);
     const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
@@ -281,8 +290,17 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     const sil_tick_fn on_tick = (ctl != NULL && ctl->tick_periods > 0u) ? ctl->on_tick : NULL;
     uint32_t periods_to_tick = (on_tick != NULL) ? ctl->tick_periods : 0u;
     int rc = 0;
+    bool comm_seen = false;   /* the app has been in COMMISSION */
     for (uint32_t k = 0; k < n && rc == 0; k++) {
-        if (refs_at(&refs, (double)k * Ts, &op)) {
+        if (commission) {
+            comm_seen = comm_seen || (g_app.state == APP_STATE_COMMISSION);
+            if (comm_seen && g_app.state != APP_STATE_COMMISSION) {
+                break;   /* done (IDLE) or refused (FAULT) */
+            }
+            if (g_app.state == APP_STATE_FAULT) {
+                break;   /* refused before it began (calibration, bus) */
+            }
+        } else if (refs_at(&refs, (double)k * Ts, &op)) {
             /* taken at the start of this period's ISR; an unchanged request
              * would only set the controller's reference to what it is */
             app_op_t req = op;
@@ -339,6 +357,19 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     res->enc_pole_pairs = (double)g_app.rot.out.pole_pairs_est;
     res->enc_i_pos_A = (double)g_app.rot.out.i_pos_A;
     res->enc_i_neg_A = (double)g_app.rot.out.i_neg_A;
+    const comm_result_t *cr = &g_app.comm.res;
+    res->comm_valid = g_app.comm_valid ? 1 : 0;
+    res->comm_stage = (int)g_app.comm.stage;
+    res->comm_R_ohm = (double)cr->R_Ohm;
+    res->comm_L_H = (double)cr->L_H;
+    res->comm_psif_Wb = (double)cr->psi_f_Wb;
+    res->comm_J_kgm2 = (double)cr->J_kgm2;
+    res->comm_B_Nms = (double)cr->B_Nms;
+    res->comm_enc_offset_el_rad = (double)cr->enc_offset_el_rad;
+    res->comm_speed_kp_Nms_rad = (double)cr->speed_kp_Nms_rad;
+    res->comm_speed_ki_Nm_rad = (double)cr->speed_ki_Nm_rad;
+    res->comm_u_err_V = (double)cr->u_err_V;
+    res->comm_pole_pairs = cr->pole_pairs;
     return rc;
 }
 

@@ -73,6 +73,12 @@ typedef struct {
     double enc_angle_el_rad;   /* the commanded angle's travel [rad el] */
     double enc_pole_pairs;     /* the pole pairs the counts give */
     double enc_i_pos_A, enc_i_neg_A;   /* the current's positive and negative sequence [A] */
+    /* commissioning (sil_ctl_t.commission) */
+    int comm_valid;            /* 1: the commissioning completed, the values below are its results */
+    int comm_stage;            /* comm_stage_t reached (a refusal's stage) */
+    double comm_R_ohm, comm_L_H, comm_psif_Wb, comm_J_kgm2, comm_B_Nms, comm_enc_offset_el_rad;
+    double comm_speed_kp_Nms_rad, comm_speed_ki_Nm_rad, comm_u_err_V;
+    uint32_t comm_pole_pairs;
 } sil_result_t;
 
 /* Called for every logged row; a nonzero return stops the run. */
@@ -98,6 +104,7 @@ typedef struct {
     uint32_t tick_periods;               /* periods between on_tick calls (> 0 with on_tick) */
     const sil_hooks_t *hooks;            /* a driver's additions (drive_sil --link), or NULL; with
                                           * period_end, run.duration_s = 0 runs until it ends the run */
+    int commission;                      /* 1: commission the motor instead of the scenario's run (sil_run_ctl) */
 } sil_ctl_t;
 
 /* sil_run_ctl()'s return when *ctl->stop ended the run early. */
@@ -108,7 +115,11 @@ typedef struct {
 int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *res);
 
 /* sil_run() with controls (ctl may be NULL): also returns SIL_STOPPED when *ctl->stop
- * became nonzero (res then covers the periods run, every row of them delivered). */
+ * became nonzero (res then covers the periods run, every row of them delivered).
+ * With ctl->commission the app is asked to commission the motor (firmware/commission.h)
+ * instead of starting: [reference] and [load] play no part (no load), run.duration_s
+ * neither; the run ends in the period the app leaves COMMISSION (IDLE: res->comm_valid,
+ * or FAULT), or after the stages' timeouts and a second. */
 int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res);
 
 /* Longest CSV line of a row, with its newline: every column is one of sil_row_t's doubles,

@@ -16,7 +16,7 @@ static const char *const STATE_NAMES[] = {
     [APP_STATE_INIT] = "INIT", [APP_STATE_IDLE] = "IDLE", [APP_STATE_CALIBRATE] = "CALIBRATE",
     [APP_STATE_ALIGN] = "ALIGN", [APP_STATE_IDENTIFY_R] = "IDENTIFY_R", [APP_STATE_RUN] = "RUN",
     [APP_STATE_FAULT] = "FAULT", [APP_STATE_PWM_CHECK] = "PWM_CHECK", [APP_STATE_ADC_CHECK] = "ADC_CHECK",
-    [APP_STATE_ENC_CHECK] = "ENC_CHECK",
+    [APP_STATE_ENC_CHECK] = "ENC_CHECK", [APP_STATE_COMMISSION] = "COMMISSION",
 };
 
 static const char *const FAULT_NAMES[] = {
@@ -34,6 +34,8 @@ static const char *const FAULT_NAMES[] = {
     [APP_FAULT_ENCODER_DIRECTION] = "ENCODER_DIRECTION", [APP_FAULT_POLE_PAIRS] = "POLE_PAIRS",
     [APP_FAULT_PHASE_ORDER] = "PHASE_ORDER",
     [APP_FAULT_RSID_D_AXIS] = "RSID_D_AXIS",
+    [APP_FAULT_COMM_TIMEOUT] = "COMM_TIMEOUT", [APP_FAULT_COMM_NO_ROTATION] = "COMM_NO_ROTATION",
+    [APP_FAULT_COMM_IMPLAUSIBLE] = "COMM_IMPLAUSIBLE",
 };
 
 static const char *name_of(const char *const *names, size_t n, int v, const char *prefix, char *buf, size_t len)
