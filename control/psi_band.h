@@ -21,15 +21,19 @@
  * was, so never worse than the nominal value it starts from; where it
  * cannot tell (low speed, little evidence) it holds what it knows.
  * Vb = frac x Ve_told + found_frac x |Ve_found| + abs_V (the fundamentals
- * of the dead-time error the controller is told and of the error r_track
- * identified on top) takes the coarse frac until the inverter error is
- * identified, the fine one after (psi_band_rebase).
+ * of the dead-time error the controller is told, Ve_told = ve_told_per_vdc
+ * x Vdc, and of the error r_track identified on top) takes the coarse frac
+ * until the inverter error is identified, the fine one after
+ * (psi_band_rebase).
  *
  * Speed floor: where Vb/|w| exceeds unexplained_max x |P| (the estimate),
  * or |w| <= w_min, the voltage the drive cannot explain may fake more of
  * psi_f than the model may carry: `low` says so, decided at every decision
- * once the bound is final (psi_band_rebase, psi_band_bound_final;
- * hysteresis PSI_BAND_LOW_HYST), and at once when |w| <= w_min. The caller then keeps the told model and the
+ * (hysteresis PSI_BAND_LOW_HYST), and at once when |w| <= w_min. Until
+ * the bound is final (psi_band_rebase, psi_band_bound_final) the floor's
+ * Vb is the prior ve_prior_per_vdc x Vdc + abs_V: the least inverter error
+ * nobody told, which the coarse guess from the told dead time does not
+ * cover when the told dead time is 0. The caller then keeps the told model and the
  * conventional torque path (observer_design.md, "speed floor").
  *
  * Calling context: ISR (psi_band_step, psi_band_rebase, psi_band_start),
@@ -53,7 +57,7 @@
 #define PSI_BAND_UNEXPLAINED_MAX_DEFAULT 0.05f /* Vb/|w| above this x psi_f: below the speed floor */
 #define PSI_BAND_LOW_HYST              1.2f  /* leave the floor at 1/1.2 of that: no chatter at the floor */
 #define PSI_BAND_LOW_W    0x0001u /* |w| <= w_min (set at once; cleared at the next decision or pause above) */
-#define PSI_BAND_LOW_BAND 0x0002u /* Vb/|w| > unexplained_max |P| (every decision, once the bound is final) */
+#define PSI_BAND_LOW_BAND 0x0002u /* Vb/|w| > unexplained_max |P| (every decision; the prior's Vb before the bound is final) */
 #define PSI_BAND_LOW_HELD 0x0004u /* the caller holds the model at every speed (psi_band_hold) */
 
 typedef struct {
@@ -66,6 +70,9 @@ typedef struct {
     float unc_ident_frac;  /* Vb after identification, x the told fundamental [1] */
     float unc_found_frac;  /* Vb, x the identified fundamental [1] */
     float unc_abs_V;       /* Vb's absolute part [V] */
+    float ve_told_per_vdc; /* the told dead time's fundamental per bus volt, (4/pi) td/Ts [1] */
+    float ve_prior_per_vdc; /* before identification, the speed floor's Vb: an untold error's
+                             * fundamental per bus volt, (4/pi) td_untold/Ts [1] */
     float settle_s;        /* P settled: moved by less than settle_frac Vb/|w| in this time [s] */
     float settle_frac;     /* [1] */
     float unexplained_max; /* speed floor: Vb/|w| above this x |P| [1] */
@@ -82,7 +89,7 @@ typedef struct {
     uint16_t low;          /* below the speed floor (0: above): PSI_BAND_LOW_* bits */
     bool final;            /* the bound is final (inverter error identified or refused): the floor decides */
     bool trust;            /* the last decision was under the final bound and above the floor */
-    float frac;            /* Vb's fraction in use */
+    float k_per_vdc;       /* Vb's part per bus volt in use (coarse or fine x the told fundamental) [1] */
     float anchor_Wb;       /* the model's psi_f when step 2 started */
     float h_Wb;            /* the value held */
     float inv_w_s_rad;     /* 1/w of this decision's periods [s/rad] */
@@ -92,7 +99,8 @@ typedef struct {
 } psi_band_t;
 
 /* Design defaults into cfg for Ts_s [s], the freeze speed w_min [rad/s]
- * and the clamps [Wb]. Background. */
+ * and the clamps [Wb]; ve_told_per_vdc and ve_prior_per_vdc 0 (the
+ * caller's, from its dead times). Background. */
 void psi_band_cfg_defaults(psi_band_cfg_t *cfg, float Ts_s, float w_min_rad_s, float psi_min_Wb, float psi_max_Wb);
 
 /* Copies cfg; false (and a = 0: nothing moves) unless 0 < Ts < tau,
@@ -131,11 +139,12 @@ void psi_band_hold(psi_band_t *pb, bool hold);
 void psi_band_pause(psi_band_t *pb, float omega_el_rad_s);
 
 /* One learning period (not during the step-2 gate's pauses): the
- * observer's psi^ [Wb] and fq^ [V], w [rad/s electrical], the fundamentals
- * [V] of the dead-time error told (ve_told_V) and of the one identified
- * on top (ve_found_V). True when the
- * model's psi_f moved. 1 division every PSI_BAND_DECIDE_PERIODS. ISR. */
-bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float ve_told_V,
+ * observer's psi^ [Wb] and fq^ [V], w [rad/s electrical], the bus vdc_V
+ * [V] (the told and prior fundamentals are per bus volt) and the
+ * fundamental [V] of the error identified on top of the told dead time
+ * (ve_found_V). True when the model's psi_f moved. 1 division every
+ * PSI_BAND_DECIDE_PERIODS. ISR. */
+bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float vdc_V,
                    float ve_found_V);
 
 #endif /* PSI_BAND_H */
