@@ -53,7 +53,7 @@ typedef enum {
     APP_RSID_TRUSTED = 3
 } app_rsid_mode_t;
 
-/* What a refused step 1 does (issue 13): latch the RSID_* fault (PWM
+/* What a refused step 1 does: latch the RSID_* fault (PWM
  * off), or run on with the conventional method and the warning
  * APP_WARN_STEP1_REFUSED (app.h). */
 typedef enum {

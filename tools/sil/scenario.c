@@ -147,7 +147,7 @@ static const sc_key_t KEYS[] = {
     DRVANY("identify", "speed_2_rpm", identify.speed_2_rpm, "speeds mode: speed of point 2 [r/min] (0.5 n_rated_rpm)"),
     DRV("identify", "accel_rpm_s", identify.accel_rpm_s,
         "speeds mode: ramp of the commanded speed [r/min/s] (speed_1 in 0.2 s, at most 0.25 T_rated / J)"),
-    /* step 1 on a real ADC (issue 13 part A; rs_ident.h, observer_design.md sec. 6) */
+    /* step 1 on a real ADC (rs_ident.h, observer_design.md sec. 6) */
     POS("identify", "R_se_max_rel", identify.R_se_max_rel, PARAMS, "largest standard error of R^ accepted, x R^"),
     POS("identify", "batch_s", identify.batch_s, PARAMS, "batch of the standard error's batch means [s]"),
     NN("identify", "window_max_s", identify.window_max_s, PARAMS,

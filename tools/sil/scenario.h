@@ -85,7 +85,7 @@ typedef struct {
         uint32_t mode;             /* sc_rsid_mode_t */
         double settle_1_s, window_s, settle_2_s;
         double speed_1_rpm, speed_2_rpm, accel_rpm_s;
-        /* issue 13 part A: step 1 on a real ADC */
+        /* step 1 on a real ADC */
         double R_se_max_rel, batch_s, window_max_s;
         uint32_t repeats_max;
         uint32_t on_refusal;       /* sc_refusal_t */
