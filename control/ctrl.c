@@ -310,11 +310,6 @@ void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
     est_rsid_window(&c->est, win);
 }
 
-rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out)
-{
-    return est_rsid_check(&c->est, out);
-}
-
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
 {
     return est_rsid_finish(&c->est);

@@ -252,12 +252,6 @@ bool ctrl_rsid_begin(ctrl_t *c);
  * while settling). ISR or background. */
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win);
 
-/* Step 1 under way: solves on the windows so far into *out without
- * ending step 1 or touching the windows (the caller may fill window 2
- * longer while R^'s standard error is too large, rs_ident.h). ISR or
- * background (about 25 divisions). */
-rs_ident_result_t ctrl_rsid_check(const ctrl_t *c, rs_ident_out_t *out);
-
 /* Step 1 ends: solves (design sec. 1c) into c->rsid_out; on RS_IDENT_OK
  * sets R^ bumplessly and starts step 2 - its first 0.12 s at the same
  * operating point identify the inverter error (design sec. 9) -

@@ -264,11 +264,6 @@ static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
     return rsid_checks(e, rs_ident_solve(&e->ri, o), o);
 }
 
-rs_ident_result_t est_rsid_check(const est_t *e, rs_ident_out_t *out)
-{
-    return rsid_solve(e, out);
-}
-
 void est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_win_t *win2_copy)
 {
     rs_ident_copy_window(win2_copy, &e->ri, RS_IDENT_WINDOW_2);

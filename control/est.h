@@ -176,15 +176,12 @@ bool est_rsid_begin(est_t *e);
 /* Window the following periods are averaged into. ISR or background. */
 void est_rsid_window(est_t *e, rs_ident_window_t win);
 
-/* Step 1 under way: solves on the windows so far, changes nothing. ISR or background. */
-rs_ident_result_t est_rsid_check(const est_t *e, rs_ident_out_t *out);
-
 /* Step 1 ends: solves; on RS_IDENT_OK R^ into the observer (bumpless) and
  * step 2 starts with the inverter-error identification; otherwise the
  * observer stops. ISR once or background. */
 rs_ident_result_t est_rsid_finish(est_t *e);
 
-/* The staged form of est_rsid_check (rs_ident_solve_begin/_step, for an
+/* A staged check of step 1's windows so far (rs_ident_solve_begin/_step, for an
  * ISR with a budget): window 2 as it is copied into *win2_copy (window 1
  * is complete), the solve into est_rsid_out(); est_rsid_stage_step runs
  * one stage per call and returns true when s->result and the output are
