@@ -208,6 +208,19 @@ static uint16_t put_value(uint16_t *p, uint16_t i, uint16_t id, link_val_t v)
     }
 }
 
+/* A raw value (link_src_raw) in its variable's type and unit, as READ gives it. */
+static uint16_t put_raw(uint16_t *p, uint16_t i, const link_src_t *src, uint32_t raw)
+{
+    link_val_t v;
+    v.u = raw;
+    v.f = (float)raw;
+    if (src->kind == (uint16_t)LINK_SRC_F32) {
+        v.u = 0u;
+        v.f = link_f32_of_bits(raw) / src->raw_per_unit;
+    }
+    return put_value(p, i, src->id, v);
+}
+
 /* READ id...: each value in its type's size. */
 static uint16_t do_read(link_t *l, const link_frame_t *q, uint16_t *p)
 {
@@ -317,6 +330,7 @@ static uint16_t do_stream_set(link_t *l, const link_frame_t *q, uint16_t *p)
     s->n = 0u;                           /* the ISR stops sampling before the set changes */
     for (uint16_t k = 0u; k < n; k++) {
         s->ids[k] = link_get_u16(q->payload, (uint16_t)(2u + 2u * k));
+        s->src[k] = link_var_source(&l->t, s->ids[k]);
     }
     s->decimate = dec;
     s->dec_left = 0u;
@@ -357,13 +371,28 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
             return link_put_u16(p, 1u, id);
         }
     }
-    c->state = LINK_CAP_IDLE;            /* the ISR leaves it alone from here */
-    c->nch = nch;
+    uint16_t stride = nch;               /* one slot a channel, a float32 one more */
     for (uint16_t k = 0u; k < nch; k++) {
         const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
-        c->ids[k] = id;
-        c->per_lsb[k] = counts_per_unit(l, id);
+        stride = (uint16_t)(stride + ((link_var(id)->capture == (uint16_t)LINK_CAP_F32) ? LINK_CAP_F32_SLOTS - 1u : 0u));
     }
+    const uint16_t rows_fit = (uint16_t)(LINK_CAP_SLOTS / ((stride > 0u) ? stride : 1u));
+    if (samples > rows_fit) {
+        return link_put_u16(p, 1u, rows_fit);   /* BAD_REQUEST naming the rows that fit */
+    }
+    c->state = LINK_CAP_IDLE;            /* the ISR leaves it alone from here */
+    c->nch = nch;
+    c->stride = stride;
+    for (uint16_t k = 0u; k < nch; k++) {
+        const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
+        const bool f32 = link_var(id)->capture == (uint16_t)LINK_CAP_F32;
+        c->ids[k] = id;
+        c->src[k] = link_var_source(&l->t, id);
+        c->fmt[k] = f32 ? (uint16_t)LINK_CAP_F32 : (uint16_t)LINK_CAP_I16;
+        c->per_lsb[k] = f32 ? 1.0f : counts_per_unit(l, id);
+        c->per_raw[k] = c->per_lsb[k] / c->src[k].raw_per_unit;
+    }
+    c->trig_src = link_var_source(&l->t, trig_id);
     c->samples = samples;
     c->pre = pre;
     c->decimate = dec;
@@ -401,6 +430,9 @@ static uint16_t do_capture_status(link_t *l, uint16_t *p)
         i = link_put_u16(p, i, c->ids[k]);
         i = link_put_f32(p, i, 1.0f / c->per_lsb[k]);
     }
+    for (uint16_t k = 0u; k < c->nch; k++) {
+        p[i++] = c->fmt[k];              /* after the fields of version 1: older hosts ignore it */
+    }
     return i;
 }
 
@@ -418,7 +450,7 @@ static uint16_t do_capture_read(link_t *l, const link_frame_t *q, uint16_t *p)
     }
     const uint16_t first = link_get_u16(q->payload, 0u);
     uint16_t rows = link_get_u16(q->payload, 2u);
-    const uint16_t fit = (uint16_t)((LINK_PAYLOAD_MAX - CAP_READ_HEADER) / (2u * c->nch));
+    const uint16_t fit = (uint16_t)((LINK_PAYLOAD_MAX - CAP_READ_HEADER) / (2u * c->stride));
     if (first >= c->samples) {
         p[0] = LINK_ST_BAD_REQUEST;
         return 1u;
@@ -430,8 +462,9 @@ static uint16_t do_capture_read(link_t *l, const link_frame_t *q, uint16_t *p)
     for (uint16_t r = 0u; r < rows; r++) {
         uint16_t at = (uint16_t)(c->head + first + r);    /* head: the oldest row once the ring is full */
         at = (at >= c->samples) ? (uint16_t)(at - c->samples) : at;
-        for (uint16_t k = 0u; k < c->nch; k++) {
-            i = link_put_u16(p, i, (uint16_t)c->buf[at * LINK_CAP_CHANNELS + k]);
+        const uint16_t *row = &c->buf[at * c->stride];
+        for (uint16_t k = 0u; k < c->stride; k++) {
+            i = link_put_u16(p, i, row[k]);   /* a float32: its low half, then its high half */
         }
     }
     return i;
@@ -519,7 +552,7 @@ static void send_unsolicited(link_t *l)
         f->seq = 0u;
         uint16_t i = link_put_u32(f->payload, 0u, s->index[r]);
         for (uint16_t k = 0u; k < n; k++) {
-            i = put_value(f->payload, i, s->ids[k], s->val[r][k]);
+            i = put_raw(f->payload, i, &s->src[k], s->raw[r][k]);
         }
         f->len = i;
         tx_frame(l, f);

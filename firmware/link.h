@@ -25,6 +25,8 @@
 #define LINK_RX_BUDGET 64u               /* received bytes handled per link_poll */
 #define LINK_CAP_CHANNELS 4u
 #define LINK_CAP_ROWS 1024u
+#define LINK_CAP_SLOTS (LINK_CAP_CHANNELS * LINK_CAP_ROWS)  /* int16 slots: rows x the channels' slots */
+#define LINK_CAP_F32_SLOTS 2u            /* a float32 channel's slots a row (an int16's: 1) */
 #define LINK_STREAM_VARS 8u
 #define LINK_STREAM_ROWS 4u              /* sampled rows waiting for the background */
 #define LINK_LINE_BUDGET_PCT 80u         /* a stream may use this share of the line */
@@ -52,9 +54,15 @@ typedef struct {
     /* written by the background only while state is IDLE or DONE */
     uint16_t nch;
     uint16_t ids[LINK_CAP_CHANNELS];
-    float per_lsb[LINK_CAP_CHANNELS];    /* counts per unit: 32767 / max(|lo|, |hi|); 1 for integers */
+    link_src_t src[LINK_CAP_CHANNELS];   /* where the ISR reads each channel */
+    uint16_t fmt[LINK_CAP_CHANNELS];     /* link_cap_fmt_t: int16 (one slot a row) or float32 (two) */
+    float per_lsb[LINK_CAP_CHANNELS];    /* int16: counts per unit, 32767 / max(|lo|, |hi|), 1 for integers;
+                                          * float32: 1 */
+    float per_raw[LINK_CAP_CHANNELS];    /* what the ISR multiplies a raw value by: per_lsb / raw_per_unit */
+    uint16_t stride;                     /* slots a row: the channels' sum */
     uint16_t samples, pre, decimate;
     uint16_t trig, trig_id;
+    link_src_t trig_src;
     float level, hyst;
     /* the ISR's */
     volatile uint16_t state;             /* LINK_CAP_*: IDLE, DONE set by the background, PRE by arming */
@@ -62,17 +70,19 @@ typedef struct {
     bool trig_ready;                     /* ABOVE/BELOW: a sample at or beyond the re-arm level was seen */
     uint16_t last_app_state;
     uint32_t trig_index, first_index;    /* period indices (0 = the first ISR call since app_init) */
-    int16_t buf[LINK_CAP_CHANNELS * LINK_CAP_ROWS];
+    uint16_t buf[LINK_CAP_SLOTS];        /* rows of `stride` slots */
 } link_capture_t;
 
 typedef struct {
     volatile uint16_t n;                 /* variables streamed; 0: off. Set last by the background */
     uint16_t ids[LINK_STREAM_VARS];
+    link_src_t src[LINK_STREAM_VARS];
     uint16_t decimate, dec_left;
-    /* rows: written by the ISR at wr, read by the background at rd */
+    /* rows: written by the ISR at wr, read by the background at rd; raw values (link_src_raw),
+     * converted to their units by the background */
     volatile uint16_t wr, rd;
     uint32_t index[LINK_STREAM_ROWS];
-    link_val_t val[LINK_STREAM_ROWS][LINK_STREAM_VARS];
+    uint32_t raw[LINK_STREAM_ROWS][LINK_STREAM_VARS];
 } link_stream_t;
 
 typedef struct {
@@ -123,7 +133,9 @@ void link_poll(link_t *l);
 /* Drop every byte not yet received or sent (the cable was pulled). Background. */
 void link_drop(link_t *l);
 
-/* Capture and stream sampling for the period that just ran. Control ISR, after app_isr. */
+/* Capture and stream sampling for the period that just ran: per capture channel a read, a multiply
+ * and a store, the trigger's comparison, per streamed variable a copy of its raw value; no frame
+ * building, no search by id. Control ISR, after app_isr. */
 void link_isr(link_t *l);
 
 /* The bytes per second a stream of n variables every `decimate` periods needs on the line. */

@@ -9,7 +9,15 @@
 
 #define COUNT16_MAX 0xFFFFu
 #define INT16_FULL_SCALE 32767.0f
-#define ROUND_HALF 0.5f
+#define COUNT_OFFSET_ROUND 32768.5f /* 2^15 offset and the half that rounds */
+#define SIGN16 0x8000u
+#define LOW16 0xFFFFul
+#define HALF_BITS 16u
+
+typedef union {
+    float f;
+    uint32_t u;
+} f32_bits_t;
 
 /* ---- the variables' values (link_vars.h): read by the ISR, so they live here, in RAM ---- */
 
@@ -71,6 +79,30 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     }
 }
 
+uint32_t link_src_raw(const link_target_t *t, const link_src_t *s)
+{
+    switch (s->kind) {
+    case LINK_SRC_F32: {
+        f32_bits_t x;
+        x.f = *(const volatile float *)s->p;
+        return x.u;
+    }
+    case LINK_SRC_U16: return (uint32_t)*(const volatile uint16_t *)s->p;
+    case LINK_SRC_U32: return *(const volatile uint32_t *)s->p;
+    default: return link_var_get(t, s->id).u;
+    }
+}
+
+float link_src_float(const link_target_t *t, const link_src_t *s)
+{
+    switch (s->kind) {
+    case LINK_SRC_F32: return *(const volatile float *)s->p;
+    case LINK_SRC_U16: return (float)*(const volatile uint16_t *)s->p;
+    case LINK_SRC_U32: return (float)*(const volatile uint32_t *)s->p;
+    default: return link_var_get(t, s->id).f;
+    }
+}
+
 /* ---- capture and stream ---- */
 
 static void count16(uint16_t *c)
@@ -80,24 +112,29 @@ static void count16(uint16_t *c)
     }
 }
 
-static int16_t to_count(float v, float per_lsb)
+/* x [counts] rounded (half up) and saturated to +-32767, as the int16's bits: offset binary
+ * through an unsigned truncation, then the sign bit flipped. A NaN gives -32767. */
+static uint16_t to_count(float x)
 {
-    const float x = v * per_lsb;
-    if (!mathx_isfinitef(x)) {
-        return 0;
-    }
-    const float r = (x >= 0.0f) ? x + ROUND_HALF : x - ROUND_HALF;
-    return (int16_t)mathx_clampf(r, -INT16_FULL_SCALE, INT16_FULL_SCALE);
+    const float sat = mathx_clampf(x, -INT16_FULL_SCALE, INT16_FULL_SCALE);
+    return (uint16_t)((uint16_t)(sat + COUNT_OFFSET_ROUND) ^ SIGN16);
 }
 
-/* Whether the trigger fires on this sample (trig_ready kept for the next). */
+/* A source's value as a float: the in-place float read directly (the common case). */
+static inline float src_float(const link_target_t *t, const link_src_t *s)
+{
+    return (s->kind == (uint16_t)LINK_SRC_F32) ? *(const volatile float *)s->p : link_src_float(t, s);
+}
+
+/* Whether the trigger fires on this sample (trig_ready kept for the next). The trigger
+ * variable is compared in its unit, as READ and the CSV give it. */
 static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre)
 {
     const uint16_t st = (uint16_t)t->app->state;
     bool fire = false;
     switch (c->trig) {
     case LINK_TRIG_ABOVE: {
-        const float v = link_var_get(t, c->trig_id).f;
+        const float v = src_float(t, &c->trig_src) / c->trig_src.raw_per_unit;
         if (v > c->level) {
             fire = c->trig_ready && enough_pre;
             c->trig_ready = false;
@@ -107,7 +144,7 @@ static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre
         break;
     }
     case LINK_TRIG_BELOW: {
-        const float v = link_var_get(t, c->trig_id).f;
+        const float v = src_float(t, &c->trig_src) / c->trig_src.raw_per_unit;
         if (v < c->level) {
             fire = c->trig_ready && enough_pre;
             c->trig_ready = false;
@@ -130,6 +167,12 @@ static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre
     return fire;
 }
 
+static void capture_done_after(link_capture_t *c)
+{
+    c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
+    c->state = LINK_CAP_DONE;
+}
+
 static void capture_isr(link_capture_t *c, const link_target_t *t)
 {
     const uint16_t state = c->state;
@@ -141,10 +184,18 @@ static void capture_isr(link_capture_t *c, const link_target_t *t)
         return;
     }
     c->dec_left = (uint16_t)(c->decimate - 1u);
-    const uint32_t index = t->app->ticks - 1u;   /* ticks counts this period's call already */
-    int16_t *row = &c->buf[c->head * LINK_CAP_CHANNELS];
+    uint16_t *row = &c->buf[c->head * c->stride];
     for (uint16_t k = 0u; k < c->nch; k++) {
-        row[k] = to_count(link_var_get(t, c->ids[k]).f, c->per_lsb[k]);
+        const float v = src_float(t, &c->src[k]) * c->per_raw[k];
+        if (c->fmt[k] == (uint16_t)LINK_CAP_F32) {
+            f32_bits_t x;                /* two slots, low half first */
+            x.f = v;
+            row[0] = (uint16_t)(x.u & LOW16);
+            row[1] = (uint16_t)(x.u >> HALF_BITS);
+            row += LINK_CAP_F32_SLOTS;
+        } else {
+            *row++ = to_count(v);
+        }
     }
     c->head = (uint16_t)(c->head + 1u);
     c->head = (c->head >= c->samples) ? 0u : c->head;
@@ -152,17 +203,15 @@ static void capture_isr(link_capture_t *c, const link_target_t *t)
     if (state == LINK_CAP_POST) {
         c->post_left--;
         if (c->post_left == 0u) {
-            c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
-            c->state = LINK_CAP_DONE;
+            capture_done_after(c);
         }
         return;
     }
     if (triggered(c, t, c->filled > c->pre)) {
-        c->trig_index = index;
+        c->trig_index = t->app->ticks - 1u;   /* ticks counts this period's call already */
         c->post_left = (uint16_t)(c->samples - c->pre - 1u);
         if (c->post_left == 0u) {
-            c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
-            c->state = LINK_CAP_DONE;
+            capture_done_after(c);
         } else {
             c->state = LINK_CAP_POST;
         }
@@ -189,7 +238,14 @@ static void stream_isr(link_t *l)
     }
     s->index[w] = l->t.app->ticks - 1u;
     for (uint16_t k = 0u; k < n; k++) {
-        s->val[w][k] = link_var_get(&l->t, s->ids[k]);
+        const link_src_t *src = &s->src[k];
+        f32_bits_t x;
+        if (src->kind == (uint16_t)LINK_SRC_F32) {
+            x.f = *(const volatile float *)src->p;
+        } else {
+            x.u = link_src_raw(&l->t, src);
+        }
+        s->raw[w][k] = x.u;
     }
     s->wr = next;
 }

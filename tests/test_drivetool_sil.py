@@ -109,6 +109,11 @@ class RoundTrip(unittest.TestCase):
         cls.capture = tool(cls.port, "--json", "capture", "iq_meas_A", "speed_est_rpm",
                            "--trigger", f"speed_est_rpm>{TRIGGER_RPM:g}", "--pre", str(PRE),
                            "--samples", str(SAMPLES), "--csv", cls.cap_path)
+        cls.cap_f32_path = os.path.join(cls.tmp, "cap_f32.csv")
+        cls.capture_f32 = tool(cls.port, "--json", "capture", "L_est_H", "iq_meas_A", "psif_est_Wb",
+                               "--trigger", "forced", "--samples", "300", "--csv", cls.cap_f32_path)
+        cls.capture_too_deep = tool(cls.port, "capture", "L_est_H", "iq_meas_A", "psif_est_Wb",
+                                    "--trigger", "forced", "--samples", "1000")
         cls.stream_refused = tool(cls.port, "stream", "iq_meas_A", "id_meas_A", "speed_est_rpm", "te_est_Nm",
                                   "--rate", "10000", "--duration", "0.1")
         cls.stream_ok = tool(cls.port, "--json", "stream", "speed_est_rpm", "--rate", "100", "--duration", "0.5")
@@ -163,6 +168,32 @@ class RoundTrip(unittest.TestCase):
         self.assertAlmostEqual(info["trigger_t_s"], k_trig * TS, delta=TS / 100)
         self.assertGreater(float(run[k_trig]["speed_est_rpm"]), TRIGGER_RPM)
         self.assertLessEqual(float(run[k_trig - 1]["speed_est_rpm"]), TRIGGER_RPM)
+
+    def test_float32_capture_equals_the_csv_exactly(self):
+        # L_est_H and psif_est_Wb ask for float32 (link_vars.c): each captured value is the
+        # CSV's own (both print the float with 9 digits); as int16 counts L^ would be off by
+        # up to half an LSB (2 L / 65534 / 2, about 3e-8 H), so the equality tells the formats apart
+        rc, out, err = self.capture_f32
+        self.assertEqual(rc, 0, err)
+        info = json.loads(out)
+        self.assertEqual(info["format"], {"L_est_H": "float32", "iq_meas_A": "int16", "psif_est_Wb": "float32"})
+        self.assertIsNone(info["lsb"]["L_est_H"])
+        with open(self.cap_f32_path) as f:
+            cap = list(csv.DictReader(f))
+        self.assertEqual(len(cap), 300)
+        with open(self.csv_path) as f:
+            run = {round(float(r["t_s"]) / TS): r for r in csv.DictReader(f)}
+        for r in cap:
+            row = run[round(float(r["t_s"]) / TS)]
+            self.assertEqual(float(r["L_est_H"]), float(row["L_est_H"]))
+            self.assertEqual(float(r["psif_est_Wb"]), float(row["psif_est_Wb"]))
+            self.assertLessEqual(abs(float(r["iq_meas_A"]) - float(row["iq_meas_A"])), info["lsb"]["iq_meas_A"])
+
+    def test_float32_channels_take_two_slots(self):
+        # 2 float32 + 1 int16 channels: 5 of the 4 x 1024 slots a row, 4096 // 5 = 819 rows
+        rc, _out, err = self.capture_too_deep
+        self.assertEqual(rc, 2, err)
+        self.assertIn("at most 819 rows", err)
 
     def test_stream_above_budget_is_refused_naming_it(self):
         rc, _out, err = self.stream_refused

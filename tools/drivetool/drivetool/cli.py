@@ -166,7 +166,10 @@ def cmd_capture(d, args):
         _png(args.png, args.names, t, rows)
     ts = d.info["Ts_s"]
     _emit(args, {"rows": len(rows), "trigger_t_s": st["trigger_index"] * ts, "first_t_s": st["first_index"] * ts,
-                 "lsb": {n: lsb for n, (_i, lsb) in zip(args.names, st["channels"])}},
+                 "lsb": {n: (None if f == codec.CAP_F32 else lsb)
+                         for n, (_i, lsb), f in zip(args.names, st["channels"], st["formats"])},
+                 "format": {n: ("float32" if f == codec.CAP_F32 else "int16")
+                            for n, f in zip(args.names, st["formats"])}},
           f"captured {len(rows)} rows, trigger at t = {st['trigger_index'] * ts:.6f} s"
           + (f" -> {args.csv}" if args.csv else ""))
 
