@@ -263,14 +263,33 @@ static uint16_t do_write(link_t *l, const link_frame_t *q, uint16_t *p)
     const uint16_t err = link_var_write(&l->t, id, v, &refused_access);
     if (!refused_access) {
         l->stats.writes++;
-        l->written |= (uint32_t)1u << id;
+        l->written |= (id < LINK_WRITTEN_BITS) ? ((uint32_t)1u << id) : 0u;
     }
     p[0] = refused_access ? LINK_ST_ACCESS : ((err != (uint16_t)CMD_OK) ? LINK_ST_REFUSED : LINK_ST_OK);
     return link_put_u16(p, 1u, err);
 }
 
+/* ACTION LEVEL n: status (REFUSED for a level outside 1..5), cmd_error. */
+static uint16_t do_level(link_t *l, const link_frame_t *q, uint16_t *p)
+{
+    if (q->len != 2u) {
+        p[0] = LINK_ST_BAD_REQUEST;
+        return 1u;
+    }
+    const uint16_t err = link_level(&l->t, q->payload[1]);
+    if (err == (uint16_t)CMD_ERR_LEVEL) {
+        p[0] = LINK_ST_REFUSED;
+    } else {
+        l->stats.writes++;
+    }
+    return link_put_u16(p, 1u, err);
+}
+
 static uint16_t do_action(link_t *l, const link_frame_t *q, uint16_t *p)
 {
+    if (q->len >= 1u && q->payload[0] == (uint16_t)LINK_ACTION_LEVEL) {
+        return do_level(l, q, p);
+    }
     if (q->len != 1u) {
         p[0] = LINK_ST_BAD_REQUEST;
         return 1u;

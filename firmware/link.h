@@ -31,6 +31,7 @@
 #define LINK_STREAM_ROWS 4u              /* sampled rows waiting for the background */
 #define LINK_LINE_BUDGET_PCT 80u         /* a stream may use this share of the line */
 #define LINK_BITS_PER_BYTE_ON_LINE 10u   /* 8N1: start, 8 data, stop */
+#define LINK_WRITTEN_BITS 32u            /* link_t.written's width: the writable ids sit below it */
 
 /* Frame types (link_protocol.md). A reply is its request's type | LINK_REPLY. */
 enum {
@@ -107,7 +108,8 @@ typedef struct {
     uint16_t cache[LINK_ENCODED_MAX];
     uint16_t ev_state, ev_fault;         /* last state and fault told by an event frame */
     bool quit;                           /* ACTION quit seen (the SIL ends its run) */
-    uint32_t written;                    /* bit per variable id written over the link (the SIL's overrides) */
+    uint32_t written;                    /* bit per variable id (< LINK_WRITTEN_BITS) written over the link
+                                          * (the SIL's overrides) */
     link_capture_t cap;
     link_stream_t stream;
 } link_t;

@@ -75,6 +75,8 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_LINK_STREAM_DROPPED: return of_u((uint32_t)t->stats->stream_dropped);
     case LV_LINK_ERR_LINE: return of_u((uint32_t)t->stats->err_line);
     case LV_RESET_BY_WATCHDOG: return of_u((uint32_t)t->stats->reset_by_watchdog);
+    case LV_LEVEL: return of_u((uint32_t)a->level);
+    case LV_LEVEL_NEXT: return of_u((uint32_t)a->req_level);
     default: return of_u(0u);
     }
 }

@@ -51,6 +51,8 @@ static const link_var_t VARS[LV_COUNT] = {
     [LV_LINK_STREAM_DROPPED] = { "link_stream_dropped", "", LINK_T_U16, R, LINK_CAP_I16 },
     [LV_LINK_ERR_LINE] = { "link_err_line", "", LINK_T_U16, R, LINK_CAP_I16 },
     [LV_RESET_BY_WATCHDOG] = { "reset_by_watchdog", "", LINK_T_U16, R, LINK_CAP_I16 },
+    [LV_LEVEL] = { "level", "", LINK_T_U16, R, LINK_CAP_I16 },
+    [LV_LEVEL_NEXT] = { "level_next", "", LINK_T_U16, R, LINK_CAP_I16 },
 };
 #undef R
 #undef W
@@ -87,6 +89,7 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     case LV_STATE: *hi = (float)APP_STATE_FAULT; break;
     case LV_METHOD: *hi = (float)CTRL_METHOD_PROPOSED; break;
     case LV_MODE: *hi = (float)CTRL_MODE_SPEED; break;
+    case LV_LEVEL: case LV_LEVEL_NEXT: *hi = (float)LEVEL_MAX; break;
     default: *hi = (link_var(id)->type == LINK_T_U32) ? U32_MAX_F : U16_MAX_F; break;
     }
 }
@@ -136,6 +139,8 @@ link_src_t link_var_source(const link_target_t *t, uint16_t id)
     case LV_LINK_STREAM_DROPPED: return src_of(&st->stream_dropped, LINK_SRC_U16, id, 1.0f);
     case LV_LINK_ERR_LINE: return src_of(&st->err_line, LINK_SRC_U16, id, 1.0f);
     case LV_RESET_BY_WATCHDOG: return src_of(&st->reset_by_watchdog, LINK_SRC_U16, id, 1.0f);
+    case LV_LEVEL: return src_of(&a->level, LINK_SRC_U16, id, 1.0f);
+    case LV_LEVEL_NEXT: return src_of(&a->req_level, LINK_SRC_U16, id, 1.0f);
     default: return src_of(NULL, LINK_SRC_GET, id, 1.0f);  /* enumerations, the flags' union */
     }
 }
@@ -215,6 +220,17 @@ bool link_action(const link_target_t *t, uint16_t action)
     cmd_sync(t);
     cmd_apply(c, t->lim, t->app);
     return true;
+}
+
+uint16_t link_level(const link_target_t *t, uint16_t level)
+{
+    if ((level < LEVEL_MIN) || (level > LEVEL_MAX)) {
+        return (uint16_t)CMD_ERR_LEVEL;  /* 0 would mean "keep" to cmd_apply: not a level to ask for */
+    }
+    cmd_sync(t);
+    t->cmd->level = level;
+    cmd_apply(t->cmd, t->lim, t->app);
+    return t->cmd->error;
 }
 
 static uint32_t fnv(uint32_t h, uint16_t byte)

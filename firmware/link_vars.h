@@ -27,6 +27,7 @@ typedef enum {
     LV_UD_REF_V, LV_UQ_REF_V, LV_R_EST_OHM, LV_L_EST_H, LV_PSIF_EST_WB, LV_EST, LV_EST_HOLD,
     LV_METHOD, LV_MODE, LV_CMD_ERROR, LV_TICKS, LV_LINK_WRITES, LV_LINK_ERR_CRC, LV_LINK_ERR_FRAMING,
     LV_LINK_ERR_OVERRUN, LV_LINK_STREAM_DROPPED, LV_LINK_ERR_LINE, LV_RESET_BY_WATCHDOG,
+    LV_LEVEL, LV_LEVEL_NEXT,
     LV_COUNT
 } link_var_id_t;
 
@@ -111,10 +112,16 @@ typedef enum {
     LINK_ACTION_START = 1,      /* the start sequence (cmd run 0 -> 1) */
     LINK_ACTION_STOP = 2,       /* to IDLE, PWM off */
     LINK_ACTION_FAULT_RESET = 3,/* clear a latched fault */
-    LINK_ACTION_QUIT = 4        /* the SIL: stop, then end the run (the firmware only stops) */
+    LINK_ACTION_QUIT = 4,       /* the SIL: stop, then end the run (the firmware only stops) */
+    LINK_ACTION_LEVEL = 5       /* the build level the next start runs (level.h), with its argument */
 } link_action_t;
 
 /* Carry out an action through cmd_apply() (start and stop as an edge of cmd.run, so a start after a
  * fault starts again). Returns false for an unknown action. Background. */
 bool link_action(const link_target_t *t, uint16_t action);
+
+/* The build level (LEVEL_MIN .. LEVEL_MAX, level.h) the next start runs, through cmd_t.level and
+ * cmd_apply() as the debugger sets it. Returns CMD_OK, or CMD_ERR_LEVEL for a level outside
+ * 1 .. 5 (nothing changed). Background. */
+uint16_t link_level(const link_target_t *t, uint16_t level);
 #endif /* LINK_VARS_H */

@@ -52,10 +52,10 @@ PRE, SAMPLES = 100, 1000
 TS = 1e-4                     # the board's period (drive_sil's default), checked against HELLO
 
 
-def start_sil(tmp, *extra):
+def start_sil(tmp, *extra, scenario=SCENARIO):
     ini = os.path.join(tmp, "link.ini")
     with open(ini, "w") as f:
-        f.write(SCENARIO)
+        f.write(scenario)
     err_path = os.path.join(tmp, "drive_sil.err")
     with open(err_path, "w") as err:
         p = subprocess.Popen([DRIVE_SIL, "--scenario", ini, "--link", "tcp:0", *extra],
@@ -231,6 +231,79 @@ class RoundTrip(unittest.TestCase):
             port = s.getsockname()[1]          # nothing listens once closed
         rc, _out, err = tool(port, "--timeout", "0.3", "status")
         self.assertEqual(rc, 3, err)
+
+
+@unittest.skipUnless(os.access(DRIVE_SIL, os.X_OK) and os.access(DRIVETOOL, os.X_OK),
+                     "needs build/host/drive_sil and build/venv/bin/drivetool (make drivetool)")
+class LevelAndPlot(unittest.TestCase):
+    """`plot` headless (MPLBACKEND=Agg, a duration limit, the last frame saved) and `level`:
+    the next start's build level set over the link and taken by a start."""
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp()
+        cls.png = os.path.join(cls.tmp, "plot.png")
+        # no load: a stopped drive stays at rest, so the next start begins from standstill
+        cls.p, cls.port = start_sil(cls.tmp, "--realtime", "1", "--summary", os.devnull,
+                                    scenario=SCENARIO.replace("torque_Nm = 0:1", "torque_Nm = 0:0"))
+        os.environ["MPLBACKEND"] = "Agg"
+        try:
+            cls.plot = tool(cls.port, "--json", "plot", "speed_est_rpm", "iq_meas_A", "--rate", "100",
+                            "--duration", "1.5", "--png", cls.png)
+            cls.plot_frames = tool(cls.port, "--json", "plot", "speed_est_rpm", "--frames", "3")
+        finally:
+            del os.environ["MPLBACKEND"]
+        cls.level_before = tool(cls.port, "--json", "level")
+        cls.level_set = tool(cls.port, "--json", "level", "4")
+        cls.level_bad = tool(cls.port, "level", "7")
+        cls.stop = tool(cls.port, "stop")
+        time.sleep(0.3)
+        cls.start = tool(cls.port, "start")
+        cls.states = []
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline:
+            rc, out, _err = tool(cls.port, "--json", "get", "state", "level")
+            if rc == 0:
+                cls.states.append(json.loads(out))
+                if cls.states[-1]["level"] == 4 and cls.states[-1]["state"] == 5:
+                    break
+            time.sleep(0.2)
+        cls.quit_rc, _ = finish(cls.p, cls.port)
+
+    def test_plot_runs_headless_for_its_duration_and_saves_the_frame(self):
+        rc, out, err = self.plot
+        self.assertEqual(rc, 0, err)
+        info = json.loads(out)
+        # 1.5 s of a 100 Hz stream at --realtime 1: at most about 150 rows (the first ones
+        # may not have come yet); a redraw at least every 0.1 s poll + 0.05 s pause + drawing
+        self.assertGreater(info["rows"], 50)
+        self.assertLess(info["rows"], 200)
+        self.assertGreaterEqual(info["frames"], 2)
+        t0, t1 = info["t_s"]
+        self.assertGreater(t1, t0)
+        with open(self.png, "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_plot_stops_after_its_frames(self):
+        rc, out, err = self.plot_frames
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out)["frames"], 3)
+
+    def test_level_is_set_for_the_next_start_and_taken_by_it(self):
+        rc, out, err = self.level_before
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out), {"level": 5, "level_next": 5})    # the scenario's default
+        rc, out, err = self.level_set
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out), {"level": 5, "level_next": 4})    # the running start keeps its level
+        self.assertEqual(self.stop[0], 0, self.stop[2])
+        self.assertEqual(self.start[0], 0, self.start[2])
+        # the start took level 4 (torque control at the reduced current limit) and runs (RUN, 5)
+        self.assertEqual(self.states[-1], {"state": 5, "level": 4}, self.states)
+        self.assertEqual(self.quit_rc, 0)
+
+    def test_a_level_outside_1_to_5_is_a_usage_error(self):
+        rc, _out, err = self.level_bad
+        self.assertEqual(rc, 2, err)
 
 
 @unittest.skipUnless(os.access(DRIVE_SIL, os.X_OK) and os.access(DRIVETOOL, os.X_OK),

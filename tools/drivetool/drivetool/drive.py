@@ -26,12 +26,15 @@ CMD_ERRORS = {
     5: "torque reference not finite or beyond the drive's limit",
     6: "open-loop voltage not finite or beyond the drive's limit",
     7: "proposed method refused: step 1 is off or refused R^ at this start",
+    8: "level is not 1 .. 5",
 }
-STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT"]
+STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK",
+          "ENC_CHECK", "COMMISSION"]
 FAULTS = ["NONE", "HW_TRIP", "OVERCURRENT", "NONFINITE_OUTPUT", "NONFINITE_SAMPLE", "OVERVOLTAGE",
           "UNDERVOLTAGE", "OVERSPEED", "ENCODER", "OVERRUN", "CURRENT_OFFSET", "CONFIG", "RSID_TOO_FEW",
           "RSID_NOT_STEADY", "RSID_DEGENERATE", "RSID_NON_FINITE", "RSID_OUT_OF_BAND", "OPEN_PHASE",
-          "CURRENT_SENSOR", "ENCODER_LOST"]
+          "CURRENT_SENSOR", "ENCODER_LOST", "WATCHDOG_RESET", "FLASH_CRC", "ENCODER_DIRECTION", "POLE_PAIRS",
+          "PHASE_ORDER", "RSID_D_AXIS", "COMM_TIMEOUT", "COMM_NO_ROTATION", "COMM_IMPLAUSIBLE"]
 ACCESS = {codec.ACC_READ: "r", codec.ACC_WRITE: "rw", codec.ACC_WRITE_STOPPED: "rw-stopped"}
 TYPES = {codec.T_U16: "u16", codec.T_U32: "u32", codec.T_F32: "f32"}
 
@@ -260,6 +263,17 @@ class Drive:
 
     def action(self, act):
         self._ok(codec.ACTION, bytes([act]), "ACTION")
+
+    def level(self, n):
+        """The build level (1 PWM, 2 ADC, 3 encoder check, 4 torque control, 5 the drive) the next
+        start runs, set as the command block's `level`; Refused outside 1..5."""
+        if not 0 <= n <= 255:
+            raise UsageError(f"level {n}: expected 1 to 5")
+        st, p = self.request(codec.ACTION, bytes([codec.ACT_LEVEL, n]))
+        if st == codec.ST_REFUSED:
+            raise Refused(f"level {n} refused: {CMD_ERRORS.get(struct.unpack_from('<H', p, 0)[0], '?')}")
+        if st != codec.ST_OK:
+            raise Refused(f"ACTION level: {codec.STATUS_TEXT.get(st, st)}")
 
     def ping(self):
         p = self._ok(codec.PING, what="PING")
