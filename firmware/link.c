@@ -1,6 +1,8 @@
 /* link.c - dispatcher, reply cache, capture and stream of the link; see link.h and link_protocol.md. */
 #include "link.h"
 
+#include <stddef.h>
+
 #include "mathx.h"
 
 #define COUNT16_MAX 0xFFFFu
@@ -208,17 +210,19 @@ static uint16_t put_value(uint16_t *p, uint16_t i, uint16_t id, link_val_t v)
     }
 }
 
-/* A raw value (link_src_raw) in its variable's type and unit, as READ gives it. */
-static uint16_t put_raw(uint16_t *p, uint16_t i, const link_src_t *src, uint32_t raw)
+/* A streamed raw value (a float's bits in place, or an integer) in its variable's type and unit,
+ * as READ gives it. */
+static uint16_t put_raw(uint16_t *p, uint16_t i, const link_target_t *t, uint16_t id, uint32_t raw)
 {
+    const link_src_t src = link_var_source(t, id);
     link_val_t v;
     v.u = raw;
     v.f = (float)raw;
-    if (src->kind == (uint16_t)LINK_SRC_F32) {
+    if (src.p != NULL) {
         v.u = 0u;
-        v.f = link_f32_of_bits(raw) / src->raw_per_unit;
+        v.f = link_f32_of_bits(raw) / src.raw_per_unit;
     }
-    return put_value(p, i, src->id, v);
+    return put_value(p, i, id, v);
 }
 
 /* READ id...: each value in its type's size. */
@@ -349,7 +353,7 @@ static uint16_t do_stream_set(link_t *l, const link_frame_t *q, uint16_t *p)
     s->n = 0u;                           /* the ISR stops sampling before the set changes */
     for (uint16_t k = 0u; k < n; k++) {
         s->ids[k] = link_get_u16(q->payload, (uint16_t)(2u + 2u * k));
-        s->src[k] = link_var_source(&l->t, s->ids[k]);
+        s->fp[k] = link_var_source(&l->t, s->ids[k]).p;
     }
     s->decimate = dec;
     s->dec_left = 0u;
@@ -406,10 +410,11 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
         const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
         const bool f32 = link_var(id)->capture == (uint16_t)LINK_CAP_F32;
         c->ids[k] = id;
-        c->src[k] = link_var_source(&l->t, id);
+        const link_src_t src = link_var_source(&l->t, id);
+        c->fp[k] = src.p;
         c->fmt[k] = f32 ? (uint16_t)LINK_CAP_F32 : (uint16_t)LINK_CAP_I16;
         c->per_lsb[k] = f32 ? 1.0f : counts_per_unit(l, id);
-        c->per_raw[k] = c->per_lsb[k] / c->src[k].raw_per_unit;
+        c->per_raw[k] = c->per_lsb[k] / src.raw_per_unit;
     }
     c->trig_src = link_var_source(&l->t, trig_id);
     c->samples = samples;
@@ -571,7 +576,7 @@ static void send_unsolicited(link_t *l)
         f->seq = 0u;
         uint16_t i = link_put_u32(f->payload, 0u, s->index[r]);
         for (uint16_t k = 0u; k < n; k++) {
-            i = put_raw(f->payload, i, &s->src[k], s->raw[r][k]);
+            i = put_raw(f->payload, i, &l->t, s->ids[k], s->raw[r][k]);
         }
         f->len = i;
         tx_frame(l, f);

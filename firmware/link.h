@@ -55,15 +55,16 @@ typedef struct {
     /* written by the background only while state is IDLE or DONE */
     uint16_t nch;
     uint16_t ids[LINK_CAP_CHANNELS];
-    link_src_t src[LINK_CAP_CHANNELS];   /* where the ISR reads each channel */
+    const volatile float *fp[LINK_CAP_CHANNELS];  /* a float channel in place (link_var_source), or NULL:
+                                                   * link_var_get */
     uint16_t fmt[LINK_CAP_CHANNELS];     /* link_cap_fmt_t: int16 (one slot a row) or float32 (two) */
     float per_lsb[LINK_CAP_CHANNELS];    /* int16: counts per unit, 32767 / max(|lo|, |hi|), 1 for integers;
                                           * float32: 1 */
-    float per_raw[LINK_CAP_CHANNELS];    /* what the ISR multiplies a raw value by: per_lsb / raw_per_unit */
+    float per_raw[LINK_CAP_CHANNELS];    /* what the ISR multiplies *fp by: per_lsb / raw_per_unit */
     uint16_t stride;                     /* slots a row: the channels' sum */
     uint16_t samples, pre, decimate;
     uint16_t trig, trig_id;
-    link_src_t trig_src;
+    link_src_t trig_src;                 /* the trigger variable's float in place, or p NULL */
     float level, hyst;
     /* the ISR's */
     volatile uint16_t state;             /* LINK_CAP_*: IDLE, DONE set by the background, PRE by arming */
@@ -77,9 +78,9 @@ typedef struct {
 typedef struct {
     volatile uint16_t n;                 /* variables streamed; 0: off. Set last by the background */
     uint16_t ids[LINK_STREAM_VARS];
-    link_src_t src[LINK_STREAM_VARS];
+    const volatile float *fp[LINK_STREAM_VARS];   /* as link_capture_t.fp */
     uint16_t decimate, dec_left;
-    /* rows: written by the ISR at wr, read by the background at rd; raw values (link_src_raw),
+    /* rows: written by the ISR at wr, read by the background at rd; raw values (a float's bits, an integer),
      * converted to their units by the background */
     volatile uint16_t wr, rd;
     uint32_t index[LINK_STREAM_ROWS];

@@ -5,6 +5,8 @@
  * link_codec.c) runs from flash. */
 #include "link.h"
 
+#include <stddef.h>
+
 #include "mathx.h"
 
 #define COUNT16_MAX 0xFFFFu
@@ -81,30 +83,6 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     }
 }
 
-uint32_t link_src_raw(const link_target_t *t, const link_src_t *s)
-{
-    switch (s->kind) {
-    case LINK_SRC_F32: {
-        f32_bits_t x;
-        x.f = *(const volatile float *)s->p;
-        return x.u;
-    }
-    case LINK_SRC_U16: return (uint32_t)*(const volatile uint16_t *)s->p;
-    case LINK_SRC_U32: return *(const volatile uint32_t *)s->p;
-    default: return link_var_get(t, s->id).u;
-    }
-}
-
-float link_src_float(const link_target_t *t, const link_src_t *s)
-{
-    switch (s->kind) {
-    case LINK_SRC_F32: return *(const volatile float *)s->p;
-    case LINK_SRC_U16: return (float)*(const volatile uint16_t *)s->p;
-    case LINK_SRC_U32: return (float)*(const volatile uint32_t *)s->p;
-    default: return link_var_get(t, s->id).f;
-    }
-}
-
 /* ---- capture and stream ---- */
 
 static void count16(uint16_t *c)
@@ -122,10 +100,10 @@ static uint16_t to_count(float x)
     return (uint16_t)((uint16_t)(sat + COUNT_OFFSET_ROUND) ^ SIGN16);
 }
 
-/* A source's value as a float: the in-place float read directly (the common case). */
-static inline float src_float(const link_target_t *t, const link_src_t *s)
+/* A variable's value as a float: the one in place in the raw unit (the common case), else by id. */
+static inline float raw_float(const link_target_t *t, const volatile float *fp, uint16_t id)
 {
-    return (s->kind == (uint16_t)LINK_SRC_F32) ? *(const volatile float *)s->p : link_src_float(t, s);
+    return (fp != NULL) ? *fp : link_var_get(t, id).f;
 }
 
 /* Whether the trigger fires on this sample (trig_ready kept for the next). The trigger
@@ -136,7 +114,7 @@ static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre
     bool fire = false;
     switch (c->trig) {
     case LINK_TRIG_ABOVE: {
-        const float v = src_float(t, &c->trig_src) / c->trig_src.raw_per_unit;
+        const float v = raw_float(t, c->trig_src.p, c->trig_id) / c->trig_src.raw_per_unit;
         if (v > c->level) {
             fire = c->trig_ready && enough_pre;
             c->trig_ready = false;
@@ -146,7 +124,7 @@ static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre
         break;
     }
     case LINK_TRIG_BELOW: {
-        const float v = src_float(t, &c->trig_src) / c->trig_src.raw_per_unit;
+        const float v = raw_float(t, c->trig_src.p, c->trig_id) / c->trig_src.raw_per_unit;
         if (v < c->level) {
             fire = c->trig_ready && enough_pre;
             c->trig_ready = false;
@@ -188,7 +166,7 @@ static void capture_isr(link_capture_t *c, const link_target_t *t)
     c->dec_left = (uint16_t)(c->decimate - 1u);
     uint16_t *row = &c->buf[c->head * c->stride];
     for (uint16_t k = 0u; k < c->nch; k++) {
-        const float v = src_float(t, &c->src[k]) * c->per_raw[k];
+        const float v = raw_float(t, c->fp[k], c->ids[k]) * c->per_raw[k];
         if (c->fmt[k] == (uint16_t)LINK_CAP_F32) {
             f32_bits_t x;                /* two slots, low half first */
             x.f = v;
@@ -240,12 +218,12 @@ static void stream_isr(link_t *l)
     }
     s->index[w] = l->t.app->ticks - 1u;
     for (uint16_t k = 0u; k < n; k++) {
-        const link_src_t *src = &s->src[k];
+        const volatile float *fp = s->fp[k];
         f32_bits_t x;
-        if (src->kind == (uint16_t)LINK_SRC_F32) {
-            x.f = *(const volatile float *)src->p;
+        if (fp != NULL) {
+            x.f = *fp;                   /* its bits, converted by the background */
         } else {
-            x.u = link_src_raw(&l->t, src);
+            x.u = link_var_get(&l->t, s->ids[k]).u;
         }
         s->raw[w][k] = x.u;
     }

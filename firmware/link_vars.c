@@ -94,12 +94,10 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     }
 }
 
-static link_src_t src_of(const volatile void *p, uint16_t kind, uint16_t id, float raw_per_unit)
+static link_src_t src_of(const volatile float *p, float raw_per_unit)
 {
     link_src_t s;
     s.p = p;
-    s.kind = kind;
-    s.id = id;
     s.raw_per_unit = raw_per_unit;
     return s;
 }
@@ -110,38 +108,24 @@ link_src_t link_var_source(const link_target_t *t, uint16_t id)
     const app_t *a = t->app;
     const ctrl_mon_t *m = &a->ctrl.mon;
     const est_out_t *e = est_output(ctrl_est(&a->ctrl));
-    const link_stats_t *st = t->stats;
     switch (id) {
-    case LV_SPEED_EST_RPM: return src_of(&m->speed_mech_rad_s, LINK_SRC_F32, id, MATHX_RAD_S_PER_RPM_F);
-    case LV_SPEED_REF_RPM:
-        return src_of(&a->op_taken.ref.speed_ref_rad_s, LINK_SRC_F32, id, MATHX_RAD_S_PER_RPM_F);
-    case LV_TE_CMD_NM: return src_of(&a->op_taken.ref.te_ref_Nm, LINK_SRC_F32, id, 1.0f);
-    case LV_TE_REF_NM: return src_of(&m->te_ref_Nm, LINK_SRC_F32, id, 1.0f);
-    case LV_TE_EST_NM: return src_of(&m->te_est_Nm, LINK_SRC_F32, id, 1.0f);
-    case LV_PSI_REF_WB: return src_of(&m->psi_ref_Wb, LINK_SRC_F32, id, 1.0f);
-    case LV_PSI_EST_WB: return src_of(&m->psi_est_Wb, LINK_SRC_F32, id, 1.0f);
-    case LV_ID_MEAS_A: return src_of(&m->id_A, LINK_SRC_F32, id, 1.0f);
-    case LV_IQ_MEAS_A: return src_of(&m->iq_A, LINK_SRC_F32, id, 1.0f);
-    case LV_UD_CMD_V: return src_of(&m->ud_V, LINK_SRC_F32, id, 1.0f);
-    case LV_UQ_CMD_V: return src_of(&m->uq_V, LINK_SRC_F32, id, 1.0f);
-    case LV_UD_REF_V: return src_of(&a->op_taken.ref.ud_ref_V, LINK_SRC_F32, id, 1.0f);
-    case LV_UQ_REF_V: return src_of(&a->op_taken.ref.uq_ref_V, LINK_SRC_F32, id, 1.0f);
-    case LV_R_EST_OHM: return src_of(&e->R_Ohm, LINK_SRC_F32, id, 1.0f);
-    case LV_L_EST_H: return src_of(&e->L_H, LINK_SRC_F32, id, 1.0f);
-    case LV_PSIF_EST_WB: return src_of(&e->psi_f_Wb, LINK_SRC_F32, id, 1.0f);
-    case LV_EST_HOLD: return src_of(&e->hold, LINK_SRC_U16, id, 1.0f);
-    case LV_CMD_ERROR: return src_of(&t->cmd->error, LINK_SRC_U16, id, 1.0f);
-    case LV_TICKS: return src_of(&a->ticks, LINK_SRC_U32, id, 1.0f);
-    case LV_LINK_WRITES: return src_of(&st->writes, LINK_SRC_U32, id, 1.0f);
-    case LV_LINK_ERR_CRC: return src_of(&st->err_crc, LINK_SRC_U16, id, 1.0f);
-    case LV_LINK_ERR_FRAMING: return src_of(&st->err_framing, LINK_SRC_U16, id, 1.0f);
-    case LV_LINK_ERR_OVERRUN: return src_of(&st->err_overrun, LINK_SRC_U16, id, 1.0f);
-    case LV_LINK_STREAM_DROPPED: return src_of(&st->stream_dropped, LINK_SRC_U16, id, 1.0f);
-    case LV_LINK_ERR_LINE: return src_of(&st->err_line, LINK_SRC_U16, id, 1.0f);
-    case LV_RESET_BY_WATCHDOG: return src_of(&st->reset_by_watchdog, LINK_SRC_U16, id, 1.0f);
-    case LV_LEVEL: return src_of(&a->level, LINK_SRC_U16, id, 1.0f);
-    case LV_LEVEL_NEXT: return src_of(&a->req_level, LINK_SRC_U16, id, 1.0f);
-    default: return src_of(NULL, LINK_SRC_GET, id, 1.0f);  /* enumerations, the flags' union */
+    case LV_SPEED_EST_RPM: return src_of(&m->speed_mech_rad_s, MATHX_RAD_S_PER_RPM_F);
+    case LV_SPEED_REF_RPM: return src_of(&a->op_taken.ref.speed_ref_rad_s, MATHX_RAD_S_PER_RPM_F);
+    case LV_TE_CMD_NM: return src_of(&a->op_taken.ref.te_ref_Nm, 1.0f);
+    case LV_TE_REF_NM: return src_of(&m->te_ref_Nm, 1.0f);
+    case LV_TE_EST_NM: return src_of(&m->te_est_Nm, 1.0f);
+    case LV_PSI_REF_WB: return src_of(&m->psi_ref_Wb, 1.0f);
+    case LV_PSI_EST_WB: return src_of(&m->psi_est_Wb, 1.0f);
+    case LV_ID_MEAS_A: return src_of(&m->id_A, 1.0f);
+    case LV_IQ_MEAS_A: return src_of(&m->iq_A, 1.0f);
+    case LV_UD_CMD_V: return src_of(&m->ud_V, 1.0f);
+    case LV_UQ_CMD_V: return src_of(&m->uq_V, 1.0f);
+    case LV_UD_REF_V: return src_of(&a->op_taken.ref.ud_ref_V, 1.0f);
+    case LV_UQ_REF_V: return src_of(&a->op_taken.ref.uq_ref_V, 1.0f);
+    case LV_R_EST_OHM: return src_of(&e->R_Ohm, 1.0f);
+    case LV_L_EST_H: return src_of(&e->L_H, 1.0f);
+    case LV_PSIF_EST_WB: return src_of(&e->psi_f_Wb, 1.0f);
+    default: return src_of(NULL, 1.0f);  /* integers and codes */
     }
 }
 

@@ -81,27 +81,16 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi);
  * refused it before cmd_apply() (read-only, or write-when-stopped while running). Background. */
 uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool *access_refused);
 
-/* Where the ISR reads a variable: a float or an integer in place, or (a code computed from
- * several fields) through link_var_get. */
-typedef enum { LINK_SRC_F32 = 0, LINK_SRC_U16 = 1, LINK_SRC_U32 = 2, LINK_SRC_GET = 3 } link_src_kind_t;
-
+/* Where the ISR finds a float variable in place: its value in its unit is *p / raw_per_unit.
+ * p is NULL for the integers and codes (enumerations, the flags' union): link_var_get. */
 typedef struct {
-    const volatile void *p;     /* the value in place (F32, U16, U32) */
-    uint16_t kind;              /* link_src_kind_t */
-    uint16_t id;
-    float raw_per_unit;         /* F32: the value in its unit is *p / raw_per_unit (1: as it is) */
+    const volatile float *p;
+    float raw_per_unit;         /* 1: as it is */
 } link_src_t;
 
 /* The source of id (< LV_COUNT) on this drive: resolved once when a capture or stream is set,
  * so the ISR follows a pointer instead of searching by id. Background. */
 link_src_t link_var_source(const link_target_t *t, uint16_t id);
-
-/* A source's raw value: the float's bits (F32) or the integer. ISR or background. */
-uint32_t link_src_raw(const link_target_t *t, const link_src_t *s);
-
-/* A source's raw value as a float: F32 in the raw unit (divide by raw_per_unit for the
- * variable's), integers converted. ISR or background. */
-float link_src_float(const link_target_t *t, const link_src_t *s);
 
 /* 32-bit FNV-1a over every descriptor (name, unit, type, access) and its limits on this drive
  * (the scale follows from them): HELLO's table hash, the host's cache key. Background. */
