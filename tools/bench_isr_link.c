@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "bench_link_request.h"
 #include "link.h"
 #include "scenario.h"
 #include "sil.h"
@@ -30,22 +31,6 @@ static uint16_t arms;
 static uint32_t done;                /* captures that triggered and completed */
 static uint32_t waited;              /* periods since the last arming */
 
-/* A request straight into the link, handled at once, its reply dropped. */
-static void request(uint16_t type, const uint16_t *p, uint16_t len)
-{
-    static link_frame_t f;
-    static uint16_t w[LINK_ENCODED_MAX];
-    f.type = type;
-    f.seq = (uint16_t)(1u + (arms & 0x7Fu));
-    f.len = len;
-    memcpy(f.payload, p, len * sizeof p[0]);
-    const uint16_t n = link_frame_encode(&f, w);
-    for (uint16_t i = 0; i < n; i++) {
-        (void)link_rx_put(&lk, w[i]);
-    }
-    link_poll(&lk);
-}
-
 static void arm(void)
 {
     static const uint16_t trig[TRIGGERS] = { LINK_TRIG_ABOVE, LINK_TRIG_BELOW, LINK_TRIG_FORCED };
@@ -63,7 +48,7 @@ static void arm(void)
     i = link_put_u16(p, i, LV_SPEED_EST_RPM);
     i = link_put_u16(p, i, LV_TE_EST_NM);
     arms++;
-    request(LINK_CAPTURE_ARM, p, i);
+    bench_link_request(&lk, LINK_CAPTURE_ARM, p, i);
 }
 
 static void on_start(void *user, app_t *app)
@@ -80,7 +65,7 @@ static void on_start(void *user, app_t *app)
     for (uint16_t k = 0; k < LINK_STREAM_VARS; k++) {
         i = link_put_u16(p, i, (uint16_t)(LV_SPEED_EST_RPM + k));
     }
-    request(LINK_STREAM_SET, p, i);
+    bench_link_request(&lk, LINK_STREAM_SET, p, i);
     arm();
 }
 

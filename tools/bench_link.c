@@ -17,35 +17,13 @@
 
 #include "app.h"
 #include "cmd.h"
+#include "bench_link_request.h"
 #include "link.h"
 
 static app_t app;
 static volatile cmd_t cmd;
 static link_t lk;
 static const cmd_limits_t LIM = { 2000.0f, 12.0f, 300.0f };
-
-/* A request straight into the link, handled at once. */
-static void request(uint16_t type, const uint16_t *p, uint16_t len)
-{
-    static link_frame_t f;
-    uint16_t w[LINK_ENCODED_MAX];
-    uint16_t b;
-    f.type = type;
-    f.seq = (uint16_t)(f.seq % 255u + 1u);   /* a new request each time, not a repeat */
-    f.len = len;
-    if (len > 0u) {
-        memcpy(f.payload, p, len * sizeof p[0]);
-    }
-    const uint16_t n = link_frame_encode(&f, w);
-    for (uint16_t i = 0; i < n; i++) {
-        (void)link_rx_put(&lk, w[i]);
-    }
-    for (int k = 0; k < 8; k++) {
-        link_poll(&lk);
-    }
-    while (link_tx_get(&lk, &b)) {
-    }
-}
 
 int main(int argc, char **argv)
 {
@@ -78,7 +56,7 @@ int main(int argc, char **argv)
         i = link_put_u16(p, i, LV_SPEED_EST_RPM);
         i = link_put_u16(p, i, LV_TE_EST_NM);
         arm_len = i;
-        request(LINK_CAPTURE_ARM, arm, arm_len);
+        bench_link_request(&lk, LINK_CAPTURE_ARM, arm, arm_len);
     }
     if (worst) {
         uint16_t p[18];
@@ -87,7 +65,7 @@ int main(int argc, char **argv)
             i = link_put_u16(p, i, (uint16_t)(LV_SPEED_EST_RPM + k));
         }
         lk.cfg.baud = 100000000u;   /* a budget that takes it: the ISR's cost is what is measured */
-        request(LINK_STREAM_SET, p, i);
+        bench_link_request(&lk, LINK_STREAM_SET, p, i);
     }
     uint16_t b;
     long captures = 0;
@@ -99,7 +77,7 @@ int main(int argc, char **argv)
         }
         if (worst && lk.cap.state == LINK_CAP_DONE) {
             captures++;
-            request(LINK_CAPTURE_ARM, arm, arm_len);
+            bench_link_request(&lk, LINK_CAPTURE_ARM, arm, arm_len);
         }
     }
     printf("bench_link: %ld calls, %s, capture state %u, %ld captures done, stream dropped %u\n", n, mode,
