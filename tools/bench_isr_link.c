@@ -34,21 +34,9 @@ static uint32_t waited;              /* periods since the last arming */
 static void arm(void)
 {
     static const uint16_t trig[TRIGGERS] = { LINK_TRIG_ABOVE, LINK_TRIG_BELOW, LINK_TRIG_FORCED };
-    uint16_t p[26];
-    uint16_t i = link_put_u16(p, 0u, 1u);
-    i = link_put_u16(p, i, CAP_PRE);
-    i = link_put_u16(p, i, CAP_SAMPLES);
-    p[i++] = trig[arms % TRIGGERS];
-    i = link_put_u16(p, i, LV_IQ_MEAS_A);
-    i = link_put_f32(p, i, link_var_get(&lk.t, LV_IQ_MEAS_A).f);  /* the current ripples across it */
-    i = link_put_f32(p, i, 0.0f);
-    p[i++] = 4u;
-    i = link_put_u16(p, i, LV_IQ_MEAS_A);
-    i = link_put_u16(p, i, LV_ID_MEAS_A);
-    i = link_put_u16(p, i, LV_SPEED_EST_RPM);
-    i = link_put_u16(p, i, LV_TE_EST_NM);
+    const float iq_now_A = link_var_get(&lk.t, LV_IQ_MEAS_A).f;   /* the current ripples across it */
+    bench_link_arm(&lk, CAP_PRE, CAP_SAMPLES, trig[arms % TRIGGERS], LV_IQ_MEAS_A, iq_now_A);
     arms++;
-    bench_link_request(&lk, LINK_CAPTURE_ARM, p, i);
 }
 
 static void on_start(void *user, app_t *app)

@@ -37,26 +37,12 @@ int main(int argc, char **argv)
     cmd_init(&cmd);
     link_init(&lk, &lc, &app, &cmd, &LIM);
     const int worst = strcmp(mode, "worst") == 0;
-    /* decimate 1, pre 10, 60 rows, forced (worst); or pre 100, 1000 rows, ABOVE speed_est_rpm > 1e6
-     * (never); 4 channels */
-    uint16_t arm[26];
-    uint16_t arm_len = 0u;
+    /* pre 10, 60 rows, forced (worst); or pre 100, 1000 rows, ABOVE speed_est_rpm > 1e6 (never) */
+    const uint16_t pre = worst ? 10u : 100u;
+    const uint16_t rows = worst ? 60u : 1000u;
+    const uint16_t trig = worst ? LINK_TRIG_FORCED : LINK_TRIG_ABOVE;
     if (strcmp(mode, "idle") != 0) {
-        uint16_t *p = arm;
-        uint16_t i = link_put_u16(p, 0u, 1u);
-        i = link_put_u16(p, i, worst ? 10u : 100u);
-        i = link_put_u16(p, i, worst ? 60u : 1000u);
-        p[i++] = worst ? LINK_TRIG_FORCED : LINK_TRIG_ABOVE;
-        i = link_put_u16(p, i, LV_SPEED_EST_RPM);
-        i = link_put_f32(p, i, 1.0e6f);
-        i = link_put_f32(p, i, 0.0f);
-        p[i++] = 4u;
-        i = link_put_u16(p, i, LV_IQ_MEAS_A);
-        i = link_put_u16(p, i, LV_ID_MEAS_A);
-        i = link_put_u16(p, i, LV_SPEED_EST_RPM);
-        i = link_put_u16(p, i, LV_TE_EST_NM);
-        arm_len = i;
-        bench_link_request(&lk, LINK_CAPTURE_ARM, arm, arm_len);
+        bench_link_arm(&lk, pre, rows, trig, LV_SPEED_EST_RPM, 1.0e6f);
     }
     if (worst) {
         uint16_t p[18];
@@ -77,7 +63,7 @@ int main(int argc, char **argv)
         }
         if (worst && lk.cap.state == LINK_CAP_DONE) {
             captures++;
-            bench_link_request(&lk, LINK_CAPTURE_ARM, arm, arm_len);
+            bench_link_arm(&lk, pre, rows, trig, LV_SPEED_EST_RPM, 1.0e6f);
         }
     }
     printf("bench_link: %ld calls, %s, capture state %u, %ld captures done, stream dropped %u\n", n, mode,

@@ -33,4 +33,24 @@ static void bench_link_request(link_t *lk, uint16_t type, const uint16_t *p, uin
     }
 }
 
+/* CAPTURE_ARM (decimate 1) of the benches' 4 channels: iq_meas_A, id_meas_A, speed_est_rpm,
+ * te_est_Nm. */
+static void bench_link_arm(link_t *lk, uint16_t pre, uint16_t samples, uint16_t trig, uint16_t trig_id, float level)
+{
+    static const uint16_t ch[4] = { LV_IQ_MEAS_A, LV_ID_MEAS_A, LV_SPEED_EST_RPM, LV_TE_EST_NM };
+    uint16_t p[26];
+    uint16_t i = link_put_u16(p, 0u, 1u);
+    i = link_put_u16(p, i, pre);
+    i = link_put_u16(p, i, samples);
+    p[i++] = trig;
+    i = link_put_u16(p, i, trig_id);
+    i = link_put_f32(p, i, level);
+    i = link_put_f32(p, i, 0.0f);
+    p[i++] = 4u;
+    for (uint16_t k = 0u; k < 4u; k++) {
+        i = link_put_u16(p, i, ch[k]);
+    }
+    bench_link_request(lk, LINK_CAPTURE_ARM, p, i);
+}
+
 #endif /* BENCH_LINK_REQUEST_H */
