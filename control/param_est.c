@@ -5,9 +5,9 @@
 
 static bool cfg_valid(const param_est_cfg_t *c, const smo_t *smo)
 {
-    const float sum = c->Ts_s + c->gamma_L_1_s + c->gamma_L_slow_1_s + c->L_fast_s + c->gamma_psi_1_s + c->wiq_min_A_rad_s +
-                      c->w_min_rad_s + c->L_min_H + c->L_max_H + c->psi_min_Wb + c->psi_max_Wb +
-                      c->L_rate_max_H_s + c->psi_rate_max_Wb_s;
+    const float sum = c->Ts_s + c->gamma_L_1_s + c->gamma_L_slow_1_s + c->L_fast_s + c->gamma_psi_1_s +
+                      c->wiq_min_A_rad_s + c->w_min_rad_s + c->L_min_H + c->L_max_H + c->psi_min_Wb +
+                      c->psi_max_Wb + c->L_rate_max_H_s + c->psi_rate_max_Wb_s;
     if (!mathx_isfinitef(sum) || (smo->status != SMO_CFG_OK)) {
         return false;
     }
