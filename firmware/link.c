@@ -416,6 +416,10 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
         c->per_lsb[k] = f32 ? 1.0f : counts_per_unit(l, id);
         c->per_raw[k] = c->per_lsb[k] / src.raw_per_unit;
     }
+    c->i16_in_place = true;
+    for (uint16_t k = 0u; k < nch; k++) {
+        c->i16_in_place = c->i16_in_place && (c->fp[k] != NULL) && (c->fmt[k] == (uint16_t)LINK_CAP_I16);
+    }
     c->trig_src = link_var_source(&l->t, trig_id);
     c->samples = samples;
     c->pre = pre;

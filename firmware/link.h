@@ -62,6 +62,7 @@ typedef struct {
                                           * float32: 1 */
     float per_raw[LINK_CAP_CHANNELS];    /* what the ISR multiplies *fp by: per_lsb / raw_per_unit */
     uint16_t stride;                     /* slots a row: the channels' sum */
+    bool i16_in_place;                   /* every channel int16 and a float in place (fp non-NULL) */
     uint16_t samples, pre, decimate;
     uint16_t trig, trig_id;
     link_src_t trig_src;                 /* the trigger variable's float in place, or p NULL */

@@ -153,6 +153,23 @@ static void capture_done_after(link_capture_t *c)
     c->state = LINK_CAP_DONE;
 }
 
+/* One row of any channels: integers and codes by id, float32 channels in two slots. */
+static void capture_row(const link_capture_t *c, const link_target_t *t, uint16_t *row)
+{
+    for (uint16_t k = 0u; k < c->nch; k++) {
+        const float v = raw_float(t, c->fp[k], c->ids[k]) * c->per_raw[k];
+        if (c->fmt[k] == (uint16_t)LINK_CAP_F32) {
+            f32_bits_t x;                /* two slots, low half first */
+            x.f = v;
+            row[0] = (uint16_t)(x.u & LOW16);
+            row[1] = (uint16_t)(x.u >> HALF_BITS);
+            row += LINK_CAP_F32_SLOTS;
+        } else {
+            *row++ = to_count(v);
+        }
+    }
+}
+
 static void capture_isr(link_capture_t *c, const link_target_t *t)
 {
     const uint16_t state = c->state;
@@ -165,17 +182,12 @@ static void capture_isr(link_capture_t *c, const link_target_t *t)
     }
     c->dec_left = (uint16_t)(c->decimate - 1u);
     uint16_t *row = &c->buf[c->head * c->stride];
-    for (uint16_t k = 0u; k < c->nch; k++) {
-        const float v = raw_float(t, c->fp[k], c->ids[k]) * c->per_raw[k];
-        if (c->fmt[k] == (uint16_t)LINK_CAP_F32) {
-            f32_bits_t x;                /* two slots, low half first */
-            x.f = v;
-            row[0] = (uint16_t)(x.u & LOW16);
-            row[1] = (uint16_t)(x.u >> HALF_BITS);
-            row += LINK_CAP_F32_SLOTS;
-        } else {
-            *row++ = to_count(v);
+    if (c->i16_in_place) {               /* the common case: int16 counts of floats in place */
+        for (uint16_t k = 0u; k < c->nch; k++) {
+            row[k] = to_count(*c->fp[k] * c->per_raw[k]);
         }
+    } else {
+        capture_row(c, t, row);
     }
     c->head = (uint16_t)(c->head + 1u);
     c->head = (c->head >= c->samples) ? 0u : c->head;
