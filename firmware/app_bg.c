@@ -36,7 +36,7 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     align_init(&app->aln, &cfg->aln, Ts);
     rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
 #if COMM_IN_IMAGE
-    comm_init(&app->comm, &cfg->comm, Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines);
+    comm_init(&app->comm, &cfg->comm, Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.pole_pairs);
 #endif
     app->commissioning = false;
     app->comm_valid = false;

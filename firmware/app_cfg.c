@@ -59,8 +59,8 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->comm.enc_frac = COMM_ENC_FRAC;
     cfg->comm.enc_speed_el_rad_s = COMM_ENC_SPEED_EL_DEG_S * RAD_PER_DEG;
     cfg->comm.enc_hold_s = COMM_ENC_HOLD_S;
-    cfg->comm.p_tol = COMM_P_TOL;
     cfg->comm.enc_max_s = COMM_ENC_MAX_S;
+    cfg->comm.wiring_el_hz = COMM_WIRING_EL_HZ;
     cfg->comm.spin_frac = COMM_SPIN_FRAC;
     cfg->comm.spin_top_frac = COMM_SPIN_TOP_FRAC;
     cfg->comm.spin_lo_frac = COMM_SPIN_LO_FRAC;
