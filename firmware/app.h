@@ -193,6 +193,10 @@ void app_request_start(app_t *app);
  * image without the commissioning (COMM_IN_IMAGE 0, commission.h). */
 void app_request_commission(app_t *app);
 
+/* The commissioning's outcome now (comm_outcome_t; COMM_NONE in an image
+ * without it). Any context. */
+uint16_t app_comm_result(const app_t *app);
+
 /* Background: the operator's references, mode and method; the ISR takes
  * them together at the start of its next call (ctrl_set_ref, _mode,
  * _method there: the background never writes the controller). */

@@ -122,6 +122,20 @@ void app_request_commission(app_t *app)
 #endif
 }
 
+uint16_t app_comm_result(const app_t *app)
+{
+    comm_outcome_t r = COMM_NONE;
+
+    if (app->comm_valid) {
+        r = COMM_DONE;
+    } else if (app->state == APP_STATE_COMMISSION) {
+        r = COMM_RUNNING;
+    } else if ((app->state == APP_STATE_FAULT) && (app->snapshot.state == APP_STATE_COMMISSION)) {
+        r = COMM_REFUSED;
+    }
+    return (uint16_t)r;
+}
+
 void app_request_op(app_t *app, const app_op_t *op)
 {
     app->req_op = 0u; /* the ISR cannot take a half-written request */

@@ -106,6 +106,14 @@ typedef struct {
     float speed_ki_per_J_1_s2;  /* [N m/rad per kg m^2 = 1/s^2] */
 } comm_cfg_t;
 
+/* A commissioning's outcome as the operator sees it (app_comm_result). */
+typedef enum {
+    COMM_NONE = 0,              /* none since power-on (or since the refusal's fault was reset) */
+    COMM_RUNNING = 1,           /* in COMMISSION: comm_t.stage says which stage */
+    COMM_DONE = 2,              /* measured: comm_t.res valid */
+    COMM_REFUSED = 3            /* in FAULT, latched in COMMISSION: the fault and comm_t.stage say why */
+} comm_outcome_t;
+
 typedef struct {                /* what the commissioning measured */
     float R_Ohm, L_H, psi_f_Wb;
     uint16_t pole_pairs;
