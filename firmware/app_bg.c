@@ -35,9 +35,7 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     calib_init(&app->cal, &cfg->cal, Ts);
     align_init(&app->aln, &cfg->aln, Ts);
     rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
-#if COMM_IN_IMAGE
-    comm_init(&app->comm, &cfg->comm, Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.pole_pairs);
-#endif
+    app->comm = NULL;
     app->commissioning = false;
     app->comm_valid = false;
     app->req_commission = 0u;
@@ -113,27 +111,19 @@ void app_request_start(app_t *app)
     app->req_start = 1u;
 }
 
-void app_request_commission(app_t *app)
+void app_attach_comm(app_t *app, comm_t *comm)
 {
-#if COMM_IN_IMAGE
-    app->req_commission = 1u;
-#else
-    (void)app;
-#endif
+    const app_cfg_t *cfg = &app->cfg;
+
+    comm_init(comm, &cfg->comm, cfg->ctrl.Ts_s, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.pole_pairs);
+    app->comm = comm;
 }
 
-uint16_t app_comm_result(const app_t *app)
+void app_request_commission(app_t *app)
 {
-    comm_outcome_t r = COMM_NONE;
-
-    if (app->comm_valid) {
-        r = COMM_DONE;
-    } else if (app->state == APP_STATE_COMMISSION) {
-        r = COMM_RUNNING;
-    } else if ((app->state == APP_STATE_FAULT) && (app->snapshot.state == APP_STATE_COMMISSION)) {
-        r = COMM_REFUSED;
+    if (app->comm != NULL) {
+        app->req_commission = 1u;
     }
-    return (uint16_t)r;
 }
 
 void app_request_op(app_t *app, const app_op_t *op)

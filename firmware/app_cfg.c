@@ -37,7 +37,6 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->aln.settle_s = BOARD_ALIGN_SETTLE_S;
 
     cfg->ctrl.track_R = BOARD_TRACK_R;
-#if COMM_IN_IMAGE
     cfg->comm.pole_pairs_max = (uint16_t)COMM_POLE_PAIRS_MAX;
     cfg->comm.u_frac = COMM_U_FRAC;
     cfg->comm.r_i1_frac = COMM_R_I1_FRAC;
@@ -66,7 +65,6 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->comm.spin_lo_frac = COMM_SPIN_LO_FRAC;
     cfg->comm.spin_skip_s = COMM_SPIN_SKIP_S;
     cfg->comm.spin_max_s = COMM_SPIN_MAX_S;
-#endif
     cfg->rsid.mode = (app_rsid_mode_t)BOARD_RSID_MODE;
     cfg->rsid.window_s = BOARD_RSID_WINDOW_S;
     cfg->rsid.window_max_s = BOARD_RSID_WINDOW_MAX_S;

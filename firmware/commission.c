@@ -4,7 +4,6 @@
 
 #include "mathx.h"
 
-#if COMM_IN_IMAGE
 
 /* Torque per (pole pair x flux x i_q) of an SPMSM: Te = 1.5 p psi_f i_q. */
 #define TORQUE_FACTOR 1.5f
@@ -713,6 +712,12 @@ static float stage_max_s(const comm_t *m)
     }
 }
 
+float comm_max_s(const comm_t *m)
+{
+    return (float)(wiring_periods(m) + encoder_periods(m)) * m->Ts_s + 2.0f * m->cfg.enc_max_s + m->cfg.r_max_s +
+           m->cfg.l_max_s + m->cfg.spin_max_s;
+}
+
 app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *u_ab_V)
 {
     const ab_t i = clarke_2ph(in->ia_A, in->ib_A);
@@ -762,4 +767,3 @@ app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *
     return r;
 }
 
-#endif /* COMM_IN_IMAGE */

@@ -46,16 +46,6 @@
 #include "ctrl.h"
 #include "enc_check.h"
 
-/* The commissioning in the image (1) or not (0). The host build (SIL,
- * tests, fuzz) has it (the Makefile's -DCOMM_IN_IMAGE=1); the board's
- * default image leaves it out: beside the build levels and the link its
- * RAM code and state put make check's RAM gate under its 10 % margin
- * (RAML0L5 4 %, .ebss 8 %: tools/check/ram_budget.py). A commissioning
- * image is built with -DCOMM_IN_IMAGE=1. */
-#ifndef COMM_IN_IMAGE
-#define COMM_IN_IMAGE 0
-#endif
-
 typedef enum {
     COMM_STAGE_NONE = 0,
     COMM_STAGE_R = 1,
@@ -190,6 +180,9 @@ void comm_start(comm_t *m);
  * m->res (the sequence then turns the gates off), FAULT (COMM_*) with the
  * measured value and its limit, else RUNNING. */
 app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *u_ab_V);
+
+/* The longest a commissioning can last [s]: every stage's timeout. Any context. */
+float comm_max_s(const comm_t *m);
 
 /* The speed PI's gains from an inertia [kg m^2]: the parameter set's
  * rule (drive_speed_pi, linear in J) through cfg's gains per kg m^2. Any context. */

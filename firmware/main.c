@@ -46,6 +46,13 @@ static volatile cmd_t g_cmd; /* written by the operator from CCS or through the 
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
 static volatile cmd_comm_t g_comm; /* the commissioning: g_comm.start = 1 while stopped; its report */
+/* The commissioning's state: in M0 (section commdata, f28335_flash.cmd),
+ * as .ebss in L6-L7 has no room for it; app_attach_comm initialises every
+ * field (COFF zeroes nothing, f28335_codestart.asm zeroes .ebss only). */
+#if defined(__TMS320C28XX__)
+#pragma DATA_SECTION(g_commission, "commdata")
+#endif
+static comm_t g_commission;
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
 #define SCI_READ_MAX F28335_SCI_FIFO_DEPTH
@@ -108,6 +115,7 @@ int main(void)
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
     app_cfg_default(&g_app.cfg);
     app_init(&g_app, &g_app.cfg);
+    app_attach_comm(&g_app, &g_commission);
     if (bad_record >= 0) {
         app_latch_startup_fault(&g_app, APP_FAULT_FLASH_CRC, (float)bad_record, 0.0f);
     } else if (g_reset_by_watchdog) {
