@@ -31,12 +31,14 @@
  *              proposed-method settings ctrl_init refused cannot identify:
  *              a start then faults CONFIG before anything is energised.
  *   RUN        ctrl_step every period.
- *   COMMISSION commission.h: measures R, L, the encoder's direction,
- *              offset and pole pairs, psi_f, J and B on a free shaft
+ *   COMMISSION commission.h: checks the phase order, the encoder's
+ *              direction and the told pole pairs (enc_check.h, as level
+ *              3), measures R, L, the encoder offset, psi_f, J and B on
+ *              a free shaft
  *              without the controller's told R, L, psi_f (its voltage
  *              through ctrl_step_ab, as ALIGN's); needs only the encoder
- *              block of ctrl_init. The measured offset replaces the
- *              controller's (as an alignment) when the pole pairs agree.
+ *              block of ctrl_init and app_attach_comm(). The measured
+ *              offset replaces the controller's (as an alignment).
  * Why the sequence is built this way (dead points of the alignment,
  * open-loop voltage, the handover): firmware/startup_design.md.
  *
