@@ -46,13 +46,16 @@ static volatile cmd_t g_cmd; /* written by the operator from CCS or through the 
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
 static volatile cmd_comm_t g_comm; /* the commissioning: g_comm.start = 1 while stopped; its report */
-/* The commissioning's state: in M0 (section commdata, f28335_flash.cmd),
- * as .ebss in L6-L7 has no room for it; app_attach_comm initialises every
- * field (COFF zeroes nothing, f28335_codestart.asm zeroes .ebss only). */
+static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
+/* In M0 (section m0data, f28335_flash.cmd), as .ebss in L6-L7 keeps its
+ * margin only without them: objects whose init functions write every
+ * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
+ * proves it), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
 #if defined(__TMS320C28XX__)
-#pragma DATA_SECTION(g_commission, "commdata")
+#pragma DATA_SECTION(g_commission, "m0data")
+#pragma DATA_SECTION(g_cmd, "m0data")
+#pragma DATA_SECTION(g_comm, "m0data")
 #endif
-static comm_t g_commission;
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
 #define SCI_READ_MAX F28335_SCI_FIFO_DEPTH
