@@ -210,17 +210,16 @@ static uint16_t put_value(uint16_t *p, uint16_t i, uint16_t id, link_val_t v)
     }
 }
 
-/* A streamed raw value (a float's bits in place, or an integer) in its variable's type and unit,
- * as READ gives it. */
+/* A streamed raw value (a float's bits, in the raw unit of its source, or an integer) in its
+ * variable's type and unit, as READ gives it. */
 static uint16_t put_raw(uint16_t *p, uint16_t i, const link_target_t *t, uint16_t id, uint32_t raw)
 {
-    const link_src_t src = link_var_source(t, id);
     link_val_t v;
     v.u = raw;
     v.f = (float)raw;
-    if (src.p != NULL) {
+    if (link_var(id)->type == (uint16_t)LINK_T_F32) {
         v.u = 0u;
-        v.f = link_f32_of_bits(raw) / src.raw_per_unit;
+        v.f = link_f32_of_bits(raw) / link_var_source(t, id).raw_per_unit;
     }
     return put_value(p, i, id, v);
 }
@@ -351,9 +350,11 @@ static uint16_t do_stream_set(link_t *l, const link_frame_t *q, uint16_t *p)
     }
     link_stream_t *s = &l->stream;
     s->n = 0u;                           /* the ISR stops sampling before the set changes */
+    s->f32_mask = 0u;
     for (uint16_t k = 0u; k < n; k++) {
         s->ids[k] = link_get_u16(q->payload, (uint16_t)(2u + 2u * k));
         s->fp[k] = link_var_source(&l->t, s->ids[k]).p;
+        s->f32_mask |= (link_var(s->ids[k])->type == (uint16_t)LINK_T_F32) ? (uint16_t)(1u << k) : 0u;
     }
     s->decimate = dec;
     s->dec_left = 0u;

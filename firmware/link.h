@@ -80,6 +80,7 @@ typedef struct {
     volatile uint16_t n;                 /* variables streamed; 0: off. Set last by the background */
     uint16_t ids[LINK_STREAM_VARS];
     const volatile float *fp[LINK_STREAM_VARS];   /* as link_capture_t.fp */
+    uint16_t f32_mask;                   /* bit k: variable k is a float (its raw word: the float's bits) */
     uint16_t decimate, dec_left;
     /* rows: written by the ISR at wr, read by the background at rd; raw values (a float's bits, an integer),
      * converted to their units by the background */

@@ -7,6 +7,11 @@
 #   app_isr instructions (METHOD): typical N, worst M in STATE
 # typical = the median over the periods that started in RUN, worst = the
 # largest over every period, STATE the app state that period started in.
+# Then a commissioning (drive_sil --commission on the same scenario's
+# plant and board, free shaft, its gate trip moved out of the run) prints
+#   app_isr instructions (commission): typical N, worst M in STATE
+# typical = the median over the periods that started in COMMISSION, worst
+# = the largest over every period of that run.
 # With BENCH_ISR_LINK=PROGRAM (tools/bench_isr_link.c) the same run again
 # with a capture armed and triggering and a stream running, app_isr and
 # link_isr each dumped (a dump before and after link_isr), per method
@@ -53,34 +58,52 @@ for m in conventional proposed; do
             echo "bench_isr: $m: $BENCH_ISR_LINK failed" >&2; cat "$out/$m.link.stderr" >&2; exit 1; }
     fi
 done
+rc=0
+valgrind --tool=callgrind --toggle-collect='app_isr*' --dump-after='sil_isr' --combine-dumps=yes \
+    --dump-instr=no --dump-line=no --callgrind-out-file="$out/commission.cg" \
+    "$bin" --scenario "$scenario" --commission "$out/commission.ini" --set run.log_every=1 "${sets[@]}" \
+    --set faults.gate_trip_s=1e9 \
+    --out "$out/commission.csv" > "$out/commission.stdout" 2> "$out/commission.stderr" || rc=$?
+if [ "$rc" -ne 0 ]; then
+    echo "bench_isr: commission: drive_sil exit $rc" >&2
+    cat "$out/commission.stderr" >&2
+    exit 1
+fi
+python3 -c 'import csv, sys; [print(int(float(r["state"]))) for r in csv.DictReader(open(sys.argv[1]))]' \
+    "$out/commission.csv" > "$out/commission.states"
 python3 - "$out" <<'PY'
 import os, statistics, sys
 out = sys.argv[1]
-STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK", "ENC_CHECK"]
+STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK", "ENC_CHECK",
+          "COMMISSION"]
 WORST_MAX = 2400         # the bound on the worst period [instructions]
 WORST_PER_TYPICAL = 1.3  # and on its ratio to the typical one
 
 def parts(path):
     return [int(l.split()[1]) for l in open(path) if l.startswith("totals:")]
 
-def figures(per, after, what):
-    """typical (median of the periods that started in RUN), worst, the state it started in"""
+def figures(per, after, what, typical_in="RUN"):
+    """typical (median of the periods that started in typical_in), worst, the state it started in"""
     per = per[:len(after)]   # the last part is the program's end (nothing collected)
     if len(per) != len(after):
         sys.exit(f"bench_isr: {what}: {len(per)} callgrind dumps for {len(after)} periods")
     entry = [0] + after[:-1]  # the state a period started in: the one the last ended in (INIT first)
-    run = [c for c, s in zip(per, entry) if STATES[s] == "RUN"]
+    run = [c for c, s in zip(per, entry) if STATES[s] == typical_in]
     k = max(range(len(per)), key=lambda i: per[i])
     return int(statistics.median(run)), per[k], STATES[entry[k]], entry
 
-for m in ("conventional", "proposed"):
+def plain(m, typical_in):
+    """app_isr's figures of run m; every period's cost and states into BENCH_ISR_PERIODS.m, for a closer look"""
     after = [int(l) for l in open(f"{out}/{m}.states")]
     per = parts(f"{out}/{m}.cg")
-    typ, worst, st, entry = figures(per, after, m)
-    if os.environ.get("BENCH_ISR_PERIODS"):  # every period's cost and states, for a closer look
+    typ, worst, st, entry = figures(per, after, m, typical_in)
+    if os.environ.get("BENCH_ISR_PERIODS"):
         with open(f"{os.environ['BENCH_ISR_PERIODS']}.{m}", "w") as f:
             f.writelines(f"{i} {c} {STATES[e]} {STATES[a]}\n" for i, (c, e, a) in enumerate(zip(per, entry, after)))
     print(f"app_isr instructions ({m}): typical {typ}, worst {worst} in {st}")
+
+for m in ("conventional", "proposed"):
+    plain(m, "RUN")
     if not os.path.exists(f"{out}/{m}.link.cg"):
         continue
     after = [int(l) for l in open(f"{out}/{m}.link.states")]
@@ -95,4 +118,5 @@ for m in ("conventional", "proposed"):
     print(f"control ISR instructions, app_isr + link_isr ({m}): typical {typ}, worst {worst} in {st}, "
           f"{worst / typ:.2f} x typical: {'within' if ok else 'OVER'} the bound "
           f"(worst <= {WORST_MAX} and <= {WORST_PER_TYPICAL} x typical)")
+plain("commission", "COMMISSION")
 PY
