@@ -48,7 +48,8 @@ typedef enum {
 #define EST_HOLD_TORQUE      0x0004u /* torque-command transient */
 #define EST_HOLD_VOLTAGE     0x0008u /* voltage limit: the applied voltage is not the model's */
 #define EST_HOLD_SETTLE      0x0010u /* one of those cleared, the hold time running */
-#define EST_HOLD_SPEED_FLOOR 0x0020u /* below the speed floor (psi_band.h): the last trusted or the told model */
+#define EST_HOLD_SPEED_FLOOR 0x0020u /* below the speed floor (psi_band.h): the last trusted or the told model;
+                                       * with EST_FLAG_INV_UNIDENTIFIED at every speed */
 #define EST_HOLD_NO_STEP2    0x0040u /* step 2 not running: the told model */
 #define EST_HOLD_ANGLE       0x0080u /* L^ held: step 1's windows suggest an angle error (EST_FLAG_ANGLE_SUSPECT) */
 
@@ -281,6 +282,9 @@ static inline void est_step(est_t *e, const est_in_t *in)
              * voltage reason) or the speed estimate's lag in a ramp (its acceleration reason),
              * not R (design sec. 9d) */
             r_track_hold(&e->rt);
+            if ((e->gate.reasons & EST_GATE_ACCEL) != 0u) {
+                r_track_restart_cycle(&e->rt); /* identifying: no cycle across a speed change */
+            }
         }
         /* z: the L^ law's invariant */
         const float z = e->smo.fd_V - in->omega_el_rad_s * e->smo.L_H * in->i_dq_A.q;
