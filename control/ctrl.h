@@ -105,6 +105,8 @@ typedef struct {
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
     uint16_t track_R;           /* CTRL_TRACK_R_*: R^ tracked in step 2 by the injection (design sec. 9d) */
+    float untold_deadtime_s;    /* the speed floor's prior until the inverter error is identified: the
+                                 * least error nobody told, as a dead time [s] (design sec. 9g) */
     est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
 } ctrl_cfg_t;
 

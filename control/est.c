@@ -71,7 +71,7 @@ est_status_t est_init(est_t *e, est_cfg_t *cfg)
     psi_band_cfg_t bc;
     psi_band_cfg_defaults(&bc, c->Ts_s, c->pe.w_min_rad_s, c->pe.psi_min_Wb, c->pe.psi_max_Wb);
     bc.ve_told_per_vdc = (c->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * c->deadtime_s / c->Ts_s) : 0.0f;
-    bc.ve_prior_per_vdc = (c->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * EST_UNTOLD_DEADTIME_DEFAULT_S / c->Ts_s) : 0.0f;
+    bc.ve_prior_per_vdc = (c->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * c->untold_deadtime_s / c->Ts_s) : 0.0f;
     const est_status_t gate = est_gate_init(&e->gate, &c->gate) ? EST_CFG_OK : EST_CFG_GATE;
     const bool obs_ok = (smo_init(&e->smo, &c->smo) == SMO_CFG_OK);
     const bool rt_ok = r_track_init(&e->rt, &c->rtrack);

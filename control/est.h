@@ -98,6 +98,8 @@ typedef struct {
     float u_max_V;
     float omega_max_el_rad_s;
     float deadtime_s;           /* the told dead time (its fundamental bounds psi_band's Vb) [s] */
+    float untold_deadtime_s;    /* until the inverter error is identified, the least error nobody
+                                 * told, as a dead time (the speed floor's prior; >= 0) [s] */
     smo_cfg_t smo;              /* observer gains and ranges (the told values and bounds from above) */
     param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */

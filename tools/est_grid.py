@@ -12,6 +12,12 @@ judged over the run's last JUDGE_S seconds against the plant's true values:
             100 r/min at 3 / 6 N m and 1 N m at 200 / 500 / 1000 r/min:
             est_hold non-zero in every row ("held"), psif_est_Wb within 2 %
             (the told value, exact here, is what the model keeps).
+  prior     [controller] untold_deadtime_s = 0.4 us (the speed floor's prior
+            until the inverter error is identified), 1 us untold, 200 r/min,
+            6 N m, judged over 0.55-0.64 s (step 2 running, the
+            identification not yet done): held, psif_est_Wb the told value
+            (within 2 %); with the default 0.15 us the floor is lower and
+            the model learns the untold error there.
   encoder   the controller told an encoder offset 3 / 5 / 10 el. deg off the
             plant's, 500 / 1500 r/min at 4 N m: L_est_H within 5 % of the
             plant's L in every row, or L^ held with the angle warning
@@ -50,8 +56,12 @@ FLAG_ANGLE = 0x0800          # flags: step 1 suggests an encoder angle error (co
 DEG = math.pi / 180.0
 
 
+PRIOR_WINDOW = (0.55, 0.64)  # after step 2's start (0.54 s), before the identification's end (0.72 s)
+
+
 def points():
-    """[(group, name, overrides, kind)]: kind 'learn', 'held' or 'angle'."""
+    """[(group, name, overrides, kind, window)]: kind 'learn', 'held' or 'angle';
+    window (t0, t1) or None (the run's last JUDGE_S)."""
     pts = []
     for dt_us in (1.0, 1.5):
         for told_us in (0.0, 0.5, 0.9):
@@ -65,20 +75,23 @@ def points():
                             f"load.torque_Nm=0:{te / 2:g}, 0.35:{te:g}"]
                     if kind == "learn":
                         sets.append(f"controller.psif_factor={PSIF_TOLD_FACTOR:g}")
-                    pts.append(("deadtime", f"dt{dt_us:g}us_told{told_us:g}us_n{n}_l{te}", sets, kind))
+                    pts.append(("deadtime", f"dt{dt_us:g}us_told{told_us:g}us_n{n}_l{te}", sets, kind, None))
+    pts.append(("prior", "prior0.4us_dt1us_told0us_n200_l6",
+                ["plant.deadtime_s=1e-6", "controller.deadtime_s=0", "controller.untold_deadtime_s=0.4e-6",
+                 "reference.speed_rpm=0:0, 0.2:200~", "load.torque_Nm=0:3, 0.35:6"], "held", PRIOR_WINDOW))
     for off_deg in (3, 5, 10):
         for n in (500, 1500):
             sets = [f"controller.encoder_offset_el_rad={off_deg * DEG:.9g}",
                     f"reference.speed_rpm=0:0, 0.2:{n}~", "load.torque_Nm=0:2, 0.35:4"]
-            pts.append(("encoder", f"enc{off_deg}deg_n{n}", sets, "angle"))
+            pts.append(("encoder", f"enc{off_deg}deg_n{n}", sets, "angle", None))
     return pts
 
 
-def run(drive_sil, base, sets, method, tmp, tag):
+def run(drive_sil, base, sets, method, tmp, tag, window):
     """(summary dict over the judged window, [CSV rows in the window as dicts])."""
     with open(base) as f:
         duration = next(float(ln.split("=")[1]) for ln in f if ln.strip().startswith("duration_s"))
-    t0, t1 = duration - JUDGE_S, duration
+    t0, t1 = window if window else (duration - JUDGE_S, duration)
     out = os.path.join(tmp, f"{tag}_{method}.csv")
     args = [drive_sil, "--scenario", base, "--out", out, "--summary", "-", "--window", f"{t0:g}:{t1:g}",
             "--set", f"controller.method={method}"]
@@ -156,7 +169,7 @@ def main(argv=None):
     ap.add_argument("--drive-sil", default=os.path.join(here, "..", "build", "host", "drive_sil"))
     ap.add_argument("--base", default=os.path.join(here, "..", "tests", "est_grid", "base.ini"))
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--only", choices=("deadtime", "encoder"), default=None)
+    ap.add_argument("--only", choices=("deadtime", "prior", "encoder"), default=None)
     ap.add_argument("--known", default=None)
     a = ap.parse_args(argv)
     known = set()
@@ -167,8 +180,8 @@ def main(argv=None):
     try:
         with tempfile.TemporaryDirectory() as tmp, \
                 concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-            futs = [(p, ex.submit(run, a.drive_sil, a.base, p[2], "proposed", tmp, p[1]),
-                     ex.submit(run, a.drive_sil, a.base, p[2], "conventional", tmp, p[1])) for p in pts]
+            futs = [(p, ex.submit(run, a.drive_sil, a.base, p[2], "proposed", tmp, p[1], p[4]),
+                     ex.submit(run, a.drive_sil, a.base, p[2], "conventional", tmp, p[1], p[4])) for p in pts]
             results = [(p, fp.result(), fc.result()) for p, fp, fc in futs]
     except (OSError, ValueError, KeyError, json.JSONDecodeError) as e:
         print(f"est_grid.py: {e}", file=sys.stderr)
@@ -177,7 +190,7 @@ def main(argv=None):
           f"{'conv':>7s} {'prop':>7s}  verdict")
     n_fail = n_known = 0
     problems = []
-    for (group, name, _sets, kind), (sp, rows), (sc, _rc) in results:
+    for (group, name, _sets, kind, _win), (sp, rows), (sc, _rc) in results:
         fig, bad = judge(kind, sp, sc, rows)
         tag = "known" if name in known else "FAIL"
         n_fail += bool(bad) and tag == "FAIL"
