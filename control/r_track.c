@@ -38,6 +38,7 @@ static void clear_cycle(r_track_t *rt)
     rt->seg = 0u;
     rt->j = 0u;
     rt->seg_len = rt->cfg.seg_periods;
+    rt->sum_end = rt->cfg.seg_periods;
     rt->sync = false;
     rt->s_now = 1.0f;
     rt->n = 0u;
@@ -197,8 +198,8 @@ static r_track_event_t end_cycle(r_track_t *rt)
 }
 
 /* IDENT, at a cycle's start: segments that sum whole periods of the 6 w
- * ripple, as many as fit in seg_periods after the blanking, or one
- * longer one up to sync_max_periods; a synchronous sum cancels the ripple
+ * ripple, as many as fit in seg_periods after the blanking (the rest of
+ * the segment not summed), or one longer one up to sync_max_periods; a synchronous sum cancels the ripple
  * whatever its phase, where a fixed 10 ms segment aliases it into Ve
  * (design sec. 9b). Slower: the fixed segments, not synchronous.
  * 1 division per cycle. */
@@ -209,17 +210,18 @@ static void cycle_length(r_track_t *rt, float omega_el_rad_s)
     const float ripple = (w6 > TWO_PI / (float)c->sync_max_periods) ? (TWO_PI / w6) : 0.0f; /* periods */
     const float avail = (float)(c->seg_periods - c->blank_periods);
     rt->seg_len = c->seg_periods;
+    rt->sum_end = c->seg_periods;
     rt->sync = false;
     if (ripple > 0.0f) {
         const float whole = (ripple < avail) ? (ripple * (float)(uint16_t)(avail / ripple)) : ripple;
-        rt->seg_len = (uint16_t)(c->blank_periods + (uint16_t)(whole + 0.5f));
+        rt->sum_end = (uint16_t)(c->blank_periods + (uint16_t)(whole + 0.5f));
+        /* the segment's timing as configured where the sum fits in it */
+        rt->seg_len = (rt->sum_end > c->seg_periods) ? rt->sum_end : c->seg_periods;
         rt->sync = true;
     }
     const uint32_t budget = (uint32_t)c->ident_cycles * c->seg_periods;
-    rt->ident_need = (rt->seg_len > c->seg_periods) ? (uint16_t)(budget / rt->seg_len) : c->ident_cycles;
-    if (rt->ident_need == 0u) {
-        rt->ident_need = 1u;
-    }
+    const uint32_t need = (rt->seg_len > c->seg_periods) ? (budget / rt->seg_len) : c->ident_cycles;
+    rt->ident_need = (uint16_t)((need > 0u) ? need : 1u);
 }
 
 r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
@@ -240,7 +242,7 @@ r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, f
     /* the reference two periods back is in this sample (delay line, no modulo) */
     rt->id_expect_A = rt->ref_q[0];
     rt->ref_q[0] = rt->ref_q[1];
-    if (rt->j >= c->blank_periods) {
+    if ((rt->j >= c->blank_periods) && (rt->j < rt->sum_end)) {
         if (rt->n == 0u) {
             /* constant over the cycle: the L^ law's invariant stays one; IDENT only (design sec. 9c) */
             rt->L_c_H = (rt->phase == R_TRACK_IDENT) ? L_H : 0.0f;

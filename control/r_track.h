@@ -112,7 +112,8 @@ typedef struct {
     float i_inj_A;            /* amplitude of the phase */
     uint16_t seg;             /* segment of the cycle, 0..3 (signs + - - +) */
     uint16_t j;               /* period within the segment */
-    uint16_t seg_len;         /* periods per segment of this cycle (IDENT: blank + whole ripple periods) */
+    uint16_t seg_len;         /* periods per segment of this cycle */
+    uint16_t sum_end;         /* periods of a segment summed up to (IDENT: blank + whole ripple periods) */
     bool sync;                /* this cycle's segments sum whole 6 w ripple periods */
     bool ident_sync;          /* IDENT: every valid cycle was synchronous (the fine bound applies) */
     uint16_t ident_need;      /* IDENT: valid cycles wanted, ident_cycles of seg_periods' time at most */
