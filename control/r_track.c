@@ -199,10 +199,10 @@ static r_track_event_t end_cycle(r_track_t *rt)
 
 /* IDENT, at a cycle's start: segments that sum whole periods of the 6 w
  * ripple, as many as fit in seg_periods after the blanking (the rest of
- * the segment not summed), or one longer one up to sync_max_periods; a synchronous sum cancels the ripple
- * whatever its phase, where a fixed 10 ms segment aliases it into Ve
- * (design sec. 9b). Slower: the fixed segments, not synchronous.
- * 1 division per cycle. */
+ * the segment not summed), or one longer one up to sync_max_periods; a
+ * synchronous sum cancels the ripple whatever its phase, where a fixed
+ * 70-period sum aliases it into Ve (design sec. 9b). Slower: the fixed
+ * segments, not synchronous. 4 float divisions, once per cycle. */
 static void cycle_length(r_track_t *rt, float omega_el_rad_s)
 {
     const r_track_cfg_t *c = &rt->cfg;
@@ -219,9 +219,9 @@ static void cycle_length(r_track_t *rt, float omega_el_rad_s)
         rt->seg_len = (rt->sum_end > c->seg_periods) ? rt->sum_end : c->seg_periods;
         rt->sync = true;
     }
-    const uint32_t budget = (uint32_t)c->ident_cycles * c->seg_periods;
-    const uint32_t need = (rt->seg_len > c->seg_periods) ? (budget / rt->seg_len) : c->ident_cycles;
-    rt->ident_need = (uint16_t)((need > 0u) ? need : 1u);
+    /* float: no integer division in the ISR (a library call from flash on the target) */
+    const float need = (float)c->ident_cycles * (float)c->seg_periods / (float)rt->seg_len;
+    rt->ident_need = (need >= 1.0f) ? (uint16_t)need : 1u;
 }
 
 r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
