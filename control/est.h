@@ -289,7 +289,8 @@ static inline void est_step(est_t *e, const est_in_t *in)
              * sec. 9d) */
             r_track_hold(&e->rt);
             if ((e->gate.reasons & EST_GATE_ACCEL) != 0u) {
-                r_track_restart_cycle(&e->rt); /* identifying: no cycle across a speed change */
+                r_track_restart_cycle(&e->rt, in->omega_el_rad_s); /* identifying: no cycle across a
+                                                                    * speed change */
             }
         }
         /* z: the L^ law's invariant */

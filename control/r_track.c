@@ -38,7 +38,7 @@ static void clear_cycle(r_track_t *rt)
     rt->seg = 0u;
     rt->j = 0u;
     rt->seg_len = rt->cfg.seg_periods;
-    rt->sum_end = rt->cfg.seg_periods;
+    rt->blank_len = rt->cfg.blank_periods;
     rt->sync = false;
     rt->s_now = 1.0f;
     rt->n = 0u;
@@ -77,6 +77,7 @@ void r_track_reset(r_track_t *rt)
     rt->cycles = 0u;
     rt->tried = 0u;
     rt->ident_sync = false;
+    rt->ident_need = rt->cfg.ident_cycles;
     rt->id_zs = 0.0f;
     rt->id_is = 0.0f;
     rt->id_iq = 0.0f;
@@ -102,10 +103,40 @@ void r_track_start(r_track_t *rt, r_track_phase_t phase)
     rt->wait = (phase == R_TRACK_IDENT) ? rt->cfg.ident_delay_periods : 0u;
 }
 
-void r_track_restart_cycle(r_track_t *rt)
+/* IDENT, at a cycle's start: segments that sum whole periods of the 6 w
+ * ripple, as many as fit in seg_periods after the blanking (the segment's
+ * last ones; the blanking longer), or one longer one up to sync_max_periods; a
+ * synchronous sum cancels the ripple whatever its phase, where a fixed
+ * 70-period sum aliases it into Ve (design sec. 9b). Slower: the fixed
+ * segments, not synchronous. 4 float divisions, once per cycle. */
+static void cycle_length(r_track_t *rt, float omega_el_rad_s)
+{
+    const r_track_cfg_t *c = &rt->cfg;
+    const float w6 = RIPPLE_HARMONIC * mathx_fabsf(omega_el_rad_s) * c->Ts_s; /* rad per period */
+    const float ripple = (w6 > TWO_PI / (float)c->sync_max_periods) ? (TWO_PI / w6) : 0.0f; /* periods */
+    const float avail = (float)(c->seg_periods - c->blank_periods);
+    rt->seg_len = c->seg_periods;
+    rt->blank_len = c->blank_periods;
+    rt->sync = false;
+    if (ripple > 0.0f) {
+        const float whole = (ripple < avail) ? (ripple * (float)(uint16_t)(avail / ripple)) : ripple;
+        const uint16_t m = (uint16_t)(whole + 0.5f);
+        /* the segment's timing as configured where the sum fits in it; the sum is its last m periods */
+        const uint16_t len = (uint16_t)(c->blank_periods + m);
+        rt->seg_len = (len > c->seg_periods) ? len : c->seg_periods;
+        rt->blank_len = (uint16_t)(rt->seg_len - m);
+        rt->sync = true;
+    }
+    /* float: no integer division in the ISR (a library call from flash on the target) */
+    const float need = (float)c->ident_cycles * (float)c->seg_periods / (float)rt->seg_len;
+    rt->ident_need = (need >= 1.0f) ? (uint16_t)need : 1u;
+}
+
+void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s)
 {
     if ((rt->phase == R_TRACK_IDENT) && (rt->wait == 0u)) {
         clear_cycle(rt);
+        cycle_length(rt, omega_el_rad_s);
     }
 }
 
@@ -197,52 +228,24 @@ static r_track_event_t end_cycle(r_track_t *rt)
     return ev;
 }
 
-/* IDENT, at a cycle's start: segments that sum whole periods of the 6 w
- * ripple, as many as fit in seg_periods after the blanking (the rest of
- * the segment not summed), or one longer one up to sync_max_periods; a
- * synchronous sum cancels the ripple whatever its phase, where a fixed
- * 70-period sum aliases it into Ve (design sec. 9b). Slower: the fixed
- * segments, not synchronous. 4 float divisions, once per cycle. */
-static void cycle_length(r_track_t *rt, float omega_el_rad_s)
-{
-    const r_track_cfg_t *c = &rt->cfg;
-    const float w6 = RIPPLE_HARMONIC * mathx_fabsf(omega_el_rad_s) * c->Ts_s; /* rad per period */
-    const float ripple = (w6 > TWO_PI / (float)c->sync_max_periods) ? (TWO_PI / w6) : 0.0f; /* periods */
-    const float avail = (float)(c->seg_periods - c->blank_periods);
-    rt->seg_len = c->seg_periods;
-    rt->sum_end = c->seg_periods;
-    rt->sync = false;
-    if (ripple > 0.0f) {
-        const float whole = (ripple < avail) ? (ripple * (float)(uint16_t)(avail / ripple)) : ripple;
-        rt->sum_end = (uint16_t)(c->blank_periods + (uint16_t)(whole + 0.5f));
-        /* the segment's timing as configured where the sum fits in it */
-        rt->seg_len = (rt->sum_end > c->seg_periods) ? rt->sum_end : c->seg_periods;
-        rt->sync = true;
-    }
-    /* float: no integer division in the ISR (a library call from flash on the target) */
-    const float need = (float)c->ident_cycles * (float)c->seg_periods / (float)rt->seg_len;
-    rt->ident_need = (need >= 1.0f) ? (uint16_t)need : 1u;
-}
-
 r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
                              float L_H)
 {
-    const r_track_cfg_t *c = &rt->cfg;
     r_track_event_t ev = R_TRACK_NONE;
     if (rt->phase == R_TRACK_OFF) {
         return R_TRACK_NONE;
     }
     if (rt->wait > 0u) {
         rt->wait--;
+        if ((rt->wait == 0u) && (rt->phase == R_TRACK_IDENT)) {
+            cycle_length(rt, omega_el_rad_s); /* the first cycle */
+        }
         return R_TRACK_NONE;
-    }
-    if ((rt->phase == R_TRACK_IDENT) && (rt->seg == 0u) && (rt->j == 0u)) {
-        cycle_length(rt, omega_el_rad_s);
     }
     /* the reference two periods back is in this sample (delay line, no modulo) */
     rt->id_expect_A = rt->ref_q[0];
     rt->ref_q[0] = rt->ref_q[1];
-    if ((rt->j >= c->blank_periods) && (rt->j < rt->sum_end)) {
+    if (rt->j >= rt->blank_len) {
         if (rt->n == 0u) {
             /* constant over the cycle: the L^ law's invariant stays one; IDENT only (design sec. 9c) */
             rt->L_c_H = (rt->phase == R_TRACK_IDENT) ? L_H : 0.0f;
@@ -260,6 +263,9 @@ r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, f
         rt->seg++;
         if (rt->seg >= SEGMENTS) {
             ev = end_cycle(rt); /* back to segment 0 */
+            if (rt->phase == R_TRACK_IDENT) {
+                cycle_length(rt, omega_el_rad_s); /* the next cycle */
+            }
         }
         rt->s_now = seg_sign(rt->seg);
     }

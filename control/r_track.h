@@ -92,7 +92,8 @@ typedef struct {
                                 * ripple, at most this many (else seg_periods, not synchronous) */
     uint16_t ident_cycles;    /* cycles averaged for Ve (fewer of longer synchronous segments:
                                * the identification's time stays ident_cycles x 4 seg_periods) */
-    uint16_t ident_delay_periods; /* IDENT waits this long, without injection, before its first cycle */
+    uint16_t ident_delay_periods; /* IDENT waits this long, without injection, before its first cycle
+                                   * (whose synchronous length is decided as the wait ends: >= 1) */
     uint16_t auto_delay_periods;  /* ctrl's track_R auto: TRACK waits this long after step 2's start */
     float iq_min_A;           /* |mean iq| below: cycle held */
     float iq_step_max_A;      /* |mean iq(+) - mean iq(-)| above: cycle held */
@@ -113,7 +114,7 @@ typedef struct {
     uint16_t seg;             /* segment of the cycle, 0..3 (signs + - - +) */
     uint16_t j;               /* period within the segment */
     uint16_t seg_len;         /* periods per segment of this cycle */
-    uint16_t sum_end;         /* periods of a segment summed up to (IDENT: blank + whole ripple periods) */
+    uint16_t blank_len;       /* periods of a segment not summed (IDENT: all but its last whole ripple periods) */
     bool sync;                /* this cycle's segments sum whole 6 w ripple periods */
     bool ident_sync;          /* IDENT: every valid cycle was synchronous (the fine bound applies) */
     uint16_t ident_need;      /* IDENT: valid cycles wanted, ident_cycles of seg_periods' time at most */
@@ -160,10 +161,11 @@ void r_track_delay(r_track_t *rt, uint16_t periods);
  * sec. 9d); nothing in other phases. ISR. */
 void r_track_hold(r_track_t *rt);
 
-/* IDENT: the cycle under way dropped and started again (the speed
- * changing: the speed estimate's lag and the 6 w ripple's changing period
- * would read as Ve; design sec. 9c); nothing in other phases. ISR. */
-void r_track_restart_cycle(r_track_t *rt);
+/* IDENT: the cycle under way dropped and started again, its length for
+ * omega_el_rad_s [rad/s el] (the speed changing: the speed estimate's lag
+ * and the 6 w ripple's changing period would read as Ve; design sec. 9c);
+ * nothing in other phases or during the delay. ISR. */
+void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s);
 
 /* One period: z_V = fd^ - w L^ iq [V], measured id_A, iq_A [A], the
  * observer's omega_el_rad_s [rad/s] and L_H = L^ [H]. ISR. */
