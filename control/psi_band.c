@@ -46,6 +46,7 @@ void psi_band_start(psi_band_t *pb, float psi_Wb)
 {
     pb->k_per_vdc = pb->cfg.unc_told_frac * pb->cfg.ve_told_per_vdc;
     pb->found_frac = pb->cfg.unc_found_frac;
+    pb->r_unc_V = 0.0f;
     pb->track = false;
     pb->taken = false;
     pb->low = 0u;
@@ -76,6 +77,7 @@ void psi_band_rebase(psi_band_t *pb, float dfq_V, bool sync)
 void psi_band_r_moved(psi_band_t *pb, float dfq_V)
 {
     pb->P_Wb += dfq_V * pb->inv_w_s_rad;
+    pb->r_unc_V = mathx_fabsf(dfq_V); /* R^'s error is of the order of its last correction */
     if (pb->taken && !pb->track) {
         /* held since P settled on the R^ before: decided again on this one (tracking: P carries it) */
         pb->h_Wb = mathx_clampf(pb->P_Wb, pb->cfg.psi_min_Wb, pb->cfg.psi_max_Wb);
@@ -130,7 +132,7 @@ bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_
     const float abs_inv_w = mathx_fabsf(inv_w);
     const float vdc = mathx_fabsf(vdc_V);
     const float band = (pb->k_per_vdc * vdc + pb->found_frac * mathx_fabsf(ve_found_V) +
-                        pb->cfg.unc_abs_V) * abs_inv_w;
+                        pb->r_unc_V + pb->cfg.unc_abs_V) * abs_inv_w;
     /* the floor: the final bound, or before it the prior on what nobody told (design sec. 9g) */
     const float floor_band = pb->final ? band : ((pb->cfg.ve_prior_per_vdc * vdc + pb->cfg.unc_abs_V) * abs_inv_w);
     const float band_max = pb->cfg.unexplained_max * mathx_fabsf(pb->P_Wb);

@@ -20,9 +20,10 @@
  * brings the model closer to the motor's psi_f: never worse than where it
  * was, so never worse than the nominal value it starts from; where it
  * cannot tell (low speed, little evidence) it holds what it knows.
- * Vb = frac x Ve_told + found_frac x |Ve_found| + abs_V (the fundamentals
+ * Vb = frac x Ve_told + found_frac x |Ve_found| + |dfq_R| + abs_V (the fundamentals
  * of the dead-time error the controller is told, Ve_told = ve_told_per_vdc
- * x Vdc, and of the error r_track identified on top) takes the coarse frac
+ * x Vdc, and of the error r_track identified on top; dfq_R the q voltage
+ * of R^'s last tracking move) takes the coarse frac
  * until the inverter error is identified, the fine one after
  * (psi_band_rebase).
  *
@@ -96,6 +97,7 @@ typedef struct {
     bool trust;            /* the last decision was under the final bound and above the floor */
     float k_per_vdc;       /* Vb's part per bus volt in use (coarse or fine x the told fundamental) [1] */
     float found_frac;      /* Vb's share of the identified fundamental in use [1] */
+    float r_unc_V;         /* Vb's part for R^ tracking: its last move's q voltage |dR iq| [V] */
     float anchor_Wb;       /* the model's psi_f when step 2 started */
     float h_Wb;            /* the value held */
     float inv_w_s_rad;     /* 1/w of this decision's periods [s/rad] */
@@ -127,7 +129,8 @@ void psi_band_start(psi_band_t *pb, float psi_Wb);
 void psi_band_rebase(psi_band_t *pb, float dfq_V, bool sync);
 
 /* R^ moved (R tracking): f^_q moved by dfq_V [V] (bumpless in the
- * observer), so psi_eq and P by dfq/w. A model taken from P carries the
+ * observer), so psi_eq and P by dfq/w; |dfq| joins Vb until the next move
+ * (R^'s error is of the order of its last correction). A model taken from P carries the
  * R^ error P had then as dR iq/w: held, it takes P again at once and
  * holds that (from the next psi_band_step's decision); tracking, it goes
  * on tracking; a model holding the anchor is left alone. ISR (an R-tracking cycle's end). */

@@ -222,6 +222,28 @@ static void test_init_refuses_bad_cfg(void **state)
     assert_false(psi_band_init(&pb, &c));
 }
 
+/* After the identification (fine bound, synchronous: (0.05 x 3.56 +
+ * 0.1 x 2.0 + 0.05) V = 0.428 V, 2 Vb/w = 0.00545 Wb at 157 rad/s), an
+ * equilibrium flux 0.006 Wb off the anchor is taken (within settle_frac
+ * of it after 0.2 s); after R^ moved by a
+ * step whose q voltage was 0.5 V, the band is (0.428 + 0.5) V: 2 Vb/w =
+ * 0.0118 Wb, and the same 0.006 Wb is held (R^'s error is of the order
+ * of its last correction). */
+static void test_r_move_widens_the_band(void **state)
+{
+    (void)state;
+    setup();
+    psi_band_rebase(&pb, 0.0f, true);
+    run(2000, PSI0 + 0.006f, 0.0f, W_EL, VDC, 2.0f);
+    assert_true(fabsf(pb.psi_Wb - (PSI0 + 0.006f)) < 2e-4f);
+    setup();
+    psi_band_rebase(&pb, 0.0f, true);
+    psi_band_r_moved(&pb, -0.5f);
+    pb.P_Wb = PSI0; /* the move's shift of P undone: only the band's width differs */
+    run(2000, PSI0 + 0.006f, 0.0f, W_EL, VDC, 2.0f);
+    assert_true(fabsf(pb.psi_Wb - PSI0) < 1e-7f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -231,6 +253,7 @@ int main(void)
         cmocka_unit_test(test_r_moved_decides_again_a_taken_model),
         cmocka_unit_test(test_holds_below_w_min),
         cmocka_unit_test(test_speed_floor),
+        cmocka_unit_test(test_r_move_widens_the_band),
         cmocka_unit_test(test_prior_holds_an_untold_error),
         cmocka_unit_test(test_init_refuses_bad_cfg),
     };
