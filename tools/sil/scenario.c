@@ -132,6 +132,9 @@ static const sc_key_t KEYS[] = {
     DRV("controller", "i_limit_A", controller.i_limit_A, "stator-current limit the targets respect [A] (1.08 i_peak_A)"),
     DRV("controller", "overspeed_rpm", controller.overspeed_rpm, "overspeed trip [r/min] (1.2 n_max_rpm)"),
     { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
+    { "controller", "untold_deadtime_s", K_REAL, F(controller.untold_deadtime_s), NULL, 0.0, 1e-5, false, NULL,
+      "proposed: until the inverter error is identified, the least error nobody told, as a dead time [s] "
+      "(the speed floor's prior; default 0.15e-6: EST_UNTOLD_DEADTIME_DEFAULT_S, >= 0)", 0 },
     { "controller", "encoder_offset_el_rad", K_REAL, F(controller.encoder_offset_el_rad), NULL, -HUGE_VAL, HUGE_VAL, false, NULL,
       "encoder offset the controller is told [rad, electrical], sign as plant.encoder_offset_el_rad "
       "(default the plant's; run.align = on: the alignment's measurement replaces it)", 0 },

@@ -78,6 +78,7 @@ typedef struct {
         double i_limit_A, overspeed_rpm;   /* current limit, overspeed trip */
         double R_min_ohm, R_max_ohm;           /* R^ band; NaN: the board's factors x R_ohm */
         double deadtime_s;                     /* dead time the controller compensates; NaN: the plant's */
+        double untold_deadtime_s;              /* speed floor's prior on an untold inverter error [s]; NaN: the ctrl default */
         double encoder_offset_el_rad;          /* encoder offset the controller is told [rad el]; NaN: the plant's */
         uint32_t pole_pairs;                   /* pole pairs the controller is told; 0 (default): the plant's */
     } controller;

@@ -74,6 +74,9 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
     c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
     c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
     c->track_R = (uint16_t)sc->identify.track_R;   /* TRACK_NAMES: as CTRL_TRACK_R_* */
+    if (!isnan(sc->controller.untold_deadtime_s)) {
+        c->untold_deadtime_s = (float)sc->controller.untold_deadtime_s;
+    }
     ac->rsid.mode = (app_rsid_mode_t)sc->identify.mode;
     ac->rsid.settle_1_s = (float)sc->identify.settle_1_s;
     ac->rsid.window_s = (float)sc->identify.window_s;
