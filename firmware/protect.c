@@ -108,15 +108,6 @@ app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset
     return app_step_running();
 }
 
-app_step_t protect_run_time(protect_t *p, uint32_t t_entry_cycles, uint32_t now_cycles)
-{
-    p->isr_run_cycles = now_cycles - t_entry_cycles;
-    if (p->isr_run_cycles > p->cfg.isr_budget_cycles) {
-        return app_step_fault(APP_FAULT_OVERRUN, (float)p->isr_run_cycles, (float)p->cfg.isr_budget_cycles);
-    }
-    return app_step_running();
-}
-
 /* ---- checks on the periods' history (protect_watch) --------------------- */
 
 static void op_sums_clear(protect_op_sums_t *a)
