@@ -575,6 +575,9 @@ static void other_value(const scenario_key_info_t *k, double v, char *buf, size_
         *x = isnan(v) ? 1.0 : v + 1.0;   /* any finite value: a whole step */
     } else {
         *x = (isnan(v) || !(v > 0.0)) ? 0.5 : 1.5 * v;
+        if (*x > k->hi) {   /* a bounded key: between its value (or lo) and hi */
+            *x = 0.5 * ((isnan(v) ? k->lo : v) + k->hi);
+        }
     }
     snprintf(buf, len, "%s.%s=%.17g", k->section, k->name, *x);
 }

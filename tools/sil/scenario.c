@@ -181,8 +181,12 @@ static int parse_real(const sc_key_t *k, const char *v, double *out, char *err, 
         snprintf(err, errlen, "\"%s\" is not a number", v);
         return -1;
     }
-    if (x < k->lo || (k->lo_open && x <= k->lo) || x > k->hi) {
+    if (x < k->lo || (k->lo_open && x <= k->lo)) {
         snprintf(err, errlen, "%g is out of range (must be %s %g)", x, k->lo_open ? ">" : ">=", k->lo);
+        return -1;
+    }
+    if (x > k->hi) {
+        snprintf(err, errlen, "%g is out of range (must be <= %g)", x, k->hi);
         return -1;
     }
     *out = x;
@@ -982,6 +986,8 @@ void scenario_print_keys_markdown(FILE *f)
         case K_REAL:
             if (k->lo == -HUGE_VAL) {
                 snprintf(range, sizeof range, "number");
+            } else if (k->hi < HUGE_VAL) {
+                snprintf(range, sizeof range, "%g .. %g", k->lo, k->hi);
             } else {
                 snprintf(range, sizeof range, "%s %g", k->lo_open ? ">" : ">=", k->lo);
             }
