@@ -276,10 +276,14 @@ static inline void est_step(est_t *e, const est_in_t *in)
     /* u(k) is the clamped voltage the last step realised, as the observer needs */
     (void)smo_step(&e->smo, in->i_dq_A, in->omega_el_rad_s, in->u_V); /* i^(k+1): (51b), (55) */
     if (e->rt.phase != R_TRACK_OFF) {
-        if ((in->dpsi_weak_Wb > 0.0f) || ((e->gate.reasons & (EST_GATE_ACCEL | EST_GATE_VOLTAGE)) != 0u)) {
+        const bool edge = r_track_at_edge(&e->rt);
+        if ((!edge && ((in->dpsi_weak_Wb > 0.0f) || ((e->gate.reasons & EST_GATE_VOLTAGE) != 0u))) ||
+            ((e->gate.reasons & EST_GATE_ACCEL) != 0u)) {
             /* tracking only: the injection would read the weakening loop, the clamp (the gate's
              * voltage reason) or the speed estimate's lag in a ramp (its acceleration reason),
-             * not R (design sec. 9d) */
+             * not R; the first two not in an edge's blanked periods (not summed), where the
+             * edge's own voltage step may meet the limit and nudge the weakening (design
+             * sec. 9d) */
             r_track_hold(&e->rt);
         }
         /* z: the L^ law's invariant */

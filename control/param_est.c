@@ -5,13 +5,15 @@
 
 static bool cfg_valid(const param_est_cfg_t *c, const smo_t *smo)
 {
-    const float sum = c->Ts_s + c->gamma_L_1_s + c->gamma_psi_1_s + c->wiq_min_A_rad_s +
-                      c->w_min_rad_s + c->L_min_H + c->L_max_H + c->psi_min_Wb + c->psi_max_Wb +
-                      c->L_rate_max_H_s + c->psi_rate_max_Wb_s;
+    const float sum = c->Ts_s + c->gamma_L_1_s + c->gamma_L_slow_1_s + c->L_fast_s + c->gamma_psi_1_s +
+                      c->wiq_min_A_rad_s + c->w_min_rad_s + c->L_min_H + c->L_max_H + c->psi_min_Wb +
+                      c->psi_max_Wb + c->L_rate_max_H_s + c->psi_rate_max_Wb_s;
     if (!mathx_isfinitef(sum) || (smo->status != SMO_CFG_OK)) {
         return false;
     }
-    if (!(c->Ts_s > 0.0f) || !(c->gamma_L_1_s > 0.0f) || !(c->gamma_psi_1_s > 0.0f) ||
+    if (!(c->Ts_s > 0.0f) || !(c->gamma_L_1_s > 0.0f) || !(c->gamma_L_slow_1_s > 0.0f) ||
+        !(c->gamma_L_slow_1_s <= c->gamma_L_1_s) || !(c->L_fast_s >= 0.0f) ||
+        !(c->L_fast_s <= PARAM_EST_L_FAST_MAX_S) || !(c->gamma_psi_1_s > 0.0f) ||
         !(c->wiq_min_A_rad_s > 0.0f) || !(c->w_min_rad_s > 0.0f) || !(c->L_rate_max_H_s > 0.0f) ||
         !(c->psi_rate_max_Wb_s > 0.0f)) {
         return false;
@@ -32,6 +34,8 @@ void param_est_cfg_defaults(param_est_cfg_t *cfg, float Ts_s, float L_H, float p
 {
     cfg->Ts_s = Ts_s;
     cfg->gamma_L_1_s = PARAM_EST_GAMMA_L_DEFAULT_1_S;
+    cfg->gamma_L_slow_1_s = PARAM_EST_GAMMA_L_SLOW_DEFAULT_1_S;
+    cfg->L_fast_s = PARAM_EST_L_FAST_DEFAULT_S;
     cfg->gamma_psi_1_s = PARAM_EST_GAMMA_PSI_DEFAULT_1_S;
     cfg->wiq_min_A_rad_s = PARAM_EST_WIQ_MIN_DEFAULT_A_RAD_S;
     cfg->w_min_rad_s = PARAM_EST_W_MIN_DEFAULT_RAD_S;
@@ -56,23 +60,42 @@ bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *sm
     return pe->valid;
 }
 
+/* The L law's gain per update for the held flag and the phase: zero
+ * holds L^ without a test in the ISR's path. */
+static void set_gain_L(param_est_t *pe)
+{
+    const float gamma = (pe->L_fast_left != 0u) ? pe->cfg.gamma_L_1_s : pe->cfg.gamma_L_slow_1_s;
+    pe->gamma_L_Tu = (pe->valid && !pe->L_held) ? gamma * (PARAM_EST_LAW_PERIODS * pe->cfg.Ts_s) : 0.0f;
+}
+
+/* The L law's updates at gamma_L from a (re)start: L_fast_s of running. */
+static void restart_fast_L(param_est_t *pe)
+{
+    pe->L_fast_left = pe->valid ? (uint32_t)(pe->cfg.L_fast_s / (PARAM_EST_LAW_PERIODS * pe->cfg.Ts_s)) : 0u;
+    set_gain_L(pe);
+}
+
 void param_est_reset(param_est_t *pe)
 {
     pe->running = false;
     pe->phase_psi = true; /* the first update is L^'s */
     pe->flags_last = 0u;
-    param_est_hold_L(pe, false);
+    pe->L_held = false;
+    restart_fast_L(pe);
 }
 
 void param_est_hold_L(param_est_t *pe, bool hold)
 {
-    /* the L law's gain: zero holds L^ without a test in the ISR's path */
-    pe->gamma_L_Tu = (pe->valid && !hold) ? pe->cfg.gamma_L_1_s * (PARAM_EST_LAW_PERIODS * pe->cfg.Ts_s) : 0.0f;
+    pe->L_held = hold;
+    set_gain_L(pe);
 }
 
 void param_est_run(param_est_t *pe, bool run)
 {
     pe->running = run && pe->valid;
+    if (pe->running) {
+        restart_fast_L(pe); /* L^ starts again from the observer's value: converge first */
+    }
 }
 
 uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A, float w_min_rad_s)
@@ -102,6 +125,12 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
         const float L_new = mathx_clampf(L_tgt, c->L_min_H, c->L_max_H);
         (void)smo_set_L(smo, L_new, w, iq); /* fd^ -= delta (less when clamped) */
         flags |= PARAM_EST_L_MOVED;
+        if (pe->L_fast_left != 0u) {
+            pe->L_fast_left--;
+            if (pe->L_fast_left == 0u) {
+                set_gain_L(pe); /* converged: the averaging rate from here */
+            }
+        }
         if (!((L_tgt >= c->L_min_H) && (L_tgt <= c->L_max_H))) {
             flags |= PARAM_EST_L_CLAMPED;
         }

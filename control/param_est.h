@@ -7,7 +7,9 @@
  * Tu = PARAM_EST_LAW_PERIODS Ts each):
  *   |w iq| > wiq_min:  delta = gamma_L Tu fd^;   L^ -= delta/(w iq); fd^ -= delta
  *   |w|    > w_min:    delta = gamma_psi Tu fq^; psi^ += delta/w;   fq^ -= delta
- * (design sec. 1d, 1e). w L^ iq - fd^ and w psi^ + fq^ are unchanged, so the
+ * (design sec. 1d, 1e); gamma_L drops to gamma_L_slow after L_fast_s of
+ * the L law's running (converged: from then on it averages the encoder's
+ * count error, design sec. 9d). w L^ iq - fd^ and w psi^ + fq^ are unchanged, so the
  * fast observer never sees an update; f^ drains into the parameters at the
  * slow rates gamma until f^ = 0. Signed w iq and w keep braking and reversal
  * right. Below the thresholds the division is ill-conditioned and the law
@@ -28,6 +30,16 @@
 /* Design defaults (observer_design.md sec. 3). */
 #define PARAM_EST_GAMMA_L_DEFAULT_1_S   150.0f /* tau 6.7 ms, 13x slower than the observer */
 #define PARAM_EST_GAMMA_PSI_DEFAULT_1_S 60.0f  /* tau 17 ms */
+/* L^'s law after its first PARAM_EST_L_FAST_DEFAULT_S of running: the
+ * averaging rate (design sec. 1d, 9d: the encoder's count error). */
+#define PARAM_EST_GAMMA_L_SLOW_DEFAULT_1_S 15.0f /* tau 67 ms */
+#define PARAM_EST_L_FAST_DEFAULT_S      1.0f   /* [s] of L-law running at gamma_L */
+#define PARAM_EST_L_FAST_MAX_S          3600.0f /* its counter's range */
+/* L^'s law after its first PARAM_EST_L_FAST_DEFAULT_S of running: the
+ * averaging rate (design sec. 1d, 9d: the encoder's count error). */
+#define PARAM_EST_GAMMA_L_SLOW_DEFAULT_1_S 15.0f /* tau 67 ms */
+#define PARAM_EST_L_FAST_DEFAULT_S      1.0f   /* [s] of L-law running at gamma_L */
+#define PARAM_EST_L_FAST_MAX_S          3600.0f /* its counter's range */
 #define PARAM_EST_WIQ_MIN_DEFAULT_A_RAD_S       30.0f  /* [A rad/s] */
 #define PARAM_EST_W_MIN_DEFAULT_RAD_S   30.0f  /* electrical, ~95 r/min at p = 3 */
 #define PARAM_EST_CLAMP_MIN_FACTOR      0.3f   /* L^, psi^ clamps, x nominal */
@@ -50,7 +62,9 @@
 
 typedef struct {
     float Ts_s;               /* sampling period [s] */
-    float gamma_L_1_s;        /* slow rate of L^ [1/s] */
+    float gamma_L_1_s;        /* slow rate of L^ while it converges [1/s] */
+    float gamma_L_slow_1_s;   /* its rate from then on (averaging) [1/s], <= gamma_L_1_s */
+    float L_fast_s;           /* running time of the L law at gamma_L_1_s after param_est_run [s] */
     float gamma_psi_1_s;      /* slow rate of psi^ [1/s] */
     float wiq_min_A_rad_s;    /* freeze L^ when |w iq| <= this [A rad/s] */
     float w_min_rad_s;        /* freeze psi^ when |w| <= this [rad/s electrical] (the default speed floor) */
@@ -66,7 +80,9 @@ typedef struct {
     param_est_cfg_t cfg;
     bool valid;
     bool running;             /* run/freeze switch; false after init and reset */
-    float gamma_L_Tu;         /* gamma_L Tu, per law step [1], Tu = PARAM_EST_LAW_PERIODS Ts (0: L^ held) */
+    float gamma_L_Tu;         /* the L law's gain per law step [1], Tu = PARAM_EST_LAW_PERIODS Ts (0: L^ held) */
+    bool L_held;              /* param_est_hold_L */
+    uint32_t L_fast_left;     /* L-law updates left at gamma_L (then gamma_L_slow) */
     float kpsi;               /* gamma_psi Tu [1] */
     float dL_max_H;           /* L_rate_max Tu: largest step of L^ per update [H] */
     float dpsi_max_Wb;        /* psi_rate_max Tu [Wb] */

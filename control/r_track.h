@@ -160,6 +160,13 @@ static inline float r_track_id_ref(const r_track_t *rt)
     return ((rt->phase == R_TRACK_OFF) || (rt->wait > 0u)) ? 0.0f : rt->s_now * rt->i_inj_A;
 }
 
+/* True in a segment's blanked periods (its edge: not summed), where the
+ * edge's own voltage step may meet the limit without harm. ISR. */
+static inline bool r_track_at_edge(const r_track_t *rt)
+{
+    return rt->j < rt->cfg.blank_periods;
+}
+
 /* Lowest |w| [rad/s el] at which psi^ may learn once the inverter error
  * Ve_V was identified (0 when refused), for the nominal psi_f_Wb:
  * (unc_frac |Ve| + unc_abs) / (psi_tol psi_f). Background or ISR once. */

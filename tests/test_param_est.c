@@ -247,6 +247,64 @@ static void transfer_laws_are_bumpless(void **state)
     assert_true(worst_q < 2e-5);
 }
 
+/* The L law's two rates: gamma_L for L_fast_s of running, then
+ * gamma_L_slow (design sec. 1d). The told L 0.66 L0, id = 0 (the psi^
+ * law does not feed dL): with L_fast_s = 10 ms, dL decays as
+ * exp(-gamma_L t) to 10 ms, then as exp(-gamma_L_slow t): over the next
+ * 100 ms by exp(-1.5) = 0.22 (gamma_L would give exp(-15), 3e-7). A new
+ * param_est_run(true) starts the fast rate again. */
+static double dL_ratio_after_fast(rig_t *r, double t_fast_s, double t_slow_s)
+{
+    op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, op_iq_of_te(4.0) };
+    const double w = op_w_el(500.0);
+    double ud, uq;
+    op_u_for(&p, 0.0, p.iq, w, &ud, &uq);
+    const int n1 = (int)(t_fast_s / OP_TS + 0.5);
+    const int n2 = n1 + (int)(t_slow_s / OP_TS + 0.5);
+    double e1 = 0.0;
+    for (int k = 0; k < n2; k++) {
+        if (k == n1) {
+            e1 = (double)r->smo.L_H - OP_L0;
+        }
+        (void)smo_step(&r->smo, dq(p.id, p.iq), (float)w, dq(ud, uq));
+        (void)param_est_step(&r->pe, &r->smo, (float)w, (float)p.iq, r->pe.cfg.w_min_rad_s);
+        op_step(&p, ud, uq, w);
+    }
+    return ((double)r->smo.L_H - OP_L0) / e1;
+}
+
+static void L_law_slows_after_its_fast_time(void **state)
+{
+    (void)state;
+    rig_t r;
+    rig_init(&r, 0.66 * OP_L0, OP_PSI0);
+    param_est_cfg_t c = r.pe.cfg;
+    c.L_fast_s = 0.01f;
+    assert_true(param_est_init(&r.pe, &c, &r.smo));
+    param_est_run(&r.pe, true);
+    const double slow = dL_ratio_after_fast(&r, 0.01, 0.1);
+    const double expect = exp(-(double)c.gamma_L_slow_1_s * 0.1);
+    printf("    dL over 100 ms after the fast 10 ms: x %.3f (exp(-gamma_L_slow 0.1 s) = %.3f)\n", slow, expect);
+    assert_true(slow > 0.7 * expect && slow < 1.3 * expect);
+    /* restarted: fast again for 10 ms (the error left is 3 % of L0 and
+     * decays by exp(-1.5) there), then slow as before */
+    rig_init(&r, 0.66 * OP_L0, OP_PSI0);
+    assert_true(param_est_init(&r.pe, &c, &r.smo));
+    param_est_run(&r.pe, true);
+    (void)dL_ratio_after_fast(&r, 0.01, 0.1);
+    param_est_run(&r.pe, true);
+    const double again = dL_ratio_after_fast(&r, 0.0, 0.01);
+    printf("    restarted: dL over 10 ms x %.3f (exp(-gamma_L 0.01 s) = %.3f)\n", again,
+           exp(-(double)c.gamma_L_1_s * 0.01));
+    assert_true(again < 0.4);
+    /* the slow rate may not exceed the fast one; the fast time is >= 0 */
+    c.gamma_L_slow_1_s = 2.0f * c.gamma_L_1_s;
+    assert_false(param_est_init(&r.pe, &c, &r.smo));
+    c.gamma_L_slow_1_s = r.pe.cfg.gamma_L_slow_1_s;
+    c.L_fast_s = -1.0f;
+    assert_false(param_est_init(&r.pe, &c, &r.smo));
+}
+
 /* Init refuses gamma Ts >= 1, non-positive thresholds, clamps outside the
  * observer's ranges and an observer that failed its own init; a refused
  * estimator never runs. */
@@ -343,6 +401,7 @@ int main(void)
         cmocka_unit_test(clamps_hold),
         cmocka_unit_test(transfer_laws_are_bumpless),
         cmocka_unit_test(init_validates),
+        cmocka_unit_test(L_law_slows_after_its_fast_time),
         cmocka_unit_test(full_sequence_step1_then_step2),
     };
     return cmocka_run_group_tests_name("param_est", tests, NULL, NULL);

@@ -16,6 +16,12 @@
  *    track_R R^ within 3 % of the plant's R from 1 s after step 2 on,
  *    psi_f^ within 1 %, mean |Te - Te*| <= 0.01 N m; without it psi_f^
  *    takes the warm-up (the case the tracking exists for);
+ *  - the same warm-up (3.0 -> 3.6 ohm over 2-6 s) at 1500 r/min, 4 N m,
+ *    track_R left at its default: each injection edge meets the voltage
+ *    limit there for a period, and R^ must still follow, within 5 % (it
+ *    stood at step 1's value, 17 % low at the end, while an edge's clamp
+ *    held every cycle; the encoder's count error scatters the cycles by
+ *    up to w psi_f dtheta / I = 7 % of R here, design sec. 9d);
  *  - the realistic scenarios of make sil (tools/scenarios/real_*.ini: ADC
  *    noise 0.02 A, dead time 1 us compensated as 0.9 us, device drop
  *    1.2 V, 1000-line encoder, winding 3.0 -> 3.9 ohm over the run): the
@@ -50,6 +56,7 @@
 #define PSI_TOL_MIN_RPM 200.0
 #define VE_TOL          0.05   /* identified error against (4/pi) dV */
 #define R_TOL           0.03
+#define R_TOL_1500      0.05    /* at 1500 r/min: the encoder's scatter (header) */
 #define PSI_TOL_WARM    0.01
 #define TE_MAX_WARM_NM  0.01
 #define T_AFTER_STEP2   1.0
@@ -229,6 +236,20 @@ static void winding_warms(void **state)
     assert_true(fig.psi_dev > PSI_TOL_WARM);   /* the warm-up learned as flux */
 }
 
+static void winding_warms_at_the_edges_limit(void **state)
+{
+    (void)state;
+    const char *const sets[] = { "plant.R_ohm=0:3.0, 2:3.0, 6:3.6~", "run.duration_s=6",
+                                 "reference.speed_rpm=0:0, 0.2:500~, 0.7:500, 1.2:1500~", "load.torque_Nm=0:2, 0.35:4",
+                                 NULL };
+    run("prop_paper", sets, on_row_warm);
+    print_message("warming winding at 1500 r/min, track_R default: max |R^/R - 1| %.2f %% (from %.2f s)\n",
+                  100.0 * fig.R_dev, fig.t2 + T_AFTER_STEP2);
+    assert_int_equal(fig.fault, APP_FAULT_NONE);
+    assert_true(fig.n_warm > 0);
+    assert_true(fig.R_dev <= R_TOL_1500);
+}
+
 static void realistic_board(void **state)
 {
     (void)state;
@@ -255,6 +276,7 @@ int main(void)
         cmocka_unit_test(deadtime_told_double),
         cmocka_unit_test(device_drop_uncompensated),
         cmocka_unit_test(winding_warms),
+        cmocka_unit_test(winding_warms_at_the_edges_limit),
         cmocka_unit_test(realistic_board),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

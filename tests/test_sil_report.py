@@ -226,9 +226,12 @@ class WindowsAndTruth(Tmp):
         self.assertIsNone(load)
 
     def test_motor_column(self):
-        cases = [("motor_small", {"conv": result(), "prop": result()})]
+        cases = [("motor_small", {"conv": result(), "prop": result()}),
+                 ("motor_large_timeline", {"conv": result(), "prop": result()}),
+                 ("L066", {"conv": result(), "prop": result()})]
         for table in (sil_report.case_table(cases, self.dir), sil_report.estimate_table(cases)):
-            self.assertEqual([cells(x)[-1] for x in table[2:]], ["small", "small"])
+            self.assertEqual([cells(x)[-1] for x in table[2:]],
+                             ["small", "small", "large", "large", "paper", "paper"])
 
     def write_resolved(self, stem, plant):
         with open(os.path.join(self.dir, stem + ".resolved.json"), "w") as f:

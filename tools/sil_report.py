@@ -183,8 +183,9 @@ def case_rows(cases):
 
 
 def motor_of(case):
-    """The motor of a case: motor_<name> is that motor's, any other the paper's."""
-    return case[len(MOTOR_PREFIX):] if case.startswith(MOTOR_PREFIX) else "paper"
+    """The motor of a case: motor_<name> and motor_<name>_<timeline> are that
+    motor's, any other the paper's."""
+    return case[len(MOTOR_PREFIX):].split("_")[0] if case.startswith(MOTOR_PREFIX) else "paper"
 
 
 def case_table(cases, d, real=None):
@@ -438,7 +439,9 @@ def main(argv=None):
         "True plant values against the controller's references (tools/metrics.py).",
         "Steady window 0.8-0.95 s for the 1.2 s runs (last quarter for shorter ones, the last 0.5 s for runs of 2.5 s "
         "or more: the motor_* cases, each motor told only its data, motor column);",
-        "recovery and dip: after the 4 -> 6 N m step at 0.95 s, until the speed stays within 1 r/min,",
+        "the motor_*_timeline cases: the paper's timeline in per unit of each motor's ratings",
+        "(tools/motor_timeline.py: 0.25 n_rated, 1/3 -> 2/3 -> 1 -> 2/3 T_rated).",
+        "Recovery and dip: after the 4 -> 6 N m step at 0.95 s (2/3 -> 1 T_rated), until the speed stays within 1 r/min,",
         "and the largest shortfall below the reference until 1.05 s.",
         "Torque step: periods from the ISR that took the command to 95 % of the step.",
         "",
