@@ -59,12 +59,10 @@ INC_FIRMWARE  := -Ifirmware -Ihal -Ihal/f28335 -Icontrol
 INC_SILRUN    := -Itools/sil -Ifirmware -Ihal -Ihal/sim -Ihal/f28335 -Icontrol
 INC           := -Icontrol -Ihal -Ifirmware -Ihal/sim -Itools/sil -Ihal/f28335 -Itests -Itests/c2000_fake/include
 
-# The host build (SIL, tests) has the commissioning (firmware/commission.h COMM_IN_IMAGE).
-HOST_DEFS   := -DCOMM_IN_IMAGE=1
-CF_CONTROL  := $(WARN_BASE) $(HOST_DEFS) $(FLOAT_ONLY) -Wconversion $(PORTABLE_INC)
-CF_PORTABLE := $(WARN_BASE) $(HOST_DEFS) $(FLOAT_ONLY) $(PORTABLE_INC)
-CF_SIM      := $(WARN_BASE) $(HOST_DEFS) -Wfloat-conversion -D_POSIX_C_SOURCE=200809L
-CF_TEST     := $(WARN_BASE) $(HOST_DEFS) -Wno-missing-prototypes -D_POSIX_C_SOURCE=200809L
+CF_CONTROL  := $(WARN_BASE) $(FLOAT_ONLY) -Wconversion $(PORTABLE_INC)
+CF_PORTABLE := $(WARN_BASE) $(FLOAT_ONLY) $(PORTABLE_INC)
+CF_SIM      := $(WARN_BASE) -Wfloat-conversion -D_POSIX_C_SOURCE=200809L
+CF_TEST     := $(WARN_BASE) -Wno-missing-prototypes -D_POSIX_C_SOURCE=200809L
 
 cflags_for = $(if $(filter control/%,$1),$(CF_CONTROL),$(if $(filter firmware/% hal/f28335/%,$1),$(CF_PORTABLE),$(if $(filter hal/sim/% tools/sil/%,$1),$(CF_SIM),$(CF_TEST))))
 inc_for    = $(if $(filter control/%,$1),$(INC_CONTROL),$(if $(filter firmware/%,$1),$(INC_FIRMWARE),$(if $(filter hal/f28335/% tests/c2000_fake/%,$1),$(INC_F28335),$(if $(filter hal/sim/%,$1),$(INC_SIM),$(if $(filter tools/sil/%,$1),$(INC_SILRUN),$(INC))))))

@@ -113,12 +113,10 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
         latch_fault(app, &f, s);
     } else if (cfg.status == APP_STEP_FAULT) {
         latch_fault(app, &cfg, s);
-#if COMM_IN_IMAGE
     } else if (app->commissioning) {
         ctrl_reset(&app->ctrl);
         app->state = APP_STATE_COMMISSION;
-        comm_start(&app->comm);
-#endif
+        comm_start(app->comm);
     } else if (app->level == LEVEL_ADC) {
         app->state = APP_STATE_ADC_CHECK;
     } else if (app->level == LEVEL_ROTATE) {
@@ -217,7 +215,6 @@ static void align_state(app_t *app, const hal_sample_t *s)
     }
 }
 
-#if COMM_IN_IMAGE
 /* COMMISSION: the sequence's vector through ctrl's output path; done:
  * gates off, IDLE, the results valid, the measured offset taken. */
 static void commission_state(app_t *app, const hal_sample_t *s)
@@ -227,7 +224,7 @@ static void commission_state(app_t *app, const hal_sample_t *s)
 
     { /* the inputs' scope ends here: 8 B less of app_isr's frame (the stack's RAM gate) */
         const ctrl_in_t in = ctrl_input(app, s);
-        r = comm_step(&app->comm, &in, ctrl_speed_m_rad_s(&app->ctrl), &u);
+        r = comm_step(app->comm, &in, ctrl_speed_m_rad_s(&app->ctrl), &u);
     }
     ctrl_step_ab(&app->ctrl, u, s->vdc_V, &app->out);
     if ((r.status != APP_STEP_FAULT) && ((app->out.flags & CTRL_FLAG_NONFINITE) != 0u)) {
@@ -236,15 +233,31 @@ static void commission_state(app_t *app, const hal_sample_t *s)
     if (r.status == APP_STEP_DONE) {
         stop_to_idle(app);
         app->comm_valid = true;
-        if (app->comm.res.pole_pairs == app->cfg.ctrl.pole_pairs) {
-            encoder_set_offset(&app->ctrl.enc, app->comm.res.enc_offset_el_rad);
+        if (app->comm->res.pole_pairs == app->cfg.ctrl.pole_pairs) {
+            encoder_set_offset(&app->ctrl.enc, app->comm->res.enc_offset_el_rad);
             app->aligned = true;
         }
     } else {
         (void)output(app, r, s);
     }
 }
-#endif
+
+/* In RAM with the ISR path: the link's capture reads it. */
+uint16_t app_comm_result(const app_t *app)
+{
+    comm_outcome_t r = COMM_NONE;
+
+    if (app->comm == NULL) {
+        r = COMM_NONE;
+    } else if (app->comm_valid) {
+        r = COMM_DONE;
+    } else if (app->state == APP_STATE_COMMISSION) {
+        r = COMM_RUNNING;
+    } else if ((app->state == APP_STATE_FAULT) && (app->snapshot.state == APP_STATE_COMMISSION)) {
+        r = COMM_REFUSED;
+    }
+    return (uint16_t)r;
+}
 
 /* A refusal of R^ itself (not the controller's output, not its settings). */
 static bool is_rsid_refusal(app_fault_t f)
@@ -431,11 +444,9 @@ static void other_state(app_t *app, const hal_sample_t *s)
     case APP_STATE_ENC_CHECK:
         enc_check_state(app, s);
         break;
-#if COMM_IN_IMAGE
     case APP_STATE_COMMISSION:
         commission_state(app, s);
         break;
-#endif
     default: /* INIT, IDLE: outputs off, nothing to do */
         break;
     }

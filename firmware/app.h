@@ -31,12 +31,14 @@
  *              proposed-method settings ctrl_init refused cannot identify:
  *              a start then faults CONFIG before anything is energised.
  *   RUN        ctrl_step every period.
- *   COMMISSION commission.h: measures R, L, the encoder's direction,
- *              offset and pole pairs, psi_f, J and B on a free shaft
+ *   COMMISSION commission.h: checks the phase order, the encoder's
+ *              direction and the told pole pairs (enc_check.h, as level
+ *              3), measures R, L, the encoder offset, psi_f, J and B on
+ *              a free shaft
  *              without the controller's told R, L, psi_f (its voltage
  *              through ctrl_step_ab, as ALIGN's); needs only the encoder
- *              block of ctrl_init. The measured offset replaces the
- *              controller's (as an alignment) when the pole pairs agree.
+ *              block of ctrl_init and app_attach_comm(). The measured
+ *              offset replaces the controller's (as an alignment).
  * Why the sequence is built this way (dead points of the alignment,
  * open-loop voltage, the handover): firmware/startup_design.md.
  *
@@ -68,6 +70,7 @@
 #define APP_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "align.h"
@@ -99,9 +102,7 @@ typedef struct {
     bool align;                 /* encoder offset unknown: align the rotor once per power-up */
     align_cfg_t aln;            /* ALIGN (align.h) */
     rsid_seq_cfg_t rsid;        /* IDENTIFY_R: step 1 of the proposed method and its refusal policy (rsid_seq.h) */
-#if COMM_IN_IMAGE
     comm_cfg_t comm;            /* COMMISSION (commission.h) */
-#endif
     /* The I^2t budget (app_background): above i2t_rated_A the budget
      * (i_peak^2 - i_rated^2) t_peak drains by (i^2 - i_rated^2) dt; spent,
      * the targets' current limit is i2t_rated_A until half of it is back. */
@@ -144,9 +145,8 @@ typedef struct {
     calib_t cal;                   /* CALIBRATE */
     align_t aln;                   /* ALIGN */
     rsid_seq_t rsid;               /* IDENTIFY_R, and the handover in RUN */
-#if COMM_IN_IMAGE
-    comm_t comm;                   /* COMMISSION: its stage stays at a refusal's */
-#endif
+    comm_t *comm;                  /* COMMISSION: the state app_attach_comm() gave (its stage stays at a
+                                    * refusal's); NULL: no commissioning */
     bool commissioning;            /* this start is a commissioning (CALIBRATE leads to COMMISSION) */
     bool comm_valid;               /* comm.res holds a completed commissioning's results */
     uint16_t warnings;             /* APP_WARN_* since the last start */
@@ -175,6 +175,11 @@ void app_cfg_default(app_cfg_t *cfg);
  * controller, PWM off, state INIT. */
 void app_init(app_t *app, const app_cfg_t *cfg);
 
+/* Start-up, after app_init: the commissioning's state, an object of its
+ * own (on the F28335 in M0, main.c: .ebss has no room for it), initialised
+ * here from app->cfg. Without it app_request_commission() is ignored. */
+void app_attach_comm(app_t *app, comm_t *comm);
+
 /* ISR context, once per period: hal_sample_read -> protection -> requests
  * -> state step (ctrl_step in RUN) -> hal_pwm_write / enable / disable ->
  * run-time check -> hal_isr_ack. */
@@ -189,9 +194,13 @@ void app_background(app_t *app);
 void app_request_start(app_t *app);
 
 /* Background: INIT or IDLE -> CALIBRATE (if on) -> COMMISSION at the next
- * ISR; the results in app->comm.res once app->comm_valid. Ignored in an
- * image without the commissioning (COMM_IN_IMAGE 0, commission.h). */
+ * ISR; the results in app->comm->res once app->comm_valid. Ignored without
+ * app_attach_comm(). */
 void app_request_commission(app_t *app);
+
+/* The commissioning's outcome now (comm_outcome_t; COMM_NONE without
+ * app_attach_comm()). Any context. */
+uint16_t app_comm_result(const app_t *app);
 
 /* Background: the operator's references, mode and method; the ISR takes
  * them together at the start of its next call (ctrl_set_ref, _mode,

@@ -35,9 +35,7 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     calib_init(&app->cal, &cfg->cal, Ts);
     align_init(&app->aln, &cfg->aln, Ts);
     rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
-#if COMM_IN_IMAGE
-    comm_init(&app->comm, &cfg->comm, Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines);
-#endif
+    app->comm = NULL;
     app->commissioning = false;
     app->comm_valid = false;
     app->req_commission = 0u;
@@ -113,13 +111,19 @@ void app_request_start(app_t *app)
     app->req_start = 1u;
 }
 
+void app_attach_comm(app_t *app, comm_t *comm)
+{
+    const app_cfg_t *cfg = &app->cfg;
+
+    comm_init(comm, &cfg->comm, cfg->ctrl.Ts_s, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.pole_pairs);
+    app->comm = comm;
+}
+
 void app_request_commission(app_t *app)
 {
-#if COMM_IN_IMAGE
-    app->req_commission = 1u;
-#else
-    (void)app;
-#endif
+    if (app->comm != NULL) {
+        app->req_commission = 1u;
+    }
 }
 
 void app_request_op(app_t *app, const app_op_t *op)

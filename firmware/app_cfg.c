@@ -37,7 +37,6 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->aln.settle_s = BOARD_ALIGN_SETTLE_S;
 
     cfg->ctrl.track_R = BOARD_TRACK_R;
-#if COMM_IN_IMAGE
     cfg->comm.pole_pairs_max = (uint16_t)COMM_POLE_PAIRS_MAX;
     cfg->comm.u_frac = COMM_U_FRAC;
     cfg->comm.r_i1_frac = COMM_R_I1_FRAC;
@@ -59,14 +58,13 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->comm.enc_frac = COMM_ENC_FRAC;
     cfg->comm.enc_speed_el_rad_s = COMM_ENC_SPEED_EL_DEG_S * RAD_PER_DEG;
     cfg->comm.enc_hold_s = COMM_ENC_HOLD_S;
-    cfg->comm.p_tol = COMM_P_TOL;
     cfg->comm.enc_max_s = COMM_ENC_MAX_S;
+    cfg->comm.wiring_el_hz = COMM_WIRING_EL_HZ;
     cfg->comm.spin_frac = COMM_SPIN_FRAC;
     cfg->comm.spin_top_frac = COMM_SPIN_TOP_FRAC;
     cfg->comm.spin_lo_frac = COMM_SPIN_LO_FRAC;
     cfg->comm.spin_skip_s = COMM_SPIN_SKIP_S;
     cfg->comm.spin_max_s = COMM_SPIN_MAX_S;
-#endif
     cfg->rsid.mode = (app_rsid_mode_t)BOARD_RSID_MODE;
     cfg->rsid.window_s = BOARD_RSID_WINDOW_S;
     cfg->rsid.window_max_s = BOARD_RSID_WINDOW_MAX_S;

@@ -112,25 +112,25 @@
  * torque) keeps every phase at half the current or more, so the open-phase
  * check (ratio 0.2) never sees a phase idle, as at 90 deg (phase a: 0). */
 #define COMM_R_PREPOS_EL_DEG     60.0f        /* [deg el] */
-#define COMM_R_RAMP_S            0.3f         /* R: ramp of the first current at the pre-position, and its turn onto phase a: slower than the rotor's swing [s] */
+#define COMM_R_RAMP_S            0.3f         /* WIRING and R: ramp of the first current at the pre-position, and its turn onto phase a: slower than the rotor's swing [s] */
 #define COMM_R_KP_FRAC           0.05f        /* R: virtual resistance / (vdc / bound): the swing's induced current 5x smaller on the 540 V motor [-] */
-#define COMM_R_SEEK_S            1.0f         /* R: first regulator, a full-bound error ramps the voltage through vdc in this [s] */
+#define COMM_R_SEEK_S            1.0f         /* R (WIRING: the amplitude on |i|): first regulator, a full-bound error ramps the voltage through vdc in this [s] */
 #define COMM_R_BW_RAD_S          200.0f       /* R: alpha's integral regulator from R0: faster than the rotor's swing [rad/s] */
 #define COMM_R_SETTLE_S          0.15f        /* R: settling after a current change, with the rotor still [s] */
 #define COMM_R_STILL_MECH_DEG    0.5f         /* R: still = within this of the settling's start: the back-EMF on alpha is second order in the swing [deg] */
-#define COMM_R_WINDOW_S          0.1f         /* R: averaging window, 1000 periods [s] */
+#define COMM_R_WINDOW_S          0.1f         /* R: averaging window, 1000 periods; WIRING: its measurement [s] */
 #define COMM_R_MAX_S             3.0f         /* R: stage timeout [s] */
 #define COMM_L_STEP_FRAC         0.3f         /* L: current step / bound (voltage step R^ x this) [-] */
 #define COMM_L_RISE_FRAC         0.7f         /* L: a step ends at this share of its final change [-] */
 #define COMM_L_CYCLES            8U           /* L: down-and-up steps [-] */
 #define COMM_L_MAX_S             1.0f         /* L: stage timeout [s] */
 #define COMM_I_BW_RAD_S          1500.0f      /* ENCODER, SPIN: current PI from R^, L^; 0.15 / Ts [rad/s] */
-#define COMM_ENC_FRAC            0.5f         /* ENCODER: swept current / bound [-] */
+#define COMM_ENC_FRAC            0.5f         /* WIRING, ENCODER: swept current / bound [-] */
 #define COMM_ENC_SPEED_EL_DEG_S  720.0f       /* ENCODER: sweep speed, two electrical turns a second [deg/s el] */
-#define COMM_ENC_HOLD_S          0.1f         /* ENCODER: hold before, between, after the sweeps [s] */
-#define COMM_P_TOL               0.2f         /* ENCODER: |counts-derived pole pairs - integer| accepted [-] */
-#define COMM_POLE_PAIRS_MAX      32U          /* ENCODER: most pole pairs accepted [-] */
-#define COMM_ENC_MAX_S           2.0f         /* ENCODER: stage timeout [s] */
+#define COMM_ENC_HOLD_S          0.1f         /* WIRING: hold after the ramp; ENCODER: hold before, between, after the sweeps [s] */
+#define COMM_POLE_PAIRS_MAX      32U          /* ENCODER: fewer counts than half an electrical turn at this many: no rotation [-] */
+#define COMM_ENC_MAX_S           2.0f         /* WIRING, ENCODER: timeout beyond the stage's planned length [s] */
+#define COMM_WIRING_EL_HZ        200.0f       /* WIRING: the vector's frequency; the rotor's swing and back-EMF at it are 1/f^2 and 1/f^3 of a slow one's [Hz el] */
 #define COMM_SPIN_FRAC           0.2f         /* SPIN: |i_q| / bound accelerating and braking [-] */
 #define COMM_SPIN_TOP_FRAC       0.4f         /* SPIN: top speed / rated speed [-] */
 #define COMM_SPIN_LO_FRAC        0.2f         /* SPIN: fits above this share of the top speed [-] */

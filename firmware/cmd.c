@@ -61,10 +61,14 @@ void cmd_comm_init(volatile cmd_comm_t *rep)
 
 void cmd_comm_apply(volatile cmd_comm_t *rep, const volatile cmd_t *cmd, app_t *app)
 {
-#if COMM_IN_IMAGE
-    const comm_result_t *r = &app->comm.res;
+    const comm_result_t *r;
     uint16_t state = 0u;
 
+    if (app->comm == NULL) {
+        rep->start = 0u; /* no commissioning attached (app_attach_comm) */
+        return;
+    }
+    r = &app->comm->res;
     if (rep->start != 0u) {
         if (cmd->run == 0u) {
             app_request_commission(app); /* acted on only while stopped (INIT, IDLE) */
@@ -81,7 +85,7 @@ void cmd_comm_apply(volatile cmd_comm_t *rep, const volatile cmd_t *cmd, app_t *
         state = rep->state; /* kept until the next commissioning */
     }
     rep->state = state;
-    rep->stage = (uint16_t)app->comm.stage;
+    rep->stage = (uint16_t)app->comm->stage;
     if (state == 3u) {
         rep->fault = (uint16_t)app->fault;
         rep->fault_value = app->snapshot.value;
@@ -98,11 +102,6 @@ void cmd_comm_apply(volatile cmd_comm_t *rep, const volatile cmd_t *cmd, app_t *
         rep->speed_kp_Nms_rad = r->speed_kp_Nms_rad;
         rep->speed_ki_Nm_rad = r->speed_ki_Nm_rad;
     }
-#else
-    (void)cmd;
-    (void)app;
-    rep->start = 0u; /* no commissioning in this image (commission.h COMM_IN_IMAGE) */
-#endif
 }
 
 /* True when x is finite and |x| <= lim (a NaN fails both). */

@@ -4,7 +4,6 @@
 
 #include "mathx.h"
 
-#if COMM_IN_IMAGE
 
 /* Torque per (pole pair x flux x i_q) of an SPMSM: Te = 1.5 p psi_f i_q. */
 #define TORQUE_FACTOR 1.5f
@@ -26,6 +25,11 @@ enum { L_DOWN = 0, L_UP };
 enum { E_HOLD_0 = 0, E_FWD, E_HOLD_1, E_BACK, E_HOLD_2 };
 /* SPIN phases */
 enum { S_ACCEL = 0, S_BRAKE };
+/* WIRING phases */
+enum { W_RAMP = 0, W_HOLD, W_MEASURE };
+/* WIRING: the weaker sequence of the current above this share of the
+ * stronger is no phase order but an open phase (single phase: 1). */
+#define WIRING_SEQ_RATIO_MAX 0.5f
 
 /* Field by field: a struct copy may become a memset, a library call
  * that runs from flash (the ISR path's check, make check). */
@@ -99,18 +103,31 @@ void comm_speed_pi(const comm_cfg_t *cfg, float J_kgm2, float *kp_Nms_rad, float
     *ki_Nm_rad = cfg->speed_ki_per_J_1_s2 * J_kgm2;
 }
 
-void comm_init(comm_t *m, const comm_cfg_t *cfg, float Ts_s, uint32_t enc_cpr)
+void comm_init(comm_t *m, const comm_cfg_t *cfg, float Ts_s, uint32_t enc_cpr, uint16_t pole_pairs)
 {
+    const enc_check_cfg_t ecfg = { enc_cpr, pole_pairs };
+
     m->cfg = *cfg;
     m->Ts_s = Ts_s;
     m->enc_cpr = enc_cpr;
+    m->pole_pairs = pole_pairs;
+    m->w_turn_ticks = app_periods_of(1.0f / cfg->wiring_el_hz, Ts_s);
+    m->w_dangle_el_rad = (m->w_turn_ticks > 0u) ? MATHX_TWO_PI_F / (float)m->w_turn_ticks : 0.0f;
+    /* whole turns over the R stage's window, at least one */
+    m->w_turns = (m->w_turn_ticks > 0u) ? app_periods_of(cfg->r_window_s, Ts_s) / m->w_turn_ticks : 1u;
+    m->w_turns = (m->w_turns > 0u) ? m->w_turns : 1u;
+    enc_check_init(&m->chk, &ecfg);
     comm_start(m);
     m->stage = COMM_STAGE_NONE;
 }
 
 void comm_start(comm_t *m)
 {
-    next_stage(m, COMM_STAGE_R);
+    next_stage(m, COMM_STAGE_WIRING);
+    m->w_u_V = 0.0f;
+    m->w_angle_el_rad = 0.0f;
+    enc_check_start(&m->chk, 0u);
+    (void)enc_check_verdict(&m->chk, &m->chk_out); /* the empty figures */
     m->cycles = 0u;
     m->u_a_V = 0.0f;
     m->u_b_V = 0.0f;
@@ -204,6 +221,80 @@ static void window_take(comm_t *m, float *U, float *I)
     *U = m->sum_u / m->n_win;
     *I = m->sum_i / m->n_win;
     window_drop(m);
+}
+
+/* ---- WIRING: a fast voltage vector, the phase order (enc_check) --------- */
+
+/* The stage's planned length [periods]: the ramp, the hold, the window in
+ * whole turns of the vector. */
+static uint32_t wiring_periods(const comm_t *m)
+{
+    return periods(m, m->cfg.r_ramp_s) + periods(m, m->cfg.enc_hold_s) + m->w_turns * m->w_turn_ticks;
+}
+
+static app_step_t wiring_verdict(comm_t *m)
+{
+    const app_step_t r = enc_check_phase_order(&m->chk, &m->chk_out);
+    const float hi = (m->chk_out.i_pos_A > m->chk_out.i_neg_A) ? m->chk_out.i_pos_A : m->chk_out.i_neg_A;
+    const float lo = (m->chk_out.i_pos_A > m->chk_out.i_neg_A) ? m->chk_out.i_neg_A : m->chk_out.i_pos_A;
+
+    /* one sequence dominates unless a phase is open (a single-phase
+     * current is half positive, half negative sequence) */
+    if (!(lo <= WIRING_SEQ_RATIO_MAX * hi)) {
+        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, lo, WIRING_SEQ_RATIO_MAX * hi);
+    }
+    return r;
+}
+
+static app_step_t stage_wiring(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
+{
+    const comm_cfg_t *c = &m->cfg;
+    const float I = c->enc_frac * c->i_max_A;
+    /* the amplitude's integral regulator on |i|: the R seek's gain */
+    const float k_V_As = in->vdc_V / (c->i_max_A * c->r_seek_s);
+    const float i_abs = mathx_sqrtf(i.a * i.a + i.b * i.b);
+    float i_ref = I;
+    float s;
+    float co;
+    app_step_t r = app_step_running();
+
+    /* the currents sampled now answer the vector applied over the last period */
+    mathx_sincosf(m->w_angle_el_rad, &s, &co);
+    switch (m->phase) {
+    case W_RAMP:
+        i_ref = I * mathx_clampf((float)m->ticks * m->Ts_s / c->r_ramp_s, 0.0f, 1.0f);
+        if (m->ticks >= periods(m, c->r_ramp_s)) {
+            next_phase(m, W_HOLD);
+        }
+        break;
+    case W_HOLD:
+        if (m->ticks >= periods(m, c->enc_hold_s)) {
+            enc_check_start(&m->chk, in->enc_count);
+            next_phase(m, W_MEASURE);
+        }
+        break;
+    default: /* W_MEASURE */
+        enc_check_step(&m->chk, m->w_dangle_el_rad, co, s, i.a, i.b, in->enc_count);
+        if (m->ticks >= m->w_turns * m->w_turn_ticks) {
+            r = wiring_verdict(m);
+        }
+        break;
+    }
+    m->w_angle_el_rad = mathx_wrap_2pi(m->w_angle_el_rad + m->w_dangle_el_rad);
+    m->w_u_V += k_V_As * m->Ts_s * (i_ref - i_abs);
+    m->w_u_V = (m->w_u_V > 0.0f) ? m->w_u_V : 0.0f;
+    if ((r.status == APP_STEP_RUNNING) && (m->w_u_V > u_limit_V(m, in->vdc_V))) {
+        r = app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, m->w_u_V, u_limit_V(m, in->vdc_V));
+    }
+    if (r.status == APP_STEP_DONE) {
+        m->w_u_V = 0.0f;
+        next_stage(m, COMM_STAGE_R);
+        r = app_step_running();
+    }
+    mathx_sincosf(m->w_angle_el_rad, &s, &co);
+    u_ab->a = m->w_u_V * co;
+    u_ab->b = m->w_u_V * s;
+    return r;
 }
 
 static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
@@ -393,22 +484,15 @@ static float count_step(comm_t *m, uint32_t count)
 
 static app_step_t encoder_result(comm_t *m)
 {
-    const comm_cfg_t *c = &m->cfg;
     const float s = ls_slope1(&m->ls); /* counts per rad el */
     const float cpr = (float)m->enc_cpr;
-    float p_raw;
-    uint16_t p;
+    const uint16_t p = m->pole_pairs;  /* WIRING checked it against the counts */
     uint32_t c0p;
     float mean_theta;
     float mean_dc;
 
-    if (!(s > 0.0f)) { /* counts run against the vector: direction (or phase order) reversed */
+    if (!(s > 0.0f)) { /* WIRING saw the counts follow the vector */
         return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, s, 0.0f);
-    }
-    p_raw = cpr / (MATHX_TWO_PI_F * s);
-    p = (uint16_t)(p_raw + 0.5f);
-    if ((p < 1u) || (p > c->pole_pairs_max) || (mathx_fabsf(p_raw - (float)p) > c->p_tol)) {
-        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, p_raw, c->p_tol);
     }
     m->res.pole_pairs = p;
     m->res.cpr_per_el = MATHX_TWO_PI_F * s;
@@ -422,13 +506,23 @@ static app_step_t encoder_result(comm_t *m)
     return app_step_done();
 }
 
+/* The ENCODER stage's planned length [periods]: the told pole pairs'
+ * turns forward, one back, three holds. */
+static uint32_t encoder_periods(const comm_t *m)
+{
+    return (1u + (uint32_t)m->pole_pairs) * periods(m, MATHX_TWO_PI_F / m->cfg.enc_speed_el_rad_s) +
+           3u * periods(m, m->cfg.enc_hold_s);
+}
+
 static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
 {
     const comm_cfg_t *c = &m->cfg;
     const float step = c->enc_speed_el_rad_s * m->Ts_s;
     const uint32_t sweep = periods(m, MATHX_TWO_PI_F / c->enc_speed_el_rad_s);
+    const uint32_t fwd = (uint32_t)m->pole_pairs * sweep; /* one mechanical turn */
     const uint32_t hold = periods(m, c->enc_hold_s);
     const dq_t i_ref = { c->enc_frac * c->i_max_A, 0.0f };
+    bool fit = false;
     float dir = 0.0f;
     float s;
     float co;
@@ -444,18 +538,28 @@ static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_
         if (m->ticks >= hold) {
             m->count0 = in->enc_count;
             m->dcount = 0.0f;
+            enc_check_start(&m->chk, in->enc_count);
             next_phase(m, E_FWD);
         }
         break;
     case E_FWD:
+        /* the current follows the vector: its angle is the measurement's */
+        mathx_sincosf(m->theta_c_rad, &s, &co);
+        enc_check_step(&m->chk, step, co, s, i.a, i.b, in->enc_count);
         dir = 1.0f;
         m->theta_c_rad = (float)m->ticks * step;
-        if (m->ticks >= sweep) {
+        fit = (m->ticks + sweep > fwd); /* the last electrical turn */
+        if (m->ticks >= fwd) {
             const float moved = m->dcount;
             const float min_moved = 0.5f * (float)m->enc_cpr / (float)c->pole_pairs_max;
             if (mathx_fabsf(moved) < min_moved) {
                 return app_step_fault(APP_FAULT_COMM_NO_ROTATION, moved, min_moved);
             }
+            r = enc_check_verdict(&m->chk, &m->chk_out); /* direction, counts per turn, pole pairs */
+            if (r.status != APP_STEP_DONE) {
+                return r;
+            }
+            r = app_step_running();
             dir = 0.0f;
             next_phase(m, E_HOLD_1);
         }
@@ -467,7 +571,8 @@ static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_
         break;
     case E_BACK:
         dir = -1.0f;
-        m->theta_c_rad = (float)(sweep - m->ticks) * step;
+        fit = true;
+        m->theta_c_rad = (float)(fwd - m->ticks) * step;
         if (m->ticks >= sweep) {
             dir = 0.0f;
             next_phase(m, E_HOLD_2);
@@ -484,7 +589,7 @@ static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_
         }
         break;
     }
-    if ((m->phase == E_FWD) || (m->phase == E_BACK)) {
+    if (fit) {
         ls_add(&m->ls, m->theta_c_rad - MATHX_PI_F, 0.0f, m->dcount);
     }
     mathx_sincosf(m->theta_c_rad, &s, &co);
@@ -594,15 +699,23 @@ static app_step_t stage_spin(comm_t *m, const ctrl_in_t *in, ab_t i, float w, ab
 static float stage_max_s(const comm_t *m)
 {
     switch (m->stage) {
+    case COMM_STAGE_WIRING:
+        return (float)wiring_periods(m) * m->Ts_s + m->cfg.enc_max_s;
+    case COMM_STAGE_ENCODER:
+        return (float)encoder_periods(m) * m->Ts_s + m->cfg.enc_max_s;
     case COMM_STAGE_R:
         return m->cfg.r_max_s;
     case COMM_STAGE_L:
         return m->cfg.l_max_s;
-    case COMM_STAGE_ENCODER:
-        return m->cfg.enc_max_s;
     default:
         return m->cfg.spin_max_s;
     }
+}
+
+float comm_max_s(const comm_t *m)
+{
+    return (float)(wiring_periods(m) + encoder_periods(m)) * m->Ts_s + 2.0f * m->cfg.enc_max_s + m->cfg.r_max_s +
+           m->cfg.l_max_s + m->cfg.spin_max_s;
 }
 
 app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *u_ab_V)
@@ -625,6 +738,8 @@ app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *
         r = stage_r(m, i, in->enc_count);
     } else if (m->stage == COMM_STAGE_L) {
         r = stage_l(m, i);
+    } else if (m->stage == COMM_STAGE_WIRING) {
+        r = stage_wiring(m, in, i, u_ab_V);
     } else if (m->stage == COMM_STAGE_ENCODER) {
         r = stage_encoder(m, in, i, u_ab_V);
     } else {
@@ -652,4 +767,3 @@ app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *
     return r;
 }
 
-#endif /* COMM_IN_IMAGE */

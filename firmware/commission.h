@@ -1,6 +1,13 @@
 /*
  * commission.h - commissioning: measure the motor on a free shaft (the
  * COMMISSION state, app.h), without the controller's told R, L, psi_f:
+ *   WIRING   first, before any current loop is closed: a voltage vector
+ *            turned faster than the rotor follows, its amplitude
+ *            regulated on |i| (no motor constant needed, blind to the
+ *            phase order); enc_check.h (the module and fault set of
+ *            build level 3) judges the current's sequence: PHASE_ORDER,
+ *            or COMM_IMPLAUSIBLE for a current of both sequences (an
+ *            open phase);
  *   R        DC injection on phase a (alpha) at two currents under an
  *            integral current regulator; R = dU/dI (the inverter's
  *            constant voltage error and the device drop cancel). The
@@ -9,11 +16,14 @@
  *   L        open-loop voltage steps of +-R^ dI_L on alpha at standstill
  *            (the d axis), L from the integrated voltage balance
  *            L di = (du - R^ di) dt by least squares;
- *   ENCODER  a current vector of fixed magnitude swept one electrical
- *            turn forward and back; counts against the vector's angle by
- *            least squares: direction, counts per electrical turn (pole
- *            pairs) and the offset (forward and back: friction's lag
- *            cancels);
+ *   ENCODER  a current vector of fixed magnitude swept one mechanical
+ *            turn (the told pole pairs' electrical turns) forward:
+ *            enc_check.h judges the encoder's direction
+ *            (ENCODER_DIRECTION), its counts per turn and the told pole
+ *            pairs (POLE_PAIRS), too little travel is COMM_NO_ROTATION;
+ *            then one electrical turn back; counts against the vector's
+ *            angle over the last turn forward and the turn back by least
+ *            squares: the offset (friction's lag cancels);
  *   SPIN     i_d = 0, i_q = +I from standstill to the top speed, then -I
  *            down: psi_f from (u_q - R^ i_q) against omega_el, J and B
  *            from the two accelerations;
@@ -34,16 +44,7 @@
 #include "app_step.h"
 #include "clarke_park.h"
 #include "ctrl.h"
-
-/* The commissioning in the image (1) or not (0). The host build (SIL,
- * tests, fuzz) has it (the Makefile's -DCOMM_IN_IMAGE=1); the board's
- * default image leaves it out: beside the build levels and the link its
- * RAM code and state put make check's RAM gate under its 10 % margin
- * (RAML0L5 4 %, .ebss 8 %: tools/check/ram_budget.py). A commissioning
- * image is built with -DCOMM_IN_IMAGE=1. */
-#ifndef COMM_IN_IMAGE
-#define COMM_IN_IMAGE 0
-#endif
+#include "enc_check.h"
 
 typedef enum {
     COMM_STAGE_NONE = 0,
@@ -51,14 +52,15 @@ typedef enum {
     COMM_STAGE_L = 2,
     COMM_STAGE_ENCODER = 3,
     COMM_STAGE_SPIN = 4,
-    COMM_STAGE_DONE = 5
+    COMM_STAGE_DONE = 5,
+    COMM_STAGE_WIRING = 6       /* the first stage (numbered last: the others kept theirs) */
 } comm_stage_t;
 
 typedef struct {
     float i_max_A;              /* every current stays within this: the rated current [A] */
     float speed_max_rad_s;      /* the spin stays below this: the rated speed, mechanical [rad/s] */
-    uint16_t pole_pairs_max;    /* most pole pairs the check accepts [-] */
-    float u_frac;               /* |u| above this share of vdc/sqrt(3): implausible (R, L, ENCODER), top speed (SPIN) [-] */
+    uint16_t pole_pairs_max;    /* fewer counts than half an electrical turn at this many pole pairs: no rotation [-] */
+    float u_frac;               /* |u| above this share of vdc/sqrt(3): implausible (WIRING, R, L, ENCODER), top speed (SPIN) [-] */
     /* R */
     float r_i1_frac, r_i2_frac; /* the two DC currents / i_max [-] */
     float r_prepos_el_rad;      /* the first current's pre-position from phase a: sin != 0 [rad el] */
@@ -75,13 +77,14 @@ typedef struct {
     float l_rise_frac;          /* a step ends at this share of its final current change [-] */
     uint16_t l_cycles;          /* down-and-up steps [-] */
     float l_max_s;              /* stage timeout [s] */
+    /* WIRING: the ENCODER stage's current and hold, the R stage's ramp, seek gain and window */
+    float wiring_el_hz;         /* the vector's frequency: the rotor does not follow it [Hz el] */
     /* ENCODER and SPIN: dq current PI with Kp = w L^, Ki = w R^ */
     float i_bw_rad_s;           /* w [rad/s] */
     float enc_frac;             /* swept current / i_max [-] */
     float enc_speed_el_rad_s;   /* sweep speed [rad/s el] */
     float enc_hold_s;           /* hold before, between and after the sweeps [s] */
-    float p_tol;                /* |counts-derived pole pairs - nearest integer| accepted [-] */
-    float enc_max_s;            /* stage timeout [s] */
+    float enc_max_s;            /* WIRING, ENCODER: timeout beyond the stage's planned length [s] */
     float spin_frac;            /* |i_q| / i_max while accelerating and braking [-] */
     float spin_top_frac;        /* top speed / speed_max [-] */
     float spin_lo_frac;         /* fits use speeds above this share of the top [-] */
@@ -92,6 +95,14 @@ typedef struct {
     float speed_kp_per_J_1_s;   /* [N m s/rad per kg m^2 = 1/s] */
     float speed_ki_per_J_1_s2;  /* [N m/rad per kg m^2 = 1/s^2] */
 } comm_cfg_t;
+
+/* A commissioning's outcome as the operator sees it (app_comm_result). */
+typedef enum {
+    COMM_NONE = 0,              /* none since power-on (or since the refusal's fault was reset) */
+    COMM_RUNNING = 1,           /* in COMMISSION: comm_t.stage says which stage */
+    COMM_DONE = 2,              /* measured: comm_t.res valid */
+    COMM_REFUSED = 3            /* in FAULT, latched in COMMISSION: the fault and comm_t.stage say why */
+} comm_outcome_t;
 
 typedef struct {                /* what the commissioning measured */
     float R_Ohm, L_H, psi_f_Wb;
@@ -112,6 +123,7 @@ typedef struct {
     comm_cfg_t cfg;
     float Ts_s;
     uint32_t enc_cpr;           /* encoder counts per mechanical turn [counts] */
+    uint16_t pole_pairs;        /* the controller's, checked by ENCODER [-] */
     comm_stage_t stage;
     uint16_t phase;             /* step within the stage */
     uint32_t ticks;             /* periods in this phase */
@@ -143,12 +155,20 @@ typedef struct {
     float top_rad_s;            /* SPIN: top speed reached */
     float w_ref_rad_s;          /* SPIN: speed at the fits' start (centring) */
     float y_ref_V;
+    /* WIRING */
+    float w_u_V;                /* the vector's amplitude [V] */
+    float w_angle_el_rad;       /* the vector's angle [rad el, wrapped] */
+    uint32_t w_turn_ticks;      /* periods per turn of the vector [-] */
+    uint32_t w_turns;           /* turns measured [-] */
+    float w_dangle_el_rad;      /* its step per period: whole turns in whole periods [rad el] */
+    enc_check_t chk;
+    enc_check_out_t chk_out;    /* what the check measured */
     comm_result_t res;
 } comm_t;
 
-/* Start-up: copy *cfg; the period Ts_s [s] and the encoder's counts per
- * turn enc_cpr are the controller's (app_init). */
-void comm_init(comm_t *m, const comm_cfg_t *cfg, float Ts_s, uint32_t enc_cpr);
+/* Start-up: copy *cfg; the period Ts_s [s], the encoder's counts per
+ * turn enc_cpr and the pole pairs are the controller's (app_init). */
+void comm_init(comm_t *m, const comm_cfg_t *cfg, float Ts_s, uint32_t enc_cpr, uint16_t pole_pairs);
 
 /* ISR, on entering COMMISSION (PWM about to go on, rotor at rest). */
 void comm_start(comm_t *m);
@@ -160,6 +180,9 @@ void comm_start(comm_t *m);
  * m->res (the sequence then turns the gates off), FAULT (COMM_*) with the
  * measured value and its limit, else RUNNING. */
 app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *u_ab_V);
+
+/* The longest a commissioning can last [s]: every stage's timeout. Any context. */
+float comm_max_s(const comm_t *m);
 
 /* The speed PI's gains from an inertia [kg m^2]: the parameter set's
  * rule (drive_speed_pi, linear in J) through cfg's gains per kg m^2. Any context. */

@@ -43,22 +43,32 @@ void enc_check_step(enc_check_t *e, float dangle_el_rad, float cos_el, float sin
     e->n++;
 }
 
-app_step_t enc_check_verdict(const enc_check_t *e, enc_check_out_t *out)
+app_step_t enc_check_phase_order(const enc_check_t *e, enc_check_out_t *out)
 {
     const float inv_n = (e->n > 0u) ? 1.0f / (float)e->n : 0.0f;
-    const float p = (float)e->cfg.pole_pairs;
-    const float angle = e->angle_el_rad;
     const float abs_counts = (float)((e->counts >= 0) ? e->counts : -e->counts);
 
     out->counts = e->counts;
-    out->angle_el_rad = angle;
+    out->angle_el_rad = e->angle_el_rad;
     out->i_pos_A = inv_n * mathx_sqrtf(e->i_pos_A[0] * e->i_pos_A[0] + e->i_pos_A[1] * e->i_pos_A[1]);
     out->i_neg_A = inv_n * mathx_sqrtf(e->i_neg_A[0] * e->i_neg_A[0] + e->i_neg_A[1] * e->i_neg_A[1]);
-    out->pole_pairs_est = (abs_counts > 0.0f)
-                              ? mathx_fabsf(angle) * (1.0f / MATHX_TWO_PI_F) * (float)e->cfg.counts_per_turn / abs_counts
-                              : 0.0f;
+    out->pole_pairs_est = (abs_counts > 0.0f) ? mathx_fabsf(e->angle_el_rad) * (1.0f / MATHX_TWO_PI_F) *
+                                                    (float)e->cfg.counts_per_turn / abs_counts
+                                              : 0.0f;
     if (!(out->i_neg_A <= out->i_pos_A)) {
         return app_step_fault(APP_FAULT_PHASE_ORDER, out->i_neg_A, out->i_pos_A);
+    }
+    return app_step_done();
+}
+
+app_step_t enc_check_verdict(const enc_check_t *e, enc_check_out_t *out)
+{
+    const float p = (float)e->cfg.pole_pairs;
+    const float angle = e->angle_el_rad;
+    const app_step_t order = enc_check_phase_order(e, out);
+
+    if (order.status != APP_STEP_DONE) {
+        return order;
     }
     if (!((float)e->counts * angle > 0.0f)) {
         return app_step_fault(APP_FAULT_ENCODER_DIRECTION, (float)e->counts, 0.0f);

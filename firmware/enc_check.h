@@ -2,9 +2,11 @@
  * enc_check.h - the encoder and the motor's wiring checked against a
  * commanded rotation: direction, counts per turn, pole pairs and the
  * order of the phases. Used by build level 3 (app.h: an open-loop
- * rotating voltage vector) and meant for a commissioning sequence: any
- * caller that turns the rotor by a commanded electrical angle it knows
- * (a rotating voltage or current vector the rotor follows) can use it.
+ * rotating voltage vector) and by the commissioning (commission.h: the
+ * phase order from a fast vector the rotor does not follow, before any
+ * current loop is closed; direction and pole pairs from its current-
+ * controlled sweep): any caller that turns a vector by a commanded
+ * electrical angle it knows can use it.
  *
  * Use (one check):
  *   enc_check_init(&e, &cfg)            start-up: the controller's counts per
@@ -16,6 +18,8 @@
  *                                       sin, the measured currents and count
  *   enc_check_verdict(&e, &out)         ISR once or background, after whole
  *                                       electrical turns: DONE or the fault
+ *   enc_check_phase_order(&e, &out)     the same, the phase order alone (a
+ *                                       vector the rotor does not follow)
  *
  * The verdict, in this order (each from the configured values; no motor
  * constant of its own):
@@ -85,5 +89,9 @@ void enc_check_step(enc_check_t *e, float dangle_el_rad, float cos_el, float sin
 /* ISR once or background, after whole electrical turns: DONE when all
  * three checks pass, else the first fault (see above); *out filled. */
 app_step_t enc_check_verdict(const enc_check_t *e, enc_check_out_t *out);
+
+/* The same for the first check alone (PHASE_ORDER): for a vector turned
+ * faster than the rotor follows, whose count does not move. */
+app_step_t enc_check_phase_order(const enc_check_t *e, enc_check_out_t *out);
 
 #endif /* ENC_CHECK_H */

@@ -82,6 +82,10 @@ SECTIONS
                    RUN_START(_EbssRunStart),
                    RUN_SIZE(_EbssRunSize)
    .esysmem      : > RAMM0,     PAGE = 1
+   /* Objects main.c places here (DATA_SECTION): the commissioning's state
+    * and the command blocks, in M0, which .esysmem leaves free; their init
+    * functions set every field (not zeroed: only .ebss is). */
+   m0data        : > RAMM0,     PAGE = 1
 
    /* Tables already in boot ROM: referenced, never loaded. */
    FPUmathTables : > FPUTABLES, PAGE = 0, TYPE = NOLOAD

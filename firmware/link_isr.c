@@ -67,6 +67,18 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_LINK_STREAM_DROPPED: return of_u((uint32_t)t->stats->stream_dropped);
     case LV_LINK_ERR_LINE: return of_u((uint32_t)t->stats->err_line);
     case LV_RESET_BY_WATCHDOG: return of_u((uint32_t)t->stats->reset_by_watchdog);
+    case LV_COMM_RESULT: return of_u((uint32_t)app_comm_result(a));
+    case LV_COMM_STAGE: return of_u((a->comm != NULL) ? (uint32_t)a->comm->stage : 0u);
+    /* the commissioning's, 0 without one attached (app_attach_comm) */
+    case LV_COMM_R_OHM: return of_f((a->comm != NULL) ? a->comm->res.R_Ohm : 0.0f);
+    case LV_COMM_L_H: return of_f((a->comm != NULL) ? a->comm->res.L_H : 0.0f);
+    case LV_COMM_PSIF_WB: return of_f((a->comm != NULL) ? a->comm->res.psi_f_Wb : 0.0f);
+    case LV_COMM_POLE_PAIRS: return of_u((a->comm != NULL) ? (uint32_t)a->comm->res.pole_pairs : 0u);
+    case LV_COMM_J_KGM2: return of_f((a->comm != NULL) ? a->comm->res.J_kgm2 : 0.0f);
+    case LV_COMM_B_NMS: return of_f((a->comm != NULL) ? a->comm->res.B_Nms : 0.0f);
+    case LV_COMM_ENC_OFFSET: return of_f((a->comm != NULL) ? a->comm->res.enc_offset_el_rad : 0.0f);
+    case LV_COMM_SPEED_KP: return of_f((a->comm != NULL) ? a->comm->res.speed_kp_Nms_rad : 0.0f);
+    case LV_COMM_SPEED_KI: return of_f((a->comm != NULL) ? a->comm->res.speed_ki_Nm_rad : 0.0f);
     default: return of_u(0u);
     }
 }

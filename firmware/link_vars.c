@@ -49,6 +49,17 @@ static const link_var_t VARS[LV_COUNT] = {
     [LV_LINK_STREAM_DROPPED] = { "link_stream_dropped", "", LINK_T_U16, R },
     [LV_LINK_ERR_LINE] = { "link_err_line", "", LINK_T_U16, R },
     [LV_RESET_BY_WATCHDOG] = { "reset_by_watchdog", "", LINK_T_U16, R },
+    [LV_COMM_RESULT] = { "comm_result", "", LINK_T_U16, R },
+    [LV_COMM_STAGE] = { "comm_stage", "", LINK_T_U16, R },
+    [LV_COMM_R_OHM] = { "comm_R_ohm", "Ohm", LINK_T_F32, R },
+    [LV_COMM_L_H] = { "comm_L_H", "H", LINK_T_F32, R },
+    [LV_COMM_PSIF_WB] = { "comm_psif_Wb", "Wb", LINK_T_F32, R },
+    [LV_COMM_POLE_PAIRS] = { "comm_pole_pairs", "", LINK_T_U16, R },
+    [LV_COMM_J_KGM2] = { "comm_J_kgm2", "kg m^2", LINK_T_F32, R },
+    [LV_COMM_B_NMS] = { "comm_B_Nms", "N m s", LINK_T_F32, R },
+    [LV_COMM_ENC_OFFSET] = { "comm_encoder_offset_el_rad", "rad", LINK_T_F32, R },
+    [LV_COMM_SPEED_KP] = { "comm_speed_kp_Nms_rad", "N m s/rad", LINK_T_F32, R },
+    [LV_COMM_SPEED_KI] = { "comm_speed_ki_Nm_rad", "N m/rad", LINK_T_F32, R },
 };
 #undef R
 #undef W
@@ -84,6 +95,13 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     case LV_L_EST_H: *hi = L_RANGE_PER_L * c->ctrl.L_H; break;
     case LV_STATE: *hi = (float)APP_STATE_FAULT; break;
     case LV_METHOD: *hi = (float)CTRL_METHOD_PROPOSED; break;
+    /* the commissioning's values: what a plausible measurement can reach on this drive */
+    case LV_COMM_RESULT: *hi = (float)COMM_REFUSED; break;
+    case LV_COMM_STAGE: *hi = (float)COMM_STAGE_WIRING; break;
+    case LV_COMM_R_OHM: *hi = c->ctrl.R_max_Ohm; break;
+    case LV_COMM_L_H: *hi = L_RANGE_PER_L * c->ctrl.L_H; break;
+    case LV_COMM_PSIF_WB: *hi = flux_max_Wb; break;
+    case LV_COMM_ENC_OFFSET: *hi = MATHX_TWO_PI_F; break;
     case LV_MODE: *hi = (float)CTRL_MODE_SPEED; break;
     default: *hi = (link_var(id)->type == LINK_T_U32) ? U32_MAX_F : U16_MAX_F; break;
     }
@@ -157,6 +175,11 @@ bool link_action(const link_target_t *t, uint16_t action)
         break;
     case LINK_ACTION_FAULT_RESET:
         c->fault_reset = 1u;
+        break;
+    case LINK_ACTION_COMMISSION:
+        if (c->run == 0u) {
+            app_request_commission(t->app); /* as cmd_comm_apply: acted on only while stopped */
+        }
         break;
     default:
         return false;

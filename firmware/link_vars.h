@@ -27,6 +27,9 @@ typedef enum {
     LV_UD_REF_V, LV_UQ_REF_V, LV_R_EST_OHM, LV_L_EST_H, LV_PSIF_EST_WB, LV_EST, LV_EST_HOLD,
     LV_METHOD, LV_MODE, LV_CMD_ERROR, LV_TICKS, LV_LINK_WRITES, LV_LINK_ERR_CRC, LV_LINK_ERR_FRAMING,
     LV_LINK_ERR_OVERRUN, LV_LINK_STREAM_DROPPED, LV_LINK_ERR_LINE, LV_RESET_BY_WATCHDOG,
+    /* the commissioning (commission.h): names of drive_sil's OUT.ini keys with comm_ before them */
+    LV_COMM_RESULT, LV_COMM_STAGE, LV_COMM_R_OHM, LV_COMM_L_H, LV_COMM_PSIF_WB, LV_COMM_POLE_PAIRS,
+    LV_COMM_J_KGM2, LV_COMM_B_NMS, LV_COMM_ENC_OFFSET, LV_COMM_SPEED_KP, LV_COMM_SPEED_KI,
     LV_COUNT
 } link_var_id_t;
 
@@ -84,7 +87,8 @@ typedef enum {
     LINK_ACTION_START = 1,      /* the start sequence (cmd run 0 -> 1) */
     LINK_ACTION_STOP = 2,       /* to IDLE, PWM off */
     LINK_ACTION_FAULT_RESET = 3,/* clear a latched fault */
-    LINK_ACTION_QUIT = 4        /* the SIL: stop, then end the run (the firmware only stops) */
+    LINK_ACTION_QUIT = 4,       /* the SIL: stop, then end the run (the firmware only stops) */
+    LINK_ACTION_COMMISSION = 5  /* measure the motor (commission.h): acted on while stopped (INIT, IDLE) */
 } link_action_t;
 
 /* Carry out an action through cmd_apply() (start and stop as an edge of cmd.run, so a start after a

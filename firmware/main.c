@@ -46,6 +46,16 @@ static volatile cmd_t g_cmd; /* written by the operator from CCS or through the 
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
 static volatile cmd_comm_t g_comm; /* the commissioning: g_comm.start = 1 while stopped; its report */
+static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
+/* In M0 (section m0data, f28335_flash.cmd), as .ebss in L6-L7 keeps its
+ * margin only without them: objects whose init functions write every
+ * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
+ * proves it), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
+#if defined(__TMS320C28XX__)
+#pragma DATA_SECTION(g_commission, "m0data")
+#pragma DATA_SECTION(g_cmd, "m0data")
+#pragma DATA_SECTION(g_comm, "m0data")
+#endif
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
 #define SCI_READ_MAX F28335_SCI_FIFO_DEPTH
@@ -108,6 +118,7 @@ int main(void)
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
     app_cfg_default(&g_app.cfg);
     app_init(&g_app, &g_app.cfg);
+    app_attach_comm(&g_app, &g_commission);
     if (bad_record >= 0) {
         app_latch_startup_fault(&g_app, APP_FAULT_FLASH_CRC, (float)bad_record, 0.0f);
     } else if (g_reset_by_watchdog) {

@@ -12,7 +12,7 @@ FUZZ_PORTABLE := $(CONTROL_SRCS) $(FIRMWARE_SRCS)
 FUZZ_HDRS  := $(wildcard control/*.h firmware/*.h hal/hal.h hal/f28335/board_hw.h tests/fuzz/*.h)
 FUZZ_CC    ?= clang
 FUZZ_FLAGS := -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-              -fno-omit-frame-pointer -DCOMM_IN_IMAGE=1 -Icontrol -Ihal -Ihal/f28335 -Ifirmware -Itests/fuzz
+              -fno-omit-frame-pointer -Icontrol -Ihal -Ihal/f28335 -Ifirmware -Itests/fuzz
 FUZZ_STEPS ?= 100000000
 
 .PHONY: fuzz fuzz-short fuzz-deps

@@ -20,6 +20,7 @@
 
 static const cmd_limits_t LIM = { 2000.0f, 12.0f, 300.0f };
 static app_t app;          /* large: not on the stack */
+static comm_t comm;        /* its commissioning state (app_attach_comm) */
 static volatile cmd_t cmd;
 
 static int setup(void **state)
@@ -29,6 +30,7 @@ static int setup(void **state)
     app_cfg_default(&cfg);
     expect_function_call(hal_pwm_disable);
     app_init(&app, &cfg);
+    app_attach_comm(&app, &comm);
     cmd_init(&cmd);
     return 0;
 }
@@ -247,23 +249,23 @@ static void commission_report_follows_the_app(void **state)
     cmd_comm_apply(&rep, &cmd, &app);
     assert_int_equal(rep.state, 0u);
     app.state = APP_STATE_COMMISSION;
-    app.comm.stage = COMM_STAGE_L;
+    app.comm->stage = COMM_STAGE_L;
     cmd_comm_apply(&rep, &cmd, &app);
     assert_int_equal(rep.state, 1u);
     assert_int_equal(rep.stage, (uint16_t)COMM_STAGE_L);
     app.state = APP_STATE_IDLE;
     app.comm_valid = true;
-    app.comm.stage = COMM_STAGE_DONE;
-    app.comm.res.R_Ohm = 2.5f;
-    app.comm.res.pole_pairs = 4u;
-    app.comm.res.J_kgm2 = 0.01f;
+    app.comm->stage = COMM_STAGE_DONE;
+    app.comm->res.R_Ohm = 2.5f;
+    app.comm->res.pole_pairs = 4u;
+    app.comm->res.J_kgm2 = 0.01f;
     cmd_comm_apply(&rep, &cmd, &app);
     assert_int_equal(rep.state, 2u);
     assert_float_equal(rep.R_Ohm, 2.5f, 0.0f);
     assert_int_equal(rep.pole_pairs, 4u);
     assert_float_equal(rep.J_kgm2, 0.01f, 0.0f);
     app.comm_valid = false;
-    app.comm.stage = COMM_STAGE_ENCODER;
+    app.comm->stage = COMM_STAGE_ENCODER;
     app.state = APP_STATE_FAULT;
     app.fault = APP_FAULT_COMM_NO_ROTATION;
     app.snapshot.state = APP_STATE_COMMISSION;

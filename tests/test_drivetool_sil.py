@@ -4,7 +4,10 @@ speed_est_rpm>250 with 100 pre-trigger rows, compared with drive_sil's own
 CSV at the same t_s), the exit codes, a stream refused above the line's
 budget, and a lossy link (drops, flips, duplicates, garbage at 10 % of the
 bytes each way) where every write completes or fails cleanly and is applied
-once. Needs the built drive_sil and drivetool (DRIVE_SIL, DRIVETOOL: make
+once; `drivetool commission` on the paper motor (Table I) with a free
+shaft: the values within the commissioning's tolerances (R, L, psi_f 3 %,
+J 10 %, the pole pairs exact) written as a [controller] section, and a
+reversed encoder refused naming ENCODER_DIRECTION (exit 1). Needs the built drive_sil and drivetool (DRIVE_SIL, DRIVETOOL: make
 test-tools sets them); skipped without them."""
 import csv
 import json
@@ -52,10 +55,10 @@ PRE, SAMPLES = 100, 1000
 TS = 1e-4                     # the board's period (drive_sil's default), checked against HELLO
 
 
-def start_sil(tmp, *extra):
+def start_sil(tmp, *extra, scenario=SCENARIO):
     ini = os.path.join(tmp, "link.ini")
     with open(ini, "w") as f:
-        f.write(SCENARIO)
+        f.write(scenario)
     err_path = os.path.join(tmp, "drive_sil.err")
     with open(err_path, "w") as err:
         p = subprocess.Popen([DRIVE_SIL, "--scenario", ini, "--link", "tcp:0", *extra],
@@ -353,6 +356,61 @@ class LossyLink(unittest.TestCase):
         finally:
             rc, _ = finish(p, port)
         self.assertEqual(rc, 0)
+
+
+# The paper motor (drive_sil's defaults), free shaft, started at t = 0 and stopped by the test.
+COMM_SCENARIO = """[controller]
+method = conventional
+mode = speed
+[load]
+torque_Nm = 0
+[run]
+duration_s = 0
+"""
+TABLE1 = {"R_ohm": 3.0, "L_H": 0.011, "psif_Wb": 0.24, "J_kgm2": 0.00129}
+COMM_TOL = {"R_ohm": 0.03, "L_H": 0.03, "psif_Wb": 0.03, "J_kgm2": 0.10}
+
+
+@unittest.skipUnless(os.access(DRIVE_SIL, os.X_OK) and os.access(DRIVETOOL, os.X_OK),
+                     "needs build/host/drive_sil and build/venv/bin/drivetool (make drivetool)")
+class Commission(unittest.TestCase):
+    def commission(self, *extra):
+        tmp = tempfile.mkdtemp()
+        scenario = COMM_SCENARIO + "".join(f"[{s}]\n{kv}\n" for s, kv in extra)
+        p, port = start_sil(tmp, "--realtime", "0", "--summary", os.devnull, scenario=scenario)
+        try:
+            rc, _out, err = tool(port, "stop")
+            self.assertEqual(rc, 0, err)
+            ini = os.path.join(tmp, "out.ini")
+            r = tool(port, "--json", "commission", "--ini", ini, timeout=300)
+            state = tool(port, "--json", "get", "state", "comm_result", "comm_stage")
+        finally:
+            finish(p, port)
+        return r, ini, state
+
+    def test_commissions_the_paper_motor(self):
+        (rc, out, err), ini, _ = self.commission()
+        self.assertEqual(rc, 0, err)
+        v = json.loads(out)
+        for k, truth in TABLE1.items():
+            self.assertLess(abs(v[k] / truth - 1.0), COMM_TOL[k], f"{k} {v[k]} against {truth}")
+        self.assertEqual(v["pole_pairs"], 3)
+        with open(ini) as f:
+            text = f.read()
+        self.assertIn("[controller]", text)
+        for k in ("R_ohm", "L_H", "psif_Wb", "pole_pairs", "J_kgm2", "B_Nms", "encoder_offset_el_rad",
+                  "speed_kp_Nms_rad", "speed_ki_Nm_rad"):
+            self.assertRegex(text, rf"(?m)^{k} = [-+0-9.e]+$")
+        print("drivetool commission: " + ", ".join(f"{k} {v[k]:.6g}" for k in v), file=sys.stderr)
+
+    def test_a_reversed_encoder_is_refused_naming_it(self):
+        (rc, _out, err), ini, (src, sout, serr) = self.commission(("plant", "encoder_direction = -1"))
+        self.assertEqual(rc, 1, err)
+        self.assertIn("ENCODER_DIRECTION in stage ENCODER", err)
+        self.assertFalse(os.path.exists(ini))
+        self.assertEqual(src, 0, serr)
+        s = json.loads(sout)
+        self.assertEqual((s["state"], s["comm_result"], s["comm_stage"]), (6, 3, 3))   # FAULT, refused, ENCODER
 
 
 if __name__ == "__main__":

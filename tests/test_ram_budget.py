@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """tests/test_ram_budget.py - the RAM gate's parts (tools/check/ram_budget.py)
 on hand-made inputs: the linker command file's ranges and placements, a
-drive.map's MEMORY CONFIGURATION, and the Thumb-2 -> C28x word mapping, one
+drive.map's MEMORY CONFIGURATION, the DATA_SECTION pragmas of a source
+and where their sections go, and the Thumb-2 -> C28x word mapping, one
 instruction class at a time with the words worked out by hand from the
 rules in the script's header. `make check` runs the gate end to end (and
 on a shrunk copy of the .cmd, which must fail). Standard library only."""
@@ -66,11 +67,29 @@ class CmdFile(unittest.TestCase):
 
     def test_the_real_file(self):
         with open(os.path.join(ROOT, "firmware", "f28335_flash.cmd")) as f:
-            ranges, place = ram_budget.parse_cmd(f.read())
+            ranges, place = ram_budget.parse_cmd(f.read(), ["m0data"])
         self.assertEqual(ranges["RAML0L5"][1:], (0x8000, 0x6000))
         self.assertEqual(place["ramfuncs"], "RAML0L5")
         self.assertEqual(place[".ebss"], "RAML6L7")
         self.assertEqual(place[".stack"], "RAMM1")
+        self.assertEqual(place["m0data"], "RAMM0")   # main.c's DATA_SECTION objects
+
+    def test_a_data_section_goes_where_the_file_places_it(self):
+        cmd = CMD.replace("   .stack : > RAMB, PAGE = 1", "   .stack : > RAMB, PAGE = 1\n   mydata : > RAMC, PAGE = 1")
+        _ranges, place = ram_budget.parse_cmd(cmd, ["mydata"])
+        self.assertEqual(place["mydata"], "RAMC")
+        with self.assertRaises(SystemExit) as e:    # a pragma's section the file does not place
+            ram_budget.parse_cmd(CMD, ["mydata"])
+        self.assertEqual(e.exception.code, 2)
+
+    def test_the_pragmas_of_a_source(self):
+        with tempfile.NamedTemporaryFile("w", suffix=".c", delete=False) as f:
+            f.write('#pragma DATA_SECTION(g_a, "m0data")\nstatic int g_a;\n'
+                    '#pragma  DATA_SECTION( g_b ,"m0data" )\nstatic int g_b;\n')
+        try:
+            self.assertEqual(ram_budget.data_sections([f.name]), {"m0data": [("g_a", f.name), ("g_b", f.name)]})
+        finally:
+            os.unlink(f.name)
 
     def test_a_section_in_an_undefined_range_is_an_error(self):
         with self.assertRaises(SystemExit) as e:

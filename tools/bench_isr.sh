@@ -7,6 +7,11 @@
 #   app_isr instructions (METHOD): typical N, worst M in STATE
 # typical = the median over the periods that started in RUN, worst = the
 # largest over every period, STATE the app state that period started in.
+# Then a commissioning (drive_sil --commission on the same scenario's
+# plant and board, free shaft, its gate trip moved out of the run) prints
+#   app_isr instructions (commission): typical N, worst M in STATE
+# typical = the median over the periods that started in COMMISSION, worst
+# = the largest over every period of that run.
 # Prints figures; asserts nothing (it fails only when the dumps and the
 # periods do not pair up).
 set -euo pipefail
@@ -31,10 +36,22 @@ for m in conventional proposed; do
         exit 1
     fi
 done
+rc=0
+valgrind --tool=callgrind --toggle-collect='app_isr*' --dump-after='sil_isr' --combine-dumps=yes \
+    --dump-instr=no --dump-line=no --callgrind-out-file="$out/commission.cg" \
+    "$bin" --scenario "$scenario" --commission "$out/commission.ini" --set run.log_every=1 "${sets[@]}" \
+    --set faults.gate_trip_s=1e9 \
+    --out "$out/commission.csv" > "$out/commission.stdout" 2> "$out/commission.stderr" || rc=$?
+if [ "$rc" -ne 0 ]; then
+    echo "bench_isr: commission: drive_sil exit $rc" >&2
+    cat "$out/commission.stderr" >&2
+    exit 1
+fi
 python3 - "$out" <<'PY'
 import csv, os, statistics, sys
 out = sys.argv[1]
-STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK", "ENC_CHECK"]
+STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK", "ENC_CHECK",
+          "COMMISSION"]
 for m in ("conventional", "proposed"):
     per = [int(l.split()[1]) for l in open(f"{out}/{m}.cg") if l.startswith("totals:")]
     after = [int(float(r["state"])) for r in csv.DictReader(open(f"{out}/{m}.csv"))]
@@ -48,4 +65,16 @@ for m in ("conventional", "proposed"):
         with open(f"{os.environ['BENCH_ISR_PERIODS']}.{m}", "w") as f:
             f.writelines(f"{i} {c} {STATES[e]} {STATES[a]}\n" for i, (c, e, a) in enumerate(zip(per, entry, after)))
     print(f"app_isr instructions ({m}): typical {int(statistics.median(run))}, worst {per[k]} in {STATES[entry[k]]}")
+per = [int(l.split()[1]) for l in open(f"{out}/commission.cg") if l.startswith("totals:")]
+after = [int(float(r["state"])) for r in csv.DictReader(open(f"{out}/commission.csv"))]
+per = per[:len(after)]
+if len(per) != len(after):
+    sys.exit(f"bench_isr: commission: {len(per)} callgrind dumps for {len(after)} periods")
+entry = [0] + after[:-1]
+comm = [c for c, s in zip(per, entry) if STATES[s] == "COMMISSION"]
+k = max(range(len(per)), key=lambda i: per[i])
+if os.environ.get("BENCH_ISR_PERIODS"):
+    with open(f"{os.environ['BENCH_ISR_PERIODS']}.commission", "w") as f:
+        f.writelines(f"{i} {c} {STATES[e]} {STATES[a]}\n" for i, (c, e, a) in enumerate(zip(per, entry, after)))
+print(f"app_isr instructions (commission): typical {int(statistics.median(comm))}, worst {per[k]} in {STATES[entry[k]]}")
 PY

@@ -90,6 +90,7 @@ typedef struct {
     app_t app;
     volatile cmd_t cmd;
     volatile cmd_comm_t comm;   /* the commissioning's request and report */
+    comm_t comm_state;          /* the commissioning's state (app_attach_comm) */
     cmd_limits_t lim;
     uint32_t base_cycles;
     uint32_t count;
@@ -119,6 +120,7 @@ static void configure(const uint8_t *h)
 
     fuzz_hal_reset();
     app_init(&g_h.app, &cfg);
+    app_attach_comm(&g_h.app, &g_h.comm_state);
     cmd_init(&g_h.cmd);
     cmd_comm_init(&g_h.comm);
     g_h.cmd.method = (uint16_t)((h[0] >> 4) & 1u);

@@ -47,6 +47,7 @@ static uint64_t g_inputs;
 static uint64_t g_replies;
 
 static app_t g_app;
+static comm_t g_comm_state;  /* the commissioning's state: the link's commission action acts */
 static volatile cmd_t g_cmd;
 static link_t g_link;
 static link_rx_t g_host;
@@ -127,6 +128,7 @@ static void setup(void)
     const link_cfg_t lc = { cfg.ctrl.Ts_s, 115200u, "fuzz" };
     fuzz_hal_reset();
     app_init(&g_app, &cfg);
+    app_attach_comm(&g_app, &g_comm_state);
     cmd_init(&g_cmd);
     link_init(&g_link, &lc, &g_app, &g_cmd, &LIM);
     link_rx_init(&g_host);

@@ -7,7 +7,9 @@ Usage: ram_budget.py --cmd F28335_CMD --objdir DIR [--map DRIVE_MAP] [--mk TARGE
 
 The RAM ranges and what goes in them are read from the linker command
 file (MEMORY: name, origin, length in 16-bit words; SECTIONS: `ramfuncs`
-RUN = range, `.ebss`, `.stack`, `.esysmem` > range). The figures are the
+RUN = range, `.ebss`, `.stack`, `.esysmem` > range, and every section a
+source names in `#pragma DATA_SECTION(object, "section")` > range: that
+object counted there, not in .ebss). The figures are the
 target's, from the first source available:
 
 1. drive.map of a cl2000 build (`make firmware`), when present: the
@@ -104,8 +106,9 @@ def read(path):
         die("cannot read %s: %s" % (path, e.strerror))
 
 
-def parse_cmd(text):
-    """MEMORY ranges {name: (page, origin, length)} and where the RAM sections go."""
+def parse_cmd(text, data_sections=()):
+    """MEMORY ranges {name: (page, origin, length)} and where the RAM sections go
+    (with the DATA_SECTION sections named in data_sections)."""
     text = re.sub(r'/\*.*?\*/', '', text, flags=re.S)
     mem = re.search(r'MEMORY\s*\{(.*?)\n\}', text, re.S)
     sec = re.search(r'SECTIONS\s*\{(.*)\}', text, re.S)
@@ -125,10 +128,12 @@ def parse_cmd(text):
     m = re.search(r'\bramfuncs\s*:.*?\bRUN\s*=\s*(\w+)', body, re.S)
     if m:
         place['ramfuncs'] = m.group(1)
-    for name in ('.ebss', '.stack', '.esysmem'):
+    for name in ('.ebss', '.stack', '.esysmem') + tuple(data_sections):
         m = re.search(r'(?m)^\s*' + re.escape(name) + r'\s*:\s*>\s*(\w+)', body)
         if m:
             place[name] = m.group(1)
+        elif name in data_sections:
+            die("a source places an object in section %s, which the linker command file does not place" % name)
     for name, rng in place.items():
         if rng not in ranges:
             die("section %s placed in %s, which MEMORY does not define" % (name, rng))
@@ -258,6 +263,33 @@ WIDE_BOOL_FLAGS = ['-mthumb', '-march=armv7-a+fp', '-mfloat-abi=hard', '-O2', '-
 CHAR_OBJECT = re.compile(r'(?m)^\s*(static\s+)?(volatile\s+)?(unsigned\s+|signed\s+)?char\s+\w+\s*\[')
 
 
+DATA_SECTION = re.compile(r'#pragma\s+DATA_SECTION\s*\(\s*(\w+)\s*,\s*"(\w+)"\s*\)')
+
+
+def data_sections(srcs):
+    """{section: [(object, source)]} of the image's DATA_SECTION pragmas."""
+    out = {}
+    for src in srcs:
+        for obj, sec in DATA_SECTION.findall(read(src)):
+            out.setdefault(sec, []).append((obj, src))
+    return out
+
+
+def symbol_words(src, sym, tmpdir):
+    """The C28x words of src's object sym: its size with bool widened, at one word per 2 B."""
+    wide = os.path.join(tmpdir, 'sym_' + os.path.basename(src) + '.o')
+    out = subprocess.run(['arm-none-eabi-gcc'] + WIDE_BOOL_FLAGS + ['-c', src, '-o', wide],
+                         capture_output=True, text=True)
+    if out.returncode != 0:
+        die("%s does not compile with bool widened to 16 bits:\n%s" % (src, out.stderr))
+    nm = subprocess.run(['arm-none-eabi-nm', '-S', wide], capture_output=True, text=True).stdout
+    for line in nm.splitlines():
+        f = line.split()
+        if len(f) == 4 and f[3] == sym:
+            return (int(f[1], 16) + 1) // 2
+    die("%s: no object %s (its DATA_SECTION pragma names it)" % (src, sym))
+
+
 def data_words(src, obj, tmpdir):
     """An upper bound of src's data in C28x words (see the docstring); obj is
     its isr_path.sh object, read at one word per byte when src defines a
@@ -346,8 +378,17 @@ def estimate(objdir, mk):
             code_b += funcs[fn][0]
             code_w += funcs[fn][1]
     stack = stack_need(objdir)
+    # objects placed in sections of their own leave .ebss
+    sections = {}
+    srcs = [s for s in (obj_source(o) for o in objs) if s is not None]
+    for sec, members in data_sections(srcs).items():
+        for sym, src in members:
+            w = symbol_words(src, sym, tmpdir)
+            data_w -= w
+            sections.setdefault(sec, []).append((sym, w))
     shutil.rmtree(tmpdir, ignore_errors=True)
-    return {'code_bytes': code_b, 'code_words': code_w, 'data_bytes': data_b, 'data_words': data_w, 'stack': stack}
+    return {'code_bytes': code_b, 'code_words': code_w, 'data_bytes': data_b, 'data_words': data_w, 'stack': stack,
+            'sections': sections}
 
 
 def stack_size_words(mk):
@@ -370,8 +411,8 @@ def main():
     ap.add_argument('--out')
     a = ap.parse_args()
 
-    ranges, place = parse_cmd(read(a.cmd))
     est = estimate(a.objdir, a.mk)
+    ranges, place = parse_cmd(read(a.cmd), sorted(est['sections']))
     mapped = parse_map(a.map) if a.map and os.path.exists(a.map) else {}
     reserve = stack_size_words(a.mk)
     lines = []
@@ -418,6 +459,10 @@ def main():
                         w = est['data_words'] + RTS_EBSS_WORDS
                         parts.append(".ebss <= %d words (%d B Thumb-2 with bool widened, at 1 word per 2 B; "
                                      "+ RTS %d)" % (w, 2 * est['data_words'], RTS_EBSS_WORDS))
+                    elif sec in est['sections']:
+                        w = sum(x for _s, x in est['sections'][sec])
+                        parts.append("%s %d words (%s, with bool widened at 1 word per 2 B)" %
+                                     (sec, w, ', '.join("%s %d" % m for m in est['sections'][sec])))
                     else:
                         w = 0
                         parts.append("%s 0 words (--heap_size=0)" % sec)

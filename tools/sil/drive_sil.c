@@ -650,7 +650,7 @@ static int commission_write(const args_t *a, const sil_result_t *res, out_file_t
 
 static const char *comm_stage_name(int stage)
 {
-    static const char *const NAMES[] = { "NONE", "R", "L", "ENCODER", "SPIN", "DONE" };
+    static const char *const NAMES[] = { "NONE", "R", "L", "ENCODER", "SPIN", "DONE", "WIRING" };
     return (stage >= 0 && (size_t)stage < sizeof NAMES / sizeof NAMES[0]) ? NAMES[stage] : "?";
 }
 

@@ -20,6 +20,7 @@
 #define COMM_RUN_MARGIN_S 1.0            /* a commissioning run's length beyond its stages' timeouts: calibration [s] */
 
 static app_t g_app;
+static comm_t g_comm;              /* the commissioning's state (app_attach_comm) */
 static const sil_hooks_t *g_hooks;   /* of the run under way, or NULL */
 
 static void sil_isr(void)
@@ -223,6 +224,7 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     hal_sim_set_faults(&hf);
     hal_init();
     app_init(&g_app, &ac);
+    app_attach_comm(&g_app, &g_comm);
     /* the operator's mode and method, with each period's references below; a
      * proposed method ctrl_init refused stays conventional (the app faults
      * CONFIG at the start if [identify] asks for step 1) */
@@ -243,9 +245,7 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     }
 
     const double Ts = hc.inv.Ts_s;
-    const comm_cfg_t *cc = &ac.comm;
-    const double comm_s = (double)(cc->r_max_s + cc->l_max_s + cc->enc_max_s + cc->spin_max_s) +
-                          COMM_RUN_MARGIN_S;
+    const double comm_s = (double)comm_max_s(&g_comm) + COMM_RUN_MARGIN_S;
     const bool endless = !commission && (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
     const uint32_t n = endless ? UINT32_MAX : (uint32_t)llround((commission ? comm_s : sc->run.duration_s) / Ts);
     sil_refs_t refs;
@@ -323,9 +323,9 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     res->enc_pole_pairs = (double)g_app.rot.out.pole_pairs_est;
     res->enc_i_pos_A = (double)g_app.rot.out.i_pos_A;
     res->enc_i_neg_A = (double)g_app.rot.out.i_neg_A;
-    const comm_result_t *cr = &g_app.comm.res;
+    const comm_result_t *cr = &g_comm.res;
     res->comm_valid = g_app.comm_valid ? 1 : 0;
-    res->comm_stage = (int)g_app.comm.stage;
+    res->comm_stage = (int)g_comm.stage;
     res->comm_R_ohm = (double)cr->R_Ohm;
     res->comm_L_H = (double)cr->L_H;
     res->comm_psif_Wb = (double)cr->psi_f_Wb;

@@ -17,6 +17,13 @@ STATUS_VARS = ["state", "fault", "flags", "speed_est_rpm", "speed_ref_rpm", "te_
                "id_meas_A", "iq_meas_A", "method", "mode", "cmd_error", "ticks",
                "link_err_crc", "link_err_framing", "link_err_overrun", "link_stream_dropped"]
 CAPTURE_POLL_S = 0.05
+# the commissioning (firmware/commission.h): comm_result codes, stage names, and the
+# measured values as link variables -> drive_sil's OUT.ini keys in [controller]
+COMM_NONE, COMM_RUNNING, COMM_DONE, COMM_REFUSED = range(4)
+COMM_STAGES = ["NONE", "R", "L", "ENCODER", "SPIN", "DONE", "WIRING"]
+COMM_KEYS = ["R_ohm", "L_H", "psif_Wb", "pole_pairs", "J_kgm2", "B_Nms", "encoder_offset_el_rad",
+             "speed_kp_Nms_rad", "speed_ki_Nm_rad"]
+COMM_POLL_S = 0.1
 
 
 class Usage(Exception):
@@ -87,6 +94,40 @@ def _action(act):
         d.action(act)
         _emit(args, {"ok": True}, None)
     return run
+
+
+def cmd_commission(d, args):
+    """Start the commissioning (the drive stopped), wait for its end, print and write the values."""
+    st = d.get("state")["state"]
+    if st not in (0, 1):
+        raise Refused(f"commission: the drive is {STATES[st] if st < len(STATES) else st}; stop it first "
+                      "(drivetool stop, or reset-fault)")
+    d.action(codec.ACT_COMMISSION)
+    deadline = time.monotonic() + args.wait
+    seen = False                                  # the commissioning (or its calibration) has begun
+    while True:
+        v = d.get("state", "fault", "comm_result", "comm_stage")
+        seen = seen or v["comm_result"] == COMM_RUNNING or v["state"] not in (0, 1)
+        if v["comm_result"] in (COMM_DONE, COMM_REFUSED) and seen:
+            break
+        if seen and v["state"] in (0, 1) and v["comm_result"] == COMM_NONE:
+            raise Refused("commission: the drive stopped before the commissioning ended")
+        if time.monotonic() > deadline:
+            raise Refused(f"commission: not finished within {args.wait:g} s (--wait)")
+        time.sleep(COMM_POLL_S)
+    stage = COMM_STAGES[v["comm_stage"]] if v["comm_stage"] < len(COMM_STAGES) else str(v["comm_stage"])
+    if v["comm_result"] == COMM_REFUSED:
+        fault = FAULTS[v["fault"]] if v["fault"] < len(FAULTS) else str(v["fault"])
+        raise Refused(f"commission refused: {fault} in stage {stage} (drivetool reset-fault, then fix and retry)")
+    vals = d.get(*["comm_" + k for k in COMM_KEYS])
+    res = {k: vals["comm_" + k] for k in COMM_KEYS}
+    if args.ini:
+        with open(args.ini, "w") as f:
+            f.write("; measured by drivetool commission (the drive's commissioning); not stored on the board\n"
+                    "[controller]\n")
+            for k, x in res.items():
+                f.write(f"{k} = {_fmt(x)}\n")
+    _emit(args, res, " ".join(f"{k}={_fmt(x)}" for k, x in res.items()) + (f" -> {args.ini}" if args.ini else ""))
 
 
 def _write_csv(path, names, t, rows):
@@ -249,6 +290,10 @@ def build_parser():
     sub.add_parser("stop").set_defaults(fn=_action(codec.ACT_STOP))
     sub.add_parser("reset-fault").set_defaults(fn=_action(codec.ACT_FAULT_RESET))
     sub.add_parser("quit", help="SIL: stop and end drive_sil").set_defaults(fn=_action(codec.ACT_QUIT))
+    s = sub.add_parser("commission", help="measure the motor (the drive stopped), print the values")
+    s.add_argument("--ini", help="write the values as a [controller] section (drive_sil's OUT.ini keys)")
+    s.add_argument("--wait", type=float, default=120.0, help="seconds to wait for the end")
+    s.set_defaults(fn=cmd_commission)
     s = sub.add_parser("stream")
     s.add_argument("names", nargs="+")
     s.add_argument("--rate", type=float, default=100.0, help="rows per second asked for [Hz]")

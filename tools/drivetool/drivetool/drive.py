@@ -27,11 +27,13 @@ CMD_ERRORS = {
     6: "open-loop voltage not finite or beyond the drive's limit",
     7: "proposed method refused: step 1 is off or refused R^ at this start",
 }
-STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT"]
+STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK",
+          "ENC_CHECK", "COMMISSION"]
 FAULTS = ["NONE", "HW_TRIP", "OVERCURRENT", "NONFINITE_OUTPUT", "NONFINITE_SAMPLE", "OVERVOLTAGE",
           "UNDERVOLTAGE", "OVERSPEED", "ENCODER", "OVERRUN", "CURRENT_OFFSET", "CONFIG", "RSID_TOO_FEW",
           "RSID_NOT_STEADY", "RSID_DEGENERATE", "RSID_NON_FINITE", "RSID_OUT_OF_BAND", "OPEN_PHASE",
-          "CURRENT_SENSOR", "ENCODER_LOST"]
+          "CURRENT_SENSOR", "ENCODER_LOST", "WATCHDOG_RESET", "FLASH_CRC", "ENCODER_DIRECTION", "POLE_PAIRS",
+          "PHASE_ORDER", "RSID_D_AXIS", "COMM_TIMEOUT", "COMM_NO_ROTATION", "COMM_IMPLAUSIBLE"]
 ACCESS = {codec.ACC_READ: "r", codec.ACC_WRITE: "rw", codec.ACC_WRITE_STOPPED: "rw-stopped"}
 TYPES = {codec.T_U16: "u16", codec.T_U32: "u32", codec.T_F32: "f32"}
 
