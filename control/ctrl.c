@@ -135,6 +135,7 @@ void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, c
     rs_ident_cfg_defaults(&cfg->rsid, cfg->R_Ohm);
     r_track_cfg_defaults(&cfg->rtrack);
     cfg->track_R = 0u;
+    cfg->untold_deadtime_s = EST_UNTOLD_DEADTIME_DEFAULT_S;
     est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
 }
 
@@ -169,6 +170,7 @@ static ctrl_status_t init_est(ctrl_t *c, const ctrl_cfg_t *cfg)
     e.u_max_V = cfg->u_max_V;
     e.omega_max_el_rad_s = cfg->omega_max_el_rad_s;
     e.deadtime_s = c->deadtime_frac * cfg->Ts_s; /* as taken (0 when refused) */
+    e.untold_deadtime_s = cfg->untold_deadtime_s;
     e.smo = cfg->smo;
     e.pe = cfg->pe;
     e.rsid = cfg->rsid;

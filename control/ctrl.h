@@ -58,7 +58,9 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_EST_HOLD_SETTLE      EST_HOLD_SETTLE      /* 0x0010 one of those cleared, the hold time running */
 #define CTRL_EST_HOLD_SPEED_FLOOR EST_HOLD_SPEED_FLOOR /* 0x0020 below the speed where w psi_f dominates the voltage
                                                         * the drive cannot explain (psi_band.h): the last trusted
-                                                        * or the told model, the conventional torque path */
+                                                        * or the told model, the conventional torque path
+                                                        * (with flag 0x0100, the inverter error unmeasured:
+                                                        * at every speed) */
 #define CTRL_EST_HOLD_NO_STEP2    EST_HOLD_NO_STEP2    /* 0x0040 step 2 not running (observer off, step 1, step 1
                                                         * refused): the told values */
 #define CTRL_EST_HOLD_ANGLE       EST_HOLD_ANGLE       /* 0x0080 L^ held: step 1 suggests an angle error */
@@ -103,6 +105,8 @@ typedef struct {
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
     uint16_t track_R;           /* CTRL_TRACK_R_*: R^ tracked in step 2 by the injection (design sec. 9d) */
+    float untold_deadtime_s;    /* the speed floor's prior until the inverter error is identified: the
+                                 * least error nobody told, as a dead time [s] (design sec. 9g) */
     est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
 } ctrl_cfg_t;
 

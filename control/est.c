@@ -66,11 +66,12 @@ est_status_t est_init(est_t *e, est_cfg_t *cfg)
     c->rsid.R_min_Ohm = c->R_min_Ohm;
     c->rsid.R_max_Ohm = c->R_max_Ohm;
     c->gate.Ts_s = c->Ts_s;
+    c->rtrack.Ts_s = c->Ts_s;
 
     psi_band_cfg_t bc;
     psi_band_cfg_defaults(&bc, c->Ts_s, c->pe.w_min_rad_s, c->pe.psi_min_Wb, c->pe.psi_max_Wb);
     bc.ve_told_per_vdc = (c->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * c->deadtime_s / c->Ts_s) : 0.0f;
-    bc.ve_prior_per_vdc = (c->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * EST_UNTOLD_DEADTIME_DEFAULT_S / c->Ts_s) : 0.0f;
+    bc.ve_prior_per_vdc = (c->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * c->untold_deadtime_s / c->Ts_s) : 0.0f;
     const est_status_t gate = est_gate_init(&e->gate, &c->gate) ? EST_CFG_OK : EST_CFG_GATE;
     const bool obs_ok = (smo_init(&e->smo, &c->smo) == SMO_CFG_OK);
     const bool rt_ok = r_track_init(&e->rt, &c->rtrack);
@@ -180,7 +181,7 @@ static void add_inverter_error(est_t *e, float dv_V, dq_t i_dq_A)
         dfq = k * i_dq_A.q;
         smo_shift_f(&e->smo, k * i_dq_A.d, dfq);
     }
-    psi_band_rebase(&e->pb, dfq); /* the fine bound from here (design sec. 9f) */
+    psi_band_rebase(&e->pb, dfq, e->rt.ident_sync); /* the fine bound from here (design sec. 9f) */
     e->out.inv_err_V = FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
 }
 
@@ -194,7 +195,8 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
     } else if (ev == R_TRACK_IDENT_REFUSED) {
         e->rt_flags = (uint16_t)((e->rt_flags & EST_FLAG_ANGLE_SUSPECT) | EST_FLAG_INV_UNIDENTIFIED); /* says so,
                                                             * and keeps the dead time as told */
-        psi_band_bound_final(&e->pb);
+        /* nothing bounds the error then: the told model at every speed (design sec. 9g) */
+        psi_band_bound_unknown(&e->pb);
         e->force = EST_MOVED_ALL;
         start_tracking(e);
     } else if (ev == R_TRACK_CYCLE) {

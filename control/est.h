@@ -48,7 +48,8 @@ typedef enum {
 #define EST_HOLD_TORQUE      0x0004u /* torque-command transient */
 #define EST_HOLD_VOLTAGE     0x0008u /* voltage limit: the applied voltage is not the model's */
 #define EST_HOLD_SETTLE      0x0010u /* one of those cleared, the hold time running */
-#define EST_HOLD_SPEED_FLOOR 0x0020u /* below the speed floor (psi_band.h): the last trusted or the told model */
+#define EST_HOLD_SPEED_FLOOR 0x0020u /* below the speed floor (psi_band.h): the last trusted or the told model;
+                                       * with EST_FLAG_INV_UNIDENTIFIED at every speed */
 #define EST_HOLD_NO_STEP2    0x0040u /* step 2 not running: the told model */
 #define EST_HOLD_ANGLE       0x0080u /* L^ held: step 1's windows suggest an angle error (EST_FLAG_ANGLE_SUSPECT) */
 
@@ -97,6 +98,8 @@ typedef struct {
     float u_max_V;
     float omega_max_el_rad_s;
     float deadtime_s;           /* the told dead time (its fundamental bounds psi_band's Vb) [s] */
+    float untold_deadtime_s;    /* until the inverter error is identified, the least error nobody
+                                 * told, as a dead time (the speed floor's prior; >= 0) [s] */
     smo_cfg_t smo;              /* observer gains and ranges (the told values and bounds from above) */
     param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
@@ -285,6 +288,10 @@ static inline void est_step(est_t *e, const est_in_t *in)
              * edge's own voltage step may meet the limit and nudge the weakening (design
              * sec. 9d) */
             r_track_hold(&e->rt);
+            if ((e->gate.reasons & EST_GATE_ACCEL) != 0u) {
+                r_track_restart_cycle(&e->rt, in->omega_el_rad_s); /* identifying: no cycle across a
+                                                                    * speed change */
+            }
         }
         /* z: the L^ law's invariant */
         const float z = e->smo.fd_V - in->omega_el_rad_s * e->smo.L_H * in->i_dq_A.q;

@@ -20,9 +20,10 @@
  * brings the model closer to the motor's psi_f: never worse than where it
  * was, so never worse than the nominal value it starts from; where it
  * cannot tell (low speed, little evidence) it holds what it knows.
- * Vb = frac x Ve_told + found_frac x |Ve_found| + abs_V (the fundamentals
+ * Vb = frac x Ve_told + found_frac x |Ve_found| + |dfq_R| + abs_V (the fundamentals
  * of the dead-time error the controller is told, Ve_told = ve_told_per_vdc
- * x Vdc, and of the error r_track identified on top) takes the coarse frac
+ * x Vdc, and of the error r_track identified on top; dfq_R the q voltage
+ * of R^'s last tracking move) takes the coarse frac
  * until the inverter error is identified, the fine one after
  * (psi_band_rebase).
  *
@@ -49,7 +50,9 @@
 #define PSI_BAND_TAU_DEFAULT_S         0.02f /* low-pass of psi_eq: 0.14 V rms of fq^ noise -> 0.006 V */
 #define PSI_BAND_UNC_TOLD_FRAC_DEFAULT 0.5f  /* before identification: of the told dead time's fundamental (an untold device drop too) */
 #define PSI_BAND_UNC_IDENT_FRAC_DEFAULT 0.05f /* after: of the told dead time's fundamental ... */
-#define PSI_BAND_UNC_FOUND_FRAC_DEFAULT 0.3f  /* ... + this of the identified one (low-speed identification) */
+#define PSI_BAND_UNC_FOUND_FRAC_DEFAULT 0.3f  /* ... + this of the identified one (segments not synchronous
+                                              * with its 6 w ripple: below the sync speed) */
+#define PSI_BAND_UNC_FOUND_SYNC_FRAC_DEFAULT 0.1f /* ... or this (synchronous segments: 5.3 % left at most) */
 #define PSI_BAND_UNC_ABS_DEFAULT_V     0.05f /* noise and encoder left in the low-passed fq^ */
 #define PSI_BAND_SETTLE_DEFAULT_S      0.02f /* P settled: moved by less than ... */
 #define PSI_BAND_SETTLE_FRAC_DEFAULT   0.05f /* ... this x Vb/|w| in that time: within 0.08 Vb/|w| of its end */
@@ -57,7 +60,8 @@
 #define PSI_BAND_UNEXPLAINED_MAX_DEFAULT 0.05f /* Vb/|w| above this x psi_f: below the speed floor */
 #define PSI_BAND_LOW_HYST              1.2f  /* leave the floor at 1/1.2 of that: no chatter at the floor */
 #define PSI_BAND_LOW_W    0x0001u /* |w| <= w_min (set at once; cleared at the next decision or pause above) */
-#define PSI_BAND_LOW_BAND 0x0002u /* Vb/|w| > unexplained_max |P| (every decision; the prior's Vb before the bound is final) */
+#define PSI_BAND_LOW_BAND 0x0002u /* Vb/|w| > unexplained_max |P| (every decision; the prior's Vb before the bound is
+                                   * final; always once the bound is unknown) */
 #define PSI_BAND_LOW_HELD 0x0004u /* the caller holds the model at every speed (psi_band_hold) */
 
 typedef struct {
@@ -69,6 +73,7 @@ typedef struct {
     float unc_told_frac;   /* Vb before identification, x the compensated fundamental [1] */
     float unc_ident_frac;  /* Vb after identification, x the told fundamental [1] */
     float unc_found_frac;  /* Vb, x the identified fundamental [1] */
+    float unc_found_sync_frac; /* ... when it was identified in ripple-synchronous segments [1] */
     float unc_abs_V;       /* Vb's absolute part [V] */
     float ve_told_per_vdc; /* the told dead time's fundamental per bus volt, (4/pi) td/Ts [1] */
     float ve_prior_per_vdc; /* before identification, the speed floor's Vb: an untold error's
@@ -88,8 +93,11 @@ typedef struct {
     bool taken;            /* h was taken from P since the last start or rebase (else the anchor) */
     uint16_t low;          /* below the speed floor (0: above): PSI_BAND_LOW_* bits */
     bool final;            /* the bound is final (inverter error identified or refused): the floor decides */
+    bool unknown;          /* the identification was refused: no bound, below the floor at every speed */
     bool trust;            /* the last decision was under the final bound and above the floor */
     float k_per_vdc;       /* Vb's part per bus volt in use (coarse or fine x the told fundamental) [1] */
+    float found_frac;      /* Vb's share of the identified fundamental in use [1] */
+    float r_unc_V;         /* Vb's part for R^ tracking: its last move's q voltage |dR iq| [V] */
     float anchor_Wb;       /* the model's psi_f when step 2 started */
     float h_Wb;            /* the value held */
     float inv_w_s_rad;     /* 1/w of this decision's periods [s/rad] */
@@ -112,23 +120,30 @@ bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg);
  * the model's psi_f; the coarse bound. ISR or background. */
 void psi_band_start(psi_band_t *pb, float psi_Wb);
 
-/* The inverter error was identified and compensated: f^_q moved by dfq_V
+/* The inverter error was identified (sync: in ripple-synchronous
+ * segments, the smaller share of it in Vb) and compensated: f^_q moved by dfq_V
  * [V] (bumpless in the observer), so psi_eq by dfq/w; the model holds the
  * anchor again unless P is far from it under the fine bound (what it took
  * under the coarse bound may have been the error). It changes at the next
  * psi_band_step (and `low` at its next decision). ISR. */
-void psi_band_rebase(psi_band_t *pb, float dfq_V);
+void psi_band_rebase(psi_band_t *pb, float dfq_V, bool sync);
 
 /* R^ moved (R tracking): f^_q moved by dfq_V [V] (bumpless in the
- * observer), so psi_eq and P by dfq/w. A model taken from P carries the
+ * observer), so psi_eq and P by dfq/w; |dfq| joins Vb until the next move
+ * (R^'s error is of the order of its last correction). A model taken from P carries the
  * R^ error P had then as dR iq/w: held, it takes P again at once and
  * holds that (from the next psi_band_step's decision); tracking, it goes
  * on tracking; a model holding the anchor is left alone. ISR (an R-tracking cycle's end). */
 void psi_band_r_moved(psi_band_t *pb, float dfq_V);
 
-/* The inverter error could not be identified: the coarse bound stays,
- * and is final (the speed floor decides from now on). ISR. */
+/* R is trusted without step 1 (no identification due): the coarse bound
+ * stays, and is final (the speed floor decides from now on). ISR. */
 void psi_band_bound_final(psi_band_t *pb);
+
+/* The inverter error's identification was refused: no bound on what the
+ * drive cannot explain, so every speed is below the floor (`low` keeps
+ * PSI_BAND_LOW_BAND until psi_band_start; observer_design.md sec. 9g). ISR. */
+void psi_band_bound_unknown(psi_band_t *pb);
 
 /* The caller holds the model at every speed (hold = true: `low` keeps
  * PSI_BAND_LOW_HELD until psi_band_start or hold = false). ISR. */

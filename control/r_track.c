@@ -5,15 +5,21 @@
 
 /* Segments per cycle: signs + - - + (a linear drift of z cancels). */
 #define SEGMENTS 4u
+/* The inverter error's square waves leave a ripple at 6 w (and its
+ * multiples) in the rotor frame (design sec. 9b) */
+#define RIPPLE_HARMONIC 6.0f
+#define TWO_PI 6.28318531f
 /* r_track_step shifts a two-entry delay line */
 typedef char r_track_delay_line_fits[(R_TRACK_RESPONSE_PERIODS == 2u) ? 1 : -1];
 
 void r_track_cfg_defaults(r_track_cfg_t *cfg)
 {
+    cfg->Ts_s = 0.0f;
     cfg->i_ident_A = R_TRACK_I_IDENT_DEFAULT_A;
     cfg->i_track_A = R_TRACK_I_TRACK_DEFAULT_A;
     cfg->seg_periods = R_TRACK_SEG_DEFAULT;
     cfg->blank_periods = R_TRACK_BLANK_DEFAULT;
+    cfg->sync_max_periods = R_TRACK_SYNC_MAX_DEFAULT;
     cfg->ident_cycles = R_TRACK_IDENT_CYCLES_DEFAULT;
     cfg->ident_delay_periods = R_TRACK_IDENT_DELAY_DEFAULT;
     cfg->auto_delay_periods = R_TRACK_AUTO_DELAY_DEFAULT;
@@ -31,6 +37,9 @@ static void clear_cycle(r_track_t *rt)
 {
     rt->seg = 0u;
     rt->j = 0u;
+    rt->seg_len = rt->cfg.seg_periods;
+    rt->blank_len = rt->cfg.blank_periods;
+    rt->sync = false;
     rt->s_now = 1.0f;
     rt->n = 0u;
     rt->L_c_H = 0.0f;
@@ -42,12 +51,14 @@ static void clear_cycle(r_track_t *rt)
 
 bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg)
 {
-    const float sum = cfg->i_ident_A + cfg->i_track_A + cfg->iq_min_A + cfg->iq_step_max_A + cfg->k_R + cfg->k_I +
+    const float sum = cfg->Ts_s + cfg->i_ident_A + cfg->i_track_A + cfg->iq_min_A + cfg->iq_step_max_A + cfg->k_R + cfg->k_I +
                       cfg->ve_max_V + cfg->ve_unc_frac + cfg->ve_unc_abs_V + cfg->psi_tol;
     rt->cfg = *cfg;
-    rt->valid = mathx_isfinitef(sum) && (cfg->i_ident_A > 0.0f) && (cfg->i_track_A > 0.0f) &&
+    rt->valid = mathx_isfinitef(sum) && (cfg->Ts_s >= 0.0f) && (cfg->i_ident_A > 0.0f) && (cfg->i_track_A > 0.0f) &&
                 (cfg->blank_periods > 0u) && (cfg->blank_periods < cfg->seg_periods) &&
-                (cfg->seg_periods <= (uint16_t)(UINT16_MAX / SEGMENTS)) && (cfg->ident_cycles >= 1u) &&
+                (cfg->seg_periods <= (uint16_t)(UINT16_MAX / SEGMENTS)) && (cfg->sync_max_periods > 0u) &&
+                ((uint32_t)cfg->blank_periods + cfg->sync_max_periods <= (uint32_t)(UINT16_MAX / SEGMENTS)) &&
+                (cfg->ident_cycles >= 1u) &&
                 (cfg->iq_min_A > 0.0f) && (cfg->iq_step_max_A > 0.0f) && (cfg->k_R > 0.0f) &&
                 (cfg->k_R <= 1.0f) && (cfg->k_I >= 0.0f) && (cfg->k_I < cfg->k_R) && (cfg->ve_max_V > 0.0f) && (cfg->ve_unc_frac >= 0.0f) &&
                 (cfg->ve_unc_abs_V >= 0.0f) && (cfg->psi_tol > 0.0f);
@@ -65,6 +76,8 @@ void r_track_reset(r_track_t *rt)
     rt->id_expect_A = 0.0f;
     rt->cycles = 0u;
     rt->tried = 0u;
+    rt->ident_sync = false;
+    rt->ident_need = rt->cfg.ident_cycles;
     rt->id_zs = 0.0f;
     rt->id_is = 0.0f;
     rt->id_iq = 0.0f;
@@ -78,14 +91,53 @@ void r_track_reset(r_track_t *rt)
 void r_track_start(r_track_t *rt, r_track_phase_t phase)
 {
     const float Ve = rt->Ve_V; /* an identification survives the start of tracking */
+    const bool sync = rt->ident_sync;
     r_track_reset(rt);
     rt->Ve_V = Ve;
+    rt->ident_sync = sync;
     if (!rt->valid || (phase == R_TRACK_OFF)) {
         return;
     }
     rt->phase = phase;
     rt->i_inj_A = (phase == R_TRACK_IDENT) ? rt->cfg.i_ident_A : rt->cfg.i_track_A;
     rt->wait = (phase == R_TRACK_IDENT) ? rt->cfg.ident_delay_periods : 0u;
+}
+
+/* IDENT, at a cycle's start: segments that sum whole periods of the 6 w
+ * ripple, as many as fit in seg_periods after the blanking (the segment's
+ * last ones; the blanking longer), or one longer one up to sync_max_periods; a
+ * synchronous sum cancels the ripple whatever its phase, where a fixed
+ * 70-period sum aliases it into Ve (design sec. 9b). Slower: the fixed
+ * segments, not synchronous. 4 float divisions, once per cycle. */
+static void cycle_length(r_track_t *rt, float omega_el_rad_s)
+{
+    const r_track_cfg_t *c = &rt->cfg;
+    const float w6 = RIPPLE_HARMONIC * mathx_fabsf(omega_el_rad_s) * c->Ts_s; /* rad per period */
+    const float ripple = (w6 > TWO_PI / (float)c->sync_max_periods) ? (TWO_PI / w6) : 0.0f; /* periods */
+    const float avail = (float)(c->seg_periods - c->blank_periods);
+    rt->seg_len = c->seg_periods;
+    rt->blank_len = c->blank_periods;
+    rt->sync = false;
+    if (ripple > 0.0f) {
+        const float whole = (ripple < avail) ? (ripple * (float)(uint16_t)(avail / ripple)) : ripple;
+        const uint16_t m = (uint16_t)(whole + 0.5f);
+        /* the segment's timing as configured where the sum fits in it; the sum is its last m periods */
+        const uint16_t len = (uint16_t)(c->blank_periods + m);
+        rt->seg_len = (len > c->seg_periods) ? len : c->seg_periods;
+        rt->blank_len = (uint16_t)(rt->seg_len - m);
+        rt->sync = true;
+    }
+    /* float: no integer division in the ISR (a library call from flash on the target) */
+    const float need = (float)c->ident_cycles * (float)c->seg_periods / (float)rt->seg_len;
+    rt->ident_need = (need >= 1.0f) ? (uint16_t)need : 1u;
+}
+
+void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s)
+{
+    if ((rt->phase == R_TRACK_IDENT) && (rt->wait == 0u)) {
+        clear_cycle(rt);
+        cycle_length(rt, omega_el_rad_s);
+    }
 }
 
 void r_track_delay(r_track_t *rt, uint16_t periods)
@@ -143,22 +195,25 @@ static r_track_event_t end_cycle(r_track_t *rt)
     if (rt->phase == R_TRACK_IDENT) {
         rt->tried++;
         if (ok) {
+            rt->ident_sync = (rt->cycles == 0u) ? rt->sync : (rt->ident_sync && rt->sync);
             rt->cycles++;
             rt->id_zs += rt->s_zs;
             rt->id_is += rt->s_is;
             rt->id_iq += iq_mean;
         }
         ev = R_TRACK_NONE;
-        if (rt->cycles >= c->ident_cycles) {
+        if (rt->cycles >= rt->ident_need) {
             /* Ve = -rho |i| with R^ = R0 (design sec. 9) */
             const float iq = rt->id_iq / (float)rt->cycles;
             const float i_abs = mathx_sqrtf(rt->i_inj_A * rt->i_inj_A + iq * iq);
             const float Ve = (rt->id_zs / rt->id_is) * i_abs;
             const bool plausible = mathx_isfinitef(Ve) && (mathx_fabsf(Ve) <= c->ve_max_V);
             rt->Ve_V = plausible ? Ve : 0.0f;
+            rt->ident_sync = rt->ident_sync && plausible;
             ev = plausible ? R_TRACK_IDENT_DONE : R_TRACK_IDENT_REFUSED;
-        } else if (rt->tried >= (uint16_t)(2u * c->ident_cycles)) {
+        } else if (rt->tried >= (uint16_t)(2u * rt->ident_need)) {
             rt->Ve_V = 0.0f;
+            rt->ident_sync = false;
             ev = R_TRACK_IDENT_REFUSED;
         }
         if (ev != R_TRACK_NONE) {
@@ -176,19 +231,21 @@ static r_track_event_t end_cycle(r_track_t *rt)
 r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
                              float L_H)
 {
-    const r_track_cfg_t *c = &rt->cfg;
     r_track_event_t ev = R_TRACK_NONE;
     if (rt->phase == R_TRACK_OFF) {
         return R_TRACK_NONE;
     }
     if (rt->wait > 0u) {
         rt->wait--;
+        if ((rt->wait == 0u) && (rt->phase == R_TRACK_IDENT)) {
+            cycle_length(rt, omega_el_rad_s); /* the first cycle */
+        }
         return R_TRACK_NONE;
     }
     /* the reference two periods back is in this sample (delay line, no modulo) */
     rt->id_expect_A = rt->ref_q[0];
     rt->ref_q[0] = rt->ref_q[1];
-    if (rt->j >= c->blank_periods) {
+    if (rt->j >= rt->blank_len) {
         if (rt->n == 0u) {
             /* constant over the cycle: the L^ law's invariant stays one; IDENT only (design sec. 9c) */
             rt->L_c_H = (rt->phase == R_TRACK_IDENT) ? L_H : 0.0f;
@@ -201,11 +258,14 @@ r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, f
         rt->n++;
     }
     rt->j++;
-    if (rt->j >= c->seg_periods) {
+    if (rt->j >= rt->seg_len) {
         rt->j = 0u;
         rt->seg++;
         if (rt->seg >= SEGMENTS) {
             ev = end_cycle(rt); /* back to segment 0 */
+            if (rt->phase == R_TRACK_IDENT) {
+                cycle_length(rt, omega_el_rad_s); /* the next cycle */
+            }
         }
         rt->s_now = seg_sign(rt->seg);
     }

@@ -50,6 +50,8 @@
 #define R_TRACK_I_TRACK_DEFAULT_A    0.5f   /* in service: 1.5 R I^2 = 1.1 W at 3 ohm */
 #define R_TRACK_SEG_DEFAULT          100u   /* periods per segment: 10 ms, cycle 40 ms */
 #define R_TRACK_BLANK_DEFAULT        30u    /* periods skipped after a segment starts */
+#define R_TRACK_SYNC_MAX_DEFAULT     200u   /* IDENT: summed periods per segment at most, so the
+                                             * sums span whole 6 w ripple periods down to 6 w Ts = 2 pi/200 */
 #define R_TRACK_IDENT_CYCLES_DEFAULT 3u     /* 0.12 s */
 #define R_TRACK_IDENT_DELAY_DEFAULT  1000u  /* 0.1 s: L^, psi^ settle first (psi^: 6 time constants) */
 #define R_TRACK_AUTO_DELAY_DEFAULT   10000u /* 1 s: tracking's start in track_R auto */
@@ -81,12 +83,17 @@ typedef enum {
 } r_track_event_t;
 
 typedef struct {
+    float Ts_s;               /* control period [s]; 0: IDENT's segments never synchronous (defaults) */
     float i_ident_A;          /* injection amplitude while identifying Ve [A] */
     float i_track_A;          /* injection amplitude while tracking R [A] */
     uint16_t seg_periods;     /* periods per segment (4 per cycle) */
     uint16_t blank_periods;   /* periods skipped at each segment's start, < seg_periods */
-    uint16_t ident_cycles;    /* cycles averaged for Ve */
-    uint16_t ident_delay_periods; /* IDENT waits this long, without injection, before its first cycle */
+    uint16_t sync_max_periods; /* IDENT: a segment sums whole periods of the inverter error's 6 w
+                                * ripple, at most this many (else seg_periods, not synchronous) */
+    uint16_t ident_cycles;    /* cycles averaged for Ve (fewer of longer synchronous segments:
+                               * the identification's time stays ident_cycles x 4 seg_periods) */
+    uint16_t ident_delay_periods; /* IDENT waits this long, without injection, before its first cycle
+                                   * (whose synchronous length is decided as the wait ends: >= 1) */
     uint16_t auto_delay_periods;  /* ctrl's track_R auto: TRACK waits this long after step 2's start */
     float iq_min_A;           /* |mean iq| below: cycle held */
     float iq_step_max_A;      /* |mean iq(+) - mean iq(-)| above: cycle held */
@@ -106,6 +113,11 @@ typedef struct {
     float i_inj_A;            /* amplitude of the phase */
     uint16_t seg;             /* segment of the cycle, 0..3 (signs + - - +) */
     uint16_t j;               /* period within the segment */
+    uint16_t seg_len;         /* periods per segment of this cycle */
+    uint16_t blank_len;       /* periods of a segment not summed (IDENT: all but its last whole ripple periods) */
+    bool sync;                /* this cycle's segments sum whole 6 w ripple periods */
+    bool ident_sync;          /* IDENT: every valid cycle was synchronous (the fine bound applies) */
+    uint16_t ident_need;      /* IDENT: valid cycles wanted, ident_cycles of seg_periods' time at most */
     float s_now;              /* sign of the segment */
     uint16_t wait;            /* periods left before the first cycle (IDENT) */
     float ref_q[R_TRACK_RESPONSE_PERIODS]; /* references of the last periods, oldest first [A] */
@@ -126,10 +138,11 @@ typedef struct {
     float Ve_V;               /* identified inverter error (IDENT) [V, dq magnitude] */
 } r_track_t;
 
-/* Design defaults. Background. */
+/* Design defaults (Ts_s 0: the caller's). Background. */
 void r_track_cfg_defaults(r_track_cfg_t *cfg);
 
-/* Copies cfg (finite, amplitudes > 0, 0 < blank < seg, ident_cycles >= 1,
+/* Copies cfg (finite, amplitudes > 0, 0 < blank < seg, blank + sync_max fits 4 segments in
+ * 16 bits, ident_cycles >= 1,
  * iq limits > 0, 0 < k_R <= 1, 0 <= k_I < k_R, ve_max > 0) and resets. Background. */
 bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg);
 
@@ -147,6 +160,12 @@ void r_track_delay(r_track_t *rt, uint16_t periods);
  * the cycle would read the weakening loop or the clamp, not R; design
  * sec. 9d); nothing in other phases. ISR. */
 void r_track_hold(r_track_t *rt);
+
+/* IDENT: the cycle under way dropped and started again, its length for
+ * omega_el_rad_s [rad/s el] (the speed changing: the speed estimate's lag
+ * and the 6 w ripple's changing period would read as Ve; design sec. 9c);
+ * nothing in other phases or during the delay. ISR. */
+void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s);
 
 /* One period: z_V = fd^ - w L^ iq [V], measured id_A, iq_A [A], the
  * observer's omega_el_rad_s [rad/s] and L_H = L^ [H]. ISR. */

@@ -89,7 +89,7 @@ static void test_rebase_returns_to_the_anchor(void **state)
     assert_true(run(10000, PSI0, 4.0f, W_EL, VDC, 0.0f) > 0);
     assert_true(pb.psi_Wb > PSI0 + 3.9f / W_EL);
     /* identified and compensated: f^_q moves by -3.85 V */
-    psi_band_rebase(&pb, -3.85f);
+    psi_band_rebase(&pb, -3.85f, false);
     assert_true(run(10000, PSI0, 4.0f - 3.85f, W_EL, VDC, 3.85f) == 1);
     assert_true(fabsf(pb.psi_Wb - PSI0) < 1e-7f);
 }
@@ -104,7 +104,7 @@ static void test_r_moved_decides_again_a_taken_model(void **state)
     (void)state;
     const float fq = -0.2f * PSI0 * W_EL;
     setup();
-    psi_band_rebase(&pb, 0.0f);
+    psi_band_rebase(&pb, 0.0f, false);
     assert_true(run(10000, PSI0, fq, W_EL, VDC, 0.0f) > 0);
     assert_false(pb.track);
     const float P_before = pb.P_Wb;
@@ -118,7 +118,7 @@ static void test_r_moved_decides_again_a_taken_model(void **state)
     assert_true(fabsf(pb.psi_Wb - psi_held) < 1e-7f);
 
     setup();
-    psi_band_rebase(&pb, 0.0f);
+    psi_band_rebase(&pb, 0.0f, false);
     assert_int_equal(run(5000, PSI0, 0.15f, W_EL, VDC, 0.0f), 0);
     psi_band_r_moved(&pb, 0.25f);
     assert_int_equal(run(2000, PSI0, 0.4f, W_EL, VDC, 0.0f), 0); /* 0.4 V < 2 x 0.228 V */
@@ -151,7 +151,7 @@ static void test_speed_floor(void **state)
     run(20, PSI0, 0.0f, 70.0f, VDC, 0.0f);
     assert_int_equal(pb.low, 0u);                    /* 1.2 x 0.644 / 70 = 0.0110 Wb < 0.012: leaves */
     run(20, PSI0, 0.0f, 31.4f, VDC, 0.0f);
-    psi_band_rebase(&pb, 0.0f);
+    psi_band_rebase(&pb, 0.0f, false);
     run(20, PSI0, 0.0f, 31.4f, VDC, 2.5f);
     assert_int_equal(pb.low, PSI_BAND_LOW_BAND);     /* 0.031 Wb > 0.012 Wb */
     run(20, PSI0, 0.0f, 90.0f, VDC, 2.5f);
@@ -168,11 +168,22 @@ static void test_speed_floor(void **state)
     setup();
     run(20, PSI0, 0.0f, 31.4f, 0.0f, 0.0f);
     assert_int_equal(pb.low, 0u);
-    /* refused identification: the coarse bound made final */
+    /* R trusted without step 1: the coarse bound made final */
     setup();
     psi_band_bound_final(&pb);
     run(20, PSI0, 0.0f, 31.4f, VDC, 0.0f);       /* (0.5 x 3.56 + 0.05) / 31.4 = 0.058 Wb */
     assert_int_equal(pb.low, PSI_BAND_LOW_BAND);
+    /* refused identification: no bound, below the floor at once and at any speed
+     * (at 314 rad/s the coarse bound would give 0.0058 Wb < 0.012: above) */
+    setup();
+    psi_band_bound_unknown(&pb);
+    assert_int_equal(pb.low, PSI_BAND_LOW_BAND);
+    run(20, PSI0, 0.0f, 314.0f, VDC, 0.0f);
+    assert_int_equal(pb.low, PSI_BAND_LOW_BAND);
+    assert_false(pb.trust);
+    psi_band_start(&pb, PSI0);                   /* a new step 2 forgets it */
+    run(20, PSI0, 0.0f, 314.0f, VDC, 0.0f);
+    assert_int_equal(pb.low, 0u);
 }
 
 /* The dead time told 0, 1 us in the motor (4 V of q voltage nobody told)
@@ -211,6 +222,28 @@ static void test_init_refuses_bad_cfg(void **state)
     assert_false(psi_band_init(&pb, &c));
 }
 
+/* After the identification (fine bound, synchronous: (0.05 x 3.56 +
+ * 0.1 x 2.0 + 0.05) V = 0.428 V, 2 Vb/w = 0.00545 Wb at 157 rad/s), an
+ * equilibrium flux 0.006 Wb off the anchor is taken (within settle_frac
+ * of it after 0.2 s); after R^ moved by a
+ * step whose q voltage was 0.5 V, the band is (0.428 + 0.5) V: 2 Vb/w =
+ * 0.0118 Wb, and the same 0.006 Wb is held (R^'s error is of the order
+ * of its last correction). */
+static void test_r_move_widens_the_band(void **state)
+{
+    (void)state;
+    setup();
+    psi_band_rebase(&pb, 0.0f, true);
+    run(2000, PSI0 + 0.006f, 0.0f, W_EL, VDC, 2.0f);
+    assert_true(fabsf(pb.psi_Wb - (PSI0 + 0.006f)) < 2e-4f);
+    setup();
+    psi_band_rebase(&pb, 0.0f, true);
+    psi_band_r_moved(&pb, -0.5f);
+    pb.P_Wb = PSI0; /* the move's shift of P undone: only the band's width differs */
+    run(2000, PSI0 + 0.006f, 0.0f, W_EL, VDC, 2.0f);
+    assert_true(fabsf(pb.psi_Wb - PSI0) < 1e-7f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -220,6 +253,7 @@ int main(void)
         cmocka_unit_test(test_r_moved_decides_again_a_taken_model),
         cmocka_unit_test(test_holds_below_w_min),
         cmocka_unit_test(test_speed_floor),
+        cmocka_unit_test(test_r_move_widens_the_band),
         cmocka_unit_test(test_prior_holds_an_untold_error),
         cmocka_unit_test(test_init_refuses_bad_cfg),
     };

@@ -269,12 +269,86 @@ static void init_refuses_bad_settings(void **state)
     assert_float_equal(r_track_id_ref(&rt), 0.0f, 0.0f);
 }
 
+/* The inverter error's 6 w ripple in z (design sec. 9b): at 78.5 rad/s
+ * el and Ts = 100 us its period is 2 pi / (6 x 78.5 x 1e-4) = 133.4
+ * periods, longer than the 70 summed ones, so the synchronous segments
+ * are 30 + 133 periods and one cycle does (3 x 100 / 163). A ripple of
+ * 0.34 Ve (Ve = rho |i| = 0.5 x sqrt(10) = 1.581 V) then leaves at most
+ * 0.54 V x sin(pi 133 / 133.4) / sin(pi / 133.4) = 0.54 x 0.40 = 0.215 V
+ * periods per segment (the sum of 133 samples of a 133.4-period cosine)
+ * against 133 A periods of id: 0.32 % of rho; the fixed 70-period sums
+ * (Ts unknown, 0) leak a large part of it for some phase. */
+static double ident_with_ripple(float Ts_s, double phase, bool *sync)
+{
+    r_track_cfg_t c = cfg_default();
+    c.Ts_s = Ts_s;
+    c.ident_delay_periods = 1u; /* the first cycle's length is decided as the delay ends */
+    r_track_t rt;
+    const double w = 78.5, rho = 0.5, A = 0.34 * 0.5 * sqrt(10.0);
+    synth_t s = { rho, 0.0, 0.0, 3.0, 0.0, w, 0.0, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    assert_true(r_track_init(&rt, &c));
+    r_track_start(&rt, R_TRACK_IDENT);
+    r_track_event_t ev = R_TRACK_NONE;
+    for (int k = 0; (k < 20 * CYCLE) && (ev == R_TRACK_NONE); k++) {
+        s.offset = A * cos(6.0 * w * 1e-4 * (double)k + phase);
+        ev = synth_step(&rt, &s);
+    }
+    assert_int_equal(ev, R_TRACK_IDENT_DONE);
+    *sync = rt.ident_sync;
+    return (double)rt.Ve_V;
+}
+
+static void identification_cancels_the_6w_ripple(void **state)
+{
+    (void)state;
+    const double Ve = -0.5 * sqrt(10.0); /* Ve = (sum z s / sum id s) |i| = -rho |i| */
+    double worst_fixed = 0.0;
+    for (int i = 0; i < 8; i++) {
+        bool sync = false;
+        const double phase = 0.785398 * (double)i;
+        const double v = ident_with_ripple(1e-4f, phase, &sync);
+        assert_true(sync);
+        assert_float_equal(v, Ve, 0.0032 * fabs(Ve) + TOL);
+        const double f = ident_with_ripple(0.0f, phase, &sync);
+        assert_false(sync);
+        worst_fixed = fmax(worst_fixed, fabs(f - Ve) / fabs(Ve));
+    }
+    assert_true(worst_fixed > 0.05);
+}
+
+/* A cycle dropped for a speed change starts again from its first segment. */
+static void restart_cycle_drops_the_sums(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    r_track_t rt;
+    synth_t s = { 0.1, 0.0, 0.0, 3.0, 0.0, 0.0, 0.0, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    assert_true(r_track_init(&rt, &c));
+    r_track_start(&rt, R_TRACK_IDENT);
+    for (int k = 0; k < 2 * SEG; k++) {
+        (void)synth_step(&rt, &s);
+    }
+    assert_int_equal(rt.seg, 2u);
+    r_track_restart_cycle(&rt, 0.0f);
+    assert_int_equal(rt.seg, 0u);
+    assert_int_equal(rt.n, 0u);
+    assert_float_equal(r_track_id_ref(&rt), c.i_ident_A, 0.0f);
+    r_track_start(&rt, R_TRACK_TRACK); /* tracking: r_track_hold's, not this */
+    for (int k = 0; k < SEG + 5; k++) {
+        (void)synth_step(&rt, &s);
+    }
+    r_track_restart_cycle(&rt, 0.0f);
+    assert_int_equal(rt.seg, 1u);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(reference_pattern),
         cmocka_unit_test(tracking_cycle_measures_rho_despite_offset_and_drift),
         cmocka_unit_test(identification_ignores_iq_difference_at_speed),
+        cmocka_unit_test(identification_cancels_the_6w_ripple),
+        cmocka_unit_test(restart_cycle_drops_the_sums),
         cmocka_unit_test(cycle_held_without_current_or_in_transient),
         cmocka_unit_test(identification_gives_the_inverter_error),
         cmocka_unit_test(identification_refused),

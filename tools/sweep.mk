@@ -10,7 +10,7 @@
 #   make bench-sweep      whole-process drive_sil on the paper's scenarios
 #                         (x real time) and points per second of a
 #                         1000-point sweep (part of make bench)
-.PHONY: sweep test-sweep-net test-sweep-op-real bench-sweep
+.PHONY: sweep test-sweep-net test-sweep-op-real bench-sweep test-est-grid
 
 SWEEP_DIR      := $(BUILD)/sweep
 SWEEP_SCENARIO := tools/scenarios/prop_paper.ini
@@ -79,3 +79,12 @@ EXTRA_TESTS += test-campaign
 test-campaign: $(DRIVE_SIL)
 	@$(call suite,test-campaign) python3 tools/campaign_check.py tests/campaign --drive-sil $(DRIVE_SIL) \
 	    --known tests/campaign/known_failures.txt
+
+# The estimation's acceptance grids (tools/est_grid.py): dead time in the
+# plant against the told one (psi_f^ within 2 % or held), a wrong told
+# encoder offset (L^ within 5 % or held with the angle warning), both
+# methods and the rule at every point; 2 drive_sil at a time.
+EXTRA_TESTS += test-est-grid
+test-est-grid: $(DRIVE_SIL) ## (part of make test) the estimation's dead-time and encoder-offset grids
+	@$(call suite,test-est-grid) python3 tools/est_grid.py --drive-sil $(DRIVE_SIL) --jobs 2 \
+	    --known tests/est_grid/known_failures.txt

@@ -129,6 +129,9 @@
       SC_P(limits.speed_max_rad_s, F32, DRIVE_RPM_PER_RAD_S), "overspeed trip [r/min] (1.2 n_max_rpm)") \
     X(controller, deadtime_s, REAL, SC_GE0, SC_UNSET, SC_NO, SC_P(board.deadtime_s, F32, 1.0), \
       "dead time the controller compensates [s] (default the plant's, >= 0)") \
+    X(controller, untold_deadtime_s, REAL, SC_IN(0.0, 1e-5), SC_UNSET, SC_NO, SC_A(ctrl.untold_deadtime_s, F32, 1.0), \
+      "proposed: until the inverter error is identified, the least error nobody told, as a dead time [s] " \
+      "(the speed floor's prior; default 0.15e-6: EST_UNTOLD_DEADTIME_DEFAULT_S, >= 0)") \
     X(controller, encoder_offset_el_rad, REAL, SC_ANY, SC_UNSET, SC_NO, SC_NO, \
       "encoder offset the controller is told [rad, electrical], sign as plant.encoder_offset_el_rad " \
       "(default the plant's; run.align = on: the alignment's measurement replaces it)") \
