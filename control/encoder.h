@@ -18,6 +18,8 @@
 /* PLL bandwidth times period above which init refuses the cfg: the discrete
  * loop is stable up to bw*Ts = 0.83 and well damped only well below it. */
 #define ENCODER_PLL_BW_TS_MAX 0.5f
+/* Quadrature counts per encoder line (both edges of both channels). */
+#define ENCODER_COUNTS_PER_LINE 4u
 /* Largest cpr whose counts are all exact in a float (2^24). */
 #define ENCODER_CPR_MAX 16777216u
 
@@ -39,6 +41,8 @@ typedef struct {
     float ki_Ts;          /* bw^2*Ts [1/s] */
     float vel_max;        /* half a turn per period [counts/s]: beyond it counts alias */
     float offset_el_rad;  /* electrical offset in use, in [0, 2*pi) */
+    float pole_pairs_f;   /* cfg.pole_pairs as float (exact): no conversion per step */
+    float centre_el;      /* a count's centre in electrical counts, 0.5 pole_pairs (exact) */
     float pos;            /* PLL position [counts], in [0, cpr) */
     float vel;            /* PLL speed [counts/s] */
     float theta_e_rad;    /* output: electrical angle [rad], in [0, 2*pi) */
