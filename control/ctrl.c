@@ -137,6 +137,9 @@ void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, c
     cfg->track_R = 0u;
     cfg->untold_deadtime_s = EST_UNTOLD_DEADTIME_DEFAULT_S;
     est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
+    /* above the speed estimate's count quantisation (design sec. 7) */
+    cfg->gate.accel_floor_rad_s2 =
+        est_gate_accel_floor_rad_s2(ENCODER_COUNTS_PER_LINE * cfg->enc_lines, cfg->pole_pairs, cfg->enc_pll_bw_rad_s);
 }
 
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
@@ -195,7 +198,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 
     c->cfg = *cfg;
 
-    ec.counts_per_rev = 4u * cfg->enc_lines;
+    ec.counts_per_rev = ENCODER_COUNTS_PER_LINE * cfg->enc_lines;
     ec.pole_pairs = cfg->pole_pairs;
     ec.offset_el_rad = cfg->enc_offset_el_rad;
     ec.Ts_s = cfg->Ts_s;

@@ -18,6 +18,8 @@
 /* PLL bandwidth times period above which init refuses the cfg: the discrete
  * loop is stable up to bw*Ts = 0.83 and well damped only well below it. */
 #define ENCODER_PLL_BW_TS_MAX 0.5f
+/* Quadrature counts per encoder line (both edges of both channels). */
+#define ENCODER_COUNTS_PER_LINE 4u
 /* Largest cpr whose counts are all exact in a float (2^24). */
 #define ENCODER_CPR_MAX 16777216u
 

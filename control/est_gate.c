@@ -31,6 +31,15 @@ void est_gate_cfg_defaults(est_gate_cfg_t *cfg, float Ts_s)
     cfg->f_hold_s = EST_GATE_F_HOLD_DEFAULT_S;
 }
 
+float est_gate_accel_floor_rad_s2(uint32_t counts_per_rev, uint16_t pole_pairs, float pll_bw_rad_s)
+{
+    /* the PLL's integrator takes bw^2 Ts e per period: one count of e is bw^2 counts/s^2 */
+    const float count_el_rad =
+        (counts_per_rev > 0u) ? (MATHX_TWO_PI_F * (float)pole_pairs / (float)counts_per_rev) : 0.0f;
+    const float floor_rad_s2 = EST_GATE_ACCEL_FLOOR_PER_COUNT * pll_bw_rad_s * pll_bw_rad_s * count_el_rad;
+    return (floor_rad_s2 > EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2) ? floor_rad_s2 : EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2;
+}
+
 static bool periods_ok(float t_s, float Ts_s)
 {
     const float n = t_s / Ts_s;
@@ -180,7 +189,10 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
             g->psi_old = g->psi_new;
             g->L_new = smo->L_H;
             g->psi_new = smo->psi_f_Wb;
-            g->settled = copies_agree(g);
+            /* settled once, settled until the next reset: on a real board L^'s
+             * noise moves it by up to 10 % in 5 ms, which must not switch the
+             * gate off (design sec. 7) */
+            g->settled = g->settled || copies_agree(g);
         }
     }
     g->reasons = why;

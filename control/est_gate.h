@@ -21,9 +21,10 @@
  * estimates to in those periods is not kept. The restore goes through the
  * observer's setters, which keep its prediction unchanged (bumpless).
  * The gate acts only once the estimates have settled (the two copies
- * within `settled` of each other): while step 2 is still converging from
- * a large error, the convergence itself moves torque and speed, and a
- * gate that paused and restored on it would never let it finish.
+ * within `settled` of each other), and from then on until the next reset:
+ * while step 2 is still converging from a large error, the convergence
+ * itself moves torque and speed, and a gate that paused and restored on
+ * it would never let it finish; L^'s noise later must not switch it off.
  * The low |w| and |w iq| freezes stay in param_est (conditioning).
  */
 #ifndef EST_GATE_H
@@ -37,7 +38,11 @@
 
 /* Design defaults (observer_design.md sec. 7). */
 #define EST_GATE_ACCEL_PER_SPEED_DEFAULT_1_S 1.0f   /* |a| > |w| / 1 s: the lag moved psi^ 1.8 % at 2500 r/min/s with 5 */
-#define EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2  100.0f /* electrical; 320 r/min/s at p = 3 */
+#define EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2  100.0f /* electrical, the least floor; 320 r/min/s at p = 3 */
+/* The floor per acceleration the speed estimate reports for one count of
+ * position error, bw^2 2 pi p / cpr: the quantisation reads as at most
+ * (1 + 2 e^-2)/2 = 0.64 of it before the low-pass (design sec. 7). */
+#define EST_GATE_ACCEL_FLOOR_PER_COUNT       0.64f
 #define EST_GATE_SETTLED_DEFAULT             0.01f  /* copies this close: the estimates had settled */
 #define EST_GATE_DI_MAX_DEFAULT_A         0.5f
 #define EST_GATE_DTE_MAX_DEFAULT_NM       0.3f
@@ -97,6 +102,13 @@ typedef struct {
 
 /* Design defaults for period Ts_s [s]. Background. */
 void est_gate_cfg_defaults(est_gate_cfg_t *cfg, float Ts_s);
+
+/* The acceleration floor [rad/s^2, electrical] above the quantisation of a
+ * speed estimate from counts_per_rev counts a turn through a type-2 PLL of
+ * bandwidth pll_bw_rad_s [rad/s] at pole_pairs: EST_GATE_ACCEL_FLOOR_PER_COUNT
+ * x bw^2 2 pi p / cpr, not below EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2 (nor
+ * when the encoder is not described: cpr or bw 0). Background. */
+float est_gate_accel_floor_rad_s2(uint32_t counts_per_rev, uint16_t pole_pairs, float pll_bw_rad_s);
 
 /* Copies cfg (finite, positive, hold and snap of 1..65535 periods) and
  * resets; false when refused (then est_gate_step never lets the laws run). Background. */

@@ -9,6 +9,7 @@
 #include <cmocka.h>
 #include <math.h>
 
+#include "encoder.h"
 #include "est_gate.h"
 #include "obs_plant.h"
 
@@ -130,6 +131,75 @@ static void acceleration_threshold_scales_with_speed(void **state)
     assert_true((ramp(-200.0f) & EST_GATE_ACCEL) != 0u);  /* braking too */
 }
 
+/* The floor from the encoder: 2500 lines (10000 counts), p = 3, PLL
+ * bandwidth 500 rad/s: 500^2 x 2 pi x 3 / 10000 = 471.24 rad/s^2 per
+ * count, times 0.64: 301.59 rad/s^2, by hand. A 100 000-line encoder's
+ * 7.5 rad/s^2 and an encoder not described keep the default floor. */
+#define ENC_LINES    2500u
+#define ENC_P        3u
+#define ENC_BW_RAD_S 500.0f
+#define FLOOR_PAPER_RAD_S2 301.59
+
+static void floor_from_the_encoder(void **state)
+{
+    (void)state;
+    assert_float_equal(est_gate_accel_floor_rad_s2(ENCODER_COUNTS_PER_LINE * ENC_LINES, ENC_P, ENC_BW_RAD_S),
+                       FLOOR_PAPER_RAD_S2, 0.01);
+    assert_float_equal(est_gate_accel_floor_rad_s2(400000u, ENC_P, ENC_BW_RAD_S), EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2,
+                       0.0);
+    assert_float_equal(est_gate_accel_floor_rad_s2(0u, ENC_P, ENC_BW_RAD_S), EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2, 0.0);
+    assert_float_equal(est_gate_accel_floor_rad_s2(ENCODER_COUNTS_PER_LINE * ENC_LINES, ENC_P, 0.0f),
+                       EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2, 0.0);
+}
+
+/* The gate on the encoder's own speed estimate at 300 r/min + a ramp of
+ * a_rpm_s [r/min/s] from 0.1 s for 0.1 s; the OR of the reasons from
+ * 0.05 s on. 300.3 r/min: the fraction of a count per period drifts by
+ * 0.005, so a count's step meets the PLL about every 20 ms, isolated:
+ * its answer peaks at 0.23 of a count's 471 rad/s^2 after the 2 ms
+ * low-pass (design sec. 7), above the old floor 100. */
+static uint16_t encoder_run(float floor_rad_s2, double a_rpm_s)
+{
+    const encoder_cfg_t ec = { .counts_per_rev = ENCODER_COUNTS_PER_LINE * ENC_LINES, .pole_pairs = ENC_P,
+                               .offset_el_rad = 0.0f, .Ts_s = (float)OP_TS, .pll_bw_rad_s = ENC_BW_RAD_S };
+    encoder_t enc;
+    const smo_cfg_t c = op_smo_cfg(OP_R0, OP_L0, OP_PSI0);
+    double pos_counts = 0.37;
+    double rpm = 300.3;
+    uint16_t any = 0u;
+    assert_true(encoder_init(&enc, &ec));
+    assert_int_equal(smo_init(&smo, &c), SMO_CFG_OK);
+    est_gate_cfg_defaults(&gc, (float)OP_TS);
+    gc.accel_floor_rad_s2 = floor_rad_s2;
+    assert_true(est_gate_init(&g, &gc));
+    est_gate_reset(&g, &smo);
+    g.settled = true; /* the gate acts */
+    for (long k = 0; k < periods(0.3f); k++) {
+        const double t = (double)k * OP_TS;
+        if ((t >= 0.1) && (t < 0.2)) {
+            rpm += a_rpm_s * OP_TS;
+        }
+        pos_counts += rpm / 60.0 * (double)ec.counts_per_rev * OP_TS;
+        encoder_step(&enc, (uint32_t)floor(pos_counts));
+        (void)est_gate_step(&g, &smo, enc.omega_e_rad_s, iq(IQ_A), TE_NM, false);
+        if (t >= 0.05) {
+            any |= g.reasons;
+        }
+    }
+    return any;
+}
+
+static void floor_above_count_arrivals(void **state)
+{
+    (void)state;
+    const float floor_rad_s2 = est_gate_accel_floor_rad_s2(ENCODER_COUNTS_PER_LINE * ENC_LINES, ENC_P, ENC_BW_RAD_S);
+    assert_true((encoder_run(EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2, 0.0) & EST_GATE_ACCEL) != 0u);
+    assert_int_equal(encoder_run(floor_rad_s2, 0.0) & EST_GATE_ACCEL, 0u);
+    /* a real ramp still pauses: 2500 r/min/s = 785 rad/s^2 el */
+    assert_true((encoder_run(floor_rad_s2, 2500.0) & EST_GATE_ACCEL) != 0u);
+    assert_true((encoder_run(floor_rad_s2, -2500.0) & EST_GATE_ACCEL) != 0u);
+}
+
 /* The restore: estimates moved in the periods before the trip (what the
  * transient drove them to) go back to the copy from before; the observer's
  * prediction terms w L^ iq - fd^ and w psi^ + fq^ do not move. */
@@ -164,6 +234,26 @@ static void converging_estimates_keep_learning(void **state)
     }
 }
 
+/* Settled once, the gate stays acting while L^ wanders: a real board's
+ * L^ moved by up to 10 % in 5 ms (design sec. 7). Here +-3 % in turn every
+ * 5 ms, copies 6 % apart, then a torque-command step of 1 N m. */
+static void noisy_estimates_stay_settled(void **state)
+{
+    (void)state;
+    setup_gate();
+    (void)steady(periods(0.05f));
+    assert_true(g.settled);
+    const float L0 = smo.L_H;
+    for (long k = 0; k < periods(0.03f); k++) {
+        const float L = ((k / 50) % 2 == 0) ? 1.03f * L0 : 0.97f * L0;
+        (void)smo_set_L(&smo, L, W_EL, IQ_A);
+        (void)est_gate_step(&g, &smo, W_EL, iq(IQ_A), TE_NM, false);
+    }
+    assert_true(g.settled);
+    (void)est_gate_step(&g, &smo, W_EL, iq(IQ_A), TE_NM + 1.0f, false);
+    assert_true((g.reasons & EST_GATE_TORQUE) != 0u);
+}
+
 static void refuses_bad_cfg(void **state)
 {
     est_gate_cfg_t c;
@@ -189,8 +279,11 @@ int main(void)
         cmocka_unit_test(torque_step_pauses_then_holds),
         cmocka_unit_test(current_step_and_voltage_limit_pause),
         cmocka_unit_test(acceleration_threshold_scales_with_speed),
+        cmocka_unit_test(floor_from_the_encoder),
+        cmocka_unit_test(floor_above_count_arrivals),
         cmocka_unit_test(onset_restores_copy_from_before),
         cmocka_unit_test(converging_estimates_keep_learning),
+        cmocka_unit_test(noisy_estimates_stay_settled),
         cmocka_unit_test(refuses_bad_cfg),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
