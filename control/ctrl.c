@@ -272,12 +272,6 @@ void ctrl_reset(ctrl_t *c)
     c->mon.model_from_observer = 0u;
 }
 
-void ctrl_track(ctrl_t *c, uint32_t enc_count)
-{
-    encoder_step(&c->enc, enc_count);
-    c->tracked = true;
-}
-
 void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
 {
     encoder_align(&c->enc, enc_count);

@@ -293,8 +293,13 @@ void ctrl_set_i_limit(ctrl_t *c, float i_lim_A);
 /* Every period, in every state, first: the encoder count [counts] into
  * the angle and speed estimate. ctrl owns the encoder: ctrl_step uses what
  * this call left (and tracks in->enc_count itself only when the caller
- * did not call ctrl_track this period, as a bare controller does). ISR. */
-void ctrl_track(ctrl_t *c, uint32_t enc_count);
+ * did not call ctrl_track this period, as a bare controller does). ISR.
+ * Inline: one call less in every period. */
+static inline void ctrl_track(ctrl_t *c, uint32_t enc_count)
+{
+    encoder_step(&c->enc, enc_count);
+    c->tracked = true;
+}
 
 /* The rotor's d axis is on phase a: the count enc_count now reads 0 rad
  * el (the app's alignment). ISR. */

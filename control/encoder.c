@@ -52,7 +52,7 @@ static float encoder_elec_angle(const encoder_t *enc, uint32_t count)
     for (k = 1u; (k < enc->cfg.pole_pairs) && (elec >= enc->cfg.counts_per_rev); k++) {
         elec -= enc->cfg.counts_per_rev;
     }
-    return ((float)elec + ENCODER_COUNT_CENTRE * (float)enc->cfg.pole_pairs) * enc->rad_per_count;
+    return ((float)elec + enc->centre_el) * enc->rad_per_count;
 }
 
 static bool encoder_cfg_valid(const encoder_cfg_t *cfg)
@@ -84,6 +84,8 @@ bool encoder_init(encoder_t *enc, const encoder_cfg_t *cfg)
         enc->ki_Ts = bw * bw * cfg->Ts_s;
         enc->vel_max = ENCODER_HALF * enc->cpr / cfg->Ts_s;
         enc->offset_el_rad = mathx_wrap_2pi(cfg->offset_el_rad);
+        enc->pole_pairs_f = (float)cfg->pole_pairs;
+        enc->centre_el = ENCODER_COUNT_CENTRE * enc->pole_pairs_f;
     } else {
         enc->cpr = 0.0f;
         enc->rad_per_count = 0.0f;
@@ -91,6 +93,8 @@ bool encoder_init(encoder_t *enc, const encoder_cfg_t *cfg)
         enc->ki_Ts = 0.0f;
         enc->vel_max = 0.0f;
         enc->offset_el_rad = 0.0f;
+        enc->pole_pairs_f = 0.0f;
+        enc->centre_el = 0.0f;
     }
     encoder_reset(enc);
     return enc->valid;
@@ -132,7 +136,7 @@ void encoder_step(encoder_t *enc, uint32_t count)
         enc->vel = mathx_clampf(enc->vel + enc->ki_Ts * e, -enc->vel_max, enc->vel_max);
     }
     enc->omega_m_rad_s = enc->vel * enc->rad_per_count;
-    enc->omega_e_rad_s = enc->omega_m_rad_s * (float)enc->cfg.pole_pairs;
+    enc->omega_e_rad_s = enc->omega_m_rad_s * enc->pole_pairs_f;
 }
 
 void encoder_set_offset(encoder_t *enc, float offset_el_rad)

@@ -41,6 +41,8 @@ typedef struct {
     float ki_Ts;          /* bw^2*Ts [1/s] */
     float vel_max;        /* half a turn per period [counts/s]: beyond it counts alias */
     float offset_el_rad;  /* electrical offset in use, in [0, 2*pi) */
+    float pole_pairs_f;   /* cfg.pole_pairs as float (exact): no conversion per step */
+    float centre_el;      /* a count's centre in electrical counts, 0.5 pole_pairs (exact) */
     float pos;            /* PLL position [counts], in [0, cpr) */
     float vel;            /* PLL speed [counts/s] */
     float theta_e_rad;    /* output: electrical angle [rad], in [0, 2*pi) */

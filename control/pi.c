@@ -47,23 +47,3 @@ void pi_reset(pi_t *pi, float xi_init)
     pi->xi = mathx_clampf(xi_init, pi->cfg.u_min, pi->cfg.u_max);
     pi->xi_old = pi->xi;
 }
-
-float pi_step(pi_t *pi, float err)
-{
-    const float e = mathx_isfinitef(err) ? err : 0.0f;
-    const float u = pi->cfg.Kp * e + pi->xi;
-    /* u can only overflow to +-Inf for absurd errors; clamp maps it to a limit. */
-    const float u_sat = mathx_clampf(u, pi->cfg.u_min, pi->cfg.u_max);
-    pi->xi_old = pi->xi;
-    pi->xi += pi->k_aw * (u_sat - pi->xi);
-    return u_sat;
-}
-
-void pi_apply(pi_t *pi, float u_applied)
-{
-    if (!mathx_isfinitef(u_applied)) {
-        return;
-    }
-    const float u_real = mathx_clampf(u_applied, pi->cfg.u_min, pi->cfg.u_max);
-    pi->xi = pi->xi_old + pi->k_aw * (u_real - pi->xi_old);
-}

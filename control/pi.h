@@ -16,6 +16,8 @@
 
 #include <stdbool.h>
 
+#include "mathx.h"
+
 typedef struct {
     float Kp;    /* proportional gain [output unit / error unit] */
     float Ki;    /* integral gain [output unit / (error unit * s)] */
@@ -44,12 +46,29 @@ bool pi_init(pi_t *pi, const pi_cfg_t *cfg);
 void pi_reset(pi_t *pi, float xi_init);
 
 /* One period with control error err [error unit]; returns the limited
- * output. A non-finite err counts as 0. ISR context. */
-float pi_step(pi_t *pi, float err);
+ * output. A non-finite err counts as 0. ISR context (inline: a few
+ * lines every period, no call). */
+static inline float pi_step(pi_t *pi, float err)
+{
+    const float e = mathx_isfinitef(err) ? err : 0.0f;
+    const float u = pi->cfg.Kp * e + pi->xi;
+    /* u can only overflow to +-Inf for absurd errors; clamp maps it to a limit. */
+    const float u_sat = mathx_clampf(u, pi->cfg.u_min, pi->cfg.u_max);
+    pi->xi_old = pi->xi;
+    pi->xi += pi->k_aw * (u_sat - pi->xi);
+    return u_sat;
+}
 
 /* Optional, after pi_step() in the same period: the output an outer stage
  * really applied [output unit]; re-bases the last integrator update on it.
- * Non-finite values are ignored. ISR context. */
-void pi_apply(pi_t *pi, float u_applied);
+ * Non-finite values are ignored. ISR context (inline, as pi_step). */
+static inline void pi_apply(pi_t *pi, float u_applied)
+{
+    if (!mathx_isfinitef(u_applied)) {
+        return;
+    }
+    const float u_real = mathx_clampf(u_applied, pi->cfg.u_min, pi->cfg.u_max);
+    pi->xi = pi->xi_old + pi->k_aw * (u_real - pi->xi_old);
+}
 
 #endif /* PI_H */

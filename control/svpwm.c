@@ -33,9 +33,14 @@ static float min3f(float x, float y, float z)
 
 uint16_t svpwm_duty(ab_t u_ab_V, float vdc_V, svpwm_duty_t *duty, ab_t *u_real_V)
 {
-    /* Written so that NaN fails the Vdc test too. */
-    if (!mathx_isfinitef(u_ab_V.a) || !mathx_isfinitef(u_ab_V.b) || !mathx_isfinitef(vdc_V)
-        || !(vdc_V >= SVPWM_VDC_MIN_V)) {
+    const float xa = SVPWM_PRESCALE * u_ab_V.a;
+    const float sb = (SVPWM_PRESCALE * CLARKE_HALF_SQRT3) * u_ab_V.b;
+    const float vdc_scaled = SVPWM_PRESCALE * vdc_V;
+
+    /* One finiteness test for the three inputs: scaled, each term is at
+     * most 0.25 FLT_MAX, so their sum cannot overflow and is finite
+     * exactly when all three are. NaN fails the Vdc test too. */
+    if (!mathx_isfinitef(xa + sb + vdc_scaled) || !(vdc_V >= SVPWM_VDC_MIN_V)) {
         duty->a = SVPWM_DUTY_MID;
         duty->b = SVPWM_DUTY_MID;
         duty->c = SVPWM_DUTY_MID;
@@ -44,16 +49,13 @@ uint16_t svpwm_duty(ab_t u_ab_V, float vdc_V, svpwm_duty_t *duty, ab_t *u_real_V
         return SVPWM_INVALID_INPUT;
     }
 
-    const float xa = SVPWM_PRESCALE * u_ab_V.a;
     const float half_a = SVPWM_DUTY_MID * xa;
-    const float sb = (SVPWM_PRESCALE * CLARKE_HALF_SQRT3) * u_ab_V.b;
     const float xb = sb - half_a;
     const float xc = -sb - half_a;
 
     const float hi = max3f(xa, xb, xc);
     const float lo = min3f(xa, xb, xc);
     const float spread = hi - lo;
-    const float vdc_scaled = SVPWM_PRESCALE * vdc_V;
 
     uint16_t flags = SVPWM_OK;
     float duty_per_unit;

@@ -145,7 +145,7 @@
 #define BOARD_LEVEL3_SPEED_RPM   60.0f        /* level 3's rotation: slow enough for the rotor to follow the vector [r/min] */
 #define BOARD_LEVEL4_I_LIMIT_PER_LIMIT 0.3f   /* level 4's current limit, x the drive's current limit [-] */
 
-/* ---- controller tuning: the SIL scenario defaults (tools/sil/scenario.c) - */
+/* ---- controller tuning: the SIL scenario defaults (tools/sil/scenario_keys.h) */
 /* Speed PI (params_design.md sec. 3): kp = J w_c, ki = kp w_c x 0.103;
  * w_c = 0.5 / 0.00129 = 388 rad/s, the paper motor's kp 0.5 and ki 20. */
 #define TUNE_SPEED_BW_RAD_S      REF_SPEED_BW_RAD_S /* speed-loop crossover w_c [rad/s] */

@@ -6,8 +6,8 @@
  *
  * The target fills it from the board header (drive_params_board(),
  * firmware/board_cfg.h) and maps it in app_cfg_default(); the SIL takes the
- * same defaults (tools/sil/scenario.c: the keys marked "params", printed by
- * drive_sil --help), puts the scenario's keys on top and maps it with the
+ * same defaults (tools/sil/scenario_keys.h: the keys whose default is
+ * SC_PARAMS, printed by drive_sil --help), puts the scenario's keys on top and maps it with the
  * same drive_params_to_app_cfg(). The start-up sequence's other settings
  * (calibration, the alignment's timing, step 1's windows, the watch
  * checks) are the app's own (app_cfg_default).
@@ -91,23 +91,9 @@ typedef struct {
     drive_step1_t step1;
 } drive_params_t;
 
-/* The derived values with a scenario key (tools/sil: OUT.resolved.json
- * lists each with its source), as X(section, key, field of
- * drive_params_t, factor from the field's unit to the key's, keys it
- * comes from). The formulas: drive_params_derive(), params_design.md. */
+/* r/min per rad/s, for the SIL's derived keys in r/min (tools/sil/scenario_keys.h:
+ * each derived key names its field here and the keys it comes from). */
 #define DRIVE_RPM_PER_RAD_S 9.54929658551372
-#define DRIVE_DERIVED_KEYS(X) \
-    X("controller", "speed_kp_Nms_rad", tuning.speed_kp_Nms_rad, 1.0, "controller.J_kgm2 controller.speed_bw_rad_s") \
-    X("controller", "speed_ki_Nm_rad", tuning.speed_ki_Nm_rad, 1.0, "controller.J_kgm2 controller.speed_bw_rad_s") \
-    X("controller", "te_max_Nm", limits.te_max_Nm, 1.0, "motor.i_peak_A controller.psif_Wb plant.pole_pairs") \
-    X("controller", "i_limit_A", limits.i_limit_A, 1.0, "motor.i_peak_A") \
-    X("controller", "i_max_A", limits.i_trip_A, 1.0, "motor.i_peak_A plant.adc_full_scale_A") \
-    X("controller", "overspeed_rpm", limits.speed_max_rad_s, DRIVE_RPM_PER_RAD_S, "motor.n_max_rpm") \
-    X("identify", "speed_1_rpm", step1.speed_1_rad_s, DRIVE_RPM_PER_RAD_S, "motor.n_rated_rpm") \
-    X("identify", "speed_2_rpm", step1.speed_2_rad_s, DRIVE_RPM_PER_RAD_S, "motor.n_rated_rpm") \
-    X("identify", "accel_rpm_s", step1.accel_rad_s2, DRIVE_RPM_PER_RAD_S, "motor.n_rated_rpm motor.i_rated_A controller.J_kgm2") \
-    X("identify", "settle_2_s", step1.settle_2_s, 1.0, "controller.speed_bw_rad_s") \
-    X("identify", "settle_1_s", step1.settle_1_s, 1.0, "controller.speed_bw_rad_s")
 
 /* What drive_params_derive() refused or warns of (a set of bits). */
 typedef uint16_t drive_derive_t;

@@ -108,15 +108,6 @@ app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset
     return app_step_running();
 }
 
-app_step_t protect_run_time(protect_t *p, uint32_t t_entry_cycles, uint32_t now_cycles)
-{
-    p->isr_run_cycles = now_cycles - t_entry_cycles;
-    if (p->isr_run_cycles > p->cfg.isr_budget_cycles) {
-        return app_step_fault(APP_FAULT_OVERRUN, (float)p->isr_run_cycles, (float)p->cfg.isr_budget_cycles);
-    }
-    return app_step_running();
-}
-
 /* ---- checks on the periods' history (protect_watch) --------------------- */
 
 static void op_sums_clear(protect_op_sums_t *a)
@@ -173,7 +164,7 @@ static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *win, f
  * window of the last PROTECT_OP_SUBWINDOWS parts is judged. */
 static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
 {
-    const float ix[N_PHASES] = { in->ia_corr_A, in->ib_corr_A, -in->ia_corr_A - in->ib_corr_A };
+    const float ic = -in->ia_corr_A - in->ib_corr_A;
     const float i_beta = clarke_2ph(in->ia_corr_A, in->ib_corr_A).b;
     protect_op_sums_t *a = &p->op_part;
     protect_op_sums_t win;
@@ -188,10 +179,13 @@ static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
     }
     d_mean = (in->duty[0] + in->duty[1] + in->duty[2]) * ONE_THIRD;
     a->i_A += mathx_sqrtf(in->ia_corr_A * in->ia_corr_A + i_beta * i_beta);
-    for (x = 0u; x < N_PHASES; x++) {
-        a->ix_A[x] += mathx_fabsf(ix[x]);
-        a->ux_V[x] += (in->duty[x] - d_mean) * in->vdc_V;
-    }
+    /* the phases written out: the every-period part without a loop's bookkeeping */
+    a->ix_A[0] += mathx_fabsf(in->ia_corr_A);
+    a->ix_A[1] += mathx_fabsf(in->ib_corr_A);
+    a->ix_A[2] += mathx_fabsf(ic);
+    a->ux_V[0] += (in->duty[0] - d_mean) * in->vdc_V;
+    a->ux_V[1] += (in->duty[1] - d_mean) * in->vdc_V;
+    a->ux_V[2] += (in->duty[2] - d_mean) * in->vdc_V;
     a->turn_counts += p->enc_delta;
     a->n++;
     if (a->n < p->op_part_ticks) {
@@ -218,11 +212,38 @@ static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
     return open_phase_judge(p, &win, turn);
 }
 
-/* CURRENT_SENSOR: per reading, the turn and the other reading's span since it last changed. */
-static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
+/* CURRENT_SENSOR, reading c (other: the other reading): the turn and the
+ * other reading's span since it last changed. */
+static void stuck_follow(protect_t *p, uint32_t c, float reading, float other, float turn)
+{
+    if (!p->st_seeded || (mathx_fabsf(reading - p->st_last_A[c]) > p->cfg.watch.stuck_delta_A)) {
+        p->st_last_A[c] = reading;
+        p->st_angle_el_rad[c] = 0.0f;
+        p->st_periods[c] = 0u;
+        p->st_other_min_A[c] = other;
+        p->st_other_max_A[c] = other;
+    } else {
+        p->st_angle_el_rad[c] += turn;
+        p->st_periods[c]++;
+        p->st_other_min_A[c] = (other < p->st_other_min_A[c]) ? other : p->st_other_min_A[c];
+        p->st_other_max_A[c] = (other > p->st_other_max_A[c]) ? other : p->st_other_max_A[c];
+    }
+}
+
+/* CURRENT_SENSOR: reading c stuck by the tests of protect.h. */
+static bool stuck_judged(const protect_t *p, uint32_t c)
 {
     const protect_watch_cfg_t *w = &p->cfg.watch;
-    const float rd[N_READINGS] = { in->ia_A, in->ib_A };
+    return (mathx_fabsf(p->st_angle_el_rad[c]) >= w->stuck_angle_el_rad) && (p->st_periods[c] >= w->stuck_min_periods) &&
+           (mathx_fabsf(p->st_last_A[c]) > w->stuck_zero_A) &&
+           (p->st_other_max_A[c] - p->st_other_min_A[c] >= w->stuck_span_A);
+}
+
+/* CURRENT_SENSOR: per reading, the turn and the other reading's span since
+ * it last changed (the two readings written out: no loop's bookkeeping
+ * every period). */
+static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
+{
     const float turn = (float)p->enc_delta * p->el_rad_per_count; /* signed: a count jittering back and forth is no turn */
     uint32_t c;
 
@@ -230,28 +251,12 @@ static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
         p->st_seeded = false;
         return app_step_running();
     }
-    for (c = 0u; c < N_READINGS; c++) {
-        const float other = rd[N_READINGS - 1u - c];
-        if (!p->st_seeded || (mathx_fabsf(rd[c] - p->st_last_A[c]) > w->stuck_delta_A)) {
-            p->st_last_A[c] = rd[c];
-            p->st_angle_el_rad[c] = 0.0f;
-            p->st_periods[c] = 0u;
-            p->st_other_min_A[c] = other;
-            p->st_other_max_A[c] = other;
-        } else {
-            p->st_angle_el_rad[c] += turn;
-            p->st_periods[c]++;
-            p->st_other_min_A[c] = (other < p->st_other_min_A[c]) ? other : p->st_other_min_A[c];
-            p->st_other_max_A[c] = (other > p->st_other_max_A[c]) ? other : p->st_other_max_A[c];
-        }
-    }
+    stuck_follow(p, 0u, in->ia_A, in->ib_A, turn);
+    stuck_follow(p, 1u, in->ib_A, in->ia_A, turn);
     p->st_seeded = true;
-    for (c = 0u; c < N_READINGS; c++) {
-        if ((mathx_fabsf(p->st_angle_el_rad[c]) >= w->stuck_angle_el_rad) && (p->st_periods[c] >= w->stuck_min_periods) &&
-            (mathx_fabsf(p->st_last_A[c]) > w->stuck_zero_A) &&
-            (p->st_other_max_A[c] - p->st_other_min_A[c] >= w->stuck_span_A)) {
-            return app_step_fault(APP_FAULT_CURRENT_SENSOR, mathx_fabsf(p->st_angle_el_rad[c]), w->stuck_angle_el_rad);
-        }
+    c = stuck_judged(p, 0u) ? 0u : (stuck_judged(p, 1u) ? 1u : N_READINGS);
+    if (c < N_READINGS) {
+        return app_step_fault(APP_FAULT_CURRENT_SENSOR, mathx_fabsf(p->st_angle_el_rad[c]), p->cfg.watch.stuck_angle_el_rad);
     }
     return app_step_running();
 }

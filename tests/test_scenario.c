@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "drive_params.h"
+#include "hal_sim.h"
 #include "scenario.h"
 
 #define TOL 1e-12
@@ -291,13 +292,13 @@ static void plant_resistance_profile(void **state)
                        err);
     assert_int_equal(rc, 0);
     assert_float_equal(sc.plant.R_ohm, 3.0, TOL);
-    assert_float_equal(profile_eval(&sc.plant.R_profile, 1.0), 3.45, TOL);
-    assert_float_equal(profile_eval(&sc.plant.R_profile, 5.0), 3.9, TOL);
+    assert_float_equal(profile_eval(&sc.plant.R_ohm_profile, 1.0), 3.45, TOL);
+    assert_float_equal(profile_eval(&sc.plant.R_ohm_profile, 5.0), 3.9, TOL);
     assert_float_equal(sc.plant.device_drop_V, 1.2, TOL);
     assert_float_equal(sc.controller.R_ohm, 6.0, TOL);
     scenario_defaults(&sc);
-    assert_int_equal(sc.plant.R_profile.n, 1);
-    assert_float_equal(profile_eval(&sc.plant.R_profile, 3.0), 3.0, TOL);
+    assert_int_equal(sc.plant.R_ohm_profile.n, 1);
+    assert_float_equal(profile_eval(&sc.plant.R_ohm_profile, 3.0), 3.0, TOL);
     expect_error("[plant]\nR_ohm = 1:3.0, 2:3.9~\n", 2, "start at t = 0");
     expect_error("[plant]\nR_ohm = 0:3.0, 2:0~\n", 2, "R_ohm");
     expect_error("[plant]\ndevice_drop_V = -1\n", 2, "device_drop_V");
@@ -510,6 +511,155 @@ static void faults_section(void **state)
     expect_error("[faults]\nencoder_jump_s = 0.1\nencoder_jump_counts = 2.5\n", 3, "encoder_jump_counts");
 }
 
+/* ---- the one key table (scenario_keys.h) ---------------------------------- */
+
+/* The struct a target names, at its starting configuration. */
+typedef union {
+    drive_params_t p;
+    app_cfg_t a;
+    hal_sim_cfg_t s;
+    hal_sim_faults_t f;
+} target_cfg_t;
+
+static void target_start(sc_target_t t, target_cfg_t *c)
+{
+    memset(c, 0, sizeof *c);
+    if (t == SC_TO_PARAMS) {
+        drive_params_board(&c->p);
+    } else if (t == SC_TO_APP) {
+        app_cfg_default(&c->a);
+    } else if (t == SC_TO_SIM) {
+        hal_sim_default_cfg(&c->s);
+    } else {
+        hal_sim_faults_none(&c->f);
+    }
+}
+
+static size_t conv_size(sc_conv_t c)
+{
+    switch (c) {
+    case SC_CONV_U16:
+        return sizeof(uint16_t);
+    case SC_CONV_F64:
+    case SC_CONV_U64:
+        return 8u;
+    case SC_CONV_ENUM:
+        return sizeof(unsigned int);
+    case SC_CONV_BOOL:
+        return sizeof(bool);
+    case SC_CONV_F32:
+    case SC_CONV_U32:
+    case SC_CONV_I32:
+    case SC_CONV_PERIODS:
+    case SC_CONV_NONE:
+        break;
+    }
+    return 4u;
+}
+
+/* Another value of key k than v, in its range, as "section.key=text"; its number in *x. */
+static void other_value(const scenario_key_info_t *k, double v, char *buf, size_t len, double *x)
+{
+    if (k->type == SC_KEY_ENUM) {
+        size_t n = 0;
+        while (k->names[n] != NULL) {
+            n++;
+        }
+        *x = (double)(((size_t)v + 1u) % n);
+        snprintf(buf, len, "%s.%s=%s", k->section, k->name, k->names[(size_t)*x]);
+        return;
+    }
+    if (k->type == SC_KEY_UINT) {
+        *x = (v + 1.0 <= k->hi) ? v + 1.0 : v - 1.0;
+    } else if (k->lo < 0.0) {
+        *x = isnan(v) ? 1.0 : v + 1.0;   /* any finite value: a whole step */
+    } else {
+        *x = (isnan(v) || !(v > 0.0)) ? 0.5 : 1.5 * v;
+        if (*x > k->hi) {   /* a bounded key: between its value (or lo) and hi */
+            *x = 0.5 * ((isnan(v) ? k->lo : v) + k->hi);
+        }
+    }
+    snprintf(buf, len, "%s.%s=%.17g", k->section, k->name, *x);
+}
+
+/* Every key with a target moves exactly its own field there, to its
+ * value: the table's line is the whole mapping (no second table). */
+static void every_key_maps_to_its_own_field(void **state)
+{
+    (void)state;
+    static scenario_t sc0;
+    static scenario_t sc;
+    static target_cfg_t a;
+    static target_cfg_t b;
+    char err[SCENARIO_ERR_LEN];
+    const double Ts_s = 1e-4;
+    int mapped = 0;
+    scenario_defaults(&sc0);
+    for (int i = 0; i < scenario_key_count(); i++) {
+        scenario_key_info_t k;
+        scenario_key_info(i, &k);
+        assert_non_null(k.help);
+        assert_true(scenario_key_known(k.section, k.name));
+        if (k.to.target == SC_TO_NONE || k.type == SC_KEY_PROFILE) {
+            continue;
+        }
+        /* the key's value now, read through its own JSON (a number or a name) */
+        char *json = NULL;
+        size_t json_len = 0;
+        FILE *f = open_memstream(&json, &json_len);
+        scenario_key_json(f, &sc0, i);
+        fclose(f);
+        double v = NAN;
+        if (k.type == SC_KEY_ENUM) {
+            for (size_t n = 0; k.names[n] != NULL; n++) {
+                char q[40];
+                snprintf(q, sizeof q, "\"%s\"", k.names[n]);
+                v = (strcmp(q, json) == 0) ? (double)n : v;
+            }
+        } else if (strcmp(json, "null") != 0) {
+            v = strtod(json, NULL);
+        }
+        free(json);
+        char set[160];
+        double x;
+        other_value(&k, v, set, sizeof set, &x);
+        sc = sc0;
+        if (scenario_set(&sc, set, err, sizeof err) != 0) {
+            fail_msg("%s: %s", set, err);
+        }
+        target_start(k.to.target, &a);
+        target_start(k.to.target, &b);
+        scenario_map(&sc0, k.to.target, &a, Ts_s);
+        scenario_map(&sc, k.to.target, &b, Ts_s);
+        const double got = scenario_loc_read(&k.to, &b, Ts_s);
+        const double tol = (k.to.conv == SC_CONV_PERIODS) ? Ts_s / 2.0 : 1e-6 * fabs(x);
+        if (!(fabs(got - ((k.to.conv == SC_CONV_BOOL) ? (double)(x != 0.0) : x)) <= tol)) {
+            fail_msg("%s: the target reads %.9g", set, got);
+        }
+        const size_t lo = k.to.offset;
+        const size_t hi = lo + conv_size(k.to.conv);
+        for (int j = 0; j < i; j++) {   /* no other key writes this field */
+            scenario_key_info_t o;
+            scenario_key_info(j, &o);
+            if (o.to.target == k.to.target && o.to.offset == lo) {
+                fail_msg("%s.%s and %s.%s write the same field", o.section, o.name, k.section, k.name);
+            }
+        }
+        for (size_t n = 0; n < sizeof a; n++) {
+            const unsigned char *pa = (const unsigned char *)&a;
+            const unsigned char *pb = (const unsigned char *)&b;
+            if (pa[n] != pb[n] && (n < lo || n >= hi)) {
+                fail_msg("%s: byte %zu of the target changed, outside its field %zu..%zu", set, n, lo, hi);
+            }
+        }
+        mapped++;
+    }
+    /* all but the profiles and the keys read by name (method, mode, the factors, [run]'s duration) */
+    if (!(mapped >= scenario_key_count() - 20)) {
+        fail_msg("only %d of %d keys mapped", mapped, scenario_key_count());
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -527,6 +677,7 @@ int main(void)
         cmocka_unit_test(plausibility_bounds),
         cmocka_unit_test(level_and_wrong_board_keys),
         cmocka_unit_test(faults_section),
+        cmocka_unit_test(every_key_maps_to_its_own_field),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

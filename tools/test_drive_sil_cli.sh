@@ -271,6 +271,56 @@ else
     failed "drive_sil CLI CSV columns: header and $doc differ: $(diff <(echo "$header" | tr ',' '\n') <(echo "$documented" | tr ',' '\n') | tr '\n' ' ')"
 fi
 
+# the documented key list is the key table's (drive_sil --list-keys --markdown; `make scenario-keys` rewrites it)
+keys_doc="$(dirname "$0")/sil/SCENARIO_KEYS.md"
+if "$bin" --list-keys --markdown > "$dir/keys.md" && cmp -s "$dir/keys.md" "$keys_doc"; then
+    pass "drive_sil CLI key list: $keys_doc is drive_sil --list-keys --markdown"
+else
+    failed "drive_sil CLI key list: $keys_doc differs from drive_sil --list-keys --markdown (make scenario-keys): $(diff "$keys_doc" "$dir/keys.md" | head -n 4 | tr '\n' ' ')"
+fi
+expect_bad "--list-keys with another argument" --list-keys --text
+# one table: every key of the list is in --help under its section, in the resolved JSON's
+# "keys" as set or defaulted, and, when derived, in "derived" with the keys it comes from
+"$bin" --help > "$dir/help.txt"
+"$bin" --scenario "$good" --set controller.te_max_Nm=11 --out "$dir/keys.csv" > /dev/null
+if python3 - "$dir/keys.md" "$dir/help.txt" "$dir/keys.resolved.json" > "$dir/keys.err" <<'PY'
+import json, re, sys
+rows = [l.split('|') for l in open(sys.argv[1]) if l.startswith('| ') and not l.startswith(('| section', '| ---'))]
+keys = [(r[1].strip(), r[2].strip(), r[3].strip()) for r in rows]
+help_keys, sec = set(), None
+for line in open(sys.argv[2]):
+    m = re.match(r'^  \[(\w+)\]$', line.rstrip())
+    if m:
+        sec = m.group(1)
+    elif sec and re.match(r'^    \S', line):
+        help_keys.add((sec, line.split()[0]))
+    elif not line.startswith('    '):
+        sec = None
+res = json.load(open(sys.argv[3]))
+bad = []
+for s, k, d in keys:
+    name = s + '.' + k
+    if (s, k) not in help_keys:
+        bad.append(name + ' not in --help')
+    if name not in res['keys']:
+        bad.append(name + ' not in the resolved keys')
+    if d.startswith('derived') and res['derived'].get(name, {}).get('from') != d[len('derived: '):]:
+        bad.append(name + ': derived in the list, not with those keys in the resolved "derived"')
+want = {'controller.te_max_Nm': 'set', 'controller.i_limit_A': 'derived', 'plant.L_H': 'default', 'run.duration_s': 'set'}
+for name, src in want.items():
+    if res['keys'][name]['source'] != src:
+        bad.append(name + ' source ' + res['keys'][name]['source'] + ', expected ' + src)
+if res['derived']['controller.te_max_Nm']['source'] != 'set' or res['keys']['controller.te_max_Nm']['value'] != 11:
+    bad.append('controller.te_max_Nm = 11 not resolved as set')
+print(len(keys), '; '.join(bad))
+sys.exit(1 if bad or len(keys) != len(res['keys']) or len(keys) < 50 else 0)
+PY
+then
+    pass "drive_sil CLI one key table: $(cut -d' ' -f1 "$dir/keys.err") keys, each in --help, the resolved keys and (derived) the resolved derived values"
+else
+    failed "drive_sil CLI one key table: $(cat "$dir/keys.err")"
+fi
+
 [ $fail -eq 0 ] && echo "drive_sil CLI: all passed"
 echo "drive_sil CLI: $npass passed, $nfail failed"
 exit $fail

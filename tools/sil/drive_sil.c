@@ -113,7 +113,7 @@ static void usage(FILE *f)
             "                 [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]\n"
             "                 [--max-csv-mb N] [--link tcp:PORT | --link pty [--baud B] [--realtime F]]\n"
             "       drive_sil --scenario FILE [--set ...] --commission OUT.ini [--out FILE.csv]\n"
-            "       drive_sil --help | --version\n"
+            "       drive_sil --help | --version | --list-keys [--markdown]\n"
             "Runs the drive firmware on the simulated board for one scenario (INI)\n"
             "and writes the CSV trace (--out) and/or the steady window's figures as\n"
             "JSON (--summary; - for stdout; tools/sil/summary.h names them). The\n"
@@ -127,7 +127,8 @@ static void usage(FILE *f)
             "run.duration_s = 0 runs until drivetool quit (tools/sil/link_sil.h).\n"
             "--max-csv-mb N (default %g): the CSV stops at the last whole row below N MB\n"
             "(2^20 bytes) with a warning; the run and --summary go on. --version prints\n"
-            "the source revision drive_sil was built from.\n"
+            "the source revision drive_sil was built from. --list-keys prints the\n"
+            "scenario keys below; --markdown as tools/sil/SCENARIO_KEYS.md.\n"
             "--commission OUT.ini measures the motor (firmware/commission.h) on the\n"
             "scenario's plant and board with a free shaft ([reference], [load] ignored,\n"
             "[faults] applied; the current bound is [motor] i_rated_A, the speed\n"
@@ -169,6 +170,18 @@ static int parse_args(int argc, char **argv, args_t *a)
         }
         if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
             usage(stdout);
+            exit(EXIT_SUCCESS);
+        }
+        if (strcmp(s, "--list-keys") == 0) {
+            /* the key table alone: as text, or (--markdown next) the documented list */
+            if (i + 1 < argc && strcmp(argv[i + 1], "--markdown") == 0) {
+                scenario_print_keys_markdown(stdout);
+            } else if (i + 1 < argc) {
+                fprintf(stderr, "drive_sil: --list-keys takes only --markdown (see --help)\n");
+                exit(EXIT_BAD_INPUT);
+            } else {
+                scenario_print_keys(stdout);
+            }
             exit(EXIT_SUCCESS);
         }
         if (strcmp(s, "--version") == 0) {

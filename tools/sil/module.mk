@@ -25,6 +25,12 @@ $(DRIVE_SIL): $(DRIVE_SIL_INPUTS)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
+# The documented key list, generated from the key table (tools/sil/scenario_keys.h);
+# test-drive-sil-cli checks that the checked-in one is the table's.
+.PHONY: scenario-keys
+scenario-keys: $(DRIVE_SIL) ## rewrite tools/sil/SCENARIO_KEYS.md from the key table (drive_sil --list-keys --markdown)
+	$(DRIVE_SIL) --list-keys --markdown > tools/sil/SCENARIO_KEYS.md
+
 TEST_LIBS_test_scenario := silrun firmware sim control
 TEST_LIBS_test_ini_edit := silrun
 # The app's commissioning in SIL (sil_run_ctl with commission).

@@ -1,4 +1,5 @@
-/* scenario.c - the scenario key table, INI loading (libinih) and overrides; see scenario.h. */
+/* scenario.c - the scenario keys (the table of scenario_keys.h), INI loading
+ * (libinih), overrides and the mapping into the configuration; see scenario.h. */
 #include "scenario.h"
 #include "sim_units.h"
 
@@ -22,26 +23,29 @@ typedef struct {
     const char *name;
     key_kind_t kind;
     size_t offset;             /* of the field in scenario_t */
-    const char *def;           /* default as text; NULL: unset (NaN, resolved in scenario_finish) */
+    size_t offset_t0;          /* K_RPROFILE: the double that takes the value at t = 0 */
     double lo, hi;             /* K_REAL, K_UINT: allowed range */
     bool lo_open;              /* K_REAL: lo itself excluded */
     const char *const *names;  /* K_ENUM: value k is names[k] */
+    const char *def;           /* default as text; NULL: unset (NaN, resolved in scenario_finish) */
+    const char *from_keys;     /* def DERIVED: the keys it is derived from */
+    sc_loc_t from;             /* def PARAMS: where the default is read */
+    sc_loc_t to;               /* where the value goes */
     const char *help;
-    size_t offset_t0;          /* K_RPROFILE: the double that takes the value at t = 0 */
 } sc_key_t;
 
-static const char *const MODEL_NAMES[] = { "averaged", "switching", NULL };
-static const char *const METHOD_NAMES[] = { "conventional", "proposed", NULL };
-static const char *const MODE_NAMES[] = { "speed", "torque", "open_loop", NULL };
-static const char *const ONOFF_NAMES[] = { "off", "on", NULL };
-static const char *const RSID_NAMES[] = { "off", "windows", "speeds", "trusted", NULL };
-static const char *const PHASE_NAMES[] = { "a", "b", "c", NULL };
-static const char *const PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
-static const char *const CHANNEL_NAMES[] = { "a", "b", NULL };
-static const char *const REFUSAL_NAMES[] = { "fault", "conventional", NULL };
-static const char *const TRACK_NAMES[] = { "off", "on", "auto", NULL };
-static const char *const DIRECTION_NAMES[] = { "1", "-1", NULL };   /* sc_direction_t */
-static const char *const ORDER_NAMES[] = { "abc", "acb", NULL };   /* sc_phase_order_t */
+static const char *const SC_MODEL_NAMES[] = { "averaged", "switching", NULL };
+static const char *const SC_METHOD_NAMES[] = { "conventional", "proposed", NULL };
+static const char *const SC_MODE_NAMES[] = { "speed", "torque", "open_loop", NULL };
+static const char *const SC_ONOFF_NAMES[] = { "off", "on", NULL };
+static const char *const SC_RSID_NAMES[] = { "off", "windows", "speeds", "trusted", NULL };
+static const char *const SC_PHASE_NAMES[] = { "a", "b", "c", NULL };
+static const char *const SC_PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
+static const char *const SC_CHANNEL_NAMES[] = { "a", "b", NULL };
+static const char *const SC_REFUSAL_NAMES[] = { "fault", "conventional", NULL };
+static const char *const SC_TRACK_NAMES[] = { "off", "on", "auto", NULL };
+static const char *const SC_DIRECTION_NAMES[] = { "1", "-1", NULL };   /* sc_direction_t */
+static const char *const SC_ORDER_NAMES[] = { "abc", "acb", NULL };   /* sc_phase_order_t */
 
 /* Keys whose default is not text of this table but a configuration's
  * value: the drive's parameter set (firmware/drive_params.h, the board's
@@ -53,154 +57,41 @@ static const char PARAMS[] = "(drive_params)";
  * firmware/params_design.md) unless set: NaN until then. */
 static const char DERIVED[] = "(derived)";
 
-#define UINT32_MAX_D 4294967295.0
-#define UINT16_MAX_D 65535.0        /* drive_params_t's pole_pairs is 16 bits */
-#define F(field) offsetof(scenario_t, field)
-/* One line per key. POS: > 0, NN: >= 0, ANY: finite, OPT: like POS, default unset. */
-#define POS(s, k, f, d, h) { s, k, K_REAL, F(f), d, 0.0, HUGE_VAL, true, NULL, h, 0 }
-#define NN(s, k, f, d, h) { s, k, K_REAL, F(f), d, 0.0, HUGE_VAL, false, NULL, h, 0 }
-#define ANY(s, k, f, d, h) { s, k, K_REAL, F(f), d, -HUGE_VAL, HUGE_VAL, false, NULL, h, 0 }
-#define OPT(s, k, f, h) { s, k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, true, NULL, h, 0 }
-#define UINT(s, k, f, d, lo, hi, h) { s, k, K_UINT, F(f), d, lo, hi, false, NULL, h, 0 }
-#define ENUM(s, k, f, d, n, h) { s, k, K_ENUM, F(f), d, 0.0, 0.0, false, n, h, 0 }
-#define PROF(s, k, f, h) { s, k, K_PROFILE, F(f), "", 0.0, 0.0, false, NULL, h, 0 }
-/* [faults]: a time >= 0, default unset (NaN: the fault never happens). */
-/* DRV: > 0 (DRVNN >= 0, DRVANY finite), derived unless set; TOLD: > 0 (TOLDNN >= 0), default the plant's. */
-#define DRV(s, k, f, h) { s, k, K_REAL, F(f), DERIVED, 0.0, HUGE_VAL, true, NULL, h, 0 }
-#define DRVNN(s, k, f, h) { s, k, K_REAL, F(f), DERIVED, 0.0, HUGE_VAL, false, NULL, h, 0 }
-#define DRVANY(s, k, f, h) { s, k, K_REAL, F(f), DERIVED, -HUGE_VAL, HUGE_VAL, false, NULL, h, 0 }
-#define TOLDNN(s, k, f, h) { s, k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, false, NULL, h, 0 }
-#define WHEN(k, f, h) { "faults", k, K_REAL, F(f), NULL, 0.0, HUGE_VAL, false, NULL, h, 0 }
+#define SC_UINT32_MAX_D 4294967295.0
+#define SC_UINT16_MAX_D 65535.0        /* drive_params_t's pole_pairs is 16 bits */
 
-static const sc_key_t KEYS[] = {
-    { "plant", "R_ohm", K_RPROFILE, F(plant.R_profile), PARAMS, 0.0, HUGE_VAL, true, NULL,
-      "true stator resistance R0 [ohm]; a profile from t = 0 warms the winding (\"0:3.0, 2:3.9~\")",
-      F(plant.R_ohm) },
-    POS("plant", "L_H", plant.L_H, PARAMS, "true inductance L0 = Ld = Lq [H]"),
-    POS("plant", "psif_Wb", plant.psif_Wb, PARAMS, "true PM flux linkage psi_f0 [Wb]"),
-    UINT("plant", "pole_pairs", plant.pole_pairs, PARAMS, 1.0, UINT16_MAX_D, "pole pairs"),
-    POS("plant", "J_kgm2", plant.J_kgm2, PARAMS, "inertia [kg m^2]"),
-    NN("plant", "B_Nms", plant.B_Nms, PARAMS, "viscous friction [N m s/rad]"),
-    UINT("plant", "speed_held", plant.speed_held, PARAMS, 0.0, 1.0, "1: shaft held at speed0_rpm (0: free)"),
-    ANY("plant", "speed0_rpm", plant.speed0_rpm, PARAMS, "initial (or held) speed [r/min]"),
-    POS("plant", "vdc_V", plant.vdc_V, PARAMS, "DC-bus voltage [V]"),
-    ENUM("plant", "model", plant.model, PARAMS, MODEL_NAMES, "inverter model: averaged | switching"),
-    NN("plant", "deadtime_s", plant.deadtime_s, PARAMS, "inverter dead time [s]"),
-    NN("plant", "device_drop_V", plant.device_drop_V, PARAMS,
-       "on-state drop of the conducting switch or diode [V], by the current's sign"),
-    POS("plant", "substep_s", plant.substep_s, PARAMS, "longest time the plant solves at once; below the PWM period it splits it [s]"),
-    UINT("plant", "encoder_lines", plant.encoder_lines, PARAMS, 1.0, 1.0e6, "encoder lines (x4 counts)"),
-    ANY("plant", "encoder_offset_el_rad", plant.encoder_offset_el_rad, PARAMS,
-        "electrical angle of the d axis at count 0 [rad]; the controller is told the same unless run.align = on"),
-    ENUM("plant", "encoder_direction", plant.encoder_direction, "1", DIRECTION_NAMES,
-         "1 | -1: the encoder counts up (1) or down (-1, A and B swapped) as the rotor turns forward"),
-    ENUM("plant", "phase_order", plant.phase_order, "abc", ORDER_NAMES,
-         "abc | acb: acb swaps the inverter's legs b and c on their way to the current sensors and the motor"),
-    POS("plant", "adc_full_scale_A", plant.adc_full_scale_A, PARAMS, "current ADC range +-[A] (12 bit)"),
-    ANY("plant", "adc_offset_a_A", plant.adc_offset_a_A, PARAMS, "phase-a ADC offset [A]"),
-    ANY("plant", "adc_offset_b_A", plant.adc_offset_b_A, PARAMS, "phase-b ADC offset [A]"),
-    NN("plant", "adc_noise_A", plant.adc_noise_A, PARAMS, "current ADC Gaussian noise, std dev [A]"),
-    UINT("plant", "seed", plant.seed, PARAMS, 0.0, UINT32_MAX_D, "noise seed"),
-    POS("plant", "trip_A", plant.trip_A, PARAMS, "hardware overcurrent trip level [A]"),
+/* scenario_keys.h's columns, expanded into sc_key_t */
+#define SC_KIND_REAL K_REAL
+#define SC_KIND_UINT K_UINT
+#define SC_KIND_ENUM K_ENUM
+#define SC_KIND_PROF K_PROFILE
+#define SC_KIND_RPROF K_RPROFILE
+#define SC_OFFSET_REAL(sec, key) offsetof(scenario_t, sec.key), 0
+#define SC_OFFSET_UINT(sec, key) offsetof(scenario_t, sec.key), 0
+#define SC_OFFSET_ENUM(sec, key) offsetof(scenario_t, sec.key), 0
+#define SC_OFFSET_PROF(sec, key) offsetof(scenario_t, sec.key), 0
+#define SC_OFFSET_RPROF(sec, key) offsetof(scenario_t, sec.key##_profile), offsetof(scenario_t, sec.key)
+#define SC_GT0 0.0, HUGE_VAL, true, NULL
+#define SC_GE0 0.0, HUGE_VAL, false, NULL
+#define SC_ANY -HUGE_VAL, HUGE_VAL, false, NULL
+#define SC_IN(lo, hi) lo, hi, false, NULL
+#define SC_NAMES(n) 0.0, 0.0, false, n
+#define SC_NONE 0.0, 0.0, false, NULL
+#define SC_TEXT(t) t, NULL
+#define SC_PARAMS PARAMS, NULL
+#define SC_DERIVED(from) DERIVED, from
+#define SC_UNSET NULL, NULL
+#define SC_LOC(tgt, type, f, conv, scale) { tgt, offsetof(type, f), SC_CONV_##conv, scale }
+#define SC_P(f, conv, scale) SC_LOC(SC_TO_PARAMS, drive_params_t, f, conv, scale)
+#define SC_A(f, conv, scale) SC_LOC(SC_TO_APP, app_cfg_t, f, conv, scale)
+#define SC_S(f, conv, scale) SC_LOC(SC_TO_SIM, hal_sim_cfg_t, f, conv, scale)
+#define SC_F(f, conv, scale) SC_LOC(SC_TO_FAULTS, hal_sim_faults_t, f, conv, scale)
+#define SC_NO { SC_TO_NONE, 0, SC_CONV_NONE, 1.0 }
+#define SC_SAME { SC_TO_SAME, 0, SC_CONV_NONE, 1.0 }
+#define SC_KEY(sec, key, KIND, range, def, from, to, help) \
+    { #sec, #key, SC_KIND_##KIND, SC_OFFSET_##KIND(sec, key), range, def, from, to, help },
 
-    POS("motor", "i_rated_A", motor.i_rated_A, PARAMS, "continuous current, peak of the phase current [A]; T_rated = 1.5 p psi_f i_rated"),
-    OPT("motor", "i_peak_A", motor.i_peak_A, "short-time current [A] (default 2 x i_rated_A)"),
-    POS("motor", "t_peak_s", motor.t_peak_s, PARAMS, "how long i_peak_A may last [s]"),
-    POS("motor", "n_rated_rpm", motor.n_rated_rpm, PARAMS, "rated speed [r/min]"),
-    OPT("motor", "n_max_rpm", motor.n_max_rpm, "highest speed [r/min] (default n_rated_rpm)"),
-
-    OPT("controller", "R_ohm", controller.R_ohm, "controller's R [ohm] (default R_factor x plant)"),
-    OPT("controller", "L_H", controller.L_H, "controller's L [H] (default L_factor x plant)"),
-    OPT("controller", "psif_Wb", controller.psif_Wb, "controller's psi_f [Wb] (default psif_factor x plant)"),
-    OPT("controller", "R_factor", controller.R_factor, "controller's R / plant R (default 1)"),
-    OPT("controller", "L_factor", controller.L_factor, "controller's L / plant L (default 1)"),
-    OPT("controller", "psif_factor", controller.psif_factor, "controller's psi_f / plant psi_f (default 1)"),
-    OPT("controller", "J_kgm2", controller.J_kgm2, "controller's inertia [kg m^2] (default the plant's)"),
-    TOLDNN("controller", "B_Nms", controller.B_Nms, "controller's viscous friction [N m s/rad] (default the plant's)"),
-    POS("controller", "speed_bw_rad_s", controller.speed_bw_rad_s, PARAMS,
-        "speed-loop crossover [rad/s]: speed_kp = J w_c, speed_ki = kp w_c 0.103"),
-    UINT("controller", "pole_pairs", controller.pole_pairs, "0", 0.0, 64.0,
-         "pole pairs the controller is told (0: the plant's)"),
-    ENUM("controller", "method", controller.method, "conventional", METHOD_NAMES, "conventional | proposed"),
-    ENUM("controller", "mode", controller.mode, "speed", MODE_NAMES, "speed | torque | open_loop"),
-    DRV("controller", "speed_kp_Nms_rad", controller.speed_kp_Nms_rad, "speed PI proportional gain (J_kgm2 x speed_bw_rad_s)"),
-    DRV("controller", "speed_ki_Nm_rad", controller.speed_ki_Nm_rad, "speed PI integral gain (speed_kp x speed_bw_rad_s x 0.103)"),
-    POS("controller", "pll_bw_rad_s", controller.pll_bw_rad_s, PARAMS, "speed estimator bandwidth [rad/s]"),
-    DRV("controller", "te_max_Nm", controller.te_max_Nm, "torque reference limit [N m] (1.5 p psi_f i_peak_A)"),
-    DRV("controller", "i_max_A", controller.i_max_A,
-        "software overcurrent threshold [A] (1.26 i_peak_A, at most 14/15 adc_full_scale_A)"),
-    DRV("controller", "i_limit_A", controller.i_limit_A, "stator-current limit the targets respect [A] (1.08 i_peak_A)"),
-    DRV("controller", "overspeed_rpm", controller.overspeed_rpm, "overspeed trip [r/min] (1.2 n_max_rpm)"),
-    { "controller", "deadtime_s", K_REAL, F(controller.deadtime_s), NULL, 0.0, HUGE_VAL, false, NULL, "dead time the controller compensates [s] (default the plant's, >= 0)", 0 },
-    { "controller", "untold_deadtime_s", K_REAL, F(controller.untold_deadtime_s), NULL, 0.0, 1e-5, false, NULL,
-      "proposed: until the inverter error is identified, the least error nobody told, as a dead time [s] "
-      "(the speed floor's prior; default 0.15e-6: EST_UNTOLD_DEADTIME_DEFAULT_S, >= 0)", 0 },
-    { "controller", "encoder_offset_el_rad", K_REAL, F(controller.encoder_offset_el_rad), NULL, -HUGE_VAL, HUGE_VAL, false, NULL,
-      "encoder offset the controller is told [rad, electrical], sign as plant.encoder_offset_el_rad "
-      "(default the plant's; run.align = on: the alignment's measurement replaces it)", 0 },
-    OPT("controller", "R_min_ohm", controller.R_min_ohm, "accepted R^ band, low end [ohm] (default 0.1 x controller's R: ctrl_rsid_band_default)"),
-    OPT("controller", "R_max_ohm", controller.R_max_ohm, "accepted R^ band, high end [ohm] (default 6 x controller's R, at most the observer's eq. (36) bound)"),
-
-    ENUM("identify", "mode", identify.mode, PARAMS, RSID_NAMES, "step 1 of the proposed method: off | windows | speeds | trusted"),
-    DRVNN("identify", "settle_1_s", identify.settle_1_s, "start of IDENTIFY_R to window 1 [s] (2 x settle_2_s)"),
-    POS("identify", "window_s", identify.window_s, PARAMS, "each averaging window [s]"),
-    DRVNN("identify", "settle_2_s", identify.settle_2_s,
-          "end of window 1 to window 2 [s] (5.6 / w_i, the speed PI's integral corner)"),
-    DRVANY("identify", "speed_1_rpm", identify.speed_1_rpm, "speeds mode: speed of point 1 [r/min] (0.25 n_rated_rpm)"),
-    DRVANY("identify", "speed_2_rpm", identify.speed_2_rpm, "speeds mode: speed of point 2 [r/min] (0.5 n_rated_rpm)"),
-    DRV("identify", "accel_rpm_s", identify.accel_rpm_s,
-        "speeds mode: ramp of the commanded speed [r/min/s] (speed_1 in 0.2 s, at most 0.25 T_rated / J)"),
-    /* step 1 on a real ADC (rs_ident.h, observer_design.md sec. 6) */
-    POS("identify", "R_se_max_rel", identify.R_se_max_rel, PARAMS, "largest standard error of R^ accepted, x R^"),
-    POS("identify", "batch_s", identify.batch_s, PARAMS, "batch of the standard error's batch means [s]"),
-    NN("identify", "window_max_s", identify.window_max_s, PARAMS,
-       "window 2 is lengthened up to this while the standard error of R^ is too large [s]"),
-    UINT("identify", "repeats_max", identify.repeats_max, PARAMS, 0.0, 100.0,
-         "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large"),
-    ENUM("identify", "on_refusal", identify.on_refusal, PARAMS, REFUSAL_NAMES,
-         "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)"),
-    ENUM("identify", "track_R", identify.track_R, PARAMS, TRACK_NAMES,
-         "off | on | auto: R^ tracked in step 2 by a d-current injection (a warming winding); auto: from 1 s after step 2; both held while the field is weakened or the voltage at its limit"),
-
-    PROF("reference", "speed_rpm", reference.speed_rpm, "speed reference [r/min] (speed mode)"),
-    PROF("reference", "torque_Nm", reference.torque_Nm, "torque reference [N m] (torque mode)"),
-    PROF("reference", "ud_V", reference.ud_V, "d voltage [V] (open_loop mode)"),
-    PROF("reference", "uq_V", reference.uq_V, "q voltage [V] (open_loop mode)"),
-
-    PROF("load", "torque_Nm", load.torque_Nm, "load torque [N m], opposing positive speed"),
-
-    POS("run", "duration_s", run.duration_s, "1.2", "simulated time [s]"),
-    UINT("run", "log_every", run.log_every, "10", 1.0, UINT32_MAX_D, "periods between CSV rows"),
-    ENUM("run", "calibrate", run.calibrate, "off", ONOFF_NAMES,
-         "off | on: current-offset calibration at start (both off: RUN at t = 0)"),
-    ENUM("run", "align", run.align, "off", ONOFF_NAMES,
-         "off | on: rotor alignment identifies the encoder offset (off: the controller is told it)"),
-    UINT("run", "level", run.level, "5", 1.0, 5.0,
-         "build level (app.h): 1 PWM pattern, 2 ADC readings, 3 open-loop rotation and encoder check, "
-         "4 torque control at level4_i_limit_A, 5 the full drive"),
-    OPT("run", "level4_i_limit_A", run.level4_i_limit_A,
-        "level 4's current limit [A] (default 0.3 x [controller] i_limit_A)"),
-
-    /* [faults]: fault injection on the simulated board (hal_sim.h); each from its time on */
-    WHEN("open_phase_s", faults.open_phase_s, "time the phase `open_phase` opens [s] (default never)"),
-    ENUM("faults", "open_phase", faults.open_phase, "a", PHASE_NAMES, "the open phase: a | b | c"),
-    WHEN("short_s", faults.short_s, "time the outputs `short_phases` short together [s] (default never)"),
-    ENUM("faults", "short_phases", faults.short_phases, "bc", PAIR_NAMES, "the shorted pair: ab | bc | ca"),
-    POS("faults", "short_ohm", faults.short_ohm, "0.1", "the short's loop resistance [ohm]"),
-    POS("faults", "short_H", faults.short_H, "1e-5", "the short's loop inductance [H]"),
-    WHEN("adc_stuck_s", faults.adc_stuck_s, "time the current channel `adc_stuck` freezes at its reading [s] (default never)"),
-    ENUM("faults", "adc_stuck", faults.adc_stuck, "a", CHANNEL_NAMES, "the stuck channel: a | b"),
-    WHEN("encoder_lost_s", faults.encoder_lost_s, "time the encoder count stops (A/B lost) [s] (default never)"),
-    WHEN("encoder_jump_s", faults.encoder_jump_s, "time the encoder count jumps by encoder_jump_counts [s] (default never)"),
-    ANY("faults", "encoder_jump_counts", faults.encoder_jump_counts, "2500", "the jump [counts] (whole)"),
-    WHEN("vdc_sag_s", faults.vdc_sag_s, "time the DC bus steps to vdc_sag_V [s] (default never)"),
-    POS("faults", "vdc_sag_V", faults.vdc_sag_V, "150", "bus after the sag [V]"),
-    WHEN("vdc_surge_s", faults.vdc_surge_s, "time the DC bus steps to vdc_surge_V [s] (default never)"),
-    POS("faults", "vdc_surge_V", faults.vdc_surge_V, "450", "bus after the surge [V]"),
-    WHEN("gate_trip_s", faults.gate_trip_s, "time the gate driver pulls the trip input [s] (default never)"),
-    WHEN("isr_overrun_s", faults.isr_overrun_s, "time of the control ISR call that overruns [s] (default never)"),
-    POS("faults", "isr_overrun_run_s", faults.isr_overrun_run_s, "1.2e-4", "run time of that ISR call [s]"),
-};
+static const sc_key_t KEYS[] = { SC_KEYS(SC_KEY) };
 
 #define N_KEYS ((int)(sizeof KEYS / sizeof KEYS[0]))
 
@@ -211,10 +102,10 @@ static void *field(scenario_t *sc, const sc_key_t *k)
     return (char *)sc + k->offset;
 }
 
-/* A K_REAL key's value in a scenario read only. */
-static double real_value(const scenario_t *sc, const sc_key_t *k)
+/* The double at offset in a scenario read only. */
+static double real_value(const scenario_t *sc, size_t offset)
 {
-    return *(const double *)(const void *)((const char *)sc + k->offset);
+    return *(const double *)(const void *)((const char *)sc + offset);
 }
 
 static int find_key(const char *section, const char *name, int *section_known)
@@ -249,6 +140,7 @@ int scenario_key_known(const char *section, const char *name)
 #define PSIF_PLAUSIBLE_WB 1e-4, 10.0
 #define SPEED_PLAUSIBLE_RPM -1e5, 1e5
 
+#define F(field) offsetof(scenario_t, field)
 typedef enum { B_REAL, B_UINT, B_PROFILE } bound_kind_t;
 
 typedef struct {
@@ -261,7 +153,7 @@ typedef struct {
 } sc_bound_t;
 
 static const sc_bound_t BOUNDS[] = {
-    { "plant", "R_ohm", B_PROFILE, F(plant.R_profile), R_PLAUSIBLE_OHM, "ohm", NULL },
+    { "plant", "R_ohm", B_PROFILE, F(plant.R_ohm_profile), R_PLAUSIBLE_OHM, "ohm", NULL },
     { "plant", "L_H", B_REAL, F(plant.L_H), L_PLAUSIBLE_H, "H", NULL },
     { "plant", "psif_Wb", B_REAL, F(plant.psif_Wb), PSIF_PLAUSIBLE_WB, "Wb", NULL },
     { "plant", "pole_pairs", B_UINT, F(plant.pole_pairs), 1.0, 64.0, "", NULL },
@@ -289,8 +181,12 @@ static int parse_real(const sc_key_t *k, const char *v, double *out, char *err, 
         snprintf(err, errlen, "\"%s\" is not a number", v);
         return -1;
     }
-    if (x < k->lo || (k->lo_open && x <= k->lo) || x > k->hi) {
+    if (x < k->lo || (k->lo_open && x <= k->lo)) {
         snprintf(err, errlen, "%g is out of range (must be %s %g)", x, k->lo_open ? ">" : ">=", k->lo);
+        return -1;
+    }
+    if (x > k->hi) {
+        snprintf(err, errlen, "%g is out of range (must be <= %g)", x, k->hi);
         return -1;
     }
     *out = x;
@@ -402,128 +298,117 @@ static int set_value(scenario_t *sc, int i, const char *v, bool append, char *er
     return -1;
 }
 
-/* The value of each PARAMS key, in the key's unit: from the parameter
- * set (motor, board, limits, tuning), for step 1's settings from the app's
- * configuration (app_cfg_default), for the simulated board's own from
- * hal_sim_default_cfg(). */
-typedef enum {
-    PK_FLOAT,                  /* float [parameter unit] */
-    PK_U16,                    /* uint16_t */
-    PK_U32,                    /* uint32_t */
-    PK_ENUM,                   /* an enum: the key's names[value] */
-    PK_PERIODS,                /* uint32_t periods of the app's ctrl.Ts_s: in seconds */
-    PK_DOUBLE,                 /* double [parameter unit] */
-    PK_BOOL                    /* bool: 0 or 1 */
-} sc_param_kind_t;
-
-typedef struct {
-    const char *section, *name;
-    int src;                   /* 0 drive_params_t, 1 app_cfg_t, 2 hal_sim_cfg_t */
-    size_t offset;             /* of the value in it */
-    sc_param_kind_t kind;
-    double scale;              /* key unit per parameter unit */
-} sc_param_t;
-
-#define P(s, k, f, kind, scale) { s, k, 0, offsetof(drive_params_t, f), kind, scale }
-#define A(s, k, f, kind, scale) { s, k, 1, offsetof(app_cfg_t, f), kind, scale }
-#define S(s, k, f, kind, scale) { s, k, 2, offsetof(hal_sim_cfg_t, f), kind, scale }
-static const sc_param_t PARAM_KEYS[] = {
-    P("plant", "R_ohm", motor.R_Ohm, PK_FLOAT, 1.0),
-    P("plant", "L_H", motor.L_H, PK_FLOAT, 1.0),
-    P("plant", "psif_Wb", motor.psi_f_Wb, PK_FLOAT, 1.0),
-    P("plant", "pole_pairs", motor.pole_pairs, PK_U16, 1.0),
-    P("plant", "J_kgm2", motor.J_kgm2, PK_FLOAT, 1.0),
-    P("motor", "i_rated_A", rating.i_rated_A, PK_FLOAT, 1.0),
-    P("motor", "t_peak_s", rating.t_peak_s, PK_FLOAT, 1.0),
-    P("motor", "n_rated_rpm", rating.n_rated_rad_s, PK_FLOAT, SIM_RPM_PER_RAD_S),
-    P("controller", "speed_bw_rad_s", tuning.speed_bw_rad_s, PK_FLOAT, 1.0),
-    P("plant", "vdc_V", board.vdc_nominal_V, PK_FLOAT, 1.0),
-    P("plant", "encoder_lines", board.enc_lines, PK_U32, 1.0),
-    P("plant", "encoder_offset_el_rad", board.enc_offset_el_rad, PK_FLOAT, 1.0),
-    S("plant", "B_Nms", plant.B_Nms, PK_DOUBLE, 1.0),
-    S("plant", "speed_held", plant.speed_held, PK_BOOL, 1.0),
-    S("plant", "speed0_rpm", plant.omega0_m_rad_s, PK_DOUBLE, SIM_RPM_PER_RAD_S),
-    S("plant", "model", inv.model, PK_ENUM, 1.0),
-    S("plant", "deadtime_s", inv.deadtime_s, PK_DOUBLE, 1.0),
-    S("plant", "device_drop_V", inv.device_drop_V, PK_DOUBLE, 1.0),
-    S("plant", "substep_s", inv.substep_max_s, PK_DOUBLE, 1.0),
-    S("plant", "adc_full_scale_A", sens.adc_full_scale_A, PK_DOUBLE, 1.0),
-    S("plant", "adc_offset_a_A", sens.adc_offset_a_A, PK_DOUBLE, 1.0),
-    S("plant", "adc_offset_b_A", sens.adc_offset_b_A, PK_DOUBLE, 1.0),
-    S("plant", "adc_noise_A", sens.adc_noise_A, PK_DOUBLE, 1.0),
-    S("plant", "seed", sens.seed, PK_U32, 1.0),
-    S("plant", "trip_A", trip_current_A, PK_DOUBLE, 1.0),
-    P("controller", "pll_bw_rad_s", tuning.pll_bw_rad_s, PK_FLOAT, 1.0),
-    A("identify", "mode", rsid.mode, PK_ENUM, 1.0),
-    A("identify", "window_s", rsid.window_s, PK_FLOAT, 1.0),
-    A("identify", "R_se_max_rel", ctrl.rsid.R_se_max_rel, PK_FLOAT, 1.0),
-    A("identify", "batch_s", ctrl.rsid.n_batch, PK_PERIODS, 1.0),
-    A("identify", "window_max_s", rsid.window_max_s, PK_FLOAT, 1.0),
-    A("identify", "repeats_max", rsid.repeats_max, PK_U16, 1.0),
-    A("identify", "on_refusal", rsid.on_refusal, PK_ENUM, 1.0),
-    A("identify", "track_R", ctrl.track_R, PK_U16, 1.0),
-};
-#undef P
-#undef A
-#undef S
-
-/* The value at q in its kind, in the key's unit. */
-static double param_value(const sc_param_t *q, const char *at, const app_cfg_t *ac)
+/* The value at loc in *base, in the key's unit (Ts_s: a period for SC_CONV_PERIODS). */
+static double loc_read(const sc_loc_t *loc, const void *base, double Ts_s)
 {
-    switch (q->kind) {
-    case PK_U16:
+    const char *at = (const char *)base + loc->offset;
+    switch (loc->conv) {
+    case SC_CONV_U16:
         return (double)*(const uint16_t *)(const void *)at;
-    case PK_U32:
+    case SC_CONV_U32:
         return (double)*(const uint32_t *)(const void *)at;
-    case PK_ENUM:
+    case SC_CONV_U64:
+        return (double)*(const uint64_t *)(const void *)at;
+    case SC_CONV_I32:
+        return (double)*(const int32_t *)(const void *)at;
+    case SC_CONV_ENUM:
         return (double)*(const unsigned int *)(const void *)at;
-    case PK_PERIODS:
-        return (double)*(const uint32_t *)(const void *)at * (double)ac->ctrl.Ts_s;
-    case PK_DOUBLE:
-        return *(const double *)(const void *)at * q->scale;
-    case PK_BOOL:
+    case SC_CONV_PERIODS:
+        return (double)*(const uint32_t *)(const void *)at * Ts_s;
+    case SC_CONV_F64:
+        return *(const double *)(const void *)at * loc->scale;
+    case SC_CONV_BOOL:
         return *(const bool *)(const void *)at ? 1.0 : 0.0;
-    case PK_FLOAT:
+    case SC_CONV_F32:
+        return (double)*(const float *)(const void *)at * loc->scale;
+    case SC_CONV_NONE:
         break;
     }
-    return (double)*(const float *)(const void *)at * q->scale;
+    return NAN;
+}
+
+/* Value v (the key's unit) into loc in *base; NaN leaves it. */
+static void loc_write(const sc_loc_t *loc, void *base, double v, double Ts_s)
+{
+    char *at = (char *)base + loc->offset;
+    if (isnan(v)) {
+        return;
+    }
+    switch (loc->conv) {
+    case SC_CONV_U16:
+        *(uint16_t *)(void *)at = (uint16_t)v;
+        break;
+    case SC_CONV_U32:
+        *(uint32_t *)(void *)at = (uint32_t)v;
+        break;
+    case SC_CONV_U64:
+        *(uint64_t *)(void *)at = (uint64_t)v;
+        break;
+    case SC_CONV_I32:
+        *(int32_t *)(void *)at = (int32_t)llround(v);
+        break;
+    case SC_CONV_ENUM:
+        *(unsigned int *)(void *)at = (unsigned int)v;
+        break;
+    case SC_CONV_PERIODS:
+        *(uint32_t *)(void *)at = (uint32_t)llround(v / Ts_s);
+        break;
+    case SC_CONV_F64:
+        *(double *)(void *)at = v / loc->scale;
+        break;
+    case SC_CONV_BOOL:
+        *(bool *)(void *)at = (v != 0.0);
+        break;
+    case SC_CONV_F32:
+        *(float *)(void *)at = (float)(v / loc->scale);
+        break;
+    case SC_CONV_NONE:
+        break;
+    }
+}
+
+double scenario_loc_read(const sc_loc_t *loc, const void *cfg, double Ts_s)
+{
+    return loc_read(loc, cfg, Ts_s);
+}
+
+/* Where key k's value goes: SC_TO_SAME resolved to where its default is read. */
+static const sc_loc_t *key_to(const sc_key_t *k)
+{
+    return (k->to.target == SC_TO_SAME) ? &k->from : &k->to;
 }
 
 /* The default of a PARAMS key as text: the board's value in the key's
  * unit, to 6 significant digits (the decimal board_cfg.h spells: 0.011f
  * reads 0.011, not 0.0109999999); an enum key's value (or an on/off
- * key's 0/1) by its name. "" for a key not in PARAM_KEYS or a value
- * with no name. */
+ * key's 0/1) by its name. "" for a value with no name. */
 static const char *params_default(const sc_key_t *k, char *buf, size_t len)
 {
-    drive_params_t p;
+    static drive_params_t p;
     static app_cfg_t ac; /* large: not on the stack */
     static hal_sim_cfg_t hs;
     drive_params_board(&p);
     app_cfg_default(&ac);
     hal_sim_default_cfg(&hs);
     buf[0] = '\0';
-    for (size_t j = 0; j < sizeof PARAM_KEYS / sizeof PARAM_KEYS[0]; j++) {
-        const sc_param_t *q = &PARAM_KEYS[j];
-        if (strcmp(q->section, k->section) == 0 && strcmp(q->name, k->name) == 0) {
-            const char *const src[] = { (const char *)&p, (const char *)&ac, (const char *)&hs };
-            const char *at = src[q->src] + q->offset;
-            const double v = param_value(q, at, &ac);
-            if (k->kind != K_ENUM) {
-                snprintf(buf, len, "%.6g", v);
-                /* a float read back from 6 digits that is not the same float
-                 * (a derived constant): every digit of it */
-                if (q->kind == PK_FLOAT &&
-                    (float)(strtod(buf, NULL) / q->scale) != *(const float *)(const void *)at) {
-                    snprintf(buf, len, "%.9g", v);
-                }
-                continue;
-            }
-            for (size_t n = 0; k->names[n] != NULL; n++) {
-                if ((double)n == v) {
-                    snprintf(buf, len, "%s", k->names[n]);
-                }
-            }
+    const sc_loc_t *q = &k->from;
+    const void *src = (q->target == SC_TO_PARAMS) ? (const void *)&p
+                      : (q->target == SC_TO_APP)  ? (const void *)&ac
+                                                  : (const void *)&hs;
+    const double v = loc_read(q, src, (double)ac.ctrl.Ts_s);
+    if (k->kind != K_ENUM) {
+        snprintf(buf, len, "%.6g", v);
+        /* a float read back from 6 digits that is not the same float
+         * (a derived constant): every digit of it */
+        if (q->conv == SC_CONV_F32 &&
+            (float)(strtod(buf, NULL) / q->scale) != *(const float *)(const void *)((const char *)src + q->offset)) {
+            snprintf(buf, len, "%.9g", v);
+        }
+        return buf;
+    }
+    for (size_t n = 0; k->names[n] != NULL; n++) {
+        if ((double)n == v) {
+            snprintf(buf, len, "%s", k->names[n]);
         }
     }
     return buf;
@@ -548,8 +433,8 @@ void scenario_defaults(scenario_t *sc)
         if (def == NULL) {
             *(double *)field(sc, &KEYS[i]) = NAN;
         } else if (set_value(sc, i, def, false, err, sizeof err) != 0) {
-            /* a PARAMS key missing from PARAM_KEYS, or a value with no
-             * name: a bug of this table, not of the user's input */
+            /* a PARAMS value with no name: a bug of the table, not of
+             * the user's input */
             fprintf(stderr, "scenario.c: the default of [%s] %s does not parse: %s\n", KEYS[i].section,
                     KEYS[i].name, err);
             abort();
@@ -829,20 +714,18 @@ static int check_limits(const scenario_t *sc, char *err, size_t errlen)
     return -1;
 }
 
-/* The keys where a finished scenario's value of a derived key came from. */
-typedef struct {
-    const char *section, *name;
-    size_t p_offset;           /* of the float in drive_params_t */
-    double scale;              /* key unit per parameter unit */
-} sc_derived_t;
-#define D(s, k, f, scale, from) { s, k, offsetof(drive_params_t, f), scale },
-static const sc_derived_t DERIVED_KEYS[] = { DRIVE_DERIVED_KEYS(D) };
-#undef D
-
-/* A key's value into the parameter set: NaN (left to derive) as DRIVE_PARAM_DERIVED. */
-static float told_or_derived(double v, double scale)
+void scenario_map(const scenario_t *sc, sc_target_t target, void *cfg, double Ts_s)
 {
-    return isnan(v) ? DRIVE_PARAM_DERIVED : (float)(v / scale);
+    for (int i = 0; i < N_KEYS; i++) {
+        const sc_key_t *k = &KEYS[i];
+        const sc_loc_t *to = key_to(k);
+        if (to->target == target) {
+            const double v = (k->kind == K_REAL || k->kind == K_RPROFILE)
+                                 ? real_value(sc, (k->kind == K_RPROFILE) ? k->offset_t0 : k->offset)
+                                 : (double)*(const uint32_t *)(const void *)((const char *)sc + k->offset);
+            loc_write(to, cfg, v, Ts_s);
+        }
+    }
 }
 
 void scenario_params(const scenario_t *sc, drive_params_t *p)
@@ -850,43 +733,34 @@ void scenario_params(const scenario_t *sc, drive_params_t *p)
     hal_sim_cfg_t hs;
     hal_sim_default_cfg(&hs);
     drive_params_board(p);
-    p->motor.R_Ohm = (float)sc->controller.R_ohm;
-    p->motor.L_H = (float)sc->controller.L_H;
-    p->motor.psi_f_Wb = (float)sc->controller.psif_Wb;
-    p->motor.pole_pairs = (uint16_t)sc->controller.pole_pairs;   /* what the controller is told */
-    p->motor.J_kgm2 = (float)sc->controller.J_kgm2;
-    p->motor.B_Nms = (float)sc->controller.B_Nms;
-    p->rating.i_rated_A = (float)sc->motor.i_rated_A;
-    p->rating.i_peak_A = (float)(isnan(sc->motor.i_peak_A) ? 2.0 * sc->motor.i_rated_A : sc->motor.i_peak_A);
-    p->rating.t_peak_s = (float)sc->motor.t_peak_s;
-    p->rating.n_rated_rad_s = (float)(sc->motor.n_rated_rpm / SIM_RPM_PER_RAD_S);
-    p->rating.n_max_rad_s = (float)((isnan(sc->motor.n_max_rpm) ? sc->motor.n_rated_rpm : sc->motor.n_max_rpm) /
-                                    SIM_RPM_PER_RAD_S);
-    p->board.Ts_s = (float)hs.inv.Ts_s;
-    /* the dead time as if measured, unless the scenario gives the controller another */
-    p->board.deadtime_s = (float)(isnan(sc->controller.deadtime_s) ? sc->plant.deadtime_s : sc->controller.deadtime_s);
     /* the board's bus limits relative to its nominal bus, at the scenario's bus */
     const float bus_scale = (float)sc->plant.vdc_V / p->board.vdc_nominal_V;
     p->limits.vdc_max_V = p->limits.vdc_max_V * bus_scale;
     p->limits.vdc_min_V = p->limits.vdc_min_V * bus_scale;
+    /* the keys whose target is the parameter set: the controller's values
+     * (what it is told), the ratings, the tuning; a derived key left to
+     * derive (NaN) keeps the board's DRIVE_PARAM_DERIVED */
+    scenario_map(sc, SC_TO_PARAMS, p, hs.inv.Ts_s);
+    /* what the controller is told of the board: the plant's, as if measured */
     p->board.vdc_nominal_V = (float)sc->plant.vdc_V;
     p->board.i_full_scale_A = (float)sc->plant.adc_full_scale_A;
     p->board.enc_lines = sc->plant.encoder_lines;
+    p->board.Ts_s = (float)hs.inv.Ts_s;
+    /* the dead time as if measured, unless the scenario gives the controller another */
+    if (isnan(sc->controller.deadtime_s)) {
+        p->board.deadtime_s = (float)sc->plant.deadtime_s;
+    }
     /* align off: told [controller] encoder_offset_el_rad, else the plant's as if measured;
      * on: the alignment's measurement replaces it */
     const double enc_told = isnan(sc->controller.encoder_offset_el_rad) ? sc->plant.encoder_offset_el_rad
                                                                         : sc->controller.encoder_offset_el_rad;
     p->board.enc_offset_el_rad = (sc->run.align == SC_ON) ? 0.0f : (float)enc_told;
-    p->tuning.speed_bw_rad_s = (float)sc->controller.speed_bw_rad_s;
-    p->tuning.pll_bw_rad_s = (float)sc->controller.pll_bw_rad_s;
-    p->tuning.R_min_Ohm = isnan(sc->controller.R_min_ohm) ? p->tuning.R_min_Ohm : (float)sc->controller.R_min_ohm;
-    p->tuning.R_max_Ohm = isnan(sc->controller.R_max_ohm) ? p->tuning.R_max_Ohm : (float)sc->controller.R_max_ohm;
-    for (size_t j = 0; j < sizeof DERIVED_KEYS / sizeof DERIVED_KEYS[0]; j++) {
-        int known = 0;
-        const sc_derived_t *d = &DERIVED_KEYS[j];
-        const int i = find_key(d->section, d->name, &known);
-        const double v = real_value(sc, &KEYS[i]);
-        *(float *)(void *)((char *)p + d->p_offset) = told_or_derived(v, d->scale);
+    /* the ratings left out: i_peak 2 x i_rated, n_max n_rated */
+    if (isnan(sc->motor.i_peak_A)) {
+        p->rating.i_peak_A = (float)(2.0 * sc->motor.i_rated_A);
+    }
+    if (isnan(sc->motor.n_max_rpm)) {
+        p->rating.n_max_rad_s = (float)(sc->motor.n_rated_rpm / SIM_RPM_PER_RAD_S);
     }
 }
 
@@ -941,12 +815,11 @@ static int derive_keys(scenario_t *sc, char *err, size_t errlen)
                  sc->controller.L_H, (double)G_max, (double)p.board.Ts_s, 0.45 * (double)G_max, sc->controller.R_ohm);
         return -1;
     }
-    for (size_t j = 0; j < sizeof DERIVED_KEYS / sizeof DERIVED_KEYS[0]; j++) {
-        const sc_derived_t *d = &DERIVED_KEYS[j];
-        const int i = find_key(d->section, d->name, &known);
-        double *v = (double *)field(sc, &KEYS[i]);
-        if (isnan(*v)) {
-            *v = (double)*(const float *)(const void *)((const char *)&p + d->p_offset) * d->scale;
+    for (int i = 0; i < N_KEYS; i++) {
+        const sc_key_t *k = &KEYS[i];
+        double *v = (double *)field(sc, k);
+        if (k->def == DERIVED && isnan(*v)) {
+            *v = loc_read(&k->to, &p, 0.0);
         }
     }
     return 0;
@@ -1089,4 +962,117 @@ void scenario_print_bounds(FILE *f)
         snprintf(key, sizeof key, "[%s] %s", b->section, b->name);
         fprintf(f, "    %-26s %g .. %g%s%s\n", key, b->lo, b->hi, (b->unit[0] != '\0') ? " " : "", b->unit);
     }
+}
+
+void scenario_print_keys_markdown(FILE *f)
+{
+    fputs("# Scenario keys\n\n"
+          "Generated from `tools/sil/scenario_keys.h` by `drive_sil --list-keys --markdown`\n"
+          "(`make scenario-keys` rewrites it; `make test` checks it). The format, the\n"
+          "defaults' sources and notes on the keys: `hal/sim/README.md`; the values\n"
+          "derived from the motor's data: `firmware/params_design.md`.\n\n"
+          "Default: a value; `derived` (from the keys named, unless set); `-` (unset:\n"
+          "see the meaning). Range: what the parser accepts (the plausibility bounds\n"
+          "of `drive_sil --help` come on top).\n\n"
+          "| section | key | default | range | meaning |\n"
+          "| --- | --- | --- | --- | --- |\n", f);
+    for (int i = 0; i < N_KEYS; i++) {
+        const sc_key_t *k = &KEYS[i];
+        char buf[32];
+        char range[96];
+        const char *text = default_text(k, buf, sizeof buf);
+        const char *def = (k->def == DERIVED) ? "derived" : ((text == NULL) ? "-" : ((k->kind == K_PROFILE) ? "0" : text));
+        switch (k->kind) {
+        case K_REAL:
+            if (k->lo == -HUGE_VAL) {
+                snprintf(range, sizeof range, "number");
+            } else if (k->hi < HUGE_VAL) {
+                snprintf(range, sizeof range, "%g .. %g", k->lo, k->hi);
+            } else {
+                snprintf(range, sizeof range, "%s %g", k->lo_open ? ">" : ">=", k->lo);
+            }
+            break;
+        case K_UINT:
+            snprintf(range, sizeof range, "%g .. %g", k->lo, k->hi);
+            break;
+        case K_ENUM: {
+            int n = 0;
+            range[0] = '\0';
+            for (size_t j = 0; k->names[j] != NULL && n >= 0 && (size_t)n < sizeof range; j++) {
+                n += snprintf(range + n, sizeof range - (size_t)n, "%s%s", (j > 0u) ? " \\| " : "", k->names[j]);
+            }
+            break;
+        }
+        case K_PROFILE:
+            snprintf(range, sizeof range, "profile");
+            break;
+        case K_RPROFILE:
+            snprintf(range, sizeof range, "profile from t = 0, > 0");
+            break;
+        }
+        fprintf(f, "| %s | %s | %s%s%s | %s | ", k->section, k->name, def, (k->from_keys != NULL) ? ": " : "",
+                (k->from_keys != NULL) ? k->from_keys : "", range);
+        for (const char *c = k->help; *c != '\0'; c++) {
+            if (*c == '|') {
+                fputc('\\', f);
+            }
+            fputc(*c, f);
+        }
+        fputs(" |\n", f);
+    }
+}
+
+int scenario_key_count(void)
+{
+    return N_KEYS;
+}
+
+void scenario_key_info(int i, scenario_key_info_t *out)
+{
+    const sc_key_t *k = &KEYS[i];
+    out->section = k->section;
+    out->name = k->name;
+    out->help = k->help;
+    out->from_keys = k->from_keys;
+    out->to = *key_to(k);
+    out->lo = k->lo;
+    out->hi = k->hi;
+    out->names = k->names;
+    out->type = (k->kind == K_REAL)   ? SC_KEY_REAL
+                : (k->kind == K_UINT) ? SC_KEY_UINT
+                : (k->kind == K_ENUM) ? SC_KEY_ENUM
+                                      : SC_KEY_PROFILE;
+}
+
+void scenario_key_json(FILE *f, const scenario_t *sc, int i)
+{
+    const sc_key_t *k = &KEYS[i];
+    const char *at = (const char *)sc + k->offset;
+    switch (k->kind) {
+    case K_REAL: {
+        const double v = real_value(sc, k->offset);
+        if (isfinite(v)) {
+            fprintf(f, "%.10g", v);
+        } else {
+            fputs("null", f);
+        }
+        return;
+    }
+    case K_UINT:
+        fprintf(f, "%lu", (unsigned long)*(const uint32_t *)(const void *)at);
+        return;
+    case K_ENUM:
+        fprintf(f, "\"%s\"", k->names[*(const uint32_t *)(const void *)at]);
+        return;
+    case K_PROFILE:
+    case K_RPROFILE:
+        break;
+    }
+    const profile_t *pr = (const profile_t *)(const void *)at;
+    fputc('[', f);
+    for (uint32_t n = 0; n < pr->n; n++) {
+        fprintf(f, "%s[%.10g, %.10g, %s]", (n > 0u) ? ", " : "", pr->pt[n].t_s, pr->pt[n].value,
+                pr->pt[n].ramp ? "true" : "false");
+    }
+    fputc(']', f);
 }

@@ -2,10 +2,11 @@
  * scenario.h - SIL scenarios: INI files (parsed with libinih) and
  * "section.key=value" overrides into one scenario_t. Every key is
  * optional; the drive's keys default to its parameter set and the app's
- * configuration of the board (Table I; scenario.c, PARAMS). The keys are
- * one table in scenario.c (a new key is one field here and one line
- * there); the format is documented in hal/sim/README.md and by
- * scenario_print_keys().
+ * configuration of the board (Table I). The keys are one table,
+ * scenario_keys.h (a new key is one line there: its field here, its
+ * parsing, default, target, --help and the documented list follow); the
+ * format is documented in hal/sim/README.md, the keys in
+ * tools/sil/SCENARIO_KEYS.md (drive_sil --list-keys --markdown).
  *
  * Errors name the source and key: "FILE:LINE: [section] key: problem"
  * (or "--set section.key=value: problem").
@@ -19,6 +20,7 @@
 
 #include "drive_params.h"
 #include "profile.h"
+#include "scenario_keys.h"
 
 #define SCENARIO_ERR_LEN 512
 #define SCENARIO_MAX_KEYS 128
@@ -40,86 +42,22 @@ typedef enum { SC_PHASES_ABC = 0, SC_PHASES_ACB = 1 } sc_phase_order_t;
 #define SC_LEVEL4_I_LIMIT_PER_LIMIT 0.3
 
 
+/* The fields of the keys (scenario_keys.h: the key's name, double, uint32_t
+ * or profile_t; [plant] R_ohm also R_ohm_profile). NaN: not set, left to
+ * scenario_finish (the controller's values, the derived keys) or to its
+ * target (a fault's time: never; [motor] i_peak_A, n_max_rpm: scenario_params). */
 typedef struct {
-    struct {                       /* [plant]: the TRUE motor, inverter and sensors */
-        double R_ohm, L_H, psif_Wb;        /* R_ohm: at t = 0 (R_profile's first point) */
-        profile_t R_profile;               /* R over the run (a warming winding); key R_ohm */
-        double device_drop_V;              /* on-state drop of the conducting device [V] */
-        uint32_t pole_pairs;
-        double J_kgm2, B_Nms;
-        uint32_t speed_held;       /* 1: shaft held at speed0_rpm (locked rotor at 0) */
-        double speed0_rpm;
-        double vdc_V;
-        uint32_t model;            /* sc_model_t */
-        double deadtime_s, substep_s;
-        uint32_t encoder_lines;
-        double encoder_offset_el_rad;
-        uint32_t encoder_direction;        /* sc_direction_t */
-        uint32_t phase_order;              /* sc_phase_order_t */
-        double adc_full_scale_A, adc_offset_a_A, adc_offset_b_A, adc_noise_A;
-        uint32_t seed;
-        double trip_A;
-    } plant;
-    struct {                       /* [motor]: the ratings (default: the paper motor's) */
-        double i_rated_A, i_peak_A, t_peak_s;  /* i_peak NaN: 2 x i_rated */
-        double n_rated_rpm, n_max_rpm;         /* n_max NaN: n_rated */
-    } motor;
-    struct {                       /* [controller]: the controller's values */
-        double R_ohm, L_H, psif_Wb;            /* NaN: factor x plant value */
-        double J_kgm2, B_Nms;                  /* NaN: the plant's */
-        double speed_bw_rad_s;                 /* speed-loop crossover [rad/s] */
-        double R_factor, L_factor, psif_factor;
-        uint32_t method;           /* sc_method_t */
-        uint32_t mode;             /* sc_mode_t */
-        /* speed_kp, speed_ki, te_max, i_max, i_limit, overspeed and
-         * [identify]'s settle, speeds and accel: NaN until scenario_finish
-         * derives them (drive_params_derive) */
-        double speed_kp_Nms_rad, speed_ki_Nm_rad, pll_bw_rad_s, te_max_Nm, i_max_A;
-        double i_limit_A, overspeed_rpm;   /* current limit, overspeed trip */
-        double R_min_ohm, R_max_ohm;           /* R^ band; NaN: the board's factors x R_ohm */
-        double deadtime_s;                     /* dead time the controller compensates; NaN: the plant's */
-        double untold_deadtime_s;              /* speed floor's prior on an untold inverter error [s]; NaN: the ctrl default */
-        double encoder_offset_el_rad;          /* encoder offset the controller is told [rad el]; NaN: the plant's */
-        uint32_t pole_pairs;                   /* pole pairs the controller is told; 0 (default): the plant's */
-    } controller;
-    struct {                       /* [identify]: step 1 of the proposed method (app IDENTIFY_R) */
-        uint32_t mode;             /* sc_rsid_mode_t */
-        double settle_1_s, window_s, settle_2_s;
-        double speed_1_rpm, speed_2_rpm, accel_rpm_s;
-        /* step 1 on a real ADC */
-        double R_se_max_rel, batch_s, window_max_s;
-        uint32_t repeats_max;
-        uint32_t on_refusal;       /* sc_refusal_t */
-        uint32_t track_R;          /* off | on | auto: R^ tracked in step 2 (ctrl_cfg_t.track_R, CTRL_TRACK_R_*) */
-    } identify;
+    struct { SC_KEYS_plant(SC_FIELD) } plant;           /* the TRUE motor, inverter and sensors */
+    struct { SC_KEYS_motor(SC_FIELD) } motor;           /* the ratings (default: the paper motor's) */
+    struct { SC_KEYS_controller(SC_FIELD) } controller; /* what the controller is told */
+    struct { SC_KEYS_identify(SC_FIELD) } identify;     /* step 1 of the proposed method (app IDENTIFY_R) */
+    struct { SC_KEYS_reference(SC_FIELD) } reference;
+    struct { SC_KEYS_load(SC_FIELD) } load;
     struct {
-        profile_t speed_rpm, torque_Nm, ud_V, uq_V;
-    } reference;
-    struct {
-        profile_t torque_Nm;
-    } load;
-    struct {
-        double duration_s;         /* 0 only when endless_ok: until the host ends the run */
+        SC_KEYS_run(SC_FIELD)
         bool endless_ok;           /* set by the caller after scenario_defaults: duration_s = 0 accepted (drive_sil --link) */
-        uint32_t log_every;        /* periods between logged rows */
-        uint32_t calibrate;        /* 1: the app measures the current offsets at start (sc_onoff_t) */
-        uint32_t align;            /* 1: the app aligns the rotor; the controller is not told the encoder offset */
-        uint32_t level;            /* build level 1..5 (app.h) */
-        double level4_i_limit_A;   /* level 4's current limit; NaN: SC_LEVEL4_I_LIMIT_PER_LIMIT x i_limit_A */
     } run;
-    struct {                       /* [faults]: injected on the simulated board (hal_sim_faults_t); times NaN: never */
-        double open_phase_s;
-        uint32_t open_phase;       /* 0 a, 1 b, 2 c */
-        double short_s;
-        uint32_t short_phases;     /* 0 ab, 1 bc, 2 ca */
-        double short_ohm, short_H;
-        double adc_stuck_s;
-        uint32_t adc_stuck;        /* 0 a, 1 b */
-        double encoder_lost_s, encoder_jump_s, encoder_jump_counts;
-        double vdc_sag_s, vdc_sag_V, vdc_surge_s, vdc_surge_V;
-        double gate_trip_s;
-        double isr_overrun_s, isr_overrun_run_s;
-    } faults;
+    struct { SC_KEYS_faults(SC_FIELD) } faults;         /* injected on the simulated board (hal_sim_faults_t) */
     uint32_t derive_status;        /* drive_derive_t of scenario_finish (warnings) */
     /* where each key was last set ("" = default), for messages */
     char origin[SCENARIO_MAX_KEYS][SCENARIO_ORIGIN_LEN];
@@ -159,5 +97,58 @@ void scenario_print_keys(FILE *f);
 
 /* The plausibility bounds scenario_finish() checks, as help text. */
 void scenario_print_bounds(FILE *f);
+
+/* Where a key's value goes (scenario_keys.h, TO) and how it is converted. */
+typedef enum { SC_TO_NONE, SC_TO_SAME, SC_TO_PARAMS, SC_TO_APP, SC_TO_SIM, SC_TO_FAULTS } sc_target_t;
+typedef enum {
+    SC_CONV_NONE,
+    SC_CONV_F32,      /* float, value / scale */
+    SC_CONV_F64,      /* double, value / scale */
+    SC_CONV_U16,      /* uint16_t */
+    SC_CONV_U32,      /* uint32_t */
+    SC_CONV_U64,      /* uint64_t */
+    SC_CONV_I32,      /* int32_t, rounded */
+    SC_CONV_ENUM,     /* an enum whose values are the key's names' indices */
+    SC_CONV_BOOL,     /* bool: value != 0 */
+    SC_CONV_PERIODS   /* uint32_t periods of Ts_s, rounded, from seconds */
+} sc_conv_t;
+
+typedef struct {
+    sc_target_t target;
+    size_t offset;             /* of the value in the target's struct */
+    sc_conv_t conv;
+    double scale;              /* key unit per target unit */
+} sc_loc_t;
+
+/* One key of the table, for the runner's outputs and tests. */
+typedef enum { SC_KEY_REAL, SC_KEY_UINT, SC_KEY_ENUM, SC_KEY_PROFILE } sc_key_type_t;
+typedef struct {
+    const char *section, *name, *help;
+    sc_key_type_t type;
+    double lo, hi;             /* SC_KEY_REAL, SC_KEY_UINT: the accepted range */
+    const char *const *names;  /* SC_KEY_ENUM: the values, NULL-terminated */
+    const char *from_keys;     /* a derived key: the keys it is derived from; else NULL */
+    sc_loc_t to;               /* where its value goes (SC_TO_SAME resolved) */
+} scenario_key_info_t;
+
+/* The number of keys; key i's description (0 <= i < scenario_key_count()). */
+int scenario_key_count(void);
+void scenario_key_info(int i, scenario_key_info_t *out);
+
+/* The values of the keys whose target is `target` into *cfg: a
+ * drive_params_t (SC_TO_PARAMS), app_cfg_t (SC_TO_APP), hal_sim_cfg_t
+ * (SC_TO_SIM) or hal_sim_faults_t (SC_TO_FAULTS), on top of what it holds;
+ * a NaN value leaves its field. Ts_s: the period of a SC_CONV_PERIODS key. */
+void scenario_map(const scenario_t *sc, sc_target_t target, void *cfg, double Ts_s);
+
+/* The value at loc in *cfg (the struct loc->target names), in the key's unit. */
+double scenario_loc_read(const sc_loc_t *loc, const void *cfg, double Ts_s);
+
+/* Key i's value in a finished scenario as JSON: a number (null if NaN), an
+ * enum's name, or a profile's points [[t_s, value, ramp], ...]. */
+void scenario_key_json(FILE *f, const scenario_t *sc, int i);
+
+/* The key table as a Markdown document (tools/sil/SCENARIO_KEYS.md). */
+void scenario_print_keys_markdown(FILE *f);
 
 #endif /* SCENARIO_H */

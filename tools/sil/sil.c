@@ -34,28 +34,11 @@ static void sil_isr(void)
 static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
 {
     hal_sim_faults_none(f);
-    f->open_phase_s = sc->faults.open_phase_s;
-    f->open_phase = sc->faults.open_phase;
-    f->short_s = sc->faults.short_s;
-    f->short_pair = sc->faults.short_phases;
-    f->short_ohm = sc->faults.short_ohm;
-    f->short_H = sc->faults.short_H;
-    f->adc_stuck_s = sc->faults.adc_stuck_s;
-    f->adc_stuck_channel = sc->faults.adc_stuck;
-    f->enc_lost_s = sc->faults.encoder_lost_s;
-    f->enc_jump_s = sc->faults.encoder_jump_s;
-    f->enc_jump_counts = (int32_t)llround(sc->faults.encoder_jump_counts);
-    f->vdc_sag_s = sc->faults.vdc_sag_s;
-    f->vdc_sag_V = sc->faults.vdc_sag_V;
-    f->vdc_surge_s = sc->faults.vdc_surge_s;
-    f->vdc_surge_V = sc->faults.vdc_surge_V;
-    f->gate_trip_s = sc->faults.gate_trip_s;
-    f->isr_overrun_s = sc->faults.isr_overrun_s;
-    f->isr_overrun_run_s = sc->faults.isr_overrun_run_s;
+    scenario_map(sc, SC_TO_FAULTS, f, 0.0);
 }
 
 /* The scenario's controller and board values as the drive's parameter set
- * (defaults: the board's, tools/sil/scenario.c), mapped by the target's
+ * (defaults: the board's, tools/sil/scenario_keys.h), mapped by the target's
  * own drive_params_to_app_cfg(); then the start-up sequence's keys. */
 static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_t *ac)
 {
@@ -66,28 +49,8 @@ static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_
 
     app_cfg_default(ac);   /* the board's start-up sequence, watch and ISR timing */
     drive_params_to_app_cfg(&p, ac);
-    ctrl_cfg_t *c = &ac->ctrl;
-    ac->calibrate = (sc->run.calibrate == SC_ON);
-    ac->lvl.level = (uint16_t)sc->run.level;
-    ac->lvl.i_lim_4_A = (float)sc->run.level4_i_limit_A;
-    ac->align = (sc->run.align == SC_ON);
-    c->rsid.R_se_max_rel = (float)sc->identify.R_se_max_rel;
-    c->rsid.n_batch = (uint32_t)llround(sc->identify.batch_s / hc->inv.Ts_s);
-    c->track_R = (uint16_t)sc->identify.track_R;   /* TRACK_NAMES: as CTRL_TRACK_R_* */
-    if (!isnan(sc->controller.untold_deadtime_s)) {
-        c->untold_deadtime_s = (float)sc->controller.untold_deadtime_s;
-    }
-    ac->rsid.mode = (app_rsid_mode_t)sc->identify.mode;
-    ac->rsid.settle_1_s = (float)sc->identify.settle_1_s;
-    ac->rsid.window_s = (float)sc->identify.window_s;
-    ac->rsid.settle_2_s = (float)sc->identify.settle_2_s;
-    ac->rsid.speed_1_rad_s = (float)(sc->identify.speed_1_rpm / SIM_RPM_PER_RAD_S);
-    ac->rsid.speed_2_rad_s = (float)(sc->identify.speed_2_rpm / SIM_RPM_PER_RAD_S);
-    ac->rsid.accel_rad_s2 = (float)(sc->identify.accel_rpm_s / SIM_RPM_PER_RAD_S);
-    ac->rsid.window_max_s = (float)sc->identify.window_max_s;
-    ac->rsid.repeats_max = (uint16_t)sc->identify.repeats_max;
-    ac->rsid.on_refusal = (sc->identify.on_refusal == SC_REFUSAL_CONVENTIONAL) ? APP_RSID_REFUSAL_CONVENTIONAL
-                                                                               : APP_RSID_REFUSAL_FAULT;
+    /* the keys whose target is the app's configuration: [run], [identify] */
+    scenario_map(sc, SC_TO_APP, ac, hc->inv.Ts_s);
 }
 
 static ctrl_mode_t ctrl_mode_of(uint32_t mode)
@@ -167,8 +130,8 @@ static void refs_init(sil_refs_t *r, const scenario_t *sc)
     profile_cursor_init(&r->ud_V, &sc->reference.ud_V);
     profile_cursor_init(&r->uq_V, &sc->reference.uq_V);
     profile_cursor_init(&r->load_Nm, &sc->load.torque_Nm);
-    profile_cursor_init(&r->R_Ohm, &sc->plant.R_profile);
-    r->R_varies = (sc->plant.R_profile.n > 1u);
+    profile_cursor_init(&r->R_Ohm, &sc->plant.R_ohm_profile);
+    r->R_varies = (sc->plant.R_ohm_profile.n > 1u);
     r->until_s = -INFINITY;
     r->speed_ref_rpm = 0.0;
 }
@@ -453,8 +416,8 @@ static void json_derived(FILE *f, const char *key, double v, int set, const char
 }
 
 /* The values derived from the motor's data (firmware/params_design.md):
- * the keys' (DRIVE_DERIVED_KEYS, set or derived) and the settings without
- * a key (always derived), as the run used them. */
+ * the derived keys' (scenario_keys.h, set or derived) and the settings
+ * without a key (always derived), as the run used them. */
 static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
 {
     const ctrl_cfg_t *c = &ac->ctrl;
@@ -462,11 +425,15 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
     char name[64];
     scenario_params(sc, &p);   /* finished: the derived keys' values */
     fputs(" \"derived\": {\n", f);
-#define X(s, k, fld, scale, from)                                                                \
-    snprintf(name, sizeof name, "%s.%s", s, k);                                                   \
-    json_derived(f, name, (double)p.fld * (scale), scenario_key_set(sc, s, k), from, ",\n");
-    DRIVE_DERIVED_KEYS(X)
-#undef X
+    for (int i = 0; i < scenario_key_count(); i++) {
+        scenario_key_info_t k;
+        scenario_key_info(i, &k);
+        if (k.from_keys != NULL) {
+            snprintf(name, sizeof name, "%s.%s", k.section, k.name);
+            json_derived(f, name, scenario_loc_read(&k.to, &p, 0.0), scenario_key_set(sc, k.section, k.name),
+                         k.from_keys, ",\n");
+        }
+    }
     static const char I[] = "motor.i_rated_A";
     static const char V[] = "plant.vdc_V";
     json_derived(f, "observer.Ks_V", (double)c->smo.Ks_V, 0, "plant.vdc_V (2 ef_max)", ",\n");
@@ -495,7 +462,19 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
     if (w[0] != '\0') {
         summary_json_string(f, w);
     }
-    fputs("]}\n", f);
+    /* every key as resolved, and whether it was set, left at its default or derived */
+    fputs("],\n \"keys\": {\n", f);
+    const int n = scenario_key_count();
+    for (int i = 0; i < n; i++) {
+        scenario_key_info_t k;
+        scenario_key_info(i, &k);
+        const bool set = scenario_key_set(sc, k.section, k.name) != 0;
+        fprintf(f, "  \"%s.%s\": {\"value\": ", k.section, k.name);
+        scenario_key_json(f, sc, i);
+        fprintf(f, ", \"source\": \"%s\"}%s", set ? "set" : ((k.from_keys != NULL) ? "derived" : "default"),
+                (i + 1 < n) ? ",\n" : "\n");
+    }
+    fputs(" }}\n", f);
 }
 
 void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path)

@@ -4,7 +4,7 @@
  * [plant] keys. hal/sim keeps no motor data of its own: the motor and
  * the bus come from here, whose defaults are the scenario's, i.e. the
  * drive's one parameter set (firmware/drive_params.h through
- * tools/sil/scenario.c's PARAMS keys, read into double as the decimals
+ * tools/sil/scenario_keys.h's SC_PARAMS keys, read into double as the decimals
  * board_cfg.h spells). Host only.
  */
 #ifndef SIL_BOARD_H
