@@ -1,6 +1,8 @@
 /* link.c - dispatcher, reply cache, capture and stream of the link; see link.h and link_protocol.md. */
 #include "link.h"
 
+#include <stddef.h>
+
 #include "mathx.h"
 
 #define COUNT16_MAX 0xFFFFu
@@ -208,6 +210,20 @@ static uint16_t put_value(uint16_t *p, uint16_t i, uint16_t id, link_val_t v)
     }
 }
 
+/* A streamed raw value (a float's bits, in the raw unit of its source, or an integer) in its
+ * variable's type and unit, as READ gives it. */
+static uint16_t put_raw(uint16_t *p, uint16_t i, const link_target_t *t, uint16_t id, uint32_t raw)
+{
+    link_val_t v;
+    v.u = raw;
+    v.f = (float)raw;
+    if (link_var(id)->type == (uint16_t)LINK_T_F32) {
+        v.u = 0u;
+        v.f = link_f32_of_bits(raw) / link_var_source(t, id).raw_per_unit;
+    }
+    return put_value(p, i, id, v);
+}
+
 /* READ id...: each value in its type's size. */
 static uint16_t do_read(link_t *l, const link_frame_t *q, uint16_t *p)
 {
@@ -250,14 +266,33 @@ static uint16_t do_write(link_t *l, const link_frame_t *q, uint16_t *p)
     const uint16_t err = link_var_write(&l->t, id, v, &refused_access);
     if (!refused_access) {
         l->stats.writes++;
-        l->written |= (uint32_t)1u << id;
+        l->written |= (id < LINK_WRITTEN_BITS) ? ((uint32_t)1u << id) : 0u;
     }
     p[0] = refused_access ? LINK_ST_ACCESS : ((err != (uint16_t)CMD_OK) ? LINK_ST_REFUSED : LINK_ST_OK);
     return link_put_u16(p, 1u, err);
 }
 
+/* ACTION LEVEL n: status (REFUSED for a level outside 1..5), cmd_error. */
+static uint16_t do_level(link_t *l, const link_frame_t *q, uint16_t *p)
+{
+    if (q->len != 2u) {
+        p[0] = LINK_ST_BAD_REQUEST;
+        return 1u;
+    }
+    const uint16_t err = link_level(&l->t, q->payload[1]);
+    if (err == (uint16_t)CMD_ERR_LEVEL) {
+        p[0] = LINK_ST_REFUSED;
+    } else {
+        l->stats.writes++;
+    }
+    return link_put_u16(p, 1u, err);
+}
+
 static uint16_t do_action(link_t *l, const link_frame_t *q, uint16_t *p)
 {
+    if (q->len >= 1u && q->payload[0] == (uint16_t)LINK_ACTION_LEVEL) {
+        return do_level(l, q, p);
+    }
     if (q->len != 1u) {
         p[0] = LINK_ST_BAD_REQUEST;
         return 1u;
@@ -315,8 +350,11 @@ static uint16_t do_stream_set(link_t *l, const link_frame_t *q, uint16_t *p)
     }
     link_stream_t *s = &l->stream;
     s->n = 0u;                           /* the ISR stops sampling before the set changes */
+    s->f32_mask = 0u;
     for (uint16_t k = 0u; k < n; k++) {
         s->ids[k] = link_get_u16(q->payload, (uint16_t)(2u + 2u * k));
+        s->fp[k] = link_var_source(&l->t, s->ids[k]).p;
+        s->f32_mask |= (link_var(s->ids[k])->type == (uint16_t)LINK_T_F32) ? (uint16_t)(1u << k) : 0u;
     }
     s->decimate = dec;
     s->dec_left = 0u;
@@ -357,13 +395,33 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
             return link_put_u16(p, 1u, id);
         }
     }
-    c->state = LINK_CAP_IDLE;            /* the ISR leaves it alone from here */
-    c->nch = nch;
+    uint16_t stride = nch;               /* one slot a channel, a float32 one more */
     for (uint16_t k = 0u; k < nch; k++) {
         const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
-        c->ids[k] = id;
-        c->per_lsb[k] = counts_per_unit(l, id);
+        stride = (uint16_t)(stride + ((link_var(id)->capture == (uint16_t)LINK_CAP_F32) ? LINK_CAP_F32_SLOTS - 1u : 0u));
     }
+    const uint16_t rows_fit = (uint16_t)(LINK_CAP_SLOTS / ((stride > 0u) ? stride : 1u));
+    if (samples > rows_fit) {
+        return link_put_u16(p, 1u, rows_fit);   /* BAD_REQUEST naming the rows that fit */
+    }
+    c->state = LINK_CAP_IDLE;            /* the ISR leaves it alone from here */
+    c->nch = nch;
+    c->stride = stride;
+    for (uint16_t k = 0u; k < nch; k++) {
+        const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
+        const bool f32 = link_var(id)->capture == (uint16_t)LINK_CAP_F32;
+        c->ids[k] = id;
+        const link_src_t src = link_var_source(&l->t, id);
+        c->fp[k] = src.p;
+        c->fmt[k] = f32 ? (uint16_t)LINK_CAP_F32 : (uint16_t)LINK_CAP_I16;
+        c->per_lsb[k] = f32 ? 1.0f : counts_per_unit(l, id);
+        c->per_raw[k] = c->per_lsb[k] / src.raw_per_unit;
+    }
+    c->i16_in_place = true;
+    for (uint16_t k = 0u; k < nch; k++) {
+        c->i16_in_place = c->i16_in_place && (c->fp[k] != NULL) && (c->fmt[k] == (uint16_t)LINK_CAP_I16);
+    }
+    c->trig_src = link_var_source(&l->t, trig_id);
     c->samples = samples;
     c->pre = pre;
     c->decimate = dec;
@@ -401,6 +459,9 @@ static uint16_t do_capture_status(link_t *l, uint16_t *p)
         i = link_put_u16(p, i, c->ids[k]);
         i = link_put_f32(p, i, 1.0f / c->per_lsb[k]);
     }
+    for (uint16_t k = 0u; k < c->nch; k++) {
+        p[i++] = c->fmt[k];              /* after the fields of version 1: older hosts ignore it */
+    }
     return i;
 }
 
@@ -418,7 +479,7 @@ static uint16_t do_capture_read(link_t *l, const link_frame_t *q, uint16_t *p)
     }
     const uint16_t first = link_get_u16(q->payload, 0u);
     uint16_t rows = link_get_u16(q->payload, 2u);
-    const uint16_t fit = (uint16_t)((LINK_PAYLOAD_MAX - CAP_READ_HEADER) / (2u * c->nch));
+    const uint16_t fit = (uint16_t)((LINK_PAYLOAD_MAX - CAP_READ_HEADER) / (2u * c->stride));
     if (first >= c->samples) {
         p[0] = LINK_ST_BAD_REQUEST;
         return 1u;
@@ -430,8 +491,9 @@ static uint16_t do_capture_read(link_t *l, const link_frame_t *q, uint16_t *p)
     for (uint16_t r = 0u; r < rows; r++) {
         uint16_t at = (uint16_t)(c->head + first + r);    /* head: the oldest row once the ring is full */
         at = (at >= c->samples) ? (uint16_t)(at - c->samples) : at;
-        for (uint16_t k = 0u; k < c->nch; k++) {
-            i = link_put_u16(p, i, (uint16_t)c->buf[at * LINK_CAP_CHANNELS + k]);
+        const uint16_t *row = &c->buf[at * c->stride];
+        for (uint16_t k = 0u; k < c->stride; k++) {
+            i = link_put_u16(p, i, row[k]);   /* a float32: its low half, then its high half */
         }
     }
     return i;
@@ -519,7 +581,7 @@ static void send_unsolicited(link_t *l)
         f->seq = 0u;
         uint16_t i = link_put_u32(f->payload, 0u, s->index[r]);
         for (uint16_t k = 0u; k < n; k++) {
-            i = put_value(f->payload, i, s->ids[k], s->val[r][k]);
+            i = put_raw(f->payload, i, &l->t, s->ids[k], s->raw[r][k]);
         }
         f->len = i;
         tx_frame(l, f);

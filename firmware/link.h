@@ -25,10 +25,13 @@
 #define LINK_RX_BUDGET 64u               /* received bytes handled per link_poll */
 #define LINK_CAP_CHANNELS 4u
 #define LINK_CAP_ROWS 1024u
+#define LINK_CAP_SLOTS (LINK_CAP_CHANNELS * LINK_CAP_ROWS)  /* int16 slots: rows x the channels' slots */
+#define LINK_CAP_F32_SLOTS 2u            /* a float32 channel's slots a row (an int16's: 1) */
 #define LINK_STREAM_VARS 8u
 #define LINK_STREAM_ROWS 4u              /* sampled rows waiting for the background */
 #define LINK_LINE_BUDGET_PCT 80u         /* a stream may use this share of the line */
 #define LINK_BITS_PER_BYTE_ON_LINE 10u   /* 8N1: start, 8 data, stop */
+#define LINK_WRITTEN_BITS 32u            /* link_t.written's width: the writable ids sit below it */
 
 /* Frame types (link_protocol.md). A reply is its request's type | LINK_REPLY. */
 enum {
@@ -52,9 +55,17 @@ typedef struct {
     /* written by the background only while state is IDLE or DONE */
     uint16_t nch;
     uint16_t ids[LINK_CAP_CHANNELS];
-    float per_lsb[LINK_CAP_CHANNELS];    /* counts per unit: 32767 / max(|lo|, |hi|); 1 for integers */
+    const volatile float *fp[LINK_CAP_CHANNELS];  /* a float channel in place (link_var_source), or NULL:
+                                                   * link_var_get */
+    uint16_t fmt[LINK_CAP_CHANNELS];     /* link_cap_fmt_t: int16 (one slot a row) or float32 (two) */
+    float per_lsb[LINK_CAP_CHANNELS];    /* int16: counts per unit, 32767 / max(|lo|, |hi|), 1 for integers;
+                                          * float32: 1 */
+    float per_raw[LINK_CAP_CHANNELS];    /* what the ISR multiplies *fp by: per_lsb / raw_per_unit */
+    uint16_t stride;                     /* slots a row: the channels' sum */
+    bool i16_in_place;                   /* every channel int16 and a float in place (fp non-NULL) */
     uint16_t samples, pre, decimate;
     uint16_t trig, trig_id;
+    link_src_t trig_src;                 /* the trigger variable's float in place, or p NULL */
     float level, hyst;
     /* the ISR's */
     volatile uint16_t state;             /* LINK_CAP_*: IDLE, DONE set by the background, PRE by arming */
@@ -62,17 +73,20 @@ typedef struct {
     bool trig_ready;                     /* ABOVE/BELOW: a sample at or beyond the re-arm level was seen */
     uint16_t last_app_state;
     uint32_t trig_index, first_index;    /* period indices (0 = the first ISR call since app_init) */
-    int16_t buf[LINK_CAP_CHANNELS * LINK_CAP_ROWS];
+    uint16_t buf[LINK_CAP_SLOTS];        /* rows of `stride` slots */
 } link_capture_t;
 
 typedef struct {
     volatile uint16_t n;                 /* variables streamed; 0: off. Set last by the background */
     uint16_t ids[LINK_STREAM_VARS];
+    const volatile float *fp[LINK_STREAM_VARS];   /* as link_capture_t.fp */
+    uint16_t f32_mask;                   /* bit k: variable k is a float (its raw word: the float's bits) */
     uint16_t decimate, dec_left;
-    /* rows: written by the ISR at wr, read by the background at rd */
+    /* rows: written by the ISR at wr, read by the background at rd; raw values (a float's bits, an integer),
+     * converted to their units by the background */
     volatile uint16_t wr, rd;
     uint32_t index[LINK_STREAM_ROWS];
-    link_val_t val[LINK_STREAM_ROWS][LINK_STREAM_VARS];
+    uint32_t raw[LINK_STREAM_ROWS][LINK_STREAM_VARS];
 } link_stream_t;
 
 typedef struct {
@@ -97,7 +111,8 @@ typedef struct {
     uint16_t cache[LINK_ENCODED_MAX];
     uint16_t ev_state, ev_fault;         /* last state and fault told by an event frame */
     bool quit;                           /* ACTION quit seen (the SIL ends its run) */
-    uint32_t written;                    /* bit per variable id written over the link (the SIL's overrides) */
+    uint32_t written;                    /* bit per variable id (< LINK_WRITTEN_BITS) written over the link
+                                          * (the SIL's overrides) */
     link_capture_t cap;
     link_stream_t stream;
 } link_t;
@@ -123,7 +138,9 @@ void link_poll(link_t *l);
 /* Drop every byte not yet received or sent (the cable was pulled). Background. */
 void link_drop(link_t *l);
 
-/* Capture and stream sampling for the period that just ran. Control ISR, after app_isr. */
+/* Capture and stream sampling for the period that just ran: per capture channel a read, a multiply
+ * and a store, the trigger's comparison, per streamed variable a copy of its raw value; no frame
+ * building, no search by id. Control ISR, after app_isr. */
 void link_isr(link_t *l);
 
 /* The bytes per second a stream of n variables every `decimate` periods needs on the line. */

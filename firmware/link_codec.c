@@ -262,3 +262,10 @@ float link_get_f32(const uint16_t *b, uint16_t i)
     x.u = link_get_u32(b, i);
     return x.f;
 }
+
+float link_f32_of_bits(uint32_t u)
+{
+    f32_bits_t x;
+    x.u = u;
+    return x.f;
+}

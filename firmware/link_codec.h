@@ -79,4 +79,7 @@ uint16_t link_get_u16(const uint16_t *b, uint16_t i);
 uint32_t link_get_u32(const uint16_t *b, uint16_t i);
 float link_get_f32(const uint16_t *b, uint16_t i);
 
+/* The float whose IEEE-754 bits are u. Any context. */
+float link_f32_of_bits(uint32_t u);
+
 #endif /* LINK_CODEC_H */

@@ -5,11 +5,21 @@
  * link_codec.c) runs from flash. */
 #include "link.h"
 
+#include <stddef.h>
+
 #include "mathx.h"
 
 #define COUNT16_MAX 0xFFFFu
 #define INT16_FULL_SCALE 32767.0f
-#define ROUND_HALF 0.5f
+#define COUNT_OFFSET_ROUND 32768.5f /* 2^15 offset and the half that rounds */
+#define SIGN16 0x8000u
+#define LOW16 0xFFFFul
+#define HALF_BITS 16u
+
+typedef union {
+    float f;
+    uint32_t u;
+} f32_bits_t;
 
 /* ---- the variables' values (link_vars.h): read by the ISR, so they live here, in RAM ---- */
 
@@ -79,6 +89,8 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_COMM_ENC_OFFSET: return of_f((a->comm != NULL) ? a->comm->res.enc_offset_el_rad : 0.0f);
     case LV_COMM_SPEED_KP: return of_f((a->comm != NULL) ? a->comm->res.speed_kp_Nms_rad : 0.0f);
     case LV_COMM_SPEED_KI: return of_f((a->comm != NULL) ? a->comm->res.speed_ki_Nm_rad : 0.0f);
+    case LV_LEVEL: return of_u((uint32_t)a->level);
+    case LV_LEVEL_NEXT: return of_u((uint32_t)a->req_level);
     default: return of_u(0u);
     }
 }
@@ -92,24 +104,29 @@ static void count16(uint16_t *c)
     }
 }
 
-static int16_t to_count(float v, float per_lsb)
+/* x [counts] rounded (half up) and saturated to +-32767, as the int16's bits: offset binary
+ * through an unsigned truncation, then the sign bit flipped. A NaN gives -32767. */
+static uint16_t to_count(float x)
 {
-    const float x = v * per_lsb;
-    if (!mathx_isfinitef(x)) {
-        return 0;
-    }
-    const float r = (x >= 0.0f) ? x + ROUND_HALF : x - ROUND_HALF;
-    return (int16_t)mathx_clampf(r, -INT16_FULL_SCALE, INT16_FULL_SCALE);
+    const float sat = mathx_clampf(x, -INT16_FULL_SCALE, INT16_FULL_SCALE);
+    return (uint16_t)((uint16_t)(sat + COUNT_OFFSET_ROUND) ^ SIGN16);
 }
 
-/* Whether the trigger fires on this sample (trig_ready kept for the next). */
+/* A variable's value as a float: the one in place in the raw unit (the common case), else by id. */
+static inline float raw_float(const link_target_t *t, const volatile float *fp, uint16_t id)
+{
+    return (fp != NULL) ? *fp : link_var_get(t, id).f;
+}
+
+/* Whether the trigger fires on this sample (trig_ready kept for the next). The trigger
+ * variable is compared in its unit, as READ and the CSV give it. */
 static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre)
 {
     const uint16_t st = (uint16_t)t->app->state;
     bool fire = false;
     switch (c->trig) {
     case LINK_TRIG_ABOVE: {
-        const float v = link_var_get(t, c->trig_id).f;
+        const float v = raw_float(t, c->trig_src.p, c->trig_id) / c->trig_src.raw_per_unit;
         if (v > c->level) {
             fire = c->trig_ready && enough_pre;
             c->trig_ready = false;
@@ -119,7 +136,7 @@ static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre
         break;
     }
     case LINK_TRIG_BELOW: {
-        const float v = link_var_get(t, c->trig_id).f;
+        const float v = raw_float(t, c->trig_src.p, c->trig_id) / c->trig_src.raw_per_unit;
         if (v < c->level) {
             fire = c->trig_ready && enough_pre;
             c->trig_ready = false;
@@ -142,6 +159,29 @@ static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre
     return fire;
 }
 
+static void capture_done_after(link_capture_t *c)
+{
+    c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
+    c->state = LINK_CAP_DONE;
+}
+
+/* One row of any channels: integers and codes by id, float32 channels in two slots. */
+static void capture_row(const link_capture_t *c, const link_target_t *t, uint16_t *row)
+{
+    for (uint16_t k = 0u; k < c->nch; k++) {
+        const float v = raw_float(t, c->fp[k], c->ids[k]) * c->per_raw[k];
+        if (c->fmt[k] == (uint16_t)LINK_CAP_F32) {
+            f32_bits_t x;                /* two slots, low half first */
+            x.f = v;
+            row[0] = (uint16_t)(x.u & LOW16);
+            row[1] = (uint16_t)(x.u >> HALF_BITS);
+            row += LINK_CAP_F32_SLOTS;
+        } else {
+            *row++ = to_count(v);
+        }
+    }
+}
+
 static void capture_isr(link_capture_t *c, const link_target_t *t)
 {
     const uint16_t state = c->state;
@@ -153,10 +193,13 @@ static void capture_isr(link_capture_t *c, const link_target_t *t)
         return;
     }
     c->dec_left = (uint16_t)(c->decimate - 1u);
-    const uint32_t index = t->app->ticks - 1u;   /* ticks counts this period's call already */
-    int16_t *row = &c->buf[c->head * LINK_CAP_CHANNELS];
-    for (uint16_t k = 0u; k < c->nch; k++) {
-        row[k] = to_count(link_var_get(t, c->ids[k]).f, c->per_lsb[k]);
+    uint16_t *row = &c->buf[c->head * c->stride];
+    if (c->i16_in_place) {               /* the common case: int16 counts of floats in place */
+        for (uint16_t k = 0u; k < c->nch; k++) {
+            row[k] = to_count(*c->fp[k] * c->per_raw[k]);
+        }
+    } else {
+        capture_row(c, t, row);
     }
     c->head = (uint16_t)(c->head + 1u);
     c->head = (c->head >= c->samples) ? 0u : c->head;
@@ -164,17 +207,15 @@ static void capture_isr(link_capture_t *c, const link_target_t *t)
     if (state == LINK_CAP_POST) {
         c->post_left--;
         if (c->post_left == 0u) {
-            c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
-            c->state = LINK_CAP_DONE;
+            capture_done_after(c);
         }
         return;
     }
     if (triggered(c, t, c->filled > c->pre)) {
-        c->trig_index = index;
+        c->trig_index = t->app->ticks - 1u;   /* ticks counts this period's call already */
         c->post_left = (uint16_t)(c->samples - c->pre - 1u);
         if (c->post_left == 0u) {
-            c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
-            c->state = LINK_CAP_DONE;
+            capture_done_after(c);
         } else {
             c->state = LINK_CAP_POST;
         }
@@ -201,7 +242,19 @@ static void stream_isr(link_t *l)
     }
     s->index[w] = l->t.app->ticks - 1u;
     for (uint16_t k = 0u; k < n; k++) {
-        s->val[w][k] = link_var_get(&l->t, s->ids[k]);
+        const volatile float *fp = s->fp[k];
+        f32_bits_t x;
+        if (fp != NULL) {
+            x.f = *fp;                   /* its bits, converted by the background */
+        } else {
+            const link_val_t v = link_var_get(&l->t, s->ids[k]);
+            if (((s->f32_mask >> k) & 1u) != 0u) {
+                x.f = v.f;
+            } else {
+                x.u = v.u;
+            }
+        }
+        s->raw[w][k] = x.u;
     }
     s->wr = next;
 }

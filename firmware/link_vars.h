@@ -30,14 +30,20 @@ typedef enum {
     /* the commissioning (commission.h): names of drive_sil's OUT.ini keys with comm_ before them */
     LV_COMM_RESULT, LV_COMM_STAGE, LV_COMM_R_OHM, LV_COMM_L_H, LV_COMM_PSIF_WB, LV_COMM_POLE_PAIRS,
     LV_COMM_J_KGM2, LV_COMM_B_NMS, LV_COMM_ENC_OFFSET, LV_COMM_SPEED_KP, LV_COMM_SPEED_KI,
+    LV_LEVEL, LV_LEVEL_NEXT,
     LV_COUNT
 } link_var_id_t;
+
+/* How a capture keeps a variable: int16 counts scaled by its limits (the default), or its float32
+ * value where int16's resolution would hide what the variable is for (the model estimates). */
+typedef enum { LINK_CAP_I16 = 0, LINK_CAP_F32 = 1 } link_cap_fmt_t;
 
 typedef struct {
     const char *name;
     const char *unit;           /* "" for a count or a code */
     uint16_t type;              /* link_type_t */
     uint16_t access;            /* link_access_t */
+    uint16_t capture;           /* link_cap_fmt_t */
 } link_var_t;
 
 /* The link's own counts (link.c), shown as variables. Saturating. */
@@ -78,6 +84,17 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi);
  * refused it before cmd_apply() (read-only, or write-when-stopped while running). Background. */
 uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool *access_refused);
 
+/* Where the ISR finds a float variable in place: its value in its unit is *p / raw_per_unit.
+ * p is NULL for the integers and codes (enumerations, the flags' union): link_var_get. */
+typedef struct {
+    const volatile float *p;
+    float raw_per_unit;         /* 1: as it is */
+} link_src_t;
+
+/* The source of id (< LV_COUNT) on this drive: resolved once when a capture or stream is set,
+ * so the ISR follows a pointer instead of searching by id. Background. */
+link_src_t link_var_source(const link_target_t *t, uint16_t id);
+
 /* 32-bit FNV-1a over every descriptor (name, unit, type, access) and its limits on this drive
  * (the scale follows from them): HELLO's table hash, the host's cache key. Background. */
 uint32_t link_vars_hash(const link_target_t *t);
@@ -88,10 +105,16 @@ typedef enum {
     LINK_ACTION_STOP = 2,       /* to IDLE, PWM off */
     LINK_ACTION_FAULT_RESET = 3,/* clear a latched fault */
     LINK_ACTION_QUIT = 4,       /* the SIL: stop, then end the run (the firmware only stops) */
-    LINK_ACTION_COMMISSION = 5  /* measure the motor (commission.h): acted on while stopped (INIT, IDLE) */
+    LINK_ACTION_COMMISSION = 5, /* measure the motor (commission.h): acted on while stopped (INIT, IDLE) */
+    LINK_ACTION_LEVEL = 6       /* the build level the next start runs (level.h), with its argument */
 } link_action_t;
 
 /* Carry out an action through cmd_apply() (start and stop as an edge of cmd.run, so a start after a
  * fault starts again). Returns false for an unknown action. Background. */
 bool link_action(const link_target_t *t, uint16_t action);
+
+/* The build level (LEVEL_MIN .. LEVEL_MAX, level.h) the next start runs, through cmd_t.level and
+ * cmd_apply() as the debugger sets it. Returns CMD_OK, or CMD_ERR_LEVEL for a level outside
+ * 1 .. 5 (nothing changed). Background. */
+uint16_t link_level(const link_target_t *t, uint16_t level);
 #endif /* LINK_VARS_H */

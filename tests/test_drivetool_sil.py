@@ -112,6 +112,11 @@ class RoundTrip(unittest.TestCase):
         cls.capture = tool(cls.port, "--json", "capture", "iq_meas_A", "speed_est_rpm",
                            "--trigger", f"speed_est_rpm>{TRIGGER_RPM:g}", "--pre", str(PRE),
                            "--samples", str(SAMPLES), "--csv", cls.cap_path)
+        cls.cap_f32_path = os.path.join(cls.tmp, "cap_f32.csv")
+        cls.capture_f32 = tool(cls.port, "--json", "capture", "L_est_H", "iq_meas_A", "psif_est_Wb",
+                               "--trigger", "forced", "--samples", "300", "--csv", cls.cap_f32_path)
+        cls.capture_too_deep = tool(cls.port, "capture", "L_est_H", "iq_meas_A", "psif_est_Wb",
+                                    "--trigger", "forced", "--samples", "1000")
         cls.stream_refused = tool(cls.port, "stream", "iq_meas_A", "id_meas_A", "speed_est_rpm", "te_est_Nm",
                                   "--rate", "10000", "--duration", "0.1")
         cls.stream_ok = tool(cls.port, "--json", "stream", "speed_est_rpm", "--rate", "100", "--duration", "0.5")
@@ -167,6 +172,32 @@ class RoundTrip(unittest.TestCase):
         self.assertGreater(float(run[k_trig]["speed_est_rpm"]), TRIGGER_RPM)
         self.assertLessEqual(float(run[k_trig - 1]["speed_est_rpm"]), TRIGGER_RPM)
 
+    def test_float32_capture_equals_the_csv_exactly(self):
+        # L_est_H and psif_est_Wb ask for float32 (link_vars.c): each captured value is the
+        # CSV's own (both print the float with 9 digits); as int16 counts L^ would be off by
+        # up to half an LSB (2 L / 65534 / 2, about 3e-8 H), so the equality tells the formats apart
+        rc, out, err = self.capture_f32
+        self.assertEqual(rc, 0, err)
+        info = json.loads(out)
+        self.assertEqual(info["format"], {"L_est_H": "float32", "iq_meas_A": "int16", "psif_est_Wb": "float32"})
+        self.assertIsNone(info["lsb"]["L_est_H"])
+        with open(self.cap_f32_path) as f:
+            cap = list(csv.DictReader(f))
+        self.assertEqual(len(cap), 300)
+        with open(self.csv_path) as f:
+            run = {round(float(r["t_s"]) / TS): r for r in csv.DictReader(f)}
+        for r in cap:
+            row = run[round(float(r["t_s"]) / TS)]
+            self.assertEqual(float(r["L_est_H"]), float(row["L_est_H"]))
+            self.assertEqual(float(r["psif_est_Wb"]), float(row["psif_est_Wb"]))
+            self.assertLessEqual(abs(float(r["iq_meas_A"]) - float(row["iq_meas_A"])), info["lsb"]["iq_meas_A"])
+
+    def test_float32_channels_take_two_slots(self):
+        # 2 float32 + 1 int16 channels: 5 of the 4 x 1024 slots a row, 4096 // 5 = 819 rows
+        rc, _out, err = self.capture_too_deep
+        self.assertEqual(rc, 2, err)
+        self.assertIn("at most 819 rows", err)
+
     def test_stream_above_budget_is_refused_naming_it(self):
         rc, _out, err = self.stream_refused
         self.assertEqual(rc, 1)
@@ -203,6 +234,79 @@ class RoundTrip(unittest.TestCase):
             port = s.getsockname()[1]          # nothing listens once closed
         rc, _out, err = tool(port, "--timeout", "0.3", "status")
         self.assertEqual(rc, 3, err)
+
+
+@unittest.skipUnless(os.access(DRIVE_SIL, os.X_OK) and os.access(DRIVETOOL, os.X_OK),
+                     "needs build/host/drive_sil and build/venv/bin/drivetool (make drivetool)")
+class LevelAndPlot(unittest.TestCase):
+    """`plot` headless (MPLBACKEND=Agg, a duration limit, the last frame saved) and `level`:
+    the next start's build level set over the link and taken by a start."""
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp()
+        cls.png = os.path.join(cls.tmp, "plot.png")
+        # no load: a stopped drive stays at rest, so the next start begins from standstill
+        cls.p, cls.port = start_sil(cls.tmp, "--realtime", "1", "--summary", os.devnull,
+                                    scenario=SCENARIO.replace("torque_Nm = 0:1", "torque_Nm = 0:0"))
+        os.environ["MPLBACKEND"] = "Agg"
+        try:
+            cls.plot = tool(cls.port, "--json", "plot", "speed_est_rpm", "iq_meas_A", "--rate", "100",
+                            "--duration", "1.5", "--png", cls.png)
+            cls.plot_frames = tool(cls.port, "--json", "plot", "speed_est_rpm", "--frames", "3")
+        finally:
+            del os.environ["MPLBACKEND"]
+        cls.level_before = tool(cls.port, "--json", "level")
+        cls.level_set = tool(cls.port, "--json", "level", "4")
+        cls.level_bad = tool(cls.port, "level", "7")
+        cls.stop = tool(cls.port, "stop")
+        time.sleep(0.3)
+        cls.start = tool(cls.port, "start")
+        cls.states = []
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline:
+            rc, out, _err = tool(cls.port, "--json", "get", "state", "level")
+            if rc == 0:
+                cls.states.append(json.loads(out))
+                if cls.states[-1]["level"] == 4 and cls.states[-1]["state"] == 5:
+                    break
+            time.sleep(0.2)
+        cls.quit_rc, _ = finish(cls.p, cls.port)
+
+    def test_plot_runs_headless_for_its_duration_and_saves_the_frame(self):
+        rc, out, err = self.plot
+        self.assertEqual(rc, 0, err)
+        info = json.loads(out)
+        # 1.5 s of a 100 Hz stream at --realtime 1: at most about 150 rows (the first ones
+        # may not have come yet); a redraw at least every 0.1 s poll + 0.05 s pause + drawing
+        self.assertGreater(info["rows"], 50)
+        self.assertLess(info["rows"], 200)
+        self.assertGreaterEqual(info["frames"], 2)
+        t0, t1 = info["t_s"]
+        self.assertGreater(t1, t0)
+        with open(self.png, "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_plot_stops_after_its_frames(self):
+        rc, out, err = self.plot_frames
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out)["frames"], 3)
+
+    def test_level_is_set_for_the_next_start_and_taken_by_it(self):
+        rc, out, err = self.level_before
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out), {"level": 5, "level_next": 5})    # the scenario's default
+        rc, out, err = self.level_set
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out), {"level": 5, "level_next": 4})    # the running start keeps its level
+        self.assertEqual(self.stop[0], 0, self.stop[2])
+        self.assertEqual(self.start[0], 0, self.start[2])
+        # the start took level 4 (torque control at the reduced current limit) and runs (RUN, 5)
+        self.assertEqual(self.states[-1], {"state": 5, "level": 4}, self.states)
+        self.assertEqual(self.quit_rc, 0)
+
+    def test_a_level_outside_1_to_5_is_a_usage_error(self):
+        rc, _out, err = self.level_bad
+        self.assertEqual(rc, 2, err)
 
 
 @unittest.skipUnless(os.access(DRIVE_SIL, os.X_OK) and os.access(DRIVETOOL, os.X_OK),

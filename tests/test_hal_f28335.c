@@ -683,6 +683,66 @@ static void sci_putc_queues_bytes(void **state)
     assert_int_equal(SciaRegs.SCITXBUF, 0xFF);
 }
 
+/* Above 1.5 Mbaud the transmit FIFO is fed from its interrupt. At the top rate,
+ * 2.34 Mbaud: BRR = 37.5 MHz / (8 x 2343750) - 1 = 1, actual 37.5 MHz / 16 = 2343750
+ * baud, error 0. The fake's TXFFST does not move by itself: the test sets it. */
+static void sci_fast_rate_feeds_the_fifo_from_its_interrupt(void **state)
+{
+    (void)state;
+    const uint16_t brr = (uint16_t)((F28335_LSPCLK_HZ + 4UL * 2343750UL) / (8UL * 2343750UL) - 1UL);
+    assert_int_equal(brr, 1);
+    assert_int_equal(F28335_LSPCLK_HZ / (8UL * (brr + 1UL)), 2343750UL);
+    assert_false(F28335_SCI_TX_IRQ);                    /* the default build (115200) polls */
+    IER = 0U;
+    f28335_sci_init_at(brr, true);
+    assert_int_equal(SciaRegs.SCILBAUD, 1);
+    assert_int_equal(SciaRegs.SCIHBAUD, 0);
+    /* SCIRST, SCIFFENA, TXFIFOXRESET, TXFFINTCLR, TXFFIL = 8; TXFFIENA (bit 5) still off */
+    assert_int_equal(SciaRegs.SCIFFTX.all, 0xE040 | 8);
+    assert_int_equal(PieCtrlRegs.PIEIER9.all, 0x0002);  /* INT9.2 SCITXINTA */
+    assert_int_equal(IER, M_INT9);
+    assert_non_null(PieVectTable.SCITXINTA);
+    assert_true(PieVectTable.SCITXINTA != PieVectTable.ILLEGAL);
+
+    /* 20 bytes queued: the pump only enables the interrupt, nothing is written by it */
+    assert_int_equal(hal_f28335_sci_write("0123456789abcdefghij", 20), 20);
+    SciaRegs.SCITXBUF = 0U;
+    hal_f28335_sci_pump();
+    assert_int_equal(SciaRegs.SCITXBUF, 0);
+    assert_int_equal(SciaRegs.SCIFFTX.bit.TXFFIENA, 1);
+    /* the interrupt at the level (8 words left): 8 written, '0'..'7' */
+    SciaRegs.SCIFFTX.bit.TXFFST = 8U;
+    PieCtrlRegs.PIEACK.all = 0U;
+    PieVectTable.SCITXINTA();
+    assert_int_equal(SciaRegs.SCITXBUF, '7');
+    assert_int_equal(hal_f28335_sci_tx_free(), 31 - 12);
+    assert_int_equal(SciaRegs.SCIFFTX.bit.TXFFIENA, 1);  /* more to send */
+    assert_int_equal(PieCtrlRegs.PIEACK.all, PIEACK_GROUP9);
+    /* the next: 8 more, '8'..'f' */
+    PieVectTable.SCITXINTA();
+    assert_int_equal(SciaRegs.SCITXBUF, 'f');
+    /* the last 4 ('g'..'j'), then the ring is empty: the interrupt disables itself */
+    PieVectTable.SCITXINTA();
+    assert_int_equal(SciaRegs.SCITXBUF, 'j');
+    assert_int_equal(hal_f28335_sci_tx_free(), 31);
+    assert_int_equal(SciaRegs.SCIFFTX.bit.TXFFIENA, 0);
+    /* an empty ring: the pump leaves it off */
+    hal_f28335_sci_pump();
+    assert_int_equal(SciaRegs.SCIFFTX.bit.TXFFIENA, 0);
+}
+
+/* The polled build (<= 1.5 Mbaud) never enables the transmit interrupt. */
+static void sci_polled_rate_leaves_the_interrupt_off(void **state)
+{
+    (void)state;
+    assert_int_equal(hal_f28335_sci_write("xy", 2), 2);
+    hal_f28335_sci_pump();
+    assert_int_equal(SciaRegs.SCITXBUF, 'y');
+    assert_int_equal(SciaRegs.SCIFFTX.bit.TXFFIENA, 0);
+    assert_int_equal(SciaRegs.SCIFFTX.bit.TXFFIL, 0);
+    assert_int_equal(PieCtrlRegs.PIEIER9.all, 0);
+}
+
 #define T(fn) cmocka_unit_test_setup(fn, setup)
 
 int main(void)
@@ -700,6 +760,8 @@ int main(void)
         T(sci_read_takes_the_fifo_without_waiting),
         T(sci_read_drops_garbled_words_and_clears_errors),
         T(sci_putc_queues_bytes),
+        T(sci_fast_rate_feeds_the_fifo_from_its_interrupt),
+        T(sci_polled_rate_leaves_the_interrupt_off),
         T(init_sets_sci_and_timer),
         T(init_enables_only_the_trip_interrupt),
         T(every_pie_vector_is_set_and_forces_the_outputs_off),

@@ -245,6 +245,36 @@ static void actions_start_stop_reset(void **state)
     assert_int_equal(rep.payload[0], LINK_ST_UNKNOWN_TYPE);
 }
 
+/* ACTION LEVEL n: the next start's build level through cmd_apply, refused outside 1..5. */
+static void action_level_sets_the_next_start_level(void **state)
+{
+    (void)state;
+    const uint16_t before = app.req_level;
+    assert_int_equal(before, LEVEL_FULL);              /* the board's default */
+    uint16_t p[2] = { LINK_ACTION_LEVEL, 2u };
+    const uint32_t w0 = lk.stats.writes;
+    assert_int_equal(request(LINK_ACTION, seq_next(), p, 2u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_OK);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_OK);
+    assert_int_equal(app.req_level, 2);
+    assert_int_equal(cmd.level, 2);
+    assert_int_equal(lk.stats.writes, w0 + 1u);
+    assert_int_equal(link_var_get(&lk.t, LV_LEVEL_NEXT).u, 2);
+    assert_int_equal(link_var_get(&lk.t, LV_LEVEL).u, app.level);
+    /* 0 and 6 are not levels: refused with CMD_ERR_LEVEL, nothing changed */
+    for (uint16_t bad = 0u; bad <= 6u; bad = (uint16_t)(bad + 6u)) {
+        p[1] = bad;
+        assert_int_equal(request(LINK_ACTION, seq_next(), p, 2u), 1);
+        assert_int_equal(rep.payload[0], LINK_ST_REFUSED);
+        assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_LEVEL);
+        assert_int_equal(app.req_level, 2);
+    }
+    assert_int_equal(lk.stats.writes, w0 + 1u);
+    /* without its argument: a bad request */
+    assert_int_equal(request(LINK_ACTION, seq_next(), p, 1u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_BAD_REQUEST);
+}
+
 static void stream_is_refused_above_the_budget_naming_it(void **state)
 {
     (void)state;
@@ -469,6 +499,7 @@ int main(void)
         cmocka_unit_test_setup(write_goes_through_cmd_apply, setup),
         cmocka_unit_test_setup(a_repeated_request_is_answered_from_the_cache, setup),
         cmocka_unit_test_setup(actions_start_stop_reset, setup),
+        cmocka_unit_test_setup(action_level_sets_the_next_start_level, setup),
         cmocka_unit_test_setup(stream_is_refused_above_the_budget_naming_it, setup),
         cmocka_unit_test_setup(capture_triggers_above_with_pre_rows_and_period_indices, setup),
         cmocka_unit_test_setup(capture_hysteresis_rearms_only, setup),

@@ -12,6 +12,14 @@
 #   app_isr instructions (commission): typical N, worst M in STATE
 # typical = the median over the periods that started in COMMISSION, worst
 # = the largest over every period of that run.
+# With BENCH_ISR_LINK=PROGRAM (tools/bench_isr_link.c) the same run again
+# with a capture armed and triggering and a stream running, app_isr and
+# link_isr each dumped (a dump before and after link_isr), per method
+#   app_isr instructions with capture and stream (METHOD): typical N, worst M in STATE
+#   link_isr instructions with capture and stream (METHOD): typical N, worst M in STATE
+#   control ISR instructions, app_isr + link_isr (METHOD): typical N, worst M in STATE, ...
+# the last with the bound (worst <= 2400 and <= 1.3 x typical) checked:
+# `within the bound` or `OVER the bound`.
 # Prints figures; asserts nothing (it fails only when the dumps and the
 # periods do not pair up).
 set -euo pipefail
@@ -35,6 +43,20 @@ for m in conventional proposed; do
         cat "$out/$m.stderr" >&2
         exit 1
     fi
+    python3 -c 'import csv, sys; [print(int(float(r["state"]))) for r in csv.DictReader(open(sys.argv[1]))]' \
+        "$out/$m.csv" > "$out/$m.states"
+    if [ -n "${BENCH_ISR_LINK:-}" ]; then
+        # the link's run: app_isr and link_isr both collected, a dump as link_isr
+        # starts (app_isr's part) and one as it returns (link_isr's part)
+        link_sets=()
+        for s in "${sets[@]}"; do [ "$s" = --set ] || link_sets+=("$s"); done
+        valgrind --tool=callgrind --toggle-collect='app_isr*' --toggle-collect=link_isr \
+            --dump-before=link_isr --dump-after=link_isr --combine-dumps=yes \
+            --dump-instr=no --dump-line=no --callgrind-out-file="$out/$m.link.cg" \
+            "$BENCH_ISR_LINK" "$scenario" "$out/$m.link.states" controller.method=$m "${link_sets[@]}" \
+            > "$out/$m.link.stdout" 2> "$out/$m.link.stderr" || {
+            echo "bench_isr: $m: $BENCH_ISR_LINK failed" >&2; cat "$out/$m.link.stderr" >&2; exit 1; }
+    fi
 done
 rc=0
 valgrind --tool=callgrind --toggle-collect='app_isr*' --dump-after='sil_isr' --combine-dumps=yes \
@@ -47,34 +69,54 @@ if [ "$rc" -ne 0 ]; then
     cat "$out/commission.stderr" >&2
     exit 1
 fi
+python3 -c 'import csv, sys; [print(int(float(r["state"]))) for r in csv.DictReader(open(sys.argv[1]))]' \
+    "$out/commission.csv" > "$out/commission.states"
 python3 - "$out" <<'PY'
-import csv, os, statistics, sys
+import os, statistics, sys
 out = sys.argv[1]
 STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK", "ENC_CHECK",
           "COMMISSION"]
-for m in ("conventional", "proposed"):
-    per = [int(l.split()[1]) for l in open(f"{out}/{m}.cg") if l.startswith("totals:")]
-    after = [int(float(r["state"])) for r in csv.DictReader(open(f"{out}/{m}.csv"))]
+WORST_MAX = 2400         # the bound on the worst period [instructions]
+WORST_PER_TYPICAL = 1.3  # and on its ratio to the typical one
+
+def parts(path):
+    return [int(l.split()[1]) for l in open(path) if l.startswith("totals:")]
+
+def figures(per, after, what, typical_in="RUN"):
+    """typical (median of the periods that started in typical_in), worst, the state it started in"""
     per = per[:len(after)]   # the last part is the program's end (nothing collected)
     if len(per) != len(after):
-        sys.exit(f"bench_isr: {m}: {len(per)} callgrind dumps for {len(after)} periods")
+        sys.exit(f"bench_isr: {what}: {len(per)} callgrind dumps for {len(after)} periods")
     entry = [0] + after[:-1]  # the state a period started in: the one the last ended in (INIT first)
-    run = [c for c, s in zip(per, entry) if STATES[s] == "RUN"]
+    run = [c for c, s in zip(per, entry) if STATES[s] == typical_in]
     k = max(range(len(per)), key=lambda i: per[i])
-    if os.environ.get("BENCH_ISR_PERIODS"):  # every period's cost and states, for a closer look
+    return int(statistics.median(run)), per[k], STATES[entry[k]], entry
+
+def plain(m, typical_in):
+    """app_isr's figures of run m; every period's cost and states into BENCH_ISR_PERIODS.m, for a closer look"""
+    after = [int(l) for l in open(f"{out}/{m}.states")]
+    per = parts(f"{out}/{m}.cg")
+    typ, worst, st, entry = figures(per, after, m, typical_in)
+    if os.environ.get("BENCH_ISR_PERIODS"):
         with open(f"{os.environ['BENCH_ISR_PERIODS']}.{m}", "w") as f:
             f.writelines(f"{i} {c} {STATES[e]} {STATES[a]}\n" for i, (c, e, a) in enumerate(zip(per, entry, after)))
-    print(f"app_isr instructions ({m}): typical {int(statistics.median(run))}, worst {per[k]} in {STATES[entry[k]]}")
-per = [int(l.split()[1]) for l in open(f"{out}/commission.cg") if l.startswith("totals:")]
-after = [int(float(r["state"])) for r in csv.DictReader(open(f"{out}/commission.csv"))]
-per = per[:len(after)]
-if len(per) != len(after):
-    sys.exit(f"bench_isr: commission: {len(per)} callgrind dumps for {len(after)} periods")
-entry = [0] + after[:-1]
-comm = [c for c, s in zip(per, entry) if STATES[s] == "COMMISSION"]
-k = max(range(len(per)), key=lambda i: per[i])
-if os.environ.get("BENCH_ISR_PERIODS"):
-    with open(f"{os.environ['BENCH_ISR_PERIODS']}.commission", "w") as f:
-        f.writelines(f"{i} {c} {STATES[e]} {STATES[a]}\n" for i, (c, e, a) in enumerate(zip(per, entry, after)))
-print(f"app_isr instructions (commission): typical {int(statistics.median(comm))}, worst {per[k]} in {STATES[entry[k]]}")
+    print(f"app_isr instructions ({m}): typical {typ}, worst {worst} in {st}")
+
+for m in ("conventional", "proposed"):
+    plain(m, "RUN")
+    if not os.path.exists(f"{out}/{m}.link.cg"):
+        continue
+    after = [int(l) for l in open(f"{out}/{m}.link.states")]
+    both = parts(f"{out}/{m}.link.cg")
+    app, link = both[0::2], both[1::2]
+    total = [a + b for a, b in zip(app, link)]
+    for name, per in (("app_isr", app), ("link_isr", link)):
+        typ, worst, st, _ = figures(per, after, f"{m} {name}")
+        print(f"{name} instructions with capture and stream ({m}): typical {typ}, worst {worst} in {st}")
+    typ, worst, st, _ = figures(total, after, f"{m} total")
+    ok = worst <= WORST_MAX and worst <= WORST_PER_TYPICAL * typ
+    print(f"control ISR instructions, app_isr + link_isr ({m}): typical {typ}, worst {worst} in {st}, "
+          f"{worst / typ:.2f} x typical: {'within' if ok else 'OVER'} the bound "
+          f"(worst <= {WORST_MAX} and <= {WORST_PER_TYPICAL} x typical)")
+plain("commission", "COMMISSION")
 PY

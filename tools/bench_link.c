@@ -2,11 +2,13 @@
  * tools/bench_link.sh (callgrind): the link's cost in the control ISR.
  *   idle     nothing armed: the call only finds capture and stream off
  *   capture  a capture armed on 4 channels with a NAME>VALUE trigger that
- *            never fires: every period reads 4 channels and the trigger
- *            variable (the typical case while waiting for a trigger)
- *   worst    the same, plus a stream of 8 variables every period whose
- *            queue the background drains (link_poll between calls): the
- *            most a period can cost
+ *            never fires: every period samples 4 channels and compares the
+ *            trigger variable (the typical case while waiting for a trigger)
+ *   worst    a capture of 4 channels armed again whenever it is done, with
+ *            a trigger that fires (forced, 60 rows), plus a stream of 8
+ *            variables every period whose queue the background drains
+ *            (link_poll between calls): every kind of period, the trigger's
+ *            among them
  * The app is configured (app_cfg_default) but not run; its monitor holds
  * fixed values. Host only. */
 #include <stdio.h>
@@ -15,35 +17,13 @@
 
 #include "app.h"
 #include "cmd.h"
+#include "bench_link_request.h"
 #include "link.h"
 
 static app_t app;
 static volatile cmd_t cmd;
 static link_t lk;
 static const cmd_limits_t LIM = { 2000.0f, 12.0f, 300.0f };
-
-/* A request straight into the link, handled at once. */
-static void request(uint16_t type, const uint16_t *p, uint16_t len)
-{
-    static link_frame_t f;
-    uint16_t w[LINK_ENCODED_MAX];
-    uint16_t b;
-    f.type = type;
-    f.seq = 1u;
-    f.len = len;
-    if (len > 0u) {
-        memcpy(f.payload, p, len * sizeof p[0]);
-    }
-    const uint16_t n = link_frame_encode(&f, w);
-    for (uint16_t i = 0; i < n; i++) {
-        (void)link_rx_put(&lk, w[i]);
-    }
-    for (int k = 0; k < 8; k++) {
-        link_poll(&lk);
-    }
-    while (link_tx_get(&lk, &b)) {
-    }
-}
 
 int main(int argc, char **argv)
 {
@@ -56,41 +36,37 @@ int main(int argc, char **argv)
     app.ctrl.mon.iq_A = 3.7f;
     cmd_init(&cmd);
     link_init(&lk, &lc, &app, &cmd, &LIM);
+    const int worst = strcmp(mode, "worst") == 0;
+    /* pre 10, 60 rows, forced (worst); or pre 100, 1000 rows, ABOVE speed_est_rpm > 1e6 (never) */
+    const uint16_t pre = worst ? 10u : 100u;
+    const uint16_t rows = worst ? 60u : 1000u;
+    const uint16_t trig = worst ? LINK_TRIG_FORCED : LINK_TRIG_ABOVE;
     if (strcmp(mode, "idle") != 0) {
-        /* decimate 1, pre 100, 1000 rows, ABOVE speed_est_rpm > 1e6 (never), 4 channels */
-        uint16_t p[26];
-        uint16_t i = link_put_u16(p, 0u, 1u);
-        i = link_put_u16(p, i, 100u);
-        i = link_put_u16(p, i, 1000u);
-        p[i++] = LINK_TRIG_ABOVE;
-        i = link_put_u16(p, i, LV_SPEED_EST_RPM);
-        i = link_put_f32(p, i, 1.0e6f);
-        i = link_put_f32(p, i, 0.0f);
-        p[i++] = 4u;
-        i = link_put_u16(p, i, LV_IQ_MEAS_A);
-        i = link_put_u16(p, i, LV_ID_MEAS_A);
-        i = link_put_u16(p, i, LV_SPEED_EST_RPM);
-        i = link_put_u16(p, i, LV_TE_EST_NM);
-        request(LINK_CAPTURE_ARM, p, i);
+        bench_link_arm(&lk, pre, rows, trig, LV_SPEED_EST_RPM, 1.0e6f);
     }
-    if (strcmp(mode, "worst") == 0) {
+    if (worst) {
         uint16_t p[18];
         uint16_t i = link_put_u16(p, 0u, 1u);
         for (uint16_t k = 0; k < LINK_STREAM_VARS; k++) {
             i = link_put_u16(p, i, (uint16_t)(LV_SPEED_EST_RPM + k));
         }
         lk.cfg.baud = 100000000u;   /* a budget that takes it: the ISR's cost is what is measured */
-        request(LINK_STREAM_SET, p, i);
+        bench_link_request(&lk, LINK_STREAM_SET, p, i);
     }
     uint16_t b;
+    long captures = 0;
     for (long k = 0; k < n; k++) {
         app.ticks++;
         link_isr(&lk);
         link_poll(&lk);
         while (link_tx_get(&lk, &b)) {
         }
+        if (worst && lk.cap.state == LINK_CAP_DONE) {
+            captures++;
+            bench_link_arm(&lk, pre, rows, trig, LV_SPEED_EST_RPM, 1.0e6f);
+        }
     }
-    printf("bench_link: %ld calls, %s, capture state %u, stream dropped %u\n", n, mode, (unsigned)lk.cap.state,
-           (unsigned)lk.stats.stream_dropped);
+    printf("bench_link: %ld calls, %s, capture state %u, %ld captures done, stream dropped %u\n", n, mode,
+           (unsigned)lk.cap.state, captures, (unsigned)lk.stats.stream_dropped);
     return 0;
 }

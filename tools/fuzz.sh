@@ -30,46 +30,18 @@ seed_corpus() { # dir
         >"$1/seed_commission"
 }
 
-steps=0 inputs=0
+name=fuzz unit="ISR steps"
 states=(0 0 0 0 0 0 0 0 0 0 0)   # ISR steps ending in INIT IDLE CALIBRATE ALIGN IDENTIFY_R RUN FAULT PWM_CHECK ADC_CHECK ENC_CHECK COMMISSION
-start=$(date +%s)
-run_chunk() { # corpus-dir extra-options...
-    local out rc s i
-    out=$("$bin" "${opts[@]}" "${@:2}" "$1" 2>"$dir/last.log")
-    rc=$?
-    s=$(printf '%s\n' "$out" | sed -n 's/^fuzz_app: \([0-9]*\) ISR steps, \([0-9]*\) inputs$/\1/p' | tail -n 1)
-    i=$(printf '%s\n' "$out" | sed -n 's/^fuzz_app: \([0-9]*\) ISR steps, \([0-9]*\) inputs$/\2/p' | tail -n 1)
-    local st k=0
-    st=$(printf '%s\n' "$out" | sed -n 's/^fuzz_app: steps ending in [A-Z_ ]*: //p' | tail -n 1)
+take_output() { # harness stdout
+    local s i st s_k k=0
+    s=$(printf '%s\n' "$1" | sed -n 's/^fuzz_app: \([0-9]*\) ISR steps, \([0-9]*\) inputs$/\1/p' | tail -n 1)
+    i=$(printf '%s\n' "$1" | sed -n 's/^fuzz_app: \([0-9]*\) ISR steps, \([0-9]*\) inputs$/\2/p' | tail -n 1)
+    st=$(printf '%s\n' "$1" | sed -n 's/^fuzz_app: steps ending in [A-Z_ ]*: //p' | tail -n 1)
     for s_k in $st; do states[k]=$((states[k] + s_k)); k=$((k + 1)); done
-    steps=$((steps + ${s:-0}))
+    count=$((count + ${s:-0}))
     inputs=$((inputs + ${i:-0}))
-    if [ $rc -ne 0 ]; then
-        tail -n 40 "$dir/last.log" >&2
-        echo "fuzz: FINDING after $steps ISR steps ($(ls "$dir"/crash-* "$dir"/timeout-* "$dir"/oom-* 2>/dev/null | tr '\n' ' '))" >&2
-        exit 1
-    fi
 }
-
-case $mode in
-short)
-    corpus=$(mktemp -d)
-    trap 'rm -rf "$corpus"' EXIT
-    seed_corpus "$corpus"
-    run_chunk "$corpus" -seed=$SHORT_SEED -runs=$SHORT_RUNS
-    ;;
-long)
-    mkdir -p "$dir/corpus"
-    seed_corpus "$dir/corpus"
-    while [ "$steps" -lt "$target" ]; do
-        run_chunk "$dir/corpus" -runs=$CHUNK_RUNS
-        echo "fuzz: $steps ISR steps so far ($(( $(date +%s) - start )) s)"
-    done
-    ;;
-*)
-    echo "usage: fuzz.sh short|long BIN DIR [STEPS]" >&2
-    exit 2
-    ;;
-esac
+. "$(dirname "$0")/fuzz_lib.sh"
+fuzz_run "$mode"
 echo "fuzz: ISR steps ending in INIT ${states[0]}, IDLE ${states[1]}, CALIBRATE ${states[2]}, ALIGN ${states[3]}, IDENTIFY_R ${states[4]}, RUN ${states[5]}, FAULT ${states[6]}, PWM_CHECK ${states[7]}, ADC_CHECK ${states[8]}, ENC_CHECK ${states[9]}, COMMISSION ${states[10]}"
-echo "fuzz: $steps ISR steps, $inputs inputs, $(( $(date +%s) - start )) s, 0 findings"
+echo "fuzz: $count ISR steps, $inputs inputs, $(( $(date +%s) - start )) s, 0 findings"

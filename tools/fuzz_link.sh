@@ -27,43 +27,18 @@ seed_corpus() { # dir
     printf '\xc5\x08\x11\x00\x05\xff\x00\x00\x31\x32\x00\x01\x01\x00' >"$1/seed_garbage"
 }
 
-frames=0 inputs=0
-start=$(date +%s)
-run_chunk() { # corpus-dir extra-options...
-    local out rc f i
-    out=$("$bin" "${opts[@]}" "${@:2}" "$1" 2>"$dir/last.log")
-    rc=$?
-    f=$(printf '%s\n' "$out" | sed -n 's/^fuzz_link: \([0-9]*\) frames, \([0-9]*\) inputs.*/\1/p' | tail -n 1)
-    i=$(printf '%s\n' "$out" | sed -n 's/^fuzz_link: \([0-9]*\) frames, \([0-9]*\) inputs.*/\2/p' | tail -n 1)
-    frames=$((frames + ${f:-0}))
+name=fuzz-link unit=frames
+take_output() { # harness stdout
+    local f i
+    f=$(printf '%s\n' "$1" | sed -n 's/^fuzz_link: \([0-9]*\) frames, \([0-9]*\) inputs.*/\1/p' | tail -n 1)
+    i=$(printf '%s\n' "$1" | sed -n 's/^fuzz_link: \([0-9]*\) frames, \([0-9]*\) inputs.*/\2/p' | tail -n 1)
+    count=$((count + ${f:-0}))
     inputs=$((inputs + ${i:-0}))
-    if [ $rc -ne 0 ]; then
-        tail -n 40 "$dir/last.log" >&2
-        echo "fuzz-link: FINDING after $frames frames ($(ls "$dir"/crash-* "$dir"/timeout-* "$dir"/oom-* 2>/dev/null | tr '\n' ' '))" >&2
-        echo "fuzz-link: 0 passed, 1 failed"
-        exit 1
-    fi
 }
-
-case $mode in
-short)
-    corpus=$(mktemp -d)
-    trap 'rm -rf "$corpus"' EXIT
-    seed_corpus "$corpus"
-    run_chunk "$corpus" -seed=$SHORT_SEED -runs=$SHORT_RUNS
-    ;;
-long)
-    mkdir -p "$dir/corpus"
-    seed_corpus "$dir/corpus"
-    while [ "$frames" -lt "$target" ]; do
-        run_chunk "$dir/corpus" -runs=$CHUNK_RUNS
-        echo "fuzz-link: $frames frames so far ($(( $(date +%s) - start )) s)"
-    done
-    ;;
-*)
-    echo "usage: fuzz_link.sh short|long BIN DIR [FRAMES]" >&2
-    exit 2
-    ;;
-esac
-echo "fuzz-link: $frames frames, $inputs inputs, $(( $(date +%s) - start )) s, 0 findings"
+on_finding() {
+    echo "fuzz-link: 0 passed, 1 failed"
+}
+. "$(dirname "$0")/fuzz_lib.sh"
+fuzz_run "$mode"
+echo "fuzz-link: $count frames, $inputs inputs, $(( $(date +%s) - start )) s, 0 findings"
 echo "fuzz-link: 1 passed, 0 failed"

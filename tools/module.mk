@@ -152,6 +152,11 @@ $(OUT)/bench_link: $(call objs,tools/bench_link.c) $(LIB_firmware) $(LIB_sim) $(
 	@mkdir -p $(@D)
 	$(CC) $(OPT) -no-pie -o $@ $(filter %.o,$^) $(filter %.a,$^) -lm
 
+# The ISR bench's run with the link busy (tools/bench_isr.sh, BENCH_ISR_LINK).
+$(OUT)/bench_isr_link: $(call objs,tools/bench_isr_link.c tools/sil/sil.c) $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
+	@mkdir -p $(@D)
+	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
+
 .PHONY: bench-link
 bench-link: bench-ctrl-deps $(DRIVETOOL) ## link_isr's instructions per period, drivetool's B/s over drive_sil at 115200 and 937500 (part of bench)
 	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/bench_link

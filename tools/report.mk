@@ -29,8 +29,8 @@ bench-ctrl: bench-ctrl-deps ## instructions, divisions, sqrt and sin/cos per ctr
 # The worst ISR period against the typical one over a run through every
 # state (tools/bench_isr.ini); a few minutes: one callgrind dump per period.
 bench-isr: bench-ctrl-deps ## app_isr instructions per period, typical and worst per method (callgrind, -O2)
-	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/drive_sil
-	@tools/bench_isr.sh $(BUILD)/o2/drive_sil tools/bench_isr.ini
+	@$(MAKE) --no-print-directory VARIANT=o2 $(BUILD)/o2/drive_sil $(BUILD)/o2/bench_isr_link
+	@BENCH_ISR_LINK=$(BUILD)/o2/bench_isr_link tools/bench_isr.sh $(BUILD)/o2/drive_sil tools/bench_isr.ini
 
 # Standard-library unittest under the project's venv python (pyserial
 # for drivetool's tests; sil_report.py imports matplotlib only to draw).

@@ -40,7 +40,8 @@ bool hal_f28335_sci_putc(uint16_t c);
 /* Bytes the transmit queue can take now. Background. */
 uint16_t hal_f28335_sci_tx_free(void);
 
-/* Move queued characters into the SCI-A transmit FIFO, never waiting. Background loop. */
+/* Move queued characters into the SCI-A transmit FIFO, never waiting; above
+ * F28335_SCI_TX_IRQ_MIN_BAUD only enable the transmit interrupt, which moves them. Background loop. */
 void hal_f28335_sci_pump(void);
 
 /* Take up to max received bytes (at most the FIFO's 16) into buf, one per word; returns the

@@ -89,5 +89,14 @@
 #define F28335_SCI_ERROR_PER_10K (((int32_t)F28335_SCI_BAUD_ACTUAL - (int32_t)F28335_SCI_BAUD) * 10000L / (int32_t)F28335_SCI_BAUD)
 #define F28335_SCI_ERROR_MAX_PER_10K 200L   /* +-2 %: both ends' errors add up within 8N1's ~4.5 % */
 #define F28335_SCI_FIFO_DEPTH    16U
+/* Above this rate the transmit FIFO is fed by its interrupt (PIE INT9.2, SCITXINTA) instead of
+ * the background's pump: at 2.34 Mbaud the 16 words last 16 x 10 / 2.34 MHz = 68 us, less than
+ * a background loop pass may take beside a busy control ISR; at 937500 they last 171 us. */
+#define F28335_SCI_TX_IRQ_MIN_BAUD 1500000UL
+#define F28335_SCI_TX_IRQ        (F28335_SCI_BAUD > F28335_SCI_TX_IRQ_MIN_BAUD)
+/* The transmit interrupt comes when the FIFO holds this many words or fewer (TXFFIL): 8 words
+ * are 34 us of line at 2.34 Mbaud, more than the control ISR (about 16 us) that may delay it,
+ * so the line does not idle; each interrupt then moves 8 or more words. */
+#define F28335_SCI_TX_FIFO_LEVEL 8U
 
 #endif /* HAL_F28335_CFG_H */

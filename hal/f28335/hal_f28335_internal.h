@@ -42,4 +42,9 @@ void f28335_qep_init(void);
 void f28335_timer_init(void);
 void f28335_sci_init(void);
 
+/* SCI-A 8N1 at BRR brr (hal_f28335_cfg.h), its transmit FIFO fed by the SCITXINTA interrupt
+ * (tx_irq) or by hal_f28335_sci_pump() alone; f28335_sci_init() calls it with the build's
+ * F28335_SCI_BRR and F28335_SCI_TX_IRQ. Start-up. */
+void f28335_sci_init_at(uint16_t brr, bool tx_irq);
+
 #endif /* HAL_F28335_INTERNAL_H */

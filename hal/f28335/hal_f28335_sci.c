@@ -1,7 +1,10 @@
 /*
  * hal_f28335_sci.c - SCI-A 8N1 for the link (firmware/link_protocol.md):
- * both FIFOs on, no interrupt, never waiting. Transmit: a ring buffer fed
- * by the background, moved into the 16-word FIFO by hal_f28335_sci_pump().
+ * both FIFOs on, never waiting. Transmit: a ring buffer fed by the
+ * background, moved into the 16-word FIFO by hal_f28335_sci_pump() or,
+ * above F28335_SCI_TX_IRQ_MIN_BAUD (hal_f28335_cfg.h), by the transmit
+ * FIFO interrupt (PIE INT9.2, SCITXINTA), which the pump then only
+ * enables; the interrupt disables itself when the ring is empty.
  * Receive: hal_f28335_sci_read() takes what the FIFO holds (at most 16
  * words per call, so its cost is bounded); a word flagged with a framing
  * or parity error is dropped, a FIFO overflow and a receiver error (break,
@@ -11,7 +14,12 @@
  * Pins: GPIO29 = SCITXDA, GPIO28 = SCIRXDA.
  *
  * Single producer and single consumer per ring: each index is written by
- * one side only, as one 16-bit store.
+ * one side only, as one 16-bit store (with the interrupt, s_tail only by
+ * it). TXFFIENA is set by the background and cleared by the interrupt:
+ * the interrupt cannot be interrupted by the background, and a background
+ * read-modify-write of SCIFFTX that the interrupt cuts into writes
+ * TXFFIENA = 1 after data was queued, so at worst one interrupt finds the
+ * ring empty and clears it again.
  */
 #include "DSP2833x_Device.h"
 #include "hal_f28335.h"
@@ -36,7 +44,8 @@ F28335_STATIC_ASSERT(baud_error_within_2_percent, F28335_SCI_ERROR_PER_10K <= F2
 
 static uint16_t s_ring[SCI_RING_LEN];   /* one character per word (char is 16 bits on the C28x) */
 static volatile uint16_t s_head;  /* next slot to fill: producer only */
-static volatile uint16_t s_tail;  /* next slot to send: pump only */
+static volatile uint16_t s_tail;  /* next slot to send: pump only (the interrupt when s_tx_irq) */
+static bool s_tx_irq;             /* the transmit FIFO is fed by its interrupt */
 
 hal_f28335_sci_errors_t hal_f28335_sci_errors;
 
@@ -47,8 +56,40 @@ static void count(uint16_t *c)
     }
 }
 
+/* The ring into the transmit FIFO as far as it has room. */
+static void fill_fifo(void)
+{
+    uint16_t tail = s_tail;
+    uint16_t room = (uint16_t)(F28335_SCI_FIFO_DEPTH - SciaRegs.SCIFFTX.bit.TXFFST);
+
+    while ((room > 0U) && (tail != s_head)) {
+        SciaRegs.SCITXBUF = (Uint16)s_ring[tail];
+        tail = (uint16_t)((tail + 1U) & (SCI_RING_LEN - 1U));
+        room--;
+    }
+    s_tail = tail;
+}
+
+/* PIE INT9.2: the transmit FIFO is down to F28335_SCI_TX_FIFO_LEVEL words. From flash (RAM is
+ * the control ISR's): its wait states cost a few cycles a word, far inside the 34 us it has. */
+static HAL_INTERRUPT void sci_tx_isr(void)
+{
+    fill_fifo();
+    if (s_tail == s_head) {
+        SciaRegs.SCIFFTX.bit.TXFFIENA = 0U;   /* nothing more: quiet until the pump enables it */
+    }
+    SciaRegs.SCIFFTX.bit.TXFFINTCLR = 1U;
+    PieCtrlRegs.PIEACK.all = PIEACK_GROUP9;
+}
+
 void f28335_sci_init(void)
 {
+    f28335_sci_init_at(F28335_SCI_BRR, F28335_SCI_TX_IRQ);
+}
+
+void f28335_sci_init_at(uint16_t brr, bool tx_irq)
+{
+    s_tx_irq = tx_irq;
     s_head = 0U;
     s_tail = 0U;
     hal_f28335_sci_errors.word_errors = 0U;
@@ -66,12 +107,20 @@ void f28335_sci_init(void)
     SciaRegs.SCICCR.all = SCICCR_8N1_ASYNC;
     SciaRegs.SCICTL1.all = SCICTL1_RESET;
     SciaRegs.SCICTL2.all = 0U;  /* no SCI interrupts */
-    SciaRegs.SCIHBAUD = (Uint16)(F28335_SCI_BRR >> 8);
-    SciaRegs.SCILBAUD = (Uint16)(F28335_SCI_BRR & 0x00FFU);
-    SciaRegs.SCIFFTX.all = SCIFFTX_FIFO_ON;
+    SciaRegs.SCIHBAUD = (Uint16)(brr >> 8);
+    SciaRegs.SCILBAUD = (Uint16)(brr & 0x00FFU);
+    /* the interrupt's level set, its enable left to the pump (the ring is empty) */
+    SciaRegs.SCIFFTX.all = (Uint16)(SCIFFTX_FIFO_ON | (tx_irq ? F28335_SCI_TX_FIFO_LEVEL : 0U));
     SciaRegs.SCIFFRX.all = SCIFFRX_FIFO_ON;
     SciaRegs.SCIFFCT.all = 0U;  /* no delay between FIFO words */
     SciaRegs.SCICTL1.all = SCICTL1_RUN;
+    if (tx_irq) {
+        EALLOW;
+        PieVectTable.SCITXINTA = &sci_tx_isr;
+        EDIS;
+        PieCtrlRegs.PIEIER9.bit.INTx2 = 1U;
+        IER |= M_INT9;
+    }
 }
 
 uint16_t hal_f28335_sci_tx_free(void)
@@ -102,15 +151,11 @@ uint16_t hal_f28335_sci_write(const char *data, uint16_t len)
 
 void hal_f28335_sci_pump(void)
 {
-    uint16_t tail = s_tail;
-    uint16_t room = (uint16_t)(F28335_SCI_FIFO_DEPTH - SciaRegs.SCIFFTX.bit.TXFFST);
-
-    while ((room > 0U) && (tail != s_head)) {
-        SciaRegs.SCITXBUF = (Uint16)s_ring[tail];
-        tail = (uint16_t)((tail + 1U) & (SCI_RING_LEN - 1U));
-        room--;
+    if (!s_tx_irq) {
+        fill_fifo();
+    } else if (s_tail != s_head) {
+        SciaRegs.SCIFFTX.bit.TXFFIENA = 1U;   /* the interrupt moves them (at once if the FIFO is low) */
     }
-    s_tail = tail;
 }
 
 uint16_t hal_f28335_sci_read(uint16_t *buf, uint16_t max)

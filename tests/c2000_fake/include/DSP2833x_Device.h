@@ -44,6 +44,7 @@ void c2000_fake_edis(void);
 #define M_INT1  0x0001U
 #define M_INT2  0x0002U
 #define M_INT3  0x0004U
+#define M_INT9  0x0100U
 #define M_INT13 0x1000U
 #define M_INT14 0x2000U
 

@@ -130,6 +130,17 @@ def cmd_commission(d, args):
     _emit(args, res, " ".join(f"{k}={_fmt(x)}" for k, x in res.items()) + (f" -> {args.ini}" if args.ini else ""))
 
 
+LEVEL_NAMES = {1: "PWM check", 2: "ADC check", 3: "encoder check", 4: "torque control", 5: "the full drive"}
+
+
+def cmd_level(d, args):
+    if args.n is not None:
+        d.level(args.n)
+    v = d.get("level", "level_next")
+    _emit(args, v, f"level {v['level']} ({LEVEL_NAMES.get(v['level'], '?')}) at the last start; the next start "
+                   f"runs level {v['level_next']} ({LEVEL_NAMES.get(v['level_next'], '?')})")
+
+
 def _write_csv(path, names, t, rows):
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
@@ -207,7 +218,10 @@ def cmd_capture(d, args):
         _png(args.png, args.names, t, rows)
     ts = d.info["Ts_s"]
     _emit(args, {"rows": len(rows), "trigger_t_s": st["trigger_index"] * ts, "first_t_s": st["first_index"] * ts,
-                 "lsb": {n: lsb for n, (_i, lsb) in zip(args.names, st["channels"])}},
+                 "lsb": {n: (None if f == codec.CAP_F32 else lsb)
+                         for n, (_i, lsb), f in zip(args.names, st["channels"], st["formats"])},
+                 "format": {n: ("float32" if f == codec.CAP_F32 else "int16")
+                            for n, f in zip(args.names, st["formats"])}},
           f"captured {len(rows)} rows, trigger at t = {st['trigger_index'] * ts:.6f} s"
           + (f" -> {args.csv}" if args.csv else ""))
 
@@ -221,10 +235,13 @@ def cmd_plot(d, args):
     lines = [axes[k][0].plot([], [])[0] for k in range(len(args.names))]
     for k, n in enumerate(args.names):
         axes[k][0].set_ylabel(n)
+    axes[-1][0].set_xlabel("t [s]")
     plt.ion()
     plt.show()
+    frames = 0
+    end = time.monotonic() + args.duration if args.duration > 0 else float("inf")
     try:
-        while plt.fignum_exists(fig.number):
+        while plt.fignum_exists(fig.number) and time.monotonic() < end and (args.frames <= 0 or frames < args.frames):
             d.poll(0.1)
             rows = d.stream_rows[-int(args.window / (ts * dec)):]
             if rows:
@@ -233,10 +250,18 @@ def cmd_plot(d, args):
                     line.set_data(t, [r[k] for _, r in rows])
                     axes[k][0].relim()
                     axes[k][0].autoscale_view()
+            frames += 1
             plt.pause(0.05)
     except KeyboardInterrupt:
         pass
+    got = list(d.stream_rows)
     d.stream_set([], 1)
+    shown = got[-int(args.window / (ts * dec)):]
+    if args.png:
+        fig.savefig(args.png, dpi=80)
+    _emit(args, {"frames": frames, "rows": len(got), "rows_shown": len(shown),
+                 "t_s": [shown[0][0] * ts, shown[-1][0] * ts] if shown else None},
+          f"{frames} frames, {len(got)} rows" + (f" -> {args.png}" if args.png else ""))
 
 
 def cmd_backup(d, args):
@@ -294,6 +319,12 @@ def build_parser():
     s.add_argument("--ini", help="write the values as a [controller] section (drive_sil's OUT.ini keys)")
     s.add_argument("--wait", type=float, default=120.0, help="seconds to wait for the end")
     s.set_defaults(fn=cmd_commission)
+
+
+    s = sub.add_parser("level", help="the build level the next start runs (without N: show it)")
+    s.add_argument("n", nargs="?", type=int, choices=range(1, 6), metavar="N",
+                   help="1 PWM, 2 ADC, 3 encoder check, 4 torque control, 5 the drive")
+    s.set_defaults(fn=cmd_level)
     s = sub.add_parser("stream")
     s.add_argument("names", nargs="+")
     s.add_argument("--rate", type=float, default=100.0, help="rows per second asked for [Hz]")
@@ -315,6 +346,9 @@ def build_parser():
     s.add_argument("names", nargs="+")
     s.add_argument("--rate", type=float, default=50.0)
     s.add_argument("--window", type=float, default=5.0, help="seconds shown")
+    s.add_argument("--duration", type=float, default=0.0, help="stop after this many seconds (0: until closed)")
+    s.add_argument("--frames", type=int, default=0, help="stop after this many redraws (0: until closed)")
+    s.add_argument("--png", help="save the last frame (with MPLBACKEND=Agg: a headless plot)")
     s.set_defaults(fn=cmd_plot)
     s = sub.add_parser("backup")
     s.add_argument("file")

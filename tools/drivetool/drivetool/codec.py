@@ -21,10 +21,12 @@ STATUS_TEXT = {
 T_U16, T_U32, T_F32 = 0, 1, 2
 ACC_READ, ACC_WRITE, ACC_WRITE_STOPPED = 0, 1, 2
 # actions
-ACT_START, ACT_STOP, ACT_FAULT_RESET, ACT_QUIT, ACT_COMMISSION = 1, 2, 3, 4, 5
+ACT_START, ACT_STOP, ACT_FAULT_RESET, ACT_QUIT, ACT_COMMISSION, ACT_LEVEL = 1, 2, 3, 4, 5, 6   # LEVEL carries the level
 # capture triggers and states
 TRIG_FORCED, TRIG_ABOVE, TRIG_BELOW, TRIG_FAULT, TRIG_STATE = range(5)
 CAP_IDLE, CAP_PRE, CAP_POST, CAP_DONE = range(4)
+# a capture channel's format (CAPTURE_STATUS): int16 counts, or the float32 value
+CAP_I16, CAP_F32 = 0, 1
 
 
 def crc16(data, crc=0xFFFF):

@@ -26,6 +26,7 @@ CMD_ERRORS = {
     5: "torque reference not finite or beyond the drive's limit",
     6: "open-loop voltage not finite or beyond the drive's limit",
     7: "proposed method refused: step 1 is off or refused R^ at this start",
+    8: "level is not 1 .. 5",
 }
 STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK",
           "ENC_CHECK", "COMMISSION"]
@@ -263,6 +264,17 @@ class Drive:
     def action(self, act):
         self._ok(codec.ACTION, bytes([act]), "ACTION")
 
+    def level(self, n):
+        """The build level (1 PWM, 2 ADC, 3 encoder check, 4 torque control, 5 the drive) the next
+        start runs, set as the command block's `level`; Refused outside 1..5."""
+        if not 0 <= n <= 255:
+            raise UsageError(f"level {n}: expected 1 to 5")
+        st, p = self.request(codec.ACTION, bytes([codec.ACT_LEVEL, n]))
+        if st == codec.ST_REFUSED:
+            raise Refused(f"level {n} refused: {CMD_ERRORS.get(struct.unpack_from('<H', p, 0)[0], '?')}")
+        if st != codec.ST_OK:
+            raise Refused(f"ACTION level: {codec.STATUS_TEXT.get(st, st)}")
+
     def ping(self):
         p = self._ok(codec.PING, what="PING")
         crc, framing, overrun, ticks = struct.unpack_from("<HHHI", p, 0)
@@ -296,21 +308,31 @@ class Drive:
         tid = self.var(trig_name).id if trig_name else 0
         p = struct.pack("<HHHBHffB", decimate, pre, samples, trigger, tid, level, hyst, len(vs))
         p += b"".join(struct.pack("<H", v.id) for v in vs)
-        self._ok(codec.CAPTURE_ARM, p, "CAPTURE_ARM")
+        st, r = self.request(codec.CAPTURE_ARM, p)
+        if st == codec.ST_BAD_REQUEST and len(r) >= 2:   # too deep for these channels' slots
+            raise UsageError(f"--samples {samples}: at most {struct.unpack_from('<H', r, 0)[0]} rows with these "
+                             "channels (a float32 channel takes two of the capture's int16 slots a row)")
+        if st != codec.ST_OK:
+            raise Refused(f"CAPTURE_ARM: {codec.STATUS_TEXT.get(st, st)}")
 
     def capture_status(self):
         p = self._ok(codec.CAPTURE_STATUS, what="CAPTURE_STATUS")
         state, samples, pre, dec, trig_idx, first_idx, nch = struct.unpack_from("<BHHHIIB", p, 0)
         ch = [struct.unpack_from("<Hf", p, 16 + 6 * k) for k in range(nch)]
+        at = 16 + 6 * nch                           # then each channel's format (a firmware before it: int16)
+        fmt = list(p[at:at + nch]) if len(p) >= at + nch else [codec.CAP_I16] * nch
         return {"state": state, "samples": samples, "pre": pre, "decimate": dec, "trigger_index": trig_idx,
-                "first_index": first_idx, "channels": ch}
+                "first_index": first_idx, "channels": ch, "formats": fmt}
 
     def capture_read(self, status, depth=3):
         """Every row of a finished capture: (t_s list, rows of values). Pages are asked
         `depth` at a time (CAPTURE_READ reads, it changes nothing: a page whose reply
         was lost is simply asked again), so the host's turnaround does not idle the line."""
-        n, nch = status["samples"], len(status["channels"])
-        page = (codec.PAYLOAD_MAX - 5) // (2 * nch)
+        n = status["samples"]
+        row_fmt = "<" + "".join("f" if f == codec.CAP_F32 else "h" for f in status.get("formats", []))
+        row_fmt = row_fmt if len(row_fmt) > 1 else "<" + "h" * len(status["channels"])
+        row_bytes = struct.calcsize(row_fmt)
+        page = (codec.PAYLOAD_MAX - 5) // row_bytes
         pages = {}                                  # first row -> counts
         todo = list(range(0, n, page))
         stalls = 0                                  # rounds in a row that got no page
@@ -334,7 +356,7 @@ class Drive:
                     f, rows = struct.unpack_from("<HH", rpay, 1)
                     if f != first or rows != min(page, n - first):
                         raise NoAnswer("CAPTURE_READ answered another page")
-                    pages[first] = [struct.unpack_from(f"<{nch}h", rpay, 5 + 2 * nch * r) for r in range(rows)]
+                    pages[first] = [struct.unpack_from(row_fmt, rpay, 5 + row_bytes * r) for r in range(rows)]
             left = [first for first in range(0, n, page) if first not in pages]
             stalls = stalls + 1 if len(left) == len(todo) else 0
             todo = left
