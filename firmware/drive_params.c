@@ -5,58 +5,18 @@
 #include "board_cfg.h"
 #include "mathx.h"
 
-#define S_PER_NS 1.0e-9f
-#define DEFAULT_BAND (-1.0f) /* R^ band end: ctrl_rsid_band_with()'s */
+#define DRIVE_S_PER_NS 1.0e-9f
+#define DRIVE_DEFAULT_BAND (-1.0f) /* R^ band end: ctrl_rsid_band_with()'s */
 #define TORQUE_PER_P_PSI_I 1.5f /* Te = 1.5 p psi_f iq (SPMSM, i_d = 0) */
 #define SQRT3 1.7320508f
 /* A per-leg square wave of amplitude dv has the fundamental (4/pi) dv. */
 #define FUNDAMENTAL_OF_SQUARE 1.27323954f
 
+#define DRIVE_PARAM_DEFAULT(group, field, type, dflt, to) p->group.field = (type)(dflt);
+
 void drive_params_board(drive_params_t *p)
 {
-    p->motor.R_Ohm = MOTOR_R_OHM;
-    p->motor.L_H = MOTOR_L_H;
-    p->motor.psi_f_Wb = MOTOR_PSI_F_WB;
-    p->motor.pole_pairs = (uint16_t)MOTOR_POLE_PAIRS;
-    p->motor.J_kgm2 = MOTOR_J_KGM2;
-    p->motor.B_Nms = MOTOR_B_NMS;
-
-    p->rating.i_rated_A = MOTOR_I_RATED_A;
-    p->rating.i_peak_A = MOTOR_I_PEAK_A;
-    p->rating.t_peak_s = MOTOR_T_PEAK_S;
-    p->rating.n_rated_rad_s = MOTOR_RATED_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
-    p->rating.n_max_rad_s = MOTOR_MAX_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
-
-    p->board.Ts_s = 1.0f / (float)BOARD_PWM_FREQ_HZ;
-    p->board.deadtime_s = (float)BOARD_DEADTIME_NS * S_PER_NS;
-    p->board.vdc_nominal_V = BOARD_VDC_NOMINAL_V;
-    p->board.u_bound_V = BOARD_VDC_MAX_V;
-    p->board.i_full_scale_A = BOARD_I_FULL_SCALE_A;
-    p->board.enc_lines = (uint32_t)BOARD_ENC_LINES;
-    p->board.enc_offset_el_rad = BOARD_ENC_OFFSET_EL_RAD;
-    p->board.isr_period_cycles = (uint32_t)BOARD_ISR_PERIOD_CYCLES;
-    p->board.isr_budget_cycles = (uint32_t)BOARD_ISR_BUDGET_CYCLES;
-
-    p->limits.i_trip_A = DRIVE_PARAM_DERIVED;
-    p->limits.i_limit_A = DRIVE_PARAM_DERIVED;
-    p->limits.vdc_max_V = BOARD_VDC_MAX_V;
-    p->limits.vdc_min_V = BOARD_VDC_MIN_V;
-    p->limits.speed_max_rad_s = DRIVE_PARAM_DERIVED;
-    p->limits.te_max_Nm = DRIVE_PARAM_DERIVED;
-
-    p->tuning.speed_bw_rad_s = TUNE_SPEED_BW_RAD_S;
-    p->tuning.speed_kp_Nms_rad = DRIVE_PARAM_DERIVED;
-    p->tuning.speed_ki_Nm_rad = DRIVE_PARAM_DERIVED;
-    p->tuning.pll_bw_rad_s = TUNE_ENC_PLL_BW_RAD_S;
-    p->tuning.u_margin = TUNE_U_MARGIN;
-    p->tuning.R_min_Ohm = DEFAULT_BAND;
-    p->tuning.R_max_Ohm = DEFAULT_BAND;
-
-    p->step1.settle_1_s = DRIVE_PARAM_DERIVED;
-    p->step1.settle_2_s = DRIVE_PARAM_DERIVED;
-    p->step1.speed_1_rad_s = DRIVE_PARAM_DERIVED;
-    p->step1.speed_2_rad_s = DRIVE_PARAM_DERIVED;
-    p->step1.accel_rad_s2 = DRIVE_PARAM_DERIVED;
+    DRIVE_PARAMS(DRIVE_PARAM_DEFAULT)
 }
 
 float drive_rated_torque_Nm(const drive_params_t *p)
@@ -175,6 +135,11 @@ static void estimator_from(const drive_params_t *p, ctrl_cfg_t *c)
     c->pe.wiq_min_A_rad_s = scaled(REF_EST_WIQ_MIN_A_RAD_S, w_min * i_r, REF_EST_W_MIN_RAD_S * REF_I_RATED_A);
 }
 
+/* DRIVE_TO(path): cfg->path = the value; DRIVE_TO_NONE: no copy. */
+#define DRIVE_COPY_DRIVE_TO(path) cfg->path =
+#define DRIVE_COPY_DRIVE_TO_NONE(value)
+#define DRIVE_PARAM_COPY(group, field, type, dflt, to) DRIVE_COPY_##to(p->group.field);
+
 void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
 {
     drive_params_t d = *p_in;
@@ -185,41 +150,20 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     float R_min_Ohm;
     float R_max_Ohm;
 
-    /* sec. 3: the I^2t budget of the short-time current */
-    cfg->i2t_rated_A = p->rating.i_rated_A;
-    cfg->comm.i_max_A = p->rating.i_rated_A;          /* the commissioning's bounds: the ratings */
-    cfg->comm.speed_max_rad_s = p->rating.n_rated_rad_s;
+    cfg->comm.i_max_A = p->rating.i_rated_A; /* the commissioning's bounds: the ratings (and n_rated) */
     /* the speed PI from the measured J: the parameter set's rule, linear in J */
     drive_speed_pi(1.0f, p->tuning.speed_bw_rad_s, &cfg->comm.speed_kp_per_J_1_s, &cfg->comm.speed_ki_per_J_1_s2);
+    /* sec. 3: the I^2t budget of the short-time current (and i2t_rated_A) */
     cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
                           p->rating.t_peak_s;
     cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));
-    c->Ts_s = p->board.Ts_s;
-    c->R_Ohm = p->motor.R_Ohm;
-    c->L_H = p->motor.L_H;
-    c->psi_f_Wb = p->motor.psi_f_Wb;
-    c->pole_pairs = p->motor.pole_pairs;
-    c->enc_lines = p->board.enc_lines;
-    c->enc_offset_el_rad = p->board.enc_offset_el_rad;
-    c->enc_pll_bw_rad_s = p->tuning.pll_bw_rad_s;
-    c->speed_kp_Nms_rad = p->tuning.speed_kp_Nms_rad;
-    c->speed_ki_Nm_rad = p->tuning.speed_ki_Nm_rad;
-    c->te_max_Nm = p->limits.te_max_Nm;
+    /* the plain copies (drive_params.h's lists' DRIVE_TO), the derived values derived */
+    DRIVE_PARAMS(DRIVE_PARAM_COPY)
     /* the model's bounds: generous, never the active limit */
     c->i_max_A = MODEL_I_BOUND_PER_TRIP * p->limits.i_trip_A;
-    c->u_max_V = p->board.u_bound_V;
     c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * MATHX_RAD_S_PER_RPM_F * (float)p->motor.pole_pairs;
     c->psi_max_Wb = MODEL_PSI_BOUND_PER_PSIF * p->motor.psi_f_Wb;
-    c->deadtime_s = p->board.deadtime_s;
-    c->i_lim_A = p->limits.i_limit_A;
-    c->u_margin = p->tuning.u_margin;
 
-    cfg->prot.i_max_A = p->limits.i_trip_A;
-    cfg->prot.vdc_max_V = p->limits.vdc_max_V;
-    cfg->prot.vdc_min_V = p->limits.vdc_min_V;
-    cfg->prot.speed_max_rad_s = p->limits.speed_max_rad_s;
-    cfg->prot.isr_period_cycles = p->board.isr_period_cycles;
-    cfg->prot.isr_budget_cycles = p->board.isr_budget_cycles;
     /* half an ADC step of the current range (+- full scale over the counts) */
     cfg->prot.watch.stuck_delta_A = p->board.i_full_scale_A / BOARD_ADC_COUNTS;
     cfg->prot.watch.op_i_min_A = scaled(REF_OPEN_PHASE_I_MIN_A, p->rating.i_rated_A, REF_I_RATED_A);
@@ -228,12 +172,6 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     /* level 3 turns the rotor with the alignment's current; level 4 runs at a fraction of the limit */
     cfg->lvl.i_A = scaled(REF_ALIGN_CURRENT_A, p->rating.i_rated_A, REF_I_RATED_A);
     cfg->lvl.i_lim_4_A = BOARD_LEVEL4_I_LIMIT_PER_LIMIT * c->i_lim_A;
-
-    cfg->rsid.settle_1_s = p->step1.settle_1_s;
-    cfg->rsid.settle_2_s = p->step1.settle_2_s;
-    cfg->rsid.speed_1_rad_s = p->step1.speed_1_rad_s;
-    cfg->rsid.speed_2_rad_s = p->step1.speed_2_rad_s;
-    cfg->rsid.accel_rad_s2 = p->step1.accel_rad_s2;
 
     /* the proposed method's settings for these values; the R^ band in ohms.
      * Gains refused here make smo_init refuse too (CONFIG at the start). */

@@ -26,64 +26,94 @@
  * >= 0 is the user's and stays. */
 #define DRIVE_PARAM_DERIVED (-1.0f)
 
-typedef struct {
-    float R_Ohm;                /* stator phase resistance [Ohm] */
-    float L_H;                  /* Ld = Lq [H] */
-    float psi_f_Wb;             /* PM flux linkage [Wb] */
-    uint16_t pole_pairs;        /* [-] */
-    float J_kgm2;               /* rotor and load inertia [kg m^2] */
-    float B_Nms;                /* viscous friction [N m s/rad] */
-} drive_motor_t;
+/* The parameter set, one list per group, one line per value:
+ *   X(group, field, type, default, to)
+ * type    float | uint16_t | uint32_t
+ * default its board value (firmware/board_cfg.h, expanded in
+ *         drive_params_board() only) or DRIVE_PARAM_DERIVED
+ * to      DRIVE_TO(path): drive_params_to_app_cfg() copies the value to
+ *         app_cfg_t's path; DRIVE_TO_NONE: formulas there use it
+ * The lists generate drive_params_t's fields, drive_params_board() and the
+ * copies in drive_params_to_app_cfg(); the SIL's keys name the fields
+ * (tools/sil/scenario_keys.h). Adding a parameter: params_design.md sec. 8. */
+#define DRIVE_PARAMS_motor(X)  /* the controller's model of the motor */ \
+    X(motor, R_Ohm, float, MOTOR_R_OHM, DRIVE_TO(ctrl.R_Ohm))             /* stator phase resistance [Ohm] */ \
+    X(motor, L_H, float, MOTOR_L_H, DRIVE_TO(ctrl.L_H))                   /* Ld = Lq [H] */ \
+    X(motor, psi_f_Wb, float, MOTOR_PSI_F_WB, DRIVE_TO(ctrl.psi_f_Wb))    /* PM flux linkage [Wb] */ \
+    X(motor, pole_pairs, uint16_t, MOTOR_POLE_PAIRS, DRIVE_TO(ctrl.pole_pairs)) /* [-] */ \
+    X(motor, J_kgm2, float, MOTOR_J_KGM2, DRIVE_TO_NONE)                  /* rotor and load inertia [kg m^2] */ \
+    X(motor, B_Nms, float, MOTOR_B_NMS, DRIVE_TO_NONE)                    /* viscous friction [N m s/rad] */
+
+#define DRIVE_PARAMS_rating(X) \
+    X(rating, i_rated_A, float, MOTOR_I_RATED_A, DRIVE_TO(i2t_rated_A))   /* continuous current (peak of the phase current) [A] */ \
+    X(rating, i_peak_A, float, MOTOR_I_PEAK_A, DRIVE_TO_NONE)             /* short-time current [A] */ \
+    X(rating, t_peak_s, float, MOTOR_T_PEAK_S, DRIVE_TO_NONE)             /* how long i_peak may last [s] */ \
+    X(rating, n_rated_rad_s, float, MOTOR_RATED_SPEED_RPM * MATHX_RAD_S_PER_RPM_F, \
+      DRIVE_TO(comm.speed_max_rad_s))                                     /* rated speed, mechanical [rad/s] */ \
+    X(rating, n_max_rad_s, float, MOTOR_MAX_SPEED_RPM * MATHX_RAD_S_PER_RPM_F, \
+      DRIVE_TO_NONE)                                                      /* highest speed, mechanical [rad/s] */
+
+#define DRIVE_PARAMS_board(X) \
+    X(board, Ts_s, float, 1.0f / (float)BOARD_PWM_FREQ_HZ, DRIVE_TO(ctrl.Ts_s)) /* control = PWM period [s] */ \
+    X(board, deadtime_s, float, (float)BOARD_DEADTIME_NS * DRIVE_S_PER_NS, \
+      DRIVE_TO(ctrl.deadtime_s))                                          /* gate-driver dead time the controller compensates [s] */ \
+    X(board, vdc_nominal_V, float, BOARD_VDC_NOMINAL_V, DRIVE_TO_NONE)    /* nominal DC bus [V] */ \
+    X(board, u_bound_V, float, BOARD_VDC_MAX_V, DRIVE_TO(ctrl.u_max_V))   /* bound on |ud|, |uq| the controller's model uses [V] */ \
+    X(board, i_full_scale_A, float, BOARD_I_FULL_SCALE_A, DRIVE_TO_NONE)  /* current ADC range, +- [A] */ \
+    X(board, enc_lines, uint32_t, BOARD_ENC_LINES, DRIVE_TO(ctrl.enc_lines)) /* encoder lines; x4 counts [-] */ \
+    X(board, enc_offset_el_rad, float, BOARD_ENC_OFFSET_EL_RAD, \
+      DRIVE_TO(ctrl.enc_offset_el_rad))                                   /* electrical angle at count 0, as measured [rad el] */ \
+    X(board, isr_period_cycles, uint32_t, BOARD_ISR_PERIOD_CYCLES, \
+      DRIVE_TO(prot.isr_period_cycles))                                   /* control period in hal_cycles() counts [cycles] */ \
+    X(board, isr_budget_cycles, uint32_t, BOARD_ISR_BUDGET_CYCLES, \
+      DRIVE_TO(prot.isr_budget_cycles))                                   /* longest allowed ISR run [cycles] */
+
+#define DRIVE_PARAMS_limits(X) \
+    X(limits, i_trip_A, float, DRIVE_PARAM_DERIVED, DRIVE_TO(prot.i_max_A)) /* software overcurrent trip on |ia|, |ib|, |ic| [A] */ \
+    X(limits, i_limit_A, float, DRIVE_PARAM_DERIVED, DRIVE_TO(ctrl.i_lim_A)) /* stator-current limit the deadbeat targets respect [A] */ \
+    X(limits, vdc_max_V, float, BOARD_VDC_MAX_V, DRIVE_TO(prot.vdc_max_V)) /* overvoltage trip [V] */ \
+    X(limits, vdc_min_V, float, BOARD_VDC_MIN_V, DRIVE_TO(prot.vdc_min_V)) /* undervoltage trip [V] */ \
+    X(limits, speed_max_rad_s, float, DRIVE_PARAM_DERIVED, \
+      DRIVE_TO(prot.speed_max_rad_s))                                     /* overspeed trip, mechanical [rad/s] */ \
+    X(limits, te_max_Nm, float, DRIVE_PARAM_DERIVED, DRIVE_TO(ctrl.te_max_Nm)) /* torque reference limit [N m] */
+
+#define DRIVE_PARAMS_tuning(X) \
+    X(tuning, speed_bw_rad_s, float, TUNE_SPEED_BW_RAD_S, DRIVE_TO_NONE)  /* speed-loop crossover w_c [rad/s] */ \
+    X(tuning, speed_kp_Nms_rad, float, DRIVE_PARAM_DERIVED, \
+      DRIVE_TO(ctrl.speed_kp_Nms_rad))                                    /* speed PI [N m / (rad/s)] */ \
+    X(tuning, speed_ki_Nm_rad, float, DRIVE_PARAM_DERIVED, \
+      DRIVE_TO(ctrl.speed_ki_Nm_rad))                                     /* speed PI [N m / rad] */ \
+    X(tuning, pll_bw_rad_s, float, TUNE_ENC_PLL_BW_RAD_S, \
+      DRIVE_TO(ctrl.enc_pll_bw_rad_s))                                    /* encoder speed-estimator bandwidth [rad/s] */ \
+    X(tuning, u_margin, float, TUNE_U_MARGIN, DRIVE_TO(ctrl.u_margin))    /* steady-state share of Vdc/sqrt(3) for flux weakening [-] */ \
+    X(tuning, R_min_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /* accepted R^ band [Ohm]; < 0: ctrl_rsid_band_with()'s */ \
+    X(tuning, R_max_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /*   <= 0: ctrl_rsid_band_with()'s */
+
+#define DRIVE_PARAMS_step1(X)  /* step 1 (rsid_seq.h); all derived */ \
+    X(step1, settle_1_s, float, DRIVE_PARAM_DERIVED, DRIVE_TO(rsid.settle_1_s)) /* IDENTIFY_R entry (speeds: ramp end) to window 1 [s] */ \
+    X(step1, settle_2_s, float, DRIVE_PARAM_DERIVED, DRIVE_TO(rsid.settle_2_s)) /* window 1 to window 2 [s] */ \
+    X(step1, speed_1_rad_s, float, DRIVE_PARAM_DERIVED, \
+      DRIVE_TO(rsid.speed_1_rad_s))                                       /* speeds mode: the two points, mechanical [rad/s] */ \
+    X(step1, speed_2_rad_s, float, DRIVE_PARAM_DERIVED, DRIVE_TO(rsid.speed_2_rad_s)) \
+    X(step1, accel_rad_s2, float, DRIVE_PARAM_DERIVED, \
+      DRIVE_TO(rsid.accel_rad_s2))                                        /* speeds mode: ramp of the commanded speed [rad/s^2] */
+
+/* All the groups, in drive_params_t's order. */
+#define DRIVE_PARAMS(X) \
+    DRIVE_PARAMS_motor(X) DRIVE_PARAMS_rating(X) DRIVE_PARAMS_board(X) \
+    DRIVE_PARAMS_limits(X) DRIVE_PARAMS_tuning(X) DRIVE_PARAMS_step1(X)
+
+#define DRIVE_PARAM_FIELD(group, field, type, dflt, to) type field;
+
+typedef struct { DRIVE_PARAMS_motor(DRIVE_PARAM_FIELD) } drive_motor_t;
+typedef struct { DRIVE_PARAMS_rating(DRIVE_PARAM_FIELD) } drive_rating_t;
+typedef struct { DRIVE_PARAMS_board(DRIVE_PARAM_FIELD) } drive_board_t;
+typedef struct { DRIVE_PARAMS_limits(DRIVE_PARAM_FIELD) } drive_limits_t;
+typedef struct { DRIVE_PARAMS_tuning(DRIVE_PARAM_FIELD) } drive_tuning_t;
+typedef struct { DRIVE_PARAMS_step1(DRIVE_PARAM_FIELD) } drive_step1_t;
 
 typedef struct {
-    float i_rated_A;            /* continuous current (peak of the phase current) [A] */
-    float i_peak_A;             /* short-time current [A] */
-    float t_peak_s;             /* how long i_peak may last [s] */
-    float n_rated_rad_s;        /* rated speed, mechanical [rad/s] */
-    float n_max_rad_s;          /* highest speed, mechanical [rad/s] */
-} drive_rating_t;
-
-typedef struct {
-    float Ts_s;                 /* control = PWM period [s] */
-    float deadtime_s;           /* gate-driver dead time the controller compensates [s] */
-    float vdc_nominal_V;        /* nominal DC bus [V] */
-    float u_bound_V;            /* bound on |ud|, |uq| the controller's model uses [V] */
-    float i_full_scale_A;       /* current ADC range, +- [A] */
-    uint32_t enc_lines;         /* encoder lines; x4 counts [-] */
-    float enc_offset_el_rad;    /* electrical angle at count 0, as measured [rad el] */
-    uint32_t isr_period_cycles; /* control period in hal_cycles() counts [cycles] */
-    uint32_t isr_budget_cycles; /* longest allowed ISR run [cycles] */
-} drive_board_t;
-
-typedef struct {
-    float i_trip_A;             /* software overcurrent trip on |ia|, |ib|, |ic| [A]; derived */
-    float i_limit_A;            /* stator-current limit the deadbeat targets respect [A]; derived */
-    float vdc_max_V;            /* overvoltage trip [V] */
-    float vdc_min_V;            /* undervoltage trip [V] */
-    float speed_max_rad_s;      /* overspeed trip, mechanical [rad/s]; derived */
-    float te_max_Nm;            /* torque reference limit [N m]; derived */
-} drive_limits_t;
-
-typedef struct {
-    float speed_bw_rad_s;       /* speed-loop crossover w_c [rad/s] */
-    float speed_kp_Nms_rad;     /* speed PI [N m / (rad/s)]; derived */
-    float speed_ki_Nm_rad;      /* speed PI [N m / rad]; derived */
-    float pll_bw_rad_s;         /* encoder speed-estimator bandwidth [rad/s] */
-    float u_margin;             /* steady-state share of Vdc/sqrt(3) for flux weakening [-] */
-    float R_min_Ohm;            /* accepted R^ band [Ohm]; < 0: ctrl_rsid_band_with()'s */
-    float R_max_Ohm;            /*   <= 0: ctrl_rsid_band_with()'s */
-} drive_tuning_t;
-
-typedef struct {                /* step 1 (rsid_seq.h); all derived */
-    float settle_1_s;           /* IDENTIFY_R entry (speeds: ramp end) to window 1 [s] */
-    float settle_2_s;           /* window 1 to window 2 [s] */
-    float speed_1_rad_s;        /* speeds mode: the two points, mechanical [rad/s] */
-    float speed_2_rad_s;
-    float accel_rad_s2;         /* speeds mode: ramp of the commanded speed [rad/s^2] */
-} drive_step1_t;
-
-typedef struct {
-    drive_motor_t motor;        /* the controller's model of the motor */
+    drive_motor_t motor;
     drive_rating_t rating;
     drive_board_t board;
     drive_limits_t limits;

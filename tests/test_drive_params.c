@@ -2,7 +2,8 @@
  * motor's data (firmware/params_design.md). The paper motor on the board
  * gets the constants the drive had before they were derived, to the bit;
  * other motors get them in proportion, by hand-computed figures; a motor
- * the drive cannot run is refused by name; a value the user set stays. */
+ * the drive cannot run is refused by name; a value the user set stays;
+ * every value of the parameter set's lists reaches the field it names. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -190,6 +191,31 @@ static void set_values_stay_and_bandwidth_scales(void **state)
     assert_float_equal(p.step1.settle_2_s, 0.07, 1e-7);
 }
 
+/* Each value of the parameter set's lists, set to its own number (1, 2,
+ * 3, ... in the lists' order: all the user's, none derived), reaches the
+ * field its DRIVE_TO names unchanged: no formula overwrites a copy. */
+#define SET_OWN_NUMBER(group, field, type, dflt, to) \
+    p.group.field = (type)n;                         \
+    n += 1.0f;
+#define COPY_ERROR_DRIVE_TO(path) (double)cfg.path - (double)
+#define COPY_ERROR_DRIVE_TO_NONE(value) 0.0
+#define CHECK_COPY(group, field, type, dflt, to) assert_float_equal(COPY_ERROR_##to(p.group.field), 0.0, 0.0);
+static void every_listed_value_reaches_its_field(void **state)
+{
+    (void)state;
+    drive_params_t p;
+    static app_cfg_t cfg;
+    float n = 1.0f;
+    app_cfg_default(&cfg);
+    drive_params_board(&p);
+    DRIVE_PARAMS(SET_OWN_NUMBER)
+    drive_params_to_app_cfg(&p, &cfg);
+    DRIVE_PARAMS(CHECK_COPY)
+    assert_float_equal(cfg.ctrl.R_Ohm, 1.0, 0.0);
+    assert_int_equal(cfg.prot.isr_budget_cycles, 20);
+    assert_float_equal(cfg.rsid.accel_rad_s2, 38.0, 0.0);
+}
+
 /* Back-EMF at n_max: 3 x 0.24 x 2000 r/min = 150.8 V, below 311/sqrt(3) =
  * 179.6 V; at 2500 r/min 188.5 V: the warning, no refusal. */
 static void back_emf_beyond_the_bus_warns(void **state)
@@ -214,6 +240,7 @@ int main(void)
         cmocka_unit_test(ratings_beyond_the_adc_or_inconsistent_refused),
         cmocka_unit_test(set_values_stay_and_bandwidth_scales),
         cmocka_unit_test(back_emf_beyond_the_bus_warns),
+        cmocka_unit_test(every_listed_value_reaches_its_field),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
