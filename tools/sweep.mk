@@ -10,7 +10,7 @@
 #   make bench-sweep      whole-process drive_sil on the paper's scenarios
 #                         (x real time) and points per second of a
 #                         1000-point sweep (part of make bench)
-.PHONY: sweep test-sweep-net test-sweep-op-real bench-sweep test-est-grid
+.PHONY: sweep test-sweep-net test-sweep-op-real bench-sweep test-est-grid test-any-motor
 
 SWEEP_DIR      := $(BUILD)/sweep
 SWEEP_SCENARIO := tools/scenarios/prop_paper.ini
@@ -79,6 +79,13 @@ EXTRA_TESTS += test-campaign
 test-campaign: $(DRIVE_SIL)
 	@$(call suite,test-campaign) python3 tools/campaign_check.py tests/campaign --drive-sil $(DRIVE_SIL) \
 	    --known tests/campaign/known_failures.txt
+
+# The other motors' campaign (tools/rule_check.py): every pair in
+# tests/campaign/any-motor/ (copies of ../shared/campaign/any-motor/, with
+# the defaults the files leave unset) keeps the rule; no known failures.
+EXTRA_TESTS += test-any-motor
+test-any-motor: $(DRIVE_SIL) ## (part of make test) the any-motor campaign's pairs keep the rule
+	@$(call suite,test-any-motor) python3 tools/rule_check.py --drive-sil $(DRIVE_SIL) tests/campaign/any-motor
 
 # The estimation's acceptance grids (tools/est_grid.py): dead time in the
 # plant against the told one (psi_f^ within 2 % or held), a wrong told
