@@ -78,7 +78,14 @@ void rs_ident_reset(rs_ident_t *ri)
         for (ch = 0; ch < (int16_t)RS_ST_COUNT; ch++) {
             w->mcs[ch][0] = 0.0f;
             w->mcs[ch][1] = 0.0f;
+            w->mcs6[ch][0] = 0.0f;
+            w->mcs6[ch][1] = 0.0f;
         }
+        for (ch = 0; ch < 9; ch++) {
+            w->g6[ch] = 0.0f;
+        }
+        w->bcs6[0] = 0.0f;
+        w->bcs6[1] = 0.0f;
     }
 }
 
@@ -107,6 +114,9 @@ void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_w
     copy_floats(dst->bcs, w->bcs, 2);
     copy_floats(dst->g, w->g, 5);
     copy_floats(&dst->mcs[0][0], &w->mcs[0][0], (int16_t)(2 * RS_ST_COUNT));
+    copy_floats(dst->bcs6, w->bcs6, 2);
+    copy_floats(dst->g6, w->g6, 9);
+    copy_floats(&dst->mcs6[0][0], &w->mcs6[0][0], (int16_t)(2 * RS_ST_COUNT));
     dst->km_iq = w->km_iq;
 }
 
@@ -116,6 +126,16 @@ void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_w
 #define G_CC 2
 #define G_CS 3
 #define G_SS 4
+/* rs_ident_win_t.g6 */
+#define G6_C    0
+#define G6_S    1
+#define G6_CC   2
+#define G6_CS   3
+#define G6_SS   4
+#define G6_C_C  5  /* C C6 */
+#define G6_C_S  6  /* C S6 */
+#define G6_S_C  7  /* S C6 */
+#define G6_S_S  8  /* S S6 */
 
 /* Index of the pair (a, b), a <= b, in rs_ident_win_t.m2 (ff, fi, fw, ii, iw, ww). */
 static int16_t pair_index(int16_t a, int16_t b)
@@ -133,14 +153,29 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
 
     const float C = w->bcs[0] * inv_n_batch;
     const float S = w->bcs[1] * inv_n_batch;
+    const float C6 = w->bcs6[0] * inv_n_batch;
+    const float S6 = w->bcs6[1] * inv_n_batch;
 
     for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
         m[a] = w->bsum[a] * inv_n_batch;
         w->m1[a] += m[a];
         w->mcs[a][0] += m[a] * C;
         w->mcs[a][1] += m[a] * S;
+        w->mcs6[a][0] += m[a] * C6;
+        w->mcs6[a][1] += m[a] * S6;
         w->bsum[a] = 0.0f;
     }
+    w->g6[G6_C] += C6;
+    w->g6[G6_S] += S6;
+    w->g6[G6_CC] += C6 * C6;
+    w->g6[G6_CS] += C6 * S6;
+    w->g6[G6_SS] += S6 * S6;
+    w->g6[G6_C_C] += C * C6;
+    w->g6[G6_C_S] += C * S6;
+    w->g6[G6_S_C] += S * C6;
+    w->g6[G6_S_S] += S * S6;
+    w->bcs6[0] = 0.0f;
+    w->bcs6[1] = 0.0f;
     w->km_iq += (float)w->nb * m[RS_ST_IQ];
     w->g[G_C] += C;
     w->g[G_S] += S;
@@ -197,6 +232,13 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
     w->bsum[RS_ST_W] += x[RS_CH_W] - w->x0[RS_CH_W];
     w->bcs[0] += cos_el;
     w->bcs[1] += sin_el;
+    /* cos, sin 6 theta_el: double, triple, double angle (10 multiplications) */
+    const float c2 = cos_el * cos_el - sin_el * sin_el;
+    const float s2 = 2.0f * cos_el * sin_el;
+    const float c3 = c2 * cos_el - s2 * sin_el;
+    const float s3 = s2 * cos_el + c2 * sin_el;
+    w->bcs6[0] += c3 * c3 - s3 * s3;
+    w->bcs6[1] += 2.0f * c3 * s3;
     w->bn++;
     if (w->bn >= ri->cfg.n_batch) {
         close_batch(w, ri->inv_n_batch);
@@ -249,12 +291,75 @@ static void zt_channel(const rs_ident_win_t *w, int16_t a, float h[3])
     h[2] = w->mcs[a][1];
 }
 
+/* The fit's 6th harmonic (design sec. 6e), by partitioned regression on
+ * the fit of (1, C, S) (Gi): with B the cross sums of (C6, S6) with
+ * (1, C, S), D theirs, P = Gi B, the Schur complement Sc = D - B' P; false
+ * (the 3-term fit alone) with fewer than RS_IDENT_RIPPLE6_BATCHES_MIN
+ * batches or det(Sc / nb) below RS_IDENT_RIPPLE_DET_MIN (batches of whole
+ * ripple periods, the 6th aliased onto the 1st). Else *s gets u = P's row
+ * 0, Sc^-1 and per channel q_a = Z6'm_a - P' Z'm_a; the intercepts move by
+ * -u' Sc^-1 q_a. 1 division. */
+static bool ripple6_fit(rs_ident_solver_t *s, int16_t j)
+{
+    const rs_ident_win_t *w = s->win[j];
+    float(*Gi)[3] = s->Gi[j];
+    const float nb = (float)w->nb;
+    const float B[3][2] = { { w->g6[G6_C], w->g6[G6_S] },
+                            { w->g6[G6_C_C], w->g6[G6_C_S] },
+                            { w->g6[G6_S_C], w->g6[G6_S_S] } };
+    float P[3][2];
+    int16_t r;
+    int16_t k;
+    int16_t a;
+
+    if (w->nb < RS_IDENT_RIPPLE6_BATCHES_MIN) {
+        return false;
+    }
+    for (r = 0; r < 3; r++) {
+        for (k = 0; k < 2; k++) {
+            P[r][k] = Gi[r][0] * B[0][k] + Gi[r][1] * B[1][k] + Gi[r][2] * B[2][k];
+        }
+    }
+    const float s00 = w->g6[G6_CC] - (B[0][0] * P[0][0] + B[1][0] * P[1][0] + B[2][0] * P[2][0]);
+    const float s01 = w->g6[G6_CS] - (B[0][0] * P[0][1] + B[1][0] * P[1][1] + B[2][0] * P[2][1]);
+    const float s11 = w->g6[G6_SS] - (B[0][1] * P[0][1] + B[1][1] * P[1][1] + B[2][1] * P[2][1]);
+    const float det = s00 * s11 - s01 * s01;
+    if (!(det > RS_IDENT_RIPPLE_DET_MIN * nb * nb)) {
+        return false;
+    }
+    const float inv_det = 1.0f / det;
+    s->Si6[j][0] = s11 * inv_det;
+    s->Si6[j][1] = -s01 * inv_det;
+    s->Si6[j][2] = s00 * inv_det;
+    s->u6[j][0] = P[0][0];
+    s->u6[j][1] = P[0][1];
+    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
+        float h[3];
+        zt_channel(w, a, h);
+        for (k = 0; k < 2; k++) {
+            s->q6[j][a][k] = w->mcs6[a][k] - (P[0][k] * h[0] + P[1][k] * h[1] + P[2][k] * h[2]);
+        }
+    }
+    return true;
+}
+
+/* x' Sc^-1 y for window j's 6th-harmonic fit (Si6 symmetric). */
+static float si6_form(const rs_ident_solver_t *s, int16_t j, const float x[2], const float y[2])
+{
+    const float *si = s->Si6[j];
+    return x[0] * (si[0] * y[0] + si[1] * y[1]) + x[1] * (si[1] * y[0] + si[2] * y[1]);
+}
+
 /* Variance of the window's mean of r = fq + dR iq + dpsi w (nb >=
  * RS_IDENT_BATCHES_MIN >= 2): from the spread of its batch means, or, with
  * the ripple fit (Gi), from the fit's residuals: the intercept's variance
- * sigma^2 (G^-1)_00 with sigma^2 = SSR / (nb - 3). */
-static float residual_se2(const rs_ident_win_t *w, float dR, float dpsi, bool fit, const float Gi[3][3])
+ * sigma^2 (G^-1)_00 with sigma^2 = SSR / (nb - 3); with the 6th harmonic
+ * too, SSR less q_r' Sc^-1 q_r over nb - 5, (G^-1)_00 plus u' Sc^-1 u. */
+static float residual_se2(const rs_ident_solver_t *s, int16_t j, float dR, float dpsi)
 {
+    const rs_ident_win_t *w = s->win[j];
+    const bool fit = s->fit[j];
+    const float(*Gi)[3] = s->Gi[j];
     const float c[RS_ST_COUNT] = { 1.0f, dR, dpsi };
     const float nb = (float)w->nb;
     float h[3] = { 0.0f, 0.0f, 0.0f };
@@ -282,8 +387,17 @@ static float residual_se2(const rs_ident_win_t *w, float dR, float dpsi, bool fi
             ssr -= h[a] * Gi[a][b] * h[b];
         }
     }
-    ssr = (ssr > 0.0f) ? ssr : 0.0f; /* >= 0 up to rounding */
-    return ssr / (nb - 3.0f) * Gi[0][0];
+    if (!s->fit6[j]) {
+        ssr = (ssr > 0.0f) ? ssr : 0.0f; /* >= 0 up to rounding */
+        return ssr / (nb - 3.0f) * Gi[0][0];
+    }
+    float q[2];
+    for (b = 0; b < 2; b++) {
+        q[b] = s->q6[j][RS_ST_FQ][b] + dR * s->q6[j][RS_ST_IQ][b] + dpsi * s->q6[j][RS_ST_W][b];
+    }
+    ssr -= si6_form(s, j, q, q);
+    ssr = (ssr > 0.0f) ? ssr : 0.0f;
+    return ssr / (nb - 5.0f) * (Gi[0][0] + si6_form(s, j, s->u6[j], s->u6[j]));
 }
 
 static void zero_out(rs_ident_out_t *out, float R_nom)
@@ -300,6 +414,7 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
         out->R_se_part_Ohm[j] = 0.0f;
         out->r_se_V[j] = 0.0f;
         out->ripple_fit[j] = false;
+        out->ripple6_fit[j] = false;
         out->diq_dt_A_s[j] = 0.0f;
         out->batches[j] = 0u;
         out->iq_std_A[j] = 0.0f;
@@ -313,6 +428,17 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
 
 /* The solve's stages (rs_ident_solve_step): one per call. */
 typedef enum { STAGE_WIN_0 = 0, STAGE_WIN_1, STAGE_POINTS, STAGE_SE_0, STAGE_SE_1, STAGE_DONE } stage_t;
+
+/* The ripple fit's intercept of channel a in window j (relative to x0):
+ * the mean over whole turns (and whole ripple periods with the 6th). */
+static float intercept(const rs_ident_solver_t *s, int16_t j, int16_t a)
+{
+    const float(*Gi)[3] = s->Gi[j];
+    float h[3];
+    zt_channel(s->win[j], a, h);
+    const float alpha = Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
+    return s->fit6[j] ? alpha - si6_form(s, j, s->u6[j], s->q6[j][a]) : alpha;
+}
 
 /* Window j's means, iq's slope and the ripple fit into *s and *out
  * (design sec. 6e, 6f); RS_IDENT_OK or why the window is refused. */
@@ -352,16 +478,13 @@ static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_
     out->diq_dt_A_s[j] = s->diq_dt[j];
     /* sec. 6e: the means over whole turns where the ripple fit holds */
     s->fit[j] = ripple_fit(wn, s->Gi[j]);
+    s->fit6[j] = s->fit[j] && ripple6_fit(s, j);
     out->ripple_fit[j] = s->fit[j];
+    out->ripple6_fit[j] = s->fit6[j];
     if (s->fit[j]) {
-        float(*Gi)[3] = s->Gi[j];
-        float h[3];
-        zt_channel(wn, RS_ST_FQ, h);
-        s->fq[j] = wn->x0[RS_CH_FQ] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
-        zt_channel(wn, RS_ST_IQ, h);
-        s->iq[j] = wn->x0[RS_CH_IQ] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
-        zt_channel(wn, RS_ST_W, h);
-        s->w[j] = wn->x0[RS_CH_W] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
+        s->fq[j] = wn->x0[RS_CH_FQ] + intercept(s, j, RS_ST_FQ);
+        s->iq[j] = wn->x0[RS_CH_IQ] + intercept(s, j, RS_ST_IQ);
+        s->w[j] = wn->x0[RS_CH_W] + intercept(s, j, RS_ST_W);
         out->mean_fq_V[j] = s->fq[j];
         out->mean_iq_A[j] = s->iq[j];
         out->mean_w_rad_s[j] = s->w[j];
@@ -440,7 +563,7 @@ static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 /* design sec. 6: window j's share of se(R^), delta dR = -(w1 delta r2 - w2 delta r1) / den */
 static void solve_se(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
-    out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], out->dR_Ohm, out->dpsi_Wb, s->fit[j], s->Gi[j]));
+    out->r_se_V[j] = mathx_sqrtf(residual_se2(s, j, out->dR_Ohm, out->dpsi_Wb));
     out->R_se_part_Ohm[j] = mathx_fabsf(s->w[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
 }
 
@@ -473,6 +596,8 @@ void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_i
     s->stage = (uint16_t)STAGE_WIN_0;
     s->result = RS_IDENT_OK;
     s->abs_inv_den = 0.0f;
+    s->fit6[0] = false;
+    s->fit6[1] = false;
     zero_out(out, ri->cfg.R_nom_Ohm);
 }
 
