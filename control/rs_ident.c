@@ -291,26 +291,34 @@ static void zt_channel(const rs_ident_win_t *w, int16_t a, float h[3])
     h[2] = w->mcs[a][1];
 }
 
+/* A window's ripple fit (design sec. 6e), solved again where it is used
+ * (the means' stage, the standard error's) from the window's sums rather
+ * than kept between the stages: the same arithmetic, the same figures. */
+typedef struct {
+    bool fit;                 /* the fit of (1, C, S) holds */
+    bool fit6;                /*   and its 6th harmonic */
+    float Gi[3][3];           /* G^-1, G = Z'Z */
+    float P[3][2];            /* Gi B (B: the 6th harmonic's cross sums with 1, C, S); u = its row 0 */
+    float Si6[3];             /* inverse of the Schur complement D - B' P: 00, 01, 11 */
+} ripple_t;
+
 /* The fit's 6th harmonic (design sec. 6e), by partitioned regression on
- * the fit of (1, C, S) (Gi): with B the cross sums of (C6, S6) with
+ * the fit of (1, C, S) (f->Gi): with B the cross sums of (C6, S6) with
  * (1, C, S), D theirs, P = Gi B, the Schur complement Sc = D - B' P; false
  * (the 3-term fit alone) with fewer than RS_IDENT_RIPPLE6_BATCHES_MIN
  * batches or det(Sc / nb) below RS_IDENT_RIPPLE_DET_MIN (batches of whole
- * ripple periods, the 6th aliased onto the 1st). Else *s gets u = P's row
- * 0, Sc^-1 and per channel q_a = Z6'm_a - P' Z'm_a; the intercepts move by
- * -u' Sc^-1 q_a. 1 division. */
-static bool ripple6_fit(rs_ident_solver_t *s, int16_t j)
+ * ripple periods, the 6th aliased onto the 1st). Else f gets P and Sc^-1;
+ * the intercepts move by -u' Sc^-1 q_a (u = P's row 0, ripple6_q). 1 division. */
+static bool ripple6_fit(const rs_ident_win_t *w, ripple_t *f)
 {
-    const rs_ident_win_t *w = s->win[j];
-    float(*Gi)[3] = s->Gi[j];
+    const float(*Gi)[3] = f->Gi;
     const float nb = (float)w->nb;
     const float B[3][2] = { { w->g6[G6_C], w->g6[G6_S] },
                             { w->g6[G6_C_C], w->g6[G6_C_S] },
                             { w->g6[G6_S_C], w->g6[G6_S_S] } };
-    float P[3][2];
+    float(*P)[2] = f->P;
     int16_t r;
     int16_t k;
-    int16_t a;
 
     if (w->nb < RS_IDENT_RIPPLE6_BATCHES_MIN) {
         return false;
@@ -328,25 +336,37 @@ static bool ripple6_fit(rs_ident_solver_t *s, int16_t j)
         return false;
     }
     const float inv_det = 1.0f / det;
-    s->Si6[j][0] = s11 * inv_det;
-    s->Si6[j][1] = -s01 * inv_det;
-    s->Si6[j][2] = s00 * inv_det;
-    s->u6[j][0] = P[0][0];
-    s->u6[j][1] = P[0][1];
-    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
-        float h[3];
-        zt_channel(w, a, h);
-        for (k = 0; k < 2; k++) {
-            s->q6[j][a][k] = w->mcs6[a][k] - (P[0][k] * h[0] + P[1][k] * h[1] + P[2][k] * h[2]);
-        }
-    }
+    f->Si6[0] = s11 * inv_det;
+    f->Si6[1] = -s01 * inv_det;
+    f->Si6[2] = s00 * inv_det;
     return true;
 }
 
-/* x' Sc^-1 y for window j's 6th-harmonic fit (Si6 symmetric). */
-static float si6_form(const rs_ident_solver_t *s, int16_t j, const float x[2], const float y[2])
+/* Window w's ripple fit into *f: the 3-term fit, and the 6th harmonic
+ * where both hold. 2 divisions at most. */
+static void ripple_solve(const rs_ident_win_t *w, ripple_t *f)
 {
-    const float *si = s->Si6[j];
+    f->fit = ripple_fit(w, f->Gi);
+    f->fit6 = f->fit && ripple6_fit(w, f);
+}
+
+/* Channel a's q_a = Z6'm_a - P' Z'm_a (the 6th harmonic's part of its
+ * batch means the 3 terms do not explain). */
+static void ripple6_q(const rs_ident_win_t *w, const ripple_t *f, int16_t a, float q[2])
+{
+    float h[3];
+    int16_t k;
+
+    zt_channel(w, a, h);
+    for (k = 0; k < 2; k++) {
+        q[k] = w->mcs6[a][k] - (f->P[0][k] * h[0] + f->P[1][k] * h[1] + f->P[2][k] * h[2]);
+    }
+}
+
+/* x' Sc^-1 y for a 6th-harmonic fit (Si6 symmetric). */
+static float si6_form(const ripple_t *f, const float x[2], const float y[2])
+{
+    const float *si = f->Si6;
     return x[0] * (si[0] * y[0] + si[1] * y[1]) + x[1] * (si[1] * y[0] + si[2] * y[1]);
 }
 
@@ -355,11 +375,10 @@ static float si6_form(const rs_ident_solver_t *s, int16_t j, const float x[2], c
  * the ripple fit (Gi), from the fit's residuals: the intercept's variance
  * sigma^2 (G^-1)_00 with sigma^2 = SSR / (nb - 3); with the 6th harmonic
  * too, SSR less q_r' Sc^-1 q_r over nb - 5, (G^-1)_00 plus u' Sc^-1 u. */
-static float residual_se2(const rs_ident_solver_t *s, int16_t j, float dR, float dpsi)
+static float residual_se2(const rs_ident_win_t *w, const ripple_t *f, float dR, float dpsi)
 {
-    const rs_ident_win_t *w = s->win[j];
-    const bool fit = s->fit[j];
-    const float(*Gi)[3] = s->Gi[j];
+    const bool fit = f->fit;
+    const float(*Gi)[3] = f->Gi;
     const float c[RS_ST_COUNT] = { 1.0f, dR, dpsi };
     const float nb = (float)w->nb;
     float h[3] = { 0.0f, 0.0f, 0.0f };
@@ -387,17 +406,21 @@ static float residual_se2(const rs_ident_solver_t *s, int16_t j, float dR, float
             ssr -= h[a] * Gi[a][b] * h[b];
         }
     }
-    if (!s->fit6[j]) {
+    if (!f->fit6) {
         ssr = (ssr > 0.0f) ? ssr : 0.0f; /* >= 0 up to rounding */
         return ssr / (nb - 3.0f) * Gi[0][0];
     }
+    float q6[RS_ST_COUNT][2];
     float q[2];
-    for (b = 0; b < 2; b++) {
-        q[b] = s->q6[j][RS_ST_FQ][b] + dR * s->q6[j][RS_ST_IQ][b] + dpsi * s->q6[j][RS_ST_W][b];
+    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
+        ripple6_q(w, f, a, q6[a]);
     }
-    ssr -= si6_form(s, j, q, q);
+    for (b = 0; b < 2; b++) {
+        q[b] = q6[RS_ST_FQ][b] + dR * q6[RS_ST_IQ][b] + dpsi * q6[RS_ST_W][b];
+    }
+    ssr -= si6_form(f, q, q);
     ssr = (ssr > 0.0f) ? ssr : 0.0f;
-    return ssr / (nb - 5.0f) * (Gi[0][0] + si6_form(s, j, s->u6[j], s->u6[j]));
+    return ssr / (nb - 5.0f) * (Gi[0][0] + si6_form(f, f->P[0], f->P[0]));
 }
 
 static void zero_out(rs_ident_out_t *out, float R_nom)
@@ -431,18 +454,24 @@ typedef enum { STAGE_WIN_0 = 0, STAGE_WIN_1, STAGE_POINTS, STAGE_SE_0, STAGE_SE_
 
 /* The ripple fit's intercept of channel a in window j (relative to x0):
  * the mean over whole turns (and whole ripple periods with the 6th). */
-static float intercept(const rs_ident_solver_t *s, int16_t j, int16_t a)
+static float intercept(const rs_ident_win_t *w, const ripple_t *f, int16_t a)
 {
-    const float(*Gi)[3] = s->Gi[j];
+    const float(*Gi)[3] = f->Gi;
     float h[3];
-    zt_channel(s->win[j], a, h);
+    zt_channel(w, a, h);
     const float alpha = Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
-    return s->fit6[j] ? alpha - si6_form(s, j, s->u6[j], s->q6[j][a]) : alpha;
+    if (!f->fit6) {
+        return alpha;
+    }
+    float q[2];
+    ripple6_q(w, f, a, q);
+    return alpha - si6_form(f, f->P[0], q);
 }
 
-/* Window j's means, iq's slope and the ripple fit into *s and *out
+/* Window j's means, iq's slope and the ripple fit *f into *out (the
+ * points the later stages read there)
  * (design sec. 6e, 6f); RS_IDENT_OK or why the window is refused. */
-static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, const ripple_t *f, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
     const rs_ident_win_t *wn = s->win[j];
@@ -452,20 +481,16 @@ static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_
         return RS_IDENT_TOO_FEW;
     }
     const float inv_n = 1.0f / (float)wn->n; /* n >= n_min >= 2 */
-    s->fd[j] = wn->x0[RS_CH_FD] + wn->s1[RS_CH_FD] * inv_n;
-    s->fq[j] = wn->x0[RS_CH_FQ] + wn->s1[RS_CH_FQ] * inv_n;
-    s->id[j] = wn->x0[RS_CH_ID] + wn->s1[RS_CH_ID] * inv_n;
-    s->iq[j] = wn->x0[RS_CH_IQ] + wn->s1[RS_CH_IQ] * inv_n;
-    s->w[j] = wn->x0[RS_CH_W] + wn->s1[RS_CH_W] * inv_n;
+    out->mean_fd_V[j] = wn->x0[RS_CH_FD] + wn->s1[RS_CH_FD] * inv_n;
+    out->mean_fq_V[j] = wn->x0[RS_CH_FQ] + wn->s1[RS_CH_FQ] * inv_n;
+    out->mean_id_A[j] = wn->x0[RS_CH_ID] + wn->s1[RS_CH_ID] * inv_n;
+    out->mean_iq_A[j] = wn->x0[RS_CH_IQ] + wn->s1[RS_CH_IQ] * inv_n;
+    out->mean_w_rad_s[j] = wn->x0[RS_CH_W] + wn->s1[RS_CH_W] * inv_n;
     const float m1 = wn->s1[RS_CH_IQ] * inv_n;
     const float var = wn->s2_iq * inv_n - m1 * m1; /* >= 0 up to rounding */
     out->iq_std_A[j] = mathx_sqrtf(var);
-    out->mean_fd_V[j] = s->fd[j];
-    out->mean_fq_V[j] = s->fq[j];
-    out->mean_id_A[j] = s->id[j];
-    out->mean_iq_A[j] = s->iq[j];
-    out->mean_w_rad_s[j] = s->w[j];
-    if (!mathx_isfinitef(s->fd[j] + s->fq[j] + s->id[j] + s->iq[j] + s->w[j] + wn->s2_iq)) {
+    if (!mathx_isfinitef(out->mean_fd_V[j] + out->mean_fq_V[j] + out->mean_id_A[j] + out->mean_iq_A[j] +
+                         out->mean_w_rad_s[j] + wn->s2_iq)) {
         return RS_IDENT_NON_FINITE;
     }
     /* sec. 6f: iq's slope over the window, least squares on its batch
@@ -473,21 +498,16 @@ static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_
     const float nbf = (float)wn->nb;
     const float kbar = HALF * (nbf - 1.0f);
     const float skk = nbf * (nbf * nbf - 1.0f) * INV_12;
-    s->diq_dt[j] = (c->Ts_s > 0.0f) ? (wn->km_iq - kbar * wn->m1[RS_ST_IQ]) / (skk * (float)c->n_batch * c->Ts_s)
-                                    : 0.0f;
-    out->diq_dt_A_s[j] = s->diq_dt[j];
+    out->diq_dt_A_s[j] = (c->Ts_s > 0.0f)
+                             ? (wn->km_iq - kbar * wn->m1[RS_ST_IQ]) / (skk * (float)c->n_batch * c->Ts_s)
+                             : 0.0f;
     /* sec. 6e: the means over whole turns where the ripple fit holds */
-    s->fit[j] = ripple_fit(wn, s->Gi[j]);
-    s->fit6[j] = s->fit[j] && ripple6_fit(s, j);
-    out->ripple_fit[j] = s->fit[j];
-    out->ripple6_fit[j] = s->fit6[j];
-    if (s->fit[j]) {
-        s->fq[j] = wn->x0[RS_CH_FQ] + intercept(s, j, RS_ST_FQ);
-        s->iq[j] = wn->x0[RS_CH_IQ] + intercept(s, j, RS_ST_IQ);
-        s->w[j] = wn->x0[RS_CH_W] + intercept(s, j, RS_ST_W);
-        out->mean_fq_V[j] = s->fq[j];
-        out->mean_iq_A[j] = s->iq[j];
-        out->mean_w_rad_s[j] = s->w[j];
+    out->ripple_fit[j] = f->fit;
+    out->ripple6_fit[j] = f->fit6;
+    if (f->fit) {
+        out->mean_fq_V[j] = wn->x0[RS_CH_FQ] + intercept(wn, f, RS_ST_FQ);
+        out->mean_iq_A[j] = wn->x0[RS_CH_IQ] + intercept(wn, f, RS_ST_IQ);
+        out->mean_w_rad_s[j] = wn->x0[RS_CH_W] + intercept(wn, f, RS_ST_W);
     }
     return RS_IDENT_OK;
 }
@@ -497,12 +517,12 @@ static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_
 static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
-    const float *fd = s->fd;
-    const float *fq = s->fq;
-    const float *id = s->id;
-    const float *iq = s->iq;
-    const float *w = s->w;
-    const float *diq_dt = s->diq_dt;
+    const float *fd = out->mean_fd_V;
+    const float *fq = out->mean_fq_V;
+    const float *id = out->mean_id_A;
+    const float *iq = out->mean_iq_A;
+    const float *w = out->mean_w_rad_s;
+    const float *diq_dt = out->diq_dt_A_s;
     float inv_wiq[2];
     int16_t j;
     int16_t it;
@@ -561,10 +581,10 @@ static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 }
 
 /* design sec. 6: window j's share of se(R^), delta dR = -(w1 delta r2 - w2 delta r1) / den */
-static void solve_se(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+static void solve_se(const rs_ident_solver_t *s, int16_t j, const ripple_t *f, rs_ident_out_t *out)
 {
-    out->r_se_V[j] = mathx_sqrtf(residual_se2(s, j, out->dR_Ohm, out->dpsi_Wb));
-    out->R_se_part_Ohm[j] = mathx_fabsf(s->w[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
+    out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], f, out->dR_Ohm, out->dpsi_Wb));
+    out->R_se_part_Ohm[j] = mathx_fabsf(out->mean_w_rad_s[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
 }
 
 /* se(R^) against its limit, then the band. */
@@ -596,8 +616,6 @@ void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_i
     s->stage = (uint16_t)STAGE_WIN_0;
     s->result = RS_IDENT_OK;
     s->abs_inv_den = 0.0f;
-    s->fit6[0] = false;
-    s->fit6[1] = false;
     zero_out(out, ri->cfg.R_nom_Ohm);
 }
 
@@ -606,21 +624,25 @@ bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out)
     rs_ident_result_t r = s->result;
 
     if (r == RS_IDENT_OK) { /* a refusal skips the stages left, not the calls */
-        switch ((stage_t)s->stage) {
+        const stage_t st = (stage_t)s->stage;
+        const int16_t j = ((st == STAGE_WIN_1) || (st == STAGE_SE_1)) ? 1 : 0;
+        /* window j's ripple fit, solved in its means' stage and again in its
+         * standard error's from the same sums (not kept between them) */
+        ripple_t f;
+        ripple_solve(s->win[j], &f);
+        switch (st) {
         case STAGE_WIN_0:
-            r = s->ri->valid ? solve_window(s, 0, out) : RS_IDENT_INVALID_CFG;
-            break;
         case STAGE_WIN_1:
-            r = solve_window(s, 1, out);
+            r = (s->ri->valid || (j == 1)) ? solve_window(s, j, &f, out) : RS_IDENT_INVALID_CFG;
             break;
         case STAGE_POINTS:
             r = solve_points(s, out);
             break;
         case STAGE_SE_0:
-            solve_se(s, 0, out);
+            solve_se(s, 0, &f, out);
             break;
         case STAGE_SE_1:
-            solve_se(s, 1, out);
+            solve_se(s, 1, &f, out);
             r = solve_verdict(&s->ri->cfg, out);
             break;
         case STAGE_DONE:

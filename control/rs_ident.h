@@ -184,7 +184,9 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
  * standard error): the same result and *out, always after exactly that
  * many calls (a refusal skips the work left, not the calls). The windows
  * solved must not change until the last stage: an ISR that goes on
- * filling window 2 solves a copy of it (rs_ident_copy_window). */
+ * filling window 2 solves a copy of it (rs_ident_copy_window). The
+ * windows' points pass from stage to stage in *out: the same *out each
+ * call. */
 #define RS_IDENT_SOLVE_STAGES 5u
 
 typedef struct {
@@ -192,14 +194,6 @@ typedef struct {
     const rs_ident_win_t *win[2];  /* the windows solved: ri's, or a copy of window 2 */
     uint16_t stage;           /* the next stage */
     rs_ident_result_t result; /* valid once rs_ident_solve_step returned true */
-    float fd[2], fq[2], id[2], iq[2], w[2];   /* the windows' points */
-    float diq_dt[2];          /* iq's mean slope per window [A/s] */
-    bool fit[2];              /* the ripple fit holds */
-    float Gi[2][3][3];        /* its inverse normal matrices */
-    bool fit6[2];             /* the fit's 6th harmonic holds (sec. 6e) */
-    float u6[2][2];           /* row 0 of G^-1 B (B: the 6th harmonic's cross sums with 1, C, S) */
-    float Si6[2][3];          /* inverse of its Schur complement D - B' G^-1 B: 00, 01, 11 */
-    float q6[2][RS_ST_COUNT][2];  /* per channel: Z6'm - B' G^-1 Z'm */
     float abs_inv_den;        /* 1 / |(41)'s denominator| [1/(A rad/s)] */
 } rs_ident_solver_t;
 
