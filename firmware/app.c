@@ -233,10 +233,9 @@ static void commission_state(app_t *app, const hal_sample_t *s)
     if (r.status == APP_STEP_DONE) {
         stop_to_idle(app);
         app->comm_valid = true;
-        if (app->comm->res.pole_pairs == app->cfg.ctrl.pole_pairs) {
-            encoder_set_offset(&app->ctrl.enc, app->comm->res.enc_offset_el_rad);
-            app->aligned = true;
-        }
+        /* the ENCODER stage refuses unless the counts agree with the told pole pairs */
+        encoder_set_offset(&app->ctrl.enc, app->comm->res.enc_offset_el_rad);
+        app->aligned = true;
     } else {
         (void)output(app, r, s);
     }
