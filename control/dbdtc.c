@@ -152,35 +152,50 @@ uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
     return flags;
 }
 
-/* Interval [lo, hi] of t where the line a_j t + b_j fixed meets the
- * hexagon |a_j t + b_j fixed| <= r (j = the three side pairs); false when
- * it misses. Two sides at least bound t: max |a_j| >= cos 30 deg for the
- * unit vectors used here. Up to 3 divisions. */
-static bool hex_chord(const float a[3], const float b[3], float fixed, float r, float *lo_out, float *hi_out)
-{
-    float lo = -FLT_MAX;
-    float hi = FLT_MAX;
-    bool hit = true;
-    int16_t j;
+/* The interval [lo, hi] of t where a line a_j t + b_j fixed meets the
+ * hexagon |a_j t + b_j fixed| <= r (j = the three side pairs); hit false
+ * when a side parallel to the line misses it. */
+typedef struct {
+    float lo;
+    float hi;
+    bool hit;
+} chord_t;
 
-    for (j = 0; j < 3; j++) {
-        const float c = fixed * b[j];
-        if (mathx_fabsf(a[j]) > SIDE_PARALLEL_EPS) {
-            /* t in [-c/a - |r/a|, -c/a + |r/a|]: either sign of a, no branch */
-            const float inv_a = 1.0f / a[j];
-            const float mid = -c * inv_a;
-            const float half = mathx_fabsf(r * inv_a);
-            const float t1 = mid - half;
-            const float t2 = mid + half;
-            lo = (t1 > lo) ? t1 : lo;
-            hi = (t2 < hi) ? t2 : hi;
-        } else if (mathx_fabsf(c) > r) {
-            hit = false;
-        }
+/* One side pair's part in the chord: t in [-c/a - |r/a|, -c/a + |r/a|]
+ * (either sign of a, no branch), c = b fixed; a side parallel to the line
+ * (|a| small: no division by ~0) bounds nothing or misses it. One
+ * division. */
+static inline void chord_side(chord_t *ch, float a, float b, float fixed, float r)
+{
+    const float c = fixed * b;
+
+    if (mathx_fabsf(a) > SIDE_PARALLEL_EPS) {
+        const float inv_a = 1.0f / a;
+        const float mid = -c * inv_a;
+        const float half = mathx_fabsf(r * inv_a);
+        const float t1 = mid - half;
+        const float t2 = mid + half;
+        ch->lo = (t1 > ch->lo) ? t1 : ch->lo;
+        ch->hi = (t2 < ch->hi) ? t2 : ch->hi;
+    } else if (mathx_fabsf(c) > r) {
+        ch->hit = false;
     }
-    *lo_out = lo;
-    *hi_out = hi;
-    return hit && (lo <= hi);
+}
+
+/* The chord of the line a_j t + b_j fixed, written out side by side (no
+ * loop: the values stay in registers); false when it misses the hexagon.
+ * Two sides at least bound t: max |a_j| >= cos 30 deg for the unit vectors
+ * used here. 3 divisions. */
+static inline bool hex_chord(float a0, float a1, float a2, float b0, float b1, float b2, float fixed, float r,
+                             chord_t *ch)
+{
+    ch->lo = -FLT_MAX;
+    ch->hi = FLT_MAX;
+    ch->hit = true;
+    chord_side(ch, a0, b0, fixed, r);
+    chord_side(ch, a1, b1, fixed, r);
+    chord_side(ch, a2, b2, fixed, r);
+    return ch->hit && (ch->lo <= ch->hi);
 }
 
 /* dbdtc_limit outside the inscribed circle: vdc >= 0 [V], r = vdc/sqrt(3). */
@@ -190,68 +205,82 @@ static uint16_t limit_to_hexagon(dq_t *u_dq_V, float sin_in, float cos_in, float
     const float cos_th = mathx_clampf(cos_in, -1.0f, 1.0f);
     /* Hexagon sides: |u . n_j| <= Vdc/sqrt(3), n_j at 30, 90, 150 deg.
      * g_j = e_d . n_j and h_j = e_q . n_j with e_d = (c, s), e_q = (-s, c). */
-    const float g[3] = { HALF_SQRT3 * cos_th + 0.5f * sin_th, sin_th,
-                         -HALF_SQRT3 * cos_th + 0.5f * sin_th };
-    const float h[3] = { -HALF_SQRT3 * sin_th + 0.5f * cos_th, cos_th,
-                         HALF_SQRT3 * sin_th + 0.5f * cos_th };
+    const float kc = HALF_SQRT3 * cos_th;
+    const float ks = HALF_SQRT3 * sin_th;
+    const float hc = 0.5f * cos_th;
+    const float hs = 0.5f * sin_th;
+    const float g0 = kc + hs;
+    const float g1 = sin_th;
+    const float g2 = hs - kc;
+    const float h0 = hc - ks;
+    const float h1 = cos_th;
+    const float h2 = ks + hc;
     const float ud = u_dq_V->d;
     const float uq = u_dq_V->q;
-    bool inside = true;
-    float lo;
-    float hi;
-    float qlo;
-    float qhi;
-    int16_t j;
 
-    for (j = 0; j < 3; j++) {
-        const float pj = ud * g[j] + uq * h[j];
-        if (!(mathx_fabsf(pj) <= r)) {
-            inside = false;
-        }
+
+    /* The hexagon's vertices: 2/3 Vdc on a phase axis at 0, 60 or 120 deg,
+     * either sign; in the rotor frame the axes point along (c, -s) = (h_1,
+     * -g_1), (h_2, -g_2) and (-h_0, g_0) (written as the rotation gives
+     * them). The one with the largest |q| (the first of equals in that
+     * order) gives the hexagon's reach in q: a request beyond it is
+     * outside, and the line at its uq misses the hexagon; within it, the
+     * sides and then the chord say exactly. */
+    const float vmag = TWO_THIRDS * vdc;
+    const float ga0 = mathx_fabsf(g0);
+    const float ga1 = mathx_fabsf(g1);
+    const float ga2 = mathx_fabsf(g2);
+    float reach = ga1;
+    float vd = h1;
+    float vq = -g1;
+    if (ga2 > reach) {
+        reach = ga2;
+        vd = h2;
+        vq = kc - hs;
     }
-    if (inside) {
-        return 0u;
+    if (ga0 > reach) {
+        reach = ga0;
+        vd = ks - hc;
+        vq = g0;
     }
 
     /* Torque first: keep uq, the u_d interval where the line meets the hexagon. */
-    const bool chord = hex_chord(g, h, uq, r, &lo, &hi);
-    if (chord && (ud < lo) && (ud >= -r) && hex_chord(h, g, ud, r, &qlo, &qhi)) {
+    chord_t dch = { 0.0f, 0.0f, false };
+    bool chord = false;
+    if (mathx_fabsf(uq) <= vmag * reach) {
+        if ((mathx_fabsf(ud * g0 + uq * h0) <= r) && (mathx_fabsf(ud * g1 + uq * h1) <= r) &&
+            (mathx_fabsf(ud * g2 + uq * h2) <= r)) {
+            return 0u;
+        }
+        chord = hex_chord(g0, g1, g2, h0, h1, h2, uq, r, &dch);
+    }
+    bool flux_first;
+    if (chord) {
         /* The chord would push u_d up, psi_d above its target: at the
          * voltage limit i_d then runs positive and the torque falls. Flux
          * first instead: keep u_d, the u_q nearest the request on the
          * hexagon at that u_d (the most torque the limit allows while the
          * flux goes where the deadbeat step wants it). */
-        u_dq_V->q = mathx_clampf(uq, qlo, qhi);
-    } else if (chord) {
-        u_dq_V->d = mathx_clampf(ud, lo, hi);
+        flux_first = (ud < dch.lo);
     } else {
-        /* uq alone is out of reach: the vertex (2/3 Vdc on a phase axis at
-         * 0, 60 or 120 deg, either sign) with the largest q component along uq. */
-        const float ax_c[3] = { 1.0f, 0.5f, -0.5f };
-        const float ax_s[3] = { 0.0f, HALF_SQRT3, HALF_SQRT3 };
-        const float vmag = TWO_THIRDS * vdc;
-        const float sgn = (uq >= 0.0f) ? 1.0f : -1.0f;
-        float best = -1.0f;
-        float vd = 0.0f;
-        float vq = 0.0f;
-        for (j = 0; j < 3; j++) {
-            const float q = -sin_th * ax_c[j] + cos_th * ax_s[j];
-            const float d = cos_th * ax_c[j] + sin_th * ax_s[j];
-            if (mathx_fabsf(q) > best) {
-                const float s = (q * sgn >= 0.0f) ? 1.0f : -1.0f; /* the vertex on uq's side */
-                best = mathx_fabsf(q);
-                vd = s * d;
-                vq = s * q;
-            }
+        /* uq alone is out of reach: the vertex with the largest q component
+         * along uq (the most torque the inverter can make), unless it would
+         * raise psi_d above its target: flux first, the most u_q along the
+         * request on the hexagon at the requested u_d. */
+        if (!((uq >= 0.0f) ? (vq >= 0.0f) : (vq <= 0.0f))) { /* the vertex on uq's side */
+            vd = -vd;
+            vq = -vq;
         }
-        if ((vmag * vd > ud) && (ud >= -r) && hex_chord(h, g, ud, r, &qlo, &qhi)) {
-            /* that vertex would raise psi_d above its target: the most
-             * u_q along the request on the hexagon at the requested u_d */
-            u_dq_V->q = (uq >= 0.0f) ? qhi : qlo;
-        } else {
-            u_dq_V->d = vmag * vd;
-            u_dq_V->q = vmag * vq;
-        }
+        flux_first = (vmag * vd > ud);
+    }
+    chord_t qch = { 0.0f, 0.0f, false };
+    if (flux_first && (ud >= -r) && hex_chord(h0, h1, h2, g0, g1, g2, ud, r, &qch)) {
+        u_dq_V->q = chord ? mathx_clampf(uq, qch.lo, qch.hi) : ((uq >= 0.0f) ? qch.hi : qch.lo);
+    } else if (chord) {
+        u_dq_V->d = mathx_clampf(ud, dch.lo, dch.hi);
+    } else {
+        u_dq_V->d = vmag * vd;
+        u_dq_V->q = vmag * vq;
     }
     return DBDTC_FLAG_VOLTAGE_LIMIT;
 }

@@ -125,7 +125,8 @@ uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
  * vdc_V [V], for a rotor frame at the angle whose sin/cos are given;
  * returns DBDTC_FLAG_VOLTAGE_LIMIT when it moved the vector. One test
  * inside the inscribed circle (the normal period), no division when
- * inside; 3 when limiting. ISR context. */
+ * inside; when limiting, 3 for each hexagon chord it needs: none for a
+ * vertex, 3 or 6 otherwise. ISR context. */
 uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_th, float cos_th, float vdc_V);
 
 #endif /* DBDTC_H */
