@@ -269,24 +269,29 @@ static double spread_sc(double d, double q, double s, double c)
     return phase_spread(d * c - q * s, d * s + q * c);
 }
 
+/* The spread at t along the line q = fixed (along d) or d = fixed (along q). */
+static double spread_on(double fixed, int along_q, double t, double s, double c)
+{
+    return along_q ? spread_sc(fixed, t, s, c) : spread_sc(t, fixed, s, c);
+}
+
 /* The chord [lo, hi] of the line q = fixed (along d) or d = fixed (along q). */
 static int ref_chord(double fixed, int along_q, double s, double c, double vdc, double *lo, double *hi)
 {
     const double span = 2.0 * vdc; /* beyond the hexagon (2/3 Vdc) */
     double a = -span;
     double b = span;
-#define REF_F(t) (along_q ? spread_sc(fixed, (t), s, c) : spread_sc((t), fixed, s, c))
     for (int k = 0; k < REF_SEARCH_STEPS; k++) {
         const double m1 = a + (b - a) / 3.0;
         const double m2 = b - (b - a) / 3.0;
-        if (REF_F(m1) < REF_F(m2)) {
+        if (spread_on(fixed, along_q, m1, s, c) < spread_on(fixed, along_q, m2, s, c)) {
             b = m2;
         } else {
             a = m1;
         }
     }
     const double tmin = 0.5 * (a + b);
-    if (REF_F(tmin) > vdc) {
+    if (spread_on(fixed, along_q, tmin, s, c) > vdc) {
         return 0;
     }
     double x0 = -span;
@@ -296,18 +301,17 @@ static int ref_chord(double fixed, int along_q, double s, double c, double vdc, 
     for (int k = 0; k < REF_SEARCH_STEPS; k++) {
         const double xm = 0.5 * (x0 + x1);
         const double ym = 0.5 * (y0 + y1);
-        if (REF_F(xm) > vdc) {
+        if (spread_on(fixed, along_q, xm, s, c) > vdc) {
             x0 = xm;
         } else {
             x1 = xm;
         }
-        if (REF_F(ym) > vdc) {
+        if (spread_on(fixed, along_q, ym, s, c) > vdc) {
             y1 = ym;
         } else {
             y0 = ym;
         }
     }
-#undef REF_F
     *lo = x1;
     *hi = y0;
     return 1;
