@@ -134,7 +134,7 @@ typedef struct {
  * costs about what any other does, the window's whole parts before it are
  * summed during the part, one per period in its first periods (a part
  * shorter than that sums the rest at its end): the end adds its own part,
- * judges, and moves it into the ring. */
+ * judges, and moves it into the ring (figures: protect_log.md). */
 #define PROTECT_OP_SUBWINDOWS 4u
 
 /* OPEN_PHASE's sums over a part of the window. */
