@@ -11,6 +11,8 @@
 #define ONE_THIRD (1.0f / 3.0f)
 #define OP_WHOLE_PARTS (PROTECT_OP_SUBWINDOWS - 1u) /* the window's parts before the part so far */
 
+static void op_sums_clear(protect_op_sums_t *a);
+
 void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t *drv)
 {
     p->cfg = *cfg;
@@ -36,6 +38,10 @@ void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t 
     p->el_rad_per_count = MATHX_TWO_PI_F * (float)drv->pole_pairs / (float)p->enc_cpr;
     p->counts_per_rad = (float)p->enc_cpr / MATHX_TWO_PI_F;
     p->op_phase = 0u;
+    /* the ring's parts are summed (op_prep_step) before the ring is full: start from zero sums */
+    for (uint32_t k = 0u; k < OP_WHOLE_PARTS; k++) {
+        op_sums_clear(&p->op_parts[k]);
+    }
     protect_watch_reset(p);
 }
 
