@@ -351,10 +351,15 @@ static uint16_t do_stream_set(link_t *l, const link_frame_t *q, uint16_t *p)
     link_stream_t *s = &l->stream;
     s->n = 0u;                           /* the ISR stops sampling before the set changes */
     s->f32_mask = 0u;
+    s->in_place = (n > 0u);
     for (uint16_t k = 0u; k < n; k++) {
         s->ids[k] = link_get_u16(q->payload, (uint16_t)(2u + 2u * k));
         s->fp[k] = link_var_source(&l->t, s->ids[k]).p;
         s->f32_mask |= (link_var(s->ids[k])->type == (uint16_t)LINK_T_F32) ? (uint16_t)(1u << k) : 0u;
+        s->in_place = s->in_place && (s->fp[k] != NULL);
+    }
+    for (uint16_t k = n; k < LINK_STREAM_VARS; k++) {
+        s->fp[k] = (n > 0u) ? s->fp[0] : NULL;  /* read by the in-place copy, never sent */
     }
     s->decimate = dec;
     s->dec_left = 0u;

@@ -71,7 +71,7 @@ typedef struct {
     volatile uint16_t state;             /* LINK_CAP_*: IDLE, DONE set by the background, PRE by arming */
     uint16_t dec_left, head, filled, post_left;
     bool trig_ready;                     /* ABOVE/BELOW: a sample at or beyond the re-arm level was seen */
-    uint16_t last_app_state;
+    uint16_t last_app_state;             /* FAULT and STATE triggers: the state at the last sample */
     uint32_t trig_index, first_index;    /* period indices (0 = the first ISR call since app_init) */
     uint16_t buf[LINK_CAP_SLOTS];        /* rows of `stride` slots */
 } link_capture_t;
@@ -81,6 +81,8 @@ typedef struct {
     uint16_t ids[LINK_STREAM_VARS];
     const volatile float *fp[LINK_STREAM_VARS];   /* as link_capture_t.fp */
     uint16_t f32_mask;                   /* bit k: variable k is a float (its raw word: the float's bits) */
+    bool in_place;                       /* every variable a float in place: fp[k] set for all
+                                          * LINK_STREAM_VARS slots, the unused repeating fp[0] */
     uint16_t decimate, dec_left;
     /* rows: written by the ISR at wr, read by the background at rd; raw values (a float's bits, an integer),
      * converted to their units by the background */

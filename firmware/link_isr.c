@@ -10,8 +10,9 @@
 #include "mathx.h"
 
 #define COUNT16_MAX 0xFFFFu
-#define INT16_FULL_SCALE 32767.0f
 #define COUNT_OFFSET_ROUND 32768.5f /* 2^15 offset and the half that rounds */
+#define OFFSET_COUNT_MIN 1.0f       /* -32767 in offset binary */
+#define OFFSET_COUNT_MAX 65535.0f   /* +32767 in offset binary */
 #define SIGN16 0x8000u
 #define LOW16 0xFFFFul
 #define HALF_BITS 16u
@@ -97,6 +98,17 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
 
 /* ---- capture and stream ---- */
 
+/* the stream's in-place copy writes its LINK_STREAM_VARS slots out */
+typedef char link_stream_eight_vars[(LINK_STREAM_VARS == 8u) ? 1 : -1];
+
+/* A float's raw 32 bits. */
+static inline uint32_t f32_bits(const volatile float *fp)
+{
+    f32_bits_t x;
+    x.f = *fp;
+    return x.u;
+}
+
 static void count16(uint16_t *c)
 {
     if (*c < COUNT16_MAX) {
@@ -105,11 +117,19 @@ static void count16(uint16_t *c)
 }
 
 /* x [counts] rounded (half up) and saturated to +-32767, as the int16's bits: offset binary
- * through an unsigned truncation, then the sign bit flipped. A NaN gives -32767. */
+ * (x + 2^15 + 1/2) truncated when in [1, 65535), else the end on its side, then the sign bit
+ * flipped. A NaN gives -32767. The range is tested after the offset (the same counts as
+ * clamping x first, for every float): the common case is one add and two compares. */
 static uint16_t to_count(float x)
 {
-    const float sat = mathx_clampf(x, -INT16_FULL_SCALE, INT16_FULL_SCALE);
-    return (uint16_t)((uint16_t)(sat + COUNT_OFFSET_ROUND) ^ SIGN16);
+    const float v = x + COUNT_OFFSET_ROUND;
+    uint16_t u;
+    if (v >= OFFSET_COUNT_MIN && v < OFFSET_COUNT_MAX) {
+        u = (uint16_t)v;
+    } else {
+        u = (v >= OFFSET_COUNT_MAX) ? (uint16_t)OFFSET_COUNT_MAX : (uint16_t)OFFSET_COUNT_MIN;
+    }
+    return (uint16_t)(u ^ SIGN16);
 }
 
 /* A variable's value as a float: the one in place in the raw unit (the common case), else by id. */
@@ -119,10 +139,10 @@ static inline float raw_float(const link_target_t *t, const volatile float *fp, 
 }
 
 /* Whether the trigger fires on this sample (trig_ready kept for the next). The trigger
- * variable is compared in its unit, as READ and the CSV give it. */
+ * variable is compared in its unit, as READ and the CSV give it. The app's state is read,
+ * and kept for the next sample, by the state triggers only. */
 static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre)
 {
-    const uint16_t st = (uint16_t)t->app->state;
     bool fire = false;
     switch (c->trig) {
     case LINK_TRIG_ABOVE: {
@@ -145,17 +165,22 @@ static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre
         }
         break;
     }
-    case LINK_TRIG_FAULT:
+    case LINK_TRIG_FAULT: {
+        const uint16_t st = (uint16_t)t->app->state;
         fire = enough_pre && st == (uint16_t)APP_STATE_FAULT && c->last_app_state != (uint16_t)APP_STATE_FAULT;
+        c->last_app_state = st;
         break;
-    case LINK_TRIG_STATE:
+    }
+    case LINK_TRIG_STATE: {
+        const uint16_t st = (uint16_t)t->app->state;
         fire = enough_pre && st != c->last_app_state;
+        c->last_app_state = st;
         break;
+    }
     default:
         fire = enough_pre;
         break;
     }
-    c->last_app_state = st;
     return fire;
 }
 
@@ -195,8 +220,11 @@ static void capture_isr(link_capture_t *c, const link_target_t *t)
     c->dec_left = (uint16_t)(c->decimate - 1u);
     uint16_t *row = &c->buf[c->head * c->stride];
     if (c->i16_in_place) {               /* the common case: int16 counts of floats in place */
-        for (uint16_t k = 0u; k < c->nch; k++) {
-            row[k] = to_count(*c->fp[k] * c->per_raw[k]);
+        const volatile float *const *fp = c->fp;
+        const float *per_raw = c->per_raw;
+        const uint16_t *const end = row + c->nch;
+        while (row != end) {                 /* walking pointers: no index to scale per channel */
+            *row++ = to_count(**fp++ * *per_raw++);
         }
     } else {
         capture_row(c, t, row);
@@ -241,20 +269,33 @@ static void stream_isr(link_t *l)
         return;
     }
     s->index[w] = l->t.app->ticks - 1u;
-    for (uint16_t k = 0u; k < n; k++) {
-        const volatile float *fp = s->fp[k];
-        f32_bits_t x;
-        if (fp != NULL) {
-            x.f = *fp;                   /* its bits, converted by the background */
-        } else {
-            const link_val_t v = link_var_get(&l->t, s->ids[k]);
-            if (((s->f32_mask >> k) & 1u) != 0u) {
-                x.f = v.f;
+    uint32_t *raw = s->raw[w];
+    if (s->in_place) {                   /* the common case: every slot's float bits, written out (no
+                                          * loop's bookkeeping); slots from n on are never sent */
+        raw[0] = f32_bits(s->fp[0]);
+        raw[1] = f32_bits(s->fp[1]);
+        raw[2] = f32_bits(s->fp[2]);
+        raw[3] = f32_bits(s->fp[3]);
+        raw[4] = f32_bits(s->fp[4]);
+        raw[5] = f32_bits(s->fp[5]);
+        raw[6] = f32_bits(s->fp[6]);
+        raw[7] = f32_bits(s->fp[7]);
+    } else {
+        for (uint16_t k = 0u; k < n; k++) {
+            const volatile float *fp = s->fp[k];
+            f32_bits_t x;
+            if (fp != NULL) {
+                x.f = *fp;               /* its bits, converted by the background */
             } else {
-                x.u = v.u;
+                const link_val_t v = link_var_get(&l->t, s->ids[k]);
+                if (((s->f32_mask >> k) & 1u) != 0u) {
+                    x.f = v.f;
+                } else {
+                    x.u = v.u;
+                }
             }
+            raw[k] = x.u;
         }
-        s->raw[w][k] = x.u;
     }
     s->wr = next;
 }

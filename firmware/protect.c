@@ -9,6 +9,9 @@
 #define N_PHASES 3u
 #define N_READINGS 2u                /* ia, ib */
 #define ONE_THIRD (1.0f / 3.0f)
+#define OP_WHOLE_PARTS (PROTECT_OP_SUBWINDOWS - 1u) /* the window's parts before the part so far */
+
+static void op_sums_clear(protect_op_sums_t *a);
 
 void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t *drv)
 {
@@ -28,10 +31,17 @@ void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t 
     p->isr_run_cycles = 0u;
     p->uv_armed = false;
     p->op_part_ticks = app_periods_of(cfg->watch.op_window_s / (float)PROTECT_OP_SUBWINDOWS, drv->Ts_s);
+    /* a whole window is PROTECT_OP_SUBWINDOWS whole parts of op_part_ticks periods */
+    p->op_i_min_sum_A = cfg->watch.op_i_min_A * (float)(PROTECT_OP_SUBWINDOWS * p->op_part_ticks);
+    p->op_u_min_sum_V = cfg->watch.op_u_min_V * (float)(PROTECT_OP_SUBWINDOWS * p->op_part_ticks);
     p->stall_ticks_max = app_periods_of(cfg->watch.enc_stall_s, drv->Ts_s);
     p->el_rad_per_count = MATHX_TWO_PI_F * (float)drv->pole_pairs / (float)p->enc_cpr;
     p->counts_per_rad = (float)p->enc_cpr / MATHX_TWO_PI_F;
     p->op_phase = 0u;
+    /* the ring's parts are summed (op_prep_step) before the ring is full: start from zero sums */
+    for (uint32_t k = 0u; k < OP_WHOLE_PARTS; k++) {
+        op_sums_clear(&p->op_parts[k]);
+    }
     protect_watch_reset(p);
 }
 
@@ -123,6 +133,7 @@ static void op_sums_clear(protect_op_sums_t *a)
     }
 }
 
+/* The window restarts: no whole part, the part so far empty. */
 static void op_clear(protect_t *p)
 {
     op_sums_clear(&p->op_part);
@@ -138,44 +149,94 @@ void protect_watch_reset(protect_t *p)
     p->stall_ticks = 0u;
 }
 
-/* OPEN_PHASE: the test of protect.h on the window's sums; turn_el_rad the
- * rotor's turn (net per part), ux_V[x] the sum over the parts of
- * |part's sum of u_x|. */
-static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *win, float turn_el_rad)
+static int32_t abs_i32(int32_t v)
 {
-    const protect_watch_cfg_t *w = &p->cfg.watch;
-    const float n = (float)win->n;
-    const float i_mean = win->i_A / n;
-    const bool half_turn = (turn_el_rad >= MATHX_PI_F);
-    uint32_t x;
-
-    for (x = 0u; x < N_PHASES; x++) {
-        const float ix_mean = win->ix_A[x] / n;
-        const float limit = w->op_ratio * i_mean;
-        if ((i_mean >= w->op_i_min_A) && (ix_mean < limit) && (half_turn || (win->ux_V[x] / n >= w->op_u_min_V))) {
-            p->op_phase = (uint16_t)x;
-            return app_step_fault(APP_FAULT_OPEN_PHASE, ix_mean, limit);
-        }
-    }
-    return app_step_running();
+    return (v < 0) ? -v : v;
 }
 
-/* OPEN_PHASE: this period into the window's part; at a part's end, the
- * window of the last PROTECT_OP_SUBWINDOWS parts is judged. */
+/* OPEN_PHASE's preparation step k (< OP_WHOLE_PARTS), in the part's
+ * (k + 1)-th period: the ring's part k added into op_prev (|u_x| and |turn|
+ * per part), op_prev emptied first by step 0. The order of the parts does
+ * not matter, and op_prev is used only once the ring is full. The phases
+ * written out, as in open_phase_check. */
+static void op_prep_step(protect_t *p, uint32_t k)
+{
+    protect_op_sums_t *b = &p->op_prev;
+    const protect_op_sums_t *q = &p->op_parts[k];
+
+    if (k == 0u) {
+        op_sums_clear(b);
+    }
+    b->n += q->n;
+    b->i_A += q->i_A;
+    b->turn_counts += abs_i32(q->turn_counts);
+    b->ix_A[0] += q->ix_A[0];
+    b->ix_A[1] += q->ix_A[1];
+    b->ix_A[2] += q->ix_A[2];
+    b->ux_V[0] += mathx_fabsf(q->ux_V[0]);
+    b->ux_V[1] += mathx_fabsf(q->ux_V[1]);
+    b->ux_V[2] += mathx_fabsf(q->ux_V[2]);
+}
+
+/* OPEN_PHASE, phase x of the window of op_prev and *a: open by the test of
+ * protect.h, in sums over the window (limit_sum: op_ratio x the sum of
+ * |i|; u_min_sum: op_u_min_V x the periods). */
+static inline bool op_phase_open(const protect_op_sums_t *b, const protect_op_sums_t *a, uint32_t x, float limit_sum,
+                                 float u_min_sum, bool half_turn)
+{
+    return (b->ix_A[x] + a->ix_A[x] < limit_sum) && (half_turn || (b->ux_V[x] + mathx_fabsf(a->ux_V[x]) >= u_min_sum));
+}
+
+/* OPEN_PHASE: the test of protect.h on the window of the whole parts before
+ * (op_prev) and the part *a just ended, compared as sums over the window's
+ * periods (limits derived by protect_init); the means computed for a
+ * fault's value only. Half an electrical turn, pi rad el, is
+ * enc_cpr / (2 pole_pairs) counts. */
+static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *a)
+{
+    const protect_op_sums_t *b = &p->op_prev;
+    const float i_sum = b->i_A + a->i_A;
+    const float limit_sum = p->cfg.watch.op_ratio * i_sum;
+    const uint32_t turn_counts = (uint32_t)(b->turn_counts + abs_i32(a->turn_counts));
+    const bool half_turn = (turn_counts * 2u * (uint32_t)p->drv.pole_pairs >= p->enc_cpr);
+    const float u_min_sum = p->op_u_min_sum_V;
+    uint32_t x;
+
+    if (!(i_sum >= p->op_i_min_sum_A)) {
+        return app_step_running();
+    }
+    /* the phases written out: the first open one is the reason */
+    x = op_phase_open(b, a, 0u, limit_sum, u_min_sum, half_turn)
+            ? 0u
+            : (op_phase_open(b, a, 1u, limit_sum, u_min_sum, half_turn)
+                   ? 1u
+                   : (op_phase_open(b, a, 2u, limit_sum, u_min_sum, half_turn) ? 2u : N_PHASES));
+    if (x == N_PHASES) {
+        return app_step_running();
+    }
+    p->op_phase = (uint16_t)x;
+    {
+        const float n = (float)(b->n + a->n);
+        return app_step_fault(APP_FAULT_OPEN_PHASE, (b->ix_A[x] + a->ix_A[x]) / n, p->cfg.watch.op_ratio * (i_sum / n));
+    }
+}
+
+/* OPEN_PHASE: this period into the part so far, and one preparation step;
+ * at a part's end the steps left, then the window of the last
+ * PROTECT_OP_SUBWINDOWS parts is judged and the part goes into the ring. */
 static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
 {
     const float ic = -in->ia_corr_A - in->ib_corr_A;
     const float i_beta = clarke_2ph(in->ia_corr_A, in->ib_corr_A).b;
     protect_op_sums_t *a = &p->op_part;
-    protect_op_sums_t win;
-    float turn = 0.0f;
+    app_step_t r = app_step_running();
+    protect_op_sums_t *q;
     float d_mean;
-    uint32_t x;
     uint32_t k;
 
     if ((in->duty == NULL) || (p->op_part_ticks == 0u)) {
         op_clear(p); /* outputs off: nothing to compare */
-        return app_step_running();
+        return r;
     }
     d_mean = (in->duty[0] + in->duty[1] + in->duty[2]) * ONE_THIRD;
     a->i_A += mathx_sqrtf(in->ia_corr_A * in->ia_corr_A + i_beta * i_beta);
@@ -189,27 +250,24 @@ static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
     a->turn_counts += p->enc_delta;
     a->n++;
     if (a->n < p->op_part_ticks) {
-        return app_step_running();
-    }
-    p->op_parts[p->op_parts_next] = *a;
-    p->op_parts_next = (p->op_parts_next + 1u) % PROTECT_OP_SUBWINDOWS;
-    p->op_parts_n = (p->op_parts_n < PROTECT_OP_SUBWINDOWS) ? (p->op_parts_n + 1u) : PROTECT_OP_SUBWINDOWS;
-    op_sums_clear(a);
-    if (p->op_parts_n < PROTECT_OP_SUBWINDOWS) {
-        return app_step_running();
-    }
-    op_sums_clear(&win);
-    for (k = 0u; k < PROTECT_OP_SUBWINDOWS; k++) {
-        const protect_op_sums_t *q = &p->op_parts[k];
-        win.n += q->n;
-        win.i_A += q->i_A;
-        for (x = 0u; x < N_PHASES; x++) {
-            win.ix_A[x] += q->ix_A[x];
-            win.ux_V[x] += mathx_fabsf(q->ux_V[x]);
+        if (a->n <= OP_WHOLE_PARTS) {
+            op_prep_step(p, a->n - 1u);  /* the part's k-th period: step k - 1 */
         }
-        turn += mathx_fabsf((float)q->turn_counts) * p->el_rad_per_count;
+        return r;
     }
-    return open_phase_judge(p, &win, turn);
+    for (k = a->n - 1u; k < OP_WHOLE_PARTS; k++) { /* a part shorter than the steps: the rest */
+        op_prep_step(p, k);
+    }
+    q = &p->op_parts[p->op_parts_next];   /* the part into the ring (over the oldest), judged there */
+    *q = *a;
+    p->op_parts_next = (p->op_parts_next + 1u < OP_WHOLE_PARTS) ? (p->op_parts_next + 1u) : 0u;
+    if (p->op_parts_n == OP_WHOLE_PARTS) {
+        r = open_phase_judge(p, q);
+    } else {
+        p->op_parts_n++;
+    }
+    op_sums_clear(a);
+    return r;
 }
 
 /* CURRENT_SENSOR, reading c (other: the other reading): the turn and the

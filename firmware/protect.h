@@ -129,7 +129,12 @@ typedef struct {
 } app_snapshot_t;
 
 /* OPEN_PHASE's window slides in this many parts: it is judged every
- * op_window_s / PROTECT_OP_SUBWINDOWS (25 ms with the board's 0.1 s). */
+ * op_window_s / PROTECT_OP_SUBWINDOWS (25 ms with the board's 0.1 s), at
+ * the end of each part, in that part's last period. So that this period
+ * costs about what any other does, the window's whole parts before it are
+ * summed during the part, one per period in its first periods (a part
+ * shorter than that sums the rest at its end): the end adds its own part,
+ * judges, and moves it into the ring (figures: protect_log.md). */
 #define PROTECT_OP_SUBWINDOWS 4u
 
 /* OPEN_PHASE's sums over a part of the window. */
@@ -158,14 +163,18 @@ typedef struct {
     bool uv_armed;                 /* undervoltage check active */
     /* protect_watch: derived */
     uint32_t op_part_ticks;        /* OPEN_PHASE window part [periods] */
+    float op_i_min_sum_A;          /* op_i_min_A x a whole window's periods [A] */
+    float op_u_min_sum_V;          /* op_u_min_V x a whole window's periods [V] */
     uint32_t stall_ticks_max;      /* enc_stall_s [periods] */
     float el_rad_per_count;        /* electrical angle of one count [rad] */
     float counts_per_rad;          /* counts per mechanical radian [counts/rad] */
     /* protect_watch: OPEN_PHASE window */
     protect_op_sums_t op_part;     /* the part so far */
-    protect_op_sums_t op_parts[PROTECT_OP_SUBWINDOWS];  /* the last whole parts, a ring */
-    uint32_t op_parts_n;           /* whole parts in the ring (at most PROTECT_OP_SUBWINDOWS) */
+    protect_op_sums_t op_parts[PROTECT_OP_SUBWINDOWS - 1u];  /* the last whole parts, a ring */
+    uint32_t op_parts_n;           /* whole parts in the ring (at most PROTECT_OP_SUBWINDOWS - 1) */
     uint32_t op_parts_next;        /* ring index the next whole part goes to */
+    protect_op_sums_t op_prev;     /* the ring's sums, built during the part: ux_V the sum of each part's
+                                    * |sum of u_x|, turn_counts of each part's |net change| */
     uint16_t op_phase;             /* the phase found open (0 a, 1 b, 2 c), for the operator */
     /* protect_watch: CURRENT_SENSOR, per reading (0 ia, 1 ib) since it last changed */
     float st_last_A[2];

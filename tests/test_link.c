@@ -305,6 +305,64 @@ static void stream_is_refused_above_the_budget_naming_it(void **state)
     assert_true(link_get_f32(rep.payload, 4u) == 0.5f);
 }
 
+/* The streamed values are READ's at the row's period: a stream of three floats in place (the
+ * ISR's copy of every slot, five unused) and a mixed one (a float in its unit, the period count
+ * and the state by id, a float in place). Every 25 periods (the first row's three floats:
+ * (6 + 4 + 12) B x 400 /s = 8800 B/s, within 9216); each row checked against the values set
+ * by hand for its period. */
+static void stream_rows_carry_the_values_read_gives(void **state)
+{
+    (void)state;
+    static const uint16_t sets[2][4] = { { LV_TE_EST_NM, LV_IQ_MEAS_A, LV_ID_MEAS_A, 0u },
+                                         { LV_SPEED_EST_RPM, LV_TICKS, LV_IQ_MEAS_A, LV_STATE } };
+    static const uint16_t n_of[2] = { 3u, 4u };
+    static const uint16_t dec_of[2] = { 25u, 50u };   /* the mixed row: 20 B x 200 /s */
+    for (int set = 0; set < 2; set++) {
+        uint16_t p[10];
+        uint16_t i = link_put_u16(p, 0u, dec_of[set]);
+        for (uint16_t k = 0; k < n_of[set]; k++) {
+            i = link_put_u16(p, i, sets[set][k]);
+        }
+        assert_int_equal(request(LINK_STREAM_SET, seq_next(), p, i), 1);
+        assert_int_equal(rep.payload[0], LINK_ST_OK);
+        assert_int_equal(lk.stream.in_place, set == 0);
+        int rows = 0;
+        for (int k = 0; k < 200; k++) {
+            static link_frame_t f;
+            uint16_t b;
+            app.ticks++;
+            app.ctrl.mon.te_est_Nm = 0.5f * (float)k;
+            app.ctrl.mon.iq_A = -0.25f * (float)k;
+            app.ctrl.mon.id_A = 0.125f + (float)k;
+            app.ctrl.mon.speed_mech_rad_s = 3.0f * (float)k;
+            app.state = (k % 2 == 0) ? APP_STATE_IDLE : APP_STATE_RUN;
+            link_isr(&lk);
+            link_poll(&lk);
+            while (link_tx_get(&lk, &b)) {
+                if (!link_rx_byte(&host_rx, b, &f) || f.type != LINK_STREAM) {
+                    continue;
+                }
+                assert_int_equal(k % dec_of[set], 0);        /* sent in the period sampled */
+                assert_int_equal(link_get_u32(f.payload, 0u), app.ticks - 1u);
+                if (set == 0) {
+                    assert_int_equal(f.len, 16);
+                    assert_true(link_get_f32(f.payload, 4u) == 0.5f * (float)k);
+                    assert_true(link_get_f32(f.payload, 8u) == -0.25f * (float)k);
+                    assert_true(link_get_f32(f.payload, 12u) == 0.125f + (float)k);
+                } else {
+                    assert_int_equal(f.len, 18);
+                    assert_true(link_get_f32(f.payload, 4u) == 3.0f * (float)k / MATHX_RAD_S_PER_RPM_F);
+                    assert_int_equal(link_get_u32(f.payload, 8u), app.ticks);
+                    assert_true(link_get_f32(f.payload, 12u) == -0.25f * (float)k);
+                    assert_int_equal(link_get_u16(f.payload, 16u), (k % 2 == 0) ? APP_STATE_IDLE : APP_STATE_RUN);
+                }
+                rows++;
+            }
+        }
+        assert_int_equal(rows, 200 / dec_of[set]);
+    }
+}
+
 static void arm(uint16_t trig, float level, float hyst, uint16_t pre, uint16_t samples, uint16_t dec)
 {
     uint16_t p[22];
@@ -385,6 +443,34 @@ static void capture_hysteresis_rearms_only(void **state)
     /* periods 7.. sampled at 7, 10, 13 (3 rows > pre 2: forced at 13); rows 7, 10, 13, 16 */
     assert_int_equal(link_get_u32(rep.payload, 8u), 13u);
     assert_int_equal(link_get_u32(rep.payload, 12u), 7u);
+}
+
+/* The int16 counts' rounding and saturation: speed_est_rpm in counts of 2400 / 32767 r/min
+ * (0.3 -> 0, 0.7 -> 1, -0.3 -> 0, -0.7 -> -1, 32766.4 -> 32766), beyond +-32767 counts and
+ * infinite the end of its side, NaN -32767; rows of a forced capture (no pre rows). */
+static void capture_counts_round_and_saturate(void **state)
+{
+    (void)state;
+    const float lsb_rpm = 2400.0f / 32767.0f;
+    const float counts[] = { 0.3f, 0.7f, -0.3f, -0.7f, 32766.4f, 32767.6f, 1.0e6f, -1.0e6f };
+    const int16_t want[] = { 0, 1, 0, -1, 32766, 32767, 32767, -32767, -32767, 32767, -32767 };
+    const uint16_t rows = (uint16_t)(sizeof want / sizeof want[0]);
+    arm(LINK_TRIG_FORCED, 0.0f, 0.0f, 0u, rows, 1u);
+    for (uint16_t r = 0; r < 8u; r++) {
+        period(counts[r] * lsb_rpm, 0.0f);
+    }
+    period(NAN, 0.0f);
+    period(INFINITY, 0.0f);
+    period(-INFINITY, 0.0f);
+    assert_int_equal(lk.cap.state, LINK_CAP_DONE);
+    uint16_t cs[4];
+    (void)link_put_u16(cs, 0u, 0u);
+    (void)link_put_u16(cs, 2u, rows);
+    assert_int_equal(request(LINK_CAPTURE_READ, seq_next(), cs, 4u), 1);
+    assert_int_equal(link_get_u16(rep.payload, 3u), rows);
+    for (uint16_t r = 0; r < rows; r++) {
+        assert_int_equal((int16_t)link_get_u16(rep.payload, (uint16_t)(5u + 4u * r + 2u)), want[r]);
+    }
 }
 
 static void capture_arm_refuses_bad_arguments(void **state)
@@ -501,8 +587,10 @@ int main(void)
         cmocka_unit_test_setup(actions_start_stop_reset, setup),
         cmocka_unit_test_setup(action_level_sets_the_next_start_level, setup),
         cmocka_unit_test_setup(stream_is_refused_above_the_budget_naming_it, setup),
+        cmocka_unit_test_setup(stream_rows_carry_the_values_read_gives, setup),
         cmocka_unit_test_setup(capture_triggers_above_with_pre_rows_and_period_indices, setup),
         cmocka_unit_test_setup(capture_hysteresis_rearms_only, setup),
+        cmocka_unit_test_setup(capture_counts_round_and_saturate, setup),
         cmocka_unit_test_setup(capture_arm_refuses_bad_arguments, setup),
         cmocka_unit_test_setup(lossy_link_applies_every_write_once, setup),
     };

@@ -485,6 +485,108 @@ static void open_phase_voltage_averaged_per_part_and_half_turn(void **state)
     }
 }
 
+/* The window's parts longer than its preparation steps (as on the board,
+ * 250 periods a part): parts of 8 periods, a window of 32, the steps in
+ * the parts' first periods and none left for a part's end. Random healthy
+ * currents and voltages (phase a given >= 25 V, all three carrying
+ * current), then phase a opens at period 133 (4 windows and 5 periods in),
+ * turning at 30 counts per period (under half an electrical turn a
+ * window: the voltage rule judges). Independently, in double precision
+ * over the raw periods: each part end's window (its last 4 parts, |u_a|
+ * per part). protect_watch must answer RUNNING in every period until the
+ * first part end the reference finds open, and trip there, with the
+ * reference's mean |i_a| and limit: at a part's end, within one window and
+ * a part of the opening (the documented time), never a period later. */
+#define SPREAD_PART 8
+#define SPREAD_WINDOW (4 * SPREAD_PART)
+#define SPREAD_OPEN_AT (4 * SPREAD_WINDOW + 5)
+#define SPREAD_PERIODS (SPREAD_OPEN_AT + 3 * SPREAD_WINDOW)
+#define SPREAD_TURN_COUNTS 30u
+
+static uint32_t lcg_next(uint32_t *x)
+{
+    *x = *x * 1664525u + 1013904223u;
+    return *x >> 8;
+}
+
+static double lcg_unit(uint32_t *x) /* [0, 1) */
+{
+    return (double)lcg_next(x) / 16777216.0;
+}
+
+static void open_phase_spread_steps_trip_at_the_documented_part_end(void **state)
+{
+    (void)state;
+    static float ia[SPREAD_PERIODS], ib[SPREAD_PERIODS], duty[SPREAD_PERIODS][3];
+    protect_cfg_t cfg = prot_cfg();
+    cfg.watch.op_window_s = SPREAD_WINDOW * 1e-4f;
+    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES };
+    protect_t p;
+    uint32_t seed = 12345u;
+    int trip_ref = -1;
+    double value_ref = 0.0, limit_ref = 0.0;
+
+    for (int k = 0; k < SPREAD_PERIODS; k++) {
+        const double th = 2.0 * 3.14159265358979 * lcg_unit(&seed);
+        const double amp = 1.5 + lcg_unit(&seed);
+        const double a = (k < SPREAD_OPEN_AT) ? amp * cos(th) : 0.0;
+        const double b = (k < SPREAD_OPEN_AT) ? amp * cos(th - 2.0943951023932) : amp * (0.5 + 0.5 * lcg_unit(&seed));
+        ia[k] = (float)a;
+        ib[k] = (float)b;
+        duty[k][0] = (float)(0.6 + 0.05 * lcg_unit(&seed));
+        duty[k][1] = (float)(0.45 + 0.1 * lcg_unit(&seed));
+        duty[k][2] = (float)(0.4 + 0.05 * lcg_unit(&seed));
+    }
+    /* the reference: each part end's window of the last 4 parts */
+    for (int end = SPREAD_WINDOW - 1; end < SPREAD_PERIODS && trip_ref < 0; end += SPREAD_PART) {
+        double i_sum = 0.0, ia_sum = 0.0, ua_parts = 0.0;
+        for (int part = 0; part < 4; part++) {
+            double ua = 0.0;
+            for (int j = 0; j < SPREAD_PART; j++) {
+                const int k = end - SPREAD_WINDOW + 1 + part * SPREAD_PART + j;
+                const double beta = ((double)ia[k] + 2.0 * (double)ib[k]) / sqrt(3.0);
+                const double dm = ((double)duty[k][0] + duty[k][1] + duty[k][2]) / 3.0;
+                i_sum += sqrt((double)ia[k] * ia[k] + beta * beta);
+                ia_sum += fabs((double)ia[k]);
+                ua += ((double)duty[k][0] - dm) * VDC;
+            }
+            ua_parts += fabs(ua);
+        }
+        const double n = SPREAD_WINDOW;
+        assert_true(4.0 * SPREAD_TURN_COUNTS * SPREAD_PART * 2.0 * POLES < CPR); /* under half a turn */
+        assert_true(ua_parts / n >= 25.0 * 1.001);                                 /* phase a given voltage */
+        assert_true(i_sum / n >= 1.0 * 1.001);
+        if (ia_sum / n < 0.2 * i_sum / n) {
+            trip_ref = end;
+            value_ref = ia_sum / n;
+            limit_ref = 0.2 * i_sum / n;
+        } else {
+            assert_true(ia_sum / n >= 0.2 * i_sum / n * 1.001); /* not a rounding's call */
+        }
+    }
+    assert_true(trip_ref > SPREAD_OPEN_AT);
+    assert_true(trip_ref - SPREAD_OPEN_AT <= SPREAD_WINDOW + SPREAD_PART);
+
+    protect_init(&p, &cfg, &drv);
+    assert_int_equal(p.op_part_ticks, SPREAD_PART);
+    uint32_t count = 0u;
+    for (int k = 0; k < SPREAD_PERIODS; k++) {
+        protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
+        count += SPREAD_TURN_COUNTS;
+        const protect_watch_in_t in = watch_in(ia[k], ib[k], duty[k], true, 0.0f, 0.0f);
+        const app_step_t r = protect_watch(&p, &in);
+        if (k < trip_ref) {
+            assert_int_equal(r.status, APP_STEP_RUNNING);
+            continue;
+        }
+        assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
+        assert_int_equal(p.op_phase, 0);
+        assert_float_equal(r.value, value_ref, 1e-5 * limit_ref);
+        assert_float_equal(r.limit, limit_ref, 1e-5 * limit_ref);
+        break;
+    }
+}
+
 /* ia frozen at 1 A while the count moves 10 per period (10 x 2 pi x 3 /
  * 10000 = 0.01885 rad el) and ib sweeps 0.1 A per period: the turn since
  * the first period reaches 15 deg (0.2618 rad) after 14 periods (0.2639).
@@ -606,6 +708,7 @@ int main(void)
         cmocka_unit_test(fault_holds_until_reset_and_cause_gone),
         cmocka_unit_test(open_phase_found_at_the_window_end),
         cmocka_unit_test(open_phase_voltage_averaged_per_part_and_half_turn),
+        cmocka_unit_test(open_phase_spread_steps_trip_at_the_documented_part_end),
         cmocka_unit_test(frozen_current_reading_found_after_15_deg),
         cmocka_unit_test(frozen_current_reading_needs_its_periods),
         cmocka_unit_test(lost_encoder_found_moving_and_at_the_torque_limit),
