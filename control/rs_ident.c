@@ -78,7 +78,14 @@ void rs_ident_reset(rs_ident_t *ri)
         for (ch = 0; ch < (int16_t)RS_ST_COUNT; ch++) {
             w->mcs[ch][0] = 0.0f;
             w->mcs[ch][1] = 0.0f;
+            w->mcs6[ch][0] = 0.0f;
+            w->mcs6[ch][1] = 0.0f;
         }
+        for (ch = 0; ch < 9; ch++) {
+            w->g6[ch] = 0.0f;
+        }
+        w->bcs6[0] = 0.0f;
+        w->bcs6[1] = 0.0f;
     }
 }
 
@@ -107,6 +114,9 @@ void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_w
     copy_floats(dst->bcs, w->bcs, 2);
     copy_floats(dst->g, w->g, 5);
     copy_floats(&dst->mcs[0][0], &w->mcs[0][0], (int16_t)(2 * RS_ST_COUNT));
+    copy_floats(dst->bcs6, w->bcs6, 2);
+    copy_floats(dst->g6, w->g6, 9);
+    copy_floats(&dst->mcs6[0][0], &w->mcs6[0][0], (int16_t)(2 * RS_ST_COUNT));
     dst->km_iq = w->km_iq;
 }
 
@@ -116,6 +126,16 @@ void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_w
 #define G_CC 2
 #define G_CS 3
 #define G_SS 4
+/* rs_ident_win_t.g6 */
+#define G6_C    0
+#define G6_S    1
+#define G6_CC   2
+#define G6_CS   3
+#define G6_SS   4
+#define G6_C_C  5  /* C C6 */
+#define G6_C_S  6  /* C S6 */
+#define G6_S_C  7  /* S C6 */
+#define G6_S_S  8  /* S S6 */
 
 /* Index of the pair (a, b), a <= b, in rs_ident_win_t.m2 (ff, fi, fw, ii, iw, ww). */
 static int16_t pair_index(int16_t a, int16_t b)
@@ -133,14 +153,29 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
 
     const float C = w->bcs[0] * inv_n_batch;
     const float S = w->bcs[1] * inv_n_batch;
+    const float C6 = w->bcs6[0] * inv_n_batch;
+    const float S6 = w->bcs6[1] * inv_n_batch;
 
     for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
         m[a] = w->bsum[a] * inv_n_batch;
         w->m1[a] += m[a];
         w->mcs[a][0] += m[a] * C;
         w->mcs[a][1] += m[a] * S;
+        w->mcs6[a][0] += m[a] * C6;
+        w->mcs6[a][1] += m[a] * S6;
         w->bsum[a] = 0.0f;
     }
+    w->g6[G6_C] += C6;
+    w->g6[G6_S] += S6;
+    w->g6[G6_CC] += C6 * C6;
+    w->g6[G6_CS] += C6 * S6;
+    w->g6[G6_SS] += S6 * S6;
+    w->g6[G6_C_C] += C * C6;
+    w->g6[G6_C_S] += C * S6;
+    w->g6[G6_S_C] += S * C6;
+    w->g6[G6_S_S] += S * S6;
+    w->bcs6[0] = 0.0f;
+    w->bcs6[1] = 0.0f;
     w->km_iq += (float)w->nb * m[RS_ST_IQ];
     w->g[G_C] += C;
     w->g[G_S] += S;
@@ -197,6 +232,13 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
     w->bsum[RS_ST_W] += x[RS_CH_W] - w->x0[RS_CH_W];
     w->bcs[0] += cos_el;
     w->bcs[1] += sin_el;
+    /* cos, sin 6 theta_el: double, triple, double angle (10 multiplications) */
+    const float c2 = cos_el * cos_el - sin_el * sin_el;
+    const float s2 = 2.0f * cos_el * sin_el;
+    const float c3 = c2 * cos_el - s2 * sin_el;
+    const float s3 = s2 * cos_el + c2 * sin_el;
+    w->bcs6[0] += c3 * c3 - s3 * s3;
+    w->bcs6[1] += 2.0f * c3 * s3;
     w->bn++;
     if (w->bn >= ri->cfg.n_batch) {
         close_batch(w, ri->inv_n_batch);
@@ -249,12 +291,94 @@ static void zt_channel(const rs_ident_win_t *w, int16_t a, float h[3])
     h[2] = w->mcs[a][1];
 }
 
+/* A window's ripple fit (design sec. 6e), solved again where it is used
+ * (the means' stage, the standard error's) from the window's sums rather
+ * than kept between the stages: the same arithmetic, the same figures. */
+typedef struct {
+    bool fit;                 /* the fit of (1, C, S) holds */
+    bool fit6;                /*   and its 6th harmonic */
+    float Gi[3][3];           /* G^-1, G = Z'Z */
+    float P[3][2];            /* Gi B (B: the 6th harmonic's cross sums with 1, C, S); u = its row 0 */
+    float Si6[3];             /* inverse of the Schur complement D - B' P: 00, 01, 11 */
+} ripple_t;
+
+/* The fit's 6th harmonic (design sec. 6e), by partitioned regression on
+ * the fit of (1, C, S) (f->Gi): with B the cross sums of (C6, S6) with
+ * (1, C, S), D theirs, P = Gi B, the Schur complement Sc = D - B' P; false
+ * (the 3-term fit alone) with fewer than RS_IDENT_RIPPLE6_BATCHES_MIN
+ * batches or det(Sc / nb) below RS_IDENT_RIPPLE_DET_MIN (batches of whole
+ * ripple periods, the 6th aliased onto the 1st). Else f gets P and Sc^-1;
+ * the intercepts move by -u' Sc^-1 q_a (u = P's row 0, ripple6_q). 1 division. */
+static bool ripple6_fit(const rs_ident_win_t *w, ripple_t *f)
+{
+    const float(*Gi)[3] = f->Gi;
+    const float nb = (float)w->nb;
+    const float B[3][2] = { { w->g6[G6_C], w->g6[G6_S] },
+                            { w->g6[G6_C_C], w->g6[G6_C_S] },
+                            { w->g6[G6_S_C], w->g6[G6_S_S] } };
+    float(*P)[2] = f->P;
+    int16_t r;
+    int16_t k;
+
+    if (w->nb < RS_IDENT_RIPPLE6_BATCHES_MIN) {
+        return false;
+    }
+    for (r = 0; r < 3; r++) {
+        for (k = 0; k < 2; k++) {
+            P[r][k] = Gi[r][0] * B[0][k] + Gi[r][1] * B[1][k] + Gi[r][2] * B[2][k];
+        }
+    }
+    const float s00 = w->g6[G6_CC] - (B[0][0] * P[0][0] + B[1][0] * P[1][0] + B[2][0] * P[2][0]);
+    const float s01 = w->g6[G6_CS] - (B[0][0] * P[0][1] + B[1][0] * P[1][1] + B[2][0] * P[2][1]);
+    const float s11 = w->g6[G6_SS] - (B[0][1] * P[0][1] + B[1][1] * P[1][1] + B[2][1] * P[2][1]);
+    const float det = s00 * s11 - s01 * s01;
+    if (!(det > RS_IDENT_RIPPLE_DET_MIN * nb * nb)) {
+        return false;
+    }
+    const float inv_det = 1.0f / det;
+    f->Si6[0] = s11 * inv_det;
+    f->Si6[1] = -s01 * inv_det;
+    f->Si6[2] = s00 * inv_det;
+    return true;
+}
+
+/* Window w's ripple fit into *f: the 3-term fit, and the 6th harmonic
+ * where both hold. 2 divisions at most. */
+static void ripple_solve(const rs_ident_win_t *w, ripple_t *f)
+{
+    f->fit = ripple_fit(w, f->Gi);
+    f->fit6 = f->fit && ripple6_fit(w, f);
+}
+
+/* Channel a's q_a = Z6'm_a - P' Z'm_a (the 6th harmonic's part of its
+ * batch means the 3 terms do not explain). */
+static void ripple6_q(const rs_ident_win_t *w, const ripple_t *f, int16_t a, float q[2])
+{
+    float h[3];
+    int16_t k;
+
+    zt_channel(w, a, h);
+    for (k = 0; k < 2; k++) {
+        q[k] = w->mcs6[a][k] - (f->P[0][k] * h[0] + f->P[1][k] * h[1] + f->P[2][k] * h[2]);
+    }
+}
+
+/* x' Sc^-1 y for a 6th-harmonic fit (Si6 symmetric). */
+static float si6_form(const ripple_t *f, const float x[2], const float y[2])
+{
+    const float *si = f->Si6;
+    return x[0] * (si[0] * y[0] + si[1] * y[1]) + x[1] * (si[1] * y[0] + si[2] * y[1]);
+}
+
 /* Variance of the window's mean of r = fq + dR iq + dpsi w (nb >=
  * RS_IDENT_BATCHES_MIN >= 2): from the spread of its batch means, or, with
  * the ripple fit (Gi), from the fit's residuals: the intercept's variance
- * sigma^2 (G^-1)_00 with sigma^2 = SSR / (nb - 3). */
-static float residual_se2(const rs_ident_win_t *w, float dR, float dpsi, bool fit, const float Gi[3][3])
+ * sigma^2 (G^-1)_00 with sigma^2 = SSR / (nb - 3); with the 6th harmonic
+ * too, SSR less q_r' Sc^-1 q_r over nb - 5, (G^-1)_00 plus u' Sc^-1 u. */
+static float residual_se2(const rs_ident_win_t *w, const ripple_t *f, float dR, float dpsi)
 {
+    const bool fit = f->fit;
+    const float(*Gi)[3] = f->Gi;
     const float c[RS_ST_COUNT] = { 1.0f, dR, dpsi };
     const float nb = (float)w->nb;
     float h[3] = { 0.0f, 0.0f, 0.0f };
@@ -282,8 +406,21 @@ static float residual_se2(const rs_ident_win_t *w, float dR, float dpsi, bool fi
             ssr -= h[a] * Gi[a][b] * h[b];
         }
     }
-    ssr = (ssr > 0.0f) ? ssr : 0.0f; /* >= 0 up to rounding */
-    return ssr / (nb - 3.0f) * Gi[0][0];
+    if (!f->fit6) {
+        ssr = (ssr > 0.0f) ? ssr : 0.0f; /* >= 0 up to rounding */
+        return ssr / (nb - 3.0f) * Gi[0][0];
+    }
+    float q6[RS_ST_COUNT][2];
+    float q[2];
+    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
+        ripple6_q(w, f, a, q6[a]);
+    }
+    for (b = 0; b < 2; b++) {
+        q[b] = q6[RS_ST_FQ][b] + dR * q6[RS_ST_IQ][b] + dpsi * q6[RS_ST_W][b];
+    }
+    ssr -= si6_form(f, q, q);
+    ssr = (ssr > 0.0f) ? ssr : 0.0f;
+    return ssr / (nb - 5.0f) * (Gi[0][0] + si6_form(f, f->P[0], f->P[0]));
 }
 
 static void zero_out(rs_ident_out_t *out, float R_nom)
@@ -300,6 +437,7 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
         out->R_se_part_Ohm[j] = 0.0f;
         out->r_se_V[j] = 0.0f;
         out->ripple_fit[j] = false;
+        out->ripple6_fit[j] = false;
         out->diq_dt_A_s[j] = 0.0f;
         out->batches[j] = 0u;
         out->iq_std_A[j] = 0.0f;
@@ -314,9 +452,26 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
 /* The solve's stages (rs_ident_solve_step): one per call. */
 typedef enum { STAGE_WIN_0 = 0, STAGE_WIN_1, STAGE_POINTS, STAGE_SE_0, STAGE_SE_1, STAGE_DONE } stage_t;
 
-/* Window j's means, iq's slope and the ripple fit into *s and *out
+/* The ripple fit's intercept of channel a in window j (relative to x0):
+ * the mean over whole turns (and whole ripple periods with the 6th). */
+static float intercept(const rs_ident_win_t *w, const ripple_t *f, int16_t a)
+{
+    const float(*Gi)[3] = f->Gi;
+    float h[3];
+    zt_channel(w, a, h);
+    const float alpha = Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
+    if (!f->fit6) {
+        return alpha;
+    }
+    float q[2];
+    ripple6_q(w, f, a, q);
+    return alpha - si6_form(f, f->P[0], q);
+}
+
+/* Window j's means, iq's slope and the ripple fit *f into *out (the
+ * points the later stages read there)
  * (design sec. 6e, 6f); RS_IDENT_OK or why the window is refused. */
-static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, const ripple_t *f, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
     const rs_ident_win_t *wn = s->win[j];
@@ -326,20 +481,16 @@ static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_
         return RS_IDENT_TOO_FEW;
     }
     const float inv_n = 1.0f / (float)wn->n; /* n >= n_min >= 2 */
-    s->fd[j] = wn->x0[RS_CH_FD] + wn->s1[RS_CH_FD] * inv_n;
-    s->fq[j] = wn->x0[RS_CH_FQ] + wn->s1[RS_CH_FQ] * inv_n;
-    s->id[j] = wn->x0[RS_CH_ID] + wn->s1[RS_CH_ID] * inv_n;
-    s->iq[j] = wn->x0[RS_CH_IQ] + wn->s1[RS_CH_IQ] * inv_n;
-    s->w[j] = wn->x0[RS_CH_W] + wn->s1[RS_CH_W] * inv_n;
+    out->mean_fd_V[j] = wn->x0[RS_CH_FD] + wn->s1[RS_CH_FD] * inv_n;
+    out->mean_fq_V[j] = wn->x0[RS_CH_FQ] + wn->s1[RS_CH_FQ] * inv_n;
+    out->mean_id_A[j] = wn->x0[RS_CH_ID] + wn->s1[RS_CH_ID] * inv_n;
+    out->mean_iq_A[j] = wn->x0[RS_CH_IQ] + wn->s1[RS_CH_IQ] * inv_n;
+    out->mean_w_rad_s[j] = wn->x0[RS_CH_W] + wn->s1[RS_CH_W] * inv_n;
     const float m1 = wn->s1[RS_CH_IQ] * inv_n;
     const float var = wn->s2_iq * inv_n - m1 * m1; /* >= 0 up to rounding */
     out->iq_std_A[j] = mathx_sqrtf(var);
-    out->mean_fd_V[j] = s->fd[j];
-    out->mean_fq_V[j] = s->fq[j];
-    out->mean_id_A[j] = s->id[j];
-    out->mean_iq_A[j] = s->iq[j];
-    out->mean_w_rad_s[j] = s->w[j];
-    if (!mathx_isfinitef(s->fd[j] + s->fq[j] + s->id[j] + s->iq[j] + s->w[j] + wn->s2_iq)) {
+    if (!mathx_isfinitef(out->mean_fd_V[j] + out->mean_fq_V[j] + out->mean_id_A[j] + out->mean_iq_A[j] +
+                         out->mean_w_rad_s[j] + wn->s2_iq)) {
         return RS_IDENT_NON_FINITE;
     }
     /* sec. 6f: iq's slope over the window, least squares on its batch
@@ -347,24 +498,16 @@ static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_
     const float nbf = (float)wn->nb;
     const float kbar = HALF * (nbf - 1.0f);
     const float skk = nbf * (nbf * nbf - 1.0f) * INV_12;
-    s->diq_dt[j] = (c->Ts_s > 0.0f) ? (wn->km_iq - kbar * wn->m1[RS_ST_IQ]) / (skk * (float)c->n_batch * c->Ts_s)
-                                    : 0.0f;
-    out->diq_dt_A_s[j] = s->diq_dt[j];
+    out->diq_dt_A_s[j] = (c->Ts_s > 0.0f)
+                             ? (wn->km_iq - kbar * wn->m1[RS_ST_IQ]) / (skk * (float)c->n_batch * c->Ts_s)
+                             : 0.0f;
     /* sec. 6e: the means over whole turns where the ripple fit holds */
-    s->fit[j] = ripple_fit(wn, s->Gi[j]);
-    out->ripple_fit[j] = s->fit[j];
-    if (s->fit[j]) {
-        float(*Gi)[3] = s->Gi[j];
-        float h[3];
-        zt_channel(wn, RS_ST_FQ, h);
-        s->fq[j] = wn->x0[RS_CH_FQ] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
-        zt_channel(wn, RS_ST_IQ, h);
-        s->iq[j] = wn->x0[RS_CH_IQ] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
-        zt_channel(wn, RS_ST_W, h);
-        s->w[j] = wn->x0[RS_CH_W] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
-        out->mean_fq_V[j] = s->fq[j];
-        out->mean_iq_A[j] = s->iq[j];
-        out->mean_w_rad_s[j] = s->w[j];
+    out->ripple_fit[j] = f->fit;
+    out->ripple6_fit[j] = f->fit6;
+    if (f->fit) {
+        out->mean_fq_V[j] = wn->x0[RS_CH_FQ] + intercept(wn, f, RS_ST_FQ);
+        out->mean_iq_A[j] = wn->x0[RS_CH_IQ] + intercept(wn, f, RS_ST_IQ);
+        out->mean_w_rad_s[j] = wn->x0[RS_CH_W] + intercept(wn, f, RS_ST_W);
     }
     return RS_IDENT_OK;
 }
@@ -374,12 +517,12 @@ static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_
 static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
-    const float *fd = s->fd;
-    const float *fq = s->fq;
-    const float *id = s->id;
-    const float *iq = s->iq;
-    const float *w = s->w;
-    const float *diq_dt = s->diq_dt;
+    const float *fd = out->mean_fd_V;
+    const float *fq = out->mean_fq_V;
+    const float *id = out->mean_id_A;
+    const float *iq = out->mean_iq_A;
+    const float *w = out->mean_w_rad_s;
+    const float *diq_dt = out->diq_dt_A_s;
     float inv_wiq[2];
     int16_t j;
     int16_t it;
@@ -438,10 +581,10 @@ static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 }
 
 /* design sec. 6: window j's share of se(R^), delta dR = -(w1 delta r2 - w2 delta r1) / den */
-static void solve_se(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+static void solve_se(const rs_ident_solver_t *s, int16_t j, const ripple_t *f, rs_ident_out_t *out)
 {
-    out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], out->dR_Ohm, out->dpsi_Wb, s->fit[j], s->Gi[j]));
-    out->R_se_part_Ohm[j] = mathx_fabsf(s->w[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
+    out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], f, out->dR_Ohm, out->dpsi_Wb));
+    out->R_se_part_Ohm[j] = mathx_fabsf(out->mean_w_rad_s[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
 }
 
 /* se(R^) against its limit, then the band. */
@@ -481,21 +624,25 @@ bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out)
     rs_ident_result_t r = s->result;
 
     if (r == RS_IDENT_OK) { /* a refusal skips the stages left, not the calls */
-        switch ((stage_t)s->stage) {
+        const stage_t st = (stage_t)s->stage;
+        const int16_t j = ((st == STAGE_WIN_1) || (st == STAGE_SE_1)) ? 1 : 0;
+        /* window j's ripple fit, solved in its means' stage and again in its
+         * standard error's from the same sums (not kept between them) */
+        ripple_t f;
+        ripple_solve(s->win[j], &f);
+        switch (st) {
         case STAGE_WIN_0:
-            r = s->ri->valid ? solve_window(s, 0, out) : RS_IDENT_INVALID_CFG;
-            break;
         case STAGE_WIN_1:
-            r = solve_window(s, 1, out);
+            r = (s->ri->valid || (j == 1)) ? solve_window(s, j, &f, out) : RS_IDENT_INVALID_CFG;
             break;
         case STAGE_POINTS:
             r = solve_points(s, out);
             break;
         case STAGE_SE_0:
-            solve_se(s, 0, out);
+            solve_se(s, 0, &f, out);
             break;
         case STAGE_SE_1:
-            solve_se(s, 1, out);
+            solve_se(s, 1, &f, out);
             r = solve_verdict(&s->ri->cfg, out);
             break;
         case STAGE_DONE:

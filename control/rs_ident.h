@@ -32,7 +32,11 @@
  * alpha + a C_i + b S_i (C_i, S_i the batch means of cos, sin theta_el)
  * and the intercept alpha - the mean over whole turns - and its standard
  * error are used (design sec. 6e); where the fit is ill-conditioned
- * (batches of whole turns, standstill, no angle) the plain means.
+ * (batches of whole turns, standstill, no angle) the plain means. The
+ * fit also takes the 6th harmonic (C6_i, S6_i: batch means of cos, sin
+ * 6 theta_el), the ripple an untold inverter error (dead time) leaves in
+ * fq^, where it is conditioned and there are RS_IDENT_RIPPLE6_BATCHES_MIN
+ * batches.
  * A window that is still settling carries -dL <diq/dt> in fq^: with Ts_s
  * set, each window's mean slope of iq (least squares on its batch means)
  * and the estimated dL take it out (design sec. 6f).
@@ -57,6 +61,7 @@
 #define RS_IDENT_BATCHES_MIN           4u    /* batches per window for a spread at all */
 #define RS_IDENT_RIPPLE_BATCHES_MIN    6u    /* and for the fit of the electrical-frequency ripple */
 #define RS_IDENT_RIPPLE_DET_MIN        0.01f /* det(Z'Z / nb) below which the fit is not used */
+#define RS_IDENT_RIPPLE6_BATCHES_MIN   8u    /* batches for the fit with the 6th harmonic too (3 dof left) */
 
 typedef enum { RS_IDENT_WINDOW_NONE = 0, RS_IDENT_WINDOW_1 = 1, RS_IDENT_WINDOW_2 = 2 } rs_ident_window_t;
 
@@ -103,6 +108,9 @@ typedef struct {              /* sums relative to the first sample: no cancellat
     float bcs[2];             /* batch being filled: sums of cos, sin theta_el */
     float g[5];               /* over batches: sum of C, S, C C, C S, S S (batch means of cos, sin) */
     float mcs[RS_ST_COUNT][2];   /* sum of m_a C and of m_a S */
+    float bcs6[2];            /* batch being filled: sums of cos, sin 6 theta_el (design sec. 6e) */
+    float g6[9];              /* over batches: sum of C6, S6, C6 C6, C6 S6, S6 S6, C C6, C S6, S C6, S S6 */
+    float mcs6[RS_ST_COUNT][2];  /* sum of m_a C6 and of m_a S6 */
     float km_iq;              /* sum of k m_iq(k), k = 0, 1, ...: the slope of iq's batch means */
 } rs_ident_win_t;
 
@@ -128,6 +136,7 @@ typedef struct {
                                * correction exceeds se(R^)'s limit (est.c; else 0) */
     float r_se_V[2];          /* standard error of the residual's mean per window */
     bool ripple_fit[2];       /* the means are the ripple fit's intercepts (sec. 6e) */
+    bool ripple6_fit[2];      /*   and the fit has the 6th harmonic (an untold inverter error) too */
     float diq_dt_A_s[2];      /* mean diq/dt per window (0 without Ts_s) [A/s] */
     uint32_t batches[2];      /* complete batches per window */
     float iq_std_A[2];        /* measured std of iq per window (monitor) */
@@ -175,7 +184,9 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
  * standard error): the same result and *out, always after exactly that
  * many calls (a refusal skips the work left, not the calls). The windows
  * solved must not change until the last stage: an ISR that goes on
- * filling window 2 solves a copy of it (rs_ident_copy_window). */
+ * filling window 2 solves a copy of it (rs_ident_copy_window). The
+ * windows' points pass from stage to stage in *out: the same *out each
+ * call. */
 #define RS_IDENT_SOLVE_STAGES 5u
 
 typedef struct {
@@ -183,10 +194,6 @@ typedef struct {
     const rs_ident_win_t *win[2];  /* the windows solved: ri's, or a copy of window 2 */
     uint16_t stage;           /* the next stage */
     rs_ident_result_t result; /* valid once rs_ident_solve_step returned true */
-    float fd[2], fq[2], id[2], iq[2], w[2];   /* the windows' points */
-    float diq_dt[2];          /* iq's mean slope per window [A/s] */
-    bool fit[2];              /* the ripple fit holds */
-    float Gi[2][3][3];        /* its inverse normal matrices */
     float abs_inv_den;        /* 1 / |(41)'s denominator| [1/(A rad/s)] */
 } rs_ident_solver_t;
 
