@@ -95,11 +95,15 @@ typedef enum { RS_CH_FD = 0, RS_CH_FQ, RS_CH_ID, RS_CH_IQ, RS_CH_W, RS_CH_COUNT 
 typedef enum { RS_ST_FQ = 0, RS_ST_IQ, RS_ST_W, RS_ST_COUNT } rs_ident_st_t;
 #define RS_ST_PAIRS 6
 
-typedef struct {              /* sums relative to the first sample: no cancellation */
+typedef struct {              /* a window's sample sums, relative to the first sample: no cancellation */
     uint32_t n;
     float x0[RS_CH_COUNT];    /* first sample */
     float s1[RS_CH_COUNT];    /* sum of (x - x0) */
     float s2_iq;              /* sum of (iq - iq0)^2 */
+} rs_ident_head_t;
+
+typedef struct {
+    rs_ident_head_t h;        /* the sample sums: they change every sample */
     uint32_t bn;              /* samples in the batch being filled */
     float bsum[RS_ST_COUNT];  /* its sums of (x - x0) */
     uint32_t nb;              /* complete batches */
@@ -151,16 +155,22 @@ typedef struct {
 void rs_ident_cfg_defaults(rs_ident_cfg_t *cfg, float R_nom_Ohm);
 
 /* Copies cfg (finite, R_nom > 0, 0 <= R_min <= R_nom <= R_max,
- * R_se_max_rel > 0, 0 < ratio < 1, n_min >= 2, n_batch >= 2) and empties
+ * R_se_max_rel > 0, 0 < ratio < 1, n_min >= 2, n_batch >
+ * RS_IDENT_SOLVE_STAGES) and empties
  * both windows. Background. */
 bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg);
 
 /* Empties both windows. Background or ISR. */
 void rs_ident_reset(rs_ident_t *ri);
 
-/* Window win of *src into *dst, field by field (no library memcpy): the
- * window as it is, for a staged solve while the original goes on filling. ISR. */
-void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_window_t win);
+/* Window win's sample sums of *src into *dst, field by field (no library
+ * memcpy): for a staged solve while the window goes on filling (its batch
+ * sums hold still for n_batch - 1 samples after a batch closed). ISR. */
+void rs_ident_copy_head(rs_ident_head_t *dst, const rs_ident_t *src, rs_ident_window_t win);
+
+/* true when window win has no incomplete batch (none begun, or one just
+ * closed): a staged solve of it may begin. ISR. */
+bool rs_ident_batch_closed(const rs_ident_t *ri, rs_ident_window_t win);
 
 /* One period, after smo_step(): the observer's fd_V, fq_V [V] and the
  * measured id_A, iq_A [A], omega_el_rad_s [rad/s] into window win
@@ -180,32 +190,46 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
 rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
 
 /* rs_ident_solve in RS_IDENT_SOLVE_STAGES bounded stages, one per call
- * (each window's means and ripple fit, the points' solve, each window's
- * standard error): the same result and *out, always after exactly that
- * many calls (a refusal skips the work left, not the calls). The windows
- * solved must not change until the last stage: an ISR that goes on
- * filling window 2 solves a copy of it (rs_ident_copy_window). The
- * windows' points pass from stage to stage in *out: the same *out each
- * call. */
-#define RS_IDENT_SOLVE_STAGES 5u
+ * (per window: its ripple fit, the fit's 6th harmonic, its means, the
+ * fit's intercepts; the points' solve; per window: the ripple fit again
+ * where it is not kept, the residual's sums, its standard error; the
+ * verdict): the same result and *out, always after exactly that many
+ * calls (a refusal skips the work left, not the calls). The windows'
+ * points pass from stage to stage in *out: the same *out each call. The
+ * windows solved must not change until the last stage: an ISR that goes
+ * on filling window 2 begins at a batch boundary (rs_ident_batch_closed)
+ * with a copy of its sample sums (rs_ident_copy_head); its batch sums
+ * hold still while the stages run (n_batch > RS_IDENT_SOLVE_STAGES,
+ * rs_ident_init). */
+#define RS_IDENT_SOLVE_STAGES 16u
+
+typedef struct {              /* a window's ripple fit (design sec. 6e), kept between the stages that use it */
+    bool fit;                 /* the fit of (1, C, S) holds */
+    bool fit6;                /*   and its 6th harmonic */
+    float Gi[3][3];           /* G^-1, G = Z'Z */
+    float P[3][2];            /* Gi B (B: the 6th harmonic's cross sums with 1, C, S); u = its row 0 */
+    float Si6[3];             /* inverse of the Schur complement D - B' P: 00, 01, 11 */
+} rs_ident_ripple_t;
 
 typedef struct {
     const rs_ident_t *ri;     /* the configuration */
-    const rs_ident_win_t *win[2];  /* the windows solved: ri's, or a copy of window 2 */
+    const rs_ident_win_t *win[2];    /* the windows solved (their batch sums) */
+    const rs_ident_head_t *head[2];  /* their sample sums: ri's, or a copy of window 2's */
     uint16_t stage;           /* the next stage */
     rs_ident_result_t result; /* valid once rs_ident_solve_step returned true */
     float abs_inv_den;        /* 1 / |(41)'s denominator| [1/(A rad/s)] */
+    rs_ident_ripple_t fit;    /* the ripple fit of the window being solved */
+    float se_sums[6];         /* the residual's sums between its two stages: r'r, Z'r, Z6'r */
 } rs_ident_solver_t;
 
-/* Starts a staged solve of *ri's windows, window 2 from *win_2 instead
- * when not NULL (a copy); *out to its empty values (R_est_Ohm = R_nom).
- * No division. ISR. */
-void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_win_t *win_2,
-                          rs_ident_out_t *out);
+/* Starts a staged solve of *ri's windows, window 2's sample sums from
+ * *head_2 instead when not NULL (a copy). No division. ISR. */
+void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_head_t *head_2);
 
-/* One stage into *out; true when the solve is over (s->result, *out as
- * rs_ident_solve leaves them; further calls do nothing). At most about 8
- * divisions and 3 square roots. ISR. */
+/* One stage into *out (the first sets *out to its empty values, R_est_Ohm
+ * = R_nom); true when the solve is over (s->result, *out as rs_ident_solve
+ * leaves them; further calls do nothing). At most 2 divisions and 1
+ * square root. ISR. */
 bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out);
 
 #endif /* RS_IDENT_H */

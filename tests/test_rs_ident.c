@@ -490,7 +490,7 @@ static void staged_solve_takes_its_stages(void **state)
         memset(&staged, 0, sizeof staged);
         const rs_ident_result_t r = rs_ident_solve(&ri, &whole);
         assert_int_equal(r, (pass == 0) ? RS_IDENT_TOO_FEW : RS_IDENT_OK);
-        rs_ident_solve_begin(&s, &ri, NULL, &staged);
+        rs_ident_solve_begin(&s, &ri, NULL);
         for (unsigned k = 1u; k < RS_IDENT_SOLVE_STAGES; k++) {
             assert_false(rs_ident_solve_step(&s, &staged));
         }
@@ -503,6 +503,45 @@ static void staged_solve_takes_its_stages(void **state)
         /* window 2 for the second pass */
         feed_analytic(&ri, RS_IDENT_WINDOW_2, R_NOM, OP_L0, OP_PSI0, 0.0, op_iq_of_te(4.0), w, 500);
     }
+}
+
+/* A staged solve begun at a batch boundary of window 2, whose sample sums
+ * are copied (rs_ident_copy_head) while window 2 goes on filling for every
+ * stage (with other values, a batch not yet complete: n_batch >
+ * RS_IDENT_SOLVE_STAGES), gives rs_ident_solve's *out as at the begin: the
+ * 6th-harmonic fit on both windows. Inside a batch no begin is allowed. */
+static void staged_solve_holds_while_window_2_fills(void **state)
+{
+    (void)state;
+    const double w = op_w_el(200.0);
+    rs_ident_t ri = make(R_NOM);
+    rs_ident_out_t whole, staged;
+    rs_ident_solver_t s;
+    rs_ident_head_t head;
+
+    feed_ripple6(&ri, RS_IDENT_WINDOW_1, op_iq_of_te(2.0), w, true);
+    feed_ripple6(&ri, RS_IDENT_WINDOW_2, op_iq_of_te(4.0), w, true);
+    assert_true(rs_ident_batch_closed(&ri, RS_IDENT_WINDOW_2)); /* 600 samples: 12 whole batches */
+    memset(&whole, 0, sizeof whole);
+    memset(&staged, 0, sizeof staged);
+    assert_int_equal(rs_ident_solve(&ri, &whole), RS_IDENT_OK);
+    assert_true(whole.ripple6_fit[0] && whole.ripple6_fit[1]);
+    rs_ident_copy_head(&head, &ri, RS_IDENT_WINDOW_2);
+    rs_ident_solve_begin(&s, &ri, &head);
+    for (unsigned k = 0u; k < RS_IDENT_SOLVE_STAGES; k++) {
+        rs_ident_step_el(&ri, RS_IDENT_WINDOW_2, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 1.0f, 0.0f);
+        assert_false(rs_ident_batch_closed(&ri, RS_IDENT_WINDOW_2));
+        assert_true(rs_ident_solve_step(&s, &staged) == (k + 1u == RS_IDENT_SOLVE_STAGES));
+    }
+    assert_int_equal(s.result, RS_IDENT_OK);
+    assert_memory_equal(&staged, &whole, sizeof whole);
+    /* and batches as short as the stages are refused */
+    rs_ident_cfg_t c;
+    rs_ident_cfg_defaults(&c, (float)R_NOM);
+    c.n_batch = RS_IDENT_SOLVE_STAGES;
+    assert_false(rs_ident_init(&ri, &c));
+    c.n_batch = RS_IDENT_SOLVE_STAGES + 1u;
+    assert_true(rs_ident_init(&ri, &c));
 }
 
 int main(void)
@@ -521,6 +560,7 @@ int main(void)
         cmocka_unit_test(out_of_band_is_refused),
         cmocka_unit_test(other_refusals),
         cmocka_unit_test(staged_solve_takes_its_stages),
+        cmocka_unit_test(staged_solve_holds_while_window_2_fills),
     };
     return cmocka_run_group_tests_name("rs_ident", tests, NULL, NULL);
 }
