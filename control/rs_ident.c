@@ -89,22 +89,16 @@ void rs_ident_reset(rs_ident_t *ri)
     }
 }
 
-/* n floats from src to dst: a loop, no library memcpy (from flash on the target's ISR path). */
-static void copy_floats(float *dst, const float *src, int16_t n)
-{
-    int16_t k;
-    for (k = 0; k < n; k++) {
-        dst[k] = src[k];
-    }
-}
-
 void rs_ident_copy_head(rs_ident_head_t *dst, const rs_ident_t *src, rs_ident_window_t win)
 {
     const rs_ident_head_t *h = &src->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1].h;
+    int16_t ch;
 
     dst->n = h->n;
-    copy_floats(dst->x0, h->x0, (int16_t)RS_CH_COUNT);
-    copy_floats(dst->s1, h->s1, (int16_t)RS_CH_COUNT);
+    for (ch = 0; ch < (int16_t)RS_CH_COUNT; ch++) { /* one loop for both: the copy shares a period with a batch's close */
+        dst->x0[ch] = h->x0[ch];
+        dst->s1[ch] = h->s1[ch];
+    }
     dst->s2_iq = h->s2_iq;
 }
 
@@ -143,6 +137,7 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
     float m[RS_ST_COUNT];
     int16_t a;
     int16_t b;
+    int16_t k = 0;
 
     const float C = w->bcs[0] * inv_n_batch;
     const float S = w->bcs[1] * inv_n_batch;
@@ -179,7 +174,8 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
     w->bcs[1] = 0.0f;
     for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
         for (b = a; b < (int16_t)RS_ST_COUNT; b++) {
-            w->m2[pair_index(a, b)] += m[a] * m[b];
+            w->m2[k] += m[a] * m[b]; /* pair_index(a, b): the pairs in order */
+            k++;
         }
     }
     w->bn = 0u;
