@@ -92,13 +92,21 @@ void rs_ident_reset(rs_ident_t *ri)
 void rs_ident_copy_head(rs_ident_head_t *dst, const rs_ident_t *src, rs_ident_window_t win)
 {
     const rs_ident_head_t *h = &src->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1].h;
-    int16_t ch;
 
+    /* field by field, no loop a compiler turns into a library memcpy (from
+     * flash on the target's ISR path): the copy shares a period with a
+     * batch's close */
     dst->n = h->n;
-    for (ch = 0; ch < (int16_t)RS_CH_COUNT; ch++) { /* one loop for both: the copy shares a period with a batch's close */
-        dst->x0[ch] = h->x0[ch];
-        dst->s1[ch] = h->s1[ch];
-    }
+    dst->x0[RS_CH_FD] = h->x0[RS_CH_FD];
+    dst->x0[RS_CH_FQ] = h->x0[RS_CH_FQ];
+    dst->x0[RS_CH_ID] = h->x0[RS_CH_ID];
+    dst->x0[RS_CH_IQ] = h->x0[RS_CH_IQ];
+    dst->x0[RS_CH_W] = h->x0[RS_CH_W];
+    dst->s1[RS_CH_FD] = h->s1[RS_CH_FD];
+    dst->s1[RS_CH_FQ] = h->s1[RS_CH_FQ];
+    dst->s1[RS_CH_ID] = h->s1[RS_CH_ID];
+    dst->s1[RS_CH_IQ] = h->s1[RS_CH_IQ];
+    dst->s1[RS_CH_W] = h->s1[RS_CH_W];
     dst->s2_iq = h->s2_iq;
 }
 
@@ -137,7 +145,6 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
     float m[RS_ST_COUNT];
     int16_t a;
     int16_t b;
-    int16_t k = 0;
 
     const float C = w->bcs[0] * inv_n_batch;
     const float S = w->bcs[1] * inv_n_batch;
@@ -174,8 +181,7 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
     w->bcs[1] = 0.0f;
     for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
         for (b = a; b < (int16_t)RS_ST_COUNT; b++) {
-            w->m2[k] += m[a] * m[b]; /* pair_index(a, b): the pairs in order */
-            k++;
+            w->m2[pair_index(a, b)] += m[a] * m[b];
         }
     }
     w->bn = 0u;
