@@ -314,9 +314,9 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
     return est_rsid_finish(&c->est);
 }
 
-void ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_win_t *win2_copy)
+bool ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_head_t *win2_copy)
 {
-    est_rsid_stage_begin(&c->est, s, win2_copy);
+    return est_rsid_stage_begin(&c->est, s, win2_copy);
 }
 
 bool ctrl_rsid_stage_step(ctrl_t *c, rs_ident_solver_t *s)

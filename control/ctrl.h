@@ -264,11 +264,12 @@ void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win);
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
 
 /* A staged check of step 1's windows so far (est.h
- * est_rsid_stage_begin/_step): window 2 copied into *win2_copy, *s the
- * caller's solver; one stage per call of ctrl_rsid_stage_step, true when
+ * est_rsid_stage_begin/_step): begun (true) only at a batch boundary of
+ * window 2, its sample sums copied into *win2_copy, *s the caller's
+ * solver; one stage per call of ctrl_rsid_stage_step, true when
  * s->result and ctrl_rsid_out() are final (the d-axis and angle checks
  * included). ISR (a bounded stage each). */
-void ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_win_t *win2_copy);
+bool ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_head_t *win2_copy);
 bool ctrl_rsid_stage_step(ctrl_t *c, rs_ident_solver_t *s);
 
 /* Step 1 ends on a staged solve's result r (in ctrl_rsid_out()); the rest

@@ -266,10 +266,14 @@ static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
     return rsid_checks(e, rs_ident_solve(&e->ri, o), o);
 }
 
-void est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_win_t *win2_copy)
+bool est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_head_t *win2_copy)
 {
-    rs_ident_copy_window(win2_copy, &e->ri, RS_IDENT_WINDOW_2);
-    rs_ident_solve_begin(s, &e->ri, win2_copy, &e->rsid_out);
+    if (!rs_ident_batch_closed(&e->ri, RS_IDENT_WINDOW_2)) {
+        return false;
+    }
+    rs_ident_copy_head(win2_copy, &e->ri, RS_IDENT_WINDOW_2);
+    rs_ident_solve_begin(s, &e->ri, win2_copy);
+    return true;
 }
 
 bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s)

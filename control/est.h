@@ -185,11 +185,13 @@ void est_rsid_window(est_t *e, rs_ident_window_t win);
 rs_ident_result_t est_rsid_finish(est_t *e);
 
 /* A staged check of step 1's windows so far (rs_ident_solve_begin/_step, for an
- * ISR with a budget): window 2 as it is copied into *win2_copy (window 1
- * is complete), the solve into est_rsid_out(); est_rsid_stage_step runs
- * one stage per call and returns true when s->result and the output are
+ * ISR with a budget): begun only when window 2 has no incomplete batch
+ * (false, nothing begun, else: its batch sums hold still through the
+ * stages), window 2's sample sums copied into *win2_copy (window 1 is
+ * complete), the solve into est_rsid_out(); est_rsid_stage_step runs one
+ * stage per call and returns true when s->result and the output are
  * final, the d-axis and angle checks included. ISR. */
-void est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_win_t *win2_copy);
+bool est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_head_t *win2_copy);
 bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s);
 
 /* Step 1 ends on a staged solve's result r_solved: as est_rsid_finish

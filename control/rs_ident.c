@@ -42,7 +42,7 @@ bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg)
                 (cfg->R_min_Ohm <= cfg->R_nom_Ohm) && (cfg->R_nom_Ohm <= cfg->R_max_Ohm) &&
                 (cfg->R_se_max_rel > 0.0f) && (cfg->den_ratio_min > 0.0f) &&
                 (cfg->den_ratio_min < 1.0f) && (cfg->n_min >= 2u) && (cfg->n_min <= WIN_N_MAX) &&
-                (cfg->n_batch >= 2u) && (cfg->n_batch <= WIN_N_MAX) && (cfg->Ts_s >= 0.0f);
+                (cfg->n_batch > RS_IDENT_SOLVE_STAGES) && (cfg->n_batch <= WIN_N_MAX) && (cfg->Ts_s >= 0.0f);
     ri->inv_n_batch = ri->valid ? 1.0f / (float)cfg->n_batch : 0.0f;
     rs_ident_reset(ri);
     return ri->valid;
@@ -54,11 +54,11 @@ void rs_ident_reset(rs_ident_t *ri)
     int16_t ch;
     for (j = 0; j < 2; j++) {
         rs_ident_win_t *w = &ri->win[j];
-        w->n = 0u;
-        w->s2_iq = 0.0f;
+        w->h.n = 0u;
+        w->h.s2_iq = 0.0f;
         for (ch = 0; ch < (int16_t)RS_CH_COUNT; ch++) {
-            w->x0[ch] = 0.0f;
-            w->s1[ch] = 0.0f;
+            w->h.x0[ch] = 0.0f;
+            w->h.s1[ch] = 0.0f;
         }
         w->bn = 0u;
         w->nb = 0u;
@@ -78,36 +78,41 @@ void rs_ident_reset(rs_ident_t *ri)
         for (ch = 0; ch < (int16_t)RS_ST_COUNT; ch++) {
             w->mcs[ch][0] = 0.0f;
             w->mcs[ch][1] = 0.0f;
+            w->mcs6[ch][0] = 0.0f;
+            w->mcs6[ch][1] = 0.0f;
         }
+        for (ch = 0; ch < 9; ch++) {
+            w->g6[ch] = 0.0f;
+        }
+        w->bcs6[0] = 0.0f;
+        w->bcs6[1] = 0.0f;
     }
 }
 
-/* n floats from src to dst: a loop, no library memcpy (from flash on the target's ISR path). */
-static void copy_floats(float *dst, const float *src, int16_t n)
+void rs_ident_copy_head(rs_ident_head_t *dst, const rs_ident_t *src, rs_ident_window_t win)
 {
-    int16_t k;
-    for (k = 0; k < n; k++) {
-        dst[k] = src[k];
-    }
+    const rs_ident_head_t *h = &src->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1].h;
+
+    /* field by field, no loop a compiler turns into a library memcpy (from
+     * flash on the target's ISR path): the copy shares a period with a
+     * batch's close */
+    dst->n = h->n;
+    dst->x0[RS_CH_FD] = h->x0[RS_CH_FD];
+    dst->x0[RS_CH_FQ] = h->x0[RS_CH_FQ];
+    dst->x0[RS_CH_ID] = h->x0[RS_CH_ID];
+    dst->x0[RS_CH_IQ] = h->x0[RS_CH_IQ];
+    dst->x0[RS_CH_W] = h->x0[RS_CH_W];
+    dst->s1[RS_CH_FD] = h->s1[RS_CH_FD];
+    dst->s1[RS_CH_FQ] = h->s1[RS_CH_FQ];
+    dst->s1[RS_CH_ID] = h->s1[RS_CH_ID];
+    dst->s1[RS_CH_IQ] = h->s1[RS_CH_IQ];
+    dst->s1[RS_CH_W] = h->s1[RS_CH_W];
+    dst->s2_iq = h->s2_iq;
 }
 
-void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_window_t win)
+bool rs_ident_batch_closed(const rs_ident_t *ri, rs_ident_window_t win)
 {
-    const rs_ident_win_t *w = &src->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1];
-
-    dst->n = w->n;
-    copy_floats(dst->x0, w->x0, (int16_t)RS_CH_COUNT);
-    copy_floats(dst->s1, w->s1, (int16_t)RS_CH_COUNT);
-    dst->s2_iq = w->s2_iq;
-    dst->bn = w->bn;
-    copy_floats(dst->bsum, w->bsum, (int16_t)RS_ST_COUNT);
-    dst->nb = w->nb;
-    copy_floats(dst->m1, w->m1, (int16_t)RS_ST_COUNT);
-    copy_floats(dst->m2, w->m2, (int16_t)RS_ST_PAIRS);
-    copy_floats(dst->bcs, w->bcs, 2);
-    copy_floats(dst->g, w->g, 5);
-    copy_floats(&dst->mcs[0][0], &w->mcs[0][0], (int16_t)(2 * RS_ST_COUNT));
-    dst->km_iq = w->km_iq;
+    return ri->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1].bn == 0u;
 }
 
 /* rs_ident_win_t.g */
@@ -116,6 +121,16 @@ void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_w
 #define G_CC 2
 #define G_CS 3
 #define G_SS 4
+/* rs_ident_win_t.g6 */
+#define G6_C    0
+#define G6_S    1
+#define G6_CC   2
+#define G6_CS   3
+#define G6_SS   4
+#define G6_C_C  5  /* C C6 */
+#define G6_C_S  6  /* C S6 */
+#define G6_S_C  7  /* S C6 */
+#define G6_S_S  8  /* S S6 */
 
 /* Index of the pair (a, b), a <= b, in rs_ident_win_t.m2 (ff, fi, fw, ii, iw, ww). */
 static int16_t pair_index(int16_t a, int16_t b)
@@ -133,14 +148,29 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
 
     const float C = w->bcs[0] * inv_n_batch;
     const float S = w->bcs[1] * inv_n_batch;
+    const float C6 = w->bcs6[0] * inv_n_batch;
+    const float S6 = w->bcs6[1] * inv_n_batch;
 
     for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
         m[a] = w->bsum[a] * inv_n_batch;
         w->m1[a] += m[a];
         w->mcs[a][0] += m[a] * C;
         w->mcs[a][1] += m[a] * S;
+        w->mcs6[a][0] += m[a] * C6;
+        w->mcs6[a][1] += m[a] * S6;
         w->bsum[a] = 0.0f;
     }
+    w->g6[G6_C] += C6;
+    w->g6[G6_S] += S6;
+    w->g6[G6_CC] += C6 * C6;
+    w->g6[G6_CS] += C6 * S6;
+    w->g6[G6_SS] += S6 * S6;
+    w->g6[G6_C_C] += C * C6;
+    w->g6[G6_C_S] += C * S6;
+    w->g6[G6_S_C] += S * C6;
+    w->g6[G6_S_S] += S * S6;
+    w->bcs6[0] = 0.0f;
+    w->bcs6[1] = 0.0f;
     w->km_iq += (float)w->nb * m[RS_ST_IQ];
     w->g[G_C] += C;
     w->g[G_S] += S;
@@ -176,27 +206,34 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
         return;
     }
     w = &ri->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1];
-    if (w->n >= WIN_N_MAX) {
+    if (w->h.n >= WIN_N_MAX) {
         return;
     }
-    if (w->n == 0u) {
+    if (w->h.n == 0u) {
         for (ch = 0; ch < (int16_t)RS_CH_COUNT; ch++) {
-            w->x0[ch] = x[ch];
+            w->h.x0[ch] = x[ch];
         }
     }
     /* shifted sums: the first sample is close to the mean in a steady
      * window, so s2 - s1^2/n does not cancel in float */
     for (ch = 0; ch < (int16_t)RS_CH_COUNT; ch++) {
-        w->s1[ch] += x[ch] - w->x0[ch];
+        w->h.s1[ch] += x[ch] - w->h.x0[ch];
     }
-    const float diq = x[RS_CH_IQ] - w->x0[RS_CH_IQ];
-    w->s2_iq += diq * diq;
-    w->n++;
-    w->bsum[RS_ST_FQ] += x[RS_CH_FQ] - w->x0[RS_CH_FQ];
+    const float diq = x[RS_CH_IQ] - w->h.x0[RS_CH_IQ];
+    w->h.s2_iq += diq * diq;
+    w->h.n++;
+    w->bsum[RS_ST_FQ] += x[RS_CH_FQ] - w->h.x0[RS_CH_FQ];
     w->bsum[RS_ST_IQ] += diq;
-    w->bsum[RS_ST_W] += x[RS_CH_W] - w->x0[RS_CH_W];
+    w->bsum[RS_ST_W] += x[RS_CH_W] - w->h.x0[RS_CH_W];
     w->bcs[0] += cos_el;
     w->bcs[1] += sin_el;
+    /* cos, sin 6 theta_el: double, triple, double angle (10 multiplications) */
+    const float c2 = cos_el * cos_el - sin_el * sin_el;
+    const float s2 = 2.0f * cos_el * sin_el;
+    const float c3 = c2 * cos_el - s2 * sin_el;
+    const float s3 = s2 * cos_el + c2 * sin_el;
+    w->bcs6[0] += c3 * c3 - s3 * s3;
+    w->bcs6[1] += 2.0f * c3 * s3;
     w->bn++;
     if (w->bn >= ri->cfg.n_batch) {
         close_batch(w, ri->inv_n_batch);
@@ -249,41 +286,128 @@ static void zt_channel(const rs_ident_win_t *w, int16_t a, float h[3])
     h[2] = w->mcs[a][1];
 }
 
-/* Variance of the window's mean of r = fq + dR iq + dpsi w (nb >=
- * RS_IDENT_BATCHES_MIN >= 2): from the spread of its batch means, or, with
- * the ripple fit (Gi), from the fit's residuals: the intercept's variance
- * sigma^2 (G^-1)_00 with sigma^2 = SSR / (nb - 3). */
-static float residual_se2(const rs_ident_win_t *w, float dR, float dpsi, bool fit, const float Gi[3][3])
+/* The fit's 6th harmonic (design sec. 6e), by partitioned regression on
+ * the fit of (1, C, S) (f->Gi): with B the cross sums of (C6, S6) with
+ * (1, C, S), D theirs, P = Gi B, the Schur complement Sc = D - B' P; false
+ * (the 3-term fit alone) with fewer than RS_IDENT_RIPPLE6_BATCHES_MIN
+ * batches or det(Sc / nb) below RS_IDENT_RIPPLE_DET_MIN (batches of whole
+ * ripple periods, the 6th aliased onto the 1st). Else f gets P and Sc^-1;
+ * the intercepts move by -u' Sc^-1 q_a (u = P's row 0, ripple6_q). 1 division. */
+static bool ripple6_fit(const rs_ident_win_t *w, rs_ident_ripple_t *f)
+{
+    const float(*Gi)[3] = f->Gi;
+    const float nb = (float)w->nb;
+    const float B[3][2] = { { w->g6[G6_C], w->g6[G6_S] },
+                            { w->g6[G6_C_C], w->g6[G6_C_S] },
+                            { w->g6[G6_S_C], w->g6[G6_S_S] } };
+    float(*P)[2] = f->P;
+    int16_t r;
+    int16_t k;
+
+    if (w->nb < RS_IDENT_RIPPLE6_BATCHES_MIN) {
+        return false;
+    }
+    for (r = 0; r < 3; r++) {
+        for (k = 0; k < 2; k++) {
+            P[r][k] = Gi[r][0] * B[0][k] + Gi[r][1] * B[1][k] + Gi[r][2] * B[2][k];
+        }
+    }
+    const float s00 = w->g6[G6_CC] - (B[0][0] * P[0][0] + B[1][0] * P[1][0] + B[2][0] * P[2][0]);
+    const float s01 = w->g6[G6_CS] - (B[0][0] * P[0][1] + B[1][0] * P[1][1] + B[2][0] * P[2][1]);
+    const float s11 = w->g6[G6_SS] - (B[0][1] * P[0][1] + B[1][1] * P[1][1] + B[2][1] * P[2][1]);
+    const float det = s00 * s11 - s01 * s01;
+    if (!(det > RS_IDENT_RIPPLE_DET_MIN * nb * nb)) {
+        return false;
+    }
+    const float inv_det = 1.0f / det;
+    f->Si6[0] = s11 * inv_det;
+    f->Si6[1] = -s01 * inv_det;
+    f->Si6[2] = s00 * inv_det;
+    return true;
+}
+
+/* Channel a's q_a = Z6'm_a - P' Z'm_a (the 6th harmonic's part of its
+ * batch means the 3 terms do not explain). */
+static void ripple6_q(const rs_ident_win_t *w, const rs_ident_ripple_t *f, int16_t a, float q[2])
+{
+    float h[3];
+    int16_t k;
+
+    zt_channel(w, a, h);
+    for (k = 0; k < 2; k++) {
+        q[k] = w->mcs6[a][k] - (f->P[0][k] * h[0] + f->P[1][k] * h[1] + f->P[2][k] * h[2]);
+    }
+}
+
+/* x' Sc^-1 y for a 6th-harmonic fit (Si6 symmetric). */
+static float si6_form(const rs_ident_ripple_t *f, const float x[2], const float y[2])
+{
+    const float *si = f->Si6;
+    return x[0] * (si[0] * y[0] + si[1] * y[1]) + x[1] * (si[1] * y[0] + si[2] * y[1]);
+}
+
+/* The sums of the residual r = fq + dR iq + dpsi w over window w's batch
+ * means into sums: r'r, Z'r (3), Z6'r (2) (Z the rows (1, C_i, S_i), Z6
+ * (C6_i, S6_i)). */
+static void residual_sums(const rs_ident_win_t *w, float dR, float dpsi, float sums[6])
 {
     const float c[RS_ST_COUNT] = { 1.0f, dR, dpsi };
-    const float nb = (float)w->nb;
-    float h[3] = { 0.0f, 0.0f, 0.0f };
-    float r2 = 0.0f;
     int16_t a;
     int16_t b;
 
+    sums[0] = 0.0f;
     for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
-        float ha[3];
-        zt_channel(w, a, ha);
-        for (b = 0; b < 3; b++) {
-            h[b] += c[a] * ha[b];
-        }
         for (b = 0; b < (int16_t)RS_ST_COUNT; b++) {
-            r2 += c[a] * c[b] * w->m2[(a <= b) ? pair_index(a, b) : pair_index(b, a)];
+            sums[0] += c[a] * c[b] * w->m2[(a <= b) ? pair_index(a, b) : pair_index(b, a)];
         }
     }
-    if (!fit) {
-        const float var = r2 - h[0] * h[0] / nb;
+    for (b = 1; b < 6; b++) {
+        sums[b] = 0.0f;
+    }
+    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
+        sums[1] += c[a] * w->m1[a];
+        sums[2] += c[a] * w->mcs[a][0];
+        sums[3] += c[a] * w->mcs[a][1];
+        sums[4] += c[a] * w->mcs6[a][0];
+        sums[5] += c[a] * w->mcs6[a][1];
+    }
+}
+
+/* Variance of the window's mean of r from its sums (residual_sums; nb >=
+ * RS_IDENT_BATCHES_MIN >= 2): from the spread of its batch means, or, with
+ * the ripple fit (f->Gi), from the fit's residuals: the intercept's variance
+ * sigma^2 (G^-1)_00 with sigma^2 = SSR / (nb - 3); with the 6th harmonic
+ * too, SSR less q_r' Sc^-1 q_r (q_r = Z6'r - P' Z'r) over nb - 5,
+ * (G^-1)_00 plus u' Sc^-1 u. */
+static float residual_se2(const rs_ident_win_t *w, const rs_ident_ripple_t *f, const float sums[6])
+{
+    const float(*Gi)[3] = f->Gi;
+    const float *h = &sums[1];
+    const float nb = (float)w->nb;
+    int16_t a;
+    int16_t b;
+
+    if (!f->fit) {
+        const float var = sums[0] - h[0] * h[0] / nb;
         return ((var > 0.0f) ? var : 0.0f) / (nb * (nb - 1.0f)); /* sample variance of the batch means / nb */
     }
-    float ssr = r2;
+    float ssr = sums[0];
     for (a = 0; a < 3; a++) {
         for (b = 0; b < 3; b++) {
             ssr -= h[a] * Gi[a][b] * h[b];
         }
     }
-    ssr = (ssr > 0.0f) ? ssr : 0.0f; /* >= 0 up to rounding */
-    return ssr / (nb - 3.0f) * Gi[0][0];
+    if (!f->fit6) {
+        ssr = (ssr > 0.0f) ? ssr : 0.0f; /* >= 0 up to rounding */
+        return ssr / (nb - 3.0f) * Gi[0][0];
+    }
+    float q[2];
+    for (b = 0; b < 2; b++) {
+        q[b] = sums[4 + b] - (f->P[0][b] * h[0] + f->P[1][b] * h[1] + f->P[2][b] * h[2]);
+    }
+    ssr -= si6_form(f, q, q);
+    ssr = (ssr > 0.0f) ? ssr : 0.0f;
+    return ssr / (nb - 5.0f) * (Gi[0][0] + si6_form(f, f->P[0], f->P[0]));
 }
 
 static void zero_out(rs_ident_out_t *out, float R_nom)
@@ -300,6 +424,7 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
         out->R_se_part_Ohm[j] = 0.0f;
         out->r_se_V[j] = 0.0f;
         out->ripple_fit[j] = false;
+        out->ripple6_fit[j] = false;
         out->diq_dt_A_s[j] = 0.0f;
         out->batches[j] = 0u;
         out->iq_std_A[j] = 0.0f;
@@ -311,35 +436,66 @@ static void zero_out(rs_ident_out_t *out, float R_nom)
     }
 }
 
-/* The solve's stages (rs_ident_solve_step): one per call. */
-typedef enum { STAGE_WIN_0 = 0, STAGE_WIN_1, STAGE_POINTS, STAGE_SE_0, STAGE_SE_1, STAGE_DONE } stage_t;
+/* The solve's stages (rs_ident_solve_step), one per call: what each does
+ * (op_t) and on which window. The solver keeps one window's ripple fit:
+ * the standard errors take window 2 first, whose fit is still there. */
+typedef enum {
+    OP_FIT = 0,    /* the window's ripple fit of (1, C, S): s->fit */
+    OP_FIT6,       /*   its 6th harmonic */
+    OP_MEANS,      /* the window's means, iq's slope: *out */
+    OP_INTERCEPTS, /* the means over whole turns where the fit holds: *out */
+    OP_POINTS,     /* dR, dpsi, dL from both windows' points */
+    OP_SE_SUMS,    /* the window's residual sums: s->se_sums */
+    OP_SE,         /*   its standard error and share of se(R^) */
+    OP_VERDICT     /* se(R^) against its limit, the band */
+} op_t;
+#define STAGE(op, j) ((uint16_t)(((uint16_t)(op) << 1) | (uint16_t)(j)))
+static const uint16_t STAGES[RS_IDENT_SOLVE_STAGES] = {
+    STAGE(OP_FIT, 0),     STAGE(OP_FIT6, 0),    STAGE(OP_MEANS, 0), STAGE(OP_INTERCEPTS, 0),
+    STAGE(OP_FIT, 1),     STAGE(OP_FIT6, 1),    STAGE(OP_MEANS, 1), STAGE(OP_INTERCEPTS, 1),
+    STAGE(OP_POINTS, 0),  STAGE(OP_SE_SUMS, 1), STAGE(OP_SE, 1),    STAGE(OP_FIT, 0),
+    STAGE(OP_FIT6, 0),    STAGE(OP_SE_SUMS, 0), STAGE(OP_SE, 0),    STAGE(OP_VERDICT, 0)
+};
 
-/* Window j's means, iq's slope and the ripple fit into *s and *out
- * (design sec. 6e, 6f); RS_IDENT_OK or why the window is refused. */
-static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+/* The ripple fit's intercept of channel a in window j (relative to x0):
+ * the mean over whole turns (and whole ripple periods with the 6th). */
+static float intercept(const rs_ident_win_t *w, const rs_ident_ripple_t *f, int16_t a)
+{
+    const float(*Gi)[3] = f->Gi;
+    float h[3];
+    zt_channel(w, a, h);
+    const float alpha = Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
+    if (!f->fit6) {
+        return alpha;
+    }
+    float q[2];
+    ripple6_q(w, f, a, q);
+    return alpha - si6_form(f, f->P[0], q);
+}
+
+/* Window j's means and iq's slope into *out (the points the later stages
+ * read there; design sec. 6f); RS_IDENT_OK or why the window is refused. */
+static rs_ident_result_t solve_means(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
     const rs_ident_win_t *wn = s->win[j];
+    const rs_ident_head_t *hd = s->head[j];
 
     out->batches[j] = wn->nb;
-    if ((wn->n < c->n_min) || (wn->nb < RS_IDENT_BATCHES_MIN)) {
+    if ((hd->n < c->n_min) || (wn->nb < RS_IDENT_BATCHES_MIN)) {
         return RS_IDENT_TOO_FEW;
     }
-    const float inv_n = 1.0f / (float)wn->n; /* n >= n_min >= 2 */
-    s->fd[j] = wn->x0[RS_CH_FD] + wn->s1[RS_CH_FD] * inv_n;
-    s->fq[j] = wn->x0[RS_CH_FQ] + wn->s1[RS_CH_FQ] * inv_n;
-    s->id[j] = wn->x0[RS_CH_ID] + wn->s1[RS_CH_ID] * inv_n;
-    s->iq[j] = wn->x0[RS_CH_IQ] + wn->s1[RS_CH_IQ] * inv_n;
-    s->w[j] = wn->x0[RS_CH_W] + wn->s1[RS_CH_W] * inv_n;
-    const float m1 = wn->s1[RS_CH_IQ] * inv_n;
-    const float var = wn->s2_iq * inv_n - m1 * m1; /* >= 0 up to rounding */
+    const float inv_n = 1.0f / (float)hd->n; /* n >= n_min >= 2 */
+    out->mean_fd_V[j] = hd->x0[RS_CH_FD] + hd->s1[RS_CH_FD] * inv_n;
+    out->mean_fq_V[j] = hd->x0[RS_CH_FQ] + hd->s1[RS_CH_FQ] * inv_n;
+    out->mean_id_A[j] = hd->x0[RS_CH_ID] + hd->s1[RS_CH_ID] * inv_n;
+    out->mean_iq_A[j] = hd->x0[RS_CH_IQ] + hd->s1[RS_CH_IQ] * inv_n;
+    out->mean_w_rad_s[j] = hd->x0[RS_CH_W] + hd->s1[RS_CH_W] * inv_n;
+    const float m1 = hd->s1[RS_CH_IQ] * inv_n;
+    const float var = hd->s2_iq * inv_n - m1 * m1; /* >= 0 up to rounding */
     out->iq_std_A[j] = mathx_sqrtf(var);
-    out->mean_fd_V[j] = s->fd[j];
-    out->mean_fq_V[j] = s->fq[j];
-    out->mean_id_A[j] = s->id[j];
-    out->mean_iq_A[j] = s->iq[j];
-    out->mean_w_rad_s[j] = s->w[j];
-    if (!mathx_isfinitef(s->fd[j] + s->fq[j] + s->id[j] + s->iq[j] + s->w[j] + wn->s2_iq)) {
+    if (!mathx_isfinitef(out->mean_fd_V[j] + out->mean_fq_V[j] + out->mean_id_A[j] + out->mean_iq_A[j] +
+                         out->mean_w_rad_s[j] + hd->s2_iq)) {
         return RS_IDENT_NON_FINITE;
     }
     /* sec. 6f: iq's slope over the window, least squares on its batch
@@ -347,26 +503,27 @@ static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_
     const float nbf = (float)wn->nb;
     const float kbar = HALF * (nbf - 1.0f);
     const float skk = nbf * (nbf * nbf - 1.0f) * INV_12;
-    s->diq_dt[j] = (c->Ts_s > 0.0f) ? (wn->km_iq - kbar * wn->m1[RS_ST_IQ]) / (skk * (float)c->n_batch * c->Ts_s)
-                                    : 0.0f;
-    out->diq_dt_A_s[j] = s->diq_dt[j];
-    /* sec. 6e: the means over whole turns where the ripple fit holds */
-    s->fit[j] = ripple_fit(wn, s->Gi[j]);
-    out->ripple_fit[j] = s->fit[j];
-    if (s->fit[j]) {
-        float(*Gi)[3] = s->Gi[j];
-        float h[3];
-        zt_channel(wn, RS_ST_FQ, h);
-        s->fq[j] = wn->x0[RS_CH_FQ] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
-        zt_channel(wn, RS_ST_IQ, h);
-        s->iq[j] = wn->x0[RS_CH_IQ] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
-        zt_channel(wn, RS_ST_W, h);
-        s->w[j] = wn->x0[RS_CH_W] + Gi[0][0] * h[0] + Gi[0][1] * h[1] + Gi[0][2] * h[2];
-        out->mean_fq_V[j] = s->fq[j];
-        out->mean_iq_A[j] = s->iq[j];
-        out->mean_w_rad_s[j] = s->w[j];
-    }
+    out->diq_dt_A_s[j] = (c->Ts_s > 0.0f)
+                             ? (wn->km_iq - kbar * wn->m1[RS_ST_IQ]) / (skk * (float)c->n_batch * c->Ts_s)
+                             : 0.0f;
     return RS_IDENT_OK;
+}
+
+/* sec. 6e: window j's means of fq, iq, w over whole turns (and whole
+ * ripple periods with the 6th) where its ripple fit s->fit holds. */
+static void solve_intercepts(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+{
+    const rs_ident_win_t *wn = s->win[j];
+    const float *x0 = s->head[j]->x0;
+    const rs_ident_ripple_t *f = &s->fit;
+
+    out->ripple_fit[j] = f->fit;
+    out->ripple6_fit[j] = f->fit6;
+    if (f->fit) {
+        out->mean_fq_V[j] = x0[RS_CH_FQ] + intercept(wn, f, RS_ST_FQ);
+        out->mean_iq_A[j] = x0[RS_CH_IQ] + intercept(wn, f, RS_ST_IQ);
+        out->mean_w_rad_s[j] = x0[RS_CH_W] + intercept(wn, f, RS_ST_W);
+    }
 }
 
 /* dR, dpsi, dL from both windows' points (design sec. 1c; (41), (42)
@@ -374,12 +531,12 @@ static rs_ident_result_t solve_window(rs_ident_solver_t *s, int16_t j, rs_ident_
 static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
-    const float *fd = s->fd;
-    const float *fq = s->fq;
-    const float *id = s->id;
-    const float *iq = s->iq;
-    const float *w = s->w;
-    const float *diq_dt = s->diq_dt;
+    const float *fd = out->mean_fd_V;
+    const float *fq = out->mean_fq_V;
+    const float *id = out->mean_id_A;
+    const float *iq = out->mean_iq_A;
+    const float *w = out->mean_w_rad_s;
+    const float *diq_dt = out->diq_dt_A_s;
     float inv_wiq[2];
     int16_t j;
     int16_t it;
@@ -440,8 +597,8 @@ static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 /* design sec. 6: window j's share of se(R^), delta dR = -(w1 delta r2 - w2 delta r1) / den */
 static void solve_se(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
-    out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], out->dR_Ohm, out->dpsi_Wb, s->fit[j], s->Gi[j]));
-    out->R_se_part_Ohm[j] = mathx_fabsf(s->w[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
+    out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], &s->fit, s->se_sums));
+    out->R_se_part_Ohm[j] = mathx_fabsf(out->mean_w_rad_s[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
 }
 
 /* se(R^) against its limit, then the band. */
@@ -464,50 +621,69 @@ static rs_ident_result_t solve_verdict(const rs_ident_cfg_t *c, rs_ident_out_t *
     return RS_IDENT_OK;
 }
 
-void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_win_t *win_2,
-                          rs_ident_out_t *out)
+void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_head_t *head_2)
 {
     s->ri = ri;
     s->win[0] = &ri->win[0];
-    s->win[1] = (win_2 != NULL) ? win_2 : &ri->win[1];
-    s->stage = (uint16_t)STAGE_WIN_0;
+    s->win[1] = &ri->win[1];
+    s->head[0] = &ri->win[0].h;
+    s->head[1] = (head_2 != NULL) ? head_2 : &ri->win[1].h;
+    s->stage = 0u;
     s->result = RS_IDENT_OK;
     s->abs_inv_den = 0.0f;
-    zero_out(out, ri->cfg.R_nom_Ohm);
+    s->fit.fit = false; /* the rest of fit and se_sums: written by their stages before they are read */
+    s->fit.fit6 = false;
 }
 
 bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out)
 {
     rs_ident_result_t r = s->result;
 
+    if (s->stage >= RS_IDENT_SOLVE_STAGES) {
+        return true; /* over: nothing more */
+    }
+    if (s->stage == 0u) {
+        zero_out(out, s->ri->cfg.R_nom_Ohm);
+    }
+    if (!s->ri->valid) {
+        r = RS_IDENT_INVALID_CFG;
+    }
     if (r == RS_IDENT_OK) { /* a refusal skips the stages left, not the calls */
-        switch ((stage_t)s->stage) {
-        case STAGE_WIN_0:
-            r = s->ri->valid ? solve_window(s, 0, out) : RS_IDENT_INVALID_CFG;
+        const uint16_t st = STAGES[s->stage];
+        const int16_t j = (int16_t)(st & 1u);
+        const rs_ident_win_t *wn = s->win[j];
+        switch ((op_t)(st >> 1)) {
+        case OP_FIT:
+            s->fit.fit = ripple_fit(wn, s->fit.Gi);
+            s->fit.fit6 = false;
             break;
-        case STAGE_WIN_1:
-            r = solve_window(s, 1, out);
+        case OP_FIT6:
+            s->fit.fit6 = s->fit.fit && ripple6_fit(wn, &s->fit);
             break;
-        case STAGE_POINTS:
+        case OP_MEANS:
+            r = solve_means(s, j, out);
+            break;
+        case OP_INTERCEPTS:
+            solve_intercepts(s, j, out);
+            break;
+        case OP_POINTS:
             r = solve_points(s, out);
             break;
-        case STAGE_SE_0:
-            solve_se(s, 0, out);
+        case OP_SE_SUMS:
+            residual_sums(wn, out->dR_Ohm, out->dpsi_Wb, s->se_sums);
             break;
-        case STAGE_SE_1:
-            solve_se(s, 1, out);
-            r = solve_verdict(&s->ri->cfg, out);
+        case OP_SE:
+            solve_se(s, j, out);
             break;
-        case STAGE_DONE:
+        case OP_VERDICT:
         default:
+            r = solve_verdict(&s->ri->cfg, out);
             break;
         }
     }
     s->result = r;
-    if (s->stage < (uint16_t)STAGE_DONE) {
-        s->stage++;
-    }
-    return s->stage == (uint16_t)STAGE_DONE;
+    s->stage++;
+    return s->stage >= RS_IDENT_SOLVE_STAGES;
 }
 
 rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
@@ -515,7 +691,7 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out)
     rs_ident_solver_t s;
     bool done = false;
 
-    rs_ident_solve_begin(&s, ri, NULL, out);
+    rs_ident_solve_begin(&s, ri, NULL);
     while (!done) {
         done = rs_ident_solve_step(&s, out);
     }

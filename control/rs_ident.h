@@ -32,7 +32,11 @@
  * alpha + a C_i + b S_i (C_i, S_i the batch means of cos, sin theta_el)
  * and the intercept alpha - the mean over whole turns - and its standard
  * error are used (design sec. 6e); where the fit is ill-conditioned
- * (batches of whole turns, standstill, no angle) the plain means.
+ * (batches of whole turns, standstill, no angle) the plain means. The
+ * fit also takes the 6th harmonic (C6_i, S6_i: batch means of cos, sin
+ * 6 theta_el), the ripple an untold inverter error (dead time) leaves in
+ * fq^, where it is conditioned and there are RS_IDENT_RIPPLE6_BATCHES_MIN
+ * batches.
  * A window that is still settling carries -dL <diq/dt> in fq^: with Ts_s
  * set, each window's mean slope of iq (least squares on its batch means)
  * and the estimated dL take it out (design sec. 6f).
@@ -57,6 +61,7 @@
 #define RS_IDENT_BATCHES_MIN           4u    /* batches per window for a spread at all */
 #define RS_IDENT_RIPPLE_BATCHES_MIN    6u    /* and for the fit of the electrical-frequency ripple */
 #define RS_IDENT_RIPPLE_DET_MIN        0.01f /* det(Z'Z / nb) below which the fit is not used */
+#define RS_IDENT_RIPPLE6_BATCHES_MIN   8u    /* batches for the fit with the 6th harmonic too (3 dof left) */
 
 typedef enum { RS_IDENT_WINDOW_NONE = 0, RS_IDENT_WINDOW_1 = 1, RS_IDENT_WINDOW_2 = 2 } rs_ident_window_t;
 
@@ -90,11 +95,15 @@ typedef enum { RS_CH_FD = 0, RS_CH_FQ, RS_CH_ID, RS_CH_IQ, RS_CH_W, RS_CH_COUNT 
 typedef enum { RS_ST_FQ = 0, RS_ST_IQ, RS_ST_W, RS_ST_COUNT } rs_ident_st_t;
 #define RS_ST_PAIRS 6
 
-typedef struct {              /* sums relative to the first sample: no cancellation */
+typedef struct {              /* a window's sample sums, relative to the first sample: no cancellation */
     uint32_t n;
     float x0[RS_CH_COUNT];    /* first sample */
     float s1[RS_CH_COUNT];    /* sum of (x - x0) */
     float s2_iq;              /* sum of (iq - iq0)^2 */
+} rs_ident_head_t;
+
+typedef struct {
+    rs_ident_head_t h;        /* the sample sums: they change every sample */
     uint32_t bn;              /* samples in the batch being filled */
     float bsum[RS_ST_COUNT];  /* its sums of (x - x0) */
     uint32_t nb;              /* complete batches */
@@ -103,6 +112,9 @@ typedef struct {              /* sums relative to the first sample: no cancellat
     float bcs[2];             /* batch being filled: sums of cos, sin theta_el */
     float g[5];               /* over batches: sum of C, S, C C, C S, S S (batch means of cos, sin) */
     float mcs[RS_ST_COUNT][2];   /* sum of m_a C and of m_a S */
+    float bcs6[2];            /* batch being filled: sums of cos, sin 6 theta_el (design sec. 6e) */
+    float g6[9];              /* over batches: sum of C6, S6, C6 C6, C6 S6, S6 S6, C C6, C S6, S C6, S S6 */
+    float mcs6[RS_ST_COUNT][2];  /* sum of m_a C6 and of m_a S6 */
     float km_iq;              /* sum of k m_iq(k), k = 0, 1, ...: the slope of iq's batch means */
 } rs_ident_win_t;
 
@@ -128,6 +140,7 @@ typedef struct {
                                * correction exceeds se(R^)'s limit (est.c; else 0) */
     float r_se_V[2];          /* standard error of the residual's mean per window */
     bool ripple_fit[2];       /* the means are the ripple fit's intercepts (sec. 6e) */
+    bool ripple6_fit[2];      /*   and the fit has the 6th harmonic (an untold inverter error) too */
     float diq_dt_A_s[2];      /* mean diq/dt per window (0 without Ts_s) [A/s] */
     uint32_t batches[2];      /* complete batches per window */
     float iq_std_A[2];        /* measured std of iq per window (monitor) */
@@ -142,16 +155,22 @@ typedef struct {
 void rs_ident_cfg_defaults(rs_ident_cfg_t *cfg, float R_nom_Ohm);
 
 /* Copies cfg (finite, R_nom > 0, 0 <= R_min <= R_nom <= R_max,
- * R_se_max_rel > 0, 0 < ratio < 1, n_min >= 2, n_batch >= 2) and empties
+ * R_se_max_rel > 0, 0 < ratio < 1, n_min >= 2, n_batch >
+ * RS_IDENT_SOLVE_STAGES) and empties
  * both windows. Background. */
 bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg);
 
 /* Empties both windows. Background or ISR. */
 void rs_ident_reset(rs_ident_t *ri);
 
-/* Window win of *src into *dst, field by field (no library memcpy): the
- * window as it is, for a staged solve while the original goes on filling. ISR. */
-void rs_ident_copy_window(rs_ident_win_t *dst, const rs_ident_t *src, rs_ident_window_t win);
+/* Window win's sample sums of *src into *dst, field by field (no library
+ * memcpy): for a staged solve while the window goes on filling (its batch
+ * sums hold still for n_batch - 1 samples after a batch closed). ISR. */
+void rs_ident_copy_head(rs_ident_head_t *dst, const rs_ident_t *src, rs_ident_window_t win);
+
+/* true when window win has no incomplete batch (none begun, or one just
+ * closed): a staged solve of it may begin. ISR. */
+bool rs_ident_batch_closed(const rs_ident_t *ri, rs_ident_window_t win);
 
 /* One period, after smo_step(): the observer's fd_V, fq_V [V] and the
  * measured id_A, iq_A [A], omega_el_rad_s [rad/s] into window win
@@ -171,34 +190,46 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
 rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
 
 /* rs_ident_solve in RS_IDENT_SOLVE_STAGES bounded stages, one per call
- * (each window's means and ripple fit, the points' solve, each window's
- * standard error): the same result and *out, always after exactly that
- * many calls (a refusal skips the work left, not the calls). The windows
- * solved must not change until the last stage: an ISR that goes on
- * filling window 2 solves a copy of it (rs_ident_copy_window). */
-#define RS_IDENT_SOLVE_STAGES 5u
+ * (per window: its ripple fit, the fit's 6th harmonic, its means, the
+ * fit's intercepts; the points' solve; per window: the ripple fit again
+ * where it is not kept, the residual's sums, its standard error; the
+ * verdict): the same result and *out, always after exactly that many
+ * calls (a refusal skips the work left, not the calls). The windows'
+ * points pass from stage to stage in *out: the same *out each call. The
+ * windows solved must not change until the last stage: an ISR that goes
+ * on filling window 2 begins at a batch boundary (rs_ident_batch_closed)
+ * with a copy of its sample sums (rs_ident_copy_head); its batch sums
+ * hold still while the stages run (n_batch > RS_IDENT_SOLVE_STAGES,
+ * rs_ident_init). */
+#define RS_IDENT_SOLVE_STAGES 16u
+
+typedef struct {              /* a window's ripple fit (design sec. 6e), kept between the stages that use it */
+    bool fit;                 /* the fit of (1, C, S) holds */
+    bool fit6;                /*   and its 6th harmonic */
+    float Gi[3][3];           /* G^-1, G = Z'Z */
+    float P[3][2];            /* Gi B (B: the 6th harmonic's cross sums with 1, C, S); u = its row 0 */
+    float Si6[3];             /* inverse of the Schur complement D - B' P: 00, 01, 11 */
+} rs_ident_ripple_t;
 
 typedef struct {
     const rs_ident_t *ri;     /* the configuration */
-    const rs_ident_win_t *win[2];  /* the windows solved: ri's, or a copy of window 2 */
+    const rs_ident_win_t *win[2];    /* the windows solved (their batch sums) */
+    const rs_ident_head_t *head[2];  /* their sample sums: ri's, or a copy of window 2's */
     uint16_t stage;           /* the next stage */
     rs_ident_result_t result; /* valid once rs_ident_solve_step returned true */
-    float fd[2], fq[2], id[2], iq[2], w[2];   /* the windows' points */
-    float diq_dt[2];          /* iq's mean slope per window [A/s] */
-    bool fit[2];              /* the ripple fit holds */
-    float Gi[2][3][3];        /* its inverse normal matrices */
     float abs_inv_den;        /* 1 / |(41)'s denominator| [1/(A rad/s)] */
+    rs_ident_ripple_t fit;    /* the ripple fit of the window being solved */
+    float se_sums[6];         /* the residual's sums between its two stages: r'r, Z'r, Z6'r */
 } rs_ident_solver_t;
 
-/* Starts a staged solve of *ri's windows, window 2 from *win_2 instead
- * when not NULL (a copy); *out to its empty values (R_est_Ohm = R_nom).
- * No division. ISR. */
-void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_win_t *win_2,
-                          rs_ident_out_t *out);
+/* Starts a staged solve of *ri's windows, window 2's sample sums from
+ * *head_2 instead when not NULL (a copy). No division. ISR. */
+void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_head_t *head_2);
 
-/* One stage into *out; true when the solve is over (s->result, *out as
- * rs_ident_solve leaves them; further calls do nothing). At most about 8
- * divisions and 3 square roots. ISR. */
+/* One stage into *out (the first sets *out to its empty values, R_est_Ohm
+ * = R_nom); true when the solve is over (s->result, *out as rs_ident_solve
+ * leaves them; further calls do nothing). At most 2 divisions and 1
+ * square root. ISR. */
 bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out);
 
 #endif /* RS_IDENT_H */

@@ -105,21 +105,21 @@ static after_t after_check(const rsid_seq_t *q, rs_ident_result_t r, const rs_id
     return ((q->cfg.mode == APP_RSID_SPEEDS) && (q->repeats < q->cfg.repeats_max)) ? AFTER_REPEAT : AFTER_FINISH;
 }
 
-/* At window 2's nominal end, and every batch after it while no check is
- * under way: a copy of window 2 as it is now, and the staged solve of it
- * with window 1 (complete, unchanged until the check ends)
- * started (one stage per period from the next, the result acted on in the
- * period after the last: the ISR's worst period stays near its typical
- * one; window 2 goes on filling meanwhile). */
+/* From window 2's nominal end, at each of its batch boundaries while no
+ * check is under way: a copy of window 2's sample sums as they are now,
+ * and the staged solve of it with window 1 (complete, unchanged until the
+ * check ends) started (one stage per period from the next, the result
+ * acted on in the period after the last: the ISR's worst period stays
+ * near its typical one; window 2 goes on filling meanwhile, its batch
+ * sums unchanged until the check ends: n_batch > RS_IDENT_SOLVE_STAGES). */
 static void check_begin(rsid_seq_t *q, ctrl_t *c)
 {
     const uint32_t batch = ctrl_rsid_cfg(c)->n_batch;
 
     q->check_ticks = (batch > 0u) ? batch : 1u;
-    if (mathx_umod_u32(q->ticks - q->end_tick, q->check_ticks) != 0u) { /* no 32-bit %: RTS call from flash */
-        return; /* between checks */
+    if (!ctrl_rsid_stage_begin(c, &q->solver, &q->win2)) {
+        return; /* inside a batch of window 2: at its end */
     }
-    ctrl_rsid_stage_begin(c, &q->solver, &q->win2); /* window 1 is complete: only window 2 copied */
     q->check_tick = q->ticks;
     q->check = RSID_CHECK_SOLVING;
 }
@@ -129,11 +129,16 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
     const uint32_t k = q->ticks;
     rs_ident_window_t win = RS_IDENT_WINDOW_NONE;
     bool moving = false;
+    /* a solved check is acted on in this period: known before the sample */
+    const after_t next = (q->check == RSID_CHECK_SOLVED) ? after_check(q, q->solver.result, ctrl_rsid_out(c))
+                                                         : AFTER_GO_ON;
 
     if ((k >= q->win1_tick) && (k < q->win1_tick + q->window_ticks)) {
         win = RS_IDENT_WINDOW_1;
-    } else if (k >= q->win2_tick) {
-        win = RS_IDENT_WINDOW_2; /* up to end_tick, and on while lengthened or checked */
+    } else if ((k >= q->win2_tick) && (next != AFTER_FINISH)) {
+        /* up to end_tick, and on while lengthened or checked; not in the
+         * period that finishes (the windows are emptied in it) */
+        win = RS_IDENT_WINDOW_2;
     }
     ctrl_rsid_window(c, win);
     if (q->cfg.mode == APP_RSID_SPEEDS) {
@@ -169,7 +174,6 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
         return app_step_running();
     }
     q->check = RSID_CHECK_NONE;
-    const after_t next = after_check(q, q->solver.result, ctrl_rsid_out(c));
     if (next == AFTER_REPEAT) {
         /* back to point 1 (the target follows ticks), settle_2 after the
          * ramp, both windows once more: their sums go on accumulating */

@@ -18,9 +18,11 @@
  * The speed it commands goes into its own ctrl_step only: ctrl.ref keeps
  * the outside reference throughout. A refused R^ is a fault naming the
  * reason (RSID_*) with the quantity and its limit.
- * The windows are checked at window 2's nominal end, and every batch
- * after it while window 2 is lengthened: window 1 (complete) with a copy
- * of window 2 (rs_ident_copy_window) is solved in RS_IDENT_SOLVE_STAGES
+ * The windows are checked at window 2's nominal end (at its batch
+ * boundary), and every batch after it while window 2 is lengthened:
+ * window 1 (complete) with window 2 (its batch sums, which hold still
+ * for a batch, and a copy of its sample sums, rs_ident_copy_head) is
+ * solved in RS_IDENT_SOLVE_STAGES
  * stages, one per period
  * (rs_ident_solve_step: no ISR period carries a whole solve), while
  * window 2 goes on filling; the sequence acts on the result in the period
@@ -100,7 +102,7 @@ typedef struct {
     /* the check of the windows, solved in stages over the periods after it */
     rsid_check_t check;         /* where the check is */
     uint32_t check_tick;        /* the tick it was started at */
-    rs_ident_win_t win2;        /* window 2 then (rs_ident_copy_window) */
+    rs_ident_head_t win2;       /* window 2's sample sums then (rs_ident_copy_head) */
     rs_ident_solver_t solver;   /* the solve, into the controller's step-1 result (ctrl_rsid_out) */
 } rsid_seq_t;
 

@@ -388,8 +388,8 @@ static inline void identify_periods(int from, int to, te_plan_t plan)
 static inline void identify_until_last(te_plan_t plan)
 {
     identify_periods(0, RSID_LAST, plan);
-    assert_int_equal(app.ctrl.est.ri.win[0].n, RSID_WIN);
-    assert_int_equal(app.ctrl.est.ri.win[1].n, RSID_LAST - RSID_WIN2);
+    assert_int_equal(app.ctrl.est.ri.win[0].h.n, RSID_WIN);
+    assert_int_equal(app.ctrl.est.ri.win[1].h.n, RSID_LAST - RSID_WIN2);
 }
 
 #endif /* APP_HARNESS_H */

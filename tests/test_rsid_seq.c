@@ -73,9 +73,9 @@ static void identify_fault_case(app_cfg_t *cfg, double R_true, te_plan_t plan, b
     dyno_start(R_true);
     identify_periods(0, RSID_END - 1, plan);
     if (nan_window) {
-        app.ctrl.est.ri.win[1].s1[RS_CH_FQ] = NAN; /* what no finite sample can give: a corrupted sum */
+        app.ctrl.est.ri.win[1].h.s1[RS_CH_FQ] = NAN; /* what no finite sample can give: a corrupted sum */
     }
-    identify_periods(RSID_END - 1, RSID_LAST, plan); /* the check's copy taken in the first */
+    identify_periods(RSID_END - 1, RSID_LAST, plan); /* the check's copy of the sample sums taken in the first */
     dyno_isr(te_plan(plan, RSID_LAST), true);
     assert_int_equal(app.state, APP_STATE_FAULT);
     assert_int_equal(app.fault, fault);

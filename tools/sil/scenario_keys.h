@@ -158,7 +158,7 @@
     X(identify, R_se_max_rel, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.rsid.R_se_max_rel, F32, 1.0), SC_SAME, \
       "largest standard error of R^ accepted, x R^") \
     X(identify, batch_s, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.rsid.n_batch, PERIODS, 1.0), SC_SAME, \
-      "batch of the standard error's batch means [s]") \
+      "batch of the standard error's batch means [s] (more than the staged check's 16 periods, else CONFIG)") \
     X(identify, window_max_s, REAL, SC_GE0, SC_PARAMS, SC_A(rsid.window_max_s, F32, 1.0), SC_SAME, \
       "window 2 is lengthened up to this while the standard error of R^ is too large [s]") \
     X(identify, repeats_max, UINT, SC_IN(0.0, 100.0), SC_PARAMS, SC_A(rsid.repeats_max, U16, 1.0), SC_SAME, \
