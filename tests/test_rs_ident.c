@@ -232,24 +232,29 @@ static void scattered_window_is_refused_by_its_standard_error(void **state)
     assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
 }
 
-/* An electrical-frequency ripple of 0.2 V on fq^ (what ADC offsets give)
- * over 60 ms windows at 500 r/min: 1.5 turns, so the plain means keep part
- * of it and the batch means scatter with it. With the angle the fit
- * alpha + a C + b S is exact for a first harmonic: R^ exact, se(R^) ~ 0;
- * without it (no fit) the scatter counts as noise. */
-static void feed_ripple(rs_ident_t *ri, rs_ident_window_t win, double iq, double w, bool with_angle)
+#define RIPPLE_1_V 0.2 /* the first harmonic's amplitude [V] */
+#define RIPPLE_6_V 0.5 /* the 6th harmonic's [V] */
+
+/* 600 periods of window win at iq, w: fq^ = -(R - R0) iq + amp_V cos(h theta + 0.7),
+ * with cos, sin theta given to the fit when with_angle. */
+static void feed_ripple(rs_ident_t *ri, rs_ident_window_t win, double iq, double w, bool with_angle, double amp_V,
+                        double h)
 {
-    const double A = 0.2;
     const double phi = 0.7;
     for (int k = 0; k < 600; k++) {
         const double th = w * OP_TS * k;
-        const double fq = -(R_NOM - OP_R0) * iq + A * cos(th + phi);
+        const double fq = -(R_NOM - OP_R0) * iq + amp_V * cos(h * th + phi);
         const float c = with_angle ? (float)cos(th) : 0.0f;
         const float s = with_angle ? (float)sin(th) : 0.0f;
         rs_ident_step_el(ri, win, 0.0f, (float)fq, 0.0f, (float)iq, (float)w, c, s);
     }
 }
 
+/* An electrical-frequency ripple of 0.2 V on fq^ (what ADC offsets give)
+ * over 60 ms windows at 500 r/min: 1.5 turns, so the plain means keep part
+ * of it and the batch means scatter with it. With the angle the fit
+ * alpha + a C + b S is exact for a first harmonic: R^ exact, se(R^) ~ 0;
+ * without it (no fit) the scatter counts as noise. */
 static void electrical_ripple_is_fitted_not_counted_as_noise(void **state)
 {
     (void)state;
@@ -257,12 +262,12 @@ static void electrical_ripple_is_fitted_not_counted_as_noise(void **state)
     rs_ident_out_t plain;
     const double w = op_w_el(500.0);
     rs_ident_t ri = make(R_NOM);
-    feed_ripple(&ri, RS_IDENT_WINDOW_1, 1.85, w, true);
-    feed_ripple(&ri, RS_IDENT_WINDOW_2, 3.7, w, true);
+    feed_ripple(&ri, RS_IDENT_WINDOW_1, 1.85, w, true, RIPPLE_1_V, 1.0);
+    feed_ripple(&ri, RS_IDENT_WINDOW_2, 3.7, w, true, RIPPLE_1_V, 1.0);
     (void)rs_ident_solve(&ri, &fit);
     rs_ident_reset(&ri);
-    feed_ripple(&ri, RS_IDENT_WINDOW_1, 1.85, w, false);
-    feed_ripple(&ri, RS_IDENT_WINDOW_2, 3.7, w, false);
+    feed_ripple(&ri, RS_IDENT_WINDOW_1, 1.85, w, false, RIPPLE_1_V, 1.0);
+    feed_ripple(&ri, RS_IDENT_WINDOW_2, 3.7, w, false, RIPPLE_1_V, 1.0);
     (void)rs_ident_solve(&ri, &plain);
     printf("    0.2 V ripple at 25 Hz, 1.5 turns: fitted R^ %.5f Ohm, se %.2e; plain R^ %.5f, se %.4f Ohm\n",
            fit.R_est_Ohm, fit.R_se_Ohm, R_NOM - plain.dR_Ohm, plain.R_se_Ohm);
@@ -282,19 +287,6 @@ static void electrical_ripple_is_fitted_not_counted_as_noise(void **state)
  * (batch means' spread ~ 0.86 A / sqrt 2 = 0.3 V, se(r) 0.09 V a window,
  * se(R^) ~ sqrt 2 x 0.09 / 1.85 = 0.07 Ohm, above the 1.5 % limit of
  * 0.045 Ohm: the refusal this fit removes). */
-static void feed_ripple6(rs_ident_t *ri, rs_ident_window_t win, double iq, double w, bool with_angle)
-{
-    const double A = 0.5;
-    const double phi = 0.7;
-    for (int k = 0; k < 600; k++) {
-        const double th = w * OP_TS * k;
-        const double fq = -(R_NOM - OP_R0) * iq + A * cos(6.0 * th + phi);
-        const float c = with_angle ? (float)cos(th) : 0.0f;
-        const float s = with_angle ? (float)sin(th) : 0.0f;
-        rs_ident_step_el(ri, win, 0.0f, (float)fq, 0.0f, (float)iq, (float)w, c, s);
-    }
-}
-
 static void sixth_harmonic_ripple_is_fitted_not_counted_as_noise(void **state)
 {
     (void)state;
@@ -302,12 +294,12 @@ static void sixth_harmonic_ripple_is_fitted_not_counted_as_noise(void **state)
     rs_ident_out_t plain;
     const double w = op_w_el(200.0);
     rs_ident_t ri = make(R_NOM);
-    feed_ripple6(&ri, RS_IDENT_WINDOW_1, 1.85, w, true);
-    feed_ripple6(&ri, RS_IDENT_WINDOW_2, 3.7, w, true);
+    feed_ripple(&ri, RS_IDENT_WINDOW_1, 1.85, w, true, RIPPLE_6_V, 6.0);
+    feed_ripple(&ri, RS_IDENT_WINDOW_2, 3.7, w, true, RIPPLE_6_V, 6.0);
     assert_int_equal(rs_ident_solve(&ri, &fit), RS_IDENT_OK);
     rs_ident_reset(&ri);
-    feed_ripple6(&ri, RS_IDENT_WINDOW_1, 1.85, w, false);
-    feed_ripple6(&ri, RS_IDENT_WINDOW_2, 3.7, w, false);
+    feed_ripple(&ri, RS_IDENT_WINDOW_1, 1.85, w, false, RIPPLE_6_V, 6.0);
+    feed_ripple(&ri, RS_IDENT_WINDOW_2, 3.7, w, false, RIPPLE_6_V, 6.0);
     assert_int_equal(rs_ident_solve(&ri, &plain), RS_IDENT_NOT_STEADY);
     printf("    0.5 V ripple at 60 Hz, 3.6 periods: fitted R^ %.5f Ohm, se %.2e; plain R^ %.5f, se %.4f Ohm\n",
            fit.R_est_Ohm, fit.R_se_Ohm, plain.R_raw_Ohm, plain.R_se_Ohm);
@@ -326,8 +318,8 @@ static void sixth_harmonic_left_out_on_whole_periods(void **state)
     rs_ident_out_t o;
     const double w = op_w_el(2000.0 / 3.0); /* 33.3 Hz electrical: the 6th at 200 Hz, one per 5 ms batch */
     rs_ident_t ri = make(R_NOM);
-    feed_ripple(&ri, RS_IDENT_WINDOW_1, 1.85, w, true);
-    feed_ripple(&ri, RS_IDENT_WINDOW_2, 3.7, w, true);
+    feed_ripple(&ri, RS_IDENT_WINDOW_1, 1.85, w, true, RIPPLE_1_V, 1.0);
+    feed_ripple(&ri, RS_IDENT_WINDOW_2, 3.7, w, true, RIPPLE_1_V, 1.0);
     assert_int_equal(rs_ident_solve(&ri, &o), RS_IDENT_OK);
     assert_true(o.ripple_fit[0] && o.ripple_fit[1]);
     assert_false(o.ripple6_fit[0] || o.ripple6_fit[1]);
@@ -519,8 +511,8 @@ static void staged_solve_holds_while_window_2_fills(void **state)
     rs_ident_solver_t s;
     rs_ident_head_t head;
 
-    feed_ripple6(&ri, RS_IDENT_WINDOW_1, op_iq_of_te(2.0), w, true);
-    feed_ripple6(&ri, RS_IDENT_WINDOW_2, op_iq_of_te(4.0), w, true);
+    feed_ripple(&ri, RS_IDENT_WINDOW_1, op_iq_of_te(2.0), w, true, RIPPLE_6_V, 6.0);
+    feed_ripple(&ri, RS_IDENT_WINDOW_2, op_iq_of_te(4.0), w, true, RIPPLE_6_V, 6.0);
     assert_true(rs_ident_batch_closed(&ri, RS_IDENT_WINDOW_2)); /* 600 samples: 12 whole batches */
     memset(&whole, 0, sizeof whole);
     memset(&staged, 0, sizeof staged);
