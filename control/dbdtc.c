@@ -218,7 +218,6 @@ static uint16_t limit_to_hexagon(dq_t *u_dq_V, float sin_in, float cos_in, float
     const float ud = u_dq_V->d;
     const float uq = u_dq_V->q;
 
-
     /* The hexagon's vertices: 2/3 Vdc on a phase axis at 0, 60 or 120 deg,
      * either sign; in the rotor frame the axes point along (c, -s) = (h_1,
      * -g_1), (h_2, -g_2) and (-h_0, g_0) (written as the rotation gives
