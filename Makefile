@@ -96,6 +96,10 @@ $(OUT)/lib/%.a:
 	$(AR) rcs $@ $^
 
 # Objects are rebuilt when OPT changes (the stamp's text changes only then).
+# -frandom-seed: the seed of the names in LTO sections from the source's path
+# instead of a random one, so that a compile of the same source gives the
+# same object to the byte and an unchanged drive_sil re-runs no scenario
+# (`make sil`'s program stamp sums the objects).
 OPT_STAMP := $(OUT)/obj/opt.stamp
 $(OPT_STAMP): FORCE
 	@mkdir -p $(@D)
@@ -103,7 +107,7 @@ $(OPT_STAMP): FORCE
 
 $(OUT)/obj/%.o: %.c $(OPT_STAMP) | host-deps
 	@mkdir -p $(@D)
-	$(CC) $(OPT) $(call cflags_for,$<) $(call inc_for,$<) -MMD -MP -c $< -o $@
+	$(CC) $(OPT) -frandom-seed=$< $(call cflags_for,$<) $(call inc_for,$<) -MMD -MP -c $< -o $@
 
 # ---- tests ---------------------------------------------------------------
 # Ceedling's convention: tests/test_<module>.c, one runner per file. A test
