@@ -13,14 +13,14 @@ void align_init(align_t *a, const align_cfg_t *cfg, float Ts_s)
     align_start(a);
 }
 
-void align_start(align_t *a)
+FLASHFUNC void align_start(align_t *a)
 {
     a->ticks = 0u;
 }
 
 /* The vector of period k: the pre-position vector ramped from 0 and held,
  * then cross-faded onto phase a and held there. */
-static ab_t align_vector(const align_t *a, uint32_t k)
+FLASHFUNC static ab_t align_vector(const align_t *a, uint32_t k)
 {
     const uint32_t turn = a->ramp_ticks + a->prepos_ticks; /* first period of the turn */
     float w_pre = 0.0f; /* weights of the pre-position vector and of the one on phase a */
@@ -43,7 +43,7 @@ static ab_t align_vector(const align_t *a, uint32_t k)
     return u;
 }
 
-app_step_t align_step(align_t *a, ab_t *u_ab_V)
+FLASHFUNC app_step_t align_step(align_t *a, ab_t *u_ab_V)
 {
     const uint32_t k = a->ticks;
     const uint32_t end = 2u * a->ramp_ticks + a->prepos_ticks + a->settle_ticks;

@@ -13,7 +13,7 @@
 /* ---- outputs and faults ------------------------------------------------- */
 
 /* PWM off first, then the bookkeeping: the outputs go off in this ISR call. */
-void app_latch_fault(app_t *app, const app_step_t *f, const hal_sample_t *s)
+RAMFUNC void app_latch_fault(app_t *app, const app_step_t *f, const hal_sample_t *s)
 {
     hal_pwm_disable();
     app->pwm_on = false;
@@ -29,7 +29,7 @@ void app_latch_fault(app_t *app, const app_step_t *f, const hal_sample_t *s)
 /* A step's period written out: the duties unless the output is not
  * finite (the outputs go on after the first ones are written), then the
  * step's fault if it has one. */
-app_step_t app_output(app_t *app, app_step_t r, const hal_sample_t *s)
+RAMFUNC app_step_t app_output(app_t *app, app_step_t r, const hal_sample_t *s)
 {
     if ((app->out.flags & CTRL_FLAG_NONFINITE) == 0u) {
         hal_pwm_write(app->out.duty);
@@ -45,13 +45,13 @@ app_step_t app_output(app_t *app, app_step_t r, const hal_sample_t *s)
 }
 
 /* The controller's inputs: this period's samples, offsets subtracted. */
-static ctrl_in_t ctrl_input(const app_t *app, const hal_sample_t *s)
+RAMFUNC static ctrl_in_t ctrl_input(const app_t *app, const hal_sample_t *s)
 {
     const ctrl_in_t in = { s->ia_A - app->offset_ia_A, s->ib_A - app->offset_ib_A, s->vdc_V, s->enc_count };
     return in;
 }
 
-static void stop_to_idle(app_t *app)
+RAMFUNC static void stop_to_idle(app_t *app)
 {
     const float d[3] = { DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE };
 
@@ -65,7 +65,7 @@ static void stop_to_idle(app_t *app)
 
 /* COMMISSION: the sequence's vector through ctrl's output path; done:
  * gates off, IDLE, the results valid, the measured offset taken. */
-static void commission_state(app_t *app, const hal_sample_t *s)
+RAMFUNC static void commission_state(app_t *app, const hal_sample_t *s)
 {
     ab_t u;
     app_step_t r;
@@ -90,7 +90,7 @@ static void commission_state(app_t *app, const hal_sample_t *s)
 }
 
 /* In RAM with the ISR path: the link's capture reads it. */
-uint16_t app_comm_result(const app_t *app)
+RAMFUNC uint16_t app_comm_result(const app_t *app)
 {
     comm_outcome_t r = COMM_NONE;
 
@@ -107,13 +107,13 @@ uint16_t app_comm_result(const app_t *app)
 }
 
 /* A refusal of R^ itself (not the controller's output, not its settings). */
-static bool is_rsid_refusal(app_fault_t f)
+RAMFUNC static bool is_rsid_refusal(app_fault_t f)
 {
     return (f == APP_FAULT_RSID_TOO_FEW) || (f == APP_FAULT_RSID_NOT_STEADY) || (f == APP_FAULT_RSID_DEGENERATE) ||
            (f == APP_FAULT_RSID_NON_FINITE) || (f == APP_FAULT_RSID_OUT_OF_BAND) || (f == APP_FAULT_RSID_D_AXIS);
 }
 
-static void identify_state(app_t *app, const hal_sample_t *s)
+RAMFUNC static void identify_state(app_t *app, const hal_sample_t *s)
 {
     const ctrl_in_t in = ctrl_input(app, s);
     app_step_t r = rsid_seq_step(&app->rsid, &app->ctrl, &in, &app->out);
@@ -134,7 +134,7 @@ static void identify_state(app_t *app, const hal_sample_t *s)
 }
 
 /* PWM_CHECK (level 1): the fixed duties, outputs on. */
-static void pwm_check_state(app_t *app, const hal_sample_t *s)
+RAMFUNC static void pwm_check_state(app_t *app, const hal_sample_t *s)
 {
     int16_t k;
 
@@ -146,7 +146,7 @@ static void pwm_check_state(app_t *app, const hal_sample_t *s)
 }
 
 /* ADC_CHECK (level 2): outputs off, the readings into the report. */
-static void adc_check_state(app_t *app, const hal_sample_t *s)
+RAMFUNC static void adc_check_state(app_t *app, const hal_sample_t *s)
 {
     app->adc.ia_A = s->ia_A;
     app->adc.ib_A = s->ib_A;
@@ -155,7 +155,7 @@ static void adc_check_state(app_t *app, const hal_sample_t *s)
 
 /* ENC_CHECK (level 3): the turning vector through ctrl's output path; the
  * check's verdict ends it (IDLE) or latches its fault. */
-static void enc_check_state(app_t *app, const hal_sample_t *s)
+RAMFUNC static void enc_check_state(app_t *app, const hal_sample_t *s)
 {
     const ab_t i = clarke_2ph(s->ia_A - app->offset_ia_A, s->ib_A - app->offset_ib_A);
     ab_t u;
@@ -172,7 +172,7 @@ static void enc_check_state(app_t *app, const hal_sample_t *s)
 
 /* RUN: ctrl_step every period; after SPEEDS, at the handover ramp until
  * the outside reference is reached. */
-static void run_state(app_t *app, const hal_sample_t *s)
+RAMFUNC static void run_state(app_t *app, const hal_sample_t *s)
 {
     const ctrl_in_t in = ctrl_input(app, s);
     app_step_t r = app_step_running();
@@ -192,7 +192,7 @@ static void run_state(app_t *app, const hal_sample_t *s)
  * period: the references every time, a mode or method when the operator
  * changed it (the app's own choice, e.g. the conventional method after a
  * refused step 1, stands until then). */
-static void take_operator(app_t *app)
+RAMFUNC static void take_operator(app_t *app)
 {
     if (app->req_op != 0u) {
         const app_op_t op = app->op_req;
@@ -211,7 +211,7 @@ static void take_operator(app_t *app)
 
 /* Background requests; stop wins over start. A fault reset is FAULT's
  * only: one found here is dropped, never kept for the next fault. */
-static void take_requests(app_t *app, const hal_sample_t *s)
+RAMFUNC static void take_requests(app_t *app, const hal_sample_t *s)
 {
     app->req_fault_reset = 0u;
     if (app->req_stop != 0u) {
@@ -231,13 +231,13 @@ static void take_requests(app_t *app, const hal_sample_t *s)
     }
 }
 
-static app_step_t protection(const app_t *app, const hal_sample_t *s)
+RAMFUNC static app_step_t protection(const app_t *app, const hal_sample_t *s)
 {
     return protect_check(&app->prot, s, app->offset_ia_A, app->offset_ib_A, ctrl_speed_m_rad_s(&app->ctrl));
 }
 
 /* The checks on the periods' history; the duties written last call are the ones just applied. */
-static app_step_t watch(app_t *app, const hal_sample_t *s)
+RAMFUNC static app_step_t watch(app_t *app, const hal_sample_t *s)
 {
     protect_watch_in_t in;
 
@@ -255,7 +255,7 @@ static app_step_t watch(app_t *app, const hal_sample_t *s)
 
 /* FAULT: outputs stay off; a reset is taken only if no check fails now,
  * and never from FLASH_CRC (the image itself is bad). */
-static void fault_state(app_t *app, const hal_sample_t *s)
+RAMFUNC static void fault_state(app_t *app, const hal_sample_t *s)
 {
     app->req_start = 0u; /* a start asked for while faulted is not kept */
     app->req_commission = 0u;
@@ -270,7 +270,7 @@ static void fault_state(app_t *app, const hal_sample_t *s)
 }
 
 /* The states but RUN and FAULT: their step for this period. */
-static void other_state(app_t *app, const hal_sample_t *s)
+RAMFUNC static void other_state(app_t *app, const hal_sample_t *s)
 {
     switch (app->state) {
     case APP_STATE_CALIBRATE:
@@ -299,7 +299,7 @@ static void other_state(app_t *app, const hal_sample_t *s)
     }
 }
 
-void app_isr(app_t *app)
+RAMFUNC void app_isr(app_t *app)
 {
     hal_sample_t s;
     uint32_t t_entry;

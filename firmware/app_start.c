@@ -1,12 +1,12 @@
 /* app_start.c - the app's start sequence (app.h): the transitions a
  * start or a commissioning takes, once per start, and the CALIBRATE and
  * ALIGN steps. ISR context, called by app.c; a file of its own because it
- * runs from flash (firmware/target.mk FLASH_ISR_SRCS): each function runs
+ * runs from flash (FLASHFUNC, control/c28x_portable.h): each function runs
  * once per start, or in CALIBRATE or ALIGN, before the drive takes the
  * user's reference. */
 #include "app_start.h"
 
-static void enter_run(app_t *app)
+FLASHFUNC static void enter_run(app_t *app)
 {
     ctrl_reset(&app->ctrl);
     app->state = APP_STATE_RUN;
@@ -15,7 +15,7 @@ static void enter_run(app_t *app)
 
 /* After ALIGN, done or skipped: step 1 of the proposed method, or RUN
  * (level 4: RUN, no step 1 or 2). */
-static void leave_align(app_t *app)
+FLASHFUNC static void leave_align(app_t *app)
 {
     if ((app->cfg.rsid.mode == APP_RSID_OFF) || (app->level == LEVEL_TORQUE)) {
         enter_run(app);
@@ -31,7 +31,7 @@ static void leave_align(app_t *app)
 }
 
 /* The controller's blocks this start needs (ctrl.h CTRL_CFG_NEEDED_*). */
-static ctrl_status_t config_needed(const app_t *app)
+FLASHFUNC static ctrl_status_t config_needed(const app_t *app)
 {
     return ((app->cfg.rsid.mode == APP_RSID_OFF) || (app->level < LEVEL_FULL)) ? CTRL_CFG_NEEDED_ALWAYS
                                                 : (ctrl_status_t)(CTRL_CFG_NEEDED_ALWAYS | CTRL_CFG_NEEDED_PROPOSED);
@@ -40,7 +40,7 @@ static ctrl_status_t config_needed(const app_t *app)
 /* CONFIG when a controller block in needed or the parameter set (the
  * ratings, the ADC range: they bound a commissioning's currents too) was
  * refused; the value: ctrl_init's refusals, the parameter set's above them. */
-static app_step_t config_refusal(const app_t *app, ctrl_status_t needed)
+FLASHFUNC static app_step_t config_refusal(const app_t *app, ctrl_status_t needed)
 {
     if (((ctrl_status(&app->ctrl) & needed) != 0u) || (app->cfg.params_refused != 0u)) {
         const uint16_t why =
@@ -54,7 +54,7 @@ static app_step_t config_refusal(const app_t *app, ctrl_status_t needed)
  * every controller block this start needs accepted by ctrl_init (CONFIG,
  * the refusals in the snapshot's value); both are checked on this call's
  * samples before anything is energised. */
-static void leave_calibrate(app_t *app, const hal_sample_t *s)
+FLASHFUNC static void leave_calibrate(app_t *app, const hal_sample_t *s)
 {
     const bool bus = (app->level > LEVEL_ADC); /* levels 1-2 run without the DC bus */
     /* the told R, L, psi_f play no part in a commissioning: it needs only the encoder's speed estimate */
@@ -88,7 +88,7 @@ static void leave_calibrate(app_t *app, const hal_sample_t *s)
 /* Level 4's own current limit, mode and method; the operator's mode and
  * method (and the configured limit) back at the first start at another
  * level. */
-static void level_control(app_t *app, uint16_t was)
+FLASHFUNC static void level_control(app_t *app, uint16_t was)
 {
     if (app->level == LEVEL_TORQUE) {
         ctrl_set_i_lim(&app->ctrl, app->cfg.lvl.i_lim_4_A);
@@ -103,7 +103,7 @@ static void level_control(app_t *app, uint16_t was)
 
 /* A start, or (commission) a commissioning: that runs as at the full
  * level (the bus armed, no level's check), whatever level is asked for. */
-void app_start_sequence(app_t *app, const hal_sample_t *s, bool commission)
+FLASHFUNC void app_start_sequence(app_t *app, const hal_sample_t *s, bool commission)
 {
     const uint16_t was = app->level;
 
@@ -130,7 +130,7 @@ void app_start_sequence(app_t *app, const hal_sample_t *s, bool commission)
 
 /* ---- its steps, one per ISR call --------------------------------------- */
 
-void app_calibrate_state(app_t *app, const hal_sample_t *s)
+FLASHFUNC void app_calibrate_state(app_t *app, const hal_sample_t *s)
 {
     const app_step_t r = calib_step(&app->cal, s->ia_A, s->ib_A);
 
@@ -144,7 +144,7 @@ void app_calibrate_state(app_t *app, const hal_sample_t *s)
 }
 
 /* The alignment's vector through ctrl's output path; then the count reads 0 rad. */
-void app_align_state(app_t *app, const hal_sample_t *s)
+FLASHFUNC void app_align_state(app_t *app, const hal_sample_t *s)
 {
     ab_t u;
     app_step_t r = align_step(&app->aln, &u);

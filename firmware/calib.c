@@ -15,14 +15,14 @@ void calib_init(calib_t *c, const calib_cfg_t *cfg, float Ts_s)
     calib_start(c);
 }
 
-void calib_start(calib_t *c)
+FLASHFUNC void calib_start(calib_t *c)
 {
     c->ticks = 0u;
     c->sum_ia_A = 0.0f;
     c->sum_ib_A = 0.0f;
 }
 
-app_step_t calib_step(calib_t *c, float ia_A, float ib_A)
+FLASHFUNC app_step_t calib_step(calib_t *c, float ia_A, float ib_A)
 {
     const uint32_t n = c->cfg.samples;
     const float lim = c->cfg.offset_max_A;

@@ -33,7 +33,7 @@ enum { W_RAMP = 0, W_HOLD, W_MEASURE };
 
 /* Field by field: a struct copy may become a memset, a library call
  * that runs from flash (the ISR path's check, make check). */
-static void ls_clear(comm_ls_t *s)
+FLASHFUNC static void ls_clear(comm_ls_t *s)
 {
     s->n = 0.0f;
     s->s1 = 0.0f;
@@ -46,7 +46,7 @@ static void ls_clear(comm_ls_t *s)
     s->s2y = 0.0f;
 }
 
-static void ls_add(comm_ls_t *s, float x1, float x2, float y)
+FLASHFUNC static void ls_add(comm_ls_t *s, float x1, float x2, float y)
 {
     s->n += 1.0f;
     s->s1 += x1;
@@ -60,7 +60,7 @@ static void ls_add(comm_ls_t *s, float x1, float x2, float y)
 }
 
 /* Slope of y on x1 with a constant; 0 when it cannot be solved (every use needs one of a sign). */
-static float ls_slope1(const comm_ls_t *s)
+FLASHFUNC static float ls_slope1(const comm_ls_t *s)
 {
     const float c11 = s->s11 - s->s1 * s->s1 / s->n;
     const float c1y = s->s1y - s->s1 * s->sy / s->n;
@@ -68,7 +68,7 @@ static float ls_slope1(const comm_ls_t *s)
 }
 
 /* Coefficient of x1 in y = b1 x1 + b2 x2 + c; 0 when it cannot be solved. */
-static float ls_coef1(const comm_ls_t *s)
+FLASHFUNC static float ls_coef1(const comm_ls_t *s)
 {
     const float c11 = s->s11 - s->s1 * s->s1 / s->n;
     const float c12 = s->s12 - s->s1 * s->s2 / s->n;
@@ -79,25 +79,25 @@ static float ls_coef1(const comm_ls_t *s)
     return ((s->n >= FIT_N_MIN) && (det > 0.0f)) ? (c1y * c22 - c2y * c12) / det : 0.0f;
 }
 
-static uint32_t periods(const comm_t *m, float t_s)
+FLASHFUNC static uint32_t periods(const comm_t *m, float t_s)
 {
     return app_periods_of(t_s, m->Ts_s);
 }
 
-static void next_phase(comm_t *m, uint16_t phase)
+FLASHFUNC static void next_phase(comm_t *m, uint16_t phase)
 {
     m->phase = phase;
     m->ticks = 0u;
 }
 
-static void next_stage(comm_t *m, comm_stage_t stage)
+FLASHFUNC static void next_stage(comm_t *m, comm_stage_t stage)
 {
     m->stage = stage;
     m->stage_ticks = 0u;
     next_phase(m, 0u);
 }
 
-void comm_speed_pi(const comm_cfg_t *cfg, float J_kgm2, float *kp_Nms_rad, float *ki_Nm_rad)
+FLASHFUNC void comm_speed_pi(const comm_cfg_t *cfg, float J_kgm2, float *kp_Nms_rad, float *ki_Nm_rad)
 {
     *kp_Nms_rad = cfg->speed_kp_per_J_1_s * J_kgm2;
     *ki_Nm_rad = cfg->speed_ki_per_J_1_s2 * J_kgm2;
@@ -121,7 +121,7 @@ void comm_init(comm_t *m, const comm_cfg_t *cfg, float Ts_s, uint32_t enc_cpr, u
     m->stage = COMM_STAGE_NONE;
 }
 
-void comm_start(comm_t *m)
+FLASHFUNC void comm_start(comm_t *m)
 {
     next_stage(m, COMM_STAGE_WIRING);
     m->w_u_V = 0.0f;
@@ -180,13 +180,13 @@ void comm_start(comm_t *m)
 }
 
 /* The voltage limit of the stages [V]: u_frac of the inscribed circle. */
-static float u_limit_V(const comm_t *m, float vdc_V)
+FLASHFUNC static float u_limit_V(const comm_t *m, float vdc_V)
 {
     return m->cfg.u_frac * vdc_V * MATHX_INV_SQRT3_F;
 }
 
 /* count - from [counts], the shorter way round the turn (signed). */
-static float count_diff(const comm_t *m, uint32_t count, uint32_t from)
+FLASHFUNC static float count_diff(const comm_t *m, uint32_t count, uint32_t from)
 {
     int32_t d = (int32_t)count - (int32_t)from;
     const int32_t half = (int32_t)(m->enc_cpr / 2u);
@@ -201,14 +201,14 @@ static float count_diff(const comm_t *m, uint32_t count, uint32_t from)
 
 /* ---- R: integral regulator on alpha (I1, I2) and beta (0) --------------- */
 
-static void window_add(comm_t *m, float u, float i)
+FLASHFUNC static void window_add(comm_t *m, float u, float i)
 {
     m->sum_u += u;
     m->sum_i += i;
     m->n_win += 1.0f;
 }
 
-static void window_drop(comm_t *m)
+FLASHFUNC static void window_drop(comm_t *m)
 {
     m->sum_u = 0.0f;
     m->sum_i = 0.0f;
@@ -216,7 +216,7 @@ static void window_drop(comm_t *m)
 }
 
 /* The window's means (it has at least one period), emptied. */
-static void window_take(comm_t *m, float *U, float *I)
+FLASHFUNC static void window_take(comm_t *m, float *U, float *I)
 {
     *U = m->sum_u / m->n_win;
     *I = m->sum_i / m->n_win;
@@ -227,12 +227,12 @@ static void window_take(comm_t *m, float *U, float *I)
 
 /* The stage's planned length [periods]: the ramp, the hold, the window in
  * whole turns of the vector. */
-static uint32_t wiring_periods(const comm_t *m)
+FLASHFUNC static uint32_t wiring_periods(const comm_t *m)
 {
     return periods(m, m->cfg.r_ramp_s) + periods(m, m->cfg.enc_hold_s) + m->w_turns * m->w_turn_ticks;
 }
 
-static app_step_t wiring_verdict(comm_t *m)
+FLASHFUNC static app_step_t wiring_verdict(comm_t *m)
 {
     const app_step_t r = enc_check_phase_order(&m->chk, &m->chk_out);
     const float hi = (m->chk_out.i_pos_A > m->chk_out.i_neg_A) ? m->chk_out.i_pos_A : m->chk_out.i_neg_A;
@@ -246,7 +246,7 @@ static app_step_t wiring_verdict(comm_t *m)
     return r;
 }
 
-static app_step_t stage_wiring(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
+FLASHFUNC static app_step_t stage_wiring(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
 {
     const comm_cfg_t *c = &m->cfg;
     const float I = c->enc_frac * c->i_max_A;
@@ -297,7 +297,7 @@ static app_step_t stage_wiring(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_a
     return r;
 }
 
-static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
+FLASHFUNC static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
 {
     const comm_cfg_t *c = &m->cfg;
     const float I1 = c->r_i1_frac * c->i_max_A;
@@ -406,7 +406,7 @@ static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
 
 /* ---- L: open-loop steps on alpha around (U2, I2) ------------------------ */
 
-static app_step_t stage_l(comm_t *m, ab_t i)
+FLASHFUNC static app_step_t stage_l(comm_t *m, ab_t i)
 {
     const comm_cfg_t *c = &m->cfg;
     const float R = m->res.R_Ohm;
@@ -452,7 +452,7 @@ static app_step_t stage_l(comm_t *m, ab_t i)
 
 /* One period of the PI at the measurement angle theta (sin/cos given) for
  * i_ref; the voltage at theta_out into *u_ab; returns |u_dq| [V]. */
-static float current_pi(comm_t *m, ab_t i, float s, float co, dq_t i_ref, float theta_out, ab_t *u_ab, dq_t *u_dq)
+FLASHFUNC static float current_pi(comm_t *m, ab_t i, float s, float co, dq_t i_ref, float theta_out, ab_t *u_ab, dq_t *u_dq)
 {
     const dq_t i_dq = park(i, s, co);
     const float kp = m->cfg.i_bw_rad_s * m->res.L_H;
@@ -472,7 +472,7 @@ static float current_pi(comm_t *m, ab_t i, float s, float co, dq_t i_ref, float 
 }
 
 /* Signed count change since the last period, the shorter way round [counts]. */
-static float count_step(comm_t *m, uint32_t count)
+FLASHFUNC static float count_step(comm_t *m, uint32_t count)
 {
     const float d = count_diff(m, count, m->count_last);
 
@@ -482,7 +482,7 @@ static float count_step(comm_t *m, uint32_t count)
 
 /* ---- ENCODER: a vector swept one electrical turn forward and back -------- */
 
-static app_step_t encoder_result(comm_t *m)
+FLASHFUNC static app_step_t encoder_result(comm_t *m)
 {
     const float s = ls_slope1(&m->ls); /* counts per rad el */
     const float cpr = (float)m->enc_cpr;
@@ -508,13 +508,13 @@ static app_step_t encoder_result(comm_t *m)
 
 /* The ENCODER stage's planned length [periods]: the told pole pairs'
  * turns forward, one back, three holds. */
-static uint32_t encoder_periods(const comm_t *m)
+FLASHFUNC static uint32_t encoder_periods(const comm_t *m)
 {
     return (1u + (uint32_t)m->pole_pairs) * periods(m, MATHX_TWO_PI_F / m->cfg.enc_speed_el_rad_s) +
            3u * periods(m, m->cfg.enc_hold_s);
 }
 
-static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
+FLASHFUNC static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
 {
     const comm_cfg_t *c = &m->cfg;
     const float step = c->enc_speed_el_rad_s * m->Ts_s;
@@ -603,7 +603,7 @@ static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_
 
 /* ---- SPIN: accelerate at +I, brake at -I -------------------------------- */
 
-static app_step_t spin_result(comm_t *m)
+FLASHFUNC static app_step_t spin_result(comm_t *m)
 {
     const float p = (float)m->res.pole_pairs;
     const float psi = ls_slope1(&m->ls);
@@ -641,7 +641,7 @@ static app_step_t spin_result(comm_t *m)
     return app_step_done();
 }
 
-static app_step_t stage_spin(comm_t *m, const ctrl_in_t *in, ab_t i, float w, ab_t *u_ab)
+FLASHFUNC static app_step_t stage_spin(comm_t *m, const ctrl_in_t *in, ab_t i, float w, ab_t *u_ab)
 {
     const comm_cfg_t *c = &m->cfg;
     const float p = (float)m->res.pole_pairs;
@@ -696,7 +696,7 @@ static app_step_t stage_spin(comm_t *m, const ctrl_in_t *in, ab_t i, float w, ab
 
 /* ---- the sequence ------------------------------------------------------- */
 
-static float stage_max_s(const comm_t *m)
+FLASHFUNC static float stage_max_s(const comm_t *m)
 {
     switch (m->stage) {
     case COMM_STAGE_WIRING:
@@ -718,7 +718,7 @@ float comm_max_s(const comm_t *m)
            m->cfg.l_max_s + m->cfg.spin_max_s;
 }
 
-app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *u_ab_V)
+FLASHFUNC app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *u_ab_V)
 {
     const ab_t i = clarke_2ph(in->ia_A, in->ib_A);
     const bool open_loop = (m->stage == COMM_STAGE_R) || (m->stage == COMM_STAGE_L); /* u from u_a, u_b */

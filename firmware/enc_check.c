@@ -9,7 +9,7 @@ void enc_check_init(enc_check_t *e, const enc_check_cfg_t *cfg)
     enc_check_start(e, 0u);
 }
 
-void enc_check_start(enc_check_t *e, uint32_t enc_count)
+FLASHFUNC void enc_check_start(enc_check_t *e, uint32_t enc_count)
 {
     e->count_last = enc_count;
     e->counts = 0;
@@ -21,7 +21,7 @@ void enc_check_start(enc_check_t *e, uint32_t enc_count)
     e->n = 0u;
 }
 
-void enc_check_step(enc_check_t *e, float dangle_el_rad, float cos_el, float sin_el, float i_alpha_A,
+FLASHFUNC void enc_check_step(enc_check_t *e, float dangle_el_rad, float cos_el, float sin_el, float i_alpha_A,
                     float i_beta_A, uint32_t enc_count)
 {
     /* the count's step, across the wrap at counts_per_turn: less than half a turn per period */
@@ -43,7 +43,7 @@ void enc_check_step(enc_check_t *e, float dangle_el_rad, float cos_el, float sin
     e->n++;
 }
 
-app_step_t enc_check_phase_order(const enc_check_t *e, enc_check_out_t *out)
+FLASHFUNC app_step_t enc_check_phase_order(const enc_check_t *e, enc_check_out_t *out)
 {
     const float inv_n = (e->n > 0u) ? 1.0f / (float)e->n : 0.0f;
     const float abs_counts = (float)((e->counts >= 0) ? e->counts : -e->counts);
@@ -61,7 +61,7 @@ app_step_t enc_check_phase_order(const enc_check_t *e, enc_check_out_t *out)
     return app_step_done();
 }
 
-app_step_t enc_check_verdict(const enc_check_t *e, enc_check_out_t *out)
+FLASHFUNC app_step_t enc_check_verdict(const enc_check_t *e, enc_check_out_t *out)
 {
     const float p = (float)e->cfg.pole_pairs;
     const float angle = e->angle_el_rad;

@@ -51,8 +51,9 @@ SECTIONS
    .switch       : > FLASHA,    PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
    .TI.crctab    : > FLASHA,    PAGE = 0
 
-   /* Code that runs from RAM: the control ISR path (CODE_SECTION "ramfuncs",
-    * --ramfunc=on files, FPUfastRTS members) and the flash wait-state set-up.
+   /* Code that runs from RAM: the control ISR path (RAMFUNC functions and
+    * control/, --ramfunc=on: .TI.ramfunc; FPUfastRTS members) and the flash
+    * wait-state set-up.
     * Stored in flash, copied to L0-L5 by hal_init() (hal_f28335_sysctrl.c).
     * The members are named in the COFF library that holds the objects
     * (firmware/target.mk links the same library). */

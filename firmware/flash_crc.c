@@ -1,5 +1,5 @@
 /* flash_crc.c - CRC32_PRIME over the program image, in watchdog-sized
- * chunks; see flash_crc.h. Start-up code: in FLASH_SRCS (target.mk). */
+ * chunks; see flash_crc.h. Start-up code: runs from flash. */
 #include "flash_crc.h"
 
 #define OCTET_MASK 0x00FFu

@@ -22,7 +22,7 @@ void level_rot_init(level_rot_t *r, const level_cfg_t *cfg, const ctrl_cfg_t *c,
     level_rot_start(r);
 }
 
-void level_rot_start(level_rot_t *r)
+FLASHFUNC void level_rot_start(level_rot_t *r)
 {
     r->phase = ROT_RAMP;
     r->ticks = 0u;
@@ -30,7 +30,7 @@ void level_rot_start(level_rot_t *r)
     r->angle_el_rad = 0.0f;
 }
 
-app_step_t level_rot_step(level_rot_t *r, float i_alpha_A, float i_beta_A, uint32_t enc_count, ab_t *u_ab_V)
+FLASHFUNC app_step_t level_rot_step(level_rot_t *r, float i_alpha_A, float i_beta_A, uint32_t enc_count, ab_t *u_ab_V)
 {
     float s;
     float c;

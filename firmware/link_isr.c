@@ -24,7 +24,7 @@ typedef union {
 
 /* ---- the variables' values (link_vars.h): read by the ISR, so they live here, in RAM ---- */
 
-static link_val_t of_u(uint32_t u)
+RAMFUNC static link_val_t of_u(uint32_t u)
 {
     link_val_t v;
     v.u = u;
@@ -32,7 +32,7 @@ static link_val_t of_u(uint32_t u)
     return v;
 }
 
-static link_val_t of_f(float f)
+RAMFUNC static link_val_t of_f(float f)
 {
     link_val_t v;
     v.u = 0u;
@@ -40,7 +40,7 @@ static link_val_t of_f(float f)
     return v;
 }
 
-link_val_t link_var_get(const link_target_t *t, uint16_t id)
+RAMFUNC link_val_t link_var_get(const link_target_t *t, uint16_t id)
 {
     const app_t *a = t->app;
     const ctrl_mon_t *m = &a->ctrl.mon;
@@ -102,14 +102,14 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
 typedef char link_stream_eight_vars[(LINK_STREAM_VARS == 8u) ? 1 : -1];
 
 /* A float's raw 32 bits. */
-static inline uint32_t f32_bits(const volatile float *fp)
+RAMFUNC static inline uint32_t f32_bits(const volatile float *fp)
 {
     f32_bits_t x;
     x.f = *fp;
     return x.u;
 }
 
-static void count16(uint16_t *c)
+RAMFUNC static void count16(uint16_t *c)
 {
     if (*c < COUNT16_MAX) {
         (*c)++;
@@ -120,7 +120,7 @@ static void count16(uint16_t *c)
  * (x + 2^15 + 1/2) truncated when in [1, 65535), else the end on its side, then the sign bit
  * flipped. A NaN gives -32767. The range is tested after the offset (the same counts as
  * clamping x first, for every float): the common case is one add and two compares. */
-static uint16_t to_count(float x)
+RAMFUNC static uint16_t to_count(float x)
 {
     const float v = x + COUNT_OFFSET_ROUND;
     uint16_t u;
@@ -133,7 +133,7 @@ static uint16_t to_count(float x)
 }
 
 /* A variable's value as a float: the one in place in the raw unit (the common case), else by id. */
-static inline float raw_float(const link_target_t *t, const volatile float *fp, uint16_t id)
+RAMFUNC static inline float raw_float(const link_target_t *t, const volatile float *fp, uint16_t id)
 {
     return (fp != NULL) ? *fp : link_var_get(t, id).f;
 }
@@ -141,7 +141,7 @@ static inline float raw_float(const link_target_t *t, const volatile float *fp, 
 /* Whether the trigger fires on this sample (trig_ready kept for the next). The trigger
  * variable is compared in its unit, as READ and the CSV give it. The app's state is read,
  * and kept for the next sample, by the state triggers only. */
-static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre)
+RAMFUNC static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre)
 {
     bool fire = false;
     switch (c->trig) {
@@ -184,14 +184,14 @@ static bool triggered(link_capture_t *c, const link_target_t *t, bool enough_pre
     return fire;
 }
 
-static void capture_done_after(link_capture_t *c)
+RAMFUNC static void capture_done_after(link_capture_t *c)
 {
     c->first_index = c->trig_index - (uint32_t)c->pre * c->decimate;
     c->state = LINK_CAP_DONE;
 }
 
 /* One row of any channels: integers and codes by id, float32 channels in two slots. */
-static void capture_row(const link_capture_t *c, const link_target_t *t, uint16_t *row)
+RAMFUNC static void capture_row(const link_capture_t *c, const link_target_t *t, uint16_t *row)
 {
     for (uint16_t k = 0u; k < c->nch; k++) {
         const float v = raw_float(t, c->fp[k], c->ids[k]) * c->per_raw[k];
@@ -207,7 +207,7 @@ static void capture_row(const link_capture_t *c, const link_target_t *t, uint16_
     }
 }
 
-static void capture_isr(link_capture_t *c, const link_target_t *t)
+RAMFUNC static void capture_isr(link_capture_t *c, const link_target_t *t)
 {
     const uint16_t state = c->state;
     if (state != LINK_CAP_PRE && state != LINK_CAP_POST) {
@@ -250,7 +250,7 @@ static void capture_isr(link_capture_t *c, const link_target_t *t)
     }
 }
 
-static void stream_isr(link_t *l)
+RAMFUNC static void stream_isr(link_t *l)
 {
     link_stream_t *s = &l->stream;
     const uint16_t n = s->n;
@@ -300,7 +300,7 @@ static void stream_isr(link_t *l)
     s->wr = next;
 }
 
-void link_isr(link_t *l)
+RAMFUNC void link_isr(link_t *l)
 {
     capture_isr(&l->cap, &l->t);
     stream_isr(l);

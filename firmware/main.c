@@ -97,10 +97,7 @@ static int16_t flash_image_bad_record(void)
 }
 
 /* PIE INT1.1 (ADC SEQ1 end of sequence), once per PWM period; app_isr acknowledges. */
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(ctrl_isr, "ramfuncs")
-#endif
-static HAL_INTERRUPT void ctrl_isr(void)
+RAMFUNC static HAL_INTERRUPT void ctrl_isr(void)
 {
     hal_f28335_isr_timing_begin();
     app_isr(&g_app);

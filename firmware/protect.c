@@ -13,7 +13,7 @@
 
 static void op_sums_clear(protect_op_sums_t *a);
 
-void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t *drv)
+RAMFUNC void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t *drv)
 {
     p->cfg = *cfg;
     p->drv = *drv;
@@ -47,13 +47,13 @@ void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t 
 
 /* Count change from prev to now (both < cpr), the shortest way round; no
  * 32-bit % (an RTS call from flash on the C28x). */
-static int32_t count_delta(uint32_t now, uint32_t prev, uint32_t cpr)
+RAMFUNC static int32_t count_delta(uint32_t now, uint32_t prev, uint32_t cpr)
 {
     const uint32_t d = (now >= prev) ? (now - prev) : (now + cpr - prev);
     return (d > (cpr / 2u)) ? ((int32_t)d - (int32_t)cpr) : (int32_t)d;
 }
 
-void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles)
+RAMFUNC void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles)
 {
     const uint32_t count = mathx_umod_u32(enc_count, p->enc_cpr);
 
@@ -66,17 +66,17 @@ void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles)
     p->seeded = true;
 }
 
-void protect_arm_uv(protect_t *p)
+RAMFUNC void protect_arm_uv(protect_t *p)
 {
     p->uv_armed = true;
 }
 
-void protect_disarm_uv(protect_t *p)
+RAMFUNC void protect_disarm_uv(protect_t *p)
 {
     p->uv_armed = false;
 }
 
-app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset_ia_A, float offset_ib_A,
+RAMFUNC app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset_ia_A, float offset_ib_A,
                          float speed_m_rad_s)
 {
     const protect_cfg_t *cfg = &p->cfg;
@@ -120,7 +120,7 @@ app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset
 
 /* ---- checks on the periods' history (protect_watch) --------------------- */
 
-static void op_sums_clear(protect_op_sums_t *a)
+RAMFUNC static void op_sums_clear(protect_op_sums_t *a)
 {
     uint32_t x;
 
@@ -134,14 +134,14 @@ static void op_sums_clear(protect_op_sums_t *a)
 }
 
 /* The window restarts: no whole part, the part so far empty. */
-static void op_clear(protect_t *p)
+RAMFUNC static void op_clear(protect_t *p)
 {
     op_sums_clear(&p->op_part);
     p->op_parts_n = 0u;
     p->op_parts_next = 0u;
 }
 
-void protect_watch_reset(protect_t *p)
+RAMFUNC void protect_watch_reset(protect_t *p)
 {
     op_clear(p);
     p->st_seeded = false;
@@ -149,7 +149,7 @@ void protect_watch_reset(protect_t *p)
     p->stall_ticks = 0u;
 }
 
-static int32_t abs_i32(int32_t v)
+RAMFUNC static int32_t abs_i32(int32_t v)
 {
     return (v < 0) ? -v : v;
 }
@@ -159,7 +159,7 @@ static int32_t abs_i32(int32_t v)
  * per part), op_prev emptied first by step 0. The order of the parts does
  * not matter, and op_prev is used only once the ring is full. The phases
  * written out, as in open_phase_check. */
-static void op_prep_step(protect_t *p, uint32_t k)
+RAMFUNC static void op_prep_step(protect_t *p, uint32_t k)
 {
     protect_op_sums_t *b = &p->op_prev;
     const protect_op_sums_t *q = &p->op_parts[k];
@@ -181,7 +181,7 @@ static void op_prep_step(protect_t *p, uint32_t k)
 /* OPEN_PHASE, phase x of the window of op_prev and *a: open by the test of
  * protect.h, in sums over the window (limit_sum: op_ratio x the sum of
  * |i|; u_min_sum: op_u_min_V x the periods). */
-static inline bool op_phase_open(const protect_op_sums_t *b, const protect_op_sums_t *a, uint32_t x, float limit_sum,
+RAMFUNC static inline bool op_phase_open(const protect_op_sums_t *b, const protect_op_sums_t *a, uint32_t x, float limit_sum,
                                  float u_min_sum, bool half_turn)
 {
     return (b->ix_A[x] + a->ix_A[x] < limit_sum) && (half_turn || (b->ux_V[x] + mathx_fabsf(a->ux_V[x]) >= u_min_sum));
@@ -192,7 +192,7 @@ static inline bool op_phase_open(const protect_op_sums_t *b, const protect_op_su
  * periods (limits derived by protect_init); the means computed for a
  * fault's value only. Half an electrical turn, pi rad el, is
  * enc_cpr / (2 pole_pairs) counts. */
-static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *a)
+RAMFUNC static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *a)
 {
     const protect_op_sums_t *b = &p->op_prev;
     const float i_sum = b->i_A + a->i_A;
@@ -224,7 +224,7 @@ static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *a)
 /* OPEN_PHASE: this period into the part so far, and one preparation step;
  * at a part's end the steps left, then the window of the last
  * PROTECT_OP_SUBWINDOWS parts is judged and the part goes into the ring. */
-static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
+RAMFUNC static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
 {
     const float ic = -in->ia_corr_A - in->ib_corr_A;
     const float i_beta = clarke_2ph(in->ia_corr_A, in->ib_corr_A).b;
@@ -272,7 +272,7 @@ static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
 
 /* CURRENT_SENSOR, reading c (other: the other reading): the turn and the
  * other reading's span since it last changed. */
-static void stuck_follow(protect_t *p, uint32_t c, float reading, float other, float turn)
+RAMFUNC static void stuck_follow(protect_t *p, uint32_t c, float reading, float other, float turn)
 {
     if (!p->st_seeded || (mathx_fabsf(reading - p->st_last_A[c]) > p->cfg.watch.stuck_delta_A)) {
         p->st_last_A[c] = reading;
@@ -289,7 +289,7 @@ static void stuck_follow(protect_t *p, uint32_t c, float reading, float other, f
 }
 
 /* CURRENT_SENSOR: reading c stuck by the tests of protect.h. */
-static bool stuck_judged(const protect_t *p, uint32_t c)
+RAMFUNC static bool stuck_judged(const protect_t *p, uint32_t c)
 {
     const protect_watch_cfg_t *w = &p->cfg.watch;
     return (mathx_fabsf(p->st_angle_el_rad[c]) >= w->stuck_angle_el_rad) && (p->st_periods[c] >= w->stuck_min_periods) &&
@@ -300,7 +300,7 @@ static bool stuck_judged(const protect_t *p, uint32_t c)
 /* CURRENT_SENSOR: per reading, the turn and the other reading's span since
  * it last changed (the two readings written out: no loop's bookkeeping
  * every period). */
-static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
+RAMFUNC static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
 {
     const float turn = (float)p->enc_delta * p->el_rad_per_count; /* signed: a count jittering back and forth is no turn */
     uint32_t c;
@@ -321,7 +321,7 @@ static app_step_t stuck_check(protect_t *p, const protect_watch_in_t *in)
 
 /* ENCODER_LOST: the counts the speed estimate expected since the count last
  * changed; the periods at the torque limit without a count. */
-static app_step_t encoder_lost_check(protect_t *p, const protect_watch_in_t *in)
+RAMFUNC static app_step_t encoder_lost_check(protect_t *p, const protect_watch_in_t *in)
 {
     const protect_watch_cfg_t *w = &p->cfg.watch;
     const bool moved = (p->enc_delta != 0);
@@ -342,7 +342,7 @@ static app_step_t encoder_lost_check(protect_t *p, const protect_watch_in_t *in)
     return app_step_running();
 }
 
-app_step_t protect_watch(protect_t *p, const protect_watch_in_t *in)
+RAMFUNC app_step_t protect_watch(protect_t *p, const protect_watch_in_t *in)
 {
     app_step_t r = encoder_lost_check(p, in);
     if (r.status != APP_STEP_FAULT) {
@@ -354,7 +354,7 @@ app_step_t protect_watch(protect_t *p, const protect_watch_in_t *in)
     return r;
 }
 
-void protect_snapshot(app_snapshot_t *snap, app_state_t state, const hal_sample_t *s, const app_step_t *f)
+RAMFUNC void protect_snapshot(app_snapshot_t *snap, app_state_t state, const hal_sample_t *s, const app_step_t *f)
 {
     snap->sample = *s;
     snap->state = state;

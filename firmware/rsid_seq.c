@@ -3,7 +3,7 @@
 
 #include "mathx.h"
 
-void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
+RAMFUNC void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
 {
     q->cfg = *cfg;
     q->window_ticks = app_periods_of(cfg->window_s, Ts_s);
@@ -23,7 +23,7 @@ void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
     q->check_tick = 0u;
 }
 
-void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
+RAMFUNC void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
 {
     q->ticks = 0u;
     q->repeats = 0u;
@@ -34,7 +34,7 @@ void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
 
 /* The commanded speed one period on towards target at accel (a step when
  * that is 0); true while target is not yet reached. */
-static bool ramp_speed(rsid_seq_t *q, float target)
+RAMFUNC static bool ramp_speed(rsid_seq_t *q, float target)
 {
     const float dmax = q->speed_step_rad_s;
     const float err = target - q->speed_ref_rad_s;
@@ -45,7 +45,7 @@ static bool ramp_speed(rsid_seq_t *q, float target)
 
 /* ctrl_step at the sequence's speed reference; ctrl.ref, the outside's,
  * is put back after it. */
-static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+RAMFUNC static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
     const ctrl_ref_t outside = *ctrl_ref(c);
     ctrl_ref_t ref = outside;
@@ -57,7 +57,7 @@ static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, c
 }
 
 /* The fault naming why step 1 refused R^, with the quantity and its limit. */
-static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
+RAMFUNC static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
 {
     const rs_ident_out_t *o = ctrl_rsid_out(c);
     const rs_ident_cfg_t *rc = ctrl_rsid_cfg(c);
@@ -93,7 +93,7 @@ typedef enum { AFTER_GO_ON = 0, AFTER_REPEAT = 1, AFTER_FINISH = 2 } after_t;
  * error with window 1's share below the limit and room for another
  * batch), repeat both windows (SPEEDS: window 1's share too large,
  * repeats left), or finish. */
-static after_t after_check(const rsid_seq_t *q, rs_ident_result_t r, const rs_ident_out_t *o)
+RAMFUNC static after_t after_check(const rsid_seq_t *q, rs_ident_result_t r, const rs_ident_out_t *o)
 {
     if (r != RS_IDENT_NOT_STEADY) {
         return AFTER_FINISH;
@@ -112,7 +112,7 @@ static after_t after_check(const rsid_seq_t *q, rs_ident_result_t r, const rs_id
  * acted on in the period after the last: the ISR's worst period stays
  * near its typical one; window 2 goes on filling meanwhile, its batch
  * sums unchanged until the check ends: n_batch > RS_IDENT_SOLVE_STAGES). */
-static void check_begin(rsid_seq_t *q, ctrl_t *c)
+RAMFUNC static void check_begin(rsid_seq_t *q, ctrl_t *c)
 {
     const uint32_t batch = ctrl_rsid_cfg(c)->n_batch;
 
@@ -124,7 +124,7 @@ static void check_begin(rsid_seq_t *q, ctrl_t *c)
     q->check = RSID_CHECK_SOLVING;
 }
 
-app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
     const uint32_t k = q->ticks;
     rs_ident_window_t win = RS_IDENT_WINDOW_NONE;
@@ -191,7 +191,7 @@ app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out
     return app_step_done();
 }
 
-void rsid_seq_handover_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+RAMFUNC void rsid_seq_handover_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
     q->handover = ramp_speed(q, ctrl_ref(c)->speed_ref_rad_s);
     step_at_speed(q, c, in, out);

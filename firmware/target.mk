@@ -41,24 +41,17 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
           --include_path=$(F2833X_COMMON)/include \
           --include_path=$(FASTRTS)/include
 
-# The ISR path runs from RAM: the control core and the application are
-# compiled with every function in .TI.ramfunc, except the files below that
-# only the background loop and start-up use (a new firmware/ file is in RAM
-# unless listed); the HAL marks its ISR-path functions with CODE_SECTION
-# "ramfuncs" itself (hal_init must run from flash). tools/check/isr_path.sh
-# (make check) fails if a function the ISR reaches would run from flash.
-# (one line: tools/check/isr_path.sh and ram_budget.py read it)
-FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_bg.c firmware/flash_crc.c firmware/link.c firmware/link_codec.c firmware/link_vars.c firmware/drive_params.c firmware/commission.c firmware/level.c firmware/enc_check.c firmware/calib.c firmware/align.c firmware/app_start.c
-# Of those, the ones the ISR does call, but only in a state that does not
-# control the motor for the user: the commissioning (COMMISSION), the
-# bring-up level 3's rotation and encoder check (ENC_CHECK), the start's
-# offset calibration and rotor alignment (CALIBRATE, ALIGN) and the start
-# sequence's transitions (once per start) run from flash,
-# with its wait states (hal/f28335/README.md, "What runs from flash").
-# isr_path.sh accepts these on the ISR path and no others.
-# (one line: tools/check/isr_path.sh reads it)
-FLASH_ISR_SRCS := firmware/commission.c firmware/level.c firmware/enc_check.c firmware/calib.c firmware/align.c firmware/app_start.c
-RAMFUNC_SRCS := $(filter-out $(FLASH_SRCS),$(wildcard control/*.c) $(wildcard firmware/*.c))
+# The ISR path runs from RAM. The control core (the directories in
+# RAMFUNC_ALL) runs from RAM whole: every function of control/ is the ISR's
+# or its set-up's, compiled --ramfunc=on. Elsewhere each function's
+# definition says where it runs (control/c28x_portable.h): RAMFUNC in
+# .TI.ramfunc (RAM), FLASHFUNC in flash on the ISR path on purpose (the
+# start-up steps, commissioning and build levels: states that do not
+# control the motor for the user; hal/f28335/README.md, "What runs from
+# flash"), neither in flash off the ISR path. tools/check/isr_path.sh
+# (make check) fails if a function the ISR reaches carries neither.
+# (one line: tools/check/placement.py reads it)
+RAMFUNC_ALL := control
 
 APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*.c) $(wildcard hal/f28335/*.c)
 TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c
@@ -101,7 +94,7 @@ $(OUT)/drive.out: $(APP_OBJS) $(TI_OBJS) $(LINK_CMDS)
 define C_RULE
 $(call obj_of,$1): $1 firmware/target.mk
 	@mkdir -p $$(@D)
-	$$(CL) $$(CFLAGS) $(if $(filter $1,$(RAMFUNC_SRCS)),--ramfunc=on) \
+	$$(CL) $$(CFLAGS) $(if $(filter $(addsuffix /%,$(RAMFUNC_ALL)),$1),--ramfunc=on) \
 	    --preproc_with_compile --preproc_dependency=$$(@:.obj=.d) \
 	    --output_file=$$@ --compile_only $1
 endef

@@ -41,10 +41,7 @@ void hal_isr_attach(hal_isr_fn isr)
     ERTM;
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_isr_ack, "ramfuncs")
-#endif
-void hal_isr_ack(void)
+RAMFUNC void hal_isr_ack(void)
 {
     /* RST_SEQ1 is in hal_sample_read: here, after an overrun, it would abort
      * the next period's conversion. */

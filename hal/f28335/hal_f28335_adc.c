@@ -55,19 +55,13 @@ void f28335_adc_init(void)
     AdcRegs.ADCTRL2.bit.RST_SEQ1 = 1U;
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(current_from_result, "ramfuncs")
-#endif
-static float current_from_result(Uint16 result)
+RAMFUNC static float current_from_result(Uint16 result)
 {
     const float counts = (float)(result >> F28335_ADC_RESULT_SHIFT);
     return counts * F28335_I_A_PER_COUNT - F28335_I_OFFSET_A;
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_sample_read, "ramfuncs")
-#endif
-void hal_sample_read(hal_sample_t *out)
+RAMFUNC void hal_sample_read(hal_sample_t *out)
 {
     const float vdc_counts = (float)(AdcRegs.ADCRESULT2 >> F28335_ADC_RESULT_SHIFT);
 

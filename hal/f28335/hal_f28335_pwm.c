@@ -118,10 +118,7 @@ static void pwm_pins_init(void)
 }
 
 /* Latch a trip when OST is set although software did not force it. */
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(trip_poll, "ramfuncs")
-#endif
-static void trip_poll(void)
+RAMFUNC static void trip_poll(void)
 {
     if (!s_sw_off && (EPwm1Regs.TZFLG.bit.OST != 0U)) {
         s_trip_latched = true;
@@ -169,10 +166,7 @@ void f28335_pwm_init(void)
 }
 
 /* Clamped duty to CMPA (see the waveform note at the top). */
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(duty_to_cmpa, "ramfuncs")
-#endif
-static uint16_t duty_to_cmpa(float duty)
+RAMFUNC static uint16_t duty_to_cmpa(float duty)
 {
     const float d = mathx_clampf(duty, 0.0f, 1.0f);
     const uint16_t cmpa = (uint16_t)((1.0f - d) * (float)F28335_TBPRD + 0.5f);
@@ -181,10 +175,7 @@ static uint16_t duty_to_cmpa(float duty)
 
 /* A NaN or infinite duty means the controller failed: all outputs off
  * (as hal_pwm_disable) rather than a guessed duty; counted for diagnosis. */
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_pwm_write, "ramfuncs")
-#endif
-void hal_pwm_write(const float duty[3])
+RAMFUNC void hal_pwm_write(const float duty[3])
 {
     if (!mathx_isfinitef(duty[0]) || !mathx_isfinitef(duty[1]) || !mathx_isfinitef(duty[2])) {
         s_nonfinite_duty_count++;
@@ -196,10 +187,7 @@ void hal_pwm_write(const float duty[3])
     EPwm3Regs.CMPA.half.CMPA = duty_to_cmpa(duty[2]);
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_pwm_enable, "ramfuncs")
-#endif
-void hal_pwm_enable(void)
+RAMFUNC void hal_pwm_enable(void)
 {
     if (hal_trip_active()) {
         return;
@@ -213,10 +201,7 @@ void hal_pwm_enable(void)
     s_sw_off = false;
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_pwm_disable, "ramfuncs")
-#endif
-void hal_pwm_disable(void)
+RAMFUNC void hal_pwm_disable(void)
 {
     trip_poll();  /* a hardware trip already holding OST must not be taken for ours */
     s_sw_off = true;
@@ -227,10 +212,7 @@ void hal_pwm_disable(void)
     EDIS;
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_trip_active, "ramfuncs")
-#endif
-bool hal_trip_active(void)
+RAMFUNC bool hal_trip_active(void)
 {
     trip_poll();
     return s_trip_latched || !hal_f28335_clock_ok();

@@ -69,10 +69,9 @@ static bool pll_init(void)
 /* Flash wait states for 150 MHz, as TI's InitFlash: a global function in
  * ramfuncs that cl2000 may not inline into hal_init (flash-resident). */
 #if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(f28335_flash_init, "ramfuncs")
 #pragma FUNC_CANNOT_INLINE(f28335_flash_init)
 #endif
-void f28335_flash_init(void)
+RAMFUNC void f28335_flash_init(void)
 {
     EALLOW;
     FlashRegs.FOPT.bit.ENPIPE = 1U;  /* prefetch pipeline on */
@@ -138,10 +137,7 @@ static void pie_vectors_init(void)
     EDIS;
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(f28335_unexpected_isr, "ramfuncs")
-#endif
-HAL_INTERRUPT void f28335_unexpected_isr(void)
+RAMFUNC HAL_INTERRUPT void f28335_unexpected_isr(void)
 {
     hal_pwm_disable();  /* TZ one-shot force on all three legs: both gates low */
     ESTOP0;
@@ -198,10 +194,7 @@ void f28335_delay_us(uint32_t us)
     }
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_f28335_clock_ok, "ramfuncs")
-#endif
-bool hal_f28335_clock_ok(void)
+RAMFUNC bool hal_f28335_clock_ok(void)
 {
     /* Limp mode at run time (oscillator lost after start-up): every timing
      * scales with the slow clock, so the HAL latches it; only a reset, not

@@ -33,26 +33,17 @@ void f28335_timer_init(void)
     hal_f28335_isr_timing_reset();
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_cycles, "ramfuncs")
-#endif
-uint32_t hal_cycles(void)
+RAMFUNC uint32_t hal_cycles(void)
 {
     return TIMER_PRD_FREE_RUN - CpuTimer2Regs.TIM.all;
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_f28335_isr_timing_begin, "ramfuncs")
-#endif
-void hal_f28335_isr_timing_begin(void)
+RAMFUNC void hal_f28335_isr_timing_begin(void)
 {
     s_isr_start = hal_cycles();
 }
 
-#if defined(__TMS320C28XX__)
-#pragma CODE_SECTION(hal_f28335_isr_timing_end, "ramfuncs")
-#endif
-void hal_f28335_isr_timing_end(void)
+RAMFUNC void hal_f28335_isr_timing_end(void)
 {
     const uint32_t dt = hal_cycles() - s_isr_start;
 

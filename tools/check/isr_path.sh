@@ -67,40 +67,12 @@ if [ $fail -eq 0 ]; then
         done
         fail=1
     fi
-    # Every function on the path runs from RAM on the target: control/ and
-    # firmware/ files are compiled --ramfunc=on unless target.mk lists them
-    # in FLASH_SRCS; a hal/f28335 function needs CODE_SECTION "ramfuncs".
-    # Except FLASH_ISR_SRCS (target.mk): flash code the ISR calls only in
-    # the commissioning's state, placed there on purpose.
-    flash_srcs=" $(sed -n 's/^FLASH_SRCS *:= *//p' firmware/target.mk) "
-    flash_isr_srcs=" $(sed -n 's/^FLASH_ISR_SRCS *:= *//p' firmware/target.mk) "
-    funcs=$(awk '/^Linker script and memory map/ {on = 1} !on {next}
-                 name != "" {print name, $NF; name = ""; next}
-                 /^ \.text\./ {sub(/^\.text\./, "", $1); if (NF >= 4) print $1, $NF; else name = $1}' \
-            "$out/isr_path.map")
-    while read -r fn obj; do
-        [ -n "$fn" ] || continue
-        fn=${fn%%.*}  # gcc's clones (.isra.0, .constprop.0) are the function
-        case "$(basename "$obj")" in
-            control_*) src=control/$(basename "$obj" .c.o | sed 's/^control_//').c ;;
-            firmware_*) src=firmware/$(basename "$obj" .c.o | sed 's/^firmware_//').c ;;
-            hal_f28335_*) src=hal/f28335/$(basename "$obj" .c.o | sed 's/^hal_f28335_//').c ;;
-            *) continue ;;
-        esac
-        case "$src" in
-            hal/f28335/*)
-                if ! grep -q "CODE_SECTION($fn, \"ramfuncs\")" "$src"; then
-                    echo "FAIL $src: $fn is on the ISR path without #pragma CODE_SECTION($fn, \"ramfuncs\"): it would run from flash"
-                    fail=1
-                fi ;;
-            *)
-                case "$flash_isr_srcs" in *" $src "*) continue ;; esac
-                case "$flash_srcs" in *" $src "*)
-                    echo "FAIL $src: $fn is on the ISR path but the file is in FLASH_SRCS (firmware/target.mk): it would run from flash"
-                    fail=1 ;;
-                esac ;;
-        esac
-    done <<< "$funcs"
+    # Every function on the path runs from RAM on the target, or from
+    # flash on purpose: control/ whole (target.mk RAMFUNC_ALL), elsewhere
+    # its definition marked RAMFUNC or FLASHFUNC (tools/check/placement.py).
+    if ! python3 tools/check/placement.py --map "$out/isr_path.map" $srcs; then
+        fail=1
+    fi
     code=$(arm-none-eabi-size -A "$elf" | awk '$1 == ".text" {print $2}')
     echo "isr_path: code reached from app_isr ${code:-0} bytes (Thumb-2; the RAM budget: ram_budget.py)"
 fi

@@ -19,8 +19,8 @@ target's, from the first source available:
    -ffunction-sections), converted to C28x 16-bit words:
 
    code (ramfuncs): every instruction of the functions placed in RAM
-   (control/ and firmware/ files not in FLASH_SRCS of target.mk, HAL and
-   main.c functions with CODE_SECTION "ramfuncs") is mapped to the C28x
+   (all of the directories in target.mk's RAMFUNC_ALL, elsewhere the
+   ones marked RAMFUNC: tools/check/placement.py) is mapped to the C28x
    instruction(s) doing the same, sized from the opcode tables of the
    C28x CPU (SPRU430, 16- and 32-bit opcodes) and of its FPU (SPRUEO2, all
    FPU instructions 32-bit; the 2p-cycle ones, MPYF32/ADDF32/SUBF32/
@@ -81,6 +81,8 @@ import shutil
 import subprocess
 import sys
 import tempfile
+
+import placement
 
 MARGIN_MIN = 0.10
 FASTRTS_WORDS = 2 * (49 + 16 + 43 + 21)
@@ -160,23 +162,10 @@ def parse_map(path):
     return used
 
 
-def make_var(mk, name):
-    m = re.search(r'(?m)^' + name + r'\s*:=\s*(.*)$', read(mk))
-    return m.group(1).split() if m else []
-
-
 def obj_source(obj):
-    """build/check/isr/control_ctrl.c.o -> control/ctrl.c"""
-    b = os.path.basename(obj)[:-len('.o')]
-    for d in ('control', 'firmware', 'hal_f28335'):
-        if b.startswith(d + '_'):
-            return d.replace('_', '/') + '/' + b[len(d) + 1:]
-    return None
-
-
-def ram_functions(src):
-    """Functions a file places in ramfuncs with #pragma CODE_SECTION."""
-    return set(re.findall(r'CODE_SECTION\(\s*(\w+)\s*,\s*"ramfuncs"\s*\)', read(src)))
+    """build/check/isr/control_ctrl.c.o -> control/ctrl.c (None: the register fake)"""
+    src = placement.source_of(obj, placement.image_sources())
+    return None if src is None or src.startswith('tests/') else src
 
 
 def regcount(operands):
@@ -356,7 +345,6 @@ def stack_need(objdir, main_c='firmware/main.c'):
 
 
 def estimate(objdir, mk):
-    flash_srcs = set(make_var(mk, 'FLASH_SRCS'))
     objs = sorted(glob.glob(os.path.join(objdir, '*.o')))
     if not objs:
         die("no objects in %s (run tools/check/isr_path.sh first)" % objdir)
@@ -370,10 +358,7 @@ def estimate(objdir, mk):
         data_b += data_bytes(o)
         data_w += data_words(src, o, tmpdir)
         funcs = disassemble(o)
-        if src.startswith('hal/') or src in flash_srcs:
-            keep = ram_functions(src)
-        else:
-            keep = set(funcs)
+        keep = set(funcs) if placement.in_ram_whole(src, mk) else placement.ram_functions(src)
         for fn in keep & set(funcs):
             code_b += funcs[fn][0]
             code_w += funcs[fn][1]
@@ -392,7 +377,7 @@ def estimate(objdir, mk):
 
 
 def stack_size_words(mk):
-    for opt in make_var(mk, 'LFLAGS'):
+    for opt in placement.make_var(mk, 'LFLAGS'):
         m = re.match(r'--stack_size=(0x[0-9A-Fa-f]+|\d+)$', opt)
         if m:
             return int(m.group(1), 0)

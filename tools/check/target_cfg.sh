@@ -46,8 +46,8 @@ has "$cmd" '\.adc_cal[[:space:]]*:.*ADC_CAL.*NOLOAD' ||
     bad "$cmd" "section .adc_cal not placed NOLOAD in ADC_CAL"
 grep -q 'ADC_cal();' "$hal"/*.c || bad "$hal" "ADC_cal() is never called (TI's InitAdc calls it)"
 # D5: the flash wait-state set-up runs from RAM and is never inlined into flash code.
-grep -q 'CODE_SECTION(f28335_flash_init, "ramfuncs")' "$hal"/*.c ||
-    bad "$hal" "f28335_flash_init is not in ramfuncs"
+grep -Eq '^RAMFUNC [^(]*\bf28335_flash_init\(' "$hal"/*.c ||
+    bad "$hal" "f28335_flash_init is not RAMFUNC (in ramfuncs)"
 grep -q 'FUNC_CANNOT_INLINE(f28335_flash_init)' "$hal"/*.c ||
     bad "$hal" "f28335_flash_init may be inlined into its flash-resident caller (FUNC_CANNOT_INLINE)"
 # The boot entry: ours, zeroing .ebss (COFF zeroes nothing) with the
@@ -74,6 +74,9 @@ has "$cmd" '\.TI\.crctab[[:space:]]*:' || bad "$cmd" ".TI.crctab (the linker's C
 # The copy of ramfuncs the HAL relies on.
 has "$cmd" 'codestart[[:space:]]*:[[:space:]]*>[[:space:]]*BEGIN' || bad "$cmd" "codestart not at BEGIN (0x33FFF6)"
 has "$cmd" 'RUN_START\(_RamfuncsRunStart\)' || bad "$cmd" "ramfuncs has no RUN_START(_RamfuncsRunStart)"
+# RAMFUNC (control/c28x_portable.h) and --ramfunc=on put code in .TI.ramfunc.
+awk '/^[[:space:]]*ramfuncs[[:space:]]*:/,/}/' "$cmd" | grep -q '\*(\.TI\.ramfunc)' ||
+    bad "$cmd" "ramfuncs does not take *(.TI.ramfunc): RAMFUNC code would not be copied to RAM"
 
 if [ $fail -ne 0 ]; then
     echo "target_cfg: FAILED"

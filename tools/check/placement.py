@@ -1,0 +1,174 @@
+#!/usr/bin/env python3
+"""placement.py - where each function of the F28335 image runs, read from
+the sources, and the ISR-path placement gate of `make check`.
+
+Placement (control/c28x_portable.h): the directories target.mk names in
+RAMFUNC_ALL (control/) run from RAM whole (--ramfunc=on); elsewhere a
+function's definition says where it runs:
+  RAMFUNC    in RAM (.TI.ramfunc, copied at start-up): the control ISR's path
+  FLASHFUNC  in flash although the ISR calls it, on purpose (a state that
+             does not control the motor for the user: commissioning,
+             start-up steps, build levels), with the flash's wait states
+  neither    in flash, and never on the ISR path
+
+Usage: placement.py --map ISR_PATH.MAP [--mk TARGET_MK]
+  Fails (exit 1), naming file and function, when
+  1. a function of the ISR path (the functions linked into isr_path.sh's
+     image, its map file) outside RAMFUNC_ALL carries neither marker: it
+     would run from flash;
+  2. a static function that a marked function calls carries no marker
+     itself, or only FLASHFUNC under a RAMFUNC caller: where cl2000 does
+     not inline it as gcc did for the map, it would run from flash.
+ram_budget.py imports ram_functions() and in_ram_whole() from here.
+"""
+import argparse
+import glob
+import os
+import re
+import sys
+
+MARKERS = ('RAMFUNC', 'FLASHFUNC')
+KEYWORDS = {'if', 'for', 'while', 'switch', 'return', 'sizeof', 'do', 'else'}
+DEFINITION = re.compile(r'^(?P<head>[A-Za-z_][\w \t\*]*?)\b(?P<name>[A-Za-z_]\w*)\s*\((?P<params>(?:[^;{}()]|\([^;{}()]*\))*)\)\s*\{',
+                        re.MULTILINE)
+CALL = re.compile(r'\b([A-Za-z_]\w*)\s*\(')
+
+
+def read(path):
+    with open(path) as f:
+        return f.read()
+
+
+def strip_comments(text):
+    """Comments, strings and preprocessor lines blanked, newlines kept."""
+    def blank(m):
+        return re.sub(r'[^\n]', ' ', m.group(0))
+    text = re.sub(r'/\*.*?\*/|//[^\n]*|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'', blank, text, flags=re.DOTALL)
+    return re.sub(r'(?m)^[ \t]*#.*(?:\\\n.*)*$', blank, text)
+
+
+def body_end(text, open_at):
+    depth = 0
+    for i in range(open_at, len(text)):
+        if text[i] == '{':
+            depth += 1
+        elif text[i] == '}':
+            depth -= 1
+            if depth == 0:
+                return i
+    return len(text)
+
+
+def functions(path):
+    """{name: (marker or None, static, names called)} of the definitions in path
+    (the house style: a definition starts at the line's first column)."""
+    text = strip_comments(read(path))
+    out = {}
+    for m in DEFINITION.finditer(text):
+        head = m.group('head').split()
+        if m.group('name') in KEYWORDS or not head or head[0] in KEYWORDS or 'typedef' in head:
+            continue
+        marker = next((w for w in head if w in MARKERS), None)
+        end = body_end(text, m.end() - 1)
+        calls = set(CALL.findall(text[m.end():end])) - KEYWORDS
+        out[m.group('name')] = (marker, 'static' in head, calls)
+    return out
+
+
+def make_var(mk, name):
+    m = re.search(r'(?m)^' + name + r'\s*:=\s*(.*)$', read(mk))
+    return m.group(1).split() if m else []
+
+
+def in_ram_whole(src, mk):
+    """True when src lies in a directory that target.mk runs from RAM whole."""
+    return any(src.startswith(d.rstrip('/') + '/') for d in make_var(mk, 'RAMFUNC_ALL'))
+
+
+def ram_functions(src):
+    """The functions src places in RAM (RAMFUNC)."""
+    return {n for n, (mark, _s, _c) in functions(src).items() if mark == 'RAMFUNC'}
+
+
+def image_sources():
+    """The C sources of control/, firmware/ and hal/ (the register fake's are under tests/)."""
+    return sorted(f for d in ('control', 'firmware', 'hal') for f in glob.glob(d + '/**/*.c', recursive=True))
+
+
+def map_functions(map_path):
+    """[(function, source)] of the ISR-path image (ld's map, -ffunction-sections):
+    the objects are named after their sources, '/' as '_' (isr_path.sh)."""
+    out, name, on = [], '', False
+    for line in read(map_path).splitlines():
+        if line.startswith('Linker script and memory map'):
+            on = True
+            continue
+        if not on:
+            continue
+        f = line.split()
+        if name:
+            out.append((name, f[-1]))
+            name = ''
+        elif line.startswith(' .text.'):
+            fn = f[0][len('.text.'):]
+            if len(f) >= 4:
+                out.append((fn, f[-1]))
+            else:
+                name = fn
+    return [(fn.split('.')[0], obj) for fn, obj in out]  # gcc's clones (.isra.0, .constprop.0) are the function
+
+
+def source_of(obj, sources):
+    """build/check/isr/firmware_app.c.o -> firmware/app.c (of the sources given)."""
+    base = os.path.basename(obj)
+    for s in sources:
+        if base == s.replace('/', '_') + '.o':
+            return s
+    return None
+
+
+def check(map_path, mk, sources):
+    fails = []
+    defs = {s: functions(s) for s in sources if not in_ram_whole(s, mk) and not s.startswith('tests/')}
+    for fn, obj in map_functions(map_path):
+        src = source_of(obj, sources)
+        if src is None or src not in defs:
+            continue  # the register fake, or a directory in RAM whole
+        mark = defs[src].get(fn, (None,))[0]
+        if mark is None:
+            fails.append("%s: %s is on the ISR path without RAMFUNC (or FLASHFUNC, on purpose): it would run "
+                         "from flash" % (src, fn))
+    for src, fns in sorted(defs.items()):
+        for caller, (mark, _static, calls) in sorted(fns.items()):
+            if mark is None:
+                continue
+            for callee in sorted(calls):
+                if callee not in fns or not fns[callee][1]:
+                    continue
+                cmark = fns[callee][0]
+                if cmark is None or (mark == 'RAMFUNC' and cmark != 'RAMFUNC'):
+                    fails.append("%s: static %s, called by %s %s, is not %s: where cl2000 does not inline it, it "
+                                 "runs from flash" % (src, callee, mark, caller,
+                                                      'RAMFUNC' if mark == 'RAMFUNC' else 'RAMFUNC or FLASHFUNC'))
+    return fails
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('--map', required=True, help="isr_path.sh's map of the ISR-path image")
+    ap.add_argument('--mk', default='firmware/target.mk')
+    ap.add_argument('sources', nargs='+', help='the image\'s C sources')
+    a = ap.parse_args()
+    fails = check(a.map, a.mk, a.sources)
+    for f in fails:
+        print('FAIL ' + f)
+    marked = sum(1 for s in a.sources if not s.startswith('tests/')
+                 for m, _st, _c in functions(s).values() if m is not None)
+    if not fails:
+        print("placement: every ISR-path function outside %s is RAMFUNC or FLASHFUNC (%d marked definitions)"
+              % (' '.join(make_var(a.mk, 'RAMFUNC_ALL')) or '-', marked))
+    return 1 if fails else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
