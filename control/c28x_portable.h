@@ -23,15 +23,16 @@
  *              from flash at start-up): the control ISR's path
  *   FLASHFUNC  flash, on the ISR path on purpose: only in a state that does
  *              not control the motor for the user (start-up steps,
- *              commissioning, build levels), with the flash's wait states
+ *              commissioning, build levels), with the flash's wait states;
+ *              never inlined, so that a RAM caller does not take it in
  *   neither    flash, never on the ISR path
- * tools/check/isr_path.sh and ram_budget.py read the markers. Empty on the
- * host. */
+ * tools/check/isr_path.sh and ram_budget.py read the markers. RAMFUNC is
+ * empty on the host. */
 #if defined(__TMS320C28XX__)
 #define RAMFUNC __attribute__((ramfunc))
 #else
 #define RAMFUNC
 #endif
-#define FLASHFUNC
+#define FLASHFUNC __attribute__((noinline))
 
 #endif /* C28X_PORTABLE_H */

@@ -78,6 +78,7 @@
 #include "calib.h"
 #include "commission.h"
 #include "ctrl.h"
+#include "drive_params.h"
 #include "hal.h"
 #include "level.h"
 #include "protect.h"
@@ -171,6 +172,14 @@ typedef struct {
 /* Start-up: the board's configuration (firmware/board_cfg.h) into *cfg. */
 void app_cfg_default(app_cfg_t *cfg);
 
+/* Start-up or host: the parameter set *p (drive_params.h; its values left
+ * to derive derived) into *cfg: the controller's configuration
+ * (drive_params_to_ctrl_cfg), the protection limits, step 1's timing and
+ * speeds, the commissioning's bounds, the alignment's voltage and the
+ * open-phase thresholds; the rest of *cfg (start-up sequence, watch) is
+ * left. */
+void drive_params_to_app_cfg(const drive_params_t *p, app_cfg_t *cfg);
+
 /* Start-up: copy *cfg (or use it in place when cfg is &app->cfg), init the
  * controller, PWM off, state INIT. */
 void app_init(app_t *app, const app_cfg_t *cfg);
@@ -201,6 +210,19 @@ void app_request_commission(app_t *app);
 /* The commissioning's outcome now (comm_outcome_t; COMM_NONE without
  * app_attach_comm()). Any context. */
 uint16_t app_comm_result(const app_t *app);
+
+/* What the link and the logs read of the controller: the monitor of its
+ * last period (ctrl.h) and the estimation's model and status (est.h).
+ * Any context; inline, as cheap as the field itself. */
+static inline const ctrl_mon_t *app_monitor(const app_t *app)
+{
+    return ctrl_monitor(&app->ctrl);
+}
+
+static inline const est_out_t *app_estimate(const app_t *app)
+{
+    return est_output(ctrl_est(&app->ctrl));
+}
 
 /* Background: the operator's references, mode and method; the ISR takes
  * them together at the start of its next call (ctrl_set_ref, _mode,

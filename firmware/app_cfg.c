@@ -1,6 +1,7 @@
 /* app_cfg.c - the board's configuration into the app's: the parameter set
- * (drive_params.h) through its mapping, then the start-up sequence's own
- * settings from firmware/board_cfg.h; see app_cfg_default() in app.h. */
+ * (drive_params.h) through its mapping (drive_params_to_app_cfg), then the
+ * start-up sequence's own settings from firmware/board_cfg.h; see
+ * app_cfg_default() in app.h. */
 #include "app.h"
 #include "board_cfg.h"
 #include "drive_params.h"
@@ -77,4 +78,35 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->lvl.pwm_duty[2] = BOARD_LEVEL1_DUTY_C;
     cfg->lvl.speed_m_rad_s = BOARD_LEVEL3_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
     cfg->lvl.ramp_s = BOARD_ALIGN_RAMP_S;
+}
+
+/* DRIVE_TO(path): cfg->path = the value; DRIVE_TO_NONE: no copy. */
+#define DRIVE_COPY_DRIVE_TO(path) cfg->path =
+#define DRIVE_COPY_DRIVE_TO_NONE(value)
+#define DRIVE_PARAM_COPY(group, field, type, dflt, to) DRIVE_COPY_##to(p->group.field);
+
+void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
+{
+    drive_params_t d = *p_in;
+    const drive_params_t *p = &d;
+
+    cfg->comm.i_max_A = p->rating.i_rated_A; /* the commissioning's bounds: the ratings (and n_rated) */
+    /* the speed PI from the measured J: the parameter set's rule, linear in J */
+    drive_speed_pi(1.0f, p->tuning.speed_bw_rad_s, &cfg->comm.speed_kp_per_J_1_s, &cfg->comm.speed_ki_per_J_1_s2);
+    /* sec. 3: the I^2t budget of the short-time current (and i2t_rated_A) */
+    cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
+                          p->rating.t_peak_s;
+    cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));
+    /* the plain copies (drive_params.h's lists' DRIVE_TO), the derived values derived */
+    DRIVE_PARAMS(DRIVE_PARAM_COPY)
+
+    /* half an ADC step of the current range (+- full scale over the counts) */
+    cfg->prot.watch.stuck_delta_A = p->board.i_full_scale_A / BOARD_ADC_COUNTS;
+    cfg->prot.watch.op_i_min_A = drive_scaled(REF_OPEN_PHASE_I_MIN_A, p->rating.i_rated_A, REF_I_RATED_A);
+    cfg->prot.watch.op_u_min_V = drive_scaled(REF_OPEN_PHASE_U_MIN_V, p->board.vdc_nominal_V, REF_VDC_V);
+    cfg->aln.u_V = drive_scaled(REF_ALIGN_CURRENT_A, p->rating.i_rated_A, REF_I_RATED_A) * p->motor.R_Ohm;
+    /* level 3 turns the rotor with the alignment's current; level 4 runs at a fraction of the limit */
+    cfg->lvl.i_A = drive_scaled(REF_ALIGN_CURRENT_A, p->rating.i_rated_A, REF_I_RATED_A);
+    cfg->lvl.i_lim_4_A = BOARD_LEVEL4_I_LIMIT_PER_LIMIT * cfg->ctrl.i_lim_A;
+    drive_params_to_ctrl_cfg(p, &cfg->ctrl);
 }

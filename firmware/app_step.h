@@ -6,7 +6,7 @@
  * Every start-up step is a small state machine with its own state struct,
  * a _start() and a _step() called once per ISR period that returns
  * running, done, or a fault with the quantity and the limit it crossed;
- * app_start.c holds the sequence that chains them (app.h).
+ * the start sequence in app.c chains them (app.h).
  */
 #ifndef APP_STEP_H
 #define APP_STEP_H

@@ -37,9 +37,7 @@ static float min_f(float a, float b)
     return (a < b) ? a : b;
 }
 
-/* ref_value x (q / q_ref): a value in proportion to q, ref_value at the
- * reference to the bit (q / q_ref is 1 there). */
-static float scaled(float ref_value, float q, float q_ref)
+float drive_scaled(float ref_value, float q, float q_ref)
 {
     return ref_value * (q / q_ref);
 }
@@ -65,9 +63,9 @@ drive_derive_t drive_params_derive(drive_params_t *p)
     }
     /* sec. 2: limits from the ratings and the ADC's range */
     derive(&p->limits.te_max_Nm, kt_Nm_A * r->i_peak_A);
-    derive(&p->limits.i_limit_A, scaled(REF_I_LIMIT_A, r->i_peak_A, REF_I_PEAK_A));
-    derive(&p->limits.i_trip_A, min_f(scaled(REF_I_TRIP_A, r->i_peak_A, REF_I_PEAK_A),
-                                      scaled(REF_I_TRIP_A, p->board.i_full_scale_A, REF_I_FULL_SCALE_A)));
+    derive(&p->limits.i_limit_A, drive_scaled(REF_I_LIMIT_A, r->i_peak_A, REF_I_PEAK_A));
+    derive(&p->limits.i_trip_A, min_f(drive_scaled(REF_I_TRIP_A, r->i_peak_A, REF_I_PEAK_A),
+                                      drive_scaled(REF_I_TRIP_A, p->board.i_full_scale_A, REF_I_FULL_SCALE_A)));
     derive(&p->limits.speed_max_rad_s, LIM_OVERSPEED_PER_MAX * r->n_max_rad_s);
     if (!(p->limits.i_limit_A < p->limits.i_trip_A)) {
         st |= DRIVE_DERIVE_ADC_RANGE;
@@ -85,7 +83,7 @@ drive_derive_t drive_params_derive(drive_params_t *p)
     derive(&p->step1.speed_1_rad_s, RSID_SPEED_1_PER_RATED * r->n_rated_rad_s);
     derive(&p->step1.speed_2_rad_s, RSID_SPEED_2_PER_RATED * r->n_rated_rad_s);
     derive(&p->step1.accel_rad_s2,
-           min_f(scaled(REF_RSID_ACCEL_RPM_S * MATHX_RAD_S_PER_RPM_F, r->n_rated_rad_s, n_rated_ref_rad_s),
+           min_f(drive_scaled(REF_RSID_ACCEL_RPM_S * MATHX_RAD_S_PER_RPM_F, r->n_rated_rad_s, n_rated_ref_rad_s),
                  RSID_RAMP_TORQUE_PER_RATED * kt_Nm_A * r->i_rated_A / p->motor.J_kgm2));
     /* sec. 6: back-EMF at n_max against the bus's phase-voltage limit */
     if (r->n_max_rad_s * (float)p->motor.pole_pairs * p->motor.psi_f_Wb > p->board.vdc_nominal_V / SQRT3) {
@@ -102,8 +100,8 @@ drive_derive_t drive_params_derive(drive_params_t *p)
 bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float *G_max_V_A)
 {
     return ctrl_obs_gains_design(p->board.Ts_s, p->motor.R_Ohm, p->motor.L_H,
-                                 scaled(REF_OBS_EF_MAX_V, p->board.vdc_nominal_V, REF_VDC_V),
-                                 scaled(REF_OBS_PHI_A, p->rating.i_rated_A, REF_I_RATED_A), g, G_max_V_A);
+                                 drive_scaled(REF_OBS_EF_MAX_V, p->board.vdc_nominal_V, REF_VDC_V),
+                                 drive_scaled(REF_OBS_PHI_A, p->rating.i_rated_A, REF_I_RATED_A), g, G_max_V_A);
 }
 
 /* The voltage the drive cannot explain [V]: (4/pi) bus (dead-time
@@ -119,59 +117,33 @@ static void estimator_from(const drive_params_t *p, ctrl_cfg_t *c)
     const float i_r = p->rating.i_rated_A;
     const float T_r = drive_rated_torque_Nm(p);
     const float vdc = p->board.vdc_nominal_V;
-    c->gate.di_max_A = scaled(REF_EST_DI_MAX_A, i_r, REF_I_RATED_A);
-    c->gate.dte_max_Nm = scaled(REF_EST_DTE_MAX_NM, T_r, REF_T_RATED_NM);
-    c->rtrack.i_ident_A = scaled(REF_RT_I_IDENT_A, i_r, REF_I_RATED_A);
+    c->gate.di_max_A = drive_scaled(REF_EST_DI_MAX_A, i_r, REF_I_RATED_A);
+    c->gate.dte_max_Nm = drive_scaled(REF_EST_DTE_MAX_NM, T_r, REF_T_RATED_NM);
+    c->rtrack.i_ident_A = drive_scaled(REF_RT_I_IDENT_A, i_r, REF_I_RATED_A);
     /* R I against the PWM's voltage noise, which scales with the bus */
-    c->rtrack.i_track_A = min_f(scaled(REF_RT_I_TRACK_A, vdc / p->motor.R_Ohm, REF_VDC_V / REF_R_OHM),
+    c->rtrack.i_track_A = min_f(drive_scaled(REF_RT_I_TRACK_A, vdc / p->motor.R_Ohm, REF_VDC_V / REF_R_OHM),
                                 RT_I_TRACK_MAX_PER_RATED * i_r);
-    c->rtrack.iq_min_A = scaled(REF_RT_IQ_MIN_A, i_r, REF_I_RATED_A);
-    c->rtrack.iq_step_max_A = scaled(REF_RT_IQ_STEP_A, i_r, REF_I_RATED_A);
-    c->rtrack.ve_max_V = scaled(REF_RT_VE_MAX_V, vdc, REF_VDC_V);
+    c->rtrack.iq_min_A = drive_scaled(REF_RT_IQ_MIN_A, i_r, REF_I_RATED_A);
+    c->rtrack.iq_step_max_A = drive_scaled(REF_RT_IQ_STEP_A, i_r, REF_I_RATED_A);
+    c->rtrack.ve_max_V = drive_scaled(REF_RT_VE_MAX_V, vdc, REF_VDC_V);
     /* w_min psi_f in proportion to the voltage the drive cannot explain */
-    const float w_min = scaled(REF_EST_W_MIN_RAD_S, unexplained_V(vdc, p->board.Ts_s),
+    const float w_min = drive_scaled(REF_EST_W_MIN_RAD_S, unexplained_V(vdc, p->board.Ts_s),
                                unexplained_V(REF_VDC_V, p->board.Ts_s)) * (REF_PSI_F_WB / p->motor.psi_f_Wb);
     c->pe.w_min_rad_s = w_min;
-    c->pe.wiq_min_A_rad_s = scaled(REF_EST_WIQ_MIN_A_RAD_S, w_min * i_r, REF_EST_W_MIN_RAD_S * REF_I_RATED_A);
+    c->pe.wiq_min_A_rad_s = drive_scaled(REF_EST_WIQ_MIN_A_RAD_S, w_min * i_r, REF_EST_W_MIN_RAD_S * REF_I_RATED_A);
 }
 
-/* DRIVE_TO(path): cfg->path = the value; DRIVE_TO_NONE: no copy. */
-#define DRIVE_COPY_DRIVE_TO(path) cfg->path =
-#define DRIVE_COPY_DRIVE_TO_NONE(value)
-#define DRIVE_PARAM_COPY(group, field, type, dflt, to) DRIVE_COPY_##to(p->group.field);
-
-void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
+void drive_params_to_ctrl_cfg(const drive_params_t *p, ctrl_cfg_t *c)
 {
-    drive_params_t d = *p_in;
-    const drive_params_t *p = &d;
-    ctrl_cfg_t *c = &cfg->ctrl;
     ctrl_obs_gains_t g;
     float G_max;
     float R_min_Ohm;
     float R_max_Ohm;
 
-    cfg->comm.i_max_A = p->rating.i_rated_A; /* the commissioning's bounds: the ratings (and n_rated) */
-    /* the speed PI from the measured J: the parameter set's rule, linear in J */
-    drive_speed_pi(1.0f, p->tuning.speed_bw_rad_s, &cfg->comm.speed_kp_per_J_1_s, &cfg->comm.speed_ki_per_J_1_s2);
-    /* sec. 3: the I^2t budget of the short-time current (and i2t_rated_A) */
-    cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
-                          p->rating.t_peak_s;
-    cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));
-    /* the plain copies (drive_params.h's lists' DRIVE_TO), the derived values derived */
-    DRIVE_PARAMS(DRIVE_PARAM_COPY)
     /* the model's bounds: generous, never the active limit */
     c->i_max_A = MODEL_I_BOUND_PER_TRIP * p->limits.i_trip_A;
     c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * MATHX_RAD_S_PER_RPM_F * (float)p->motor.pole_pairs;
     c->psi_max_Wb = MODEL_PSI_BOUND_PER_PSIF * p->motor.psi_f_Wb;
-
-    /* half an ADC step of the current range (+- full scale over the counts) */
-    cfg->prot.watch.stuck_delta_A = p->board.i_full_scale_A / BOARD_ADC_COUNTS;
-    cfg->prot.watch.op_i_min_A = scaled(REF_OPEN_PHASE_I_MIN_A, p->rating.i_rated_A, REF_I_RATED_A);
-    cfg->prot.watch.op_u_min_V = scaled(REF_OPEN_PHASE_U_MIN_V, p->board.vdc_nominal_V, REF_VDC_V);
-    cfg->aln.u_V = scaled(REF_ALIGN_CURRENT_A, p->rating.i_rated_A, REF_I_RATED_A) * p->motor.R_Ohm;
-    /* level 3 turns the rotor with the alignment's current; level 4 runs at a fraction of the limit */
-    cfg->lvl.i_A = scaled(REF_ALIGN_CURRENT_A, p->rating.i_rated_A, REF_I_RATED_A);
-    cfg->lvl.i_lim_4_A = BOARD_LEVEL4_I_LIMIT_PER_LIMIT * c->i_lim_A;
 
     /* the proposed method's settings for these values; the R^ band in ohms.
      * Gains refused here make smo_init refuse too (CONFIG at the start). */

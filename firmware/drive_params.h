@@ -2,7 +2,9 @@
  * drive_params.h - the drive's one parameter set: the motor, its
  * ratings, the board, the limits, the controller's tuning and step 1's
  * speeds and timing, in SI units; the values derived from it
- * (params_design.md); and the one mapping to the app's configuration.
+ * (params_design.md), the controller's configuration among them. Below
+ * the application: the app maps the set into its configuration
+ * (drive_params_to_app_cfg, app.h).
  *
  * The target fills it from the board header (drive_params_board(),
  * firmware/board_cfg.h) and maps it in app_cfg_default(); the SIL takes the
@@ -18,7 +20,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "app.h"
+#include "ctrl.h"
 
 /* A value marked "derived" that is negative (DRIVE_PARAM_DERIVED) or NaN
  * is derived by drive_params_derive() (firmware/params_design.md) from
@@ -31,8 +33,8 @@
  * type    float | uint16_t | uint32_t
  * default its board value (firmware/board_cfg.h, expanded in
  *         drive_params_board() only) or DRIVE_PARAM_DERIVED
- * to      DRIVE_TO(path): drive_params_to_app_cfg() copies the value to
- *         app_cfg_t's path; DRIVE_TO_NONE: formulas there use it
+ * to      DRIVE_TO(path): drive_params_to_app_cfg() (app.h) copies the
+ *         value to app_cfg_t's path; DRIVE_TO_NONE: formulas use it
  * The lists generate drive_params_t's fields, drive_params_board() and the
  * copies in drive_params_to_app_cfg(); the SIL's keys name the fields
  * (tools/sil/scenario_keys.h). Adding a parameter: params_design.md sec. 8. */
@@ -152,12 +154,15 @@ bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float 
 /* Start-up or host: the board's parameter set (firmware/board_cfg.h). */
 void drive_params_board(drive_params_t *p);
 
-/* Start-up or host: *p (its values left to derive derived) into the controller's
- * configuration, the protection limits of *cfg (the model bounds derived
- * here: board_cfg.h MODEL_*), the proposed method's settings (the
- * observer's gains, step 2's thresholds, the injections), step 1's timing
- * and speeds, the alignment's voltage and the open-phase thresholds; the
- * rest of *cfg (start-up sequence, watch) is left. */
-void drive_params_to_app_cfg(const drive_params_t *p, app_cfg_t *cfg);
+/* Start-up or host: the controller's settings derived from *p (derived
+ * first): the model's bounds (board_cfg.h MODEL_*), the proposed method's
+ * settings (the observer's gains, the R^ band, step 2's thresholds, the
+ * injections). The plain copies are drive_params_to_app_cfg's (the
+ * lists' DRIVE_TO), which calls this after them. */
+void drive_params_to_ctrl_cfg(const drive_params_t *p, ctrl_cfg_t *c);
+
+/* ref_value x (q / q_ref): a value in proportion to q, ref_value at the
+ * reference to the bit (q / q_ref is 1 there). Any context. */
+float drive_scaled(float ref_value, float q, float q_ref);
 
 #endif /* DRIVE_PARAMS_H */

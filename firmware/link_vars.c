@@ -1,4 +1,6 @@
-/* link_vars.c - the link's variable table; see link_vars.h. */
+/* link_vars.c - the link's variable table; see link_vars.h. Its values
+ * (link_var_get) are the ISR's too: in RAM (RAMFUNC); the rest runs from
+ * flash. */
 #include "link_vars.h"
 
 #include <stddef.h>
@@ -112,6 +114,79 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     }
 }
 
+/* The values: read by the ISR (capture, stream), so in RAM. */
+RAMFUNC static link_val_t of_u(uint32_t u)
+{
+    link_val_t v;
+    v.u = u;
+    v.f = (float)u;
+    return v;
+}
+
+RAMFUNC static link_val_t of_f(float f)
+{
+    link_val_t v;
+    v.u = 0u;
+    v.f = f;
+    return v;
+}
+
+RAMFUNC link_val_t link_var_get(const link_target_t *t, uint16_t id)
+{
+    const app_t *a = t->app;
+    const ctrl_mon_t *m = app_monitor(a);
+    const est_out_t *e = app_estimate(a);
+    switch (id) {
+    case LV_STATE: return of_u((uint32_t)a->state);
+    case LV_FAULT: return of_u((uint32_t)a->fault);
+    case LV_FLAGS: return of_u((uint32_t)(a->out.flags | a->warnings)); /* as the CSV's flags */
+    case LV_SPEED_EST_RPM: return of_f(m->speed_mech_rad_s / MATHX_RAD_S_PER_RPM_F);
+    case LV_SPEED_REF_RPM: return of_f(a->op_taken.ref.speed_ref_rad_s / MATHX_RAD_S_PER_RPM_F);
+    case LV_TE_CMD_NM: return of_f(a->op_taken.ref.te_ref_Nm);
+    case LV_TE_REF_NM: return of_f(m->te_ref_Nm);
+    case LV_TE_EST_NM: return of_f(m->te_est_Nm);
+    case LV_PSI_REF_WB: return of_f(m->psi_ref_Wb);
+    case LV_PSI_EST_WB: return of_f(m->psi_est_Wb);
+    case LV_ID_MEAS_A: return of_f(m->id_A);
+    case LV_IQ_MEAS_A: return of_f(m->iq_A);
+    case LV_UD_CMD_V: return of_f(m->ud_V);
+    case LV_UQ_CMD_V: return of_f(m->uq_V);
+    case LV_UD_REF_V: return of_f(a->op_taken.ref.ud_ref_V);
+    case LV_UQ_REF_V: return of_f(a->op_taken.ref.uq_ref_V);
+    case LV_R_EST_OHM: return of_f(e->R_Ohm);
+    case LV_L_EST_H: return of_f(e->L_H);
+    case LV_PSIF_EST_WB: return of_f(e->psi_f_Wb);
+    case LV_EST: return of_u((uint32_t)e->phase);
+    case LV_EST_HOLD: return of_u((uint32_t)e->hold);
+    case LV_METHOD: return of_u((uint32_t)a->op_taken.method);
+    case LV_MODE: return of_u((uint32_t)a->op_taken.mode);
+    case LV_CMD_ERROR: return of_u((uint32_t)t->cmd->error);
+    case LV_TICKS: return of_u(a->ticks);
+    case LV_LINK_WRITES: return of_u(t->stats->writes);
+    case LV_LINK_ERR_CRC: return of_u((uint32_t)t->stats->err_crc);
+    case LV_LINK_ERR_FRAMING: return of_u((uint32_t)t->stats->err_framing);
+    case LV_LINK_ERR_OVERRUN: return of_u((uint32_t)t->stats->err_overrun);
+    case LV_LINK_STREAM_DROPPED: return of_u((uint32_t)t->stats->stream_dropped);
+    case LV_LINK_ERR_LINE: return of_u((uint32_t)t->stats->err_line);
+    case LV_RESET_BY_WATCHDOG: return of_u((uint32_t)t->stats->reset_by_watchdog);
+    case LV_COMM_RESULT: return of_u((uint32_t)app_comm_result(a));
+    case LV_COMM_STAGE: return of_u((a->comm != NULL) ? (uint32_t)a->comm->stage : 0u);
+    /* the commissioning's, 0 without one attached (app_attach_comm) */
+    case LV_COMM_R_OHM: return of_f((a->comm != NULL) ? a->comm->res.R_Ohm : 0.0f);
+    case LV_COMM_L_H: return of_f((a->comm != NULL) ? a->comm->res.L_H : 0.0f);
+    case LV_COMM_PSIF_WB: return of_f((a->comm != NULL) ? a->comm->res.psi_f_Wb : 0.0f);
+    case LV_COMM_POLE_PAIRS: return of_u((a->comm != NULL) ? (uint32_t)a->comm->res.pole_pairs : 0u);
+    case LV_COMM_J_KGM2: return of_f((a->comm != NULL) ? a->comm->res.J_kgm2 : 0.0f);
+    case LV_COMM_B_NMS: return of_f((a->comm != NULL) ? a->comm->res.B_Nms : 0.0f);
+    case LV_COMM_ENC_OFFSET: return of_f((a->comm != NULL) ? a->comm->res.enc_offset_el_rad : 0.0f);
+    case LV_COMM_SPEED_KP: return of_f((a->comm != NULL) ? a->comm->res.speed_kp_Nms_rad : 0.0f);
+    case LV_COMM_SPEED_KI: return of_f((a->comm != NULL) ? a->comm->res.speed_ki_Nm_rad : 0.0f);
+    case LV_LEVEL: return of_u((uint32_t)a->level);
+    case LV_LEVEL_NEXT: return of_u((uint32_t)a->req_level);
+    default: return of_u(0u);
+    }
+}
+
 static link_src_t src_of(const volatile float *p, float raw_per_unit)
 {
     link_src_t s;
@@ -120,12 +195,12 @@ static link_src_t src_of(const volatile float *p, float raw_per_unit)
     return s;
 }
 
-/* As link_var_get (link_isr.c) reads each one: the same field, the same conversion. */
+/* As link_var_get reads each one: the same field, the same conversion. */
 link_src_t link_var_source(const link_target_t *t, uint16_t id)
 {
     const app_t *a = t->app;
-    const ctrl_mon_t *m = &a->ctrl.mon;
-    const est_out_t *e = est_output(ctrl_est(&a->ctrl));
+    const ctrl_mon_t *m = app_monitor(a);
+    const est_out_t *e = app_estimate(a);
     switch (id) {
     case LV_SPEED_EST_RPM: return src_of(&m->speed_mech_rad_s, MATHX_RAD_S_PER_RPM_F);
     case LV_SPEED_REF_RPM: return src_of(&a->op_taken.ref.speed_ref_rad_s, MATHX_RAD_S_PER_RPM_F);

@@ -16,9 +16,9 @@ Usage: placement.py --map ISR_PATH.MAP [--mk TARGET_MK]
   1. a function of the ISR path (the functions linked into isr_path.sh's
      image, its map file) outside RAMFUNC_ALL carries neither marker: it
      would run from flash;
-  2. a static function that a marked function calls carries no marker
-     itself, or only FLASHFUNC under a RAMFUNC caller: where cl2000 does
-     not inline it as gcc did for the map, it would run from flash.
+  2. a function that a marked function of the same file calls carries
+     no marker itself: gcc may have inlined it for the map, cl2000 may not
+     (a RAMFUNC function may call a FLASHFUNC one: a state's step in flash).
 ram_budget.py imports ram_functions() and in_ram_whole() from here.
 """
 import argparse
@@ -142,14 +142,10 @@ def check(map_path, mk, sources):
         for caller, (mark, _static, calls) in sorted(fns.items()):
             if mark is None:
                 continue
-            for callee in sorted(calls):
-                if callee not in fns or not fns[callee][1]:
-                    continue
-                cmark = fns[callee][0]
-                if cmark is None or (mark == 'RAMFUNC' and cmark != 'RAMFUNC'):
-                    fails.append("%s: static %s, called by %s %s, is not %s: where cl2000 does not inline it, it "
-                                 "runs from flash" % (src, callee, mark, caller,
-                                                      'RAMFUNC' if mark == 'RAMFUNC' else 'RAMFUNC or FLASHFUNC'))
+            for callee in sorted(calls & set(fns)):
+                if fns[callee][0] is None:
+                    fails.append("%s: %s, called by %s %s, is neither RAMFUNC nor FLASHFUNC: where cl2000 does "
+                                 "not inline it as gcc did, it runs from flash unmarked" % (src, callee, mark, caller))
     return fails
 
 

@@ -18,6 +18,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "app.h"
 #include "drive_params.h"
 #include "profile.h"
 #include "scenario_keys.h"
