@@ -73,7 +73,7 @@ CONTROL_SRCS  := $(wildcard control/*.c)
 FIRMWARE_SRCS := $(filter-out firmware/main.c,$(wildcard firmware/*.c))
 SIM_SRCS      := $(wildcard hal/sim/*.c)
 SILRUN_SRCS   := tools/sil/scenario.c tools/sil/profile.c tools/sil/csv_num.c tools/sil/summary.c \
-                 tools/sil/sil_board.c tools/sil/ini_edit.c
+                 tools/sil/sil_board.c tools/sil/ini_edit.c tools/sil/json_out.c
 F28335_SRCS   := $(wildcard hal/f28335/*.c) $(wildcard tests/c2000_fake/*.c)
 
 objs = $(patsubst %.c,$(OUT)/obj/%.o,$1)

@@ -45,6 +45,7 @@
 #include "app_step.h"
 #include "csv_writer.h"
 #include "ini_edit.h"
+#include "json_out.h"
 #include "link_sil.h"
 #include "scenario.h"
 #include "sil.h"
@@ -543,9 +544,9 @@ static void batch_point(const args_t *a, const scenario_t *base, char *line)
     }
     if (bad) {
         fputs("{\"id\": ", stdout);
-        summary_json_string(stdout, id);
+        json_string(stdout, id);
         fputs(", \"error\": ", stdout);
-        summary_json_string(stdout, err);
+        json_string(stdout, err);
         fputs("}\n", stdout);
         return;
     }

@@ -11,8 +11,8 @@
 #include "csv_num.h"
 #include "board_cfg.h"
 #include "hal_sim.h"
+#include "json_out.h"
 #include "sil_board.h"
-#include "summary.h"
 
 /* Bounds the controller's model clamps to (ctrl_cfg_t): generous, never the active limit.
  * The current, speed and flux bounds are the board's (board_cfg.h MODEL_*). */
@@ -388,25 +388,6 @@ void sil_csv_row(FILE *f, const sil_row_t *row)
 
 /* ---- resolved values (OUT.json) --------------------------------------------- */
 
-static void json_num(FILE *f, const char *key, double v, const char *sep)
-{
-    if (isfinite(v)) {
-        fprintf(f, "\"%s\": %.10g%s", key, v, sep);
-    } else {
-        fprintf(f, "\"%s\": null%s", key, sep);
-    }
-}
-
-/* A controller value (float) to the digits a float holds: 0.0165f reads 0.0165. */
-static void json_flt(FILE *f, const char *key, float v, const char *sep)
-{
-    if (isfinite(v)) {
-        fprintf(f, "\"%s\": %.7g%s", key, (double)v, sep);
-    } else {
-        fprintf(f, "\"%s\": null%s", key, sep);
-    }
-}
-
 /* One derived value: {"value": v, "source": "derived"|"set", "from": "keys"}. */
 static void json_derived(FILE *f, const char *key, double v, int set, const char *from, const char *sep)
 {
@@ -460,7 +441,7 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
     scenario_warnings(sc, w, sizeof w);
     fputs(" },\n \"warnings\": [", f);
     if (w[0] != '\0') {
-        summary_json_string(f, w);
+        json_string(f, w);
     }
     /* every key as resolved, and whether it was set, left at its default or derived */
     fputs("],\n \"keys\": {\n", f);
@@ -485,7 +466,7 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path
     static const char *const MODE[] = { "speed", "torque", "open_loop" };
 
     fputs("{\"scenario\": ", f);
-    summary_json_string(f, scenario_path);
+    json_string(f, scenario_path);
     fputs(",\n \"plant\": {", f);
     json_num(f, "R_ohm", sc->plant.R_ohm, ", ");
     json_num(f, "L_H", sc->plant.L_H, ", ");

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "json_out.h"
 
 #define CSV_T_FORMAT "%.9g"       /* sil_csv_row()'s number format */
 #define EDGE_CHECK_S 1e-6         /* rows this close to a window edge are decided on the printed t */
@@ -142,34 +143,10 @@ void summary_add(summary_t *s, const sil_row_t *r)
     add(&s->psif_rel, (r->psif_est_Wb - s->psif_Wb) / s->psif_Wb);
 }
 
-static void put_num(FILE *f, const char *key, double v, int last)
-{
-    if (isfinite(v)) {
-        fprintf(f, "\"%s\": %.10g%s", key, v, last ? "}\n" : ", ");
-    } else {
-        fprintf(f, "\"%s\": null%s", key, last ? "}\n" : ", ");
-    }
-}
-
-void summary_json_string(FILE *f, const char *text)
-{
-    fputc('"', f);
-    for (const unsigned char *p = (const unsigned char *)text; *p != '\0'; p++) {
-        if (*p == '"' || *p == '\\') {
-            fprintf(f, "\\%c", *p);
-        } else if (*p < 0x20u) {
-            fprintf(f, "\\u%04x", *p);
-        } else {
-            fputc(*p, f);
-        }
-    }
-    fputc('"', f);
-}
-
 static void put_str(FILE *f, const char *key, const char *text)
 {
     fprintf(f, "\"%s\": ", key);
-    summary_json_string(f, text);
+    json_string(f, text);
     fputs(", ", f);
 }
 
@@ -183,33 +160,33 @@ void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const
     }
     put_str(f, "scenario", scenario_path);
     put_str(f, "method", (sc->controller.method == SC_METHOD_PROPOSED) ? "proposed" : "conventional");
-    put_num(f, "plant.R_ohm", sc->plant.R_ohm, 0);
-    put_num(f, "plant.L_H", sc->plant.L_H, 0);
-    put_num(f, "plant.psif_Wb", sc->plant.psif_Wb, 0);
-    put_num(f, "controller.R_ohm", sc->controller.R_ohm, 0);
-    put_num(f, "controller.L_H", sc->controller.L_H, 0);
-    put_num(f, "controller.psif_Wb", sc->controller.psif_Wb, 0);
-    put_num(f, "window_t0_s", s->t0_s, 0);
-    put_num(f, "window_t1_s", s->t1_s, 0);
-    put_num(f, "window_rows", (double)s->rows, 0);
-    put_num(f, "periods", (double)res->periods, 0);
-    put_num(f, "final_state", (double)res->final_state, 0);
+    json_num(f, "plant.R_ohm", sc->plant.R_ohm, ", ");
+    json_num(f, "plant.L_H", sc->plant.L_H, ", ");
+    json_num(f, "plant.psif_Wb", sc->plant.psif_Wb, ", ");
+    json_num(f, "controller.R_ohm", sc->controller.R_ohm, ", ");
+    json_num(f, "controller.L_H", sc->controller.L_H, ", ");
+    json_num(f, "controller.psif_Wb", sc->controller.psif_Wb, ", ");
+    json_num(f, "window_t0_s", s->t0_s, ", ");
+    json_num(f, "window_t1_s", s->t1_s, ", ");
+    json_num(f, "window_rows", (double)s->rows, ", ");
+    json_num(f, "periods", (double)res->periods, ", ");
+    json_num(f, "final_state", (double)res->final_state, ", ");
     put_str(f, "final_state_name", summary_state_name(res->final_state, buf, sizeof buf));
-    put_num(f, "final_fault", (double)res->final_fault, 0);
+    json_num(f, "final_fault", (double)res->final_fault, ", ");
     put_str(f, "fault_name", summary_fault_name(res->final_fault, buf, sizeof buf));
-    put_num(f, "warnings", (double)res->warnings, 0);
+    json_num(f, "warnings", (double)res->warnings, ", ");
     put_str(f, "warning", summary_warning_text(res, buf, sizeof buf));
-    put_num(f, "t_run_s", res->t_run_s, 0);
-    put_num(f, "max_abs_i_A", res->max_abs_i_A, 0);
-    put_num(f, "te_err_Nm", mean(&s->te_abs), 0);
-    put_num(f, "te_ripple_Nm", sqrt(mean(&s->te_sq)), 0);
-    put_num(f, "psi_err_Wb", mean(&s->psi_abs), 0);
-    put_num(f, "psi_err_pct", PERCENT * mean(&s->psi_rel), 0);
-    put_num(f, "speed_err_rpm", mean(&s->speed), 0);
-    put_num(f, "speed_err_max_rpm", s->speed_abs_max, 0);
-    put_num(f, "id_A", mean(&s->id), 0);
-    put_num(f, "iq_A", mean(&s->iq), 0);
-    put_num(f, "R_err_pct", PERCENT * mean(&s->R_rel), 0);
-    put_num(f, "L_err_pct", PERCENT * mean(&s->L_rel), 0);
-    put_num(f, "psif_err_pct", PERCENT * mean(&s->psif_rel), 1);
+    json_num(f, "t_run_s", res->t_run_s, ", ");
+    json_num(f, "max_abs_i_A", res->max_abs_i_A, ", ");
+    json_num(f, "te_err_Nm", mean(&s->te_abs), ", ");
+    json_num(f, "te_ripple_Nm", sqrt(mean(&s->te_sq)), ", ");
+    json_num(f, "psi_err_Wb", mean(&s->psi_abs), ", ");
+    json_num(f, "psi_err_pct", PERCENT * mean(&s->psi_rel), ", ");
+    json_num(f, "speed_err_rpm", mean(&s->speed), ", ");
+    json_num(f, "speed_err_max_rpm", s->speed_abs_max, ", ");
+    json_num(f, "id_A", mean(&s->id), ", ");
+    json_num(f, "iq_A", mean(&s->iq), ", ");
+    json_num(f, "R_err_pct", PERCENT * mean(&s->R_rel), ", ");
+    json_num(f, "L_err_pct", PERCENT * mean(&s->L_rel), ", ");
+    json_num(f, "psif_err_pct", PERCENT * mean(&s->psif_rel), "}\n");
 }

@@ -56,9 +56,6 @@ void summary_add(summary_t *s, const sil_row_t *row);
 void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const sil_result_t *res,
                         const char *scenario_path, const char *id);
 
-/* text as a JSON string (quoted; quotes, backslashes and control characters escaped). */
-void summary_json_string(FILE *f, const char *text);
-
 /* "STEP1_REFUSED (RSID_...)" for the run's warnings (app.h APP_WARN_*), "" without. */
 const char *summary_warning_text(const sil_result_t *res, char *buf, size_t len);
 

@@ -1,5 +1,5 @@
 /*
- * hal_f28335.c - hal.h on the TMS320F28335: start-up order and the
+ * hal_f28335_init.c - hal.h on the TMS320F28335: start-up order and the
  * control interrupt (ADC SEQ1, PIE INT1.1, 10 kHz). Reference: SPRUFB0
  * "PIE" (vector table, PIEIER/PIEACK, CPU IER) and SPRU812 (SEQ1 interrupt).
  */
