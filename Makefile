@@ -50,14 +50,20 @@ WARN_BASE     := -std=c99 -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wm
 FLOAT_ONLY    := -Wdouble-promotion -Wfloat-conversion -Wunsuffixed-float-constants
 PORTABLE_INC  := -include control/c28x_portable.h
 # Include lists, one per library: a layer sees itself and the layers below
-# it only (control <- hal <- firmware <- tools/sil, tests see everything);
-# `make check` gates the same (tools/check/layers.sh).
+# it only (control <- hal <- firmware <- tools/sil, tests see everything),
+# and inside firmware/ a room itself and the rooms below it
+# (firmware/rooms.mk); `make check` gates the same (tools/check/layers.sh).
+include firmware/rooms.mk
+# fw_upto ROOM: the rooms from the bottom up to ROOM
+fw_upto        = $(call fw_upto_in,$1,$(FIRMWARE_ROOMS))
+fw_upto_in     = $(firstword $2) $(if $(filter $1,$(firstword $2)),,$(call fw_upto_in,$1,$(wordlist 2,$(words $2),$2)))
 INC_CONTROL   := -Icontrol
 INC_F28335    := -Ihal -Ihal/f28335 -Icontrol -Itests/c2000_fake/include
 INC_SIM       := -Ihal -Ihal/sim
-INC_FIRMWARE  := -Ifirmware -Ihal -Ihal/f28335 -Icontrol
-INC_SILRUN    := -Itools/sil -Ifirmware -Ihal -Ihal/sim -Ihal/f28335 -Icontrol
-INC           := -Icontrol -Ihal -Ifirmware -Ihal/sim -Itools/sil -Ihal/f28335 -Itests -Itests/c2000_fake/include
+INC_FW_ALL    := $(addprefix -Ifirmware/,$(FIRMWARE_ROOMS))
+inc_firmware   = $(addprefix -Ifirmware/,$(call fw_upto,$1)) -Ihal -Ihal/f28335 -Icontrol
+INC_SILRUN    := -Itools/sil $(INC_FW_ALL) -Ihal -Ihal/sim -Ihal/f28335 -Icontrol
+INC           := -Icontrol -Ihal $(INC_FW_ALL) -Ihal/sim -Itools/sil -Ihal/f28335 -Itests -Itests/c2000_fake/include
 
 CF_CONTROL  := $(WARN_BASE) $(FLOAT_ONLY) -Wconversion $(PORTABLE_INC)
 CF_PORTABLE := $(WARN_BASE) $(FLOAT_ONLY) $(PORTABLE_INC)
@@ -65,12 +71,12 @@ CF_SIM      := $(WARN_BASE) -Wfloat-conversion -D_POSIX_C_SOURCE=200809L
 CF_TEST     := $(WARN_BASE) -Wno-missing-prototypes -D_POSIX_C_SOURCE=200809L
 
 cflags_for = $(if $(filter control/%,$1),$(CF_CONTROL),$(if $(filter firmware/% hal/f28335/%,$1),$(CF_PORTABLE),$(if $(filter hal/sim/% tools/sil/%,$1),$(CF_SIM),$(CF_TEST))))
-inc_for    = $(if $(filter control/%,$1),$(INC_CONTROL),$(if $(filter firmware/%,$1),$(INC_FIRMWARE),$(if $(filter hal/f28335/% tests/c2000_fake/%,$1),$(INC_F28335),$(if $(filter hal/sim/%,$1),$(INC_SIM),$(if $(filter tools/sil/%,$1),$(INC_SILRUN),$(INC))))))
+inc_for    = $(if $(filter control/%,$1),$(INC_CONTROL),$(if $(filter firmware/%,$1),$(call inc_firmware,$(word 2,$(subst /, ,$1))),$(if $(filter hal/f28335/% tests/c2000_fake/%,$1),$(INC_F28335),$(if $(filter hal/sim/%,$1),$(INC_SIM),$(if $(filter tools/sil/%,$1),$(INC_SILRUN),$(INC))))))
 
 # Source groups, each archived into one static library, so a runner links
 # only what it references. Fragments below add programs and test wiring.
 CONTROL_SRCS  := $(wildcard control/*.c)
-FIRMWARE_SRCS := $(filter-out firmware/main.c,$(wildcard firmware/*.c))
+FIRMWARE_SRCS := $(filter-out firmware/f28335/main.c,$(wildcard firmware/*/*.c))
 SIM_SRCS      := $(wildcard hal/sim/*.c)
 SILRUN_SRCS   := tools/sil/scenario.c tools/sil/profile.c tools/sil/csv_num.c tools/sil/summary.c \
                  tools/sil/sil_board.c tools/sil/ini_edit.c tools/sil/json_out.c
@@ -210,10 +216,10 @@ distclean: ## remove build/ entirely, the venv included
 # ---- target build --------------------------------------------------------
 firmware: ## the F28335 image with TI's tools (needs CG_TOOL_ROOT and C2000WARE_ROOT)
 	@tools/check/ti_tools.sh
-	@$(MAKE) --no-print-directory -f firmware/target.mk BUILD=$(BUILD)
+	@$(MAKE) --no-print-directory -f firmware/f28335/target.mk BUILD=$(BUILD)
 
 flash: ## program the image with TI UniFlash (dslite.sh)
 	@tools/check/ti_tools.sh
-	@$(MAKE) --no-print-directory -f firmware/target.mk flash BUILD=$(BUILD)
+	@$(MAKE) --no-print-directory -f firmware/f28335/target.mk flash BUILD=$(BUILD)
 
 -include $(shell find $(OUT)/obj -name '*.d' 2>/dev/null)

@@ -18,7 +18,7 @@
 #endif
 
 /* Where a function of firmware/ or hal/f28335/ runs on the F28335, said at
- * its definition (control/ runs from RAM whole: firmware/target.mk):
+ * its definition (control/ runs from RAM whole: firmware/f28335/target.mk):
  *   RAMFUNC    RAM (cl2000's ramfunc attribute: section .TI.ramfunc, copied
  *              from flash at start-up): the control ISR's path
  *   FLASHFUNC  flash, on the ISR path on purpose: only in a state that does

@@ -1,5 +1,5 @@
-# firmware/: the app (ISR glue, state machine). Its unit test runs against
-# the cmocka mock of the HAL.
+# firmware/ (its rooms: README.md, rooms.mk): the unit tests' wiring. The
+# app (ISR glue, state machine) runs against the cmocka mock of the HAL.
 TEST_LIBS_test_app := firmware control
 TEST_SRCS_test_app := tests/mock_hal.c
 # The values derived from the motor's data (params_design.md).

@@ -1,5 +1,5 @@
 /* Unit tests for firmware/drive_params: the values derived from the
- * motor's data (firmware/params_design.md). The paper motor on the board
+ * motor's data (firmware/params/params_design.md). The paper motor on the board
  * gets the constants the drive had before they were derived, to the bit;
  * other motors get them in proportion, by hand-computed figures; a motor
  * the drive cannot run is refused by name; a value the user set stays;

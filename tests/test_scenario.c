@@ -82,7 +82,7 @@ static void defaults_are_table1(void **state)
 }
 
 /* The defaults marked "params" are the drive's parameter set (the board's,
- * firmware/drive_params.h) as the decimals board_cfg.h spells: 0.011f
+ * firmware/params/drive_params.h) as the decimals board_cfg.h spells: 0.011f
  * reads exactly 0.011 in the double plant, not 0.0109999999. */
 static void defaults_come_from_the_parameter_set(void **state)
 {

@@ -1,4 +1,4 @@
-/* SIL: the app's commissioning (firmware/commission.h) through
+/* SIL: the app's commissioning (firmware/commission/commission.h) through
  * sil_run_ctl() on the paper's motor (Table I, ideal board), the
  * controller told no encoder offset (run.align = on) and R, L, psi_f
  * 1.5x, 0.7x, 1.2x off: the run ends in IDLE with the gates off, the

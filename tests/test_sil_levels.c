@@ -1,4 +1,4 @@
-/* SIL: the build levels (firmware/level.h) through sil_run(), each on a
+/* SIL: the build levels (firmware/app/level.h) through sil_run(), each on a
  * right board showing what it should, and level 3 on the wrong boards.
  *   1 PWM_CHECK with the bus down to 1 V from the start ([faults] vdc_sag:
  *     the board's limits stay the 311 V bus's): the legs at 0.25, 0.5,

@@ -2,7 +2,7 @@
  * motor, not the paper's"): tools/scenarios/{conv,prop}_motor_{paper,
  * small,large}.ini set the plant, the ratings, the bus, the ADC range and
  * trip, the method and (proposed) [identify] mode = speeds; everything
- * else is derived (firmware/params_design.md). Switching inverter, ideal
+ * else is derived (firmware/params/params_design.md). Switching inverter, ideal
  * board, 3 s: the speed ramps to 0.5 x rated by 0.1 s against 0.4 x
  * T_rated from t = 0.
  *  - no fault with either method, step 1 completes, over 2.5-3.0 s every

@@ -29,7 +29,7 @@ import sweep  # noqa: E402
 DRIVE_SIL = os.path.abspath(os.environ.get("DRIVE_SIL", os.path.join(ROOT, "build", "host", "drive_sil")))
 SCENARIO = os.path.join(ROOT, "tools", "scenarios", "prop_paper.ini")
 TRUTH = (3.0, 0.011, 0.24)          # prop_paper.ini's plant
-APP_STATE_RUN = 5                   # firmware/app.h
+APP_STATE_RUN = 5                   # firmware/app/app.h
 TOL = {"te_err_Nm": 1e-7, "te_ripple_Nm": 1e-7, "psi_err_Wb": 1e-9, "psi_err_pct": 1e-6,
        "speed_err_rpm": 1e-5, "speed_err_max_rpm": 1e-5, "id_A": 1e-7, "iq_A": 1e-7,
        "R_err_pct": 1e-5, "L_err_pct": 1e-5, "psif_err_pct": 1e-5}

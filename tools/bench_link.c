@@ -1,4 +1,4 @@
-/* bench_link.c CALLS [idle|capture|worst] - drives link_isr() (firmware/link.h) for
+/* bench_link.c CALLS [idle|capture|worst] - drives link_isr() (firmware/link/link.h) for
  * tools/bench_link.sh (callgrind): the link's cost in the control ISR.
  *   idle     nothing armed: the call only finds capture and stream off
  *   capture  a capture armed on 4 channels with a NAME>VALUE trigger that

@@ -27,7 +27,7 @@ RAMP_S = 0.2                                     # the paper's ramp time
 LOAD_PU = ((0.0, 1.0 / 3.0), (0.35, 2.0 / 3.0), (0.95, 1.0), (1.05, 2.0 / 3.0))
 DURATION_S = 1.2
 IDENTIFY = (("mode", "windows"), ("settle_1_s", "0.28"), ("window_s", "0.06"), ("settle_2_s", "0.14"))
-# the ratings when [motor] leaves them unset: the paper motor's (firmware/params_design.md)
+# the ratings when [motor] leaves them unset: the paper motor's (firmware/params/params_design.md)
 PAPER_I_RATED_A = 6.0 / (1.5 * 3 * 0.24)   # 6 N m rated
 PAPER_N_RATED_RPM = 2000.0
 SOURCE_SECTIONS = ("plant", "motor")

@@ -2,7 +2,7 @@
  * board_hw.h - hardware facts of the F28335 drive board: clocks, PWM,
  * gate-driver dead time, ADC front end and encoder. The HAL derives its
  * register values from them (hal_f28335_cfg.h); the drive configuration
- * (firmware/board_cfg.h: limits, start-up, tuning, motor) reads the few it
+ * (firmware/params/board_cfg.h: limits, start-up, tuning, motor) reads the few it
  * needs. Change the board's hardware here, nowhere else.
  */
 #ifndef BOARD_HW_H

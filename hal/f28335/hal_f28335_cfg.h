@@ -74,7 +74,7 @@
 #define F28335_QPOSMAX           (4UL * BOARD_ENC_LINES - 1UL)   /* 9999 for 2500 lines */
 
 /* ---- SCI-A (SPRUG03 "Baud rate") ---------------------------------------- */
-/* The link's rate (firmware/link_protocol.md). Set at build time, e.g.
+/* The link's rate (firmware/link/link_protocol.md). Set at build time, e.g.
  * -DF28335_SCI_BAUD=937500UL: exact (BRR 4); 115200 is -0.76 %; 921600 is
  * not reachable (BRR 4.09 -> 4 gives 937500, +1.7 %); the top is
  * LSPCLK / 16 = 2.34 Mbaud (BRR 1). */

@@ -1,5 +1,5 @@
 /*
- * hal_f28335_sci.c - SCI-A 8N1 for the link (firmware/link_protocol.md):
+ * hal_f28335_sci.c - SCI-A 8N1 for the link (firmware/link/link_protocol.md):
  * both FIFOs on, never waiting. Transmit: a ring buffer fed by the
  * background, moved into the 16-word FIFO by hal_f28335_sci_pump() or,
  * above F28335_SCI_TX_IRQ_MIN_BAUD (hal_f28335_cfg.h), by the transmit

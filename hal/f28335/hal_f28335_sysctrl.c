@@ -19,7 +19,7 @@ F28335_STATIC_ASSERT(sysclk_matches_pll,
 F28335_STATIC_ASSERT(pll_mult_in_range, BOARD_PLL_MULT >= 1U && BOARD_PLL_MULT <= 10U);
 
 #if defined(__TMS320C28XX__)
-/* Defined by firmware/f28335_flash.cmd (LOAD_START, LOAD_SIZE, RUN_START). */
+/* Defined by firmware/f28335/f28335_flash.cmd (LOAD_START, LOAD_SIZE, RUN_START). */
 extern Uint16 RamfuncsLoadStart;
 extern Uint16 RamfuncsLoadSize;
 extern Uint16 RamfuncsRunStart;

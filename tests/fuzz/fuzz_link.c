@@ -1,6 +1,6 @@
 /*
  * fuzz_link.c - libFuzzer harness for the link's parser and dispatcher
- * (firmware/link.h): arbitrary bytes and well-framed requests of any type
+ * (firmware/link/link.h): arbitrary bytes and well-framed requests of any type
  * and payload into link_rx_put()/link_poll(), control periods (link_isr)
  * with the drive's state and monitor from the input. Aborts on:
  *   - bytes the link sent that do not decode as frames (its output must

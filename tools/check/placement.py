@@ -152,7 +152,7 @@ def check(map_path, mk, sources):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument('--map', required=True, help="isr_path.sh's map of the ISR-path image")
-    ap.add_argument('--mk', default='firmware/target.mk')
+    ap.add_argument('--mk', default='firmware/f28335/target.mk')
     ap.add_argument('sources', nargs='+', help='the image\'s C sources')
     a = ap.parse_args()
     fails = check(a.map, a.mk, a.sources)

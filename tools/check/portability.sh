@@ -7,8 +7,8 @@
 #   2. 16-bit int: the same sources built with avr-gcc (int is 16 bits, as
 #      on the C28x); control/ additionally with -Wconversion.
 #   3. cppcheck with the C28x data model (tools/check/c28x.xml).
-#   4. layers (tools/check/layers.sh): no include from hal/ or control/
-#      upward; each layer compiled with its own include list above.
+#   4. layers (tools/check/layers.sh): no include upward between layers
+#      and between firmware/'s rooms.
 set -uo pipefail
 out=${1:-build/check}
 cd "$(dirname "$0")/../.."
@@ -16,7 +16,8 @@ mkdir -p "$out/arm" "$out/avr"
 
 # Each layer's include list, as the Makefile's: control/ sees control/ only.
 inc_control=(-Icontrol)
-inc_firmware=(-Ifirmware -Ihal -Ihal/f28335 -Icontrol)
+inc_firmware=(-Ihal -Ihal/f28335 -Icontrol)
+for d in firmware/*/; do inc_firmware+=(-I"${d%/}"); done  # the rooms (layers.sh gates their order)
 inc_f28335=(-Ihal -Ihal/f28335 -Icontrol -Itests/c2000_fake/include)
 inc=("${inc_firmware[@]}" -Itests/c2000_fake/include)
 common=(-std=c99 -Wall -Wextra -Werror -Wshadow -Wdouble-promotion -Wfloat-conversion
@@ -29,7 +30,7 @@ inc_of() {
         *) echo "${inc_f28335[@]}" ;;
     esac
 }
-srcs=$(ls control/*.c firmware/*.c hal/f28335/*.c 2>/dev/null)
+srcs=$(ls control/*.c firmware/*/*.c hal/f28335/*.c 2>/dev/null)
 # Header-only modules (static inline transforms) are gated as their own
 # translation units, with their unused inline functions still emitted.
 hdrs=$(ls control/*.h 2>/dev/null)
@@ -86,8 +87,8 @@ if ! cppcheck --quiet --enable=warning,portability --platform=tools/check/c28x.x
     fail=1
 fi
 
-echo "check 4/4: layers (control/, hal/, firmware/ include only their own and lower layers)"
-if ! tools/check/layers.sh; then
+echo "check 4/4: layers (control/, hal/, firmware/'s rooms, tools/sil/ include only their own and lower ones)"
+if ! tools/check/layers.sh "$out"; then
     fail=1
 fi
 

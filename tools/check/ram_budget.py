@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """ram_budget.py - the RAM gate of `make check`: what the F28335 image puts
-in each RAM range of firmware/f28335_flash.cmd, the margin left, and a
+in each RAM range of firmware/f28335/f28335_flash.cmd, the margin left, and a
 failure when a margin is under MARGIN_MIN.
 
 Usage: ram_budget.py --cmd F28335_CMD --objdir DIR [--map DRIVE_MAP] [--mk TARGET_MK] [--out FILE]
@@ -247,8 +247,15 @@ def data_bytes(obj):
 # (stdbool.h's guard set first, so that it does not define bool as _Bool).
 WIDE_BOOL_FLAGS = ['-mthumb', '-march=armv7-a+fp', '-mfloat-abi=hard', '-O2', '-std=c99', '-fdata-sections',
                    '-include', 'control/c28x_portable.h', '-D_STDBOOL_H', '-Dbool=uint16_t', '-Dtrue=1',
-                   '-Dfalse=0', '-D__bool_true_false_are_defined=1', '-Icontrol', '-Ihal', '-Ifirmware',
+                   '-Dfalse=0', '-D__bool_true_false_are_defined=1', '-Icontrol', '-Ihal',
                    '-Ihal/f28335', '-Itests/c2000_fake/include']
+
+
+def wide_bool_flags():
+    """WIDE_BOOL_FLAGS and every room of firmware/ (layers.sh gates their order)."""
+    return WIDE_BOOL_FLAGS + ['-I' + d.rstrip('/') for d in sorted(glob.glob('firmware/*/'))]
+
+
 CHAR_OBJECT = re.compile(r'(?m)^\s*(static\s+)?(volatile\s+)?(unsigned\s+|signed\s+)?char\s+\w+\s*\[')
 
 
@@ -267,7 +274,7 @@ def data_sections(srcs):
 def symbol_words(src, sym, tmpdir):
     """The C28x words of src's object sym: its size with bool widened, at one word per 2 B."""
     wide = os.path.join(tmpdir, 'sym_' + os.path.basename(src) + '.o')
-    out = subprocess.run(['arm-none-eabi-gcc'] + WIDE_BOOL_FLAGS + ['-c', src, '-o', wide],
+    out = subprocess.run(['arm-none-eabi-gcc'] + wide_bool_flags() + ['-c', src, '-o', wide],
                          capture_output=True, text=True)
     if out.returncode != 0:
         die("%s does not compile with bool widened to 16 bits:\n%s" % (src, out.stderr))
@@ -289,7 +296,7 @@ def data_words(src, obj, tmpdir):
     if CHAR_OBJECT.search(read(src)):
         return b
     wide = os.path.join(tmpdir, os.path.basename(obj))
-    out = subprocess.run(['arm-none-eabi-gcc'] + WIDE_BOOL_FLAGS + ['-c', src, '-o', wide],
+    out = subprocess.run(['arm-none-eabi-gcc'] + wide_bool_flags() + ['-c', src, '-o', wide],
                          capture_output=True, text=True)
     if out.returncode != 0:
         die("%s does not compile with bool widened to 16 bits:\n%s" % (src, out.stderr))
@@ -325,7 +332,7 @@ def callgraph(objdir):
     return deepest, root, size
 
 
-def stack_need(objdir, main_c='firmware/main.c'):
+def stack_need(objdir, main_c='firmware/f28335/main.c'):
     """The deepest stack in bytes: main's start-up chains (no interrupt
     yet), or main's frame + the deepest call of its loop (the calls after
     hal_isr_attach in main.c) + ctrl_isr's chain on top."""
@@ -392,7 +399,7 @@ def main():
     ap.add_argument('--cmd', required=True)
     ap.add_argument('--objdir', required=True)
     ap.add_argument('--map')
-    ap.add_argument('--mk', default='firmware/target.mk')
+    ap.add_argument('--mk', default='firmware/f28335/target.mk')
     ap.add_argument('--out')
     a = ap.parse_args()
 

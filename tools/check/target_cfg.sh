@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # target_cfg.sh - host gate of `make check` for what only cl2000 would see:
 # the target build's options, libraries and linker placement
-# (firmware/target.mk, firmware/f28335_flash.cmd) and the HAL's pragmas,
+# (firmware/f28335/target.mk, firmware/f28335/f28335_flash.cmd) and the HAL's pragmas,
 # against C2000Ware's F2833x projects (F28335.cmd, the FPUfastRTS examples,
 # InitFlash/InitAdc). Each failure names the file and the problem; exit 1
 # if any check failed. Usage: target_cfg.sh [ROOT] (default: the repository).
 set -uo pipefail
 root=${1:-$(dirname "$0")/../..}
-mk=$root/firmware/target.mk
-cmd=$root/firmware/f28335_flash.cmd
+mk=$root/firmware/f28335/target.mk
+cmd=$root/firmware/f28335/f28335_flash.cmd
 hal=$root/hal/f28335
 fail=0
 
@@ -52,9 +52,9 @@ grep -q 'FUNC_CANNOT_INLINE(f28335_flash_init)' "$hal"/*.c ||
     bad "$hal" "f28335_flash_init may be inlined into its flash-resident caller (FUNC_CANNOT_INLINE)"
 # The boot entry: ours, zeroing .ebss (COFF zeroes nothing) with the
 # watchdog off before _c_int00; C2000Ware's would define code_start twice.
-asm=$root/firmware/f28335_codestart.asm
-has "$mk" 'APP_ASM_SRCS[[:space:]]*:=.*firmware/f28335_codestart\.asm' ||
-    bad "$mk" "does not assemble firmware/f28335_codestart.asm (code_start: watchdog off, .ebss zeroed)"
+asm=$root/firmware/f28335/f28335_codestart.asm
+has "$mk" 'APP_ASM_SRCS[[:space:]]*:=.*firmware/f28335/f28335_codestart\.asm' ||
+    bad "$mk" "does not assemble firmware/f28335/f28335_codestart.asm (code_start: watchdog off, .ebss zeroed)"
 if has "$mk" '^[^#]*DSP2833x_CodeStartBranch\.asm'; then
     bad "$mk" "assembles C2000Ware's DSP2833x_CodeStartBranch.asm: code_start defined twice, .ebss not zeroed"
 fi

@@ -25,7 +25,7 @@
  * (SIGINT, SIGTERM, SIGHUP: the handler only sets a flag; the run stops
  * after the period it is in, the CSV keeps the rows so far under its own
  * name).
- * --commission OUT.ini measures the motor instead (firmware/commission.h:
+ * --commission OUT.ini measures the motor instead (firmware/commission/commission.h:
  * the scenario's plant and board, a free shaft, [reference] and [load]
  * ignored, [faults] applied) and writes OUT.ini: the scenario file with
  * the --set overrides and the measured values in [controller], its
@@ -122,7 +122,7 @@ static void usage(FILE *f)
             "last quarter. --check validates the scenario and overrides, runs nothing.\n"
             "--batch runs one point per stdin line \"ID<TAB>section.key=value<TAB>...\"\n"
             "(overrides on top of the scenario's) and prints one summary line per point.\n"
-            "--link serves the drive's link (firmware/link_protocol.md) on 127.0.0.1:PORT\n"
+            "--link serves the drive's link (firmware/link/link_protocol.md) on 127.0.0.1:PORT\n"
             "or a pty for drivetool, paced at --baud (115200) in simulated time;\n"
             "--realtime F paces the run to wall time (0: unpaced); with --link,\n"
             "run.duration_s = 0 runs until drivetool quit (tools/sil/link_sil.h).\n"
@@ -130,7 +130,7 @@ static void usage(FILE *f)
             "(2^20 bytes) with a warning; the run and --summary go on. --version prints\n"
             "the source revision drive_sil was built from. --list-keys prints the\n"
             "scenario keys below; --markdown as tools/sil/SCENARIO_KEYS.md.\n"
-            "--commission OUT.ini measures the motor (firmware/commission.h) on the\n"
+            "--commission OUT.ini measures the motor (firmware/commission/commission.h) on the\n"
             "scenario's plant and board with a free shaft ([reference], [load] ignored,\n"
             "[faults] applied; the current bound is [motor] i_rated_A, the speed\n"
             "bound n_rated_rpm) and writes OUT.ini: the scenario with the overrides\n"

@@ -1,5 +1,5 @@
 /*
- * link_sil.h - drive_sil's side of the link (firmware/link_protocol.md):
+ * link_sil.h - drive_sil's side of the link (firmware/link/link_protocol.md):
  *   --link tcp:PORT   listen on 127.0.0.1:PORT (0: any free port) before the
  *                     first period; prints "listening on 127.0.0.1:PORT" on
  *                     stderr. One client at a time; when it disconnects the
@@ -11,7 +11,7 @@
  *                     as on the board
  *   --realtime F      pace the simulation to wall time (1 real time, 2 twice
  *                     as fast; 0, the default, unpaced)
- * The firmware's link (firmware/link.h) runs as on the board: link_isr()
+ * The firmware's link (firmware/link/link.h) runs as on the board: link_isr()
  * after every ISR call, link_poll() in the background after each period.
  * A value written over the link overrides the scenario's profile for that
  * variable from then on. ACTION quit stops the drive and ends the run once

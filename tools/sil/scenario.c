@@ -48,13 +48,13 @@ static const char *const SC_DIRECTION_NAMES[] = { "1", "-1", NULL };   /* sc_dir
 static const char *const SC_ORDER_NAMES[] = { "abc", "acb", NULL };   /* sc_phase_order_t */
 
 /* Keys whose default is not text of this table but a configuration's
- * value: the drive's parameter set (firmware/drive_params.h, the board's
+ * value: the drive's parameter set (firmware/params/drive_params.h, the board's
  * values), the app's configuration of the board (app_cfg_default), or,
  * for the simulated board's own settings (ideal inverter and ADC), its
  * defaults (hal_sim_default_cfg). See params_default(). */
 static const char PARAMS[] = "(drive_params)";
 /* Keys derived in scenario_finish from the motor's data (drive_params_derive;
- * firmware/params_design.md) unless set: NaN until then. */
+ * firmware/params/params_design.md) unless set: NaN until then. */
 static const char DERIVED[] = "(derived)";
 
 #define SC_UINT32_MAX_D 4294967295.0
@@ -970,7 +970,7 @@ void scenario_print_keys_markdown(FILE *f)
           "Generated from `tools/sil/scenario_keys.h` by `drive_sil --list-keys --markdown`\n"
           "(`make scenario-keys` rewrites it; `make test` checks it). The format, the\n"
           "defaults' sources and notes on the keys: `hal/sim/README.md`; the values\n"
-          "derived from the motor's data: `firmware/params_design.md`.\n\n"
+          "derived from the motor's data: `firmware/params/params_design.md`.\n\n"
           "Default: a value; `derived` (from the keys named, unless set); `-` (unset:\n"
           "see the meaning). Range: what the parser accepts (the plausibility bounds\n"
           "of `drive_sil --help` come on top).\n\n"

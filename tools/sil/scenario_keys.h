@@ -5,7 +5,7 @@
  * drive's configuration (scenario.c), drive_sil --help and --list-keys
  * (the documented list, tools/sil/SCENARIO_KEYS.md), the "derived" and
  * "keys" objects of OUT.resolved.json (sil.c). Adding a key is one line
- * here (firmware/params_design.md, "Adding a parameter").
+ * here (firmware/params/params_design.md, "Adding a parameter").
  *
  * One list per section: SC_KEYS_<section>(X), each line
  *   X(section, key, KIND, RANGE, DEFAULT, FROM, TO, help)

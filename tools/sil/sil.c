@@ -396,7 +396,7 @@ static void json_derived(FILE *f, const char *key, double v, int set, const char
     fprintf(f, "\"source\": \"%s\", \"from\": \"%s\"}%s", set ? "set" : "derived", from, sep);
 }
 
-/* The values derived from the motor's data (firmware/params_design.md):
+/* The values derived from the motor's data (firmware/params/params_design.md):
  * the derived keys' (scenario_keys.h, set or derived) and the settings
  * without a key (always derived), as the run used them. */
 static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)

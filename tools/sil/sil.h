@@ -1,6 +1,6 @@
 /*
  * sil.h - software-in-the-loop run of the firmware application
- * (firmware/app.h) on the simulated board (hal_sim.h) for one scenario,
+ * (firmware/app/app.h) on the simulated board (hal_sim.h) for one scenario,
  * without a process: drive_sil and the C tests both call sil_run().
  * Link order: firmware sim control.
  *
@@ -116,7 +116,7 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
 
 /* sil_run() with controls (ctl may be NULL): also returns SIL_STOPPED when *ctl->stop
  * became nonzero (res then covers the periods run, every row of them delivered).
- * With ctl->commission the app is asked to commission the motor (firmware/commission.h)
+ * With ctl->commission the app is asked to commission the motor (firmware/commission/commission.h)
  * instead of starting: [reference] and [load] play no part (no load), run.duration_s
  * neither; the run ends in the period the app leaves COMMISSION (IDLE: res->comm_valid,
  * or FAULT), or after the stages' timeouts and a second. */

@@ -3,7 +3,7 @@
  * true motor and shaft, the inverter, the sensors) from a scenario's
  * [plant] keys. hal/sim keeps no motor data of its own: the motor and
  * the bus come from here, whose defaults are the scenario's, i.e. the
- * drive's one parameter set (firmware/drive_params.h through
+ * drive's one parameter set (firmware/params/drive_params.h through
  * tools/sil/scenario_keys.h's SC_PARAMS keys, read into double as the decimals
  * board_cfg.h spells). Host only.
  */

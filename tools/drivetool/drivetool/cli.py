@@ -17,7 +17,7 @@ STATUS_VARS = ["state", "fault", "flags", "speed_est_rpm", "speed_ref_rpm", "te_
                "id_meas_A", "iq_meas_A", "method", "mode", "cmd_error", "ticks",
                "link_err_crc", "link_err_framing", "link_err_overrun", "link_stream_dropped"]
 CAPTURE_POLL_S = 0.05
-# the commissioning (firmware/commission.h): comm_result codes, stage names, and the
+# the commissioning (firmware/commission/commission.h): comm_result codes, stage names, and the
 # measured values as link variables -> drive_sil's OUT.ini keys in [controller]
 COMM_NONE, COMM_RUNNING, COMM_DONE, COMM_REFUSED = range(4)
 COMM_STAGES = ["NONE", "R", "L", "ENCODER", "SPIN", "DONE", "WIRING"]
@@ -295,7 +295,7 @@ def cmd_restore(d, args):
 
 
 def build_parser():
-    p = Parser(prog="drivetool", description="Talk to the drive over its link (firmware/link_protocol.md). "
+    p = Parser(prog="drivetool", description="Talk to the drive over its link (firmware/link/link_protocol.md). "
                "Exit status: 0 ok, 1 refused by the firmware, 2 usage or unknown name, 3 no answer.")
     p.add_argument("--port", required=True, help="serial device, socket://127.0.0.1:PORT (drive_sil --link) or loop://")
     p.add_argument("--baud", type=int, default=115200)

@@ -1,4 +1,4 @@
-"""The link's framing (firmware/link_protocol.md), no dependencies: CRC-16/
+"""The link's framing (firmware/link/link_protocol.md), no dependencies: CRC-16/
 CCITT-FALSE, COBS, frames [type, seq, payload, crc lo, crc hi] COBS-encoded
 and ended by 0x00, and a receiver that resyncs at every 0x00."""
 import struct

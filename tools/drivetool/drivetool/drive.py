@@ -1,4 +1,4 @@
-"""Drive: the host's API of the link (firmware/link_protocol.md).
+"""Drive: the host's API of the link (firmware/link/link_protocol.md).
 
     from drivetool import Drive
     with Drive("socket://127.0.0.1:5555") as d:

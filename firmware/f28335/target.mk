@@ -1,12 +1,13 @@
-# firmware/target.mk - the TMS320F28335 image, built with TI's cl2000.
+# firmware/f28335/target.mk - the TMS320F28335 image, built with TI's cl2000.
 #
 #   make firmware CG_TOOL_ROOT=<ti-cgt-c2000> C2000WARE_ROOT=<C2000Ware>
 #       -> $(BUILD)/f28335/drive.out (+ drive.map)
-#   make -f firmware/target.mk flash CCXML=<target config> [UNIFLASH_ROOT=<uniflash>]
+#   make -f firmware/f28335/target.mk flash CCXML=<target config> [UNIFLASH_ROOT=<uniflash>]
 #
 # Run through the top-level Makefile's `firmware` target, which first checks
-# the tools (tools/check/ti_tools.sh). Sources: control/*.c, firmware/*.c,
-# hal/f28335/*.c, firmware/f28335_codestart.asm (the flash entry: watchdog
+# the tools (tools/check/ti_tools.sh). Sources: control/*.c, the rooms'
+# firmware/*/*.c (firmware/rooms.mk), hal/f28335/*.c,
+# firmware/f28335/f28335_codestart.asm (the flash entry: watchdog
 # off, .ebss zeroed), plus from C2000Ware the peripheral register
 # definitions (DSP2833x_GlobalVariableDefs.c), the ADC trim routine's section
 # (DSP2833x_ADC_cal.asm: ADC_cal lives in TI-reserved OTP) and the header
@@ -16,6 +17,8 @@
 
 SHELL := /bin/bash
 .DELETE_ON_ERROR:
+
+include firmware/rooms.mk
 
 BUILD ?= build
 OUT   := $(BUILD)/f28335
@@ -35,7 +38,8 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
           --diag_warning=225 --display_error_number \
           --preinclude=control/c28x_portable.h \
           --include_path=$(CG_TOOL_ROOT)/include \
-          --include_path=control --include_path=hal --include_path=firmware \
+          --include_path=control --include_path=hal \
+          $(addprefix --include_path=firmware/,$(FIRMWARE_ROOMS)) \
           --include_path=hal/f28335 \
           --include_path=$(F2833X_HEADERS)/include \
           --include_path=$(F2833X_COMMON)/include \
@@ -53,11 +57,11 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # (one line: tools/check/placement.py reads it)
 RAMFUNC_ALL := control
 
-APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*.c) $(wildcard hal/f28335/*.c)
+APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*/*.c) $(wildcard hal/f28335/*.c)
 TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c
 # The boot entry is ours (f28335_codestart.asm: watchdog off as C2000Ware's
 # DSP2833x_CodeStartBranch.asm, then .ebss zeroed), not C2000Ware's.
-APP_ASM_SRCS := firmware/f28335_codestart.asm
+APP_ASM_SRCS := firmware/f28335/f28335_codestart.asm
 TI_ASM_SRCS := $(F2833X_COMMON)/source/DSP2833x_ADC_cal.asm
 
 obj_of = $(OUT)/obj/$(basename $(notdir $1)).obj
@@ -75,7 +79,7 @@ TI_OBJS  := $(foreach s,$(TI_C_SRCS) $(TI_ASM_SRCS),$(call obj_of,$s))
 # --entry_point=code_start: a debugger load starts where the boot ROM's
 # jump to flash does (f28335_codestart.asm: watchdog off, .ebss zeroed,
 # then _c_int00), not at _c_int00 with the watchdog running through cinit.
-LINK_CMDS := firmware/f28335_flash.cmd $(F2833X_HEADERS)/cmd/DSP2833x_Headers_nonBIOS.cmd
+LINK_CMDS := firmware/f28335/f28335_flash.cmd $(F2833X_HEADERS)/cmd/DSP2833x_Headers_nonBIOS.cmd
 LFLAGS := -z --rom_model --entry_point=code_start --stack_size=0x400 --heap_size=0 \
           --warn_sections --reread_libs --priority \
           --search_path=$(CG_TOOL_ROOT)/lib --search_path=$(FASTRTS)/lib \
@@ -92,14 +96,14 @@ $(OUT)/drive.out: $(APP_OBJS) $(TI_OBJS) $(LINK_CMDS)
 # One object rule per source, so that files with equal names in different
 # directories would collide loudly rather than silently.
 define C_RULE
-$(call obj_of,$1): $1 firmware/target.mk
+$(call obj_of,$1): $1 firmware/f28335/target.mk
 	@mkdir -p $$(@D)
 	$$(CL) $$(CFLAGS) $(if $(filter $(addsuffix /%,$(RAMFUNC_ALL)),$1),--ramfunc=on) \
 	    --preproc_with_compile --preproc_dependency=$$(@:.obj=.d) \
 	    --output_file=$$@ --compile_only $1
 endef
 define ASM_RULE
-$(call obj_of,$1): $1 firmware/target.mk
+$(call obj_of,$1): $1 firmware/f28335/target.mk
 	@mkdir -p $$(@D)
 	$$(CL) $$(CPU_FLAGS) --output_file=$$@ --compile_only $1
 endef
@@ -129,7 +133,7 @@ flash-tools:
 	@if [ -z "$(CCXML)" ] || [ ! -f "$(CCXML)" ]; then \
 	    echo "error: CCXML='$(CCXML)' is not a target configuration file." >&2; \
 	    echo "  Create one for your probe and the TMS320F28335 in CCS or UniFlash, then" >&2; \
-	    echo "  make -f firmware/target.mk flash CCXML=path/to/f28335.ccxml" >&2; \
+	    echo "  make -f firmware/f28335/target.mk flash CCXML=path/to/f28335.ccxml" >&2; \
 	    exit 2; \
 	fi
 

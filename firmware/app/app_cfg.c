@@ -1,6 +1,6 @@
 /* app_cfg.c - the board's configuration into the app's: the parameter set
  * (drive_params.h) through its mapping (drive_params_to_app_cfg), then the
- * start-up sequence's own settings from firmware/board_cfg.h; see
+ * start-up sequence's own settings from firmware/params/board_cfg.h; see
  * app_cfg_default() in app.h. */
 #include "app.h"
 #include "board_cfg.h"

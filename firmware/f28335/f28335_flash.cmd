@@ -41,7 +41,7 @@ SECTIONS
    codestart     : > BEGIN,     PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
 
    /* Code and constants in flash. The program sections carry CRC records
-    * (CRC32_PRIME, firmware/flash_crc.h) in the table flash_crc_table,
+    * (CRC32_PRIME, firmware/f28335/flash_crc.h) in the table flash_crc_table,
     * which main.c checks at start-up; the table itself in .TI.crctab.
     * .cinit and .pinit (built by the linker) are not covered. */
    .text         : > FLASHHB,   PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
@@ -56,7 +56,7 @@ SECTIONS
     * wait-state set-up.
     * Stored in flash, copied to L0-L5 by hal_init() (hal_f28335_sysctrl.c).
     * The members are named in the COFF library that holds the objects
-    * (firmware/target.mk links the same library). */
+    * (firmware/f28335/target.mk links the same library). */
    ramfuncs      : {
                       *(ramfuncs)
                       *(.TI.ramfunc)

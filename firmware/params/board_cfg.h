@@ -44,7 +44,7 @@
  * loop's (watchdog, telemetry) and the interrupt entry/exit. */
 #define BOARD_ISR_PERIOD_CYCLES  (BOARD_SYSCLK_HZ / BOARD_PWM_FREQ_HZ) /* [cycles] */
 #define BOARD_ISR_BUDGET_CYCLES  12000UL      /* 80 % of the period for app_isr [cycles] */
-/* Checks on the periods' history (firmware/protect.h derives each rule;
+/* Checks on the periods' history (firmware/protect/protect.h derives each rule;
  * detection times measured in SIL: tests/test_sil_faults.c). */
 /* Open phase (protect.h): a window of 0.1 s covers half an electrical
  * turn (where a healthy phase carries 2/pi = 0.64 of |i|) from 100 r/min;
@@ -102,7 +102,7 @@
 #define BOARD_ALIGN_SETTLE_S     0.6f         /* hold on phase a: the rotor settles [s] */
 
 /* Commissioning (commission.h; methods and error budget in
- * firmware/commission_design.md). Currents as shares of the motor's rated
+ * firmware/commission/commission_design.md). Currents as shares of the motor's rated
  * current, speeds of its rated speed (drive_params_to_app_cfg). */
 #define COMM_U_FRAC              0.9f         /* |u| / (vdc/sqrt 3) beyond which a stage is implausible (SPIN: top speed) [-] */
 #define COMM_R_I1_FRAC           0.35f        /* R: first DC current / bound [-] */
@@ -210,7 +210,7 @@
 #define MOTOR_B_NMS              0.0f         /* viscous friction [N m s/rad] (the paper gives none) */
 #define MOTOR_RATED_SPEED_RPM    2000.0f      /* [r/min] */
 #define MOTOR_RATED_TORQUE_NM    6.0f         /* [N m]; iq = 6 / (1.5 * 3 * 0.24) = 5.56 A */
-/* The paper's ratings as the [motor] section states them (firmware/params_design.md):
+/* The paper's ratings as the [motor] section states them (firmware/params/params_design.md):
  * the rated current is the rated torque's, T = 1.5 p psi_f i; the short-time
  * current twice that for 1 s (the paper gives no figure: assumed); the
  * highest speed the rated one (overspeed trips at 1.2x it). */

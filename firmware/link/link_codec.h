@@ -1,5 +1,5 @@
 /*
- * link_codec.h - the link's framing (firmware/link_protocol.md): CRC-16/
+ * link_codec.h - the link's framing (firmware/link/link_protocol.md): CRC-16/
  * CCITT-FALSE, COBS, and the frame [type, seq, payload..., crc lo, crc hi]
  * COBS-encoded and ended by one 0x00. Pure, no hardware, no state but the
  * receiver's. A protocol byte is one uint16_t holding 0..255: on the C28x

@@ -169,7 +169,7 @@ typedef struct {
     app_op_t op_taken;             /* the last request the ISR took */
 } app_t;
 
-/* Start-up: the board's configuration (firmware/board_cfg.h) into *cfg. */
+/* Start-up: the board's configuration (firmware/params/board_cfg.h) into *cfg. */
 void app_cfg_default(app_cfg_t *cfg);
 
 /* Start-up or host: the parameter set *p (drive_params.h; its values left

@@ -9,7 +9,7 @@
  *      period, the aligning one.
  * No start angle is a dead point of both steps; the derivation and why
  * open-loop voltage is exact in the final hold are in
- * firmware/startup_design.md ("Alignment").
+ * firmware/app/startup_design.md ("Alignment").
  */
 #ifndef ALIGN_H
 #define ALIGN_H

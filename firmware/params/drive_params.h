@@ -7,7 +7,7 @@
  * (drive_params_to_app_cfg, app.h).
  *
  * The target fills it from the board header (drive_params_board(),
- * firmware/board_cfg.h) and maps it in app_cfg_default(); the SIL takes the
+ * firmware/params/board_cfg.h) and maps it in app_cfg_default(); the SIL takes the
  * same defaults (tools/sil/scenario_keys.h: the keys whose default is
  * SC_PARAMS, printed by drive_sil --help), puts the scenario's keys on top and maps it with the
  * same drive_params_to_app_cfg(). The start-up sequence's other settings
@@ -23,7 +23,7 @@
 #include "ctrl.h"
 
 /* A value marked "derived" that is negative (DRIVE_PARAM_DERIVED) or NaN
- * is derived by drive_params_derive() (firmware/params_design.md) from
+ * is derived by drive_params_derive() (firmware/params/params_design.md) from
  * what the controller is told: the motor, its ratings, the board; one
  * >= 0 is the user's and stays. */
 #define DRIVE_PARAM_DERIVED (-1.0f)
@@ -31,7 +31,7 @@
 /* The parameter set, one list per group, one line per value:
  *   X(group, field, type, default, to)
  * type    float | uint16_t | uint32_t
- * default its board value (firmware/board_cfg.h, expanded in
+ * default its board value (firmware/params/board_cfg.h, expanded in
  *         drive_params_board() only) or DRIVE_PARAM_DERIVED
  * to      DRIVE_TO(path): drive_params_to_app_cfg() (app.h) copies the
  *         value to app_cfg_t's path; DRIVE_TO_NONE: formulas use it
@@ -151,7 +151,7 @@ drive_derive_t drive_params_derive(drive_params_t *p);
  * the cap on G = Ks/phi (observer_design.md sec. 3b); false: none. */
 bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float *G_max_V_A);
 
-/* Start-up or host: the board's parameter set (firmware/board_cfg.h). */
+/* Start-up or host: the board's parameter set (firmware/params/board_cfg.h). */
 void drive_params_board(drive_params_t *p);
 
 /* Start-up or host: the controller's settings derived from *p (derived

@@ -4,13 +4,13 @@
  * 10 kHz) from RAM and the background loop (watchdog via app_background,
  * the operator's command block, the link on SCI-A).
  *
- * Operating the board: drivetool over SCI-A (firmware/link_protocol.md,
+ * Operating the board: drivetool over SCI-A (firmware/link/link_protocol.md,
  * tools/drivetool/README.md), or in CCS: add `g_cmd` to the expressions
  * window and set its fields (see cmd.h): method 0/1 (conventional/
  * proposed), mode 0/1/2 (open loop/torque/speed), the reference, then
  * run = 1. `g_app` shows the state, the latched fault with its snapshot
  * and the monitor (g_app.ctrl.mon); g_cmd.error names a refused command.
- * With run = 0, g_comm.start = 1 measures the motor (firmware/commission.h);
+ * With run = 0, g_comm.start = 1 measures the motor (firmware/commission/commission.h);
  * g_comm reports the stage, then the values or the fault (they are not
  * written to flash: copy them into board_cfg.h).
  * A reset by the watchdog (the background loop stopped kicking it: a
