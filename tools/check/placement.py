@@ -27,56 +27,19 @@ import os
 import re
 import sys
 
+import csrc
+
 MARKERS = ('RAMFUNC', 'FLASHFUNC')
-KEYWORDS = {'if', 'for', 'while', 'switch', 'return', 'sizeof', 'do', 'else'}
-DEFINITION = re.compile(r'^(?P<head>[A-Za-z_][\w \t\*]*?)\b(?P<name>[A-Za-z_]\w*)\s*\((?P<params>(?:[^;{}()]|\([^;{}()]*\))*)\)\s*\{',
-                        re.MULTILINE)
-CALL = re.compile(r'\b([A-Za-z_]\w*)\s*\(')
-
-
-def read(path):
-    with open(path) as f:
-        return f.read()
-
-
-def strip_comments(text):
-    """Comments, strings and preprocessor lines blanked, newlines kept."""
-    def blank(m):
-        return re.sub(r'[^\n]', ' ', m.group(0))
-    text = re.sub(r'/\*.*?\*/|//[^\n]*|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'', blank, text, flags=re.DOTALL)
-    return re.sub(r'(?m)^[ \t]*#.*(?:\\\n.*)*$', blank, text)
-
-
-def body_end(text, open_at):
-    depth = 0
-    for i in range(open_at, len(text)):
-        if text[i] == '{':
-            depth += 1
-        elif text[i] == '}':
-            depth -= 1
-            if depth == 0:
-                return i
-    return len(text)
 
 
 def functions(path):
-    """{name: (marker or None, static, names called)} of the definitions in path
-    (the house style: a definition starts at the line's first column)."""
-    text = strip_comments(read(path))
-    out = {}
-    for m in DEFINITION.finditer(text):
-        head = m.group('head').split()
-        if m.group('name') in KEYWORDS or not head or head[0] in KEYWORDS or 'typedef' in head:
-            continue
-        marker = next((w for w in head if w in MARKERS), None)
-        end = body_end(text, m.end() - 1)
-        calls = set(CALL.findall(text[m.end():end])) - KEYWORDS
-        out[m.group('name')] = (marker, 'static' in head, calls)
-    return out
+    """{name: (marker or None, static, names called)} of the definitions in path."""
+    return {name: (next((w for w in head if w in MARKERS), None), 'static' in head, calls)
+            for name, (head, calls) in csrc.functions(path).items()}
 
 
 def make_var(mk, name):
-    m = re.search(r'(?m)^' + name + r'\s*:=\s*(.*)$', read(mk))
+    m = re.search(r'(?m)^' + name + r'\s*:=\s*(.*)$', csrc.read(mk))
     return m.group(1).split() if m else []
 
 
@@ -99,7 +62,7 @@ def map_functions(map_path):
     """[(function, source)] of the ISR-path image (ld's map, -ffunction-sections):
     the objects are named after their sources, '/' as '_' (isr_path.sh)."""
     out, name, on = [], '', False
-    for line in read(map_path).splitlines():
+    for line in csrc.read(map_path).splitlines():
         if line.startswith('Linker script and memory map'):
             on = True
             continue
@@ -119,7 +82,7 @@ def map_functions(map_path):
 
 
 def source_of(obj, sources):
-    """build/check/isr/firmware_app.c.o -> firmware/app.c (of the sources given)."""
+    """build/check/isr/firmware_app.c.o -> firmware/app/app.c (of the sources given)."""
     base = os.path.basename(obj)
     for s in sources:
         if base == s.replace('/', '_') + '.o':

@@ -7,8 +7,8 @@
 #   2. 16-bit int: the same sources built with avr-gcc (int is 16 bits, as
 #      on the C28x); control/ additionally with -Wconversion.
 #   3. cppcheck with the C28x data model (tools/check/c28x.xml).
-#   4. layers (tools/check/layers.sh): no include upward between layers
-#      and between firmware/'s rooms.
+#   4. layers (tools/check/layers.sh): no include or call upward between
+#      layers and between firmware/'s rooms, no loop anywhere.
 set -uo pipefail
 out=${1:-build/check}
 cd "$(dirname "$0")/../.."
@@ -87,7 +87,7 @@ if ! cppcheck --quiet --enable=warning,portability --platform=tools/check/c28x.x
     fail=1
 fi
 
-echo "check 4/4: layers (control/, hal/, firmware/'s rooms, tools/sil/ include only their own and lower ones)"
+echo "check 4/4: layers (control/, hal/, firmware/'s rooms, tools/sil/ point down only; no loop)"
 if ! tools/check/layers.sh "$out"; then
     fail=1
 fi
