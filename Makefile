@@ -135,7 +135,8 @@ $(OUT)/tests/$1: $(call objs,tests/$1.c $(TEST_SRCS_$1)) $(call test_libs,$1)
 endef
 
 # ---- fragments -------------------------------------------------------------
--include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk tools/sil/module.mk hal/f28335/module.mk tests/module.mk tools/module.mk tools/report.mk tools/sweep.mk)
+-include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk tools/sil/module.mk hal/f28335/module.mk \
+    tools/drivekit/module.mk tools/drivetool/module.mk tools/bench/module.mk tests/module.mk tests/cli/module.mk)
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 
@@ -147,25 +148,25 @@ FORCE: ## (internal) a prerequisite that is never up to date
 
 help: ## this list
 	@echo 'Targets (README.md explains the main ones):'
-	@tools/make_help.sh $(MAKEFILE_LIST)
+	@tools/make/make_help.sh $(MAKEFILE_LIST)
 
 # Debian packages the host build needs; installed when running as root.
-# tools/ensure_pkgs.sh serialises its calls, so rules asking at once under
+# tools/make/ensure_pkgs.sh serialises its calls, so rules asking at once under
 # -j wait for one another instead of racing apt.
 host-deps: ## (internal) the Debian packages of the host build (as root: installs them)
-	@tools/ensure_pkgs.sh gcc libcmocka-dev libinih-dev
+	@tools/make/ensure_pkgs.sh gcc libcmocka-dev libinih-dev
 
 # Everything `make test` installs, asked for once before its suites start.
 TEST_PKGS := gcc libcmocka-dev libinih-dev clang libclang-rt-14-dev python3
 test-deps: ## (internal) every package `make test` needs, asked for once before its suites
-	@tools/ensure_pkgs.sh $(TEST_PKGS)
+	@tools/make/ensure_pkgs.sh $(TEST_PKGS)
 
-# Each suite records its counts here (tools/suite.sh); `make test` sums them.
+# Each suite records its counts here (tools/make/suite.sh); `make test` sums them.
 RESULTS := $(BUILD)/test-results
-suite    = tools/suite.sh $1 $(RESULTS)
+suite    = tools/make/suite.sh $1 $(RESULTS)
 
 run-tests: $(TEST_BINS) ## (internal) run the C test runners of VARIANT
-	@$(call suite,test-$(VARIANT)) tools/run_tests.sh $(TEST_BINS)
+	@$(call suite,test-$(VARIANT)) tools/make/run_tests.sh $(TEST_BINS)
 
 test-host: ## the C unit and SIL tests (cmocka runners), host build
 	@$(MAKE) --no-print-directory VARIANT=host run-tests
@@ -180,13 +181,13 @@ test: ## every suite (C, sanitizers, Python, CLI, fuzz pass, sweep nets); last l
 	@rm -rf $(RESULTS)
 	@$(MAKE) --no-print-directory test-deps
 	@$(MAKE) --no-print-directory -k $(TEST_SUITES) || true
-	@tools/test_verdict.sh $(RESULTS) $(TEST_SUITES)
+	@tools/make/test_verdict.sh $(RESULTS) $(TEST_SUITES)
 
 # ---- portability and static gates ----------------------------------------
 PORTABLE_DIRS := control firmware hal/f28335
 
 check-deps: ## (internal) the cross compilers and cppcheck of `make check`
-	@tools/ensure_pkgs.sh gcc-arm-none-eabi libnewlib-arm-none-eabi gcc-avr avr-libc cppcheck
+	@tools/make/ensure_pkgs.sh gcc-arm-none-eabi libnewlib-arm-none-eabi gcc-avr avr-libc cppcheck
 
 # Commit subjects after this baseline are at most 72 characters (the
 # history before it is left as it is).
@@ -195,7 +196,7 @@ COMMIT_SUBJECT_MAX := 72
 
 check: check-deps ## portability, layer, target-build, ISR-path, estimation-owner, RAM-budget, commit-subject and make-help gates
 	@tools/check/commit_subjects.sh $(COMMIT_BASELINE) $(COMMIT_SUBJECT_MAX)
-	@tools/make_help.sh --check $(MAKEFILE_LIST)
+	@tools/make/make_help.sh --check $(MAKEFILE_LIST)
 	@tools/check/portability.sh $(BUILD)/check
 	@tools/check/target_cfg.sh
 	@tools/check/isr_path.sh $(BUILD)/check

@@ -1,4 +1,7 @@
-# tests/: the fuzz harnesses (tests/fuzz/, libFuzzer, clang from Debian).
+# tests/: the Python tests (tests/test_*.py) and the fuzz harnesses
+# (tests/fuzz/, libFuzzer, clang from Debian); tests/cli/module.mk runs the
+# command-line tests.
+#   make test-tools  the Python tests; part of make test
 #   make fuzz        >= FUZZ_STEPS ISR steps (default 10^8), corpus kept in build/fuzz/corpus
 #   make fuzz-short  a seeded pass of a few seconds; part of make test
 # Built with clang, ASan and UBSan (float-cast-overflow included), from the
@@ -19,7 +22,7 @@ FUZZ_STEPS ?= 100000000
 EXTRA_TESTS += fuzz-short
 
 fuzz-deps: ## (internal) clang and its sanitizer runtime for the fuzzer
-	@tools/ensure_pkgs.sh clang libclang-rt-14-dev
+	@tools/make/ensure_pkgs.sh clang libclang-rt-14-dev
 
 # The portable sources with their forced include (8-bit types poisoned), the harness without.
 $(FUZZ_BIN): $(FUZZ_HARNESS) $(FUZZ_PORTABLE) $(FUZZ_HDRS) tests/module.mk | fuzz-deps
@@ -29,10 +32,10 @@ $(FUZZ_BIN): $(FUZZ_HARNESS) $(FUZZ_PORTABLE) $(FUZZ_HDRS) tests/module.mk | fuz
 	$(FUZZ_CC) $(FUZZ_FLAGS) -o $@ $(FUZZ_HARNESS) $(patsubst %.c,$(@D)/obj/%.o,$(notdir $(FUZZ_PORTABLE))) -lm
 
 fuzz: $(FUZZ_BIN) ## the control ISR under libFuzzer until FUZZ_STEPS ISR steps (10^8)
-	@tools/fuzz.sh long $(FUZZ_BIN) $(FUZZ_DIR) $(FUZZ_STEPS)
+	@tests/fuzz/fuzz.sh long $(FUZZ_BIN) $(FUZZ_DIR) $(FUZZ_STEPS)
 
 fuzz-short: $(FUZZ_BIN) ## (part of make test) a seeded fuzz pass of 4000 inputs
-	@$(call suite,fuzz-short) tools/fuzz.sh short $(FUZZ_BIN) $(FUZZ_DIR)
+	@$(call suite,fuzz-short) tests/fuzz/fuzz.sh short $(FUZZ_BIN) $(FUZZ_DIR)
 
 # The link's parser and dispatcher (tests/fuzz/fuzz_link.c), on the same
 # objects as fuzz_app:
@@ -48,7 +51,19 @@ $(FUZZ_LINK_BIN): tests/fuzz/fuzz_link.c tests/fuzz/fuzz_hal.c $(FUZZ_BIN)
 	    $(patsubst %.c,$(FUZZ_DIR)/obj/%.o,$(notdir $(FUZZ_PORTABLE))) -lm
 
 fuzz-link: $(FUZZ_LINK_BIN) ## the link's parser and dispatcher under libFuzzer until FUZZ_LINK_FRAMES frames (10^7)
-	@tools/fuzz_link.sh long $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link $(FUZZ_LINK_FRAMES)
+	@tests/fuzz/fuzz_link.sh long $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link $(FUZZ_LINK_FRAMES)
 
 fuzz-link-short: $(FUZZ_LINK_BIN) ## (part of make test) a seeded fuzz pass of the link, 3000 inputs
-	@$(call suite,fuzz-link-short) tools/fuzz_link.sh short $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link
+	@$(call suite,fuzz-link-short) tests/fuzz/fuzz_link.sh short $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link
+
+# The Python tests (tests/test_*.py: drivekit on hand-computed CSVs and
+# its tables, drivetool, the check gates' parts) under the project's venv
+# python (pyserial for drivetool's tests; sil_report imports matplotlib
+# only to draw). No bytecode is written into the tree. test_sweep.py runs
+# the built drive_sil (its summary against metrics), test_drivetool_sil.py
+# drive_sil --link with the installed drivetool.
+.PHONY: test-tools
+EXTRA_TESTS += test-tools
+test-tools: $(DRIVE_SIL) $(DRIVETOOL) ## (part of make test) the Python tools' unit tests, tests/test_*.py
+	@DRIVE_SIL=$(DRIVE_SIL) DRIVETOOL=$(DRIVETOOL) PYTHONDONTWRITEBYTECODE=1 $(call suite,test-tools) \
+	    $(VENV)/bin/python tools/make/run_py_tests.py tests

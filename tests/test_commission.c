@@ -6,7 +6,7 @@
  * encoder, legs b and c swapped, told pole pairs one off either way
  * (enc_check.h's faults), an open circuit and a stage
  * timeout each end in their fault, stage, value and limit. The three
- * motors on the simulated board: tools/test_commission.py. */
+ * motors on the simulated board: tests/cli/test_commission.py. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """tests/test_make_help.py - `make help` lists every .PHONY target of the
 Makefile and its fragments (make's own database is the reference), and
-tools/make_help.sh --check, the gate of `make check`, fails naming a
+tools/make/make_help.sh --check, the gate of `make check`, fails naming a
 .PHONY target that has no "## " description."""
 import os
 import shutil
@@ -10,7 +10,7 @@ import tempfile
 import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCRIPT = os.path.join(ROOT, "tools", "make_help.sh")
+SCRIPT = os.path.join(ROOT, "tools", "make", "make_help.sh")
 # A make run from `make test` must not see the outer make's flags or jobserver.
 ENV = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MAKELEVEL", "MFLAGS", "MAKEOVERRIDES")}
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""tests/test_metrics.py - tools/metrics.py on synthetic CSVs whose figures
+"""tests/test_metrics.py - drivekit.metrics on synthetic CSVs whose figures
 are known by hand. Standard library only (unittest); `make test-tools`.
 
 Each CSV has every column of tools/sil/sil.h; a row is the defaults below
@@ -16,9 +16,10 @@ import sys
 import tempfile
 import unittest
 
-TOOLS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tools")
-sys.path.insert(0, TOOLS)
-import metrics  # noqa: E402
+DRIVEKIT = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tools", "drivekit")
+sys.path.insert(0, DRIVEKIT)
+from drivekit import metrics  # noqa: E402
+ENV = dict(os.environ, PYTHONPATH=DRIVEKIT)
 
 HEADER = ["t_s", "state", "fault", "flags", "speed_ref_rpm", "speed_rpm", "speed_est_rpm",
           "te_ref_Nm", "te_Nm", "te_est_Nm", "psi_ref_Wb", "psi_Wb", "psi_est_Wb", "id_A", "iq_A",
@@ -176,11 +177,11 @@ class SteadyWindow(CsvCase):
     def test_script_exit_status(self):
         # the real command line: exit 0 with figures, 1 with a message
         p = self.write(steady_rows())
-        ok = subprocess.run([sys.executable, "-B", os.path.join(TOOLS, "metrics.py"), p, "--window", "0.5:0.6"],
-                            capture_output=True, text=True)
+        ok = subprocess.run([sys.executable, "-B", "-m", "drivekit.metrics", p, "--window", "0.5:0.6"],
+                            capture_output=True, text=True, env=ENV)
         self.assertEqual(ok.returncode, 0, ok.stderr)
-        bad = subprocess.run([sys.executable, "-B", os.path.join(TOOLS, "metrics.py"), p + ".none"],
-                             capture_output=True, text=True)
+        bad = subprocess.run([sys.executable, "-B", "-m", "drivekit.metrics", p + ".none"],
+                             capture_output=True, text=True, env=ENV)
         self.assertEqual(bad.returncode, 1)
         self.assertNotIn("Traceback", bad.stderr)
         self.assertIn("run.csv.none", bad.stderr)

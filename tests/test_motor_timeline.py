@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""tests/test_motor_timeline.py - tools/motor_timeline.py: the generated
+"""tests/test_motor_timeline.py - drivekit.motor_timeline: the generated
 tools/scenarios/*_motor_*_timeline.ini are up to date (--check), their
 speed and loads are the paper's timeline in per unit of each motor's
 ratings (computed here from the ratings by hand: T_rated = 1.5 p psi_f
@@ -12,7 +12,8 @@ import tempfile
 import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCRIPT = os.path.join(ROOT, "tools", "motor_timeline.py")
+SCRIPT = ["-m", "drivekit.motor_timeline"]
+ENV = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "tools", "drivekit"), PYTHONDONTWRITEBYTECODE="1")
 SCEN = os.path.join(ROOT, "tools", "scenarios")
 
 # motor: (n_rated [r/min], T_rated [N m]) from the ratings of its 3 s scenario
@@ -41,7 +42,7 @@ def points(profile):
 
 class MotorTimeline(unittest.TestCase):
     def test_files_up_to_date(self):
-        p = subprocess.run([sys.executable, SCRIPT, "--check"], capture_output=True, text=True)
+        p = subprocess.run([sys.executable, *SCRIPT, "--check"], capture_output=True, text=True, env=ENV, cwd=ROOT)
         self.assertEqual(p.returncode, 0, p.stderr)
 
     def test_per_unit_of_the_ratings(self):
@@ -65,11 +66,13 @@ class MotorTimeline(unittest.TestCase):
             path = os.path.join(d, "prop_motor_small_timeline.ini")
             with open(path, "a", encoding="utf-8") as f:
                 f.write("; edited\n")
-            p = subprocess.run([sys.executable, SCRIPT, "--check", "--dir", d], capture_output=True, text=True)
+            p = subprocess.run([sys.executable, *SCRIPT, "--check", "--dir", d], capture_output=True, text=True,
+                               env=ENV)
             self.assertEqual(p.returncode, 1)
             self.assertIn("prop_motor_small_timeline.ini", p.stderr)
-            subprocess.run([sys.executable, SCRIPT, "--dir", d], check=True)
-            p = subprocess.run([sys.executable, SCRIPT, "--check", "--dir", d], capture_output=True, text=True)
+            subprocess.run([sys.executable, *SCRIPT, "--dir", d], check=True, env=ENV)
+            p = subprocess.run([sys.executable, *SCRIPT, "--check", "--dir", d], capture_output=True, text=True,
+                               env=ENV)
             self.assertEqual(p.returncode, 0, p.stderr)
 
 

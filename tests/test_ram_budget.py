@@ -66,7 +66,7 @@ class CmdFile(unittest.TestCase):
         self.assertEqual(place, {"ramfuncs": "RAMA", ".stack": "RAMB", ".ebss": "RAMC"})
 
     def test_the_real_file(self):
-        with open(os.path.join(ROOT, "firmware", "f28335_flash.cmd")) as f:
+        with open(os.path.join(ROOT, "firmware", "f28335", "f28335_flash.cmd")) as f:
             ranges, place = ram_budget.parse_cmd(f.read(), ["m0data"])
         self.assertEqual(ranges["RAML0L5"][1:], (0x8000, 0x6000))
         self.assertEqual(place["ramfuncs"], "RAML0L5")

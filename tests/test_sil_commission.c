@@ -9,7 +9,7 @@
  * (ENCODER_DIRECTION, about -10000 counts over the mechanical turn of the
  * ENCODER sweep), told 4 or 2 pole pairs (POLE_PAIRS, p^ = 3), legs b and
  * c swapped (PHASE_ORDER in WIRING, before any current loop is closed).
- * The three motors and the refusals: tools/test_commission.py. */
+ * The three motors and the refusals: tests/cli/test_commission.py. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>

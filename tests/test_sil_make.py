@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""tests/test_sil_make.py - the rules of `make sil` (tools/module.mk) with
-a fake drive_sil and a fake venv python on a temporary BUILD: a cold run
+"""tests/test_sil_make.py - the rules of `make sil` (tools/drivekit/module.mk)
+with a fake drive_sil and fake venv scripts on a temporary BUILD: a cold run
 runs every scenario once and draws every plot in one call; a second run
 runs nothing, nor does a relinked drive_sil with the same code (a new
 revision string); a run whose CSV is out of date runs again alone, and
@@ -31,15 +31,15 @@ echo "t_s" > "$o"; echo '{}' > "${o%.csv}.resolved.json"
 [ "$stem" = "${FAKE_EXIT3:-}" ] && exit 3
 exit 0
 '''
-FAKE_PYTHON = r'''#!/usr/bin/env bash
-# the venv's python: sil_plot.py touches a PNG per CSV, sil_report.py writes report.md; both log
-script=$(basename "$1"); shift
-case $script in
-sil_plot.py) csvs=(); while [ $# -gt 0 ]; do case $1 in --jobs) shift;; -*) ;; *) csvs+=("$1");; esac; shift; done
-             echo "plot ${csvs[*]}" >> "$FAKE_LOG"; for c in "${csvs[@]}"; do touch "${c%.csv}.png"; done;;
-sil_report.py) while [ $# -gt 0 ]; do case $1 in --dir) d=$2; shift;; esac; shift; done
-               echo "report" >> "$FAKE_LOG"; echo "# report" > "$d/report.md"; exit "${FAKE_REPORT_RC:-0}";;
-esac
+FAKE_SIL_PLOT = r'''#!/usr/bin/env bash
+# the venv's sil-plot: touches a PNG per CSV and logs
+csvs=(); while [ $# -gt 0 ]; do case $1 in --jobs) shift;; -*) ;; *) csvs+=("$1");; esac; shift; done
+echo "plot ${csvs[*]}" >> "$FAKE_LOG"; for c in "${csvs[@]}"; do touch "${c%.csv}.png"; done
+'''
+FAKE_SIL_REPORT = r'''#!/usr/bin/env bash
+# the venv's sil-report: writes report.md and logs
+while [ $# -gt 0 ]; do case $1 in --dir) d=$2; shift;; esac; shift; done
+echo "report" >> "$FAKE_LOG"; echo "# report" > "$d/report.md"; exit "${FAKE_REPORT_RC:-0}"
 '''
 
 
@@ -54,11 +54,12 @@ class SilRules(unittest.TestCase):
         self.drive_sil = os.path.join(t, "drive_sil")
         venv_bin = os.path.join(self.build, "venv", "bin")
         os.makedirs(venv_bin)
-        for path, text in ((self.drive_sil, FAKE_DRIVE_SIL), (os.path.join(venv_bin, "python"), FAKE_PYTHON)):
+        for path, text in ((self.drive_sil, FAKE_DRIVE_SIL), (os.path.join(venv_bin, "sil-plot"), FAKE_SIL_PLOT),
+                           (os.path.join(venv_bin, "sil-report"), FAKE_SIL_REPORT)):
             with open(path, "w") as f:
                 f.write(text)
             os.chmod(path, 0o755)
-        for name in (".installed", "bin/sil-plot"):             # a built venv: newer than requirements.txt
+        for name in (".installed", ".drivekit"):                # a built venv: newer than drivekit's sources
             open(os.path.join(self.build, "venv", name), "w").close()
 
     def tearDown(self):

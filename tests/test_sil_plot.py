@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""tests/test_sil_plot.py - tools/sil_plot.py's command line under the
+"""tests/test_sil_plot.py - drivekit.sil_plot's command line under the
 system python3 (no matplotlib needed): --help and argument errors before
 matplotlib is imported, a clear message naming `make plot` and the venv
 when it is missing, the output-name rule (RUN.csv -> RUN.png), the title
@@ -12,11 +12,10 @@ import tempfile
 import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TOOLS = os.path.join(ROOT, "tools")
-PLOT = os.path.join(TOOLS, "sil_plot.py")
+DRIVEKIT = os.path.join(ROOT, "tools", "drivekit")
 VENV_PY = os.path.join(ROOT, "build", "venv", "bin", "python")
-sys.path.insert(0, TOOLS)
-import sil_plot  # noqa: E402
+sys.path.insert(0, DRIVEKIT)
+from drivekit import sil_plot  # noqa: E402
 
 
 class NoMatplotlib(unittest.TestCase):
@@ -29,13 +28,15 @@ class NoMatplotlib(unittest.TestCase):
         os.makedirs(fake)
         with open(os.path.join(fake, "__init__.py"), "w") as f:
             f.write("raise ImportError('no matplotlib (test)')\n")
-        self.env = dict(os.environ, PYTHONPATH=os.path.dirname(fake), PYTHONDONTWRITEBYTECODE="1")
+        self.env = dict(os.environ, PYTHONPATH=os.pathsep.join((os.path.dirname(fake), DRIVEKIT)),
+                        PYTHONDONTWRITEBYTECODE="1")
 
     def tearDown(self):
         self._tmp.cleanup()
 
     def run_plot(self, *args):
-        return subprocess.run([sys.executable, PLOT, *args], env=self.env, capture_output=True, text=True,
+        return subprocess.run([sys.executable, "-m", "drivekit.sil_plot", *args], env=self.env, capture_output=True,
+                              text=True,
                               cwd=self._tmp.name)
 
     def test_help(self):
@@ -65,8 +66,9 @@ class NoMatplotlib(unittest.TestCase):
         self.assertIn("would overwrite the CSV", p.stderr)
 
     def test_import_does_not_load_matplotlib(self):
-        code = "import sys; sys.path.insert(0, sys.argv[1]); import sil_plot; print('matplotlib' in sys.modules)"
-        p = subprocess.run([sys.executable, "-B", "-c", code, TOOLS], capture_output=True, text=True)
+        code = ("import sys; sys.path.insert(0, sys.argv[1]); from drivekit import sil_plot; "
+                "print('matplotlib' in sys.modules)")
+        p = subprocess.run([sys.executable, "-B", "-c", code, DRIVEKIT], capture_output=True, text=True)
         self.assertEqual((p.returncode, p.stdout.strip()), (0, "False"), p.stderr)
 
 
@@ -128,13 +130,14 @@ class RealPlot(unittest.TestCase):
                 f.write("t_s,speed_ref_rpm,speed_rpm,R_est_ohm,L_est_H\n")
                 for k in range(50):
                     f.write(f"{k * 1e-3},500,{500 - k * 0.01},3.0,{0.011 + 1e-9 * k}\n")
-            env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1", DISPLAY="", MPLBACKEND="TkAgg")
-            p = subprocess.run([VENV_PY, PLOT, csv_path], env=env, capture_output=True, text=True)
+            env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1", DISPLAY="", MPLBACKEND="TkAgg", PYTHONPATH=DRIVEKIT)
+            plot = [VENV_PY, "-m", "drivekit.sil_plot"]
+            p = subprocess.run([*plot, csv_path], env=env, capture_output=True, text=True)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertEqual(p.stdout.strip(), "sil_plot: " + os.path.join(d, "run.png"))
             with open(os.path.join(d, "run.png"), "rb") as f:
                 self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
-            p = subprocess.run([VENV_PY, PLOT, "-o", os.path.join(d, "other.svg"), csv_path],
+            p = subprocess.run([*plot, "-o", os.path.join(d, "other.svg"), csv_path],
                                env=env, capture_output=True, text=True)
             self.assertEqual(p.returncode, 0, p.stderr)
             self.assertTrue(os.path.getsize(os.path.join(d, "other.svg")) > 0)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""tests/test_sil_report.py - the table logic of tools/sil_report.py (no
+"""tests/test_sil_report.py - the table logic of drivekit.sil_report (no
 plotting): pairing conv_/prop_ runs into cases, the rows of both tables,
 exact plot links, windows and the plant's true values. Standard library
 only: sil_report imports matplotlib only inside load_matplotlib(), and the
@@ -14,9 +14,9 @@ import tempfile
 import unittest
 from unittest import mock
 
-TOOLS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tools")
-sys.path.insert(0, TOOLS)
-import sil_report  # noqa: E402
+DRIVEKIT = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "tools", "drivekit")
+sys.path.insert(0, DRIVEKIT)
+from drivekit import sil_report  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from test_metrics import HEADER, DEFAULTS, cell, t_of  # noqa: E402
@@ -52,9 +52,9 @@ class Tmp(unittest.TestCase):
 
 class Import(unittest.TestCase):
     def test_no_matplotlib_at_import(self):
-        code = ("import sys; sys.path.insert(0, sys.argv[1]); import sil_report; "
+        code = ("import sys; sys.path.insert(0, sys.argv[1]); from drivekit import sil_report; "
                 "print('matplotlib' in sys.modules)")
-        p = subprocess.run([sys.executable, "-B", "-c", code, TOOLS], capture_output=True, text=True)
+        p = subprocess.run([sys.executable, "-B", "-c", code, DRIVEKIT], capture_output=True, text=True)
         self.assertEqual((p.returncode, p.stdout.strip()), (0, "False"), p.stderr)
 
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""tests/test_sweep.py - drive_sil's summary mode and tools/sweep.py against
-the independent path: drive_sil's CSV read by tools/metrics.py. Standard
+"""tests/test_sweep.py - drive_sil's summary mode and drivekit.sweep against
+the independent path: drive_sil's CSV read by drivekit.metrics. Standard
 library only (unittest); `make test-tools` runs it with DRIVE_SIL set to
 the built runner (default build/host/drive_sil; skipped when absent).
 
@@ -21,10 +21,10 @@ import tempfile
 import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TOOLS = os.path.join(ROOT, "tools")
-sys.path.insert(0, TOOLS)
-import metrics  # noqa: E402
-import sweep  # noqa: E402
+DRIVEKIT = os.path.join(ROOT, "tools", "drivekit")
+sys.path.insert(0, DRIVEKIT)
+from drivekit import metrics, sweep, sweep_check  # noqa: E402
+ENV = dict(os.environ, PYTHONPATH=DRIVEKIT)
 
 DRIVE_SIL = os.path.abspath(os.environ.get("DRIVE_SIL", os.path.join(ROOT, "build", "host", "drive_sil")))
 SCENARIO = os.path.join(ROOT, "tools", "scenarios", "prop_paper.ini")
@@ -41,8 +41,8 @@ def have_drive_sil():
 
 def run_sweep(*args):
     """sweep.py's main() with its stderr captured: (exit status, stderr text)."""
-    r = subprocess.run([sys.executable, os.path.join(TOOLS, "sweep.py"), "--drive-sil", DRIVE_SIL,
-                        "--quiet", *args], capture_output=True, text=True, cwd=ROOT)
+    r = subprocess.run([sys.executable, "-m", "drivekit.sweep", "--drive-sil", DRIVE_SIL,
+                        "--quiet", *args], capture_output=True, text=True, cwd=ROOT, env=ENV)
     return r.returncode, r.stderr
 
 
@@ -53,11 +53,11 @@ def by_hand(tmp, sets, window=None):
     for s in sets:
         cmd += ["--set", s]
     subprocess.run(cmd, check=True, capture_output=True)
-    mcmd = [sys.executable, os.path.join(TOOLS, "metrics.py"), path, "--json",
+    mcmd = [sys.executable, "-m", "drivekit.metrics", path, "--json",
             "--truth", ":".join(repr(x) for x in TRUTH)]
     if window:
         mcmd += ["--window", window]
-    out = subprocess.run(mcmd, check=True, capture_output=True, text=True).stdout
+    out = subprocess.run(mcmd, check=True, capture_output=True, text=True, env=ENV).stdout
     return json.loads(out), metrics.load_csv(path)
 
 
@@ -187,7 +187,7 @@ class Sweep(unittest.TestCase):
 
 
 class SweepCheck(unittest.TestCase):
-    """tools/sweep_check.py on hand-made results: each rule can fail."""
+    """drivekit.sweep_check on hand-made results: each rule can fail."""
 
     def write(self, d, points):
         cols = sweep.columns([sweep.Grid("controller.L_factor=1:2:2", False)])
@@ -201,7 +201,6 @@ class SweepCheck(unittest.TestCase):
                 w.writerow([r[c] for c in cols])
 
     def run_check(self, points):
-        import sweep_check
         with tempfile.TemporaryDirectory() as d:
             self.write(d, points)
             out = io.StringIO()

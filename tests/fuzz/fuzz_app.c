@@ -5,7 +5,7 @@
  * The stub aborts on a broken output rule, the harness on a state out of
  * app_state_t or a fault code that disagrees with FAULT; ASan and UBSan
  * (float casts included) catch the rest. `make fuzz` runs it for >= 10^8 ISR steps,
- * `make test` a short seeded pass (tests/module.mk, tools/fuzz.sh).
+ * `make test` a short seeded pass (tests/module.mk, tests/fuzz/fuzz.sh).
  *
  * Input: an 8-byte header, then 16-byte records (a short tail is dropped).
  *   header[0]  bit 0 calibrate, bit 1 align, bits 2-3 app_rsid_mode_t,
@@ -260,7 +260,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     return 0;
 }
 
-/* At exit (libFuzzer's end of -runs): the figure tools/fuzz.sh adds up. */
+/* At exit (libFuzzer's end of -runs): the figure tests/fuzz/fuzz.sh adds up. */
 __attribute__((destructor)) static void report(void)
 {
     printf("fuzz_app: %llu ISR steps, %llu inputs\n", (unsigned long long)g_isr_steps,

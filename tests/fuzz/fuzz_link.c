@@ -11,7 +11,7 @@
  *     or method out of range);
  *   - a capture state out of range.
  * ASan and UBSan catch the rest. `make fuzz-link` runs >= 10^7 frames,
- * `make test` a short seeded pass (tests/module.mk, tools/fuzz_link.sh).
+ * `make test` a short seeded pass (tests/module.mk, tests/fuzz/fuzz_link.sh).
  *
  * Input: records, each starting with a kind byte r[0]:
  *   r[0] < 0xC0   a request framed by the harness (valid CRC): type r[1]

@@ -12,7 +12,7 @@ set -uo pipefail
 cd "$(dirname "$0")/../.."
 fail=0
 blocks='control/(smo|rs_ident|param_est|est_gate|r_track|psi_band)\.[ch]$'
-files=$(ls control/*.[ch] firmware/*/*.[ch] hal/*.h hal/*/*.[ch] tools/*.c tools/sil/*.[ch] 2>/dev/null |
+files=$(ls control/*.[ch] firmware/*/*.[ch] hal/*.h hal/*/*.[ch] tools/bench/*.c tools/sil/*.[ch] 2>/dev/null |
         grep -vE '^control/est\.[ch]$')
 for f in $files; do
     if hits=$(grep -nE '(\.|->)est\.[A-Za-z_]' "$f"); then

@@ -10,7 +10,7 @@
  * resolved plant and controller values) and/or the steady window's figures
  * as JSON (--summary, summary.h; "-" is stdout), or with --check only
  * validates the scenario and overrides. --batch is the sweep's worker
- * (tools/sweep.py): one run per stdin line "ID<TAB>section.key=value<TAB>..."
+ * (tools/drivekit/drivekit/sweep.py): one run per stdin line "ID<TAB>section.key=value<TAB>..."
  * (overrides on top of the scenario's), one summary line per run on stdout,
  * {"id": ID, "error": "..."} for refused overrides. Bad input (scenario, override,
  * flag, output path) prints a message naming file, line and key, exits 2

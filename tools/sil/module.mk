@@ -42,19 +42,6 @@ TEST_SRCS_test_sil      := tools/sil/sil.c
 TEST_LIBS_test_sil_startup := silrun firmware sim control
 TEST_SRCS_test_sil_startup := tools/sil/sil.c
 
-# The CLI: exit status 2 and no CSV on bad input (runs the built binary).
-.PHONY: test-drive-sil-cli
-EXTRA_TESTS += test-drive-sil-cli
-test-drive-sil-cli: $(DRIVE_SIL) ## (part of make test) drive_sil's command line: exit statuses, no CSV on bad input
-	@$(call suite,test-drive-sil-cli) tools/test_drive_sil_cli.sh $(DRIVE_SIL)
-
-# Commissioning on three motors, ideal and realistic board, and its refusals
-# (runs the built binary; standard-library Python).
-.PHONY: test-commission
-EXTRA_TESTS += test-commission
-test-commission: $(DRIVE_SIL) ## (part of make test) drive_sil --commission on three motors, ideal and realistic; refusals
-	@$(call suite,test-commission) python3 tools/test_commission.py $(DRIVE_SIL) tools/scenarios
-
 # Acceptance of the proposed method on the simulated board (scenario files
 # of tools/scenarios/, and the controller alone on hal_sim).
 TEST_LIBS_test_sil_proposed := silrun firmware sim control

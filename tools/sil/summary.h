@@ -1,7 +1,7 @@
 /*
  * summary.h - the figures of one SIL run over its steady window, computed
  * from the logged rows as they are produced (drive_sil --summary), so a
- * sweep needs no CSV per point. The definitions are tools/metrics.py's
+ * sweep needs no CSV per point. The definitions are tools/drivekit/drivekit/metrics.py's
  * (steady() and estimates()): over the rows with t0 <= t_s < t1,
  *   te_err_Nm      mean |Te - Te*|          te_ripple_Nm  RMS of Te - Te*
  *   psi_err_Wb     mean |psi_s - psi_s*|    psi_err_pct   mean |.| / psi_s* [%]
@@ -23,7 +23,7 @@
 #include "sil.h"
 
 /* A run that reaches this far is measured over the paper's window, a shorter one over its tail
- * (tools/sil_report.py's rule). */
+ * (tools/drivekit/drivekit/sil_report.py's rule). */
 #define SUMMARY_PAPER_T0_S 0.8
 #define SUMMARY_PAPER_T1_S 0.95
 #define SUMMARY_PAPER_MIN_RUN_S 1.05

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """sweep_maps.py - maps and report of the sweeps under a directory
-(`make sweep`: build/sweep/<name>/results.csv from tools/sweep.py).
+(`make sweep`: build/sweep/<name>/results.csv from drivekit.sweep).
 
 For each sweep with two grid columns, per figure (mean |Te - Te*| and mean
 |psi_s - psi_s*|): the conventional and the proposed method side by side
@@ -21,10 +21,8 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import sweep  # noqa: E402
-import sweep_check  # noqa: E402
-from sweep_check import faulted  # noqa: E402
+from . import sweep, sweep_check
+from .sweep_check import faulted
 
 FIGURES = (("te_err_Nm", "mean |Te - Te*| [N m]"), ("psi_err_Wb", "mean |psi_s - psi_s*| [Wb]"))
 METHODS = ("conventional", "proposed")
@@ -219,7 +217,7 @@ def summary_lines(name, rows, grid_cols, definition, pngs, worst_n):
     ratios = sorted(p / c for c, p in pairs if c > 0)
     bad, _ = sweep_check.violations(by_point, sweep_check.TOL_NM)
     out.append(f"**The rule** (proposed never faulted where the conventional method is not, never worse "
-               f"than it + {sweep_check.TOL_NM:g} N m; `tools/sweep_check.py`) **"
+               f"than it + {sweep_check.TOL_NM:g} N m; `sweep-check`) **"
                f"{'holds' if not bad else 'broken'}** here" +
                (": " + "; ".join(f"{sweep_check.at_text(grid_cols, k)}: {why}" for k, why in bad) if bad else "") +
                ".")
@@ -270,7 +268,7 @@ def main(argv=None):
     lines = ["# Sensitivity maps", "",
              "Each sweep runs the scenario `tools/scenarios/prop_paper.ini` (500 r/min, the paper's "
              "timeline and its steady window 0.8-0.95 s) over a grid, both methods at every point "
-             "(`make sweep`, `tools/sweep.py`). Colours: mean over the window, one logarithmic scale per "
+             "(`make sweep`, `sil-sweep`). Colours: mean over the window, one logarithmic scale per "
              "figure shared by both methods (green small, red large); grey hatched cells ended faulted "
              "(the fault is named); blue circles are the paper's cases. `*_real` sweeps add a realistic "
              "board: ADC noise 0.02 A, 1 us dead time compensated as 0.9 us, 1000-line encoder.", ""]

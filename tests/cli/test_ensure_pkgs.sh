@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# test_ensure_pkgs.sh - tools/ensure_pkgs.sh under concurrency, against a
+# test_ensure_pkgs.sh - tools/make/ensure_pkgs.sh under concurrency, against a
 # fake dpkg-query, apt-get and id on PATH (nothing is installed for real).
 # The fake apt-get fails when two of it run at once, as apt's lists lock
 # does; concurrent callers must all succeed with one update and one install.
 set -uo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
+here=$(cd "$(dirname "$0")/../../tools/make" && pwd)
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 npass=0 nfail=0

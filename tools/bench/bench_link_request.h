@@ -1,6 +1,6 @@
 /* bench_link_request.h - a request straight into a link, handled at once,
  * its reply and whatever else was queued dropped: the link benches'
- * (tools/bench_link.c, tools/bench_isr_link.c) way to arm a capture or set
+ * (tools/bench/bench_link.c, tools/bench/bench_isr_link.c) way to arm a capture or set
  * a stream. Each call is a new request (its own sequence number). Host only. */
 #ifndef BENCH_LINK_REQUEST_H
 #define BENCH_LINK_REQUEST_H

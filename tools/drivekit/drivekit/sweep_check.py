@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """sweep_check.py DIR [--tol-Nm 0.005] - the rule of the proposed method over
-a sweep's DIR/results.csv (tools/sweep.py, both methods): at every grid point
+a sweep's DIR/results.csv (drivekit.sweep, both methods): at every grid point
   1. both methods ran (status ok),
   2. the proposed method is not faulted where the conventional one is not,
   3. its mean |Te - Te*| is <= the conventional method's + tol (where neither
      faulted; a point where only the conventional one faulted passes).
 Prints one line per violation and a closing line; exits 1 on any violation,
 2 on an unreadable DIR. Standard library only (the regression net of
-`make test`, tools/sweep.mk, runs it with the system python3).
+`make test`, tools/drivekit/module.mk, runs it with the system python3).
 """
 import argparse
 import csv
@@ -60,8 +60,7 @@ def at_text(grid_cols, key):
 
 
 def check(path, tol_Nm):
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    import sweep
+    from . import sweep
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:

@@ -5,7 +5,7 @@ files DIR/NAME_prop.ini, DIR/NAME_conv.ini (directly in DIR; default
 tests/campaign) runs through drive_sil, and in each judged window
   1. the proposed run is not faulted where the conventional one is not,
   2. its mean |Te - Te*| is <= the conventional one's + tol
-     (where neither faulted; tools/sweep_check.py's rule).
+     (where neither faulted; sweep_check's rule).
 The judged windows are the file's `; win steady = T0:T1` and
 `; win late = T0:T1` comments (those of the _prop file), 0.8:1.2 s where
 it names none; other `; win` labels are informational and not judged.
@@ -29,8 +29,7 @@ import re
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep_check import TOL_NM, faulted  # noqa: E402  (one home for the rule)
+from .sweep_check import TOL_NM, faulted  # one home for the rule
 
 JUDGED = ("steady", "late")
 DEFAULT_WINDOW = (0.8, 1.2)
@@ -122,10 +121,9 @@ def check(d, drive_sil, tol_Nm, known):
 
 
 def main(argv=None):
-    here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir", nargs="?", default=os.path.join(here, "..", "tests", "campaign"))
-    ap.add_argument("--drive-sil", default=os.path.join(here, "..", "build", "host", "drive_sil"))
+    ap.add_argument("dir", nargs="?", default=os.path.join("tests", "campaign"))
+    ap.add_argument("--drive-sil", default=os.path.join("build", "host", "drive_sil"))
     ap.add_argument("--known", default=None)
     ap.add_argument("--tol-Nm", type=float, default=TOL_NM)
     a = ap.parse_args(argv)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """sil_report.py - build/sil/report.md from the CSVs of `make sil`:
 
-  1. one row of tools/metrics.py figures per scenario CSV, with links to
+  1. one row of drivekit.metrics figures per scenario CSV, with links to
      the plot drawn for exactly that scenario (<stem>.png / <stem>.svg),
      in two tables (errors and plots; currents, load and torque step);
   2. two tables case x method: every case that has both conv_<case>.csv
@@ -45,8 +45,7 @@ import os
 import statistics
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import metrics  # noqa: E402
+from . import metrics
 
 PAPER_WINDOW = (0.8, 0.95)
 LOAD_WINDOW = (0.95, 1.05)
@@ -436,11 +435,11 @@ def main(argv=None):
     lines = [
         "# SIL report",
         "",
-        "True plant values against the controller's references (tools/metrics.py).",
+        "True plant values against the controller's references (drivekit.metrics).",
         "Steady window 0.8-0.95 s for the 1.2 s runs (last quarter for shorter ones, the last 0.5 s for runs of 2.5 s "
         "or more: the motor_* cases, each motor told only its data, motor column);",
         "the motor_*_timeline cases: the paper's timeline in per unit of each motor's ratings",
-        "(tools/motor_timeline.py: 0.25 n_rated, 1/3 -> 2/3 -> 1 -> 2/3 T_rated).",
+        "(drivekit.motor_timeline: 0.25 n_rated, 1/3 -> 2/3 -> 1 -> 2/3 T_rated).",
         "Recovery and dip: after the 4 -> 6 N m step at 0.95 s (2/3 -> 1 T_rated), until the speed stays within 1 r/min,",
         "and the largest shortfall below the reference until 1.05 s.",
         "Torque step: periods from the ISR that took the command to 95 % of the step.",

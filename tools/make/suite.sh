@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # suite.sh NAME DIR CMD... - run one suite of `make test`, pass its output
-# through, and record "PASSED FAILED" in DIR/NAME for tools/test_verdict.sh.
+# through, and record "PASSED FAILED" in DIR/NAME for tools/make/test_verdict.sh.
 # The counts are those of the suite's last closing line "N passed, N failed"
 # (one word and a colon may stand before it); a suite without one counts
 # as one test. A suite that exits non-zero with no failure counted (a

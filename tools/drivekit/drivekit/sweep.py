@@ -18,7 +18,7 @@ also gets identify.mode=off: it has no step 1, as conv_*.ini). Every
 point x method runs in one of --jobs drive_sil --batch workers (one
 process per core, fed through its stdin; the runs' figures are computed in
 C over the scenario's steady window, tools/sil/summary.h, the same as
-tools/metrics.py's). DIR/results.csv gets a row as each point finishes:
+drivekit.metrics'). DIR/results.csv gets a row as each point finishes:
 the method, the grid values, the resolved plant and controller parameters,
 the final state and fault, peak |i| and the figures, columns named with
 their units (sweep.RESULT_COLS). An interrupted sweep resumes: points

@@ -262,7 +262,7 @@ fi
 expect_bad "bad --max-csv-mb" --scenario "$good" --out "$dir/out.csv" --max-csv-mb 0
 
 # every CSV column documented in tools/sil/CSV_COLUMNS.md's table, in the header's order
-doc="$(dirname "$0")/sil/CSV_COLUMNS.md"
+doc="$(dirname "$0")/../../tools/sil/CSV_COLUMNS.md"
 documented=$(awk -F'|' '/^\| --- /{ t = 1; next } t && /^\|/ { c = $2; gsub(/[ `]/, "", c); print c; next } t { t = 0 }' "$doc" | paste -sd, -)
 header=$(head -n 1 "$dir/flt.csv")
 if [ -n "$header" ] && [ "$documented" = "$header" ]; then
@@ -272,7 +272,7 @@ else
 fi
 
 # the documented key list is the key table's (drive_sil --list-keys --markdown; `make scenario-keys` rewrites it)
-keys_doc="$(dirname "$0")/sil/SCENARIO_KEYS.md"
+keys_doc="$(dirname "$0")/../../tools/sil/SCENARIO_KEYS.md"
 if "$bin" --list-keys --markdown > "$dir/keys.md" && cmp -s "$dir/keys.md" "$keys_doc"; then
     pass "drive_sil CLI key list: $keys_doc is drive_sil --list-keys --markdown"
 else

@@ -3,7 +3,7 @@
 # callgrind): instructions of app_isr inclusive (the HAL calls it makes on
 # hal_sim are a few stores each; the simulated board's period is outside
 # it), one callgrind dump per ISR call, over a run through every state of
-# the app (tools/bench_isr.ini), for each method. Per method prints
+# the app (tools/bench/bench_isr.ini), for each method. Per method prints
 #   app_isr instructions (METHOD): typical N, worst M in STATE
 # typical = the median over the periods that started in RUN, worst = the
 # largest over every period, STATE the app state that period started in.
@@ -12,7 +12,7 @@
 #   app_isr instructions (commission): typical N, worst M in STATE
 # typical = the median over the periods that started in COMMISSION, worst
 # = the largest over every period of that run.
-# With BENCH_ISR_LINK=PROGRAM (tools/bench_isr_link.c) the same run again
+# With BENCH_ISR_LINK=PROGRAM (tools/bench/bench_isr_link.c) the same run again
 # with a capture armed and triggering and a stream running, app_isr and
 # link_isr each dumped (a dump before and after link_isr), per method
 #   app_isr instructions with capture and stream (METHOD): typical N, worst M in STATE

@@ -1,5 +1,5 @@
 /* bench_isr_link.c SCENARIO STATES_OUT [KEY=VALUE ...] - the SIL run of
- * tools/bench_isr.sh with the link busy in every period, for callgrind
+ * tools/bench/bench_isr.sh with the link busy in every period, for callgrind
  * (`make bench`): the control ISR is app_isr then link_isr, as on the
  * board (firmware/f28335/main.c). From the first period a capture is armed on 4
  * channels and, each time it is done, armed again cycling through the

@@ -22,7 +22,7 @@ judged over the run's last JUDGE_S seconds against the plant's true values:
             plant's, 500 / 1500 r/min at 4 N m: L_est_H within 5 % of the
             plant's L in every row, or L^ held with the angle warning
             (flags 0x800) set.
-Every point also keeps the rule (tools/sweep_check.py): the proposed run does
+Every point also keeps the rule (sweep_check): the proposed run does
 not fault where the conventional one does not, and its mean |Te - Te*| is <=
 the conventional one's + 0.005 N m over the window.
 
@@ -43,8 +43,7 @@ import subprocess
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sweep_check import TOL_NM, faulted  # noqa: E402  (one home for the rule)
+from .sweep_check import TOL_NM, faulted  # one home for the rule
 
 PSIF_TOL = 0.02              # psi_f^ within 2 % of the plant's
 L_TOL = 0.05                 # L^ within 5 % of the plant's
@@ -164,10 +163,9 @@ def hold_or(hold):
 
 
 def main(argv=None):
-    here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--drive-sil", default=os.path.join(here, "..", "build", "host", "drive_sil"))
-    ap.add_argument("--base", default=os.path.join(here, "..", "tests", "est_grid", "base.ini"))
+    ap.add_argument("--drive-sil", default=os.path.join("build", "host", "drive_sil"))
+    ap.add_argument("--base", default=os.path.join("tests", "est_grid", "base.ini"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--only", choices=("deadtime", "prior", "encoder"), default=None)
     ap.add_argument("--known", default=None)

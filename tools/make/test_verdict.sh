@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # test_verdict.sh DIR SUITE... - the closing verdict of `make test`: the
-# counts tools/suite.sh recorded in DIR, one line a suite, then the sum as
+# counts tools/make/suite.sh recorded in DIR, one line a suite, then the sum as
 # the last line on stdout, "make test: N passed, N failed". A suite that
 # recorded nothing (its build or a prerequisite failed) counts as one
 # failure. Exits 1 when anything failed.

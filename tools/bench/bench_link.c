@@ -1,5 +1,5 @@
 /* bench_link.c CALLS [idle|capture|worst] - drives link_isr() (firmware/link/link.h) for
- * tools/bench_link.sh (callgrind): the link's cost in the control ISR.
+ * tools/bench/bench_link.sh (callgrind): the link's cost in the control ISR.
  *   idle     nothing armed: the call only finds capture and stream off
  *   capture  a capture armed on 4 channels with a NAME>VALUE trigger that
  *            never fires: every period samples 4 channels and compares the

@@ -1,5 +1,5 @@
-# fuzz_lib.sh - the libFuzzer driver shared by tools/fuzz.sh and
-# tools/fuzz_link.sh (sourced, not run). The caller sets
+# fuzz_lib.sh - the libFuzzer driver shared by tests/fuzz/fuzz.sh and
+# tests/fuzz/fuzz_link.sh (sourced, not run). The caller sets
 #   bin dir target     the harness, its output folder, the count to reach (long)
 #   opts               libFuzzer options (array)
 #   SHORT_SEED SHORT_RUNS CHUNK_RUNS

@@ -1,5 +1,5 @@
 /* bench_ctrl.c STEPS [conventional|proposed|proposed_track_R] - drives ctrl_step() in speed
- * mode at 500 r/min with 4 N m worth of current, for tools/bench_ctrl.sh
+ * mode at 500 r/min with 4 N m worth of current, for tools/bench/bench_ctrl.sh
  * (callgrind). Inputs are synthesised: a counting encoder and the currents
  * of a rotor-frame Euler model of the Table I motor, shaft held, fed the
  * voltage the controller realises (a fixed current phasor that ignored the

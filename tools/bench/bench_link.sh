@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bench_link.sh BIN [CALLS] - the link's cost in the control ISR: x86-64 -O2
 # instructions per link_isr() call, measured with callgrind collecting
-# inside link_isr only, one dump per call, for tools/bench_link.c's cases
+# inside link_isr only, one dump per call, for tools/bench/bench_link.c's cases
 # (idle; a capture armed, waiting; a capture armed again and triggering
 # with an 8-variable stream every period: the worst a period can take).
 # Prints per case the typical (median) and worst (largest) call; asserts

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The rule for the proposed method over pairs of scenario files.
 
-    tools/rule_check.py [--drive-sil BIN] [--set section.key=value ...] DIR|FILE...
+    rule-check [--drive-sil BIN] [--set section.key=value ...] DIR|FILE...
 
 Each NAME_prop.ini found (a directory: all of them in it) is run beside its
 NAME_conv.ini by drive_sil --summary, in the window its `; win steady = T0:T1`
@@ -75,12 +75,12 @@ def pairs(args):
     return sorted(out)
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--drive-sil", default=os.environ.get("DRIVE_SIL", "build/host/drive_sil"))
     ap.add_argument("--set", action="append", default=[], help="override for both runs")
     ap.add_argument("paths", nargs="+")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     try:
         props = pairs(a.paths)
     except ValueError as e:

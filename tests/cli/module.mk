@@ -1,0 +1,19 @@
+# tests/cli/module.mk - tests that run the built programs and the
+# Makefile's helpers through their command lines (part of `make test`).
+.PHONY: test-drive-sil-cli test-commission test-ensure-pkgs
+
+# The CLI: exit status 2 and no CSV on bad input (runs the built binary).
+EXTRA_TESTS += test-drive-sil-cli
+test-drive-sil-cli: $(DRIVE_SIL) ## (part of make test) drive_sil's command line: exit statuses, no CSV on bad input
+	@$(call suite,test-drive-sil-cli) tests/cli/test_drive_sil_cli.sh $(DRIVE_SIL)
+
+# Commissioning on three motors, ideal and realistic board, and its refusals
+# (runs the built binary; standard-library Python).
+EXTRA_TESTS += test-commission
+test-commission: $(DRIVE_SIL) ## (part of make test) drive_sil --commission on three motors, ideal and realistic; refusals
+	@$(call suite,test-commission) python3 tests/cli/test_commission.py $(DRIVE_SIL) tools/scenarios
+
+# tools/make/ensure_pkgs.sh under -j: concurrent callers, one apt-get (fakes on PATH).
+EXTRA_TESTS += test-ensure-pkgs
+test-ensure-pkgs: ## (part of make test) tools/make/ensure_pkgs.sh under -j, against a fake apt-get
+	@$(call suite,test-ensure-pkgs) tests/cli/test_ensure_pkgs.sh
