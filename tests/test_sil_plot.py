@@ -97,12 +97,68 @@ class Title(unittest.TestCase):
         self.assertEqual(sil_plot.title_of("/tmp/x/out.csv", {"scenario": "a/b.ini"}), "b")
         self.assertEqual(sil_plot.title_of("/tmp/x/out.csv", None), "out")          # no resolved values
 
+    def test_overrides_in_the_title(self):
+        r = {"scenario": "tools/scenarios/prop_paper.ini", "overrides": ["plant.L_H=0.02", "run.duration_s=1"],
+             "controller": {"method": "conventional", "mode": "speed"}}
+        self.assertEqual(sil_plot.title_of("x.csv", r),
+                         "prop_paper + plant.L_H=0.02, run.duration_s=1: conventional DB-DTC, speed mode")
+        r["overrides"] = []
+        self.assertEqual(sil_plot.title_of("x.csv", r), "prop_paper: conventional DB-DTC, speed mode")
+
+    def test_commissioning_titled_as_such(self):
+        # drive_sil --commission runs the conventional method's settings: not what the title names
+        r = {"scenario": "a/conv_motor_paper.ini", "overrides": [], "commission": True,
+             "controller": {"method": "conventional", "mode": "speed"}}
+        self.assertEqual(sil_plot.title_of("x.csv", r), "conv_motor_paper: commissioning (measuring the motor)")
+
+    def test_a_long_title_keeps_what_ran_on_its_own_line(self):
+        sets = ["controller.L_factor=1.4", "controller.psif_factor=0.85", "plant.adc_noise_A=0.02"]
+        r = {"scenario": "prop_paper.ini", "overrides": sets, "controller": {"method": "proposed", "mode": "speed"}}
+        lines = sil_plot.title_of("x.csv", r).split("\n")
+        self.assertEqual(lines[-1], "proposed DB-DTC, speed mode")
+        self.assertEqual(" ".join(lines[:-1]), "prop_paper + " + ", ".join(sets))
+        self.assertTrue(all(len(x) <= sil_plot.TITLE_WIDTH for x in lines))
+
     def test_resolved_beside_the_csv(self):
         with tempfile.TemporaryDirectory() as d:
             with open(os.path.join(d, "run.resolved.json"), "w") as f:
                 f.write('{"scenario": "s.ini"}')
             self.assertEqual(sil_plot.resolved_of(os.path.join(d, "run.csv")), {"scenario": "s.ini"})
             self.assertIsNone(sil_plot.resolved_of(os.path.join(d, "none.csv")))
+
+
+class FakeAxis:
+    """The y-limits of an axis, as span_floor reads and sets them."""
+    def __init__(self, lo, hi):
+        self.lim = (lo, hi)
+
+    def get_ylim(self):
+        return self.lim
+
+    def set_ylim(self, lo, hi):
+        self.lim = (lo, hi)
+
+
+class SpanFloor(unittest.TestCase):
+    def test_a_constant_estimate_spans_its_share_of_the_value(self):
+        # float32 rounding of 0.24 Wb: a span of 1e-9 would print 0.239999996
+        ax = FakeAxis(0.239999995, 0.240000001)
+        sil_plot.span_floor(ax, [0.239999996, 0.24], 0.0001)
+        lo, hi = ax.lim
+        self.assertAlmostEqual(hi - lo, sil_plot.SPAN_REL * 0.24, places=12)   # 0.0024 Wb
+        self.assertAlmostEqual(0.5 * (lo + hi), 0.239999998, places=9)         # about the middle
+
+    def test_near_zero_the_panels_own_floor(self):
+        ax = FakeAxis(-1e-6, 1e-6)
+        sil_plot.span_floor(ax, [0.0, 1e-7], 0.01)
+        self.assertAlmostEqual(ax.lim[1] - ax.lim[0], 0.01)
+
+    def test_a_wide_range_is_left_alone(self):
+        ax = FakeAxis(-5.0, 500.0)
+        sil_plot.span_floor(ax, [0.0, 480.0, float("nan")], 1.0)
+        self.assertEqual(ax.lim, (-5.0, 500.0))
+        sil_plot.span_floor(ax, [float("nan")], 1.0)                             # nothing finite: unchanged
+        self.assertEqual(ax.lim, (-5.0, 500.0))
 
 
 class ReadErrors(unittest.TestCase):

@@ -67,10 +67,21 @@ fi
 rm -f "$dir/res.resolved.json"
 if "$bin" --scenario "$good" --set plant.L_H=0.0165 --set controller.L_factor=0.5 --out "$dir/res.csv" > /dev/null &&
         python3 -c 'import json, sys; d = json.load(open(sys.argv[1]));
-sys.exit(0 if d["plant"]["L_H"] == 0.0165 and abs(d["controller"]["L_H"] - 0.00825) < 1e-9 else 1)' "$dir/res.resolved.json"; then
-    pass "drive_sil CLI good run: res.resolved.json with the --set plant and controller values"
+sys.exit(0 if d["plant"]["L_H"] == 0.0165 and abs(d["controller"]["L_H"] - 0.00825) < 1e-9 and
+         d["overrides"] == ["plant.L_H=0.0165", "controller.L_factor=0.5"] and d["commission"] is False else 1)' \
+            "$dir/res.resolved.json"; then
+    pass "drive_sil CLI good run: res.resolved.json with the --set overrides, plant and controller values"
 else
     failed "drive_sil CLI resolved values beside the CSV"
+fi
+# a commissioning's trace says so beside it (its plot's title)
+if "$bin" --scenario "$(dirname "$0")/../../tools/scenarios/conv_motor_paper.ini" --commission "$dir/comm.ini" \
+        --out "$dir/comm.csv" > /dev/null &&
+        python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); sys.exit(0 if d["commission"] is True else 1)' \
+            "$dir/comm.resolved.json"; then
+    pass "drive_sil CLI --commission --out: comm.resolved.json names the commissioning"
+else
+    failed "drive_sil CLI --commission --out: no commission in the resolved values"
 fi
 # a refused step 1 with on_refusal = conventional: exit 0, the warning in the summary line
 refused=$(printf '[plant]\nmodel = averaged\n[controller]\nmethod = proposed\nR_factor = 2\nR_min_ohm = 4\n[identify]\nmode = windows\non_refusal = conventional\n[reference]\nspeed_rpm = 0:0, 0.2:500~\n[load]\ntorque_Nm = 0:2, 0.35:4\n[run]\nduration_s = 0.6\n' > "$dir/refused.ini"; echo "$dir/refused.ini")

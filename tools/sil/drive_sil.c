@@ -439,7 +439,8 @@ static int resolved_write(const args_t *a, const scenario_t *sc, int csv_in_plac
     out_file_t o;
     int rc = out_open(&o, path, "--out");
     if (rc == 0) {
-        sil_write_resolved(o.f, sc, a->scenario_path);
+        const sil_origin_t origin = { a->scenario_path, a->sets, a->n_sets, a->commission_path != NULL };
+        sil_write_resolved(o.f, sc, &origin);
         rc = out_commit(&o, "--out");
     }
     free(path);

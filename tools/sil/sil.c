@@ -458,7 +458,7 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
     fputs(" }}\n", f);
 }
 
-void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path)
+void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origin)
 {
     const app_cfg_t *ac = &g_app.cfg;
     const ctrl_cfg_t *c = &ac->ctrl;
@@ -466,8 +466,13 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path
     static const char *const MODE[] = { "speed", "torque", "open_loop" };
 
     fputs("{\"scenario\": ", f);
-    json_string(f, scenario_path);
-    fputs(",\n \"plant\": {", f);
+    json_string(f, origin->scenario_path);
+    fputs(",\n \"overrides\": [", f);
+    for (int i = 0; i < origin->n_sets; i++) {
+        json_string(f, origin->sets[i]);
+        fputs((i + 1 < origin->n_sets) ? ", " : "", f);
+    }
+    fprintf(f, "], \"commission\": %s,\n \"plant\": {", origin->commission ? "true" : "false");
     json_num(f, "R_ohm", sc->plant.R_ohm, ", ");
     json_num(f, "L_H", sc->plant.L_H, ", ");
     json_num(f, "psif_Wb", sc->plant.psif_Wb, ", ");

@@ -136,11 +136,21 @@ size_t sil_csv_format(char *line, const sil_row_t *row);
 /* One row as a CSV line to f (sil_csv_format). */
 void sil_csv_row(FILE *f, const sil_row_t *row);
 
+/* What a run was asked for: the scenario file, the --set overrides on top
+ * of it in the order given, and whether it measured the motor (--commission). */
+typedef struct {
+    const char *scenario_path;
+    const char *const *sets;
+    int n_sets;
+    bool commission;
+} sil_origin_t;
+
 /* The resolved truth and controller values of the last sil_run(), as one
- * JSON object (drive_sil writes it beside the CSV as OUT.resolved.json): the
- * plant's parameters (R at t = 0) from the scenario, and the values the
- * controller was configured with (the app's configuration after the
- * parameter set's mapping). Keys as the scenario's. */
-void sil_write_resolved(FILE *f, const scenario_t *sc, const char *scenario_path);
+ * JSON object (drive_sil writes it beside the CSV as OUT.resolved.json):
+ * what was asked for (scenario, overrides, commission), the plant's
+ * parameters (R at t = 0) from the scenario, and the values the controller
+ * was configured with (the app's configuration after the parameter set's
+ * mapping). Keys as the scenario's. */
+void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origin);
 
 #endif /* SIL_H */

@@ -9,8 +9,13 @@ columns (no value in the run's mode) draw nothing.
   sil_plot.py RUN.csv -o OUT.png      writes OUT.png (.svg, .pdf by suffix)
   sil_plot.py --jobs 2 A.csv B.csv    A.png and B.png, drawn by 2 processes
 
-The title is the scenario's name and method from <stem>.resolved.json,
-which drive_sil writes beside the CSV (the CSV's name without it). Only
+The title is the effective scenario from <stem>.resolved.json, which
+drive_sil writes beside the CSV (the CSV's name without it): the
+scenario's name, the --set overrides on top of it, and what ran (method
+and mode, or the commissioning). No axis zooms below a meaningful
+resolution: each panel spans at least SPAN_REL of its largest value and
+its own floor in its unit, so a constant estimate is a flat line with
+plain tick labels, not float32 rounding. Only
 files are written, never a window (matplotlib's Agg backend). Needs
 matplotlib: `make plot CSV=RUN.csv` or build/venv/bin/sil-plot RUN.csv
 use the venv that `make sil` builds. Exit status 0, or 1 when a plot
@@ -21,6 +26,7 @@ import json
 import math
 import os
 import sys
+import textwrap
 
 FIG_SIZE_IN = (10, 17)
 DPI = 110
@@ -30,22 +36,26 @@ DPI = 110
 # for the "best" place).
 LAYOUT = dict(left=0.09, right=0.85, bottom=0.035, top=0.965, hspace=0.12)
 L_DISPLAY_PER_H = 1e3   # L^ drawn in mH
+SPAN_REL = 0.01         # a panel spans at least 1 % of its largest |value|
+TITLE_WIDTH = 90        # characters a title line holds at FIG_SIZE_IN
+TITLE_LINE = 0.016      # the top margin a further title line takes (figure fraction)
 
-# (y label with unit, [(column, legend, style)], [(plant column, legend)], scale)
+# (y label with unit, [(column, legend, style)], [(plant column, legend)], scale,
+#  the smallest span drawn, in the panel's unit: its resolution near zero)
 PANELS = [
     ("speed [r/min]", [("speed_ref_rpm", "ref", "--"), ("speed_rpm", "true", "-"), ("speed_est_rpm", "est", ":")],
-     [], 1.0),
+     [], 1.0, 1.0),
     ("torque [N m]", [("te_ref_Nm", "ref", "--"), ("te_Nm", "true", "-"), ("te_est_Nm", "est", ":"),
-                      ("load_Nm", "load", "-.")], [], 1.0),
+                      ("load_Nm", "load", "-.")], [], 1.0, 0.01),
     ("stator flux [Wb]", [("psi_ref_Wb", "ref", "--"), ("psi_Wb", "true", "-"), ("psi_est_Wb", "est", ":")],
-     [], 1.0),
-    ("current [A]", [("id_A", "id", "-"), ("iq_A", "iq", "-")], [], 1.0),
+     [], 1.0, 0.001),
+    ("current [A]", [("id_A", "id", "-"), ("iq_A", "iq", "-")], [], 1.0, 0.01),
     ("voltage [V]", [("ud_V", "ud applied", "-"), ("uq_V", "uq applied", "-"),
-                     ("ud_cmd_V", "ud cmd", ":"), ("uq_cmd_V", "uq cmd", ":")], [], 1.0),
-    ("R^ [ohm]", [("R_est_ohm", "R^", "-")], [("R_ohm", "plant")], 1.0),
-    ("L^ [mH]", [("L_est_H", "L^", "-")], [("L_H", "plant")], L_DISPLAY_PER_H),
-    ("psi_f^ [Wb]", [("psif_est_Wb", "psi_f^", "-")], [("psif_Wb", "plant")], 1.0),
-    ("f^ [V]", [("fd_est", "f^_d", "-"), ("fq_est", "f^_q", "-")], [], 1.0),
+                     ("ud_cmd_V", "ud cmd", ":"), ("uq_cmd_V", "uq cmd", ":")], [], 1.0, 0.1),
+    ("R^ [ohm]", [("R_est_ohm", "R^", "-")], [("R_ohm", "plant")], 1.0, 0.001),
+    ("L^ [mH]", [("L_est_H", "L^", "-")], [("L_H", "plant")], L_DISPLAY_PER_H, 0.001),
+    ("psi_f^ [Wb]", [("psif_est_Wb", "psi_f^", "-")], [("psif_Wb", "plant")], 1.0, 0.0001),
+    ("f^ [V]", [("fd_est", "f^_d", "-"), ("fq_est", "f^_q", "-")], [], 1.0, 0.01),
 ]
 
 
@@ -72,16 +82,42 @@ def resolved_of(csv_path):
 
 
 def title_of(csv_path, resolved):
-    """The scenario's name and the controller's method and mode."""
+    """The effective scenario: its name with the --set overrides on top of it,
+    and what ran: the method and mode, or the commissioning (which measures
+    the motor under no method). Lines of at most TITLE_WIDTH characters,
+    what ran on a line of its own when the whole does not fit one."""
     name = os.path.splitext(os.path.basename(csv_path))[0]
     if resolved is None:
         return name
     scenario = resolved.get("scenario")
     if isinstance(scenario, str) and scenario:
         name = os.path.splitext(os.path.basename(scenario))[0]
-    ctrl = resolved.get("controller") if isinstance(resolved.get("controller"), dict) else {}
-    what = ", ".join(str(ctrl[k]) + suffix for k, suffix in (("method", " DB-DTC"), ("mode", " mode")) if k in ctrl)
-    return f"{name}: {what}" if what else name
+    overrides = resolved.get("overrides")
+    if isinstance(overrides, list) and overrides:
+        name += " + " + ", ".join(str(o) for o in overrides)
+    if resolved.get("commission") is True:
+        what = "commissioning (measuring the motor)"
+    else:
+        ctrl = resolved.get("controller") if isinstance(resolved.get("controller"), dict) else {}
+        what = ", ".join(str(ctrl[k]) + suffix for k, suffix in (("method", " DB-DTC"), ("mode", " mode"))
+                         if k in ctrl)
+    title = f"{name}: {what}" if what else name
+    if len(title) <= TITLE_WIDTH or not what:
+        return "\n".join(textwrap.wrap(title, TITLE_WIDTH))
+    return "\n".join(textwrap.wrap(name, TITLE_WIDTH) + [what])
+
+
+def span_floor(ax, values, min_span):
+    """Widens ax's y-range to max(SPAN_REL x the largest |value|, min_span)
+    about its middle, where the data alone would zoom below that."""
+    finite = [v for v in values if math.isfinite(v)]
+    if not finite:
+        return
+    need = max(SPAN_REL * max(abs(v) for v in finite), min_span)
+    lo, hi = ax.get_ylim()
+    if hi - lo < need:
+        mid = 0.5 * (lo + hi)
+        ax.set_ylim(mid - 0.5 * need, mid + 0.5 * need)
 
 
 def read_columns(path):
@@ -122,6 +158,27 @@ def plant_series(name, cols, plant, n):
     return [float(v)] * n if isinstance(v, (int, float)) else None
 
 
+def draw_panel(ax, panel, cols, plant, t):
+    """One panel: its series, the plant's value dashed beside the estimates,
+    its unit, a span no narrower than its resolution, its legend."""
+    ylabel, series, truth, k, min_span = panel
+    for name, label, style in series:
+        values = cols.get(name)
+        if values is not None and has_values(values):
+            ax.plot(t, [v * k for v in values], style, label=label, linewidth=1)
+    if ax.lines:
+        for name, label in truth:
+            values = plant_series(name, cols, plant, len(t))
+            if values is not None:
+                ax.plot(t, [v * k for v in values], "k--", label=label, linewidth=0.8)
+    ax.set_ylabel(ylabel)
+    ax.ticklabel_format(axis="y", useOffset=False)
+    ax.grid(True, alpha=0.3)
+    if ax.lines:
+        span_floor(ax, [y for line in ax.lines for y in line.get_ydata()], min_span)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="small")
+
+
 def draw(plt, csv_path, out_path):
     cols = read_columns(csv_path)
     resolved = resolved_of(csv_path)
@@ -129,25 +186,13 @@ def draw(plt, csv_path, out_path):
     t = cols["t_s"]
     fig, axes = plt.subplots(len(PANELS), 1, sharex=True, figsize=FIG_SIZE_IN)
     try:
-        for ax, (ylabel, series, truth, k) in zip(axes, PANELS):
-            for name, label, style in series:
-                values = cols.get(name)
-                if values is not None and has_values(values):
-                    ax.plot(t, [v * k for v in values], style, label=label, linewidth=1)
-            if ax.lines:
-                for name, label in truth:
-                    values = plant_series(name, cols, plant, len(t))
-                    if values is not None:
-                        ax.plot(t, [v * k for v in values], "k--", label=label, linewidth=0.8)
-            ax.set_ylabel(ylabel)
-            ax.ticklabel_format(axis="y", useOffset=False)
-            ax.grid(True, alpha=0.3)
-            if ax.lines:
-                ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="small")
+        for ax, panel in zip(axes, PANELS):
+            draw_panel(ax, panel, cols, plant, t)
         axes[-1].set_xlabel("t [s]")
         axes[-1].ticklabel_format(axis="x", useOffset=False)
-        fig.suptitle(title_of(csv_path, resolved))
-        fig.subplots_adjust(**LAYOUT)
+        title = title_of(csv_path, resolved)
+        fig.suptitle(title)
+        fig.subplots_adjust(**dict(LAYOUT, top=LAYOUT["top"] - TITLE_LINE * title.count("\n")))
         try:
             fig.savefig(out_path, dpi=DPI)
         except (OSError, ValueError) as e:
