@@ -1,6 +1,7 @@
 /* csv_num.c - "%.9g" without printf; see csv_num.h. */
 #include "csv_num.h"
 
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -62,6 +63,106 @@ static int fallback(char *out, char *p, double v)
     return (int)(p - out) + snprintf(p, CSV_NUM_MAX - (size_t)(p - out), "%.9g", v);
 }
 
+/* A whole number below 10^9 (state, fault, flags, counts: v = (mant |
+ * hidden bit) 2^(e2 - 52)) as itself into p, NUL-terminated; its length,
+ * or -1 when v is no such number. */
+static int whole(char *p, int e2, uint64_t mant)
+{
+    if (e2 < 0 || e2 > INT_FAST_E2_MAX || (mant & (F64_MANT_MASK >> e2)) != 0u) {
+        return -1;
+    }
+    const uint32_t m = (uint32_t)((mant | F64_HIDDEN) >> (F64_MANT_BITS - e2));
+    if (m < 100u) {   /* the flags and counts: one or two digits */
+        memcpy(p, &PAIRS[2u * m + ((m < 10u) ? 1u : 0u)], 2);
+        p[(m < 10u) ? 1 : 2] = '\0';
+        return (m < 10u) ? 1 : 2;
+    }
+    if (m >= SIG_HI_U) {
+        return -1;
+    }
+    char d[2 * SIG] = { 0 };   /* the digits, and room for the fixed-size copy below to read */
+    digits9(d, m);
+    int lead = 0;   /* leading zeros; m >= 100 */
+    while (d[lead] == '0') {
+        lead++;
+    }
+    memcpy(p, d + lead, SIG);   /* within out[]: the NUL below ends it */
+    p[SIG - lead] = '\0';
+    return SIG - lead;
+}
+
+/* v > 0, normal, in [2^e2, 2^(e2+1)), rounded to SIG significant digits:
+ * *m (SIG digits) x 10^(*e - SIG + 1). False where that is not exact
+ * (beyond the exact powers of ten, or a tie within TIE_BAND): snprintf's. */
+static bool round_sig(double v, int e2, uint32_t *m_out, int *e_out)
+{
+    /* the decimal exponent, or one below: corrected after scaling */
+    int e = (e2 >= 0) ? (e2 * LOG10_2_Q18) >> LOG10_2_SHIFT
+                      : -((-e2 * LOG10_2_Q18 + (1 << LOG10_2_SHIFT) - 1) >> LOG10_2_SHIFT);
+    if (SIG - 1 - e >= N_P10 - 1 || e - (SIG - 1) >= N_P10 - 1) {   /* beyond 1e-13 .. 1e29 (with the
+                                                                      * correction below): no exact power */
+        return false;
+    }
+    /* v x 10^k rounded once (the power is exact): within 2^-53 relative of the true product, i.e.
+     * within 1.2e-7 of it in units of the last of SIG digits, far inside TIE_BAND. */
+    double s = scale10(v, SIG - 1 - e);
+    if (s >= SIG_HI) {
+        e++;
+        s = scale10(v, SIG - 1 - e);
+    } else if (s < SIG_LO) {
+        e--;
+        s = scale10(v, SIG - 1 - e);
+    }
+    uint32_t m = (uint32_t)s;   /* s > 0: truncation is floor */
+    const double frac = s - (double)m;
+    if (frac > 0.5 - TIE_BAND && frac < 0.5 + TIE_BAND) {
+        return false;
+    }
+    m += (frac > 0.5) ? 1u : 0u;
+    if (m >= SIG_HI_U) {   /* rounded up to the next power of ten */
+        m /= 10u;
+        e++;
+    }
+    *m_out = m;
+    *e_out = e;
+    return true;
+}
+
+/* The SIG digits d[] (the first nd significant) at decimal exponent e in
+ * %g's layout into p, NUL-terminated; returns the end (at the NUL). Fixed-size
+ * copies: a few bytes past the text, within out[CSV_NUM_MAX]. */
+static char *layout(char *p, const char *d, int nd, int e)
+{
+    if (e >= EXP_FIXED_MIN && e < SIG) {
+        if (e < 0) {   /* 0.000ddd */
+            memcpy(p, "0.000", 5);
+            p += 1 - e;
+            memcpy(p, d, SIG);
+            p += nd;
+        } else if (nd <= e + 1) {   /* ddd000: whole, the zeros are d's */
+            memcpy(p, d, SIG);
+            p += e + 1;
+        } else {   /* ddd.ddd (e < SIG - 1 here) */
+            memcpy(p, d, SIG - 1);
+            p[e + 1] = '.';
+            memcpy(p + e + 2, d + e + 1, SIG - 1);
+            p += nd + 1;
+        }
+    } else {   /* d.ddde+XX (|e| < 100 here: larger went to snprintf) */
+        p[0] = d[0];
+        p[1] = '.';
+        memcpy(p + 2, d + 1, SIG - 1);
+        p += (nd > 1) ? nd + 1 : 1;
+        *p++ = 'e';
+        *p++ = (e < 0) ? '-' : '+';
+        const int a = (e < 0) ? -e : e;
+        memcpy(p, &PAIRS[2 * a], 2);
+        p += 2;
+    }
+    *p = '\0';
+    return p;
+}
+
 int csv_num_g9(char *out, double v)
 {
     uint64_t bits;
@@ -90,87 +191,20 @@ int csv_num_g9(char *out, double v)
         return (int)(p - out);
     }
     const int e2 = (int)ef - F64_BIAS;   /* v in [2^e2, 2^(e2+1)) */
-    char d[2 * SIG] = { 0 };   /* the digits, and room for the fixed-size copies below to read */
-    /* a whole number below 10^9 prints as itself (state, fault, flags, counts) */
-    if (e2 >= 0 && e2 <= INT_FAST_E2_MAX && (mant & (F64_MANT_MASK >> e2)) == 0u) {
-        const uint32_t m = (uint32_t)((mant | F64_HIDDEN) >> (F64_MANT_BITS - e2));
-        if (m < 100u) {   /* the flags and counts: one or two digits */
-            memcpy(p, &PAIRS[2u * m + ((m < 10u) ? 1u : 0u)], 2);
-            p += (m < 10u) ? 1 : 2;
-            *p = '\0';
-            return (int)(p - out);
-        }
-        if (m < SIG_HI_U) {
-            digits9(d, m);
-            int lead = 0;   /* leading zeros; m >= 100 */
-            while (d[lead] == '0') {
-                lead++;
-            }
-            memcpy(p, d + lead, SIG);   /* within out[]: the NUL below ends it */
-            p += SIG - lead;
-            *p = '\0';
-            return (int)(p - out);
-        }
+    const int n = whole(p, e2, mant);
+    if (n >= 0) {
+        return (int)(p - out) + n;
     }
-    /* the decimal exponent, or one below: corrected after scaling */
-    int e = (e2 >= 0) ? (e2 * LOG10_2_Q18) >> LOG10_2_SHIFT
-                      : -((-e2 * LOG10_2_Q18 + (1 << LOG10_2_SHIFT) - 1) >> LOG10_2_SHIFT);
-    if (SIG - 1 - e >= N_P10 - 1 || e - (SIG - 1) >= N_P10 - 1) {   /* beyond 1e-13 .. 1e29 (with the
-                                                                      * correction below): no exact power */
+    uint32_t m;
+    int e;
+    if (!round_sig(v, e2, &m, &e)) {
         return fallback(out, p, v);
     }
-    /* v x 10^k rounded once (the power is exact): within 2^-53 relative of the true product, i.e.
-     * within 1.2e-7 of it in units of the last of SIG digits, far inside TIE_BAND. */
-    double s = scale10(v, SIG - 1 - e);
-    if (s >= SIG_HI) {
-        e++;
-        s = scale10(v, SIG - 1 - e);
-    } else if (s < SIG_LO) {
-        e--;
-        s = scale10(v, SIG - 1 - e);
-    }
-    uint32_t m = (uint32_t)s;   /* s > 0: truncation is floor */
-    const double frac = s - (double)m;
-    if (frac > 0.5 - TIE_BAND && frac < 0.5 + TIE_BAND) {
-        return fallback(out, p, v);
-    }
-    m += (frac > 0.5) ? 1u : 0u;
-    if (m >= SIG_HI_U) {   /* rounded up to the next power of ten */
-        m /= 10u;
-        e++;
-    }
+    char d[2 * SIG] = { 0 };   /* the digits, and room for layout's fixed-size copies to read */
     digits9(d, m);
     int nd = SIG;   /* %g drops trailing zeros */
     while (d[nd - 1] == '0') {
         nd--;
     }
-    /* Fixed-size copies (a few bytes past the text, within out[CSV_NUM_MAX]; the NUL ends it). */
-    if (e >= EXP_FIXED_MIN && e < SIG) {
-        if (e < 0) {   /* 0.000ddd */
-            memcpy(p, "0.000", 5);
-            p += 1 - e;
-            memcpy(p, d, SIG);
-            p += nd;
-        } else if (nd <= e + 1) {   /* ddd000: whole, the zeros are d's */
-            memcpy(p, d, SIG);
-            p += e + 1;
-        } else {   /* ddd.ddd (e < SIG - 1 here) */
-            memcpy(p, d, SIG - 1);
-            p[e + 1] = '.';
-            memcpy(p + e + 2, d + e + 1, SIG - 1);
-            p += nd + 1;
-        }
-    } else {   /* d.ddde+XX (|e| < 100 here: larger went to snprintf) */
-        p[0] = d[0];
-        p[1] = '.';
-        memcpy(p + 2, d + 1, SIG - 1);
-        p += (nd > 1) ? nd + 1 : 1;
-        *p++ = 'e';
-        *p++ = (e < 0) ? '-' : '+';
-        const int a = (e < 0) ? -e : e;
-        memcpy(p, &PAIRS[2 * a], 2);
-        p += 2;
-    }
-    *p = '\0';
-    return (int)(p - out);
+    return (int)(layout(p, d, nd, e) - out);
 }

@@ -155,6 +155,102 @@ static void usage(FILE *f)
     fprintf(f, "The CSV columns: tools/sil/CSV_COLUMNS.md.\n");
 }
 
+/* --help, --list-keys [--markdown] and --version answer and exit; any other
+ * argument returns. */
+static void answer_info(int argc, char **argv, int i)
+{
+    const char *s = argv[i];
+    if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
+        usage(stdout);
+        exit(EXIT_SUCCESS);
+    }
+    if (strcmp(s, "--list-keys") == 0) {
+        /* the key table alone: as text, or (--markdown next) the documented list */
+        if (i + 1 < argc && strcmp(argv[i + 1], "--markdown") == 0) {
+            scenario_print_keys_markdown(stdout);
+        } else if (i + 1 < argc) {
+            fprintf(stderr, "drive_sil: --list-keys takes only --markdown (see --help)\n");
+            exit(EXIT_BAD_INPUT);
+        } else {
+            scenario_print_keys(stdout);
+        }
+        exit(EXIT_SUCCESS);
+    }
+    if (strcmp(s, "--version") == 0) {
+        printf("drive_sil %s\n", sil_revision);
+        exit(EXIT_SUCCESS);
+    }
+}
+
+/* Where the value of option s goes, or NULL (named on stderr) for an
+ * unknown option or one --set too many. */
+static const char **value_slot(args_t *a, const char *s, const char **max_csv_mb)
+{
+    if (strcmp(s, "--scenario") == 0) {
+        return &a->scenario_path;
+    }
+    if (strcmp(s, "--out") == 0) {
+        return &a->out_path;
+    }
+    if (strcmp(s, "--summary") == 0) {
+        return &a->summary_path;
+    }
+    if (strcmp(s, "--commission") == 0) {
+        return &a->commission_path;
+    }
+    if (strcmp(s, "--window") == 0) {
+        return &a->window;
+    }
+    if (strcmp(s, "--max-csv-mb") == 0) {
+        return max_csv_mb;
+    }
+    if (strcmp(s, "--set") == 0) {
+        if (a->n_sets >= MAX_SETS) {
+            fprintf(stderr, "drive_sil: more than %d --set\n", MAX_SETS);
+            return NULL;
+        }
+        return &a->sets[a->n_sets++];
+    }
+    fprintf(stderr, "drive_sil: unknown argument \"%s\" (see --help)\n", s);
+    return NULL;
+}
+
+/* The options together: --max-csv-mb a size, and the combinations that
+ * make sense. 0, or -1 with the problem named. */
+static int args_valid(args_t *a, const char *max_csv_mb)
+{
+    if (max_csv_mb != NULL) {
+        char *end;
+        errno = 0;
+        a->max_csv_mb = strtod(max_csv_mb, &end);
+        if (end == max_csv_mb || *end != '\0' || errno != 0 || !(a->max_csv_mb > 0.0) || !isfinite(a->max_csv_mb)) {
+            fprintf(stderr, "drive_sil: --max-csv-mb %s: expected a size in MB > 0\n", max_csv_mb);
+            return -1;
+        }
+    }
+    const char *why = NULL;
+    if (a->batch && (a->check || a->out_path != NULL || a->summary_path != NULL)) {
+        why = "--batch writes its summaries to stdout (no --out, --summary, --check)";
+    } else if (a->commission_path != NULL &&
+               (a->batch || a->check || a->summary_path != NULL || a->window != NULL || a->link.on)) {
+        why = "--commission writes OUT.ini (and --out's trace): no --batch, --check, --summary, --window, --link";
+    } else if (a->scenario_path == NULL || (!a->check && !a->batch && a->out_path == NULL &&
+                                            a->summary_path == NULL && a->commission_path == NULL)) {
+        why = "--scenario and --out or --summary are required (see --help)";
+    } else if ((a->link.baud != 0 || a->link.realtime > 0.0) && !a->link.on) {
+        why = "--baud and --realtime pace the link: they need --link";
+    } else if (a->link.on && a->batch) {
+        why = "--link serves one run: not with --batch";
+    } else if (a->out_path != NULL && strcmp(a->out_path, "-") == 0) {
+        why = "--out -: the CSV goes to a file (--summary - is stdout)";
+    }
+    if (why != NULL) {
+        fprintf(stderr, "drive_sil: %s\n", why);
+        return -1;
+    }
+    return 0;
+}
+
 static int parse_args(int argc, char **argv, args_t *a)
 {
     memset(a, 0, sizeof *a);
@@ -169,51 +265,13 @@ static int parse_args(int argc, char **argv, args_t *a)
             }
             continue;
         }
-        if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
-            usage(stdout);
-            exit(EXIT_SUCCESS);
-        }
-        if (strcmp(s, "--list-keys") == 0) {
-            /* the key table alone: as text, or (--markdown next) the documented list */
-            if (i + 1 < argc && strcmp(argv[i + 1], "--markdown") == 0) {
-                scenario_print_keys_markdown(stdout);
-            } else if (i + 1 < argc) {
-                fprintf(stderr, "drive_sil: --list-keys takes only --markdown (see --help)\n");
-                exit(EXIT_BAD_INPUT);
-            } else {
-                scenario_print_keys(stdout);
-            }
-            exit(EXIT_SUCCESS);
-        }
-        if (strcmp(s, "--version") == 0) {
-            printf("drive_sil %s\n", sil_revision);
-            exit(EXIT_SUCCESS);
-        }
+        answer_info(argc, argv, i);
         if (strcmp(s, "--check") == 0 || strcmp(s, "--batch") == 0) {
             *((s[2] == 'c') ? &a->check : &a->batch) = 1;
             continue;
         }
-        const char **slot = NULL;
-        if (strcmp(s, "--scenario") == 0) {
-            slot = &a->scenario_path;
-        } else if (strcmp(s, "--out") == 0) {
-            slot = &a->out_path;
-        } else if (strcmp(s, "--summary") == 0) {
-            slot = &a->summary_path;
-        } else if (strcmp(s, "--commission") == 0) {
-            slot = &a->commission_path;
-        } else if (strcmp(s, "--window") == 0) {
-            slot = &a->window;
-        } else if (strcmp(s, "--max-csv-mb") == 0) {
-            slot = &max_csv_mb;
-        } else if (strcmp(s, "--set") == 0) {
-            if (a->n_sets >= MAX_SETS) {
-                fprintf(stderr, "drive_sil: more than %d --set\n", MAX_SETS);
-                return -1;
-            }
-            slot = &a->sets[a->n_sets++];
-        } else {
-            fprintf(stderr, "drive_sil: unknown argument \"%s\" (see --help)\n", s);
+        const char **slot = value_slot(a, s, &max_csv_mb);
+        if (slot == NULL) {
             return -1;
         }
         if (i + 1 >= argc) {
@@ -222,43 +280,7 @@ static int parse_args(int argc, char **argv, args_t *a)
         }
         *slot = argv[++i];
     }
-    if (max_csv_mb != NULL) {
-        char *end;
-        errno = 0;
-        a->max_csv_mb = strtod(max_csv_mb, &end);
-        if (end == max_csv_mb || *end != '\0' || errno != 0 || !(a->max_csv_mb > 0.0) || !isfinite(a->max_csv_mb)) {
-            fprintf(stderr, "drive_sil: --max-csv-mb %s: expected a size in MB > 0\n", max_csv_mb);
-            return -1;
-        }
-    }
-    if (a->batch && (a->check || a->out_path != NULL || a->summary_path != NULL)) {
-        fprintf(stderr, "drive_sil: --batch writes its summaries to stdout (no --out, --summary, --check)\n");
-        return -1;
-    }
-    if (a->commission_path != NULL &&
-        (a->batch || a->check || a->summary_path != NULL || a->window != NULL || a->link.on)) {
-        fprintf(stderr, "drive_sil: --commission writes OUT.ini (and --out's trace): no --batch, --check, --summary, "
-                        "--window, --link\n");
-        return -1;
-    }
-    if (a->scenario_path == NULL ||
-        (!a->check && !a->batch && a->out_path == NULL && a->summary_path == NULL && a->commission_path == NULL)) {
-        fprintf(stderr, "drive_sil: --scenario and --out or --summary are required (see --help)\n");
-        return -1;
-    }
-    if ((a->link.baud != 0 || a->link.realtime > 0.0) && !a->link.on) {
-        fprintf(stderr, "drive_sil: --baud and --realtime pace the link: they need --link\n");
-        return -1;
-    }
-    if (a->link.on && a->batch) {
-        fprintf(stderr, "drive_sil: --link serves one run: not with --batch\n");
-        return -1;
-    }
-    if (a->out_path != NULL && strcmp(a->out_path, "-") == 0) {
-        fprintf(stderr, "drive_sil: --out -: the CSV goes to a file (--summary - is stdout)\n");
-        return -1;
-    }
-    return 0;
+    return args_valid(a, max_csv_mb);
 }
 
 static int summary_on_stdout(const args_t *a)
@@ -680,10 +702,140 @@ static int commission_finish(const args_t *a, const sil_result_t *res, out_file_
     return EXIT_SUCCESS;
 }
 
+/* The run's output files: the CSV (--out), the summary (--summary) and
+ * OUT.ini (--commission); each one's f NULL when not asked for. */
+typedef struct {
+    out_file_t csv;
+    out_file_t js;
+    out_file_t comm_ini;
+} outputs_t;
+
+/* Every output dropped: no temporary left, nothing under its name (one
+ * committed already or never opened is left as it is). */
+static void outputs_abandon(outputs_t *o)
+{
+    out_abandon(&o->csv);
+    out_abandon(&o->js);
+    out_abandon(&o->comm_ini);
+}
+
+/* All opened before the run, so that a bad path is bad input (OUT.ini's
+ * too): 0, or -1 with none left open. */
+static int outputs_open(const args_t *a, outputs_t *o)
+{
+    memset(o, 0, sizeof *o);
+    if (out_open(&o->csv, a->out_path, "--out") != 0 || out_open(&o->js, a->summary_path, "--summary") != 0 ||
+        out_open(&o->comm_ini, a->commission_path, "--commission") != 0) {
+        outputs_abandon(o);
+        return -1;
+    }
+    return 0;
+}
+
+/* The CSV's header, then its writer thread: 0, or -1 with the error named. */
+static int csv_start(const args_t *a, FILE *f, csv_writer_t *writer)
+{
+    sil_csv_header(f);
+    const long header_bytes = ftell(f);   /* a pipe: -1, counted as 0 */
+    const int err = csv_writer_start(writer, f, (header_bytes > 0) ? (uint64_t)header_bytes : 0u,
+                                     (uint64_t)(a->max_csv_mb * BYTES_PER_MB));
+    if (err != 0) {
+        fprintf(stderr, "drive_sil: --out %s: cannot start the CSV writer thread: %s\n", a->out_path, strerror(err));
+        return -1;
+    }
+    return 0;
+}
+
+/* The run itself, with the link when asked (a port taken is a bad --link:
+ * EXIT_BAD_INPUT) and the progress line on a terminal (none for a run with
+ * no end: --link, duration 0); *stopped when a signal, a failed write (seen
+ * by the caller) or the link's quit ended it early. 0, or an exit status. */
+static int run(const args_t *a, const scenario_t *sc, sink_t *sink, sil_result_t *res, int *stopped)
+{
+    progress_t prog;
+    clock_gettime(CLOCK_MONOTONIC, &prog.t0);
+    prog.next_s = PROGRESS_AFTER_S;
+    prog.duration_s = sc->run.duration_s;
+    prog.shown = 0;
+    sil_hooks_t hooks;
+    if (a->link.on && link_sil_open(&a->link, &hooks) != 0) {
+        return EXIT_BAD_INPUT;
+    }
+    const int show = isatty(STDERR_FILENO) && sc->run.duration_s > 0.0;
+    const sil_ctl_t ctl = { &g_signal, show ? on_tick : NULL, &prog, PROGRESS_TICK_PERIODS, a->link.on ? &hooks : NULL,
+                            a->commission_path != NULL };
+    *stopped = (sil_run_ctl(sc, on_row, sink, &ctl, res) == SIL_STOPPED);
+    if (a->link.on) {
+        link_sil_close();
+    }
+    if (prog.shown) {
+        fputc('\n', stderr);
+    }
+    return 0;
+}
+
+/* After the run: the CSV's writer joined, the summary written (none for a
+ * run cut short: the window's figures would mislead), the CSV, its
+ * resolved values and the summary in place. 0, or EXIT_FAILURE with every
+ * output dropped. */
+static int outputs_finish(const args_t *a, const scenario_t *sc, outputs_t *o, const sink_t *sink,
+                          const sil_result_t *res, int stopped)
+{
+    const int err = (sink->csv != NULL) ? csv_writer_finish(sink->csv) : 0;
+    if (err != 0) {
+        fprintf(stderr, "drive_sil: --out %s: write error: %s\n", a->out_path, strerror(err));
+        outputs_abandon(o);
+        return EXIT_FAILURE;
+    }
+    if (stopped) {
+        out_abandon(&o->js);
+    } else if (o->js.f != NULL) {
+        summary_write_json(o->js.f, sink->summary, sc, res, a->scenario_path, NULL);
+    }
+    const int csv_in_place = (o->csv.f != NULL && o->csv.tmp_path == NULL);
+    if (out_commit(&o->csv, "--out") != 0 || resolved_write(a, sc, csv_in_place) != 0 ||
+        out_commit(&o->js, "--summary") != 0) {
+        outputs_abandon(o);
+        return EXIT_FAILURE;
+    }
+    if (sink->csv != NULL && sink->csv->capped) {
+        fprintf(stderr, "drive_sil: warning: --out %s: holds the rows to t < %.6g s only (--max-csv-mb %g)\n",
+                a->out_path, sink->csv->t_capped_s, a->max_csv_mb);
+    }
+    return 0;
+}
+
+/* The run's line on stdout (with --out, unless the summary is there) and,
+ * stopped by a signal, its line on stderr; the exit status. */
+static int run_status(const args_t *a, const sil_result_t *res, int stopped)
+{
+    if (a->out_path != NULL && !summary_on_stdout(a)) {
+        char sbuf[NAME_LEN];
+        char fbuf[NAME_LEN];
+        char wbuf[NAME_LEN];
+        const char *warn = summary_warning_text(res, wbuf, sizeof wbuf);
+        printf("drive_sil: %s: %u periods, %u rows, final state %d (%s), fault %d (%s), max |i| %.2f A%s%s -> %s\n",
+               a->scenario_path, res->periods, res->rows, res->final_state,
+               summary_state_name(res->final_state, sbuf, sizeof sbuf), res->final_fault,
+               summary_fault_name(res->final_fault, fbuf, sizeof fbuf), res->max_abs_i_A,
+               (warn[0] != '\0') ? ", warning " : "", warn, a->out_path);
+    }
+    if (stopped) {
+        fprintf(stderr, "drive_sil: stopped by signal %d after %u periods, %u rows%s%s%s\n", (int)g_signal,
+                res->periods, res->rows, (a->out_path != NULL) ? ", kept in " : "",
+                (a->out_path != NULL) ? a->out_path : "", (a->summary_path != NULL) ? "; no --summary" : "");
+        return EXIT_SIGNAL_BASE + (int)g_signal;
+    }
+    return (res->final_state == (int)APP_STATE_FAULT) ? EXIT_FAULT : EXIT_SUCCESS;
+}
+
 int main(int argc, char **argv)
 {
     args_t a;
     static scenario_t sc;
+    static outputs_t out;
+    static summary_t sum;
+    static csv_writer_t writer;
     double t0 = 0.0;
     double t1 = 0.0;
     if (parse_args(argc, argv, &a) != 0) {
@@ -702,113 +854,32 @@ int main(int argc, char **argv)
     if (catch_signals() != 0) {
         return EXIT_FAILURE;
     }
-    out_file_t csv;
-    out_file_t js;
-    if (out_open(&csv, a.out_path, "--out") != 0) {
+    if (outputs_open(&a, &out) != 0) {
         return EXIT_BAD_INPUT;
     }
-    if (out_open(&js, a.summary_path, "--summary") != 0) {
-        out_abandon(&csv);
-        return EXIT_BAD_INPUT;
-    }
-    out_file_t comm_ini;   /* --commission's OUT.ini: opened now, so that a bad path is bad input */
-    if (out_open(&comm_ini, a.commission_path, "--commission") != 0) {
-        out_abandon(&csv);
-        out_abandon(&js);
-        return EXIT_BAD_INPUT;
-    }
-    static summary_t sum;
-    static csv_writer_t writer;
     summary_init(&sum, &sc, t0, t1);
-    sink_t sink = { (csv.f != NULL) ? &writer : NULL, (js.f != NULL) ? &sum : NULL, &a, 0 };
-    if (csv.f != NULL) {
-        sil_csv_header(csv.f);
-        const long header_bytes = ftell(csv.f);   /* a pipe: -1, counted as 0 */
-        int err = csv_writer_start(&writer, csv.f, (header_bytes > 0) ? (uint64_t)header_bytes : 0u,
-                                   (uint64_t)(a.max_csv_mb * BYTES_PER_MB));
-        if (err != 0) {
-            fprintf(stderr, "drive_sil: --out %s: cannot start the CSV writer thread: %s\n", a.out_path,
-                    strerror(err));
-            out_abandon(&csv);
-            out_abandon(&js);
-        out_abandon(&comm_ini);
-            return EXIT_FAILURE;
-        }
+    sink_t sink = { (out.csv.f != NULL) ? &writer : NULL, (out.js.f != NULL) ? &sum : NULL, &a, 0 };
+    if (out.csv.f != NULL && csv_start(&a, out.csv.f, &writer) != 0) {
+        outputs_abandon(&out);
+        return EXIT_FAILURE;
     }
-    progress_t prog;
-    clock_gettime(CLOCK_MONOTONIC, &prog.t0);
-    prog.next_s = PROGRESS_AFTER_S;
-    prog.duration_s = sc.run.duration_s;
-    prog.shown = 0;
-    sil_hooks_t hooks;
-    if (a.link.on && link_sil_open(&a.link, &hooks) != 0) {   /* the port is taken: a bad --link */
-        if (csv.f != NULL) {
-            (void)csv_writer_finish(&writer);
-        }
-        out_abandon(&csv);
-        out_abandon(&js);
-        return EXIT_BAD_INPUT;
-    }
-    /* no progress line for a run with no end (--link, duration 0) */
-    const int show = isatty(STDERR_FILENO) && sc.run.duration_s > 0.0;
-    const sil_ctl_t ctl = { &g_signal, show ? on_tick : NULL, &prog, PROGRESS_TICK_PERIODS, a.link.on ? &hooks : NULL,
-                            a.commission_path != NULL };
     sil_result_t res;
-    /* stopped early by a signal, by a failed write (seen below) or by the link's quit */
-    const int stopped = (sil_run_ctl(&sc, on_row, &sink, &ctl, &res) == SIL_STOPPED);
-    if (a.link.on) {
-        link_sil_close();
+    int stopped = 0;
+    int rc = run(&a, &sc, &sink, &res, &stopped);
+    if (rc != 0) {
+        if (sink.csv != NULL) {
+            (void)csv_writer_finish(sink.csv);
+        }
+        outputs_abandon(&out);
+        return rc;
     }
-    if (prog.shown) {
-        fputc('\n', stderr);
-    }
-    int err = (sink.csv != NULL) ? csv_writer_finish(sink.csv) : 0;
-    if (err != 0) {
-        fprintf(stderr, "drive_sil: --out %s: write error: %s\n", a.out_path, strerror(err));
-        out_abandon(&csv);
-        out_abandon(&js);
-        out_abandon(&comm_ini);
-        return EXIT_FAILURE;
-    }
-    if (stopped) {
-        out_abandon(&js);   /* the window's figures of a run cut short would mislead */
-    } else if (js.f != NULL) {
-        summary_write_json(js.f, &sum, &sc, &res, a.scenario_path, NULL);
-    }
-    const int csv_in_place = (csv.f != NULL && csv.tmp_path == NULL);
-    if (out_commit(&csv, "--out") != 0 || resolved_write(&a, &sc, csv_in_place) != 0) {
-        out_abandon(&js);
-        out_abandon(&comm_ini);
-        return EXIT_FAILURE;
-    }
-    if (out_commit(&js, "--summary") != 0) {
-        out_abandon(&comm_ini);
-        return EXIT_FAILURE;
-    }
-    if (sink.csv != NULL && writer.capped) {
-        fprintf(stderr, "drive_sil: warning: --out %s: holds the rows to t < %.6g s only (--max-csv-mb %g)\n",
-                a.out_path, writer.t_capped_s, a.max_csv_mb);
+    rc = outputs_finish(&a, &sc, &out, &sink, &res, stopped);
+    if (rc != 0) {
+        return rc;
     }
     if (a.commission_path != NULL && !stopped) {
-        return commission_finish(&a, &res, &comm_ini);
+        return commission_finish(&a, &res, &out.comm_ini);
     }
-    out_abandon(&comm_ini);   /* stopped by a signal: no OUT.ini */
-    if (a.out_path != NULL && !summary_on_stdout(&a)) {
-        char sbuf[NAME_LEN];
-        char fbuf[NAME_LEN];
-        char wbuf[NAME_LEN];
-        const char *warn = summary_warning_text(&res, wbuf, sizeof wbuf);
-        printf("drive_sil: %s: %u periods, %u rows, final state %d (%s), fault %d (%s), max |i| %.2f A%s%s -> %s\n",
-               a.scenario_path, res.periods, res.rows, res.final_state,
-               summary_state_name(res.final_state, sbuf, sizeof sbuf), res.final_fault,
-               summary_fault_name(res.final_fault, fbuf, sizeof fbuf), res.max_abs_i_A,
-               (warn[0] != '\0') ? ", warning " : "", warn, a.out_path);
-    }
-    if (stopped) {
-        fprintf(stderr, "drive_sil: stopped by signal %d after %u periods, %u rows%s%s%s\n", (int)g_signal,
-                res.periods, res.rows, (a.out_path != NULL) ? ", kept in " : "", (a.out_path != NULL) ? a.out_path : "",
-                (a.summary_path != NULL) ? "; no --summary" : "");
-        return EXIT_SIGNAL_BASE + (int)g_signal;
-    }
-    return (res.final_state == (int)APP_STATE_FAULT) ? EXIT_FAULT : EXIT_SUCCESS;
+    out_abandon(&out.comm_ini);   /* stopped by a signal: no OUT.ini */
+    return run_status(&a, &res, stopped);
 }

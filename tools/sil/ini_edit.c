@@ -56,6 +56,43 @@ static void flush_section(FILE *out, const ini_edit_t *e, size_t n, const char *
     }
 }
 
+/* A "key = value" line (p: past its indent, eq: at its = or :) of section:
+ * as it is, or as the key's edit says (set; removed, with why). */
+static void key_line(FILE *out, const char *line, const char *p, const char *eq, const ini_edit_t *e, size_t n,
+                     const char *section, unsigned char *done)
+{
+    char key[INI_NAME_MAX];
+    trimmed(p, (size_t)(eq - p), key, sizeof key);
+    const int i = edit_of(e, n, section, key);
+    if (i < 0 || done[i]) {
+        fputs(line, out);
+        return;
+    }
+    done[i] = 1u;
+    if (e[i].kind == INI_SET) {
+        fprintf(out, "%s = %s\n", key, e[i].value);
+        return;
+    }
+    if (e[i].why != NULL) {
+        fprintf(out, "; %s\n", e[i].why);
+    }
+    fprintf(out, "; removed: %s", p);
+    if (line[strlen(line) - 1u] != '\n') {
+        fputc('\n', out);
+    }
+}
+
+/* The edits of sections the file does not have, each section at the end under its header. */
+static void new_sections(FILE *out, const ini_edit_t *e, size_t n, unsigned char *done)
+{
+    for (size_t i = 0; i < n; i++) {
+        if (!done[i] && e[i].kind != INI_REMOVE && edit_of(e, n, e[i].section, e[i].key) == (int)i) {
+            fprintf(out, "\n[%s]\n", e[i].section);
+            flush_section(out, e, n, e[i].section, done);
+        }
+    }
+}
+
 int ini_edit_copy(FILE *in, FILE *out, const ini_edit_t *e, size_t n)
 {
     static char line[INI_LINE_MAX];
@@ -88,26 +125,8 @@ int ini_edit_copy(FILE *in, FILE *out, const ini_edit_t *e, size_t n)
         const char *eq = strpbrk(p, "=:");
         if (*p == '[' || *p == ';' || *p == '#' || eq == NULL) {
             fputs(line, out);
-            continue;
-        }
-        char key[INI_NAME_MAX];
-        trimmed(p, (size_t)(eq - p), key, sizeof key);
-        const int i = edit_of(e, n, section, key);
-        if (i < 0 || done[i]) {
-            fputs(line, out);
-            continue;
-        }
-        done[i] = 1u;
-        if (e[i].kind == INI_SET) {
-            fprintf(out, "%s = %s\n", key, e[i].value);
         } else {
-            if (e[i].why != NULL) {
-                fprintf(out, "; %s\n", e[i].why);
-            }
-            fprintf(out, "; removed: %s", p);
-            if (line[strlen(line) - 1u] != '\n') {
-                fputc('\n', out);
-            }
+            key_line(out, line, p, eq, e, n, section, done);
         }
     }
     if (ferror(in)) {
@@ -117,11 +136,6 @@ int ini_edit_copy(FILE *in, FILE *out, const ini_edit_t *e, size_t n)
     for (; blanks > 0u; blanks--) {
         fputc('\n', out);
     }
-    for (size_t i = 0; i < n; i++) {
-        if (!done[i] && e[i].kind != INI_REMOVE && edit_of(e, n, e[i].section, e[i].key) == (int)i) {
-            fprintf(out, "\n[%s]\n", e[i].section);
-            flush_section(out, e, n, e[i].section, done);
-        }
-    }
+    new_sections(out, e, n, done);
     return 0;
 }

@@ -33,6 +33,57 @@ static int parse_num(const char **s, double *out)
     return 0;
 }
 
+/* One point "t:value" or "t:value~" at *s (blanks allowed around its
+ * parts) into *pt, *s past it: 0, or -1 with the problem in err. */
+static int parse_point(const char **s, profile_point_t *pt, char *err, size_t errlen)
+{
+    *s = skip_ws(*s);
+    if (parse_num(s, &pt->t_s) != 0) {
+        snprintf(err, errlen, "expected a time in seconds at \"%s\"", *s);
+        return -1;
+    }
+    *s = skip_ws(*s);
+    if (**s == '\0') {
+        snprintf(err, errlen, "\"%g\" is a time without its value (a point is t%cvalue)", pt->t_s, TIME_SEP);
+        return -1;
+    }
+    if (**s != TIME_SEP) {
+        snprintf(err, errlen, "expected '%c' after the time at \"%s\"", TIME_SEP, *s);
+        return -1;
+    }
+    *s = skip_ws(*s + 1);
+    if (parse_num(s, &pt->value) != 0) {
+        snprintf(err, errlen, "expected a value at \"%s\"", *s);
+        return -1;
+    }
+    *s = skip_ws(*s);
+    if (**s == RAMP_MARK) {
+        pt->ramp = true;
+        *s = skip_ws(*s + 1);
+    }
+    return 0;
+}
+
+/* pt appended to *q: its time not negative, after the last point's, and
+ * room left. 0, or -1 with the problem in err. */
+static int append_point(profile_t *q, profile_point_t pt, char *err, size_t errlen)
+{
+    if (pt.t_s < 0.0) {
+        snprintf(err, errlen, "negative time %g", pt.t_s);
+        return -1;
+    }
+    if (q->n > 0u && !(pt.t_s > q->pt[q->n - 1u].t_s)) {
+        snprintf(err, errlen, "times must increase (%g after %g)", pt.t_s, q->pt[q->n - 1u].t_s);
+        return -1;
+    }
+    if (q->n >= PROFILE_MAX_POINTS) {
+        snprintf(err, errlen, "more than %d points", PROFILE_MAX_POINTS);
+        return -1;
+    }
+    q->pt[q->n++] = pt;
+    return 0;
+}
+
 int profile_parse_append(profile_t *p, const char *text, char *err, size_t errlen)
 {
     profile_t q = *p;
@@ -51,43 +102,9 @@ int profile_parse_append(profile_t *p, const char *text, char *err, size_t errle
     }
     for (;;) {
         profile_point_t pt = { 0.0, 0.0, false };
-        s = skip_ws(s);
-        if (parse_num(&s, &pt.t_s) != 0) {
-            snprintf(err, errlen, "expected a time in seconds at \"%s\"", s);
+        if (parse_point(&s, &pt, err, errlen) != 0 || append_point(&q, pt, err, errlen) != 0) {
             return -1;
         }
-        s = skip_ws(s);
-        if (*s == '\0') {
-            snprintf(err, errlen, "\"%g\" is a time without its value (a point is t%cvalue)", pt.t_s, TIME_SEP);
-            return -1;
-        }
-        if (*s != TIME_SEP) {
-            snprintf(err, errlen, "expected '%c' after the time at \"%s\"", TIME_SEP, s);
-            return -1;
-        }
-        s = skip_ws(s + 1);
-        if (parse_num(&s, &pt.value) != 0) {
-            snprintf(err, errlen, "expected a value at \"%s\"", s);
-            return -1;
-        }
-        s = skip_ws(s);
-        if (*s == RAMP_MARK) {
-            pt.ramp = true;
-            s = skip_ws(s + 1);
-        }
-        if (pt.t_s < 0.0) {
-            snprintf(err, errlen, "negative time %g", pt.t_s);
-            return -1;
-        }
-        if (q.n > 0u && !(pt.t_s > q.pt[q.n - 1u].t_s)) {
-            snprintf(err, errlen, "times must increase (%g after %g)", pt.t_s, q.pt[q.n - 1u].t_s);
-            return -1;
-        }
-        if (q.n >= PROFILE_MAX_POINTS) {
-            snprintf(err, errlen, "more than %d points", PROFILE_MAX_POINTS);
-            return -1;
-        }
-        q.pt[q.n++] = pt;
         if (*s == '\0') {
             break;
         }

@@ -205,111 +205,89 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
     return sil_run_ctl(sc, on_row, user, NULL, res);
 }
 
-int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res)
+/* The result before the run: zero, and NaN for the times and the fault's
+ * values not yet seen. */
+static void result_begin(sil_result_t *res)
 {
-    hal_sim_cfg_t hc;
-    app_cfg_t ac;
-    sil_board_from(sc, &hc);
-    app_cfg_from(sc, &hc, &ac);
     memset(res, 0, sizeof *res);
     res->t_run_s = NAN;
     res->t_inject_s = NAN;
     res->t_fault_s = NAN;
     res->fault_value = NAN;
     res->fault_limit = NAN;
-    hal_sim_faults_t hf;
-    faults_from(sc, &hf);
+}
 
-    hal_sim_configure(&hc);
+/* The board and the app set up for the scenario, the ISR attached, the
+ * start (or the commissioning) requested; the operator's mode and method
+ * into *op, with each period's references taken later (a proposed method
+ * ctrl_init refused stays conventional: the app faults CONFIG at the start
+ * if [identify] asks for step 1). */
+static void run_begin(const scenario_t *sc, const hal_sim_cfg_t *hc, const sil_hooks_t *hooks, bool commission,
+                      app_op_t *op)
+{
+    app_cfg_t ac;
+    hal_sim_faults_t hf;
+    app_cfg_from(sc, hc, &ac);
+    faults_from(sc, &hf);
+    hal_sim_configure(hc);
     hal_sim_set_faults(&hf);
     hal_init();
     app_init(&g_app, &ac);
     app_attach_comm(&g_app, &g_comm);
-    /* the operator's mode and method, with each period's references below; a
-     * proposed method ctrl_init refused stays conventional (the app faults
-     * CONFIG at the start if [identify] asks for step 1) */
-    app_op_t op;
-    op.mode = ctrl_mode_of(sc->controller.mode);
-    op.method = (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED : CTRL_METHOD_CONVENTIONAL;
-    const sil_hooks_t *hooks = (ctl != NULL) ? ctl->hooks : NULL;
+    op->mode = ctrl_mode_of(sc->controller.mode);
+    op->method = (sc->controller.method == SC_METHOD_PROPOSED) ? CTRL_METHOD_PROPOSED : CTRL_METHOD_CONVENTIONAL;
     g_hooks = hooks;
     if (hooks != NULL && hooks->start != NULL) {
         hooks->start(hooks->user, &g_app);
     }
     hal_isr_attach(sil_isr);
-    const bool commission = (ctl != NULL) && (ctl->commission != 0);
     if (commission) {
         app_request_commission(&g_app);
     } else {
         app_request_start(&g_app);
     }
+}
 
-    const double Ts = hc.inv.Ts_s;
-    const double comm_s = (double)comm_max_s(&g_comm) + COMM_RUN_MARGIN_S;
-    const bool endless = !commission && (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
-    const uint32_t n = endless ? UINT32_MAX : (uint32_t)llround((commission ? comm_s : sc->run.duration_s) / Ts);
-    sil_refs_t refs;
-    refs_init(&refs, sc);
-    const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
-    uint32_t periods_to_row = 0u;                       /* a row every log_every periods, from k = 0 */
-    const volatile sig_atomic_t *stop = (ctl != NULL) ? ctl->stop : NULL;
-    const sil_tick_fn on_tick = (ctl != NULL && ctl->tick_periods > 0u) ? ctl->on_tick : NULL;
-    uint32_t periods_to_tick = (on_tick != NULL) ? ctl->tick_periods : 0u;
-    int rc = 0;
-    bool comm_seen = false;   /* the app has been in COMMISSION */
-    for (uint32_t k = 0; k < n && rc == 0; k++) {
-        if (commission) {
-            comm_seen = comm_seen || (g_app.state == APP_STATE_COMMISSION);
-            if (comm_seen && g_app.state != APP_STATE_COMMISSION) {
-                break;   /* done (IDLE) or refused (FAULT) */
-            }
-            if (g_app.state == APP_STATE_FAULT) {
-                break;   /* refused before it began (calibration, bus) */
-            }
-        } else if (refs_at(&refs, (double)k * Ts, &op)) {
-            /* taken at the start of this period's ISR; an unchanged request
-             * would only set the controller's reference to what it is */
-            app_op_t req = op;
-            if (hooks != NULL && hooks->refs != NULL) {
-                hooks->refs(hooks->user, &req);
-            }
-            app_request_op(&g_app, &req);
-        }
+/* A commissioning's run is over once the app left COMMISSION (done: IDLE;
+ * refused: FAULT), or faulted before it began (calibration, bus). */
+static bool commission_over(bool *seen)
+{
+    *seen = *seen || (g_app.state == APP_STATE_COMMISSION);
+    return (*seen && g_app.state != APP_STATE_COMMISSION) || (g_app.state == APP_STATE_FAULT);
+}
 
-        const bool was_faulted = (g_app.state == APP_STATE_FAULT);
-        hal_sim_period();
-        app_background(&g_app);
-
-        track_faults(tr, was_faulted, res);
-        if (isnan(res->t_run_s) && g_app.state == APP_STATE_RUN) {
-            res->t_run_s = tr->t_s;
+/* The operator's request when the scenario's references change at t_s,
+ * taken at the start of this period's ISR (an unchanged request would only
+ * set the controller's reference to what it is); the hooks may amend it. */
+static void take_refs(sil_refs_t *refs, double t_s, const sil_hooks_t *hooks, app_op_t *op)
+{
+    if (refs_at(refs, t_s, op)) {
+        app_op_t req = *op;
+        if (hooks != NULL && hooks->refs != NULL) {
+            hooks->refs(hooks->user, &req);
         }
-        const double i_max = max_or_nonnan(fabs(tr->ia_A), max_or_nonnan(fabs(tr->ib_A), fabs(tr->ic_A)));
-        res->max_abs_i_A = max_or_nonnan(res->max_abs_i_A, i_max);
-        res->pwm_periods += tr->pwm_enabled ? 1u : 0u;
-        res->periods = k + 1u;
-        if (periods_to_row == 0u) {
-            periods_to_row = sc->run.log_every;
-            if (on_row != NULL) {
-                sil_row_t row;
-                fill_row(sc, refs.speed_ref_rpm, &row);
-                rc = on_row(&row, user);
-                res->rows++;
-            }
-        }
-        periods_to_row--;
-        if (on_tick != NULL && --periods_to_tick == 0u) {
-            periods_to_tick = ctl->tick_periods;
-            on_tick(tr->t_s, ctl->tick_user);
-        }
-        if (rc == 0 && stop != NULL && *stop != 0) {
-            rc = SIL_STOPPED;   /* after a whole period: every row so far is complete */
-        }
-        if (rc == 0 && hooks != NULL && hooks->period_end != NULL) {
-            rc = hooks->period_end(hooks->user);
-        }
+        app_request_op(&g_app, &req);
     }
-    g_hooks = NULL;
+}
+
+/* Period k's figures into the result: faults, the time RUN began, the peak
+ * current, the periods with the gates on. */
+static void account_period(const hal_sim_truth_t *tr, bool was_faulted, uint32_t k, sil_result_t *res)
+{
+    track_faults(tr, was_faulted, res);
+    if (isnan(res->t_run_s) && g_app.state == APP_STATE_RUN) {
+        res->t_run_s = tr->t_s;
+    }
+    const double i_max = max_or_nonnan(fabs(tr->ia_A), max_or_nonnan(fabs(tr->ib_A), fabs(tr->ic_A)));
+    res->max_abs_i_A = max_or_nonnan(res->max_abs_i_A, i_max);
+    res->pwm_periods += tr->pwm_enabled ? 1u : 0u;
+    res->periods = k + 1u;
+}
+
+/* After the run: the app's outcome, level 3's figures and the
+ * commissioning's results into the result. */
+static void result_finish(sil_result_t *res)
+{
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
     res->warnings = g_app.warnings;
@@ -336,6 +314,66 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     res->comm_speed_ki_Nm_rad = (double)cr->speed_ki_Nm_rad;
     res->comm_u_err_V = (double)cr->u_err_V;
     res->comm_pole_pairs = cr->pole_pairs;
+}
+
+int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res)
+{
+    hal_sim_cfg_t hc;
+    app_op_t op;
+    sil_refs_t refs;
+    const sil_hooks_t *hooks = (ctl != NULL) ? ctl->hooks : NULL;
+    const bool commission = (ctl != NULL) && (ctl->commission != 0);
+    sil_board_from(sc, &hc);
+    result_begin(res);
+    run_begin(sc, &hc, hooks, commission, &op);
+
+    const double Ts = hc.inv.Ts_s;
+    const double comm_s = (double)comm_max_s(&g_comm) + COMM_RUN_MARGIN_S;
+    const bool endless = !commission && (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
+    const uint32_t n = endless ? UINT32_MAX : (uint32_t)llround((commission ? comm_s : sc->run.duration_s) / Ts);
+    refs_init(&refs, sc);
+    const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
+    uint32_t periods_to_row = 0u;                       /* a row every log_every periods, from k = 0 */
+    const volatile sig_atomic_t *stop = (ctl != NULL) ? ctl->stop : NULL;
+    const sil_tick_fn on_tick = (ctl != NULL && ctl->tick_periods > 0u) ? ctl->on_tick : NULL;
+    uint32_t periods_to_tick = (on_tick != NULL) ? ctl->tick_periods : 0u;
+    int rc = 0;
+    bool comm_seen = false;   /* the app has been in COMMISSION */
+    for (uint32_t k = 0; k < n && rc == 0; k++) {
+        if (commission) {
+            if (commission_over(&comm_seen)) {
+                break;
+            }
+        } else {
+            take_refs(&refs, (double)k * Ts, hooks, &op);
+        }
+        const bool was_faulted = (g_app.state == APP_STATE_FAULT);
+        hal_sim_period();
+        app_background(&g_app);
+        account_period(tr, was_faulted, k, res);
+        if (periods_to_row == 0u) {
+            periods_to_row = sc->run.log_every;
+            if (on_row != NULL) {
+                sil_row_t row;
+                fill_row(sc, refs.speed_ref_rpm, &row);
+                rc = on_row(&row, user);
+                res->rows++;
+            }
+        }
+        periods_to_row--;
+        if (on_tick != NULL && --periods_to_tick == 0u) {
+            periods_to_tick = ctl->tick_periods;
+            on_tick(tr->t_s, ctl->tick_user);
+        }
+        if (rc == 0 && stop != NULL && *stop != 0) {
+            rc = SIL_STOPPED;   /* after a whole period: every row so far is complete */
+        }
+        if (rc == 0 && hooks != NULL && hooks->period_end != NULL) {
+            rc = hooks->period_end(hooks->user);
+        }
+    }
+    g_hooks = NULL;
+    result_finish(res);
     return rc;
 }
 
