@@ -21,12 +21,13 @@ matplotlib: `make plot CSV=RUN.csv` or build/venv/bin/sil-plot RUN.csv
 use the venv that `make sil` builds. Exit status 0, or 1 when a plot
 failed (each failure named), 2 on a bad command line."""
 import argparse
-import csv
 import json
 import math
 import os
 import sys
 import textwrap
+
+from . import metrics
 
 FIG_SIZE_IN = (10, 17)
 DPI = 110
@@ -121,27 +122,15 @@ def span_floor(ax, values, min_span):
 
 
 def read_columns(path):
+    """The CSV's columns (metrics.load_csv), a drive_sil CSV's: PlotError naming the problem."""
     try:
-        with open(path, newline="") as f:
-            rows = list(csv.reader(f))
+        cols = metrics.load_csv(path)
     except OSError as e:
         raise PlotError(f"{path}: {e.strerror}") from None
-    if not rows:
-        raise PlotError(f"{path}: empty file")
-    header, data = rows[0], rows[1:]
-    if "t_s" not in header:
+    except ValueError as e:
+        raise PlotError(str(e)) from None
+    if "t_s" not in cols:
         raise PlotError(f"{path}: no t_s column (not a drive_sil CSV)")
-    if not data:
-        raise PlotError(f"{path}: no data rows")
-    cols = {name: [] for name in header}
-    for line_no, row in enumerate(data, start=2):
-        if len(row) != len(header):
-            raise PlotError(f"{path}:{line_no}: {len(row)} fields, header has {len(header)}")
-        for name, text in zip(header, row):
-            try:
-                cols[name].append(float(text))
-            except ValueError:
-                raise PlotError(f"{path}:{line_no}: column {name}: not a number: {text!r}") from None
     return cols
 
 

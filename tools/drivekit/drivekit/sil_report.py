@@ -383,6 +383,97 @@ def draw_figures(figures, jobs):
     return True
 
 
+PREAMBLE = [
+    "# SIL report",
+    "",
+    "True plant values against the controller's references (drivekit.metrics).",
+    "Steady window 0.8-0.95 s for the 1.2 s runs (last quarter for shorter ones, the last 0.5 s for runs of 2.5 s "
+    "or more: the motor_* cases, each motor told only its data, motor column);",
+    "the motor_*_timeline cases: the paper's timeline in per unit of each motor's ratings",
+    "(drivekit.motor_timeline: 0.25 n_rated, 1/3 -> 2/3 -> 1 -> 2/3 T_rated).",
+    "Recovery and dip: after the 4 -> 6 N m step at 0.95 s (2/3 -> 1 T_rated), until the speed stays within 1 r/min,",
+    "and the largest shortfall below the reference until 1.05 s.",
+    "Torque step: periods from the ISR that took the command to 95 % of the step.",
+    "",
+    "## Case x method",
+    "",
+    "Estimates: mean relative error over the steady window against the plant's values (for the",
+    "conventional method the controller's fixed values, i.e. the mismatch); time from the start of",
+    "step 2 until the estimate stays within 2 % up to the window's end.",
+    "Realistic: the same case on a realistic board (real_<method>_<case>.ini: ADC noise 0.02 A,",
+    "dead time 1 us compensated as 0.9 us, device drop 1.2 V, 1000-line encoder, winding warming",
+    "3.0 -> 3.9 ohm over the run); the proposed method's error as a fraction of the conventional's.",
+    "",
+]
+
+
+def measure(d, csvs):
+    """Each run's figures ([(stem, figures or {"error"})]), columns and true
+    values by stem, and how many could not be measured (each named)."""
+    runs, cols, truths = [], {}, {}
+    failed = 0
+    for path in csvs:
+        stem = os.path.splitext(os.path.basename(path))[0]
+        try:
+            col = metrics.load_csv(path)
+            win, load_win = windows(col)
+            truths[stem] = truth_of(d, stem)
+            r = metrics.compute(path, win, load_win, truth=truths[stem])
+            cols[stem] = col
+        except (OSError, ValueError, KeyError) as e:
+            r = {"error": str(e)}
+            failed += 1
+            print(f"sil_report.py: {stem}: {e}", file=sys.stderr)
+        runs.append((stem, r))
+    return runs, cols, truths, failed
+
+
+def figure_jobs(d, which, cols, truths, cases):
+    """[(function, args)] of the step-1 and comparison figures to draw:
+    which is "all", "stale" (older than their runs) or "none"."""
+    def wanted(png, *stems):
+        inputs = [os.path.join(d, s + ext) for s in stems for ext in (".csv", ".resolved.json")]
+        return which == "all" or which == "stale" and stale(png, inputs)
+
+    figures = []
+    for stem, col in cols.items():
+        png = os.path.join(d, stem + "_step1.png")
+        if stem.startswith("prop_") and metrics.step2_start(col) is not None and wanted(png, stem):
+            figures.append((step1_figure, (stem, col, truths[stem], png)))
+    for case, _ in cases:
+        png = os.path.join(d, f"{case}_compare.png")
+        if wanted(png, *(f"{tag}_{case}" for tag, _ in METHODS)):
+            figures.append((compare_figure, (case, {tag: cols[f"{tag}_{case}"] for tag, _ in METHODS},
+                                             {tag: truths[f"{tag}_{case}"] for tag, _ in METHODS}, png)))
+    return figures
+
+
+def report_lines(d, runs, cases, have_plt):
+    """report.md's lines: the preamble, the case tables, the seeds' spread,
+    every scenario."""
+    lines = list(PREAMBLE)
+    if cases:
+        lines += case_table(cases, d, dict(runs))
+        lines += ["", "### Estimates and torque step", ""] + estimate_table(cases)
+    else:
+        lines.append("(no case with both conv_ and prop_ runs)")
+    seeds = seed_table(d)
+    if seeds:
+        lines += [
+            "", "## Realistic board over noise seeds", "",
+            "The realistic column above is one noise seed's run (plant.seed = 1). The same scenarios",
+            "with other seeds (ADC noise; seeds/<scenario>.jsonl): mean abs(Te-Te*) over the window.",
+            "",
+        ] + seeds
+    lines += ["", "## Every scenario", ""]
+    lines += scenario_table(runs, d)
+    lines += ["", "### Currents, load step and torque step", ""] + scenario_response_table(runs)
+    if not have_plt:
+        lines += ["", "(matplotlib not available: comparison and step-1 figures not drawn)"]
+    lines.append("")
+    return lines
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--dir", default="build/sil")
@@ -397,85 +488,12 @@ def main(argv=None):
     if not csvs:
         print(f"sil_report.py: no CSV in {a.dir}", file=sys.stderr)
         return 1
-
-    runs, cols, truths = [], {}, {}
-    failed = 0
-    for path in csvs:
-        stem = os.path.splitext(os.path.basename(path))[0]
-        try:
-            col = metrics.load_csv(path)
-            win, load_win = windows(col)
-            truths[stem] = truth_of(a.dir, stem)
-            r = metrics.compute(path, win, load_win, truth=truths[stem])
-            cols[stem] = col
-        except (OSError, ValueError, KeyError) as e:
-            r = {"error": str(e)}
-            failed += 1
-            print(f"sil_report.py: {stem}: {e}", file=sys.stderr)
-        runs.append((stem, r))
+    runs, cols, truths, failed = measure(a.dir, csvs)
     cases = pair_cases(dict(runs))
-
-    def inputs(*stems):
-        return [os.path.join(a.dir, s + ext) for s in stems for ext in (".csv", ".resolved.json")]
-
-    figures = []
-    for stem, col in cols.items():
-        png = os.path.join(a.dir, stem + "_step1.png")
-        if stem.startswith("prop_") and metrics.step2_start(col) is not None and \
-                (a.figures == "all" or a.figures == "stale" and stale(png, inputs(stem))):
-            figures.append((step1_figure, (stem, col, truths[stem], png)))
-    for case, _ in cases:
-        png = os.path.join(a.dir, f"{case}_compare.png")
-        stems = [f"{tag}_{case}" for tag, _ in METHODS]
-        if a.figures == "all" or a.figures == "stale" and stale(png, inputs(*stems)):
-            figures.append((compare_figure, (case, {tag: cols[f"{tag}_{case}"] for tag, _ in METHODS},
-                                             {tag: truths[f"{tag}_{case}"] for tag, _ in METHODS}, png)))
-    have_plt = draw_figures(figures, a.jobs)
-
-    lines = [
-        "# SIL report",
-        "",
-        "True plant values against the controller's references (drivekit.metrics).",
-        "Steady window 0.8-0.95 s for the 1.2 s runs (last quarter for shorter ones, the last 0.5 s for runs of 2.5 s "
-        "or more: the motor_* cases, each motor told only its data, motor column);",
-        "the motor_*_timeline cases: the paper's timeline in per unit of each motor's ratings",
-        "(drivekit.motor_timeline: 0.25 n_rated, 1/3 -> 2/3 -> 1 -> 2/3 T_rated).",
-        "Recovery and dip: after the 4 -> 6 N m step at 0.95 s (2/3 -> 1 T_rated), until the speed stays within 1 r/min,",
-        "and the largest shortfall below the reference until 1.05 s.",
-        "Torque step: periods from the ISR that took the command to 95 % of the step.",
-        "",
-        "## Case x method",
-        "",
-        "Estimates: mean relative error over the steady window against the plant's values (for the",
-        "conventional method the controller's fixed values, i.e. the mismatch); time from the start of",
-        "step 2 until the estimate stays within 2 % up to the window's end.",
-        "Realistic: the same case on a realistic board (real_<method>_<case>.ini: ADC noise 0.02 A,",
-        "dead time 1 us compensated as 0.9 us, device drop 1.2 V, 1000-line encoder, winding warming",
-        "3.0 -> 3.9 ohm over the run); the proposed method's error as a fraction of the conventional's.",
-        "",
-    ]
-    if cases:
-        lines += case_table(cases, a.dir, dict(runs))
-        lines += ["", "### Estimates and torque step", ""] + estimate_table(cases)
-    else:
-        lines.append("(no case with both conv_ and prop_ runs)")
-    seeds = seed_table(a.dir)
-    if seeds:
-        lines += [
-            "", "## Realistic board over noise seeds", "",
-            "The realistic column above is one noise seed's run (plant.seed = 1). The same scenarios",
-            "with other seeds (ADC noise; seeds/<scenario>.jsonl): mean abs(Te-Te*) over the window.",
-            "",
-        ] + seeds
-    lines += ["", "## Every scenario", ""]
-    lines += scenario_table(runs, a.dir)
-    lines += ["", "### Currents, load step and torque step", ""] + scenario_response_table(runs)
-    if not have_plt:
-        lines += ["", "(matplotlib not available: comparison and step-1 figures not drawn)"]
-    lines.append("")
+    have_plt = draw_figures(figure_jobs(a.dir, a.figures, cols, truths, cases), a.jobs)
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     with open(out, "w") as f:
-        f.write("\n".join(lines))
+        f.write("\n".join(report_lines(a.dir, runs, cases, have_plt)))
     print(f"sil_report.py: {out} ({len(csvs)} scenarios, {len(cases)} cases"
           f"{', %d failed' % failed if failed else ''})")
     return 1 if failed else 0

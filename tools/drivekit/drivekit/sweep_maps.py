@@ -15,6 +15,7 @@ wins per sweep, and lists the worst points.
 Usage: sweep_maps.py [--dir build/sweep] [--worst 5]
 """
 import argparse
+import collections
 import csv
 import json
 import math
@@ -92,25 +93,75 @@ def paper_marks(grid_cols, definition):
     return marks
 
 
-def plot_2d(plt, colors, rows, grid_cols, definition, name, out_dir):
+# The grid of a 2-D sweep: its keys, values and cell edges on each axis.
+Plane = collections.namedtuple("Plane", "xk yk xs ys xe ye xlog ylog")
+
+
+def plane_of(rows, grid_cols):
     xk, yk = grid_cols
     xs = sorted({float(r[xk]) for r in rows})
     ys = sorted({float(r[yk]) for r in rows})
     xlog, ylog = is_log(xs), is_log(ys)
-    xe, ye = edges(xs, xlog), edges(ys, ylog)
-    cell = {(r["method"], float(r[xk]), float(r[yk])): r for r in rows}
+    return Plane(xk, yk, xs, ys, edges(xs, xlog), edges(ys, ylog), xlog, ylog)
+
+
+def method_grids(cell, pl, fig_key):
+    """{method: rows of fig_key over the plane}, NaN where the run faulted or gave no positive value."""
+    grids = {}
+    for m in METHODS:
+        grids[m] = [[math.nan] * len(pl.xs) for _ in pl.ys]
+        for i, y in enumerate(pl.ys):
+            for j, x in enumerate(pl.xs):
+                r = cell.get((m, x, y))
+                if r is not None and not faulted(r):
+                    v = float(r[fig_key])
+                    grids[m][i][j] = v if v > 0 else math.nan
+    return grids
+
+
+def hatch_cells(ax, cell, m, pl):
+    """Method m's cells with a warning dotted, the faulted ones crossed and labelled with the fault."""
+    xe, ye = pl.xe, pl.ye
+    for i, y in enumerate(pl.ys):
+        for j, x in enumerate(pl.xs):
+            r = cell.get((m, x, y))
+            if r is not None and warned(r) and not faulted(r):
+                ax.fill_between([xe[j], xe[j + 1]], ye[i], ye[i + 1], facecolor="none",
+                                edgecolor="k", hatch="..", linewidth=0)
+            if r is not None and faulted(r):
+                ax.fill_between([xe[j], xe[j + 1]], ye[i], ye[i + 1], facecolor="none",
+                                edgecolor="k", hatch="xx", linewidth=0)
+                ax.text(math.sqrt(xe[j] * xe[j + 1]) if pl.xlog else 0.5 * (xe[j] + xe[j + 1]),
+                        math.sqrt(ye[i] * ye[i + 1]) if pl.ylog else 0.5 * (ye[i] + ye[i + 1]),
+                        r["fault_name"][:SHORT_FAULT], ha="center", va="center", fontsize=6,
+                        rotation=30, bbox=dict(facecolor="white", alpha=0.7, linewidth=0, pad=0.5))
+
+
+def plane_axes(ax, pl, marks):
+    """The plane's scales, limits and ticks on ax, and the paper's cases marked."""
+    ax.set_xscale("log" if pl.xlog else "linear")
+    ax.set_yscale("log" if pl.ylog else "linear")
+    ax.set_xlim(pl.xe[0], pl.xe[-1])
+    ax.set_ylim(pl.ye[0], pl.ye[-1])
+    ax.set_xlabel(pl.xk)
+    ax.set_ylabel(pl.yk)
+    ax.set_xticks(pl.xs)
+    ax.set_yticks(pl.ys)
+    ax.set_xticklabels([f"{x:.4g}" for x in pl.xs], fontsize=7, rotation=45)
+    ax.set_yticklabels([f"{y:.4g}" for y in pl.ys], fontsize=7)
+    ax.minorticks_off()
+    for label, x, y in marks:
+        ax.plot([x], [y], marker="o", markersize=7, markerfacecolor="none", markeredgecolor="blue")
+        ax.annotate(label, (x, y), textcoords="offset points", xytext=(5, 5), fontsize=7, color="blue")
+
+
+def plot_2d(plt, colors, rows, grid_cols, definition, name, out_dir):
+    pl = plane_of(rows, grid_cols)
+    cell = {(r["method"], float(r[pl.xk]), float(r[pl.yk])): r for r in rows}
     marks = paper_marks(grid_cols, definition)
     written = []
     for fig_key, fig_label in FIGURES:
-        grids = {}
-        for m in METHODS:
-            grids[m] = [[math.nan] * len(xs) for _ in ys]
-            for i, y in enumerate(ys):
-                for j, x in enumerate(xs):
-                    r = cell.get((m, x, y))
-                    if r is not None and not faulted(r):
-                        v = float(r[fig_key])
-                        grids[m][i][j] = v if v > 0 else math.nan
+        grids = method_grids(cell, pl, fig_key)
         finite = [v for m in METHODS for row in grids[m] for v in row if math.isfinite(v)]
         if not finite:
             continue
@@ -119,44 +170,19 @@ def plot_2d(plt, colors, rows, grid_cols, definition, name, out_dir):
         cmap = plt.get_cmap("RdYlGn_r").copy()
         cmap.set_bad("0.85")
         for ax, m in zip(axes, METHODS):
-            pc = ax.pcolormesh(xe, ye, grids[m], norm=norm, cmap=cmap, shading="flat")
-            for i, y in enumerate(ys):
-                for j, x in enumerate(xs):
-                    r = cell.get((m, x, y))
-                    if r is not None and warned(r) and not faulted(r):
-                        ax.fill_between([xe[j], xe[j + 1]], ye[i], ye[i + 1], facecolor="none",
-                                        edgecolor="k", hatch="..", linewidth=0)
-                    if r is not None and faulted(r):
-                        ax.fill_between([xe[j], xe[j + 1]], ye[i], ye[i + 1], facecolor="none",
-                                        edgecolor="k", hatch="xx", linewidth=0)
-                        ax.text(math.sqrt(xe[j] * xe[j + 1]) if xlog else 0.5 * (xe[j] + xe[j + 1]),
-                                math.sqrt(ye[i] * ye[i + 1]) if ylog else 0.5 * (ye[i] + ye[i + 1]),
-                                r["fault_name"][:SHORT_FAULT], ha="center", va="center", fontsize=6,
-                                rotation=30, bbox=dict(facecolor="white", alpha=0.7, linewidth=0, pad=0.5))
+            pc = ax.pcolormesh(pl.xe, pl.ye, grids[m], norm=norm, cmap=cmap, shading="flat")
+            hatch_cells(ax, cell, m, pl)
             ax.set_title(f"{m}: {fig_label}")
         fig.colorbar(pc, ax=list(axes[:2]), label=fig_label)
         ratio = [[grids["proposed"][i][j] / grids["conventional"][i][j]
                   if math.isfinite(grids["proposed"][i][j]) and math.isfinite(grids["conventional"][i][j])
-                  else math.nan for j in range(len(xs))] for i in range(len(ys))]
-        rc = axes[2].pcolormesh(xe, ye, ratio, cmap=cmap, shading="flat",
+                  else math.nan for j in range(len(pl.xs))] for i in range(len(pl.ys))]
+        rc = axes[2].pcolormesh(pl.xe, pl.ye, ratio, cmap=cmap, shading="flat",
                                 norm=colors.LogNorm(vmin=1.0 / RATIO_SPAN, vmax=RATIO_SPAN))
         axes[2].set_title("ratio proposed / conventional (< 1: proposed better)")
         fig.colorbar(rc, ax=axes[2], label="proposed / conventional")
         for ax in axes:
-            ax.set_xscale("log" if xlog else "linear")
-            ax.set_yscale("log" if ylog else "linear")
-            ax.set_xlim(xe[0], xe[-1])
-            ax.set_ylim(ye[0], ye[-1])
-            ax.set_xlabel(xk)
-            ax.set_ylabel(yk)
-            ax.set_xticks(xs)
-            ax.set_yticks(ys)
-            ax.set_xticklabels([f"{x:.4g}" for x in xs], fontsize=7, rotation=45)
-            ax.set_yticklabels([f"{y:.4g}" for y in ys], fontsize=7)
-            ax.minorticks_off()
-            for label, x, y in marks:
-                ax.plot([x], [y], marker="o", markersize=7, markerfacecolor="none", markeredgecolor="blue")
-                ax.annotate(label, (x, y), textcoords="offset points", xytext=(5, 5), fontsize=7, color="blue")
+            plane_axes(ax, pl, marks)
         fig.suptitle(f"{name}: {fig_label}; hatched: run ended faulted (fault named); dotted: a warning; "
                      f"blue: the paper's cases")
         png = f"{name}_{fig_key}.png"
