@@ -102,22 +102,22 @@ class Placement(unittest.TestCase):
         self.assertEqual(len(fails), 1)
         self.assertIn("firmware/app/part.c: background is on the ISR path without RAMFUNC", fails[0])
 
-    def test_unmarked_static_callee_of_a_ramfunc_fails(self):
+    def check_edited(self, old, new):
+        """The gate on part.c with old replaced by new, no function on the map."""
         with open("firmware/app/part.c", "w") as f:
-            f.write(SRC.replace("RAMFUNC static float ram_helper", "static float ram_helper"))
-        fails = self.check([])
+            f.write(SRC.replace(old, new))
+        return self.check([])
+
+    def test_unmarked_static_callee_of_a_ramfunc_fails(self):
+        fails = self.check_edited("RAMFUNC static float ram_helper", "static float ram_helper")
         self.assertEqual(len(fails), 1)
         self.assertIn("ram_helper, called by RAMFUNC isr_part, is neither RAMFUNC nor FLASHFUNC", fails[0])
 
     def test_a_ramfunc_may_call_a_flashfunc(self):
-        with open("firmware/app/part.c", "w") as f:
-            f.write(SRC.replace("RAMFUNC static float ram_helper", "FLASHFUNC static float ram_helper"))
-        self.assertEqual(self.check([]), [])
+        self.assertEqual(self.check_edited("RAMFUNC static float ram_helper", "FLASHFUNC static float ram_helper"), [])
 
     def test_unmarked_static_callee_of_a_flashfunc_fails(self):
-        with open("firmware/app/part.c", "w") as f:
-            f.write(SRC.replace("FLASHFUNC static float helper", "static float helper"))
-        fails = self.check([])
+        fails = self.check_edited("FLASHFUNC static float helper", "static float helper")
         self.assertEqual(len(fails), 1)
         self.assertIn("helper, called by FLASHFUNC start_part, is neither RAMFUNC nor FLASHFUNC", fails[0])
 

@@ -394,6 +394,74 @@ def stack_size_words(mk):
     return int(m.group(1), 0)
 
 
+def stack_line(est, reserve, length, mapped_used):
+    """(margin, what, overflow text or None) of the range that holds .stack:
+    the need against the reserve (see the header)."""
+    st = est['stack']
+    need = max(st['start'][0], st['run'][0] + ISR_CONTEXT_WORDS)
+    used = reserve if mapped_used is None else mapped_used
+    over = (".stack reserve %d words is larger than the range (%d)" % (used, length)) if used > length else None
+    what = ("stack reserve %d words (--stack_size, target.mk); need <= %d words at 1 word/B: running "
+            "%d B (%s, interrupted by %s) + %d words interrupt context; start-up %d B (%s)"
+            % (reserve, need, st['run'][0], ' -> '.join(st['run'][1]), ' -> '.join(st['run'][2]),
+               ISR_CONTEXT_WORDS, st['start'][0], ' -> '.join(st['start'][1])))
+    return (reserve - need) / float(reserve), what, over
+
+
+def estimated_use(est, secs):
+    """(words, what) the host estimates put in a range holding the sections secs."""
+    factor = est['code_words'] / (est['code_bytes'] / 2.0) if est['code_bytes'] else 0.0
+    used, parts = 0, []
+    for sec in secs:
+        if sec == 'ramfuncs':
+            w = est['code_words'] + FASTRTS_WORDS
+            parts.append("ramfuncs %d words (RAM code: %d B Thumb-2 -> %d words, factor %.2f; "
+                         "+ fast-RTS <= %d)" % (w, est['code_bytes'], est['code_words'], factor, FASTRTS_WORDS))
+        elif sec == '.ebss':
+            w = est['data_words'] + RTS_EBSS_WORDS
+            parts.append(".ebss <= %d words (%d B Thumb-2 with bool widened, at 1 word per 2 B; "
+                         "+ RTS %d)" % (w, 2 * est['data_words'], RTS_EBSS_WORDS))
+        elif sec in est['sections']:
+            w = sum(x for _s, x in est['sections'][sec])
+            parts.append("%s %d words (%s, with bool widened at 1 word per 2 B)" %
+                         (sec, w, ', '.join("%s %d" % m for m in est['sections'][sec])))
+        else:
+            w = 0
+            parts.append("%s 0 words (--heap_size=0)" % sec)
+        used += w
+    return used, ' + '.join(parts)
+
+
+def range_lines(est, ranges, place, mapped, reserve):
+    """A line per RAM range that holds a section (its use and margin), and
+    whether any failed."""
+    lines, fail = [], False
+    holds = {}
+    for sec, rng in place.items():
+        holds.setdefault(rng, []).append(sec)
+    for rng in sorted(ranges, key=lambda r: (ranges[r][0], ranges[r][1])):
+        if rng not in holds:
+            continue
+        _page, origin, length = ranges[rng]
+        secs = holds[rng]
+        if '.stack' in secs:
+            margin, what, over = stack_line(est, reserve, length, mapped.get(rng))
+            if over is not None:
+                lines.append("ram_budget: FAIL %s: %s" % (rng, over))
+                fail = True
+        else:
+            if rng in mapped:
+                used, what = mapped[rng], "%s: %d words (drive.map)" % (' + '.join(secs), mapped[rng])
+            else:
+                used, what = estimated_use(est, secs)
+            margin = (length - used) / float(length)
+        ok = margin >= MARGIN_MIN
+        fail = fail or not ok
+        lines.append("ram_budget: %s %-8s 0x%06X %5d words: %s; margin %.0f %%" %
+                     ("ok  " if ok else "FAIL", rng, origin, length, what, 100.0 * margin))
+    return lines, fail
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('--cmd', required=True)
@@ -406,67 +474,13 @@ def main():
     est = estimate(a.objdir, a.mk)
     ranges, place = parse_cmd(read(a.cmd), sorted(est['sections']))
     mapped = parse_map(a.map) if a.map and os.path.exists(a.map) else {}
-    reserve = stack_size_words(a.mk)
-    lines = []
-    say = lines.append
     src = ("drive.map (%s): the linker's used words" % a.map) if mapped else \
           "host estimates (no drive.map): Thumb-2 objects of tools/check/isr_path.sh, see tools/check/ram_budget.py"
-    say("ram_budget: %s; a range fails under %d %% free" % (src, round(MARGIN_MIN * 100)))
-    factor = est['code_words'] / (est['code_bytes'] / 2.0) if est['code_bytes'] else 0.0
-    fail = False
-
-    holds = {}
-    for sec, rng in place.items():
-        holds.setdefault(rng, []).append(sec)
-    for rng in sorted(ranges, key=lambda r: (ranges[r][0], ranges[r][1])):
-        if rng not in holds:
-            continue
-        page, origin, length = ranges[rng]
-        secs = holds[rng]
-        if '.stack' in secs:
-            st = est['stack']
-            need = max(st['start'][0], st['run'][0] + ISR_CONTEXT_WORDS)
-            used = mapped.get(rng, reserve)
-            if used > length:
-                say("ram_budget: FAIL %s: .stack reserve %d words is larger than the range (%d)" % (rng, used, length))
-                fail = True
-            margin = (reserve - need) / float(reserve)
-            what = ("stack reserve %d words (--stack_size, target.mk); need <= %d words at 1 word/B: running "
-                    "%d B (%s, interrupted by %s) + %d words interrupt context; start-up %d B (%s)"
-                    % (reserve, need, st['run'][0], ' -> '.join(st['run'][1]), ' -> '.join(st['run'][2]),
-                       ISR_CONTEXT_WORDS, st['start'][0], ' -> '.join(st['start'][1])))
-        else:
-            if rng in mapped:
-                used = mapped[rng]
-                what = "%s: %d words (drive.map)" % (' + '.join(secs), used)
-            else:
-                used, parts = 0, []
-                for sec in secs:
-                    if sec == 'ramfuncs':
-                        w = est['code_words'] + FASTRTS_WORDS
-                        parts.append("ramfuncs %d words (RAM code: %d B Thumb-2 -> %d words, factor %.2f; "
-                                     "+ fast-RTS <= %d)" % (w, est['code_bytes'], est['code_words'], factor,
-                                                            FASTRTS_WORDS))
-                    elif sec == '.ebss':
-                        w = est['data_words'] + RTS_EBSS_WORDS
-                        parts.append(".ebss <= %d words (%d B Thumb-2 with bool widened, at 1 word per 2 B; "
-                                     "+ RTS %d)" % (w, 2 * est['data_words'], RTS_EBSS_WORDS))
-                    elif sec in est['sections']:
-                        w = sum(x for _s, x in est['sections'][sec])
-                        parts.append("%s %d words (%s, with bool widened at 1 word per 2 B)" %
-                                     (sec, w, ', '.join("%s %d" % m for m in est['sections'][sec])))
-                    else:
-                        w = 0
-                        parts.append("%s 0 words (--heap_size=0)" % sec)
-                    used += w
-                what = ' + '.join(parts)
-            margin = (length - used) / float(length)
-        ok = margin >= MARGIN_MIN
-        fail = fail or not ok
-        say("ram_budget: %s %-8s 0x%06X %5d words: %s; margin %.0f %%" %
-            ("ok  " if ok else "FAIL", rng, origin, length, what, 100.0 * margin))
-    say("ram_budget: %s" % ("FAILED: a RAM range has under %d %% margin" % round(MARGIN_MIN * 100) if fail
-                            else "every RAM range keeps its margin"))
+    lines = ["ram_budget: %s; a range fails under %d %% free" % (src, round(MARGIN_MIN * 100))]
+    body, fail = range_lines(est, ranges, place, mapped, stack_size_words(a.mk))
+    lines += body
+    lines.append("ram_budget: %s" % ("FAILED: a RAM range has under %d %% margin" % round(MARGIN_MIN * 100) if fail
+                                     else "every RAM range keeps its margin"))
     text = '\n'.join(lines) + '\n'
     sys.stdout.write(text)
     if a.out:
