@@ -34,9 +34,10 @@
 
 static ctrl_t c;
 
-int main(int argc, char **argv)
+/* The controller of the bench (argv[2]: conventional, proposed or
+ * proposed_track_R) into c; 0, or 1 with the refusal named. */
+static int bench_init(int argc, char **argv, int *proposed)
 {
-    const long n = (argc > 1) ? atol(argv[1]) : 10000;
     const ctrl_cfg_t cfg = {
         .Ts_s = (float)TS_S, .R_Ohm = 3.0f, .L_H = 0.011f, .psi_f_Wb = 0.24f,
         .pole_pairs = POLE_PAIRS, .enc_lines = LINES, .enc_offset_el_rad = 0.0f,
@@ -44,13 +45,8 @@ int main(int argc, char **argv)
         .te_max_Nm = 12.0f, .i_max_A = 30.0f, .u_max_V = 311.0f,
         .omega_max_el_rad_s = 2000.0f, .psi_max_Wb = 0.5f,
     };
-    const double w_m = SPEED_RPM * 2.0 * PI_D / 60.0;
-    const ctrl_ref_t ref = { (float)w_m, 0.0f, 0.0f, 0.0f };
-    ctrl_out_t out;
-    double sum = 0.0;
-
     const int track_R = (argc > 2) && (strcmp(argv[2], "proposed_track_R") == 0);
-    const int proposed = track_R || ((argc > 2) && (strcmp(argv[2], "proposed") == 0));
+    *proposed = track_R || ((argc > 2) && (strcmp(argv[2], "proposed") == 0));
     ctrl_cfg_t full = cfg;
     ctrl_cfg_proposed_defaults(&full, R_MIN_OHM, R_MAX_OHM);
     full.track_R = track_R ? 1u : 0u;
@@ -58,8 +54,23 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_ctrl: ctrl_init refused the proposed method's settings\n");
         return 1;
     }
-    if (proposed && (!ctrl_set_method(&c, CTRL_METHOD_PROPOSED) || !ctrl_est_start(&c, full.R_Ohm))) {
+    if (*proposed && (!ctrl_set_method(&c, CTRL_METHOD_PROPOSED) || !ctrl_est_start(&c, full.R_Ohm))) {
         fprintf(stderr, "bench_ctrl: proposed method unavailable\n");
+        return 1;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    const long n = (argc > 1) ? atol(argv[1]) : 10000;
+    const double w_m = SPEED_RPM * 2.0 * PI_D / 60.0;
+    const ctrl_ref_t ref = { (float)w_m, 0.0f, 0.0f, 0.0f };
+    ctrl_out_t out;
+    double sum = 0.0;
+    int proposed;
+
+    if (bench_init(argc, argv, &proposed) != 0) {
         return 1;
     }
     const ctrl_ref_t ref_te = { 0.0f, (float)TE_NM, 0.0f, 0.0f };
