@@ -199,21 +199,17 @@ typedef struct {
     double t0_s, t1_s, ua_V, ub_V;
 } piece_t;
 
-/* Dead time or device drop: with each leg's current sign held from the
- * period's start, a leg is its centred pulse, minus the turn-on dead band
- * (i >= 0: the lower diode) or plus the turn-off one (i < 0, cut at Ts),
- * minus the drop over the whole period. The walker then checks that held
- * sign against the current at every piece's start; where it would change
- * a piece's voltage, the period is given piece by piece instead. */
-static void period_switching_general(const inv_cfg_t *cfg, const double duty[3], plant_t *plant)
+/* The legs with each one's current sign held from the period's start (s0):
+ * its centred pulse, the dead band's pulse the sign gives, the device drop
+ * over the whole period; each leg's switching times into lt. */
+static void legs_held_sign(const inv_cfg_t *cfg, const double duty[3], plant_t *plant, leg_times_t lt[N_LEGS],
+                           double s0[N_LEGS])
 {
     const double Ts = cfg->Ts_s;
     const double tau = 0.5 * Ts;
     const double td = cfg->deadtime_s;
     double i0[N_LEGS];
     plant_walk_iabc_A(plant, i0);
-    leg_times_t lt[N_LEGS];
-    double s0[N_LEGS];
     legs_ideal(cfg, duty, plant);
     for (int k = 0; k < N_LEGS; k++) {
         leg_times(cfg, duty[k], &lt[k]);
@@ -233,6 +229,20 @@ static void period_switching_general(const inv_cfg_t *cfg, const double duty[3],
             (void)plant_period_pulse(plant, ua, ub, 0.0, tau);
         }
     }
+}
+
+/* Dead time or device drop: with each leg's current sign held from the
+ * period's start, a leg is its centred pulse, minus the turn-on dead band
+ * (i >= 0: the lower diode) or plus the turn-off one (i < 0, cut at Ts),
+ * minus the drop over the whole period. The walker then checks that held
+ * sign against the current at every piece's start; where it would change
+ * a piece's voltage, the period is given piece by piece instead. */
+static void period_switching_general(const inv_cfg_t *cfg, const double duty[3], plant_t *plant)
+{
+    const double tau = 0.5 * cfg->Ts_s;
+    leg_times_t lt[N_LEGS];
+    double s0[N_LEGS];
+    legs_held_sign(cfg, duty, plant, lt, s0);
 
     double br[MAX_BREAKS];
     const int n = period_breaks(cfg, duty, br);

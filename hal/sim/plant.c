@@ -470,27 +470,13 @@ PLANT_INLINE cpx_t jm(cpx_t a)
     return r;
 }
 
-static void period_pass(const plant_t *p, double w, pass_t *o)
+/* Over the period's pulses at the held electrical speed w:
+ * W = int e^(-j w s) u ds, Ws = int s e^(-j w s) u ds,
+ * Wq = int (s^2 - tau^2) e^(-j w s) u ds (s from the middle); the centred
+ * pulses' share from the moments while |w| tau allows the series. */
+static void pulse_integrals(const plant_period_t *q, double w, cpx_t *W_out, cpx_t *Ws_out, cpx_t *Wq_out)
 {
-    const plant_period_t *q = &p->per;
-    const plant_cfg_t *c = &p->cfg;
-    const double L = c->L_H;
-    const double R = c->R_Ohm;
-    const double a = R * p->inv_L_per_H;
     const double tau = q->tau_s;
-    const double T = q->T_s;
-    const double E = q->E;
-    const double kp = c->psi_f_Wb * p->inv_L_per_H;
-    const cpx_t ew = ser_cis(w * tau);
-    const cpx_t ewc = cj(ew);
-    const cpx_t z0 = { p->z_cos, p->z_sin };
-    const cpx_t zc = cmul(z0, ew);
-    const cpx_t zcc = cj(zc);
-    o->zc = zc;
-
-    /* Over the pulses: W = int e^(-j w s) u ds, Ws = int s e^(-j w s) u ds,
-     * Wq = int (s^2 - tau^2) e^(-j w s) u ds; the centred ones from the
-     * moments while |w| tau allows the series. */
     cpx_t W = { 0.0, 0.0 };
     cpx_t Ws = { 0.0, 0.0 };
     cpx_t Wq = { 0.0, 0.0 };
@@ -534,6 +520,33 @@ static void period_pass(const plant_t *p, double w, pass_t *o)
     }
     Wq.re -= tau * tau * W.re;
     Wq.im -= tau * tau * W.im;
+    *W_out = W;
+    *Ws_out = Ws;
+    *Wq_out = Wq;
+}
+
+static void period_pass(const plant_t *p, double w, pass_t *o)
+{
+    const plant_period_t *q = &p->per;
+    const plant_cfg_t *c = &p->cfg;
+    const double L = c->L_H;
+    const double R = c->R_Ohm;
+    const double a = R * p->inv_L_per_H;
+    const double tau = q->tau_s;
+    const double T = q->T_s;
+    const double E = q->E;
+    const double kp = c->psi_f_Wb * p->inv_L_per_H;
+    const cpx_t ew = ser_cis(w * tau);
+    const cpx_t ewc = cj(ew);
+    const cpx_t z0 = { p->z_cos, p->z_sin };
+    const cpx_t zc = cmul(z0, ew);
+    const cpx_t zcc = cj(zc);
+    o->zc = zc;
+
+    cpx_t W;
+    cpx_t Ws;
+    cpx_t Wq;
+    pulse_integrals(q, w, &W, &Ws, &Wq);
 
     /* In the frame of the held phasor at the middle (stator quantities times
      * conj(zc)): ih = E [E ir0 conj(ew) + conj(zc) S/L] - j w (psi_f/L) E K,
@@ -634,11 +647,11 @@ static void shaft_sensitivity(const plant_t *p, double *dw1_dIq, double *dth_dIq
  * neglected term, (psi_f/L) (2 (w - w_held) tau)^2, stays below 1e-8 A. */
 #define LINEAR_SPEED_MAX 1.0e-5
 
-void plant_period_end(plant_t *p)
+/* S = int e^(a s) u ds, a = R/L: the centred pulses' share, from the
+ * moments while a tau allows the series, else pulse by pulse. */
+static void centred_share(plant_t *p)
 {
     plant_period_t *q = &p->per;
-    const double pp = (double)p->cfg.pole_pairs;
-    /* S = int e^(a s) u ds: the centred pulses' share from the moments */
     const double a = p->cfg.R_Ohm * p->inv_L_per_H;
     if (a * q->tau_s <= SERIES_MAX) {
         const cpx_t S = moment_series(q, 0, a * a, SHC_RATIO);
@@ -655,6 +668,13 @@ void plant_period_end(plant_t *p)
             }
         }
     }
+}
+
+void plant_period_end(plant_t *p)
+{
+    plant_period_t *q = &p->per;
+    const double pp = (double)p->cfg.pole_pairs;
+    centred_share(p);
     q->ir0_d_A = p->x.id_A;   /* the rotor-frame start: the state itself */
     q->ir0_q_A = p->x.iq_A;
 
