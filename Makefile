@@ -119,7 +119,9 @@ $(OUT)/obj/%.o: %.c $(OPT_STAMP) | host-deps
 # Ceedling's convention: tests/test_<module>.c, one runner per file. A test
 # links libcontrol by default; a fragment sets TEST_LIBS_test_<name> (in link
 # order, e.g. "firmware sim control") and TEST_SRCS_test_<name> (extra
-# sources such as mocks) when it needs more.
+# sources such as mocks) when it needs more; the two common wirings:
+#   $(call mock_tests,NAMES)  firmware/ against the HAL's cmocka mock
+#   $(call sil_tests,NAMES)   sil_run() (tools/sil/sil.c) on the simulated board
 TEST_SRCS  := $(wildcard tests/test_*.c)
 TEST_NAMES := $(basename $(notdir $(TEST_SRCS)))
 TEST_BINS  := $(addprefix $(OUT)/tests/,$(TEST_NAMES))
@@ -127,6 +129,8 @@ LDLIBS     := -lcmocka -linih -lm -pthread
 PROG_LDLIBS := -linih -lm -pthread
 
 test_libs = $(foreach l,$(or $(TEST_LIBS_$1),control),$(LIB_$l))
+mock_tests = $(foreach t,$1,$(eval TEST_LIBS_$t := firmware control)$(eval TEST_SRCS_$t := tests/mock_hal.c))
+sil_tests  = $(foreach t,$1,$(eval TEST_LIBS_$t := silrun firmware sim control)$(eval TEST_SRCS_$t := tools/sil/sil.c))
 
 define TEST_RULE
 $(OUT)/tests/$1: $(call objs,tests/$1.c $(TEST_SRCS_$1)) $(call test_libs,$1)

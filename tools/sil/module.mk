@@ -33,45 +33,28 @@ scenario-keys: $(DRIVE_SIL) ## rewrite tools/sil/SCENARIO_KEYS.md from the key t
 
 TEST_LIBS_test_scenario := silrun firmware sim control
 TEST_LIBS_test_ini_edit := silrun
-# The app's commissioning in SIL (sil_run_ctl with commission).
-TEST_LIBS_test_sil_commission := silrun firmware sim control
-TEST_SRCS_test_sil_commission := tools/sil/sil.c
-TEST_LIBS_test_sil      := silrun firmware sim control
-TEST_SRCS_test_sil      := tools/sil/sil.c
-# The app's start-up sequence (calibrate, align, run) in SIL.
-TEST_LIBS_test_sil_startup := silrun firmware sim control
-TEST_SRCS_test_sil_startup := tools/sil/sil.c
-
-# Acceptance of the proposed method on the simulated board (scenario files
-# of tools/scenarios/, and the controller alone on hal_sim).
-TEST_LIBS_test_sil_proposed := silrun firmware sim control
-TEST_SRCS_test_sil_proposed := tools/sil/sil.c
-# Current and torque limits, estimation through transients, flux
-# weakening; both methods on the scenarios prop_lim_*, prop_fw_*.
-TEST_LIBS_test_sil_limits := silrun firmware sim control
-TEST_SRCS_test_sil_limits := tools/sil/sil.c
-
-# Fault injection ([faults]) against the app's protection.
-TEST_LIBS_test_sil_faults := silrun firmware sim control
-TEST_SRCS_test_sil_faults := tools/sil/sil.c
-
-# Step 1 on a real ADC: noise, offsets, inertia, the R^
-# band, the refusal policy; both methods on the same scenarios.
-TEST_LIBS_test_sil_identify := silrun firmware sim control
-TEST_SRCS_test_sil_identify := tools/sil/sil.c
-# Three motors told only their data (tools/scenarios/*_motor_*.ini).
-TEST_LIBS_test_sil_motors := silrun firmware sim control
-TEST_SRCS_test_sil_motors := tools/sil/sil.c
-
-# The proposed method on a real inverter: inverter error, warming winding.
-TEST_LIBS_test_sil_inverter := silrun firmware sim control
-TEST_SRCS_test_sil_inverter := tools/sil/sil.c
 # The CSV's number format (csv_num.c, in libsilrun) against printf.
 TEST_LIBS_test_csv_num := silrun
 # drive_sil's CSV writer thread: bytes as sil_csv_row(), write errors.
 TEST_LIBS_test_csv_writer := silrun firmware sim control
 TEST_SRCS_test_csv_writer := tools/sil/csv_writer.c tools/sil/sil.c
-
 # app_init and cmd_init on pattern-filled memory (COFF zeroes nothing):
 # main.c's sequence on the simulated board, bit-identical for every pattern.
 TEST_LIBS_test_app_init_pattern := silrun firmware sim control
+
+# The SIL's acceptance tests, on sil_run():
+#   test_sil             the runner itself
+#   test_sil_commission  the app's commissioning (sil_run_ctl with commission)
+#   test_sil_startup     the start-up sequence (calibrate, align, run)
+#   test_sil_proposed    the proposed method (scenario files of tools/scenarios/,
+#                        and the controller alone on hal_sim)
+#   test_sil_limits      current and torque limits, estimation through
+#                        transients, flux weakening (prop_lim_*, prop_fw_*)
+#   test_sil_faults      fault injection ([faults]) against the protection
+#   test_sil_identify    step 1 on a real ADC: noise, offsets, inertia, the R^
+#                        band, the refusal policy; both methods
+#   test_sil_motors      three motors told only their data (*_motor_*.ini)
+#   test_sil_inverter    the proposed method on a real inverter: its error, a
+#                        warming winding
+$(call sil_tests,test_sil test_sil_commission test_sil_startup test_sil_proposed test_sil_limits \
+    test_sil_faults test_sil_identify test_sil_motors test_sil_inverter)
