@@ -12,7 +12,7 @@ DRIVEKIT_SRCS := $(wildcard tools/drivekit/pyproject.toml tools/drivekit/driveki
 SIL_PLOT_BIN  := $(VENV)/bin/sil-plot
 # drivekit's modules on the system python3 (standard library only; the
 # suites of `make test` need no venv): $(call drivekit,MODULE) ARGS
-drivekit       = PYTHONDONTWRITEBYTECODE=1 PYTHONPATH=tools/drivekit python3 -m drivekit.$1
+drivekit       = env PYTHONDONTWRITEBYTECODE=1 PYTHONPATH=tools/drivekit python3 -m drivekit.$1
 
 # A fresh Debian python3 may lack ensurepip (package python3-venv).
 $(VENV_STAMP): tools/drivekit/requirements.txt
