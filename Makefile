@@ -12,7 +12,9 @@ SHELL := /bin/bash
 
 BUILD   ?= build
 VARIANT ?= host
-OUT     := $(BUILD)/$(VARIANT)
+# `make campaign OUT=DIR` names the campaign's directory (tools/drivekit/campaign.mk), not the build's.
+CAMPAIGN_OUT := $(if $(filter command line,$(origin OUT)),$(OUT))
+override OUT := $(BUILD)/$(VARIANT)
 
 CC ?= gcc
 ifeq ($(origin CC),default)
@@ -125,7 +127,7 @@ $(OUT)/tests/$1: $(call objs,tests/$1.c $(TEST_SRCS_$1)) $(call test_libs,$1)
 endef
 
 # ---- fragments -------------------------------------------------------------
--include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk tools/sil/module.mk hal/f28335/module.mk tests/module.mk tools/module.mk tools/report.mk tools/sweep.mk)
+-include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk tools/sil/module.mk hal/f28335/module.mk tests/module.mk tools/module.mk tools/report.mk tools/sweep.mk tools/drivekit/campaign.mk)
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 

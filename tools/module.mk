@@ -10,13 +10,14 @@ $(SIL_BENCH): $(call objs,tools/sil_bench.c tools/sil/sil.c) $(LIB_silrun) $(LIB
 
 .PHONY: bench sil sil-update sil-plots-update venv plot
 
-bench: ## SIL speed, the controller's cost per ctrl_step() and per ISR period, sweep points per second, the link's ISR cost and B/s (printed)
+bench: ## SIL speed, the controller's cost per ctrl_step() and per ISR period, sweep points and campaign draws per second, the link's ISR cost and B/s (printed)
 	@$(MAKE) --no-print-directory VARIANT=host $(BUILD)/host/sil_bench
 	@$(BUILD)/host/sil_bench
 	@$(MAKE) --no-print-directory VARIANT=host bench-ctrl
 	@$(MAKE) --no-print-directory VARIANT=host bench-isr
 	@$(MAKE) --no-print-directory VARIANT=host bench-sweep
 	@$(MAKE) --no-print-directory VARIANT=host bench-link
+	@$(MAKE) --no-print-directory VARIANT=host bench-campaign
 
 # ---- the Python venv (matplotlib) and sil-plot --------------------------
 VENV         := $(BUILD)/venv
