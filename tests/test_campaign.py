@@ -231,6 +231,7 @@ class Worker(unittest.TestCase):
         p = campaign_worker.executable({"data": data, "sha256": sha})
         self.assertEqual(campaign_worker.executable({"data": data, "sha256": sha}), p)
         self.assertEqual(subprocess.run([p], capture_output=True, text=True).stdout, "shipped\n")
+        os.remove(p)
 
 
 @unittest.skipUnless(have_drive_sil(), "no drive_sil (make build/host/drive_sil)")
@@ -373,6 +374,9 @@ class Campaign(unittest.TestCase):
         with open(unknown, "w") as f:
             f.write("[plant]\nR_ohm = 3\n[controller]\nmethod = proposed\n[identify]\nmode = speeds\n"
                     "[campaign]\nspeed = 0.5\n")
+        low_bus = os.path.join(self.tmp.name, "low_bus.ini")
+        with open(self.motor) as f, open(low_bus, "w") as g:
+            g.write(f.read() + "[campaign]\nvdc_factor = choice 0.001 1\n")
         a_file = os.path.join(self.tmp.name, "a_file")
         open(a_file, "w").close()
         out = os.path.join(self.tmp.name, "never")
@@ -384,7 +388,9 @@ class Campaign(unittest.TestCase):
                  ((self.motor, "--out", a_file), "exists and is no directory"),
                  ((os.path.join(self.tmp.name, "missing.ini"), "--out", out), "missing.ini: no such motor file"),
                  ((self.motor, "--out", out, "--scheduler", "yarn"), "--scheduler yarn"),
-                 ((self.motor, "--out", ROOT), "other files and no campaign.json")]
+                 ((self.motor, "--out", ROOT), "other files and no campaign.json"),
+                 ((low_bus, "--out", out), "the distributions' low ends (conventional): drive_sil refuses them: "
+                                           "drive_sil: --set plant.vdc_V=0.311: [plant] vdc_V")]
         for args, words in cases:
             p = run_campaign(*args)
             self.assertEqual(p.returncode, 2, (args, p.stderr))

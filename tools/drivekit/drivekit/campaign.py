@@ -273,12 +273,15 @@ def prepare(a):
         spec = cs.Spec(a.motor, text, motor_of(a.drive_sil, a.motor, text))
     except cs.SpecError as e:
         raise BadInput(str(e)) from None
-    x0 = spec.inputs(seed, 0)
-    for m, msets in cs.METHODS.items():
-        args = ["--scenario", a.motor, "--check", "--window", spec.window]
-        for s in spec.overrides(x0) + msets:
-            args += ["--set", s]
-        drive_sil_run(a.drive_sil, args, f"draw 0 ({cs.METHOD_NAMES[m]}): drive_sil refuses it")
+    # draw 0 and the corners (every input at its low end, at its high end) as drive_sil takes them
+    for what, x in (("draw 0", spec.inputs(seed, 0)),
+                    ("the distributions' low ends", spec.corner(cs.CORNER_U)),
+                    ("the distributions' high ends", spec.corner(1 - cs.CORNER_U))):
+        for m, msets in cs.METHODS.items():
+            args = ["--scenario", a.motor, "--check", "--window", spec.window]
+            for s in spec.overrides(x) + msets:
+                args += ["--set", s]
+            drive_sil_run(a.drive_sil, args, f"{what} ({cs.METHOD_NAMES[m]}): drive_sil refuses them")
     ident = {"format": FORMAT, "motor": os.path.abspath(a.motor), "motor_sha256": hashlib.sha256(
         text.encode()).hexdigest(), "seed": seed, "spec": spec.as_dict(), "methods": cs.METHODS,
         "drive_sil_sha256": campaign_worker.sha256_file(a.drive_sil), "drive_sil_version": version}

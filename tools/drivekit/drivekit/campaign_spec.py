@@ -35,6 +35,8 @@ SPEED_STEP_FROM = 0.5               # speed_step: this x the drawn speed before 
 RULE_MARGIN_NM = 0.005              # the rule's allowance (tools/rule_check.py TE_MARGIN_NM)
 RULE_DEFAULT_WINDOW = "0.8:1.2"     # timeline = file without a `; win` comment (tools/rule_check.py)
 
+CORNER_U = 1e-9                     # the corner draws' uniform number (6 sigma of a normal)
+
 TRANSIENTS = ("none", "load_step", "speed_step")
 DISTS = ("fixed", "uniform", "loguniform", "normal", "lognormal", "choice")
 
@@ -365,13 +367,26 @@ class Spec:
     def inputs(self, seed, index):
         """The draw's inputs (a dict, physical units) from (seed, index) alone."""
         u, words = uniforms(seed, index)
+        return self.inputs_at(u, words[SLOT_NOISE_SEED])
+
+    def corner(self, u):
+        """The inputs with every uniform number at u, a choice's values sorted: CORNER_U and
+        1 - CORNER_U bound the values a campaign can draw (a normal's to 6 standard deviations)."""
+        return self.inputs_at([u] * N_SLOTS, 1, sort_choices=True)
+
+    def inputs_at(self, u, noise_word, sort_choices=False):
+        """The inputs of the uniform numbers u (one per slot) and the noise seed's word."""
         m = self.motor
         x = {}
         for k in DIST_KEYS:
+            d = self.dists[k.name]
             for slot, col in zip(k.slots, k.columns):
-                x[col] = self.dists[k.name].value(u[slot])
+                if sort_choices and d.kind == "choice":
+                    x[col] = sorted(d.values)[-1 if u[slot] > 0.5 else 0]
+                else:
+                    x[col] = d.value(u[slot])
         x["encoder_lines"] = int(x["encoder_lines"])
-        x["noise_seed"] = words[SLOT_NOISE_SEED] & 0xFFFFFFFF
+        x["noise_seed"] = noise_word & 0xFFFFFFFF
         x["vdc_V"] = x["vdc_factor"] * m["vdc_V"]
         x["speed_rpm"] = x["speed_frac"] * m["n_rated_rpm"]
         x["load_Nm"] = x["load_frac"] * m["T_rated_Nm"]
