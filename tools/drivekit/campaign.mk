@@ -5,16 +5,13 @@
 #                         results.parquet, report.md, worst/*.ini
 #   make campaign-keys    rewrite tools/drivekit/CAMPAIGN_KEYS.md
 #   make bench-campaign   draws per second per core (part of make bench)
-# The Makefile keeps a command-line OUT= for the campaign (CAMPAIGN_OUT):
-# the build's own OUT stays build/<variant>.
+# Unset, DRAWS (500), SEED (1), SCHEDULER (local) and JOBS (the cores) are
+# drive-campaign's defaults. The Makefile keeps a command-line OUT= for the
+# campaign (CAMPAIGN_OUT): the build's own OUT stays build/<variant>.
 .PHONY: campaign campaign-keys bench-campaign
 
 DRIVE_CAMPAIGN := $(VENV)/bin/drive-campaign
 DRIVEKIT_SRCS  := $(wildcard tools/drivekit/pyproject.toml tools/drivekit/drivekit/*.py)
-DRAWS          ?= 500
-SEED           ?= 1
-SCHEDULER      ?= local
-JOBS           ?= $(shell nproc)
 CAMPAIGN_DIR    = $(or $(CAMPAIGN_OUT),$(BUILD)/campaign/$(basename $(notdir $(MOTOR))))
 
 # Installed from a copy, as drivetool (one pip at a time in the venv: after it).
@@ -32,8 +29,9 @@ endif
 endif
 
 campaign: $(DRIVE_CAMPAIGN) $(DRIVE_SIL) ## MOTOR=F [DRAWS=N SEED=S OUT=DIR SCHEDULER=local|dask-local|tcp://H:P]: Monte Carlo campaign of both methods
-	@$(DRIVE_CAMPAIGN) '$(MOTOR)' --out '$(CAMPAIGN_DIR)' --draws '$(DRAWS)' --seed '$(SEED)' \
-	    --scheduler '$(SCHEDULER)' --jobs '$(JOBS)' --drive-sil $(DRIVE_SIL) $(if $(FRESH),--fresh)
+	@$(DRIVE_CAMPAIGN) '$(MOTOR)' --out '$(CAMPAIGN_DIR)' $(if $(DRAWS),--draws '$(DRAWS)') \
+	    $(if $(SEED),--seed '$(SEED)') $(if $(SCHEDULER),--scheduler '$(SCHEDULER)') $(if $(JOBS),--jobs '$(JOBS)') \
+	    --drive-sil $(DRIVE_SIL) $(if $(FRESH),--fresh)
 
 campaign-keys: $(DRIVE_CAMPAIGN) ## rewrite tools/drivekit/CAMPAIGN_KEYS.md from the key table (drive-campaign --list-keys --markdown)
 	$(DRIVE_CAMPAIGN) --list-keys --markdown > tools/drivekit/CAMPAIGN_KEYS.md
