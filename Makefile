@@ -12,7 +12,9 @@ SHELL := /bin/bash
 
 BUILD   ?= build
 VARIANT ?= host
-OUT     := $(BUILD)/$(VARIANT)
+# `make campaign OUT=DIR` names the campaign's directory (tools/drivekit/campaign.mk), not the build's.
+CAMPAIGN_OUT := $(if $(filter command line,$(origin OUT)),$(OUT))
+override OUT := $(BUILD)/$(VARIANT)
 
 CC ?= gcc
 ifeq ($(origin CC),default)
@@ -140,7 +142,8 @@ endef
 
 # ---- fragments -------------------------------------------------------------
 -include $(wildcard control/module.mk firmware/module.mk hal/sim/module.mk tools/sil/module.mk hal/f28335/module.mk \
-    tools/drivekit/module.mk tools/drivetool/module.mk tools/bench/module.mk tests/module.mk tests/cli/module.mk)
+    tools/drivekit/module.mk tools/drivetool/module.mk tools/bench/module.mk tests/module.mk tests/cli/module.mk \
+    tools/drivekit/campaign.mk)
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 

@@ -335,6 +335,28 @@ static void motor_section_derives_the_keys(void **state)
     assert_int_equal(scenario_key_set(&sc, "controller", "te_max_Nm"), 1);
 }
 
+/* A [campaign] section is skipped whatever it holds (drive-campaign's
+ * distributions), the sections around it are read as without it; a key
+ * unknown to drive_sil outside it is still refused. */
+static void campaign_section_is_skipped(void **state)
+{
+    (void)state;
+    scenario_t with;
+    scenario_t without;
+    char err[SCENARIO_ERR_LEN] = "";
+    assert_int_equal(load_text(&without, SMALL, err), 0);
+    static char text[sizeof SMALL + 256];
+    snprintf(text, sizeof text,
+             "[campaign]\nR_factor = loguniform 0.7 1.3\nno_such_key = ???\n  indented more\n%s"
+             "[campaign]\nspeed_frac = uniform 0.1 0.9\n", SMALL);
+    assert_int_equal(load_text(&with, text, err), 0);
+    assert_float_equal(with.plant.R_ohm, without.plant.R_ohm, 0.0);
+    assert_float_equal(with.controller.R_ohm, without.controller.R_ohm, 0.0);
+    assert_float_equal(with.controller.te_max_Nm, without.controller.te_max_Nm, 0.0);
+    assert_int_equal(with.identify.mode, without.identify.mode);
+    expect_error("[campaign]\nR_factor = 2\n[plant]\nR_factor = 2\n", 4, "R_factor");
+}
+
 /* A motor the drive cannot run: refused naming the keys. */
 static void motor_the_drive_cannot_run_refused(void **state)
 {
@@ -673,6 +695,7 @@ int main(void)
         cmocka_unit_test(bad_inputs_name_file_line_key),
         cmocka_unit_test(motor_section_derives_the_keys),
         cmocka_unit_test(motor_the_drive_cannot_run_refused),
+        cmocka_unit_test(campaign_section_is_skipped),
         cmocka_unit_test(messages_name_the_real_problem),
         cmocka_unit_test(plausibility_bounds),
         cmocka_unit_test(level_and_wrong_board_keys),

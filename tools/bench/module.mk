@@ -12,12 +12,13 @@ $(SIL_BENCH): $(call objs,tools/bench/sil_bench.c tools/sil/sil.c) $(LIB_silrun)
 	@mkdir -p $(@D)
 	$(CC) $(OPT) $(PROG_LDOPT) -o $@ $(filter %.o,$^) $(filter %.a,$^) $(PROG_LDLIBS)
 
-bench: ## SIL speed, the controller's cost per ctrl_step() and per ISR period, sweep points per second, the link's ISR cost and B/s (printed)
+bench: ## SIL speed, the controller's cost per ctrl_step() and per ISR period, sweep points and campaign draws per second, the link's ISR cost and B/s (printed)
 	@$(MAKE) --no-print-directory VARIANT=host $(BUILD)/host/sil_bench
 	@$(BUILD)/host/sil_bench
 	@$(MAKE) --no-print-directory VARIANT=host bench-ctrl
 	@$(MAKE) --no-print-directory VARIANT=host bench-isr
 	@$(MAKE) --no-print-directory VARIANT=host bench-sweep
+	@$(MAKE) --no-print-directory VARIANT=host bench-campaign
 	@$(MAKE) --no-print-directory VARIANT=host bench-link
 
 # Linked without PIE so callgrind's addresses match objdump's.

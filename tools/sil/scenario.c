@@ -544,6 +544,9 @@ static char *read_line(char *buf, int num, void *stream)
 static int on_key(void *user, const char *section, const char *name, const char *value)
 {
     load_ctx_t *ctx = user;
+    if (strcmp(section, SCENARIO_IGNORED_SECTION) == 0) {
+        return 1;
+    }
     char where[SCENARIO_ORIGIN_LEN];
     snprintf(where, sizeof where, "%s:%d", ctx->path, ctx->lineno);
     int known = 0;
@@ -951,6 +954,8 @@ void scenario_print_keys(FILE *f)
         const char *def = (k->def == DERIVED) ? "derived" : ((text == NULL) ? "-" : ((k->kind == K_PROFILE) ? "0" : text));
         fprintf(f, "    %-22s %-13s %s\n", k->name, def, k->help);
     }
+    fprintf(f, "  [%s]  skipped: drive-campaign's tolerance distributions (tools/drivekit/CAMPAIGN_KEYS.md)\n",
+            SCENARIO_IGNORED_SECTION);
 }
 
 void scenario_print_bounds(FILE *f)
@@ -973,7 +978,9 @@ void scenario_print_keys_markdown(FILE *f)
           "derived from the motor's data: `firmware/params/params_design.md`.\n\n"
           "Default: a value; `derived` (from the keys named, unless set); `-` (unset:\n"
           "see the meaning). Range: what the parser accepts (the plausibility bounds\n"
-          "of `drive_sil --help` come on top).\n\n"
+          "of `drive_sil --help` come on top). A `[" SCENARIO_IGNORED_SECTION "]` section is skipped: it\n"
+          "holds `drive-campaign`'s tolerance distributions\n"
+          "(`tools/drivekit/CAMPAIGN_KEYS.md`), so one file serves both.\n\n"
           "| section | key | default | range | meaning |\n"
           "| --- | --- | --- | --- | --- |\n", f);
     for (int i = 0; i < N_KEYS; i++) {

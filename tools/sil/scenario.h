@@ -67,7 +67,12 @@ typedef struct {
 /* All keys at their defaults. */
 void scenario_defaults(scenario_t *sc);
 
-/* Apply the INI file at path on top of *sc. Returns 0, or -1 with err filled (first error). */
+/* A section of the file that is no scenario's and is skipped unread: a campaign's
+ * tolerance distributions (tools/drivekit/CAMPAIGN_KEYS.md), so one file serves both. */
+#define SCENARIO_IGNORED_SECTION "campaign"
+
+/* Apply the INI file at path on top of *sc (SCENARIO_IGNORED_SECTION skipped).
+ * Returns 0, or -1 with err filled (first error). */
 int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen);
 
 /* Apply one "section.key=value" override. Returns 0, or -1 with err filled. */
