@@ -14,12 +14,10 @@
 
 #include "mathx.h"
 #include "oplim.h"
+#include "spmsm.h"
 #include "svpwm.h"
 
-/* The voltage computed now is applied over [k+1, k+2]: its middle lies
- * 1.5 periods after the sample instant. */
-#define ANGLE_ADVANCE_PERIODS 1.5f
-/* Bound on that advance [rad]: the series below is exact to float within it
+/* Bound on the angle advance (spmsm.h) [rad]: the series below is exact to float within it
  * (error < delta^7/5040 = 1.5e-6 at the bound). */
 #define ANGLE_ADVANCE_MAX_RAD 0.5f
 #define SERIES_INV_2   0.5f
@@ -557,7 +555,7 @@ static void stage_modulate(ctrl_t *c, ctrl_period_t *p, float vdc_V)
     ab_t u_real;
     dq_t u_cmd;
 
-    rotate_sincos(p->s, p->co, ANGLE_ADVANCE_PERIODS * p->omega * c->cfg.Ts_s, &sa, &ca);
+    rotate_sincos(p->s, p->co, spmsm_angle_advance_rad(p->omega, c->cfg.Ts_s), &sa, &ca);
     p->flags |= map_dbdtc_flags(dbdtc_limit(&p->u, sa, ca, vdc_V));
     const dq_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V);
     u_cmd.d = p->u.d - u_dt.d; /* fed forward: the inverter adds u_dt back */

@@ -10,6 +10,7 @@
 #define BOARD_CFG_H
 
 #include "board_hw.h"
+#include "spmsm.h"
 
 /* ---- encoder mounting ------------------------------------------------ */
 #define BOARD_ENC_OFFSET_EL_RAD  0.0f         /* electrical angle at count 0: measure by d-axis alignment [rad] */
@@ -23,7 +24,7 @@
  * given here at the reference and scaled in proportion by
  * drive_params_derive() (params_design.md: each rule and its reason);
  * for the reference itself they are these constants to the bit. */
-#define REF_I_RATED_A            (6.0f / (1.5f * 3.0f * 0.24f)) /* 5.56 A: 6 N m (Table I) */
+#define REF_I_RATED_A            (6.0f / (SPMSM_TORQUE_PER_P_PSI_I * 3.0f * 0.24f)) /* 5.56 A: 6 N m (Table I) */
 #define REF_I_PEAK_A             (2.0f * REF_I_RATED_A)  /* 11.1 A: 12 N m */
 #define REF_T_RATED_NM           6.0f         /* [N m] */
 #define REF_VDC_V                311.0f       /* [V] */
@@ -214,7 +215,7 @@
  * the rated current is the rated torque's, T = 1.5 p psi_f i; the short-time
  * current twice that for 1 s (the paper gives no figure: assumed); the
  * highest speed the rated one (overspeed trips at 1.2x it). */
-#define MOTOR_I_RATED_A          (MOTOR_RATED_TORQUE_NM / (1.5f * (float)MOTOR_POLE_PAIRS * MOTOR_PSI_F_WB)) /* 5.56 A */
+#define MOTOR_I_RATED_A          (MOTOR_RATED_TORQUE_NM / (SPMSM_TORQUE_PER_P_PSI_I * (float)MOTOR_POLE_PAIRS * MOTOR_PSI_F_WB)) /* 5.56 A */
 #define MOTOR_I_PEAK_A           (2.0f * MOTOR_I_RATED_A)  /* [A]: 12 N m */
 #define MOTOR_T_PEAK_S           1.0f         /* [s] */
 #define MOTOR_MAX_SPEED_RPM      MOTOR_RATED_SPEED_RPM     /* [r/min] */
