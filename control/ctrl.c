@@ -43,7 +43,9 @@
 /* The default R^ band's top stays this fraction of the largest R that
  * meets (36) with the observer's default gains (18 Ohm for Table I). */
 #define RSID_BAND_KS_MARGIN 0.9f
-/* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
+/* Longest dead time taken as such, in periods, and the largest device drop,
+ * x the model's voltage bound: the same share of the bus; beyond either the
+ * cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
 /* Share of the hexagon's inscribed circle Vdc/sqrt(3) the flux reference
  * leaves for steady state when cfg.u_margin is not in (0, 1] (design
@@ -228,6 +230,11 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
         c->deadtime_frac = 0.0f;
         status = refused_if(false, CTRL_CFG_DEADTIME, status);
     }
+    c->device_drop_V = cfg->device_drop_V;
+    if (!((c->device_drop_V >= 0.0f) && (c->device_drop_V <= DEADTIME_FRAC_MAX * cfg->u_max_V))) {
+        c->device_drop_V = 0.0f;
+        status = refused_if(false, CTRL_CFG_DEADTIME, status);
+    }
     c->i_lim_A = ((cfg->i_lim_A > 0.0f) && (cfg->i_lim_A <= cfg->i_max_A)) ? cfg->i_lim_A : cfg->i_max_A;
     c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
                                                 ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
@@ -382,16 +389,17 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
     return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s); /* eq. (10)-(12) */
 }
 
-/* Mean rotor-frame voltage error [V] the dead time adds over the period
- * whose middle is at the angle (sin_a, cos_a): each leg loses or gains
- * vdc*td/Ts against the sign of its current (diode conduction in the dead
- * band), the currents taken as i_dq at that angle. Hard sign: near a zero
+/* Mean rotor-frame voltage error [V] the dead time and the device drop add
+ * over the period whose middle is at the angle (sin_a, cos_a): each leg
+ * loses or gains vdc*td/Ts + drop against the sign of its current (diode
+ * conduction in the dead band, the conducting device's drop), the currents
+ * taken as i_dq at that angle. Hard sign: near a zero
  * crossing the real error is smaller (left in f^ for those periods). */
 static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
 {
     const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
-    /* below the speed floor the conventional path: the told dead time only */
-    const float dv_sum = c->deadtime_frac * vdc_V + est_output(&c->est)->inv_dv_V;
+    /* below the speed floor the conventional path: the told dead time and drop only */
+    const float dv_sum = c->deadtime_frac * vdc_V + c->device_drop_V + est_output(&c->est)->inv_dv_V;
     const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
     const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
     const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);

@@ -15,6 +15,9 @@
 /* ---- encoder mounting ------------------------------------------------ */
 #define BOARD_ENC_OFFSET_EL_RAD  0.0f         /* electrical angle at count 0: measure by d-axis alignment [rad] */
 
+/* ---- the inverter's voltage error beyond its dead time ----------------- */
+#define BOARD_DEVICE_DROP_V      0.0f         /* on-state drop the controller compensates: 0 until commissioning measures it [V] */
+
 /* ---- protection limits (used by the application) ---------------------- */
 #define BOARD_VDC_NOMINAL_V      311.0f       /* rectified 220 V AC [V] (assumed; paper gives none) */
 /* The current ADC's range, +-: 10 A/V around 1.5 V of a 0..3 V input. */
