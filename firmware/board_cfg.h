@@ -135,7 +135,7 @@
 #define COMM_POLE_PAIRS_MAX      32U          /* ENCODER: fewer counts than half an electrical turn at this many: no rotation [-] */
 #define COMM_ENC_MAX_S           2.0f         /* WIRING, ENCODER: timeout beyond the stage's planned length [s] */
 #define COMM_WIRING_EL_HZ        200.0f       /* WIRING: the vector's frequency; the rotor's swing and back-EMF at it are 1/f^2 and 1/f^3 of a slow one's [Hz el] */
-#define COMM_SPIN_FRAC           0.2f         /* SPIN: |i_q| / bound accelerating and braking [-] */
+#define COMM_SPIN_FRAC           0.5f         /* SPIN: |i_q| / bound accelerating and braking: the dead time's error nearly constant against the ripple (commission_design.md sec. 5) [-] */
 #define COMM_SPIN_TOP_FRAC       0.4f         /* SPIN: top speed / rated speed [-] */
 #define COMM_SPIN_LO_FRAC        0.2f         /* SPIN: fits above this share of the top speed [-] */
 #define COMM_SPIN_SKIP_S         0.02f        /* SPIN: fits skip this after a current change: 10 / PLL bandwidth [s] */

@@ -286,6 +286,7 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
         }
         const double i_max = max_or_nonnan(fabs(tr->ia_A), max_or_nonnan(fabs(tr->ib_A), fabs(tr->ic_A)));
         res->max_abs_i_A = max_or_nonnan(res->max_abs_i_A, i_max);
+        res->max_abs_speed_rpm = max_or_nonnan(res->max_abs_speed_rpm, fabs(tr->speed_m_rad_s) * SIM_RPM_PER_RAD_S);
         res->pwm_periods += tr->pwm_enabled ? 1u : 0u;
         res->periods = k + 1u;
         if (periods_to_row == 0u) {
@@ -335,6 +336,10 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     res->comm_speed_kp_Nms_rad = (double)cr->speed_kp_Nms_rad;
     res->comm_speed_ki_Nm_rad = (double)cr->speed_ki_Nm_rad;
     res->comm_u_err_V = (double)cr->u_err_V;
+    res->comm_inv_dv_V = (double)cr->inv_dv_V;
+    res->comm_deadtime_s = (double)cr->deadtime_s;
+    res->comm_device_drop_V = (double)cr->device_drop_V;
+    res->comm_untold_deadtime_s = (double)cr->untold_deadtime_s;
     res->comm_pole_pairs = cr->pole_pairs;
     return rc;
 }
