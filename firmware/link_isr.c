@@ -92,6 +92,9 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_COMM_SPEED_KI: return of_f((a->comm != NULL) ? a->comm->res.speed_ki_Nm_rad : 0.0f);
     case LV_LEVEL: return of_u((uint32_t)a->level);
     case LV_LEVEL_NEXT: return of_u((uint32_t)a->req_level);
+    case LV_COMM_DEADTIME_S: return of_f((a->comm != NULL) ? a->comm->res.deadtime_s : 0.0f);
+    case LV_COMM_DEVICE_DROP_V: return of_f((a->comm != NULL) ? a->comm->res.device_drop_V : 0.0f);
+    case LV_COMM_UNTOLD_DEADTIME_S: return of_f((a->comm != NULL) ? a->comm->res.untold_deadtime_s : 0.0f);
     default: return of_u(0u);
     }
 }

@@ -64,6 +64,9 @@ static const link_var_t VARS[LV_COUNT] = {
     [LV_COMM_SPEED_KI] = { "comm_speed_ki_Nm_rad", "N m/rad", LINK_T_F32, R, LINK_CAP_F32 },
     [LV_LEVEL] = { "level", "", LINK_T_U16, R, LINK_CAP_I16 },
     [LV_LEVEL_NEXT] = { "level_next", "", LINK_T_U16, R, LINK_CAP_I16 },
+    [LV_COMM_DEADTIME_S] = { "comm_deadtime_s", "s", LINK_T_F32, R, LINK_CAP_F32 },
+    [LV_COMM_DEVICE_DROP_V] = { "comm_device_drop_V", "V", LINK_T_F32, R, LINK_CAP_F32 },
+    [LV_COMM_UNTOLD_DEADTIME_S] = { "comm_untold_deadtime_s", "s", LINK_T_F32, R, LINK_CAP_F32 },
 };
 #undef R
 #undef W
