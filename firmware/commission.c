@@ -18,8 +18,9 @@
 enum { R_SEEK = 0, R_POINT_1, R_POINT_2 };
 /* L phases */
 enum { L_DOWN = 0, L_UP };
-/* INVERTER phases: half a turn out, the two points with every current reversed, back */
-enum { INV_TURN = 0, INV_POINT_1, INV_POINT_2, INV_BACK };
+/* INVERTER phases: half a turn, the two points with every current reversed
+ * (the ENCODER stage starts where it ends: no turn back, no swing) */
+enum { INV_TURN = 0, INV_POINT_1, INV_POINT_2 };
 /* ENCODER phases */
 enum { E_HOLD_0 = 0, E_FWD, E_HOLD_1, E_BACK, E_HOLD_2 };
 /* SPIN phases */
@@ -111,6 +112,7 @@ void comm_start(comm_t *m)
     ident_ls_reset(&m->ls);
     ident_spin_reset(&m->spin);
     m->theta_c_rad = 0.0f;
+    m->theta0_rad = 0.0f;
     m->count0 = 0u;
     m->count_last = 0u;
     m->still_count = 0u;
@@ -496,10 +498,10 @@ static uint32_t half_turn_periods(const comm_t *m)
     return periods(m, HALF_TURN_T_PER_PI2 * MATHX_PI_F * MATHX_PI_F / m->cfg.enc_speed_el_rad_s);
 }
 
-/* The stage's planned length [periods]: two half turns, two settlings, two windows. */
+/* The stage's planned length [periods]: the half turn, two settlings, two windows. */
 static uint32_t inverter_periods(const comm_t *m)
 {
-    return 2u * (half_turn_periods(m) + periods(m, m->cfg.r_settle_s) + periods(m, m->cfg.r_window_s));
+    return half_turn_periods(m) + 2u * (periods(m, m->cfg.r_settle_s) + periods(m, m->cfg.r_window_s));
 }
 
 /* The per-leg error, its split at this bus and what the measurement leaves uncertain. */
@@ -517,26 +519,21 @@ static app_step_t inverter_finish(comm_t *m, float vdc_V)
     return app_step_done();
 }
 
-/* The vector's angle this period: half a turn out on a raised cosine,
- * held, half a turn back; its speed [rad/s el]. */
+/* The vector's angle this period: half a turn on a raised cosine, then
+ * held; its speed [rad/s el]. */
 static float inverter_angle(comm_t *m)
 {
     const uint32_t N = half_turn_periods(m);
     const float x = MATHX_PI_F * (float)((m->ticks < N) ? m->ticks : N) / (float)N;
-    const float speed = HALF * MATHX_PI_F * MATHX_PI_F / ((float)N * m->Ts_s);
     float s;
     float co;
 
+    if (m->phase != INV_TURN) {
+        return 0.0f;
+    }
     mathx_sincosf(x, &s, &co);
-    if (m->phase == INV_TURN) {
-        m->theta_c_rad = HALF * MATHX_PI_F * (1.0f - co);
-        return speed * s;
-    }
-    if (m->phase == INV_BACK) {
-        m->theta_c_rad = HALF * MATHX_PI_F * (1.0f + co);
-        return -speed * s;
-    }
-    return 0.0f;
+    m->theta_c_rad = HALF * MATHX_PI_F * (1.0f - co);
+    return HALF * MATHX_PI_F * MATHX_PI_F / ((float)N * m->Ts_s) * s;
 }
 
 static app_step_t stage_inverter(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
@@ -559,20 +556,15 @@ static app_step_t stage_inverter(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u
             next_phase(m, INV_POINT_2);
         }
         break;
-    case INV_POINT_2:
+    default: /* INV_POINT_2 */
         if (dc_point(m, in->enc_count, u_ab->a, i.a, &pt)) {
             m->neg[1] = pt;
-            next_phase(m, INV_BACK);
-        }
-        break;
-    default: /* INV_BACK */
-        if (m->ticks >= half_turn_periods(m)) {
             r = inverter_finish(m, in->vdc_V);
         }
         break;
     }
     if (r.status == APP_STEP_DONE) {
-        m->theta_c_rad = 0.0f;
+        m->theta0_rad = m->theta_c_rad; /* the sweeps start from the vector's angle here */
         next_stage(m, COMM_STAGE_ENCODER);
         ident_ls_reset(&m->ls);
         r = app_step_running();
@@ -646,7 +638,7 @@ static app_step_t encoder_phase(comm_t *m, const ctrl_in_t *in, ab_t i, float *s
         mathx_sincosf(m->theta_c_rad, &s, &co);
         enc_check_step(&m->chk, step, co, s, i.a, i.b, in->enc_count);
         *speed = m->cfg.enc_speed_el_rad_s;
-        m->theta_c_rad = (float)m->ticks * step;
+        m->theta_c_rad = m->theta0_rad + (float)m->ticks * step;
         *fit = (m->ticks + sweep > fwd); /* the last electrical turn */
         if (m->ticks >= fwd) {
             r = encoder_fwd_verdict(m);
@@ -665,7 +657,7 @@ static app_step_t encoder_phase(comm_t *m, const ctrl_in_t *in, ab_t i, float *s
     case E_BACK:
         *speed = -m->cfg.enc_speed_el_rad_s;
         *fit = true;
-        m->theta_c_rad = (float)(fwd - m->ticks) * step;
+        m->theta_c_rad = m->theta0_rad + (float)(fwd - m->ticks) * step;
         if (m->ticks >= sweep) {
             *speed = 0.0f;
             next_phase(m, E_HOLD_2);

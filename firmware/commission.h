@@ -22,7 +22,8 @@
  *            follows), the R stage's two currents again with every phase
  *            current reversed: the inverter's per-leg voltage error
  *            against the current, both polarities (U - R^ I), split into
- *            the board's told dead time and a device drop;
+ *            the board's told dead time and a device drop; the ENCODER
+ *            stage starts from there;
  *   ENCODER  a current vector of fixed magnitude swept one mechanical
  *            turn (the told pole pairs' electrical turns) forward:
  *            enc_check.h judges the encoder's direction
@@ -164,6 +165,7 @@ typedef struct {
     float sweep_n;              /* SPIN: the sweep's fitted periods [-] */
     float sweep_t0_s, sweep_w0_rad_s; /* ... its first fitted period's time and speed [s, rad/s] */
     float theta_c_rad;          /* INVERTER, ENCODER: the vector's angle (unwrapped) [rad el] */
+    float theta0_rad;           /* ENCODER: the vector's angle the sweeps start from (INVERTER's end) [rad el] */
     uint32_t count0;            /* ENCODER: count at the sweep's start */
     uint32_t count_last;        /* ENCODER: the last period's count */
     uint32_t still_count;       /* R, INVERTER, ENCODER: where the rotor was last seen to move [counts] */
