@@ -574,12 +574,17 @@ static app_step_t stage_inverter(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u
 
 /* ---- ENCODER: a vector swept one mechanical turn forward, one electrical back */
 
+/* Periods of one electrical turn at the sweep speed. */
+static uint32_t turn_periods(const comm_t *m)
+{
+    return periods(m, MATHX_TWO_PI_F / m->cfg.enc_speed_el_rad_s);
+}
+
 /* The ENCODER stage's planned length [periods]: the told pole pairs'
  * turns forward, one back, three holds. */
 static uint32_t encoder_periods(const comm_t *m)
 {
-    return (1u + (uint32_t)m->pole_pairs) * periods(m, MATHX_TWO_PI_F / m->cfg.enc_speed_el_rad_s) +
-           3u * periods(m, m->cfg.enc_hold_s);
+    return (1u + (uint32_t)m->pole_pairs) * turn_periods(m) + 3u * periods(m, m->cfg.enc_hold_s);
 }
 
 /* The offset from the fit over the last turn forward and the turn back. */
@@ -610,21 +615,43 @@ static app_step_t encoder_fwd_verdict(comm_t *m)
 
 /* One period of the sweep's phases: the vector's angle and direction,
  * whether the period joins the offset's fit, and the phase's end. */
-static app_step_t encoder_phase(comm_t *m, const ctrl_in_t *in, ab_t i, float *speed, bool *fit)
+/* The forward sweep's period: enc_check's sample, the vector one step
+ * on, the last electrical turn into the offset's fit; at its end (one
+ * mechanical turn) the verdict, then the hold. */
+static app_step_t encoder_fwd(comm_t *m, const ctrl_in_t *in, ab_t i, float *speed, bool *fit)
 {
     const float step = m->cfg.enc_speed_el_rad_s * m->Ts_s;
-    const uint32_t sweep = periods(m, MATHX_TWO_PI_F / m->cfg.enc_speed_el_rad_s);
-    const uint32_t fwd = (uint32_t)m->pole_pairs * sweep; /* one mechanical turn */
-    const uint32_t hold = periods(m, m->cfg.enc_hold_s);
+    const uint32_t fwd = (uint32_t)m->pole_pairs * turn_periods(m); /* one mechanical turn */
     float s;
     float co;
+    app_step_t r = app_step_running();
+
+    mathx_sincosf(m->theta_c_rad, &s, &co);
+    enc_check_step(&m->chk, step, co, s, i.a, i.b, in->enc_count);
+    *speed = m->cfg.enc_speed_el_rad_s;
+    m->theta_c_rad = m->theta0_rad + (float)m->ticks * step;
+    *fit = (m->ticks + turn_periods(m) > fwd);
+    if (m->ticks >= fwd) {
+        r = encoder_fwd_verdict(m);
+        if (r.status == APP_STEP_DONE) {
+            r = app_step_running();
+            *speed = 0.0f;
+            next_phase(m, E_HOLD_1);
+        }
+    }
+    return r;
+}
+
+static app_step_t encoder_phase(comm_t *m, const ctrl_in_t *in, ab_t i, float *speed, bool *fit)
+{
+    const uint32_t hold = periods(m, m->cfg.enc_hold_s);
     app_step_t r = app_step_running();
 
     *speed = 0.0f;
     *fit = false;
     switch (m->phase) {
     case E_HOLD_0:
-        /* the sweep starts from a still rotor: the INVERTER stage's turn back may leave it swinging */
+        /* the sweep starts from a still rotor: the count0 must not catch a swing */
         if (!rotor_still(m, in->enc_count)) {
             m->ticks = 0u;
         } else if (m->ticks >= hold) {
@@ -635,19 +662,7 @@ static app_step_t encoder_phase(comm_t *m, const ctrl_in_t *in, ab_t i, float *s
         }
         break;
     case E_FWD:
-        mathx_sincosf(m->theta_c_rad, &s, &co);
-        enc_check_step(&m->chk, step, co, s, i.a, i.b, in->enc_count);
-        *speed = m->cfg.enc_speed_el_rad_s;
-        m->theta_c_rad = m->theta0_rad + (float)m->ticks * step;
-        *fit = (m->ticks + sweep > fwd); /* the last electrical turn */
-        if (m->ticks >= fwd) {
-            r = encoder_fwd_verdict(m);
-            if (r.status == APP_STEP_DONE) {
-                r = app_step_running();
-                *speed = 0.0f;
-                next_phase(m, E_HOLD_1);
-            }
-        }
+        r = encoder_fwd(m, in, i, speed, fit);
         break;
     case E_HOLD_1:
         if (m->ticks >= hold) {
@@ -657,8 +672,10 @@ static app_step_t encoder_phase(comm_t *m, const ctrl_in_t *in, ab_t i, float *s
     case E_BACK:
         *speed = -m->cfg.enc_speed_el_rad_s;
         *fit = true;
-        m->theta_c_rad = m->theta0_rad + (float)(fwd - m->ticks) * step;
-        if (m->ticks >= sweep) {
+        /* from the forward sweep's end, one mechanical turn on, back */
+        m->theta_c_rad = m->theta0_rad + (float)((uint32_t)m->pole_pairs * turn_periods(m) - m->ticks) *
+                                             (m->cfg.enc_speed_el_rad_s * m->Ts_s);
+        if (m->ticks >= turn_periods(m)) {
             *speed = 0.0f;
             next_phase(m, E_HOLD_2);
         }
