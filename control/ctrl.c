@@ -14,12 +14,10 @@
 
 #include "mathx.h"
 #include "oplim.h"
+#include "spmsm.h"
 #include "svpwm.h"
 
-/* The voltage computed now is applied over [k+1, k+2]: its middle lies
- * 1.5 periods after the sample instant. */
-#define ANGLE_ADVANCE_PERIODS 1.5f
-/* Bound on that advance [rad]: the series below is exact to float within it
+/* Bound on the angle advance (spmsm.h) [rad]: the series below is exact to float within it
  * (error < delta^7/5040 = 1.5e-6 at the bound). */
 #define ANGLE_ADVANCE_MAX_RAD 0.5f
 #define SERIES_INV_2   0.5f
@@ -45,7 +43,9 @@
 /* The default R^ band's top stays this fraction of the largest R that
  * meets (36) with the observer's default gains (18 Ohm for Table I). */
 #define RSID_BAND_KS_MARGIN 0.9f
-/* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
+/* Longest dead time taken as such, in periods, and the largest device drop,
+ * x the model's voltage bound: the same share of the bus; beyond either the
+ * cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
 /* Share of the hexagon's inscribed circle Vdc/sqrt(3) the flux reference
  * leaves for steady state when cfg.u_margin is not in (0, 1] (design
@@ -230,6 +230,11 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
         c->deadtime_frac = 0.0f;
         status = refused_if(false, CTRL_CFG_DEADTIME, status);
     }
+    c->device_drop_V = cfg->device_drop_V;
+    if (!((c->device_drop_V >= 0.0f) && (c->device_drop_V <= DEADTIME_FRAC_MAX * cfg->u_max_V))) {
+        c->device_drop_V = 0.0f;
+        status = refused_if(false, CTRL_CFG_DEADTIME, status);
+    }
     c->i_lim_A = ((cfg->i_lim_A > 0.0f) && (cfg->i_lim_A <= cfg->i_max_A)) ? cfg->i_lim_A : cfg->i_max_A;
     c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
                                                 ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
@@ -384,16 +389,17 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
     return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s); /* eq. (10)-(12) */
 }
 
-/* Mean rotor-frame voltage error [V] the dead time adds over the period
- * whose middle is at the angle (sin_a, cos_a): each leg loses or gains
- * vdc*td/Ts against the sign of its current (diode conduction in the dead
- * band), the currents taken as i_dq at that angle. Hard sign: near a zero
+/* Mean rotor-frame voltage error [V] the dead time and the device drop add
+ * over the period whose middle is at the angle (sin_a, cos_a): each leg
+ * loses or gains vdc*td/Ts + drop against the sign of its current (diode
+ * conduction in the dead band, the conducting device's drop), the currents
+ * taken as i_dq at that angle. Hard sign: near a zero
  * crossing the real error is smaller (left in f^ for those periods). */
 static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
 {
     const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
-    /* below the speed floor the conventional path: the told dead time only */
-    const float dv_sum = c->deadtime_frac * vdc_V + est_output(&c->est)->inv_dv_V;
+    /* below the speed floor the conventional path: the told dead time and drop only */
+    const float dv_sum = c->deadtime_frac * vdc_V + c->device_drop_V + est_output(&c->est)->inv_dv_V;
     const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
     const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
     const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);
@@ -557,7 +563,7 @@ static void stage_modulate(ctrl_t *c, ctrl_period_t *p, float vdc_V)
     ab_t u_real;
     dq_t u_cmd;
 
-    rotate_sincos(p->s, p->co, ANGLE_ADVANCE_PERIODS * p->omega * c->cfg.Ts_s, &sa, &ca);
+    rotate_sincos(p->s, p->co, spmsm_angle_advance_rad(p->omega, c->cfg.Ts_s), &sa, &ca);
     p->flags |= map_dbdtc_flags(dbdtc_limit(&p->u, sa, ca, vdc_V));
     const dq_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V);
     u_cmd.d = p->u.d - u_dt.d; /* fed forward: the inverter adds u_dt back */

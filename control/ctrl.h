@@ -90,6 +90,9 @@ typedef struct {
     float psi_max_Wb;           /* bound on psi_s* */
     float deadtime_s;           /* inverter dead time [s]: its voltage error is fed forward and
                                  * counted in the realised voltage; 0: none */
+    float device_drop_V;        /* on-state drop of a leg's conducting device [V], fed forward and
+                                 * counted as the dead time's error is (against the current's
+                                 * sign, on top of it); 0: none */
     /* Operating limits (design sec. 8); i_lim_A outside (0, i_max_A]: i_max_A;
      * u_margin outside (0, 1]: 0.92 (ctrl.c CTRL_U_MARGIN_DEFAULT) */
     float i_lim_A;              /* stator-current limit |i| [A] the deadbeat target respects */
@@ -120,7 +123,8 @@ typedef uint16_t ctrl_status_t;
 #define CTRL_CFG_ENCODER    ((ctrl_status_t)0x0008u) /* encoder_init refused (e.g. PLL bandwidth x Ts above its bound) */
 #define CTRL_CFG_SPEED_PI   ((ctrl_status_t)0x0010u) /* pi_init refused the speed PI's gains or limits */
 #define CTRL_CFG_DBDTC      ((ctrl_status_t)0x0020u) /* dbdtc_init refused the model's parameters or bounds */
-#define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts */
+#define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts;
+                                                      * or device drop so, or above 0.1 u_max_V */
 #define CTRL_CFG_GATE       EST_CFG_GATE             /* 0x0080 est_gate_init refused (step 2's pause and hold) */
 #define CTRL_CFG_RTRACK     EST_CFG_RTRACK           /* 0x0100 r_track_init refused (d-current injection, design sec. 9) */
 /* Needed by every method (encoder, speed loop, model, output path)... */
@@ -166,6 +170,7 @@ typedef struct {
     pi_t speed_pi;
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
     float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
+    float device_drop_V;        /* the drop from cfg (0: none or refused) [V] */
     float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
     float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */
     oplim_t lim;                /* current limit and flux weakening (oplim.h) */

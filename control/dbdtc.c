@@ -4,13 +4,13 @@
 #include <float.h>
 
 #include "mathx.h"
+#include "spmsm.h"
 
 /* Parameters handed to dbdtc_set_params() are kept within these factors of
  * the configured ones, so an estimator gone astray cannot divide by ~0. */
 #define PARAM_FACTOR_MIN 0.1f
 #define PARAM_FACTOR_MAX 10.0f
 
-#define ONE_AND_HALF 1.5f      /* 3/2 of the amplitude-invariant torque, eq. (3) */
 #define TWO_THIRDS   CLARKE_TWO_THIRDS /* hexagon vertex = 2/3 Vdc */
 #define HALF_SQRT3   CLARKE_HALF_SQRT3 /* cos 30 deg */
 
@@ -62,10 +62,10 @@ void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb)
     p->Ts_over_L = cfg->Ts_s * inv_L;
     p->a = p->R_Ohm * p->Ts_over_L;
     p->one_minus_a = 1.0f - p->a;
-    p->kt_Nm_per_A = ONE_AND_HALF * (float)cfg->pole_pairs * p->psi_f_Wb;
+    p->kt_Nm_per_A = spmsm_kt_Nm_A(cfg->pole_pairs, p->psi_f_Wb);
     p->te_per_Wb = p->kt_Nm_per_A * inv_L;
     p->psiq_per_Nm = p->L_H / p->kt_Nm_per_A;                           /* division 2 */
-    p->inv_psi_f_1_Wb = ONE_AND_HALF * (float)cfg->pole_pairs * p->psiq_per_Nm * inv_L; /* 1.5 p / kt */
+    p->inv_psi_f_1_Wb = spmsm_kt_Nm_A(cfg->pole_pairs, 1.0f) * p->psiq_per_Nm * inv_L; /* 1.5 p / kt */
 }
 
 dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A)

@@ -14,8 +14,6 @@
 #define ENCODER_HALF 0.5f
 /* Centre of a count's interval, from its start [counts]. */
 #define ENCODER_COUNT_CENTRE 0.5f
-/* Proportional PLL gain per bandwidth: kp = 2*bw (critical damping). */
-#define ENCODER_KP_PER_BW 2.0f
 
 /* Position [counts] into [0, cpr); inputs lie within one turn of it. */
 static float encoder_wrap_counts(float x, float cpr)

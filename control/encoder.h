@@ -22,6 +22,17 @@
 #define ENCODER_COUNTS_PER_LINE 4u
 /* Largest cpr whose counts are all exact in a float (2^24). */
 #define ENCODER_CPR_MAX 16777216u
+/* Proportional PLL gain per bandwidth: kp = 2*bw (critical damping). */
+#define ENCODER_KP_PER_BW 2.0f
+
+/* How long the speed estimate lags a constant acceleration [s] at the
+ * PLL bandwidth bw_rad_s [rad/s]: the count's error settles at a/ki, the
+ * integrator (the speed) trails the speed by kp a/ki: a lag kp/ki = 2/bw.
+ * Any context. */
+static inline float encoder_ramp_lag_s(float bw_rad_s)
+{
+    return ENCODER_KP_PER_BW / bw_rad_s;
+}
 
 typedef struct {
     uint32_t counts_per_rev; /* quadrature counts per mechanical turn (4 * lines) */

@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "mathx.h"
+#include "spmsm.h"
 
 /* An estimated magnet flux below this [Wb] (or non-finite) is replaced by
  * it: the torque term then stays finite instead of dividing by ~0. */
@@ -19,8 +20,6 @@
 /* Ceiling of both flux terms and of the result [Wb]: far above any machine
  * this drive runs (Table I: 0.24 Wb); only keeps the reference finite. */
 #define MTPA_PSI_MAX_WB 100.0f
-/* Te = 1.5 * p * psi_f * iq (amplitude-invariant dq). */
-#define MTPA_TORQUE_FACTOR 1.5f
 
 /* psi_f_Wb [Wb] as the reference uses it: within [MTPA_PSI_F_MIN_WB,
  * MTPA_PSI_MAX_WB], non-finite -> the floor. Any context. */
@@ -56,8 +55,8 @@ static inline float mtpa_psi_s_of_psi_q(float psi_f_Wb, float psi_q_Wb)
 static inline float mtpa_psi_s_ref(float L_H, float psi_f_Wb, uint16_t pole_pairs, float Te_ref_Nm)
 {
     const float psi_f = mtpa_psi_f_bounded(psi_f_Wb);
-    const float p = (pole_pairs > 0u) ? (float)pole_pairs : 1.0f;
-    return mtpa_psi_s_of_psi_q(psi_f, L_H * Te_ref_Nm / (MTPA_TORQUE_FACTOR * p * psi_f)); /* psi_q = L*iq */
+    const uint16_t p = (pole_pairs > 0u) ? pole_pairs : 1u;
+    return mtpa_psi_s_of_psi_q(psi_f, L_H * Te_ref_Nm / spmsm_kt_Nm_A(p, psi_f)); /* psi_q = L*iq, eq. (3) */
 }
 
 #endif /* MTPA_H */

@@ -40,7 +40,7 @@
 #define RUN_S        3.0          /* calibration 0.11 s, alignment 1.2 s, step 1 about 1.2 s, then RUN [s] */
 #define SPEED_RPM    600.0f       /* the operator's reference: step 1's second speed hands over to it */
 #define LOAD_NM      1.0          /* step 1 in speeds mode needs a load (rsid_seq.h) */
-#define COMM_RUN_S   5.0          /* calibration, then the commissioning's stages, about 4.4 s [s] */
+#define COMM_RUN_S   6.0          /* calibration, then the commissioning's stages, about 5.2 s [s] */
 
 typedef struct {
     uint16_t state, fault, warnings, cmd_error;

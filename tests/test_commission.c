@@ -224,9 +224,10 @@ static void a_stage_outlasting_its_timeout(void **state)
     assert_int_equal(c.stage, COMM_STAGE_R);
     assert_float_equal(r.limit, 0.05f, 0.0f);
     assert_true(r.value > r.limit);
-    /* WIRING first: 0.3 s ramp, 0.1 s hold, 0.1 s of 200 Hz turns (5000
-     * periods), then 0.05 s / Ts of R: the call after its 501st period */
-    assert_int_equal(n, 5000u + 502u);
+    /* WIRING first: 0.3 s ramp, 0.1 s hold, 0.1 s of 200 Hz turns, each
+     * phase ending in the call its time is complete in (3001 + 1001 + 1001
+     * calls), then 0.05 s / Ts of R: the call after its 501st period */
+    assert_int_equal(n, 5003u + 502u);
 }
 
 int main(void)

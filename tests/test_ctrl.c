@@ -310,6 +310,9 @@ static void init_reports_each_refusal(void **state)
         { "dead time 0.2 Ts", CTRL_CFG_DEADTIME },
         { "dead time NaN", CTRL_CFG_DEADTIME },
         { "dead time < 0", CTRL_CFG_DEADTIME },
+        { "device drop < 0", CTRL_CFG_DEADTIME },
+        { "device drop NaN", CTRL_CFG_DEADTIME },
+        { "device drop above 0.1 u_max", CTRL_CFG_DEADTIME },
     };
     ctrl_t c;
     ctrl_cfg_t cfg = make_cfg();
@@ -325,7 +328,10 @@ static void init_reports_each_refusal(void **state)
         case 4: bad.L_H = 0.0f; break;
         case 5: bad.deadtime_s = 2.0e-5f; break;
         case 6: bad.deadtime_s = NAN; break;
-        default: bad.deadtime_s = -1.0e-6f; break;
+        case 7: bad.deadtime_s = -1.0e-6f; break;
+        case 8: bad.device_drop_V = -0.1f; break;
+        case 9: bad.device_drop_V = NAN; break;
+        default: bad.device_drop_V = 0.11f * bad.u_max_V; break;
         }
         const ctrl_status_t st = ctrl_init(&c, &bad);
         if ((st & cases[k].bit) == 0u) {

@@ -212,8 +212,10 @@ static void every_listed_value_reaches_its_field(void **state)
     drive_params_to_app_cfg(&p, &cfg);
     DRIVE_PARAMS(CHECK_COPY)
     assert_float_equal(cfg.ctrl.R_Ohm, 1.0, 0.0);
-    assert_int_equal(cfg.prot.isr_budget_cycles, 20);
-    assert_float_equal(cfg.rsid.accel_rad_s2, 38.0, 0.0);
+    assert_int_equal(cfg.prot.isr_budget_cycles, 21);
+    assert_float_equal(cfg.rsid.accel_rad_s2, 39.0, 0.0);
+    assert_float_equal(cfg.ctrl.device_drop_V, 14.0, 0.0);
+    assert_float_equal(cfg.comm.deadtime_s, 13.0, 0.0); /* the told dead time the commissioning splits on */
 }
 
 /* Back-EMF at n_max: 3 x 0.24 x 2000 r/min = 150.8 V, below 311/sqrt(3) =

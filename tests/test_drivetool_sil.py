@@ -503,8 +503,9 @@ class Commission(unittest.TestCase):
             text = f.read()
         self.assertIn("[controller]", text)
         for k in ("R_ohm", "L_H", "psif_Wb", "pole_pairs", "J_kgm2", "B_Nms", "encoder_offset_el_rad",
-                  "speed_kp_Nms_rad", "speed_ki_Nm_rad"):
+                  "speed_kp_Nms_rad", "speed_ki_Nm_rad", "deadtime_s", "device_drop_V", "untold_deadtime_s"):
             self.assertRegex(text, rf"(?m)^{k} = [-+0-9.e]+$")
+        self.assertRegex(text, r"(?m)^\[identify\]\nmode = trusted$")
         print("drivetool commission: " + ", ".join(f"{k} {v[k]:.6g}" for k in v), file=sys.stderr)
 
     def test_a_reversed_encoder_is_refused_naming_it(self):

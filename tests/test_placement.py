@@ -97,6 +97,14 @@ class Placement(unittest.TestCase):
         self.assertEqual(self.check([("isr_part", obj), ("start_part", obj), ("ram_helper.isra.0", obj),
                                      ("core_step", "build/check/isr/control_core.c.o")]), [])
 
+    def test_an_excepted_file_of_a_ram_whole_directory_needs_markers(self):
+        with open("target.mk", "a") as f:
+            f.write("RAMFUNC_ALL_EXCEPT := control/core.c\n")
+        self.assertFalse(placement.in_ram_whole("control/core.c", "target.mk"))
+        fails = self.check([("core_step", "build/check/isr/control_core.c.o")])
+        self.assertEqual(len(fails), 1)
+        self.assertIn("control/core.c: core_step is on the ISR path without RAMFUNC", fails[0])
+
     def test_unmarked_function_on_the_isr_path_fails(self):
         fails = self.check([("background", "build/check/isr/firmware_app_part.c.o")])
         self.assertEqual(len(fails), 1)

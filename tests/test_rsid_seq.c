@@ -160,22 +160,35 @@ static void identify_trusted_and_off_skip_step_1(void **state)
 }
 
 /* Observer settings ctrl_init refused (a band whose top breaks (36)):
- * the start faults CONFIG in its own call, nothing energised - also when
- * an alignment would come first (it would energise the motor). */
+ * the proposed method asked for, the start faults CONFIG in its own
+ * call, nothing energised - also when an alignment would come first (it
+ * would energise the motor). The conventional method never reads those
+ * settings: the same configuration starts it, step 1 skipped (nothing to
+ * identify), the told model in RUN. */
 static void identify_refused_config_faults_at_start(void **state)
 {
     (void)state;
     for (int align = 0; align <= 1; align++) {
         app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, align != 0);
+        app_op_t op = { { 0.0f, 0.0f, 0.0f, 0.0f }, CTRL_MODE_TORQUE, CTRL_METHOD_PROPOSED };
         ctrl_cfg_proposed_defaults(&cfg.ctrl, R_BAND_MIN, 1000.0f);
         init_cfg(&cfg);
         assert_int_not_equal(app.ctrl.status, CTRL_CFG_OK);
         hal_sample_t s = sample(0.0f, 0.0f, VDC);
+        app_request_op(&app, &op);
         app_request_start(&app);
         isr_fault(&s, 0);
         assert_int_equal(app.fault, APP_FAULT_CONFIG);
         assert_snapshot(&s, APP_STATE_INIT);
     }
+    app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, true);
+    ctrl_cfg_proposed_defaults(&cfg.ctrl, R_BAND_MIN, 1000.0f);
+    init_cfg(&cfg);
+    start_and_align();
+    assert_int_equal(app.state, APP_STATE_RUN);
+    assert_int_equal(app.fault, APP_FAULT_NONE);
+    assert_int_equal(ctrl_ident(&app.ctrl), CTRL_IDENT_OFF);
+    assert_int_equal(ctrl_method(&app.ctrl), CTRL_METHOD_CONVENTIONAL);
 }
 
 /* A stop in IDENTIFY_R: IDLE in the next call, PWM off, zero-voltage duties. */

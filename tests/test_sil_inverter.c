@@ -12,6 +12,9 @@
  *    0.15 s): the proposed method's mean |Te - Te*| at most the
  *    conventional one's + 0.005 N m at every point, psi_f^ within 2 % at
  *    >= 200 r/min, and the identified error the hand value (4/pi) dV;
+ *  - a device drop the controller is told (as a commissioning writes it)
+ *    is compensated by both methods: the small motor's torque error
+ *    within 1 % of T_rated, a tenth of the untold one;
  *  - the winding warms 3.0 -> 3.9 ohm over 5 s at 500 r/min, 4 N m: with
  *    track_R R^ within 3 % of the plant's R from 1 s after step 2 on,
  *    psi_f^ within 1 %, mean |Te - Te*| <= 0.01 N m; without it psi_f^
@@ -100,12 +103,16 @@ static int on_row_points(const sil_row_t *r, void *user)
     return 0;
 }
 
+/* The judged window [win_t0, win_t1) [s]: the paper's unless run_window sets another. */
+static double win_t0 = WIN_T0;
+static double win_t1 = WIN_T1;
+
 static int on_row_window(const sil_row_t *r, void *user)
 {
     (void)user;
     fig.state = (int)r->state;
     fig.fault = (int)r->fault;
-    if (r->t_s >= WIN_T0 && r->t_s < WIN_T1) {
+    if (r->t_s >= win_t0 && r->t_s < win_t1) {
         fig.te_sum += fabs(r->te_Nm - r->te_ref_Nm);
         fig.n_warm++;
     }
@@ -141,6 +148,17 @@ static void run(const char *stem, const char *const *sets, sil_row_fn fn)
     assert_int_equal(sil_run(&sc, fn, NULL, &res), 0);
     assert_int_equal(fig.state, APP_STATE_RUN);
     assert_int_equal(fig.fault, APP_FAULT_NONE);
+}
+
+/* A run's mean |Te - Te*| over [t0_s, t1_s) into fig.te_sum / fig.n_warm. */
+static void run_window(const char *stem, const char *const *sets, double t0_s, double t1_s)
+{
+    win_t0 = t0_s;
+    win_t1 = t1_s;
+    run(stem, sets, on_row_window);
+    win_t0 = WIN_T0;
+    win_t1 = WIN_T1;
+    assert_true(fig.n_warm > 0);
 }
 
 /* The staircase's speed and load profiles as scenario overrides. */
@@ -218,6 +236,36 @@ static void device_drop_uncompensated(void **state)
                        fundamental(1.5));
 }
 
+/* The small motor (24 V, L 0.2 mH: the deadbeat's gain L/Ts = 2 V/A),
+ * conventional scenario at 1500 r/min, a 1.2 V device drop on the
+ * switching board. Untold, each leg loses 1.2 V against its current: a
+ * q voltage (4/pi) 1.2 = 1.53 V short, Ts/L of it = 0.76 A of i_q, kt
+ * 0.048 N m/A: about 0.04 N m of torque missing (the SIL: 0.07). Told
+ * ([controller] device_drop_V, as a commissioning writes it), both
+ * methods feed it forward in the deadbeat's voltage: within 1 % of T_rated
+ * (0.3 N m) and below a tenth of the untold error. */
+static void device_drop_told_is_compensated_by_both_methods(void **state)
+{
+    const char *const untold[] = { "plant.device_drop_V=1.2", "identify.mode=trusted", NULL };
+    const char *const told_conv[] = { "plant.device_drop_V=1.2", "controller.device_drop_V=1.2",
+                                      "identify.mode=trusted", NULL };
+    const char *const told_prop[] = { "plant.device_drop_V=1.2", "controller.device_drop_V=1.2",
+                                      "identify.mode=trusted", "controller.method=proposed", NULL };
+    const double t_rated = 1.5 * 4.0 * 0.008 * 6.25;
+    (void)state;
+    run_window("conv_motor_small", untold, 2.5, 3.0);
+    const double te_untold = fig.te_sum / (double)fig.n_warm;
+    run_window("conv_motor_small", told_conv, 2.5, 3.0);
+    const double te_conv = fig.te_sum / (double)fig.n_warm;
+    run_window("conv_motor_small", told_prop, 2.5, 3.0);
+    const double te_prop = fig.te_sum / (double)fig.n_warm;
+    print_message("device drop 1.2 V: mean |Te-Te*| untold %.4f, told conventional %.4f, proposed %.4f N m\n",
+                  te_untold, te_conv, te_prop);
+    assert_true(te_untold > 0.03);
+    assert_true(te_conv <= 0.01 * t_rated && te_conv <= 0.1 * te_untold);
+    assert_true(te_prop <= 0.01 * t_rated && te_prop <= 0.1 * te_untold);
+}
+
 static void winding_warms(void **state)
 {
     (void)state;
@@ -292,6 +340,7 @@ int main(void)
         cmocka_unit_test(deadtime_told_zero),
         cmocka_unit_test(deadtime_told_double),
         cmocka_unit_test(device_drop_uncompensated),
+        cmocka_unit_test(device_drop_told_is_compensated_by_both_methods),
         cmocka_unit_test(winding_warms),
         cmocka_unit_test(winding_warms_at_the_edges_limit),
         cmocka_unit_test(winding_warms_at_low_speed),

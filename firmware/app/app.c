@@ -70,11 +70,18 @@ FLASHFUNC static void enter_run(app_t *app)
     app->rsid.handover = false;
 }
 
+/* The proposed method's blocks were accepted by ctrl_init. */
+FLASHFUNC static bool proposed_available(const app_t *app)
+{
+    return (ctrl_status(&app->ctrl) & CTRL_CFG_NEEDED_PROPOSED) == 0u;
+}
+
 /* After ALIGN, done or skipped: step 1 of the proposed method, or RUN
- * (level 4: RUN, no step 1 or 2). */
+ * (level 4: RUN, no step 1 or 2; the conventional method asked for on a
+ * motor the proposed method's blocks refused: RUN, nothing to identify). */
 FLASHFUNC static void leave_align(app_t *app)
 {
-    if ((app->cfg.rsid.mode == APP_RSID_OFF) || (app->level == LEVEL_TORQUE)) {
+    if ((app->cfg.rsid.mode == APP_RSID_OFF) || (app->level == LEVEL_TORQUE) || !proposed_available(app)) {
         enter_run(app);
     } else if (app->cfg.rsid.mode == APP_RSID_TRUSTED) {
         enter_run(app);
@@ -87,11 +94,17 @@ FLASHFUNC static void leave_align(app_t *app)
     }
 }
 
-/* The controller's blocks this start needs (ctrl.h CTRL_CFG_NEEDED_*). */
+/* The controller's blocks this start needs (ctrl.h CTRL_CFG_NEEDED_*):
+ * the proposed method's only for the proposed method asked for (the
+ * operator's request: ctrl_set_method refuses it on such a motor) at the
+ * full level with step 1 or a trusted R; the conventional method never
+ * reads them, whatever [identify] says. */
 FLASHFUNC static ctrl_status_t config_needed(const app_t *app)
 {
-    return ((app->cfg.rsid.mode == APP_RSID_OFF) || (app->level < LEVEL_FULL)) ? CTRL_CFG_NEEDED_ALWAYS
-                                                : (ctrl_status_t)(CTRL_CFG_NEEDED_ALWAYS | CTRL_CFG_NEEDED_PROPOSED);
+    const bool proposed = (app->op_taken.method == CTRL_METHOD_PROPOSED);
+    return (!proposed || (app->cfg.rsid.mode == APP_RSID_OFF) || (app->level < LEVEL_FULL))
+               ? CTRL_CFG_NEEDED_ALWAYS
+               : (ctrl_status_t)(CTRL_CFG_NEEDED_ALWAYS | CTRL_CFG_NEEDED_PROPOSED);
 }
 
 /* CONFIG when a controller block in needed or the parameter set (the

@@ -91,6 +91,8 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     const drive_params_t *p = &d;
 
     cfg->comm.i_max_A = p->rating.i_rated_A; /* the commissioning's bounds: the ratings (and n_rated) */
+    cfg->comm.deadtime_s = p->board.deadtime_s; /* the told dead time the inverter's split keeps */
+    cfg->comm.speed_lag_s = encoder_ramp_lag_s(p->tuning.pll_bw_rad_s); /* the spin's top within its bound */
     /* the speed PI from the measured J: the parameter set's rule, linear in J */
     drive_speed_pi(1.0f, p->tuning.speed_bw_rad_s, &cfg->comm.speed_kp_per_J_1_s, &cfg->comm.speed_ki_per_J_1_s2);
     /* sec. 3: the I^2t budget of the short-time current (and i2t_rated_A) */

@@ -1,83 +1,35 @@
-/* commission.c - commissioning: measure the motor; see commission.h and
- * firmware/commission_design.md. */
+/* commission.c - commissioning: the sequence, its timing and its refusals;
+ * the motor math is control/ident.h's. See commission.h and
+ * firmware/commission/commission_design.md. */
 #include "commission.h"
 
 #include "mathx.h"
+#include "spmsm.h"
 
-
-/* Torque per (pole pair x flux x i_q) of an SPMSM: Te = 1.5 p psi_f i_q. */
-#define TORQUE_FACTOR 1.5f
 /* R seek: the regulator's error is judged over blocks of this length, and
  * the seek ends when a block's mean |error| is below this share of I1. */
 #define SEEK_BLOCK_S 0.01f
 #define SEEK_TOL 0.05f
-/* The output vector's angle: the middle of the period it is applied in,
- * 1.5 periods after the sample (one period of computation delay). */
-#define OUT_ANGLE_PERIODS 1.5f
-/* Fewest samples a fit accepts. */
-#define FIT_N_MIN 20.0f
+/* A raised cosine's time per (half-turn angle x top speed), T = pi^2 / (2 w_top) for pi [-] */
+#define HALF_TURN_T_PER_PI2 0.5f
+#define HALF 0.5f
 
 /* R phases */
-enum { R_SEEK = 0, R_SETTLE_1, R_WIN_1, R_SETTLE_2, R_WIN_2 };
+enum { R_SEEK = 0, R_POINT_1, R_POINT_2 };
 /* L phases */
 enum { L_DOWN = 0, L_UP };
+/* INVERTER phases: half a turn, the two points with every current reversed
+ * (the ENCODER stage starts where it ends: no turn back, no swing) */
+enum { INV_TURN = 0, INV_POINT_1, INV_POINT_2 };
 /* ENCODER phases */
 enum { E_HOLD_0 = 0, E_FWD, E_HOLD_1, E_BACK, E_HOLD_2 };
 /* SPIN phases */
-enum { S_ACCEL = 0, S_BRAKE };
+enum { S_ACCEL = 0, S_BRAKE, S_RETURN };
 /* WIRING phases */
 enum { W_RAMP = 0, W_HOLD, W_MEASURE };
 /* WIRING: the weaker sequence of the current above this share of the
  * stronger is no phase order but an open phase (single phase: 1). */
 #define WIRING_SEQ_RATIO_MAX 0.5f
-
-/* Field by field: a struct copy may become a memset, a library call
- * that runs from flash (the ISR path's check, make check). */
-FLASHFUNC static void ls_clear(comm_ls_t *s)
-{
-    s->n = 0.0f;
-    s->s1 = 0.0f;
-    s->s2 = 0.0f;
-    s->sy = 0.0f;
-    s->s11 = 0.0f;
-    s->s12 = 0.0f;
-    s->s22 = 0.0f;
-    s->s1y = 0.0f;
-    s->s2y = 0.0f;
-}
-
-FLASHFUNC static void ls_add(comm_ls_t *s, float x1, float x2, float y)
-{
-    s->n += 1.0f;
-    s->s1 += x1;
-    s->s2 += x2;
-    s->sy += y;
-    s->s11 += x1 * x1;
-    s->s12 += x1 * x2;
-    s->s22 += x2 * x2;
-    s->s1y += x1 * y;
-    s->s2y += x2 * y;
-}
-
-/* Slope of y on x1 with a constant; 0 when it cannot be solved (every use needs one of a sign). */
-FLASHFUNC static float ls_slope1(const comm_ls_t *s)
-{
-    const float c11 = s->s11 - s->s1 * s->s1 / s->n;
-    const float c1y = s->s1y - s->s1 * s->sy / s->n;
-    return ((s->n >= FIT_N_MIN) && (c11 > 0.0f)) ? c1y / c11 : 0.0f;
-}
-
-/* Coefficient of x1 in y = b1 x1 + b2 x2 + c; 0 when it cannot be solved. */
-FLASHFUNC static float ls_coef1(const comm_ls_t *s)
-{
-    const float c11 = s->s11 - s->s1 * s->s1 / s->n;
-    const float c12 = s->s12 - s->s1 * s->s2 / s->n;
-    const float c22 = s->s22 - s->s2 * s->s2 / s->n;
-    const float c1y = s->s1y - s->s1 * s->sy / s->n;
-    const float c2y = s->s2y - s->s2 * s->sy / s->n;
-    const float det = c11 * c22 - c12 * c12;
-    return ((s->n >= FIT_N_MIN) && (det > 0.0f)) ? (c1y * c22 - c2y * c12) / det : 0.0f;
-}
 
 FLASHFUNC static uint32_t periods(const comm_t *m, float t_s)
 {
@@ -88,12 +40,15 @@ FLASHFUNC static void next_phase(comm_t *m, uint16_t phase)
 {
     m->phase = phase;
     m->ticks = 0u;
+    m->phase_new = true;
+    m->in_window = false;
 }
 
 FLASHFUNC static void next_stage(comm_t *m, comm_stage_t stage)
 {
     m->stage = stage;
     m->stage_ticks = 0u;
+    m->stage_new = true;
     next_phase(m, 0u);
 }
 
@@ -121,68 +76,75 @@ void comm_init(comm_t *m, const comm_cfg_t *cfg, float Ts_s, uint32_t enc_cpr, u
     m->stage = COMM_STAGE_NONE;
 }
 
+FLASHFUNC static void clear_result(comm_result_t *r)
+{
+    r->R_Ohm = 0.0f;
+    r->L_H = 0.0f;
+    r->psi_f_Wb = 0.0f;
+    r->pole_pairs = 0u;
+    r->J_kgm2 = 0.0f;
+    r->B_Nms = 0.0f;
+    r->enc_offset_el_rad = 0.0f;
+    r->speed_kp_Nms_rad = 0.0f;
+    r->speed_ki_Nm_rad = 0.0f;
+    r->u_err_V = 0.0f;
+    r->inv_dv_V = 0.0f;
+    r->deadtime_s = 0.0f;
+    r->device_drop_V = 0.0f;
+    r->untold_deadtime_s = 0.0f;
+    r->cpr_per_el = 0.0f;
+}
+
 FLASHFUNC void comm_start(comm_t *m)
 {
     next_stage(m, COMM_STAGE_WIRING);
-    m->w_u_V = 0.0f;
     m->w_angle_el_rad = 0.0f;
     enc_check_start(&m->chk, 0u);
     (void)enc_check_verdict(&m->chk, &m->chk_out); /* the empty figures */
     m->cycles = 0u;
     m->u_a_V = 0.0f;
-    m->u_b_V = 0.0f;
-    m->xd_V = 0.0f;
-    m->xq_V = 0.0f;
-    m->ki_V_As = 0.0f;
-    m->ki0_V_As = 0.0f;
-    m->kp_V_A = 0.0f;
-    m->out_a_V = 0.0f;
-    m->out_b_V = 0.0f;
-    m->i_ref_A = m->cfg.r_i1_frac * m->cfg.i_max_A;
-    m->err_abs_A = 0.0f;
-    m->sum_u = 0.0f;
-    m->sum_i = 0.0f;
-    m->n_win = 0.0f;
-    m->U1_V = 0.0f;
-    m->I1_A = 0.0f;
-    m->U2_V = 0.0f;
-    m->I2_A = 0.0f;
-    m->R0_Ohm = 0.0f;
-    m->y_Vs = 0.0f;
     m->u_prev_V = 0.0f;
     m->u_prev2_V = 0.0f;
-    m->di_prev_A = 0.0f;
-    ls_clear(&m->ls);
-    ls_clear(&m->ls2);
-    ls_clear(&m->ls3);
-    m->iq_sum1 = 0.0f;
-    m->w_sum1 = 0.0f;
-    m->iq_sum2 = 0.0f;
-    m->w_sum2 = 0.0f;
+    m->i_ref_A = m->cfg.r_i1_frac * m->cfg.i_max_A;
+    m->err_abs_A = 0.0f;
+    m->u_lim_V = 0.0f;
+    ident_win_reset(&m->win);
+    ident_ls_reset(&m->ls);
+    ident_spin_reset(&m->spin);
     m->theta_c_rad = 0.0f;
+    m->theta0_rad = 0.0f;
     m->count0 = 0u;
     m->count_last = 0u;
+    m->still_count = 0u;
     m->dcount = 0.0f;
-    m->top_rad_s = 0.0f;
-    m->w_ref_rad_s = 0.0f;
-    m->y_ref_V = 0.0f;
-    m->res.R_Ohm = 0.0f;
-    m->res.L_H = 0.0f;
-    m->res.psi_f_Wb = 0.0f;
-    m->res.pole_pairs = 0u;
-    m->res.J_kgm2 = 0.0f;
-    m->res.B_Nms = 0.0f;
-    m->res.enc_offset_el_rad = 0.0f;
-    m->res.speed_kp_Nms_rad = 0.0f;
-    m->res.speed_ki_Nm_rad = 0.0f;
-    m->res.u_err_V = 0.0f;
-    m->res.cpr_per_el = 0.0f;
+    clear_result(&m->res);
+    m->phase_new = false; /* the next call is the stage's first period */
+    m->stage_new = false;
 }
 
-/* The voltage limit of the stages [V]: u_frac of the inscribed circle. */
+/* The voltage bound of the stages [V]: u_frac of the inscribed circle. */
 FLASHFUNC static float u_limit_V(const comm_t *m, float vdc_V)
 {
     return m->cfg.u_frac * vdc_V * MATHX_INV_SQRT3_F;
+}
+
+/* The regulators' output bound [V]: the inscribed circle, the linear
+ * range of the modulation (the plausibility bound u_frac of it faults first). */
+FLASHFUNC static float u_pi_max_V(float vdc_V)
+{
+    return vdc_V * MATHX_INV_SQRT3_F;
+}
+
+/* The virtual resistance of the DC regulators [V/A] (R_v, design sec. 1). */
+FLASHFUNC static float r_virtual_Ohm(const comm_t *m, float vdc_V)
+{
+    return m->cfg.r_kp_frac * vdc_V / m->cfg.i_max_A;
+}
+
+/* The seek's integral gain [V/(A s)]: a full-bound error ramps the voltage through vdc in r_seek_s. */
+FLASHFUNC static float ki_seek_V_As(const comm_t *m, float vdc_V)
+{
+    return vdc_V / (m->cfg.i_max_A * m->cfg.r_seek_s);
 }
 
 /* count - from [counts], the shorter way round the turn (signed). */
@@ -199,28 +161,63 @@ FLASHFUNC static float count_diff(const comm_t *m, uint32_t count, uint32_t from
     return (float)d;
 }
 
-/* ---- R: integral regulator on alpha (I1, I2) and beta (0) --------------- */
-
-FLASHFUNC static void window_add(comm_t *m, float u, float i)
+/* Signed count change since the last period, the shorter way round [counts]. */
+FLASHFUNC static float count_step(comm_t *m, uint32_t count)
 {
-    m->sum_u += u;
-    m->sum_i += i;
-    m->n_win += 1.0f;
+    const float d = count_diff(m, count, m->count_last);
+
+    m->count_last = count;
+    return d;
 }
 
-FLASHFUNC static void window_drop(comm_t *m)
+/* ---- a DC point: settle with the rotor still, then a window ------------- */
+
+/* Still: the count within r_still_rad of where the settling began (the
+ * back-EMF of a swinging rotor would bias the window). */
+FLASHFUNC static bool rotor_still(comm_t *m, uint32_t count)
 {
-    m->sum_u = 0.0f;
-    m->sum_i = 0.0f;
-    m->n_win = 0.0f;
+    bool still;
+
+    if (!m->in_window && (m->ticks == 0u)) {
+        m->still_count = count;
+    }
+    still = mathx_fabsf(count_diff(m, count, m->still_count)) <=
+            m->cfg.r_still_rad * (float)m->enc_cpr / MATHX_TWO_PI_F;
+    if (!still) {
+        m->still_count = count;
+    }
+    return still;
 }
 
-/* The window's means (it has at least one period), emptied. */
-FLASHFUNC static void window_take(comm_t *m, float *U, float *I)
+/* Settling for r_settle_s of a still rotor, then a window of r_window_s of
+ * the alpha voltage commanded u_V and current i_A (a moving rotor starts
+ * the settling again): true in the period the point is in *pt. */
+FLASHFUNC static bool dc_point(comm_t *m, uint32_t count, float u_V, float i_A, ident_point_t *pt)
 {
-    *U = m->sum_u / m->n_win;
-    *I = m->sum_i / m->n_win;
-    window_drop(m);
+    const bool still = rotor_still(m, count);
+
+    if (!m->in_window) {
+        if (!still) {
+            m->ticks = 0u;
+        } else if (m->ticks >= periods(m, m->cfg.r_settle_s)) {
+            m->in_window = true;
+            m->ticks = 0u;
+        }
+        return false;
+    }
+    if (!still) {
+        ident_win_reset(&m->win);
+        m->in_window = false;
+        m->ticks = 0u;
+        return false;
+    }
+    ident_win_add(&m->win, u_V, i_A);
+    if (m->ticks >= periods(m, m->cfg.r_window_s)) {
+        *pt = ident_win_take(&m->win);
+        m->in_window = false;
+        return true;
+    }
+    return false;
 }
 
 /* ---- WIRING: a fast voltage vector, the phase order (enc_check) --------- */
@@ -246,18 +243,31 @@ FLASHFUNC static app_step_t wiring_verdict(comm_t *m)
     return r;
 }
 
+/* The amplitude's regulator on |i| (pi.h): the R seek's gains, its output
+ * within [0, the inscribed circle]; false when pi_init refuses them. */
+FLASHFUNC static bool wiring_begin(comm_t *m, float vdc_V)
+{
+    pi_cfg_t c;
+    c.Kp = r_virtual_Ohm(m, vdc_V);
+    c.Ki = ki_seek_V_As(m, vdc_V);
+    c.Ts_s = m->Ts_s;
+    c.u_min = 0.0f;
+    c.u_max = u_pi_max_V(vdc_V);
+    return pi_init(&m->wiring, &c);
+}
+
 FLASHFUNC static app_step_t stage_wiring(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
 {
     const comm_cfg_t *c = &m->cfg;
     const float I = c->enc_frac * c->i_max_A;
-    /* the amplitude's integral regulator on |i|: the R seek's gain */
-    const float k_V_As = in->vdc_V / (c->i_max_A * c->r_seek_s);
-    const float i_abs = mathx_sqrtf(i.a * i.a + i.b * i.b);
     float i_ref = I;
     float s;
     float co;
     app_step_t r = app_step_running();
 
+    if ((m->stage_ticks == 0u) && !wiring_begin(m, in->vdc_V)) {
+        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, r_virtual_Ohm(m, in->vdc_V), 0.0f);
+    }
     /* the currents sampled now answer the vector applied over the last period */
     mathx_sincosf(m->w_angle_el_rad, &s, &co);
     switch (m->phase) {
@@ -281,123 +291,130 @@ FLASHFUNC static app_step_t stage_wiring(comm_t *m, const ctrl_in_t *in, ab_t i,
         break;
     }
     m->w_angle_el_rad = mathx_wrap_2pi(m->w_angle_el_rad + m->w_dangle_el_rad);
-    m->w_u_V += k_V_As * m->Ts_s * (i_ref - i_abs);
-    m->w_u_V = (m->w_u_V > 0.0f) ? m->w_u_V : 0.0f;
-    if ((r.status == APP_STEP_RUNNING) && (m->w_u_V > u_limit_V(m, in->vdc_V))) {
-        r = app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, m->w_u_V, u_limit_V(m, in->vdc_V));
+    const float u = pi_step(&m->wiring, i_ref - mathx_sqrtf(i.a * i.a + i.b * i.b));
+    if ((r.status == APP_STEP_RUNNING) && (u > u_limit_V(m, in->vdc_V))) {
+        r = app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, u, u_limit_V(m, in->vdc_V));
     }
+    mathx_sincosf(m->w_angle_el_rad, &s, &co);
+    u_ab->a = u * co;
+    u_ab->b = u * s;
     if (r.status == APP_STEP_DONE) {
-        m->w_u_V = 0.0f;
+        u_ab->a = 0.0f;
+        u_ab->b = 0.0f;
         next_stage(m, COMM_STAGE_R);
         r = app_step_running();
     }
-    mathx_sincosf(m->w_angle_el_rad, &s, &co);
-    u_ab->a = m->w_u_V * co;
-    u_ab->b = m->w_u_V * s;
     return r;
 }
 
-FLASHFUNC static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
+/* ---- R: DC injection on alpha (I1, I2), beta on 0 ------------------------ */
+
+/* The DC regulator from the bus of the stage's first period: seek gains. */
+FLASHFUNC static bool r_begin(comm_t *m, float vdc_V)
+{
+    ident_dc_cfg_t c;
+    c.Ts_s = m->Ts_s;
+    c.kp_V_A = r_virtual_Ohm(m, vdc_V);
+    c.ki_V_As = ki_seek_V_As(m, vdc_V);
+    c.u_max_V = u_pi_max_V(vdc_V);
+    return ident_dc_init(&m->dc, &c);
+}
+
+/* The seek's reference [A]: I1 ramped at the pre-position, then turned
+ * onto phase a: the rotor follows without a swing, and no start angle is a
+ * dead point of both (startup_design.md, "Alignment"). */
+FLASHFUNC static ab_t r_seek_ref(const comm_t *m)
+{
+    const comm_cfg_t *c = &m->cfg;
+    const float t = (float)m->stage_ticks * m->Ts_s;
+    const float mag = c->r_i1_frac * c->i_max_A * mathx_clampf(t / c->r_ramp_s, 0.0f, 1.0f);
+    const float phi = c->r_prepos_el_rad * (1.0f - mathx_clampf((t - c->r_ramp_s) / c->r_ramp_s, 0.0f, 1.0f));
+    float sn;
+    float cs;
+    ab_t ref;
+
+    mathx_sincosf(phi, &sn, &cs);
+    ref.a = mag * cs;
+    ref.b = mag * sn;
+    return ref;
+}
+
+/* The seek's end: a block's mean |error| on alpha below SEEK_TOL of I1
+ * once the ramp and the turn are over; then R0 = U / I1 (the inverter's
+ * error in it: a first estimate) sets alpha's faster integral gain. */
+FLASHFUNC static app_step_t r_seek(comm_t *m, float e_a, float u_a)
 {
     const comm_cfg_t *c = &m->cfg;
     const float I1 = c->r_i1_frac * c->i_max_A;
-    bool still;
-    float e_a;
-    float i_ref_b = 0.0f;
+
+    m->err_abs_A += mathx_fabsf(e_a);
+    if (m->stage_ticks < 2u * periods(m, c->r_ramp_s)) {
+        m->err_abs_A = 0.0f;
+        m->ticks = 0u;
+    } else if (m->ticks >= periods(m, SEEK_BLOCK_S)) {
+        if (m->err_abs_A < SEEK_TOL * I1 * (float)m->ticks) {
+            const float R0 = u_a / I1;
+            if (!(R0 > 0.0f) || !ident_dc_set_ki_a(&m->dc, c->r_bw_rad_s * R0)) {
+                return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, R0, 0.0f);
+            }
+            m->i_ref_A = I1;
+            next_phase(m, R_POINT_1);
+        } else {
+            m->err_abs_A = 0.0f;
+            m->ticks = 0u;
+        }
+    }
+    return app_step_running();
+}
+
+/* R from the two points; the constant error at I1 kept (u_err_V). */
+FLASHFUNC static app_step_t r_finish(comm_t *m)
+{
+    const float R = ident_r_of_points(m->pos[0], m->pos[1]);
+
+    if (!mathx_isfinitef(R) || !(R > 0.0f)) {
+        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, R, 0.0f);
+    }
+    m->res.R_Ohm = R;
+    m->res.u_err_V = m->pos[0].U_V - R * m->pos[0].I_A;
+    next_stage(m, COMM_STAGE_L);
+    ident_l_start(&m->l, m->Ts_s, m->pos[1]);
+    m->u_a_V = m->pos[1].U_V - R * m->cfg.l_step_frac * m->cfg.i_max_A;
+    return app_step_running();
+}
+
+FLASHFUNC static app_step_t stage_r(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
+{
+    const comm_cfg_t *c = &m->cfg;
+    ab_t ref = { m->i_ref_A, 0.0f };
+    ident_point_t pt;
     app_step_t r = app_step_running();
 
-    if (m->phase == R_SEEK) {
-        /* ramped at the pre-position, then turned onto phase a: the rotor
-         * follows without a swing, and no start angle is a dead point of
-         * both (startup_design.md, "Alignment") */
-        const float t = (float)m->stage_ticks * m->Ts_s;
-        const float mag = I1 * mathx_clampf(t / c->r_ramp_s, 0.0f, 1.0f);
-        const float phi = c->r_prepos_el_rad * (1.0f - mathx_clampf((t - c->r_ramp_s) / c->r_ramp_s, 0.0f, 1.0f));
-        float sn;
-        float cs;
-        mathx_sincosf(phi, &sn, &cs);
-        m->i_ref_A = mag * cs;
-        i_ref_b = mag * sn;
+    if ((m->stage_ticks == 0u) && !r_begin(m, in->vdc_V)) {
+        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, r_virtual_Ohm(m, in->vdc_V), 0.0f);
     }
-    e_a = m->i_ref_A - i.a;
-
+    if (m->phase == R_SEEK) {
+        ref = r_seek_ref(m);
+    }
     /* integral, plus a virtual resistance that bounds the current the
      * rotor's swing induces; beta's integral slow: a current the back-EMF
      * drives on it damps the swing */
-    m->u_a_V += m->ki_V_As * m->Ts_s * e_a;
-    m->u_b_V += m->ki0_V_As * m->Ts_s * (i_ref_b - i.b);
-    m->out_a_V = m->u_a_V + m->kp_V_A * e_a;
-    m->out_b_V = m->u_b_V + m->kp_V_A * (i_ref_b - i.b);
-    /* still: the count within r_still_rad of where the settling began */
-    if ((m->phase == R_SETTLE_1) || (m->phase == R_SETTLE_2)) {
-        if (m->ticks == 0u) {
-            m->count_last = count;
-        }
-    }
-    still = mathx_fabsf(count_diff(m, count, m->count_last)) <=
-            c->r_still_rad * (float)m->enc_cpr / MATHX_TWO_PI_F;
-    if (!still) {
-        m->count_last = count;
-    }
+    *u_ab = ident_dc_step(&m->dc, ref, i);
     switch (m->phase) {
     case R_SEEK:
-        m->err_abs_A += mathx_fabsf(e_a);
-        if (m->stage_ticks < 2u * periods(m, c->r_ramp_s)) {
-            m->err_abs_A = 0.0f;
-            m->ticks = 0u;
-        } else if (m->ticks >= periods(m, SEEK_BLOCK_S)) {
-            if (m->err_abs_A < SEEK_TOL * m->i_ref_A * (float)m->ticks) {
-                m->R0_Ohm = m->u_a_V / m->i_ref_A; /* with the inverter's error: a first estimate */
-                if (!(m->R0_Ohm > 0.0f)) {
-                    return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, m->R0_Ohm, 0.0f);
-                }
-                m->ki_V_As = c->r_bw_rad_s * m->R0_Ohm;
-                next_phase(m, R_SETTLE_1);
-            } else {
-                m->err_abs_A = 0.0f;
-                m->ticks = 0u;
-            }
-        }
+        r = r_seek(m, ref.a - i.a, u_ab->a);
         break;
-    case R_SETTLE_1:
-    case R_SETTLE_2:
-        if (!still) {
-            m->ticks = 0u; /* the rotor still turns onto phase a: its back-EMF would bias R */
-        } else if (m->ticks >= periods(m, c->r_settle_s)) {
-            next_phase(m, (uint16_t)(m->phase + 1u));
-        }
-        break;
-    case R_WIN_1:
-        if (!still) {
-            window_drop(m);
-            next_phase(m, R_SETTLE_1);
-            break;
-        }
-        window_add(m, m->out_a_V, i.a);
-        if (m->ticks >= periods(m, c->r_window_s)) {
-            window_take(m, &m->U1_V, &m->I1_A);
+    case R_POINT_1:
+        if (dc_point(m, in->enc_count, u_ab->a, i.a, &pt)) {
+            m->pos[0] = pt;
             m->i_ref_A = c->r_i2_frac * c->i_max_A;
-            next_phase(m, R_SETTLE_2);
+            next_phase(m, R_POINT_2);
         }
         break;
-    default: /* R_WIN_2 */
-        if (!still) {
-            window_drop(m);
-            next_phase(m, R_SETTLE_2);
-            break;
-        }
-        window_add(m, m->out_a_V, i.a);
-        if (m->ticks >= periods(m, c->r_window_s)) {
-            float R;
-            window_take(m, &m->U2_V, &m->I2_A);
-            R = (m->U2_V - m->U1_V) / (m->I2_A - m->I1_A);
-            if (!mathx_isfinitef(R) || !(R > 0.0f)) {
-                return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, R, 0.0f);
-            }
-            m->res.R_Ohm = R;
-            m->res.u_err_V = m->U1_V - R * m->I1_A;
-            next_stage(m, COMM_STAGE_L);
-            m->u_a_V = m->U2_V - R * c->l_step_frac * c->i_max_A;
+    default: /* R_POINT_2 */
+        if (dc_point(m, in->enc_count, u_ab->a, i.a, &pt)) {
+            m->pos[1] = pt;
+            r = r_finish(m);
         }
         break;
     }
@@ -406,136 +423,238 @@ FLASHFUNC static app_step_t stage_r(comm_t *m, ab_t i, uint32_t count)
 
 /* ---- L: open-loop steps on alpha around (U2, I2) ------------------------ */
 
-FLASHFUNC static app_step_t stage_l(comm_t *m, ab_t i)
+/* The dq PI (INVERTER, ENCODER, SPIN) from R^ and L^, bumpless from the
+ * voltage applied at the L stage's end (the rotor's d axis on alpha). */
+FLASHFUNC static app_step_t l_finish(comm_t *m, float L, float vdc_V, float u_b_V)
+{
+    const float R = m->res.R_Ohm;
+    const dq_t u0 = { m->u_a_V, u_b_V };
+
+    /* a time constant L / R of at least a period (the PI's Ts Ki <= Kp) */
+    if (!mathx_isfinitef(L) || !(L > R * m->Ts_s) ||
+        !ident_cur_init(&m->cur, m->Ts_s, m->cfg.i_bw_rad_s, R, L, u_pi_max_V(vdc_V), u0)) {
+        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, L, R * m->Ts_s);
+    }
+    m->res.L_H = L;
+    next_stage(m, COMM_STAGE_INVERTER);
+    m->theta_c_rad = 0.0f;
+    m->i_ref_A = m->cfg.r_i2_frac * m->cfg.i_max_A;
+    return app_step_running();
+}
+
+FLASHFUNC static app_step_t stage_l(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
 {
     const comm_cfg_t *c = &m->cfg;
     const float R = m->res.R_Ohm;
     const float dI = c->l_step_frac * c->i_max_A;
-    const float di = i.a - m->I2_A;
+    const float di = i.a - m->l.op.I_A;
 
-    /* the period just ended had the voltage commanded two calls ago
-     * applied (hal.h: duties take effect at the next period's start):
-     * L (di(k) - di(k-1)) = Ts (du(k-2) - R (di(k) + di(k-1)) / 2) */
-    if (m->stage_ticks > 0u) {
-        m->y_Vs += m->Ts_s * ((m->u_prev2_V - m->U2_V) - R * 0.5f * (di + m->di_prev_A));
-    }
-    ls_add(&m->ls, di, (float)m->stage_ticks * m->Ts_s, m->y_Vs);
-    m->di_prev_A = di;
-    m->u_b_V -= m->ki0_V_As * m->Ts_s * i.b;
-    m->out_b_V = m->u_b_V - m->kp_V_A * i.b;
+    /* the period just ended had the voltage commanded two calls ago (spmsm.h) */
+    ident_l_step(&m->l, i.a, m->u_prev2_V, R);
+    u_ab->b = ident_dc_step_b(&m->dc, i.b);
     if ((m->phase == L_DOWN) && (di <= -c->l_rise_frac * dI)) {
-        m->u_a_V = m->U2_V;
+        m->u_a_V = m->l.op.U_V;
         next_phase(m, L_UP);
     } else if ((m->phase == L_UP) && (di >= -(1.0f - c->l_rise_frac) * dI)) {
         m->cycles++;
         if (m->cycles >= c->l_cycles) {
-            const float L = ls_coef1(&m->ls);
-            /* a time constant L / R of at least a period */
-            if (!mathx_isfinitef(L) || !(L > R * m->Ts_s)) {
-                return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, L, R * m->Ts_s);
-            }
-            m->res.L_H = L;
-            next_stage(m, COMM_STAGE_ENCODER);
-            m->xd_V = m->u_a_V;
-            m->xq_V = m->out_b_V;
-            m->theta_c_rad = 0.0f;
-            ls_clear(&m->ls);
-        } else {
-            m->u_a_V = m->U2_V - R * dI;
-            next_phase(m, L_DOWN);
+            u_ab->a = m->u_a_V;
+            return l_finish(m, ident_l_solve(&m->l), in->vdc_V, u_ab->b);
         }
+        m->u_a_V = m->l.op.U_V - R * dI;
+        next_phase(m, L_DOWN);
     }
+    u_ab->a = m->u_a_V;
     return app_step_running();
 }
 
-/* ---- dq current PI (ENCODER, SPIN) --------------------------------------- */
+/* ---- the vector's current PI (INVERTER, ENCODER) -------------------------- */
 
-/* One period of the PI at the measurement angle theta (sin/cos given) for
- * i_ref; the voltage at theta_out into *u_ab; returns |u_dq| [V]. */
-FLASHFUNC static float current_pi(comm_t *m, ab_t i, float s, float co, dq_t i_ref, float theta_out, ab_t *u_ab, dq_t *u_dq)
+/* One period of the dq PI in the vector's frame at theta_c (the current
+ * follows the vector: the measurement's angle), the voltage turned at the
+ * angle it acts at, the vector turning at speed_el_rad_s [rad/s el]
+ * (spmsm.h's advance). */
+FLASHFUNC static void vector_pi(comm_t *m, ab_t i, float i_ref_A, float speed_el_rad_s, ab_t *u_ab)
 {
-    const dq_t i_dq = park(i, s, co);
-    const float kp = m->cfg.i_bw_rad_s * m->res.L_H;
-    const float kiT = m->cfg.i_bw_rad_s * m->res.R_Ohm * m->Ts_s;
-    const float ed = i_ref.d - i_dq.d;
-    const float eq = i_ref.q - i_dq.q;
+    const dq_t ref = { i_ref_A, 0.0f };
+    float s;
+    float co;
     float so;
     float cout;
 
-    u_dq->d = kp * ed + m->xd_V;
-    u_dq->q = kp * eq + m->xq_V;
-    m->xd_V += kiT * ed;
-    m->xq_V += kiT * eq;
-    mathx_sincosf(theta_out, &so, &cout);
-    *u_ab = park_inv(*u_dq, so, cout);
-    return mathx_sqrtf(u_dq->d * u_dq->d + u_dq->q * u_dq->q);
+    mathx_sincosf(m->theta_c_rad, &s, &co);
+    const dq_t u = ident_cur_step(&m->cur, ref, park(i, s, co));
+    mathx_sincosf(m->theta_c_rad + spmsm_angle_advance_rad(speed_el_rad_s, m->Ts_s), &so, &cout);
+    *u_ab = park_inv(u, so, cout);
 }
 
-/* Signed count change since the last period, the shorter way round [counts]. */
-FLASHFUNC static float count_step(comm_t *m, uint32_t count)
-{
-    const float d = count_diff(m, count, m->count_last);
+/* ---- INVERTER: the R stage's points with every current reversed ---------- */
 
-    m->count_last = count;
-    return d;
+/* Periods of half an electrical turn on a raised cosine whose top speed is
+ * the sweep's, pi^2 / (2 T): it starts and stops without a step of speed,
+ * so it leaves the rotor little swing to settle from. */
+FLASHFUNC static uint32_t half_turn_periods(const comm_t *m)
+{
+    return periods(m, HALF_TURN_T_PER_PI2 * MATHX_PI_F * MATHX_PI_F / m->cfg.enc_speed_el_rad_s);
 }
 
-/* ---- ENCODER: a vector swept one electrical turn forward and back -------- */
-
-FLASHFUNC static app_step_t encoder_result(comm_t *m)
+/* The stage's planned length [periods]: the half turn, two settlings, two windows. */
+FLASHFUNC static uint32_t inverter_periods(const comm_t *m)
 {
-    const float s = ls_slope1(&m->ls); /* counts per rad el */
-    const float cpr = (float)m->enc_cpr;
-    const uint16_t p = m->pole_pairs;  /* WIRING checked it against the counts */
-    uint32_t c0p;
-    float mean_theta;
-    float mean_dc;
+    return half_turn_periods(m) + 2u * (periods(m, m->cfg.r_settle_s) + periods(m, m->cfg.r_window_s));
+}
 
-    if (!(s > 0.0f)) { /* WIRING saw the counts follow the vector */
-        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, s, 0.0f);
+/* The per-leg error, its split at this bus and what the measurement leaves uncertain. */
+FLASHFUNC static app_step_t inverter_finish(comm_t *m, float vdc_V)
+{
+    ident_inv_t inv;
+
+    ident_inv_solve(m->res.R_Ohm, m->pos, m->neg, &inv);
+    if (!mathx_isfinitef(inv.dv_V) || !mathx_isfinitef(inv.spread_V) || !(vdc_V > 0.0f)) {
+        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, inv.dv_V, 0.0f);
     }
-    m->res.pole_pairs = p;
-    m->res.cpr_per_el = MATHX_TWO_PI_F * s;
-    /* theta_c = offset + p 2 pi (count0 + dcount + 1/2) / cpr on average
-     * (encoder.h's count centre); count0 p reduced mod cpr first */
-    c0p = mathx_umod_u32(m->count0 * (uint32_t)p, m->enc_cpr);
-    mean_theta = m->ls.s1 / m->ls.n + MATHX_PI_F;
-    mean_dc = m->ls.sy / m->ls.n;
-    m->res.enc_offset_el_rad =
-        mathx_wrap_2pi(mean_theta - ((float)c0p + (float)p * (0.5f + mean_dc)) * (MATHX_TWO_PI_F / cpr));
+    m->res.inv_dv_V = inv.dv_V;
+    ident_inv_split(inv.dv_V, vdc_V, m->Ts_s, m->cfg.deadtime_s, &m->res.deadtime_s, &m->res.device_drop_V);
+    m->res.untold_deadtime_s = inv.spread_V * m->Ts_s / vdc_V;
     return app_step_done();
+}
+
+/* The vector's angle this period: half a turn on a raised cosine, then
+ * held; its speed [rad/s el]. */
+FLASHFUNC static float inverter_angle(comm_t *m)
+{
+    const uint32_t N = half_turn_periods(m);
+    const float x = MATHX_PI_F * (float)((m->ticks < N) ? m->ticks : N) / (float)N;
+    float s;
+    float co;
+
+    if (m->phase != INV_TURN) {
+        return 0.0f;
+    }
+    mathx_sincosf(x, &s, &co);
+    m->theta_c_rad = HALF * MATHX_PI_F * (1.0f - co);
+    return HALF * MATHX_PI_F * MATHX_PI_F / ((float)N * m->Ts_s) * s;
+}
+
+FLASHFUNC static app_step_t stage_inverter(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
+{
+    const comm_cfg_t *c = &m->cfg;
+    ident_point_t pt;
+    app_step_t r = app_step_running();
+
+    vector_pi(m, i, m->i_ref_A, inverter_angle(m), u_ab);
+    switch (m->phase) {
+    case INV_TURN:
+        if (m->ticks >= half_turn_periods(m)) {
+            next_phase(m, INV_POINT_1);
+        }
+        break;
+    case INV_POINT_1:
+        if (dc_point(m, in->enc_count, u_ab->a, i.a, &pt)) {
+            m->neg[0] = pt;
+            m->i_ref_A = c->r_i1_frac * c->i_max_A;
+            next_phase(m, INV_POINT_2);
+        }
+        break;
+    default: /* INV_POINT_2 */
+        if (dc_point(m, in->enc_count, u_ab->a, i.a, &pt)) {
+            m->neg[1] = pt;
+            r = inverter_finish(m, in->vdc_V);
+        }
+        break;
+    }
+    if (r.status == APP_STEP_DONE) {
+        m->theta0_rad = m->theta_c_rad; /* the sweeps start from the vector's angle here */
+        next_stage(m, COMM_STAGE_ENCODER);
+        ident_ls_reset(&m->ls);
+        r = app_step_running();
+    }
+    return r;
+}
+
+/* ---- ENCODER: a vector swept one mechanical turn forward, one electrical back */
+
+/* Periods of one electrical turn at the sweep speed. */
+FLASHFUNC static uint32_t turn_periods(const comm_t *m)
+{
+    return periods(m, MATHX_TWO_PI_F / m->cfg.enc_speed_el_rad_s);
 }
 
 /* The ENCODER stage's planned length [periods]: the told pole pairs'
  * turns forward, one back, three holds. */
 FLASHFUNC static uint32_t encoder_periods(const comm_t *m)
 {
-    return (1u + (uint32_t)m->pole_pairs) * periods(m, MATHX_TWO_PI_F / m->cfg.enc_speed_el_rad_s) +
-           3u * periods(m, m->cfg.enc_hold_s);
+    return (1u + (uint32_t)m->pole_pairs) * turn_periods(m) + 3u * periods(m, m->cfg.enc_hold_s);
 }
 
-FLASHFUNC static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
+/* The offset from the fit over the last turn forward and the turn back. */
+FLASHFUNC static app_step_t encoder_result(comm_t *m)
 {
-    const comm_cfg_t *c = &m->cfg;
-    const float step = c->enc_speed_el_rad_s * m->Ts_s;
-    const uint32_t sweep = periods(m, MATHX_TWO_PI_F / c->enc_speed_el_rad_s);
-    const uint32_t fwd = (uint32_t)m->pole_pairs * sweep; /* one mechanical turn */
-    const uint32_t hold = periods(m, c->enc_hold_s);
-    const dq_t i_ref = { c->enc_frac * c->i_max_A, 0.0f };
-    bool fit = false;
-    float dir = 0.0f;
+    float s; /* counts per rad el */
+    const float off = ident_enc_offset(&m->ls, m->count0, m->pole_pairs, m->enc_cpr, &s);
+
+    if (!(s > 0.0f)) { /* WIRING saw the counts follow the vector */
+        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, s, 0.0f);
+    }
+    m->res.pole_pairs = m->pole_pairs; /* checked against the counts by the forward sweep */
+    m->res.cpr_per_el = MATHX_TWO_PI_F * s;
+    m->res.enc_offset_el_rad = off;
+    return app_step_done();
+}
+
+/* The forward sweep's end: travel, direction, counts per turn, pole pairs. */
+FLASHFUNC static app_step_t encoder_fwd_verdict(comm_t *m)
+{
+    const float min_moved = 0.5f * (float)m->enc_cpr / (float)m->cfg.pole_pairs_max;
+
+    if (mathx_fabsf(m->dcount) < min_moved) {
+        return app_step_fault(APP_FAULT_COMM_NO_ROTATION, m->dcount, min_moved);
+    }
+    return enc_check_verdict(&m->chk, &m->chk_out);
+}
+
+/* One period of the sweep's phases: the vector's angle and direction,
+ * whether the period joins the offset's fit, and the phase's end. */
+/* The forward sweep's period: enc_check's sample, the vector one step
+ * on, the last electrical turn into the offset's fit; at its end (one
+ * mechanical turn) the verdict, then the hold. */
+FLASHFUNC static app_step_t encoder_fwd(comm_t *m, const ctrl_in_t *in, ab_t i, float *speed, bool *fit)
+{
+    const float step = m->cfg.enc_speed_el_rad_s * m->Ts_s;
+    const uint32_t fwd = (uint32_t)m->pole_pairs * turn_periods(m); /* one mechanical turn */
     float s;
     float co;
-    dq_t u_dq;
     app_step_t r = app_step_running();
 
-    if (m->stage_ticks == 0u) {
-        m->count_last = in->enc_count;
+    mathx_sincosf(m->theta_c_rad, &s, &co);
+    enc_check_step(&m->chk, step, co, s, i.a, i.b, in->enc_count);
+    *speed = m->cfg.enc_speed_el_rad_s;
+    m->theta_c_rad = m->theta0_rad + (float)m->ticks * step;
+    *fit = (m->ticks + turn_periods(m) > fwd);
+    if (m->ticks >= fwd) {
+        r = encoder_fwd_verdict(m);
+        if (r.status == APP_STEP_DONE) {
+            r = app_step_running();
+            *speed = 0.0f;
+            next_phase(m, E_HOLD_1);
+        }
     }
-    m->dcount += count_step(m, in->enc_count);
+    return r;
+}
+
+FLASHFUNC static app_step_t encoder_phase(comm_t *m, const ctrl_in_t *in, ab_t i, float *speed, bool *fit)
+{
+    const uint32_t hold = periods(m, m->cfg.enc_hold_s);
+    app_step_t r = app_step_running();
+
+    *speed = 0.0f;
+    *fit = false;
     switch (m->phase) {
     case E_HOLD_0:
-        if (m->ticks >= hold) {
+        /* the sweep starts from a still rotor: the count0 must not catch a swing */
+        if (!rotor_still(m, in->enc_count)) {
+            m->ticks = 0u;
+        } else if (m->ticks >= hold) {
             m->count0 = in->enc_count;
             m->dcount = 0.0f;
             enc_check_start(&m->chk, in->enc_count);
@@ -543,26 +662,7 @@ FLASHFUNC static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i
         }
         break;
     case E_FWD:
-        /* the current follows the vector: its angle is the measurement's */
-        mathx_sincosf(m->theta_c_rad, &s, &co);
-        enc_check_step(&m->chk, step, co, s, i.a, i.b, in->enc_count);
-        dir = 1.0f;
-        m->theta_c_rad = (float)m->ticks * step;
-        fit = (m->ticks + sweep > fwd); /* the last electrical turn */
-        if (m->ticks >= fwd) {
-            const float moved = m->dcount;
-            const float min_moved = 0.5f * (float)m->enc_cpr / (float)c->pole_pairs_max;
-            if (mathx_fabsf(moved) < min_moved) {
-                return app_step_fault(APP_FAULT_COMM_NO_ROTATION, moved, min_moved);
-            }
-            r = enc_check_verdict(&m->chk, &m->chk_out); /* direction, counts per turn, pole pairs */
-            if (r.status != APP_STEP_DONE) {
-                return r;
-            }
-            r = app_step_running();
-            dir = 0.0f;
-            next_phase(m, E_HOLD_1);
-        }
+        r = encoder_fwd(m, in, i, speed, fit);
         break;
     case E_HOLD_1:
         if (m->ticks >= hold) {
@@ -570,33 +670,45 @@ FLASHFUNC static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i
         }
         break;
     case E_BACK:
-        dir = -1.0f;
-        fit = true;
-        m->theta_c_rad = (float)(fwd - m->ticks) * step;
-        if (m->ticks >= sweep) {
-            dir = 0.0f;
+        *speed = -m->cfg.enc_speed_el_rad_s;
+        *fit = true;
+        /* from the forward sweep's end, one mechanical turn on, back */
+        m->theta_c_rad = m->theta0_rad + (float)((uint32_t)m->pole_pairs * turn_periods(m) - m->ticks) *
+                                             (m->cfg.enc_speed_el_rad_s * m->Ts_s);
+        if (m->ticks >= turn_periods(m)) {
+            *speed = 0.0f;
             next_phase(m, E_HOLD_2);
         }
         break;
     default: /* E_HOLD_2 */
         if (m->ticks >= hold) {
             r = encoder_result(m);
-            if (r.status == APP_STEP_DONE) {
-                next_stage(m, COMM_STAGE_SPIN);
-                ls_clear(&m->ls);
-                r = app_step_running();
-            }
         }
         break;
     }
-    if (fit) {
-        ls_add(&m->ls, m->theta_c_rad - MATHX_PI_F, 0.0f, m->dcount);
+    return r;
+}
+
+FLASHFUNC static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i, ab_t *u_ab)
+{
+    float speed;
+    bool fit;
+    app_step_t r;
+
+    if (m->stage_ticks == 0u) {
+        m->count_last = in->enc_count;
     }
-    mathx_sincosf(m->theta_c_rad, &s, &co);
-    if (current_pi(m, i, s, co, i_ref, m->theta_c_rad + OUT_ANGLE_PERIODS * dir * step, u_ab, &u_dq) >
-        u_limit_V(m, in->vdc_V)) {
-        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, mathx_sqrtf(u_dq.d * u_dq.d + u_dq.q * u_dq.q),
-                              u_limit_V(m, in->vdc_V));
+    m->dcount += count_step(m, in->enc_count);
+    r = encoder_phase(m, in, i, &speed, &fit);
+    if (fit) {
+        ident_ls_add(&m->ls, m->theta_c_rad - MATHX_PI_F, 0.0f, m->dcount);
+    }
+    vector_pi(m, i, m->cfg.enc_frac * m->cfg.i_max_A, speed, u_ab);
+    if (r.status == APP_STEP_DONE) {
+        next_stage(m, COMM_STAGE_SPIN);
+        ident_spin_reset(&m->spin);
+        m->sweep_n = 0.0f;
+        r = app_step_running();
     }
     return r;
 }
@@ -605,91 +717,120 @@ FLASHFUNC static app_step_t stage_encoder(comm_t *m, const ctrl_in_t *in, ab_t i
 
 FLASHFUNC static app_step_t spin_result(comm_t *m)
 {
-    const float p = (float)m->res.pole_pairs;
-    const float psi = ls_slope1(&m->ls);
-    const float a1 = ls_slope1(&m->ls2);
-    const float a2 = ls_slope1(&m->ls3);
-    float T1;
-    float T2;
-    float w1;
-    float w2;
-    float det;
-    float J;
-    float B;
+    ident_spin_out_t o;
 
-    if (!mathx_isfinitef(psi) || !(psi > 0.0f)) {
-        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, psi, 0.0f);
+    if (!ident_spin_solve(&m->spin, m->res.pole_pairs, &o)) {
+        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, o.psi_f_Wb, o.J_kgm2);
     }
-    if (!(a1 > 0.0f) || !(a2 < 0.0f)) { /* 0: too few samples */
-        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, a1, a2);
-    }
-    T1 = TORQUE_FACTOR * p * psi * m->iq_sum1 / m->ls2.n;
-    T2 = TORQUE_FACTOR * p * psi * m->iq_sum2 / m->ls3.n;
-    w1 = m->w_sum1 / m->ls2.n;
-    w2 = m->w_sum2 / m->ls3.n;
-    /* J a1 = T1 - B w1, J a2 = T2 - B w2 */
-    det = a1 * w2 - a2 * w1;
-    J = (T1 * w2 - T2 * w1) / det;
-    B = (a1 * T2 - a2 * T1) / det;
-    if (!mathx_isfinitef(J) || !(J > 0.0f) || !mathx_isfinitef(B)) {
-        return app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, J, 0.0f);
-    }
-    m->res.psi_f_Wb = psi;
-    m->res.J_kgm2 = J;
-    m->res.B_Nms = (B > 0.0f) ? B : 0.0f; /* a negative B is the fits' noise */
-    comm_speed_pi(&m->cfg, J, &m->res.speed_kp_Nms_rad, &m->res.speed_ki_Nm_rad);
+    m->res.psi_f_Wb = o.psi_f_Wb;
+    m->res.J_kgm2 = o.J_kgm2;
+    m->res.B_Nms = o.B_Nms;
+    comm_speed_pi(&m->cfg, o.J_kgm2, &m->res.speed_kp_Nms_rad, &m->res.speed_ki_Nm_rad);
     return app_step_done();
+}
+
+/* The sweep's end, at the bound [rad/s] in the direction dir (+1 up, -1
+ * down): where the speed w [rad/s], moving at the acceleration seen since
+ * the sweep's fits began, would reach it within the lag before a new
+ * current acts on the true speed: the speed estimate's (speed_lag_s), the
+ * current's reversal (1/i_bw) and the voltage's delay (spmsm.h). t_s the
+ * phase's time [s]. No division: dir (w - bound + (w - w0) lag / (t - t0)) >= 0. */
+FLASHFUNC static bool spin_at_bound(const comm_t *m, float w, float bound, float dir, float t_s)
+{
+    const float lag = m->cfg.speed_lag_s + 1.0f / m->cfg.i_bw_rad_s + (float)SPMSM_VOLTAGE_SEEN_PERIODS * m->Ts_s;
+
+    if (dir * (w - bound) >= 0.0f) {
+        return true;
+    }
+    /* the acceleration from at least a fit's fewest samples */
+    return (m->sweep_n >= IDENT_LS_N_MIN) &&
+           (dir * ((w - bound) * (t_s - m->sweep_t0_s) + (w - m->sweep_w0_rad_s) * lag) >= 0.0f);
+}
+
+/* The current commanded in phase `phase`: +I up to the top, -I down to
+ * -top, +I back to standstill [A]. */
+FLASHFUNC static float spin_iq_A(const comm_t *m)
+{
+    const float I = m->cfg.spin_frac * m->cfg.i_max_A;
+    return (m->phase == S_BRAKE) ? -I : I;
+}
+
+/* One period of the current PI at the rotor's angle (the measured offset
+ * and pole pairs), the voltage in the frame of the period it acts in;
+ * u_dq and i_dq out. */
+FLASHFUNC static void spin_pi(comm_t *m, const ctrl_in_t *in, ab_t i, float w, ab_t *u_ab, dq_t *u_dq, dq_t *i_dq)
+{
+    const uint16_t p = m->res.pole_pairs;
+    const uint32_t elec = mathx_umod_u32(in->enc_count * (uint32_t)p, m->enc_cpr);
+    const float theta =
+        m->res.enc_offset_el_rad + ((float)elec + HALF * (float)p) * (MATHX_TWO_PI_F / (float)m->enc_cpr);
+    const dq_t i_ref = { 0.0f, spin_iq_A(m) };
+    float s;
+    float co;
+
+    mathx_sincosf(theta, &s, &co);
+    *i_dq = park(i, s, co);
+    *u_dq = ident_cur_step(&m->cur, i_ref, *i_dq);
+    mathx_sincosf(theta + spmsm_angle_advance_rad((float)p * w, m->Ts_s), &s, &co);
+    *u_ab = park_inv(*u_dq, s, co);
+}
+
+/* The sweeps' fits: the flux fit over every sweep once the speed estimate
+ * has settled on its acceleration (spin_skip_s), the motion fits above
+ * spin_lo_frac of the top speed on the way up and the way down. */
+FLASHFUNC static void spin_fits(comm_t *m, float w, dq_t i_dq, float u_q_V)
+{
+    const comm_cfg_t *c = &m->cfg;
+    const float t = (float)m->ticks * m->Ts_s;
+    const bool negative = (m->phase == S_BRAKE);
+
+    if (m->ticks < periods(m, c->spin_skip_s)) {
+        return;
+    }
+    if (m->sweep_n < 0.5f) {
+        m->sweep_t0_s = t;
+        m->sweep_w0_rad_s = w;
+    }
+    m->sweep_n += 1.0f;
+    ident_spin_add_flux(&m->spin, w, m->res.pole_pairs, i_dq, u_q_V, m->res.R_Ohm, negative);
+    if ((m->phase != S_RETURN) && (w >= c->spin_lo_frac * c->spin_top_frac * c->speed_max_rad_s)) {
+        ident_spin_add_motion(&m->spin, t, w, i_dq.q, negative);
+    }
+}
+
+FLASHFUNC static void spin_next(comm_t *m, uint16_t phase)
+{
+    next_phase(m, phase);
+    m->sweep_n = 0.0f;
 }
 
 FLASHFUNC static app_step_t stage_spin(comm_t *m, const ctrl_in_t *in, ab_t i, float w, ab_t *u_ab)
 {
-    const comm_cfg_t *c = &m->cfg;
-    const float p = (float)m->res.pole_pairs;
-    const float top = c->spin_top_frac * c->speed_max_rad_s;
-    const float lo = c->spin_lo_frac * top;
-    const bool fit = (m->ticks >= periods(m, c->spin_skip_s)) && (w >= lo);
-    const uint32_t elec = mathx_umod_u32(in->enc_count * (uint32_t)m->res.pole_pairs, m->enc_cpr);
-    const float theta = m->res.enc_offset_el_rad +
-                        ((float)elec + 0.5f * p) * (MATHX_TWO_PI_F / (float)m->enc_cpr);
-    const float w_e = p * w;
+    const float top = m->cfg.spin_top_frac * m->cfg.speed_max_rad_s;
     const float t = (float)m->ticks * m->Ts_s;
-    dq_t i_ref = { 0.0f, c->spin_frac * c->i_max_A };
-    dq_t i_dq;
     dq_t u_dq;
-    float s;
-    float co;
-    float u_abs;
+    dq_t i_dq;
 
-    mathx_sincosf(theta, &s, &co);
-    i_dq = park(i, s, co);
-    if (m->phase == S_BRAKE) {
-        i_ref.q = -i_ref.q;
-    }
-    u_abs = current_pi(m, i, s, co, i_ref, theta + OUT_ANGLE_PERIODS * w_e * m->Ts_s, u_ab, &u_dq);
-    if (m->phase == S_ACCEL) {
-        if (fit) {
-            if (m->ls.n < 0.5f) {
-                m->w_ref_rad_s = w;
-                m->y_ref_V = u_dq.q - m->res.R_Ohm * i_dq.q;
-            }
-            ls_add(&m->ls, w_e - p * m->w_ref_rad_s, 0.0f, (u_dq.q - m->res.R_Ohm * i_dq.q) - m->y_ref_V);
-            ls_add(&m->ls2, t, 0.0f, w - m->w_ref_rad_s);
-            m->iq_sum1 += i_dq.q;
-            m->w_sum1 += w;
+    spin_pi(m, in, i, w, u_ab, &u_dq, &i_dq);
+    spin_fits(m, w, i_dq, u_dq.q);
+    /* a sweep ends at its speed bound, or where the back-EMF takes the voltage */
+    const bool u_top = mathx_sqrtf(u_dq.d * u_dq.d + u_dq.q * u_dq.q) > u_limit_V(m, in->vdc_V);
+    switch (m->phase) {
+    case S_ACCEL:
+        if (u_top || spin_at_bound(m, w, top, 1.0f, t)) {
+            spin_next(m, S_BRAKE);
         }
-        if ((w >= top) || (u_abs > u_limit_V(m, in->vdc_V))) {
-            m->top_rad_s = w;
-            next_phase(m, S_BRAKE);
+        break;
+    case S_BRAKE:
+        if (u_top || spin_at_bound(m, w, -top, -1.0f, t)) {
+            spin_next(m, S_RETURN);
         }
-    } else {
-        if (fit && (m->ticks > 0u)) {
-            ls_add(&m->ls3, t, 0.0f, w - m->w_ref_rad_s);
-            m->iq_sum2 += i_dq.q;
-            m->w_sum2 += w;
-        }
-        if (w < lo) {
+        break;
+    default: /* S_RETURN: up to standstill, the gates off there */
+        if (w >= 0.0f) {
             return spin_result(m);
         }
+        break;
     }
     return app_step_running();
 }
@@ -701,6 +842,8 @@ FLASHFUNC static float stage_max_s(const comm_t *m)
     switch (m->stage) {
     case COMM_STAGE_WIRING:
         return (float)wiring_periods(m) * m->Ts_s + m->cfg.enc_max_s;
+    case COMM_STAGE_INVERTER:
+        return (float)inverter_periods(m) * m->Ts_s + m->cfg.enc_max_s;
     case COMM_STAGE_ENCODER:
         return (float)encoder_periods(m) * m->Ts_s + m->cfg.enc_max_s;
     case COMM_STAGE_R:
@@ -714,56 +857,60 @@ FLASHFUNC static float stage_max_s(const comm_t *m)
 
 float comm_max_s(const comm_t *m)
 {
-    return (float)(wiring_periods(m) + encoder_periods(m)) * m->Ts_s + 2.0f * m->cfg.enc_max_s + m->cfg.r_max_s +
-           m->cfg.l_max_s + m->cfg.spin_max_s;
+    return (float)(wiring_periods(m) + inverter_periods(m) + encoder_periods(m)) * m->Ts_s +
+           3.0f * m->cfg.enc_max_s + m->cfg.r_max_s + m->cfg.l_max_s + m->cfg.spin_max_s;
+}
+
+/* The stage's period: its voltage into *u_ab_V. */
+FLASHFUNC static app_step_t stage_step(comm_t *m, const ctrl_in_t *in, ab_t i, float speed_m_rad_s, ab_t *u_ab_V)
+{
+    switch (m->stage) {
+    case COMM_STAGE_WIRING:
+        return stage_wiring(m, in, i, u_ab_V);
+    case COMM_STAGE_R:
+        return stage_r(m, in, i, u_ab_V);
+    case COMM_STAGE_L:
+        return stage_l(m, in, i, u_ab_V);
+    case COMM_STAGE_INVERTER:
+        return stage_inverter(m, in, i, u_ab_V);
+    case COMM_STAGE_ENCODER:
+        return stage_encoder(m, in, i, u_ab_V);
+    default:
+        return stage_spin(m, in, i, speed_m_rad_s, u_ab_V);
+    }
 }
 
 FLASHFUNC app_step_t comm_step(comm_t *m, const ctrl_in_t *in, float speed_m_rad_s, ab_t *u_ab_V)
 {
     const ab_t i = clarke_2ph(in->ia_A, in->ib_A);
-    const bool open_loop = (m->stage == COMM_STAGE_R) || (m->stage == COMM_STAGE_L); /* u from u_a, u_b */
+    /* WIRING judges its amplitude, SPIN ends its acceleration at the bound */
+    const bool bounded = (m->stage != COMM_STAGE_WIRING) && (m->stage != COMM_STAGE_SPIN);
     app_step_t r;
 
+    u_ab_V->a = 0.0f;
+    u_ab_V->b = 0.0f;
     if (m->stage_ticks > periods(m, stage_max_s(m))) {
-        u_ab_V->a = 0.0f;
-        u_ab_V->b = 0.0f;
         return app_step_fault(APP_FAULT_COMM_TIMEOUT, (float)m->stage_ticks * m->Ts_s, stage_max_s(m));
     }
-    if (m->stage == COMM_STAGE_R) {
-        if ((m->phase == R_SEEK) && (m->ki_V_As <= 0.0f)) {
-            m->ki0_V_As = in->vdc_V / (m->cfg.i_max_A * m->cfg.r_seek_s);
-            m->kp_V_A = m->cfg.r_kp_frac * in->vdc_V / m->cfg.i_max_A;
-            m->ki_V_As = m->ki0_V_As;
-        }
-        r = stage_r(m, i, in->enc_count);
-    } else if (m->stage == COMM_STAGE_L) {
-        r = stage_l(m, i);
-    } else if (m->stage == COMM_STAGE_WIRING) {
-        r = stage_wiring(m, in, i, u_ab_V);
-    } else if (m->stage == COMM_STAGE_ENCODER) {
-        r = stage_encoder(m, in, i, u_ab_V);
-    } else {
-        r = stage_spin(m, in, i, speed_m_rad_s, u_ab_V);
+    if (m->stage_ticks == 0u) {
+        m->u_lim_V = u_limit_V(m, in->vdc_V);
     }
-    if (open_loop) {
-        float u_abs;
-        if (m->stage == COMM_STAGE_L) {
-            m->out_a_V = m->u_a_V; /* open loop */
-        }
-        u_abs = mathx_sqrtf(m->out_a_V * m->out_a_V + m->out_b_V * m->out_b_V);
-        u_ab_V->a = m->out_a_V;
-        u_ab_V->b = m->out_b_V;
-        m->u_prev2_V = m->u_prev_V;
-        m->u_prev_V = m->out_a_V;
-        if ((r.status == APP_STEP_RUNNING) && (u_abs > u_limit_V(m, in->vdc_V))) {
-            r = app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, u_abs, u_limit_V(m, in->vdc_V));
+    r = stage_step(m, in, i, speed_m_rad_s, u_ab_V);
+    if (bounded && (r.status == APP_STEP_RUNNING)) {
+        const float u_abs = mathx_sqrtf(u_ab_V->a * u_ab_V->a + u_ab_V->b * u_ab_V->b);
+        if (u_abs > m->u_lim_V) {
+            r = app_step_fault(APP_FAULT_COMM_IMPLAUSIBLE, u_abs, m->u_lim_V);
         }
     }
     if (r.status == APP_STEP_DONE) {
         m->stage = COMM_STAGE_DONE;
     }
-    m->ticks++;
-    m->stage_ticks++;
+    m->u_prev2_V = m->u_prev_V;
+    m->u_prev_V = u_ab_V->a;
+    /* a phase or stage begun in this call has its first period in the next */
+    m->ticks = m->phase_new ? 0u : (m->ticks + 1u);
+    m->stage_ticks = m->stage_new ? 0u : (m->stage_ticks + 1u);
+    m->phase_new = false;
+    m->stage_new = false;
     return r;
 }
-

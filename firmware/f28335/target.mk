@@ -47,15 +47,18 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 
 # The ISR path runs from RAM. The control core (the directories in
 # RAMFUNC_ALL) runs from RAM whole: every function of control/ is the ISR's
-# or its set-up's, compiled --ramfunc=on. Elsewhere each function's
-# definition says where it runs (control/c28x_portable.h): RAMFUNC in
-# .TI.ramfunc (RAM), FLASHFUNC in flash on the ISR path on purpose (the
-# start-up steps, commissioning and build levels: states that do not
-# control the motor for the user; hal/f28335/README.md, "What runs from
-# flash"), neither in flash off the ISR path. tools/check/isr_path.sh
+# or its set-up's, compiled --ramfunc=on, but for the files in
+# RAMFUNC_ALL_EXCEPT: the commissioning's motor math (control/ident.c),
+# which the ISR calls only in COMMISSION. Elsewhere, and in those files,
+# each function's definition says where it runs (control/c28x_portable.h):
+# RAMFUNC in .TI.ramfunc (RAM), FLASHFUNC in flash on the ISR path on
+# purpose (the start-up steps, commissioning and build levels: states that
+# do not control the motor for the user; hal/f28335/README.md, "What runs
+# from flash"), neither in flash off the ISR path. tools/check/isr_path.sh
 # (make check) fails if a function the ISR reaches carries neither.
-# (one line: tools/check/placement.py reads it)
+# (one line each: tools/check/placement.py reads them)
 RAMFUNC_ALL := control
+RAMFUNC_ALL_EXCEPT := control/ident.c
 
 APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*/*.c) $(wildcard hal/f28335/*.c)
 TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c
@@ -98,7 +101,7 @@ $(OUT)/drive.out: $(APP_OBJS) $(TI_OBJS) $(LINK_CMDS)
 define C_RULE
 $(call obj_of,$1): $1 firmware/f28335/target.mk
 	@mkdir -p $$(@D)
-	$$(CL) $$(CFLAGS) $(if $(filter $(addsuffix /%,$(RAMFUNC_ALL)),$1),--ramfunc=on) \
+	$$(CL) $$(CFLAGS) $(if $(filter-out $(RAMFUNC_ALL_EXCEPT),$(filter $(addsuffix /%,$(RAMFUNC_ALL)),$1)),--ramfunc=on) \
 	    --preproc_with_compile --preproc_dependency=$$(@:.obj=.d) \
 	    --output_file=$$@ --compile_only $1
 endef

@@ -66,6 +66,9 @@ static const link_var_t VARS[LV_COUNT] = {
     [LV_COMM_SPEED_KI] = { "comm_speed_ki_Nm_rad", "N m/rad", LINK_T_F32, R, LINK_CAP_F32 },
     [LV_LEVEL] = { "level", "", LINK_T_U16, R, LINK_CAP_I16 },
     [LV_LEVEL_NEXT] = { "level_next", "", LINK_T_U16, R, LINK_CAP_I16 },
+    [LV_COMM_DEADTIME_S] = { "comm_deadtime_s", "s", LINK_T_F32, R, LINK_CAP_F32 },
+    [LV_COMM_DEVICE_DROP_V] = { "comm_device_drop_V", "V", LINK_T_F32, R, LINK_CAP_F32 },
+    [LV_COMM_UNTOLD_DEADTIME_S] = { "comm_untold_deadtime_s", "s", LINK_T_F32, R, LINK_CAP_F32 },
 };
 #undef R
 #undef W
@@ -183,6 +186,9 @@ RAMFUNC link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_COMM_SPEED_KI: return of_f((a->comm != NULL) ? a->comm->res.speed_ki_Nm_rad : 0.0f);
     case LV_LEVEL: return of_u((uint32_t)a->level);
     case LV_LEVEL_NEXT: return of_u((uint32_t)a->req_level);
+    case LV_COMM_DEADTIME_S: return of_f((a->comm != NULL) ? a->comm->res.deadtime_s : 0.0f);
+    case LV_COMM_DEVICE_DROP_V: return of_f((a->comm != NULL) ? a->comm->res.device_drop_V : 0.0f);
+    case LV_COMM_UNTOLD_DEADTIME_S: return of_f((a->comm != NULL) ? a->comm->res.untold_deadtime_s : 0.0f);
     default: return of_u(0u);
     }
 }

@@ -31,6 +31,8 @@ typedef enum {
     LV_COMM_RESULT, LV_COMM_STAGE, LV_COMM_R_OHM, LV_COMM_L_H, LV_COMM_PSIF_WB, LV_COMM_POLE_PAIRS,
     LV_COMM_J_KGM2, LV_COMM_B_NMS, LV_COMM_ENC_OFFSET, LV_COMM_SPEED_KP, LV_COMM_SPEED_KI,
     LV_LEVEL, LV_LEVEL_NEXT,
+    /* the commissioning's inverter error (the ids above kept) */
+    LV_COMM_DEADTIME_S, LV_COMM_DEVICE_DROP_V, LV_COMM_UNTOLD_DEADTIME_S,
     LV_COUNT
 } link_var_id_t;
 

@@ -10,9 +10,13 @@
 #define BOARD_CFG_H
 
 #include "board_hw.h"
+#include "spmsm.h"
 
 /* ---- encoder mounting ------------------------------------------------ */
 #define BOARD_ENC_OFFSET_EL_RAD  0.0f         /* electrical angle at count 0: measure by d-axis alignment [rad] */
+
+/* ---- the inverter's voltage error beyond its dead time ----------------- */
+#define BOARD_DEVICE_DROP_V      0.0f         /* on-state drop the controller compensates: 0 until commissioning measures it [V] */
 
 /* ---- protection limits (used by the application) ---------------------- */
 #define BOARD_VDC_NOMINAL_V      311.0f       /* rectified 220 V AC [V] (assumed; paper gives none) */
@@ -23,7 +27,7 @@
  * given here at the reference and scaled in proportion by
  * drive_params_derive() (params_design.md: each rule and its reason);
  * for the reference itself they are these constants to the bit. */
-#define REF_I_RATED_A            (6.0f / (1.5f * 3.0f * 0.24f)) /* 5.56 A: 6 N m (Table I) */
+#define REF_I_RATED_A            (6.0f / (SPMSM_TORQUE_PER_P_PSI_I * 3.0f * 0.24f)) /* 5.56 A: 6 N m (Table I) */
 #define REF_I_PEAK_A             (2.0f * REF_I_RATED_A)  /* 11.1 A: 12 N m */
 #define REF_T_RATED_NM           6.0f         /* [N m] */
 #define REF_VDC_V                311.0f       /* [V] */
@@ -104,9 +108,9 @@
 /* Commissioning (commission.h; methods and error budget in
  * firmware/commission/commission_design.md). Currents as shares of the motor's rated
  * current, speeds of its rated speed (drive_params_to_app_cfg). */
-#define COMM_U_FRAC              0.9f         /* |u| / (vdc/sqrt 3) beyond which a stage is implausible (SPIN: top speed) [-] */
-#define COMM_R_I1_FRAC           0.35f        /* R: first DC current / bound [-] */
-#define COMM_R_I2_FRAC           0.7f         /* R: second DC current / bound: overshoot of the integral loop stays below 1 [-] */
+#define COMM_U_FRAC              0.9f         /* |u| / (vdc/sqrt 3) beyond which a stage is implausible (SPIN: a sweep's end) [-] */
+#define COMM_R_I1_FRAC           0.35f        /* R: first DC current / bound (INVERTER: reversed, second) [-] */
+#define COMM_R_I2_FRAC           0.7f         /* R: second DC current / bound: overshoot of the integral loop stays below 1 (INVERTER: reversed, first) [-] */
 /* R: the first current's pre-position: any angle with sin != 0 leaves no
  * start angle a dead point of both vectors; 60 deg (0.87 of 90 deg's
  * torque) keeps every phase at half the current or more, so the open-phase
@@ -116,23 +120,23 @@
 #define COMM_R_KP_FRAC           0.05f        /* R: virtual resistance / (vdc / bound): the swing's induced current 5x smaller on the 540 V motor [-] */
 #define COMM_R_SEEK_S            1.0f         /* R (WIRING: the amplitude on |i|): first regulator, a full-bound error ramps the voltage through vdc in this [s] */
 #define COMM_R_BW_RAD_S          200.0f       /* R: alpha's integral regulator from R0: faster than the rotor's swing [rad/s] */
-#define COMM_R_SETTLE_S          0.15f        /* R: settling after a current change, with the rotor still [s] */
-#define COMM_R_STILL_MECH_DEG    0.5f         /* R: still = within this of the settling's start: the back-EMF on alpha is second order in the swing [deg] */
-#define COMM_R_WINDOW_S          0.1f         /* R: averaging window, 1000 periods; WIRING: its measurement [s] */
+#define COMM_R_SETTLE_S          0.15f        /* R, INVERTER: settling after a current change, with the rotor still [s] */
+#define COMM_R_STILL_MECH_DEG    0.5f         /* R, INVERTER, ENCODER's first hold: still = within this of the settling's start: the back-EMF on alpha is second order in the swing [deg] */
+#define COMM_R_WINDOW_S          0.1f         /* R, INVERTER: averaging window, 1000 periods; WIRING: its measurement [s] */
 #define COMM_R_MAX_S             3.0f         /* R: stage timeout [s] */
 #define COMM_L_STEP_FRAC         0.3f         /* L: current step / bound (voltage step R^ x this) [-] */
 #define COMM_L_RISE_FRAC         0.7f         /* L: a step ends at this share of its final change [-] */
 #define COMM_L_CYCLES            8U           /* L: down-and-up steps [-] */
 #define COMM_L_MAX_S             1.0f         /* L: stage timeout [s] */
-#define COMM_I_BW_RAD_S          1500.0f      /* ENCODER, SPIN: current PI from R^, L^; 0.15 / Ts [rad/s] */
+#define COMM_I_BW_RAD_S          1500.0f      /* INVERTER, ENCODER, SPIN: current PI from R^, L^; 0.15 / Ts [rad/s] */
 #define COMM_ENC_FRAC            0.5f         /* WIRING, ENCODER: swept current / bound [-] */
-#define COMM_ENC_SPEED_EL_DEG_S  720.0f       /* ENCODER: sweep speed, two electrical turns a second [deg/s el] */
+#define COMM_ENC_SPEED_EL_DEG_S  720.0f       /* ENCODER: sweep speed, two electrical turns a second (INVERTER: its half turn's top speed) [deg/s el] */
 #define COMM_ENC_HOLD_S          0.1f         /* WIRING: hold after the ramp; ENCODER: hold before, between, after the sweeps [s] */
 #define COMM_POLE_PAIRS_MAX      32U          /* ENCODER: fewer counts than half an electrical turn at this many: no rotation [-] */
-#define COMM_ENC_MAX_S           2.0f         /* WIRING, ENCODER: timeout beyond the stage's planned length [s] */
+#define COMM_ENC_MAX_S           2.0f         /* WIRING, INVERTER, ENCODER: timeout beyond the stage's planned length [s] */
 #define COMM_WIRING_EL_HZ        200.0f       /* WIRING: the vector's frequency; the rotor's swing and back-EMF at it are 1/f^2 and 1/f^3 of a slow one's [Hz el] */
-#define COMM_SPIN_FRAC           0.2f         /* SPIN: |i_q| / bound accelerating and braking [-] */
-#define COMM_SPIN_TOP_FRAC       0.4f         /* SPIN: top speed / rated speed [-] */
+#define COMM_SPIN_FRAC           0.5f         /* SPIN: |i_q| / bound in the three sweeps: the current's ripple a small share of it (commission_design.md sec. 5) [-] */
+#define COMM_SPIN_TOP_FRAC       0.4f         /* SPIN: bound on |speed| / rated speed; the sweeps turn before it [-] */
 #define COMM_SPIN_LO_FRAC        0.2f         /* SPIN: fits above this share of the top speed [-] */
 #define COMM_SPIN_SKIP_S         0.02f        /* SPIN: fits skip this after a current change: 10 / PLL bandwidth [s] */
 #define COMM_SPIN_MAX_S          2.0f         /* SPIN: stage timeout [s] */
@@ -214,7 +218,7 @@
  * the rated current is the rated torque's, T = 1.5 p psi_f i; the short-time
  * current twice that for 1 s (the paper gives no figure: assumed); the
  * highest speed the rated one (overspeed trips at 1.2x it). */
-#define MOTOR_I_RATED_A          (MOTOR_RATED_TORQUE_NM / (1.5f * (float)MOTOR_POLE_PAIRS * MOTOR_PSI_F_WB)) /* 5.56 A */
+#define MOTOR_I_RATED_A          (MOTOR_RATED_TORQUE_NM / (SPMSM_TORQUE_PER_P_PSI_I * (float)MOTOR_POLE_PAIRS * MOTOR_PSI_F_WB)) /* 5.56 A */
 #define MOTOR_I_PEAK_A           (2.0f * MOTOR_I_RATED_A)  /* [A]: 12 N m */
 #define MOTOR_T_PEAK_S           1.0f         /* [s] */
 #define MOTOR_MAX_SPEED_RPM      MOTOR_RATED_SPEED_RPM     /* [r/min] */

@@ -4,10 +4,10 @@
 
 #include "board_cfg.h"
 #include "mathx.h"
+#include "spmsm.h"
 
 #define DRIVE_S_PER_NS 1.0e-9f
 #define DRIVE_DEFAULT_BAND (-1.0f) /* R^ band end: ctrl_rsid_band_with()'s */
-#define TORQUE_PER_P_PSI_I 1.5f /* Te = 1.5 p psi_f iq (SPMSM, i_d = 0) */
 #define SQRT3 1.7320508f
 /* A per-leg square wave of amplitude dv has the fundamental (4/pi) dv. */
 #define FUNDAMENTAL_OF_SQUARE 1.27323954f
@@ -21,7 +21,7 @@ void drive_params_board(drive_params_t *p)
 
 float drive_rated_torque_Nm(const drive_params_t *p)
 {
-    return TORQUE_PER_P_PSI_I * (float)p->motor.pole_pairs * p->motor.psi_f_Wb * p->rating.i_rated_A;
+    return spmsm_kt_Nm_A(p->motor.pole_pairs, p->motor.psi_f_Wb) * p->rating.i_rated_A;
 }
 
 /* *x = v unless the user set it (>= 0; NaN and DRIVE_PARAM_DERIVED are not). */
@@ -54,7 +54,7 @@ drive_derive_t drive_params_derive(drive_params_t *p)
 {
     const drive_rating_t *r = &p->rating;
     drive_derive_t st = DRIVE_DERIVE_OK;
-    const float kt_Nm_A = TORQUE_PER_P_PSI_I * (float)p->motor.pole_pairs * p->motor.psi_f_Wb;
+    const float kt_Nm_A = spmsm_kt_Nm_A(p->motor.pole_pairs, p->motor.psi_f_Wb);
     const float n_rated_ref_rad_s = MOTOR_RATED_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
 
     if (!(r->i_rated_A > 0.0f) || !(r->i_peak_A >= r->i_rated_A) || !(r->t_peak_s > 0.0f) ||

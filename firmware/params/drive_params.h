@@ -59,6 +59,8 @@
     X(board, Ts_s, float, 1.0f / (float)BOARD_PWM_FREQ_HZ, DRIVE_TO(ctrl.Ts_s)) /* control = PWM period [s] */ \
     X(board, deadtime_s, float, (float)BOARD_DEADTIME_NS * DRIVE_S_PER_NS, \
       DRIVE_TO(ctrl.deadtime_s))                                          /* gate-driver dead time the controller compensates [s] */ \
+    X(board, device_drop_V, float, BOARD_DEVICE_DROP_V, \
+      DRIVE_TO(ctrl.device_drop_V))                                       /* on-state drop of a leg's conducting device the controller compensates [V] */ \
     X(board, vdc_nominal_V, float, BOARD_VDC_NOMINAL_V, DRIVE_TO_NONE)    /* nominal DC bus [V] */ \
     X(board, u_bound_V, float, BOARD_VDC_MAX_V, DRIVE_TO(ctrl.u_max_V))   /* bound on |ud|, |uq| the controller's model uses [V] */ \
     X(board, i_full_scale_A, float, BOARD_I_FULL_SCALE_A, DRIVE_TO_NONE)  /* current ADC range, +- [A] */ \

@@ -69,8 +69,9 @@ if [ $fail -eq 0 ]; then
         fail=1
     fi
     # Every function on the path runs from RAM on the target, or from
-    # flash on purpose: control/ whole (target.mk RAMFUNC_ALL), elsewhere
-    # its definition marked RAMFUNC or FLASHFUNC (tools/check/placement.py).
+    # flash on purpose: control/ whole (target.mk RAMFUNC_ALL, but its
+    # RAMFUNC_ALL_EXCEPT files), elsewhere its definition marked RAMFUNC or
+    # FLASHFUNC (tools/check/placement.py).
     if ! python3 tools/check/placement.py --map "$out/isr_path.map" $srcs; then
         fail=1
     fi

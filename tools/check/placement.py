@@ -3,8 +3,9 @@
 the sources, and the ISR-path placement gate of `make check`.
 
 Placement (control/c28x_portable.h): the directories target.mk names in
-RAMFUNC_ALL (control/) run from RAM whole (--ramfunc=on); elsewhere a
-function's definition says where it runs:
+RAMFUNC_ALL (control/) run from RAM whole (--ramfunc=on), but for the files
+it names in RAMFUNC_ALL_EXCEPT; elsewhere, and in those files, a function's
+definition says where it runs:
   RAMFUNC    in RAM (.TI.ramfunc, copied at start-up): the control ISR's path
   FLASHFUNC  in flash although the ISR calls it, on purpose (a state that
              does not control the motor for the user: commissioning,
@@ -44,8 +45,9 @@ def make_var(mk, name):
 
 
 def in_ram_whole(src, mk):
-    """True when src lies in a directory that target.mk runs from RAM whole."""
-    return any(src.startswith(d.rstrip('/') + '/') for d in make_var(mk, 'RAMFUNC_ALL'))
+    """True when src lies in a directory that target.mk runs from RAM whole, and is not one of its exceptions."""
+    return (any(src.startswith(d.rstrip('/') + '/') for d in make_var(mk, 'RAMFUNC_ALL')) and
+            src not in make_var(mk, 'RAMFUNC_ALL_EXCEPT'))
 
 
 def ram_functions(src):

@@ -19,8 +19,9 @@ target's, from the first source available:
    -ffunction-sections), converted to C28x 16-bit words:
 
    code (ramfuncs): every instruction of the functions placed in RAM
-   (all of the directories in target.mk's RAMFUNC_ALL, elsewhere the
-   ones marked RAMFUNC: tools/check/placement.py) is mapped to the C28x
+   (all of the directories in target.mk's RAMFUNC_ALL but its
+   RAMFUNC_ALL_EXCEPT files, elsewhere the ones marked RAMFUNC:
+   tools/check/placement.py) is mapped to the C28x
    instruction(s) doing the same, sized from the opcode tables of the
    C28x CPU (SPRU430, 16- and 32-bit opcodes) and of its FPU (SPRUEO2, all
    FPU instructions 32-bit; the 2p-cycle ones, MPYF32/ADDF32/SUBF32/

@@ -134,7 +134,7 @@ sil-report: ## rewrite build/sil/report.md from the runs there (system python3: 
 #                         not and never worse than it + 0.005 N m
 #   make test-sweep-op-real  the realistic board at 100 and 371 r/min,
 #                         six loads, both methods, same check
-.PHONY: test-sweep-net test-sweep-op-real test-est-grid test-any-motor test-campaign
+.PHONY: test-sweep-net test-sweep-op-real test-est-grid test-any-motor test-campaign test-zoo
 
 SWEEP_DIR      := $(BUILD)/sweep
 SWEEP_SCENARIO := tools/scenarios/prop_paper.ini
@@ -204,6 +204,18 @@ test-campaign: $(DRIVE_SIL) ## (part of make test) the campaign's pairs keep the
 EXTRA_TESTS += test-any-motor
 test-any-motor: $(DRIVE_SIL) ## (part of make test) the any-motor campaign's pairs keep the rule
 	@$(call suite,test-any-motor) $(call drivekit,rule_check) --drive-sil $(DRIVE_SIL) tests/campaign/any-motor
+
+# The real motors and the advantage (drivekit.zoo_check): every motor of
+# tests/campaign/zoo/ (copies of ../shared/campaign/zoo/) commissioned
+# within its tolerances, its b_* files run with what the commissioning
+# wrote and its c_* files as written, both methods (the conventional one
+# within 3 % of T_rated, the proposed one within 1 % and the rule), and
+# tests/campaign/advantage/'s pairs (proposed <= 0.5 x conventional); the
+# checks in tests/campaign/zoo/known_failures.txt are reported, not counted.
+EXTRA_TESTS += test-zoo
+test-zoo: $(DRIVE_SIL) ## (part of make test) commission the zoo's motors, run their files with both methods, the advantage pairs
+	@$(call suite,test-zoo) $(call drivekit,zoo_check) --drive-sil $(DRIVE_SIL) --jobs 2 \
+	    --known tests/campaign/zoo/known_failures.txt
 
 # The estimation's acceptance grids (drivekit.est_grid): dead time in the
 # plant against the told one (psi_f^ within 2 % or held), a wrong told

@@ -621,6 +621,27 @@ static void comm_edit(ini_edit_t *e, size_t *n, char (*val)[COMM_VALUE_LEN], con
     (*n)++;
 }
 
+/* The measured values as OUT.ini's keys: [controller] the motor, the speed
+ * PI, the inverter's error (the told dead time kept, the rest a device
+ * drop, what the measurement leaves uncertain); [identify] mode = trusted:
+ * R is measured, no step 1 (tracked in service by track_R). */
+static void comm_edits(ini_edit_t *e, size_t *n, char (*val)[COMM_VALUE_LEN], const sil_result_t *res)
+{
+    comm_edit(e, n, val, "R_ohm", res->comm_R_ohm);
+    comm_edit(e, n, val, "L_H", res->comm_L_H);
+    comm_edit(e, n, val, "psif_Wb", res->comm_psif_Wb);
+    comm_edit(e, n, val, "pole_pairs", (double)res->comm_pole_pairs);
+    comm_edit(e, n, val, "J_kgm2", res->comm_J_kgm2);
+    comm_edit(e, n, val, "B_Nms", res->comm_B_Nms);
+    comm_edit(e, n, val, "encoder_offset_el_rad", res->comm_enc_offset_el_rad);
+    comm_edit(e, n, val, "speed_kp_Nms_rad", res->comm_speed_kp_Nms_rad);
+    comm_edit(e, n, val, "speed_ki_Nm_rad", res->comm_speed_ki_Nm_rad);
+    comm_edit(e, n, val, "deadtime_s", res->comm_deadtime_s);
+    comm_edit(e, n, val, "device_drop_V", res->comm_device_drop_V);
+    comm_edit(e, n, val, "untold_deadtime_s", res->comm_untold_deadtime_s);
+    e[(*n)++] = (ini_edit_t){ "identify", "mode", "trusted", INI_SET, NULL };
+}
+
 /* OUT.ini of a completed commissioning: the scenario file, the --set
  * overrides, the measured values; 0, or -1 (message printed, no file). */
 static int commission_write(const args_t *a, const sil_result_t *res, out_file_t *o)
@@ -644,15 +665,7 @@ static int commission_write(const args_t *a, const sil_result_t *res, out_file_t
     for (size_t i = 0; i < sizeof FACTORS / sizeof FACTORS[0]; i++) {
         e[n++] = (ini_edit_t){ "controller", FACTORS[i], NULL, INI_REMOVE, "the commissioning measured the value" };
     }
-    comm_edit(e, &n, val, "R_ohm", res->comm_R_ohm);
-    comm_edit(e, &n, val, "L_H", res->comm_L_H);
-    comm_edit(e, &n, val, "psif_Wb", res->comm_psif_Wb);
-    comm_edit(e, &n, val, "pole_pairs", (double)res->comm_pole_pairs);
-    comm_edit(e, &n, val, "J_kgm2", res->comm_J_kgm2);
-    comm_edit(e, &n, val, "B_Nms", res->comm_B_Nms);
-    comm_edit(e, &n, val, "encoder_offset_el_rad", res->comm_enc_offset_el_rad);
-    comm_edit(e, &n, val, "speed_kp_Nms_rad", res->comm_speed_kp_Nms_rad);
-    comm_edit(e, &n, val, "speed_ki_Nm_rad", res->comm_speed_ki_Nm_rad);
+    comm_edits(e, &n, val, res);
 
     FILE *in = fopen(a->scenario_path, "r");
     if (in == NULL) {
@@ -694,11 +707,13 @@ static int commission_finish(const args_t *a, const sil_result_t *res, out_file_
         return EXIT_FAILURE;
     }
     printf("drive_sil: commissioned: R_ohm=%.6g L_H=%.6g psif_Wb=%.6g pole_pairs=%u J_kgm2=%.6g B_Nms=%.6g "
-           "encoder_offset_el_rad=%.6g speed_kp_Nms_rad=%.6g speed_ki_Nm_rad=%.6g u_err_V=%.4g max_abs_i_A=%.4g "
-           "periods=%u -> %s\n",
+           "encoder_offset_el_rad=%.6g speed_kp_Nms_rad=%.6g speed_ki_Nm_rad=%.6g deadtime_s=%.6g "
+           "device_drop_V=%.6g untold_deadtime_s=%.6g u_err_V=%.4g inv_dv_V=%.4g max_abs_i_A=%.4g "
+           "max_abs_speed_rpm=%.5g periods=%u -> %s\n",
            res->comm_R_ohm, res->comm_L_H, res->comm_psif_Wb, res->comm_pole_pairs, res->comm_J_kgm2,
            res->comm_B_Nms, res->comm_enc_offset_el_rad, res->comm_speed_kp_Nms_rad, res->comm_speed_ki_Nm_rad,
-           res->comm_u_err_V, res->max_abs_i_A, res->periods, a->commission_path);
+           res->comm_deadtime_s, res->comm_device_drop_V, res->comm_untold_deadtime_s, res->comm_u_err_V,
+           res->comm_inv_dv_V, res->max_abs_i_A, res->max_abs_speed_rpm, res->periods, a->commission_path);
     return EXIT_SUCCESS;
 }
 

@@ -129,9 +129,13 @@
       SC_P(limits.speed_max_rad_s, F32, DRIVE_RPM_PER_RAD_S), "overspeed trip [r/min] (1.2 n_max_rpm)") \
     X(controller, deadtime_s, REAL, SC_GE0, SC_UNSET, SC_NO, SC_P(board.deadtime_s, F32, 1.0), \
       "dead time the controller compensates [s] (default the plant's, >= 0)") \
+    X(controller, device_drop_V, REAL, SC_GE0, SC_UNSET, SC_NO, SC_P(board.device_drop_V, F32, 1.0), \
+      "on-state drop of a leg's conducting device the controller compensates, on top of the dead time, " \
+      "both methods [V] (default 0: none; --commission writes what it measured)") \
     X(controller, untold_deadtime_s, REAL, SC_IN(0.0, 1e-5), SC_UNSET, SC_NO, SC_A(ctrl.untold_deadtime_s, F32, 1.0), \
       "proposed: until the inverter error is identified, the least error nobody told, as a dead time [s] " \
-      "(the speed floor's prior; default 0.15e-6: EST_UNTOLD_DEADTIME_DEFAULT_S, >= 0)") \
+      "(the speed floor's prior; default 0.15e-6: EST_UNTOLD_DEADTIME_DEFAULT_S, >= 0; --commission writes " \
+      "what its measurement of the inverter leaves uncertain)") \
     X(controller, encoder_offset_el_rad, REAL, SC_ANY, SC_UNSET, SC_NO, SC_NO, \
       "encoder offset the controller is told [rad, electrical], sign as plant.encoder_offset_el_rad " \
       "(default the plant's; run.align = on: the alignment's measurement replaces it)") \
@@ -142,7 +146,8 @@
 
 #define SC_KEYS_identify(X) \
     X(identify, mode, ENUM, SC_NAMES(SC_RSID_NAMES), SC_PARAMS, SC_A(rsid.mode, ENUM, 1.0), SC_SAME, \
-      "step 1 of the proposed method: off | windows | speeds | trusted") \
+      "step 1 of the proposed method: off | windows | speeds | trusted (no step 1: the controller's R_ohm " \
+      "is measured, as --commission writes it; R then tracked in service by track_R)") \
     X(identify, speed_1_rpm, REAL, SC_ANY, SC_DERIVED("motor.n_rated_rpm"), SC_NO, \
       SC_P(step1.speed_1_rad_s, F32, DRIVE_RPM_PER_RAD_S), "speeds mode: speed of point 1 [r/min] (0.25 n_rated_rpm)") \
     X(identify, speed_2_rpm, REAL, SC_ANY, SC_DERIVED("motor.n_rated_rpm"), SC_NO, \

@@ -271,7 +271,7 @@ static void take_refs(sil_refs_t *refs, double t_s, const sil_hooks_t *hooks, ap
 }
 
 /* Period k's figures into the result: faults, the time RUN began, the peak
- * current, the periods with the gates on. */
+ * current and speed, the periods with the gates on. */
 static void account_period(const hal_sim_truth_t *tr, bool was_faulted, uint32_t k, sil_result_t *res)
 {
     track_faults(tr, was_faulted, res);
@@ -280,6 +280,7 @@ static void account_period(const hal_sim_truth_t *tr, bool was_faulted, uint32_t
     }
     const double i_max = max_or_nonnan(fabs(tr->ia_A), max_or_nonnan(fabs(tr->ib_A), fabs(tr->ic_A)));
     res->max_abs_i_A = max_or_nonnan(res->max_abs_i_A, i_max);
+    res->max_abs_speed_rpm = max_or_nonnan(res->max_abs_speed_rpm, fabs(tr->speed_m_rad_s) * SIM_RPM_PER_RAD_S);
     res->pwm_periods += tr->pwm_enabled ? 1u : 0u;
     res->periods = k + 1u;
 }
@@ -313,6 +314,10 @@ static void result_finish(sil_result_t *res)
     res->comm_speed_kp_Nms_rad = (double)cr->speed_kp_Nms_rad;
     res->comm_speed_ki_Nm_rad = (double)cr->speed_ki_Nm_rad;
     res->comm_u_err_V = (double)cr->u_err_V;
+    res->comm_inv_dv_V = (double)cr->inv_dv_V;
+    res->comm_deadtime_s = (double)cr->deadtime_s;
+    res->comm_device_drop_V = (double)cr->device_drop_V;
+    res->comm_untold_deadtime_s = (double)cr->untold_deadtime_s;
     res->comm_pole_pairs = cr->pole_pairs;
 }
 

@@ -54,6 +54,7 @@ typedef struct {
     unsigned warnings;         /* app.h APP_WARN_* at the end */
     int rsid_refusal;          /* APP_WARN_STEP1_REFUSED: the RSID_* fault step 1 would have latched */
     double max_abs_i_A;        /* largest true phase current seen at a sample */
+    double max_abs_speed_rpm;  /* largest true |speed| at a sample, mechanical [r/min] */
     double t_run_s;            /* first period that ended in RUN (its t_k); NaN if none */
     double enc_offset_el_rad;  /* the controller's encoder offset at the end: told or found by alignment, [0, 2 pi) */
     double i_offset_a_A, i_offset_b_A;   /* current offsets the app subtracts at the end (0 unless calibrated) */
@@ -78,6 +79,7 @@ typedef struct {
     int comm_stage;            /* comm_stage_t reached (a refusal's stage) */
     double comm_R_ohm, comm_L_H, comm_psif_Wb, comm_J_kgm2, comm_B_Nms, comm_enc_offset_el_rad;
     double comm_speed_kp_Nms_rad, comm_speed_ki_Nm_rad, comm_u_err_V;
+    double comm_inv_dv_V, comm_deadtime_s, comm_device_drop_V, comm_untold_deadtime_s; /* the inverter's error */
     uint32_t comm_pole_pairs;
 } sil_result_t;
 

@@ -22,7 +22,7 @@ CAPTURE_POLL_S = 0.05
 COMM_NONE, COMM_RUNNING, COMM_DONE, COMM_REFUSED = range(4)
 COMM_STAGES = ["NONE", "R", "L", "ENCODER", "SPIN", "DONE", "WIRING"]
 COMM_KEYS = ["R_ohm", "L_H", "psif_Wb", "pole_pairs", "J_kgm2", "B_Nms", "encoder_offset_el_rad",
-             "speed_kp_Nms_rad", "speed_ki_Nm_rad"]
+             "speed_kp_Nms_rad", "speed_ki_Nm_rad", "deadtime_s", "device_drop_V", "untold_deadtime_s"]
 COMM_POLL_S = 0.1
 
 
@@ -127,6 +127,8 @@ def cmd_commission(d, args):
                     "[controller]\n")
             for k, x in res.items():
                 f.write(f"{k} = {_fmt(x)}\n")
+            # R is measured: no step 1, R tracked in service (drive_sil's OUT.ini says the same)
+            f.write("\n[identify]\nmode = trusted\n")
     _emit(args, res, " ".join(f"{k}={_fmt(x)}" for k, x in res.items()) + (f" -> {args.ini}" if args.ini else ""))
 
 
