@@ -126,8 +126,9 @@ def main():
     marked = sum(1 for s in a.sources if not s.startswith('tests/')
                  for m, _st, _c in functions(s).values() if m is not None)
     if not fails:
-        print("placement: every ISR-path function outside %s is RAMFUNC or FLASHFUNC (%d marked definitions)"
-              % (' '.join(make_var(a.mk, 'RAMFUNC_ALL')) or '-', marked))
+        but = make_var(a.mk, 'RAMFUNC_ALL_EXCEPT')
+        print("placement: every ISR-path function outside %s%s is RAMFUNC or FLASHFUNC (%d marked definitions)"
+              % (' '.join(make_var(a.mk, 'RAMFUNC_ALL')) or '-', (' (but %s)' % ' '.join(but)) if but else '', marked))
     return 1 if fails else 0
 
 
