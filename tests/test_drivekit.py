@@ -2,8 +2,9 @@
 """tests/test_drivekit.py - the drivekit package as a whole: every module
 imports without matplotlib (the checks of `make test` run on the system
 python3, and a plot's usage errors come before matplotlib is needed), and
-every console script of pyproject.toml names a module's main(), which
-each module has. Standard library only."""
+every console script of pyproject.toml names a module's main(), and every
+module with a main() has its console script (the others are libraries of
+a command, e.g. campaign_spec). Standard library only."""
 import os
 import re
 import subprocess
@@ -36,11 +37,10 @@ class Package(unittest.TestCase):
         self.assertIn("sil-plot", scripts)                        # the name README and `make plot` use
         targets = set(scripts.values())
         self.assertEqual(len(targets), len(scripts))              # one command a module
-        self.assertEqual(targets, {f"drivekit.{m}:main" for m in MODULES})
         sys.path.insert(0, DRIVEKIT)
         import importlib
-        for m in MODULES:
-            self.assertTrue(callable(getattr(importlib.import_module("drivekit." + m), "main", None)), m)
+        commands = {m for m in MODULES if callable(getattr(importlib.import_module("drivekit." + m), "main", None))}
+        self.assertEqual(targets, {f"drivekit.{m}:main" for m in commands})
 
 
 if __name__ == "__main__":
