@@ -30,7 +30,7 @@
  * L > (Ks/phi + R_max) Ts / 2 (smo_init), so an estimate near the floor
  * still leaves the linear region a pole margin. */
 #define OBS_L_MIN_STABILITY_MARGIN 1.25f
-/* ctrl_obs_gains_design (observer_design.md sec. 3b): the lowest floor of
+/* ctrl_obs_gains_design (smo_design.md sec. 4): the lowest floor of
  * L^ the gain must allow, x the told L (an L told 1.4x high leaves the
  * true one at 0.71x); the R^ band's top that (36) leaves, x G (the
  * band's 0.9 (Ks - ef_max)/phi with Ks = 2 ef_max); Ks over ef_max:
@@ -48,8 +48,8 @@
  * cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
 /* Share of the hexagon's inscribed circle Vdc/sqrt(3) the flux reference
- * leaves for steady state when cfg.u_margin is not in (0, 1] (design
- * sec. 7): the rest is the deadbeat's headroom for torque changes. */
+ * leaves for steady state when cfg.u_margin is not in (0, 1]
+ * (limits_design.md sec. 2): the rest is the deadbeat's headroom for torque changes. */
 #define CTRL_U_MARGIN_DEFAULT 0.92f
 
 /* The model takes the observer's L^, psi^ when they moved by more than
@@ -137,7 +137,7 @@ void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, c
     cfg->track_R = 0u;
     cfg->untold_deadtime_s = EST_UNTOLD_DEADTIME_DEFAULT_S;
     est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
-    /* above the speed estimate's count quantisation (design sec. 7) */
+    /* above the speed estimate's count quantisation (step2_design.md sec. 5) */
     cfg->gate.accel_floor_rad_s2 =
         est_gate_accel_floor_rad_s2(ENCODER_COUNTS_PER_LINE * cfg->enc_lines, cfg->pole_pairs, cfg->enc_pll_bw_rad_s);
 }
@@ -525,7 +525,7 @@ static void stage_references(ctrl_t *c, ctrl_period_t *p)
 }
 
 /* Stage limits: current limit, MTPA (sec. III), flux weakening (oplim.h)
- * -> Te*, psi_s*; the injection's L id* on psi_s* (design sec. 9). */
+ * -> Te*, psi_s*; the injection's L id* on psi_s* (inverter_error_design.md sec. 3). */
 static void stage_limits(ctrl_t *c, ctrl_period_t *p)
 {
     p->psi_ref = 0.0f;

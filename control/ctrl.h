@@ -9,14 +9,15 @@
  *
  * Methods: the conventional method uses the told model and eq. (10)-(12);
  * the proposed method the estimation's model (paper sec. V; design:
- * observer_design.md), which is the told one until step 2 runs and below
- * the speed floor. Method switching (bumpless both ways): once step 2 has
- * started, the estimation keeps running whatever the method, so
- * CONVENTIONAL -> PROPOSED takes a converged observer and PROPOSED ->
- * CONVENTIONAL only swaps the model back to the told parameters and eq.
- * (10). PROPOSED before step 2 has started (no R^ identified or trusted)
- * controls exactly as CONVENTIONAL: the observer's psi^ would otherwise
- * absorb the resistance error (design sec. 4, "skipping step 1").
+ * corrected_model_design.md and the notes README.md lists), which is the
+ * told one until step 2 runs and below the speed floor. Method switching
+ * (bumpless both ways): once step 2 has started, the estimation keeps
+ * running whatever the method, so CONVENTIONAL -> PROPOSED takes a
+ * converged observer and PROPOSED -> CONVENTIONAL only swaps the model
+ * back to the told parameters and eq. (10). PROPOSED before step 2 has
+ * started (no R^ identified or trusted) controls exactly as CONVENTIONAL:
+ * the observer's psi^ would otherwise absorb the resistance error
+ * (step1_design.md sec. 2).
  *
  * Non-finite inputs or results give 50 % duties and CTRL_FLAG_NONFINITE.
  */
@@ -40,10 +41,10 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 #define CTRL_FLAG_VOLTAGE_LIMIT    0x0001u /* vector clamped to the hexagon */
 #define CTRL_FLAG_FLUX_UNREACHABLE 0x0002u /* negative discriminant: flux target not reachable in one period */
 #define CTRL_FLAG_NONFINITE        0x0004u /* a non-finite value appeared; duties are 0.5 and the app must fault */
-/* Inverter error and R tracking (observer_design.md sec. 9); high bits, set while it lasts: */
+/* Inverter error and R tracking (inverter_error_design.md, r_tracking_design.md); high bits, set while it lasts: */
 #define CTRL_FLAG_INV_UNIDENTIFIED EST_FLAG_INV_UNIDENTIFIED /* 0x0100: the inverter error could not be identified: not compensated */
 #define CTRL_FLAG_R_HELD           EST_FLAG_R_HELD /* 0x0200: track_R: the last cycle was held (no current, transient, band) */
-#define CTRL_FLAG_PSI_HELD         EST_FLAG_PSI_HELD /* 0x0400: step 2: the model's psi_f holds (design sec. 9f) */
+#define CTRL_FLAG_PSI_HELD         EST_FLAG_PSI_HELD /* 0x0400: step 2: the model's psi_f holds (holds_design.md sec. 2) */
 #define CTRL_FLAG_ANGLE_SUSPECT    EST_FLAG_ANGLE_SUSPECT /* 0x0800: step 1 suggests an encoder angle error: L^ held */
 
 /* Why the estimates are held: ctrl_mon_t.est_hold, the CSV's est_hold (0:
@@ -67,7 +68,7 @@ typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_met
 
 /* ctrl_cfg_t.track_R: off; on from step 2's start; auto from
  * rtrack.auto_delay_periods after it (step 1's R^ holds that long: a
- * winding's thermal time constant is minutes; design sec. 9d). */
+ * winding's thermal time constant is minutes; r_tracking_design.md sec. 3). */
 #define CTRL_TRACK_R_OFF  0u
 #define CTRL_TRACK_R_ON   1u
 #define CTRL_TRACK_R_AUTO 2u
@@ -93,7 +94,7 @@ typedef struct {
     float device_drop_V;        /* on-state drop of a leg's conducting device [V], fed forward and
                                  * counted as the dead time's error is (against the current's
                                  * sign, on top of it); 0: none */
-    /* Operating limits (design sec. 8); i_lim_A outside (0, i_max_A]: i_max_A;
+    /* Operating limits (limits_design.md); i_lim_A outside (0, i_max_A]: i_max_A;
      * u_margin outside (0, 1]: 0.92 (ctrl.c CTRL_U_MARGIN_DEFAULT) */
     float i_lim_A;              /* stator-current limit |i| [A] the deadbeat target respects */
     float u_margin;             /* share of the inscribed circle Vdc/sqrt(3) the flux
@@ -107,9 +108,9 @@ typedef struct {
     param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
-    uint16_t track_R;           /* CTRL_TRACK_R_*: R^ tracked in step 2 by the injection (design sec. 9d) */
+    uint16_t track_R;           /* CTRL_TRACK_R_*: R^ tracked in step 2 by the injection (r_tracking_design.md) */
     float untold_deadtime_s;    /* the speed floor's prior until the inverter error is identified: the
-                                 * least error nobody told, as a dead time [s] (design sec. 9g) */
+                                 * least error nobody told, as a dead time [s] (holds_design.md sec. 6) */
     est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
 } ctrl_cfg_t;
 
@@ -126,7 +127,7 @@ typedef uint16_t ctrl_status_t;
 #define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts;
                                                       * or device drop so, or above 0.1 u_max_V */
 #define CTRL_CFG_GATE       EST_CFG_GATE             /* 0x0080 est_gate_init refused (step 2's pause and hold) */
-#define CTRL_CFG_RTRACK     EST_CFG_RTRACK           /* 0x0100 r_track_init refused (d-current injection, design sec. 9) */
+#define CTRL_CFG_RTRACK     EST_CFG_RTRACK           /* 0x0100 r_track_init refused (d-current injection, inverter_error_design.md) */
 /* Needed by every method (encoder, speed loop, model, output path)... */
 #define CTRL_CFG_NEEDED_ALWAYS   ((ctrl_status_t)(CTRL_CFG_ENCODER | CTRL_CFG_SPEED_PI | CTRL_CFG_DBDTC | CTRL_CFG_DEADTIME))
 /* ...and by the proposed method's steps 1 and 2. */
@@ -194,7 +195,7 @@ typedef struct {
 /* Background: smo.h's design defaults (Table I: 100 V, 2.5 A, 50 V). */
 void ctrl_obs_gains_default(ctrl_obs_gains_t *g);
 
-/* Background: the gains for a motor (observer_design.md sec. 3b): Ks =
+/* Background: the gains for a motor (smo_design.md sec. 4): Ks =
  * 2 ef_max_V ((36) with R^ up to 0.45 G and a 10 % margin), phi = phi_A
  * unless G = Ks/phi would pass the discrete stability bound with L^'s
  * floor at half the told L_H and the margin OBS_L_MIN_STABILITY_MARGIN
@@ -216,8 +217,8 @@ void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, c
 
 /* The default R^ band for cfg->R_Ohm (set it first): rs_ident.h's
  * RS_IDENT_BAND_*_FACTOR x R_Ohm, the top kept below the largest R^ the
- * observer's default gains take under condition (36) (observer_design.md
- * sec. 6), and not below R_Ohm. Background, before ctrl_cfg_proposed_defaults. */
+ * observer's default gains take under condition (36) (step1_design.md
+ * sec. 8), and not below R_Ohm. Background, before ctrl_cfg_proposed_defaults. */
 void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
 
 /* As ctrl_rsid_band_default under condition (36) with the gains *g. Background. */
@@ -261,9 +262,9 @@ bool ctrl_rsid_begin(ctrl_t *c);
  * while settling). ISR or background. */
 void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win);
 
-/* Step 1 ends: solves (design sec. 1c) into c->rsid_out; on RS_IDENT_OK
+/* Step 1 ends: solves (step1_design.md sec. 1) into c->rsid_out; on RS_IDENT_OK
  * sets R^ bumplessly and starts step 2 - its first 0.12 s at the same
- * operating point identify the inverter error (design sec. 9) -
+ * operating point identify the inverter error (inverter_error_design.md sec. 5) -
  * otherwise stops the
  * observer and returns the reason. ISR once (about 20 divisions) or background. */
 rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);

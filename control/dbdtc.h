@@ -16,8 +16,8 @@
  *
  * The deadbeat solution (eq. 17) in a form with no division and one
  * square root per step (1/Ts, 2L/(3p psi_f), 1.5 p psi_f, Ts*R/L and Ts/L
- * precomputed in dbdtc_set_params()): derived in observer_design.md
- * sec. 1f.
+ * precomputed in dbdtc_set_params()): derived in corrected_model_design.md
+ * sec. 4.
  *
  * Negative discriminant (psi_q*^2 > psi_s*^2: the torque asks for more
  * q flux than the whole flux target): psi_d(k+2) = 0, i.e. u_d = -X1/Ts,
@@ -35,7 +35,7 @@
  * positive and the torque falls (SIL, 2200 r/min, Te* 3 -> 12 N m: i_d
  * +7.8 A, Te 1.4 N m). Then flux first: u_d as requested and the most u_q
  * along the request the hexagon has at that u_d (DB-DTFC at the voltage
- * limit, the paper's refs [4], [5]; observer_design.md sec. 8). A u_d
+ * limit, the paper's refs [4], [5]; limits_design.md sec. 3). A u_d
  * request below -Vdc/sqrt(3) is no flux target the deadbeat step can
  * mean (an open phase asks for such): torque first there.
  */

@@ -4,11 +4,11 @@
 #include "mathx.h"
 
 /* A per-leg square wave of amplitude dv (dead time, device drop) has the
- * rotor-frame fundamental (4/pi) dv against the current (design sec. 9). */
+ * rotor-frame fundamental (4/pi) dv against the current (inverter_error_design.md sec. 2). */
 #define FUNDAMENTAL_OF_SQUARE 1.27323954f
 #define QUARTER_PI 0.785398163f
 /* Step 1's windows suggest an encoder angle error beyond this [rad el]:
- * L^ held, EST_FLAG_ANGLE_SUSPECT (observer_design.md sec. 6h; 1.5 deg:
+ * L^ held, EST_FLAG_ANGLE_SUSPECT (holds_design.md sec. 8; 1.5 deg:
  * 0.12 deg at most without one, 4.9 deg read for a 5 deg offset). */
 #define EST_ANGLE_SUSPECT_RAD 0.026f
 /* ... read only where the windows' iq differ by this share of the larger [1] */
@@ -155,7 +155,7 @@ static void start_step2(est_t *e)
 {
     param_est_run(&e->pe, true);
     est_gate_reset(&e->gate, &e->smo);
-    psi_band_start(&e->pb, e->smo.psi_f_Wb); /* the model's value then (design sec. 9f) */
+    psi_band_start(&e->pb, e->smo.psi_f_Wb); /* the model's value then (holds_design.md sec. 2) */
     e->phase = EST_STEP2;
     e->trusted = false;
     e->force = EST_MOVED_ALL;
@@ -170,7 +170,7 @@ static void start_step2(est_t *e)
 
 /* Per-leg voltage error dv_V [V] of the dead time's shape added to the
  * compensation, bumplessly: f^ gives up the fundamental -(4/pi) dv i/|i|
- * it no longer has to explain (design sec. 9). 1 square root, 1 division, once. */
+ * it no longer has to explain (inverter_error_design.md sec. 5). 1 square root, 1 division, once. */
 static void add_inverter_error(est_t *e, float dv_V, dq_t i_dq_A)
 {
     const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
@@ -181,7 +181,7 @@ static void add_inverter_error(est_t *e, float dv_V, dq_t i_dq_A)
         dfq = k * i_dq_A.q;
         smo_shift_f(&e->smo, k * i_dq_A.d, dfq);
     }
-    psi_band_rebase(&e->pb, dfq, e->rt.ident_sync); /* the fine bound from here (design sec. 9f) */
+    psi_band_rebase(&e->pb, dfq, e->rt.ident_sync); /* the fine bound from here (holds_design.md sec. 3) */
     e->out.inv_err_V = FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
 }
 
@@ -195,7 +195,7 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
     } else if (ev == R_TRACK_IDENT_REFUSED) {
         e->rt_flags = (uint16_t)((e->rt_flags & EST_FLAG_ANGLE_SUSPECT) | EST_FLAG_INV_UNIDENTIFIED); /* says so,
                                                             * and keeps the dead time as told */
-        /* nothing bounds the error then: the told model at every speed (design sec. 9g) */
+        /* nothing bounds the error then: the told model at every speed (holds_design.md sec. 7) */
         psi_band_bound_unknown(&e->pb);
         e->force = EST_MOVED_ALL;
         start_tracking(e);
@@ -203,7 +203,7 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
         /* rho = dR with the inverter error compensated: R^ += -k_R rho + rate, within the band */
         const float fq_V = e->smo.fq_V;
         if (smo_set_R(&e->smo, e->smo.R_Ohm + e->rt.dR_step_Ohm)) {
-            psi_band_r_moved(&e->pb, e->smo.fq_V - fq_V); /* design sec. 9f */
+            psi_band_r_moved(&e->pb, e->smo.fq_V - fq_V); /* holds_design.md sec. 4 */
             e->rt_flags &= (uint16_t)~EST_FLAG_R_HELD;
             e->force = EST_MOVED_ALL;
         } else {
@@ -216,7 +216,7 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
     }
 }
 
-/* Step 1's result with the d-axis check (observer_design.md sec. 6g): an
+/* Step 1's result with the d-axis check (step1_design.md sec. 6): an
  * error e_L of dL moves R^ by w1 w2 (id2 - id1) e_L / den when the
  * windows' id differ (field weakening at the voltage limit). Where the
  * correction the solve applied, |k dL^|, exceeds se(R^)'s limit, the two
@@ -242,7 +242,7 @@ static rs_ident_result_t rsid_checks(const est_t *e, rs_ident_result_t r_solved,
         const float iq_big = (mathx_fabsf(iq1) > mathx_fabsf(iq2)) ? mathx_fabsf(iq1) : mathx_fabsf(iq2);
         if ((mathx_fabsf(wiq1) > wiq_min) && (mathx_fabsf(wiq2) > wiq_min) &&
             (mathx_fabsf(iq2 - iq1) > EST_ANGLE_IQ_SPREAD_MIN * iq_big)) {
-            /* an angle error d adds -w psi_f d to fd: dL_j = dL - psi_f d / iq_j (sec. 6h) */
+            /* an angle error d adds -w psi_f d to fd: dL_j = dL - psi_f d / iq_j (holds_design.md sec. 8) */
             const float dL1 = (o->mean_fd_V[0] + dR * o->mean_id_A[0]) / wiq1;
             const float dL2 = (o->mean_fd_V[1] + dR * o->mean_id_A[1]) / wiq2;
             o->angle_el_rad = (dL1 - dL2) * iq1 * iq2 / (e->cfg.psi_f_Wb * (iq1 - iq2));
@@ -306,7 +306,7 @@ rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
     }
     if (r == RS_IDENT_OK) {
         start_step2(e);
-        /* a suspected angle error would be learned as L: L^ held, a warning (sec. 6h) */
+        /* a suspected angle error would be learned as L: L^ held, a warning (holds_design.md sec. 8) */
         const bool suspect = !(mathx_fabsf(e->rsid_out.angle_el_rad) <= EST_ANGLE_SUSPECT_RAD);
         param_est_hold_L(&e->pe, suspect);
         psi_band_hold(&e->pb, suspect); /* the told model, the conventional path */
@@ -315,7 +315,7 @@ rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
         e->out.hold = e->hold_fixed;
         e->out.flags = e->rt_flags;
         if (!suspect) {
-            /* first the inverter error, at R^ = R0 (design sec. 9); not with the
+            /* first the inverter error, at R^ = R0 (inverter_error_design.md sec. 5); not with the
              * told model held: its injection would only disturb the torque */
             r_track_start(&e->rt, R_TRACK_IDENT);
         }

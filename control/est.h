@@ -3,7 +3,7 @@
  * (smo.h), step 1 (rs_ident.h), step 2's transfer laws (param_est.h) and
  * when they may learn (est_gate.h), the inverter error and R tracking by
  * d-current injection (r_track.h), and the model's psi_f through a dead
- * band with its speed floor (psi_band.h). Design: observer_design.md.
+ * band with its speed floor (psi_band.h). Design: the notes README.md lists.
  *
  * One est_step() per period, one output (est_out_t): the motor model - R,
  * L, psi_f and the inverter voltage error to compensate - that the
@@ -71,13 +71,13 @@ typedef enum {
 
 /* est_cfg_t.track_R: off; on from step 2's start; auto from
  * rtrack.auto_delay_periods after it (step 1's R^ holds that long: a
- * winding's thermal time constant is minutes; design sec. 9d). */
+ * winding's thermal time constant is minutes; r_tracking_design.md sec. 3). */
 #define EST_TRACK_R_OFF  0u
 #define EST_TRACK_R_ON   1u
 #define EST_TRACK_R_AUTO 2u
 
 /* Until the inverter error is identified, the speed floor assumes at
- * least this dead-time error nobody told [s] (observer_design.md sec. 9g). */
+ * least this dead-time error nobody told [s] (holds_design.md sec. 6). */
 #define EST_UNTOLD_DEADTIME_DEFAULT_S 0.15e-6f
 
 /* What est_init refused (bits; the same as ctrl.h's CTRL_CFG_*). */
@@ -222,7 +222,7 @@ static inline void est_step2(est_t *e, const est_in_t *in)
 {
     est_out_t *o = &e->out;
     const float w = in->omega_el_rad_s;
-    /* the injected d current is no transient (design sec. 9) */
+    /* the injected d current is no transient (step2_design.md sec. 4) */
     dq_t i_gate = in->i_dq_A;
     i_gate.d -= e->rt.id_expect_A;
     uint16_t moved = est_gate_step(&e->gate, &e->smo, w, i_gate, in->te_ref_Nm, in->voltage_limited)
@@ -234,7 +234,7 @@ static inline void est_step2(est_t *e, const est_in_t *in)
             moved = EST_MOVED_LPSI;
         }
         /* the model's psi_f: only what the voltage it cannot explain (the
-         * inverter error compensated, noise) cannot fake (design sec. 9f) */
+         * inverter error compensated, noise) cannot fake (holds_design.md sec. 2) */
         if (psi_band_step(&e->pb, e->smo.psi_f_Wb, e->smo.fq_V, w, in->vdc_V, o->inv_err_V)) {
             moved = EST_MOVED_LPSI;
             psi_held = 0u;
@@ -247,7 +247,7 @@ static inline void est_step2(est_t *e, const est_in_t *in)
         o->L_H = e->smo.L_H;
         o->psi_f_Wb = e->pb.psi_Wb;
         o->inv_dv_V = e->inv_dv_V;
-        /* f^ carries a current transient: eq. (10) with the held estimates (design sec. 7) */
+        /* f^ carries a current transient: eq. (10) with the held estimates (step2_design.md sec. 7) */
         o->src = est_gate_f_usable(&e->gate) ? EST_SRC_OBSERVER : EST_SRC_HELD;
         o->hold = e->gate.reasons; /* (an angle hold keeps pb.low set: the branches below) */
         e->trusted = e->pb.trust; /* taken above the floor as decided under the final bound */
@@ -287,8 +287,8 @@ static inline void est_step(est_t *e, const est_in_t *in)
             /* tracking only: the injection would read the weakening loop, the clamp (the gate's
              * voltage reason) or the speed estimate's lag in a ramp (its acceleration reason),
              * not R; the first two not in an edge's blanked periods (not summed), where the
-             * edge's own voltage step may meet the limit and nudge the weakening (design
-             * sec. 9d) */
+             * edge's own voltage step may meet the limit and nudge the weakening
+             * (r_tracking_design.md sec. 3) */
             r_track_hold(&e->rt);
             if ((e->gate.reasons & EST_GATE_ACCEL) != 0u) {
                 r_track_restart_cycle(&e->rt, in->omega_el_rad_s); /* identifying: no cycle across a
@@ -303,7 +303,7 @@ static inline void est_step(est_t *e, const est_in_t *in)
         }
     }
     if (e->phase == EST_STEP1) {
-        /* the angle for the fit of the electrical-frequency ripple (design sec. 6e) */
+        /* the angle for the fit of the electrical-frequency ripple (step1_design.md sec. 4) */
         rs_ident_step_el(&e->ri, e->win, e->smo.fd_V, e->smo.fq_V, in->i_dq_A.d, in->i_dq_A.q, in->omega_el_rad_s,
                          in->cos_el, in->sin_el);
     } else {

@@ -191,7 +191,7 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
             g->psi_new = smo->psi_f_Wb;
             /* settled once, settled until the next reset: on a real board L^'s
              * noise moves it by up to 10 % in 5 ms, which must not switch the
-             * gate off (design sec. 7) */
+             * gate off (step2_design.md sec. 6) */
             g->settled = g->settled || copies_agree(g);
         }
     }

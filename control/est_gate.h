@@ -1,7 +1,7 @@
 /*
  * est_gate.h - when step 2 may learn: pauses the L^ / psi_f^ transfer laws
  * (param_est.h) while their steady-state assumptions are broken, and holds
- * a value from before the transient (observer_design.md sec. 7).
+ * a value from before the transient (step2_design.md sec. 4-7).
  *
  * The transfer laws read parameter errors out of the observer's f^ under
  * two assumptions: di/dt ~ 0 (else fd, fq carry -dL di/dt) and a speed
@@ -36,12 +36,12 @@
 #include "clarke_park.h"
 #include "smo.h"
 
-/* Design defaults (observer_design.md sec. 7). */
+/* Design defaults (step2_design.md sec. 4). */
 #define EST_GATE_ACCEL_PER_SPEED_DEFAULT_1_S 1.0f   /* |a| > |w| / 1 s: the lag moved psi^ 1.8 % at 2500 r/min/s with 5 */
 #define EST_GATE_ACCEL_FLOOR_DEFAULT_RAD_S2  100.0f /* electrical, the least floor; 320 r/min/s at p = 3 */
 /* The floor per acceleration the speed estimate reports for one count of
  * position error, bw^2 2 pi p / cpr: the quantisation reads as at most
- * (1 + 2 e^-2)/2 = 0.64 of it before the low-pass (design sec. 7). */
+ * (1 + 2 e^-2)/2 = 0.64 of it before the low-pass (step2_design.md sec. 5). */
 #define EST_GATE_ACCEL_FLOOR_PER_COUNT       0.64f
 #define EST_GATE_SETTLED_DEFAULT             0.01f  /* copies this close: the estimates had settled */
 #define EST_GATE_DI_MAX_DEFAULT_A         0.5f
@@ -50,7 +50,7 @@
 #define EST_GATE_TAU_ACCEL_DEFAULT_S      2.0e-3f /* low-pass of the acceleration */
 #define EST_GATE_HOLD_DEFAULT_S           20.0e-3f
 #define EST_GATE_SNAP_DEFAULT_S           5.0e-3f
-#define EST_GATE_F_HOLD_DEFAULT_S         30.0e-3f /* f^ after a current transient (design sec. 7) */
+#define EST_GATE_F_HOLD_DEFAULT_S         30.0e-3f /* f^ after a current transient (step2_design.md sec. 7) */
 
 /* Why the laws are paused (est_gate_t.reasons, bit set). */
 #define EST_GATE_ACCEL   0x0001u
@@ -128,7 +128,7 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
 
 /* True while the observer's prediction i^(k+1) (through f^) may replace
  * eq. (10): no current or torque-command transient within f_hold_s (f^
- * integrates its tracking lag during one, design sec. 7) and the gate
+ * integrates its tracking lag during one, step2_design.md sec. 7) and the gate
  * acting (settled estimates). ISR. */
 static inline bool est_gate_f_usable(const est_gate_t *g)
 {

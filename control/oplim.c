@@ -32,7 +32,7 @@ oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, float i_lim_A, float
     out.te_Nm = mathx_clampf(te_req_Nm, -te_i, te_i);
     /* L Te* / kt, not psiq_per_Nm Te* without the division: a last-bit
      * change of the flux target moves the figures of make sil
-     * (observer_design.md sec. 10) */
+     * (ctrl_step_design.md sec. 4) */
     out.psi_Wb = mtpa_psi_s_of_psi_q(p->psi_f_Wb, (p->L_H * out.te_Nm) / p->kt_Nm_per_A); /* sec. III */
     o->dpsi_max_Wb = out.psi_Wb - (p->psi_f_Wb - Li);
     if (o->dpsi_Wb > 0.0f) {

@@ -2,7 +2,7 @@
  * oplim.h - the torque and flux targets of the deadbeat step inside the
  * drive's operating limits: stator current |i| <= i_lim and, above base
  * speed, the inverter voltage (flux weakening). Derivation and figures:
- * observer_design.md sec. 8. Both methods use it, with the parameters in
+ * limits_design.md. Both methods use it, with the parameters in
  * use (dbdtc_par_t: nominal, or the observer's estimates).
  *
  * Current limit. Surface PMSM, psi_d = psi_f + L id, psi_q = L iq
@@ -32,7 +32,7 @@
 #include "dbdtc.h"
 #include "mathx.h"
 
-/* Design defaults (observer_design.md sec. 8). */
+/* Design defaults (limits_design.md sec. 2). */
 #define OPLIM_FW_RATE_DEFAULT_WB_S 5.0f  /* follows 3x the 2050 r/min in 0.2 s ramp's flux change */
 #define OPLIM_FW_HYST_DEFAULT      0.97f /* dpsi falls below 0.97 u_lim */
 

@@ -117,7 +117,8 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
     pe->phase_psi = !pe->phase_psi;
     flags = pe->flags_last & (pe->phase_psi ? PARAM_EST_L_CLAMPED : PARAM_EST_PSI_CLAMPED);
 
-    /* Replaces (53)-(55): corrected steady state fd = dL w iq (design 1a, 1d),
+    /* Replaces (53)-(55): corrected steady state fd = dL w iq
+     * (corrected_model_design.md sec. 2, step2_design.md sec. 1),
      * applied as a slow transfer of fd^ into L^ instead of L + fd/(w iq). */
     if (!pe->phase_psi && (mathx_fabsf(wiq) > c->wiq_min_A_rad_s)) {
         const float delta_V = pe->gamma_L_Tu * smo->fd_V;
@@ -135,7 +136,7 @@ uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float
             flags |= PARAM_EST_L_CLAMPED;
         }
     }
-    /* Replaces (43)-(50): fq = -dpsi w at equilibrium (design 1e); psi^
+    /* Replaces (43)-(50): fq = -dpsi w at equilibrium (step2_design.md sec. 2); psi^
      * takes fq^ at the speed-independent rate gamma_psi. */
     if (pe->phase_psi && (mathx_fabsf(w) > w_min_rad_s)) {
         const float delta_V = pe->kpsi * smo->fq_V;

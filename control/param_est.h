@@ -7,16 +7,16 @@
  * Tu = PARAM_EST_LAW_PERIODS Ts each):
  *   |w iq| > wiq_min:  delta = gamma_L Tu fd^;   L^ -= delta/(w iq); fd^ -= delta
  *   |w|    > w_min:    delta = gamma_psi Tu fq^; psi^ += delta/w;   fq^ -= delta
- * (design sec. 1d, 1e); gamma_L drops to gamma_L_slow after L_fast_s of
+ * (step2_design.md sec. 1, 2); gamma_L drops to gamma_L_slow after L_fast_s of
  * the L law's running (converged: from then on it averages the encoder's
- * count error, design sec. 9d). w L^ iq - fd^ and w psi^ + fq^ are unchanged, so the
+ * count error, step2_design.md sec. 8). w L^ iq - fd^ and w psi^ + fq^ are unchanged, so the
  * fast observer never sees an update; f^ drains into the parameters at the
  * slow rates gamma until f^ = 0. Signed w iq and w keep braking and reversal
  * right. Below the thresholds the division is ill-conditioned and the law
  * freezes (the estimate holds).
  *
  * No low-pass on the estimates: the observer is the filter (with 0.02 A rms
- * current noise the estimates stay within 0.13 %, design sec. 4), and a
+ * current noise the estimates stay within 0.13 %, build/sil/report.md), and a
  * filter inside the loop would add phase to the transfer law for nothing.
  */
 #ifndef PARAM_EST_H
@@ -27,16 +27,16 @@
 
 #include "smo.h"
 
-/* Design defaults (observer_design.md sec. 3). */
+/* Design defaults (step2_design.md sec. 3). */
 #define PARAM_EST_GAMMA_L_DEFAULT_1_S   150.0f /* tau 6.7 ms, 13x slower than the observer */
 #define PARAM_EST_GAMMA_PSI_DEFAULT_1_S 60.0f  /* tau 17 ms */
 /* L^'s law after its first PARAM_EST_L_FAST_DEFAULT_S of running: the
- * averaging rate (design sec. 1d, 9d: the encoder's count error). */
+ * averaging rate (step2_design.md sec. 1, 8: the encoder's count error). */
 #define PARAM_EST_GAMMA_L_SLOW_DEFAULT_1_S 15.0f /* tau 67 ms */
 #define PARAM_EST_L_FAST_DEFAULT_S      1.0f   /* [s] of L-law running at gamma_L */
 #define PARAM_EST_L_FAST_MAX_S          3600.0f /* its counter's range */
 /* L^'s law after its first PARAM_EST_L_FAST_DEFAULT_S of running: the
- * averaging rate (design sec. 1d, 9d: the encoder's count error). */
+ * averaging rate (step2_design.md sec. 1, 8: the encoder's count error). */
 #define PARAM_EST_GAMMA_L_SLOW_DEFAULT_1_S 15.0f /* tau 67 ms */
 #define PARAM_EST_L_FAST_DEFAULT_S      1.0f   /* [s] of L-law running at gamma_L */
 #define PARAM_EST_L_FAST_MAX_S          3600.0f /* its counter's range */
@@ -44,7 +44,7 @@
 #define PARAM_EST_W_MIN_DEFAULT_RAD_S   30.0f  /* electrical, ~95 r/min at p = 3 */
 #define PARAM_EST_CLAMP_MIN_FACTOR      0.3f   /* L^, psi^ clamps, x nominal */
 #define PARAM_EST_CLAMP_MAX_FACTOR      3.0f
-/* Rate limits of L^ and psi^, x nominal per second (design sec. 7): a
+/* Rate limits of L^ and psi^, x nominal per second (step2_design.md sec. 3): a
  * 50 % error still goes in 50 ms, a transient the gate misses moves an
  * estimate by at most 1 % per ms. */
 #define PARAM_EST_RATE_MAX_FACTOR_1_S   20.0f

@@ -133,7 +133,7 @@ bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_
     const float vdc = mathx_fabsf(vdc_V);
     const float band = (pb->k_per_vdc * vdc + pb->found_frac * mathx_fabsf(ve_found_V) +
                         pb->r_unc_V + pb->cfg.unc_abs_V) * abs_inv_w;
-    /* the floor: the final bound, or before it the prior on what nobody told (design sec. 9g) */
+    /* the floor: the final bound, or before it the prior on what nobody told (holds_design.md sec. 6) */
     const float floor_band = pb->final ? band : ((pb->cfg.ve_prior_per_vdc * vdc + pb->cfg.unc_abs_V) * abs_inv_w);
     const float band_max = pb->cfg.unexplained_max * mathx_fabsf(pb->P_Wb);
     const float band_in = ((pb->low & PSI_BAND_LOW_BAND) != 0u) ? (PSI_BAND_LOW_HYST * floor_band) : floor_band;

@@ -1,7 +1,7 @@
 /*
  * psi_band.h - the PM flux the proposed method's deadbeat model takes in
  * step 2: the observer's equilibrium flux seen through a dead band of the
- * q-axis voltage nobody can explain (observer_design.md sec. 9f).
+ * q-axis voltage nobody can explain (holds_design.md sec. 1-3).
  *
  * The observer's q axis explains w psi^ + fq^, so its equilibrium flux is
  * psi_eq = psi^ + fq^/w, and any q voltage Vu the model does not know (the
@@ -35,7 +35,7 @@
  * Vb is the prior ve_prior_per_vdc x Vdc + abs_V: the least inverter error
  * nobody told, which the coarse guess from the told dead time does not
  * cover when the told dead time is 0. The caller then keeps the told model and the
- * conventional torque path (observer_design.md, "speed floor").
+ * conventional torque path (holds_design.md sec. 5).
  *
  * Calling context: ISR (psi_band_step, psi_band_rebase, psi_band_start),
  * background (psi_band_init).
@@ -46,7 +46,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-/* Design defaults (observer_design.md sec. 9f). */
+/* Design defaults (holds_design.md sec. 2, 3, 5). */
 #define PSI_BAND_TAU_DEFAULT_S         0.02f /* low-pass of psi_eq: 0.14 V rms of fq^ noise -> 0.006 V */
 #define PSI_BAND_UNC_TOLD_FRAC_DEFAULT 0.5f  /* before identification: of the told dead time's fundamental (an untold device drop too) */
 #define PSI_BAND_UNC_IDENT_FRAC_DEFAULT 0.05f /* after: of the told dead time's fundamental ... */
@@ -142,7 +142,7 @@ void psi_band_bound_final(psi_band_t *pb);
 
 /* The inverter error's identification was refused: no bound on what the
  * drive cannot explain, so every speed is below the floor (`low` keeps
- * PSI_BAND_LOW_BAND until psi_band_start; observer_design.md sec. 9g). ISR. */
+ * PSI_BAND_LOW_BAND until psi_band_start; holds_design.md sec. 6). ISR. */
 void psi_band_bound_unknown(psi_band_t *pb);
 
 /* The caller holds the model at every speed (hold = true: `low` keeps

@@ -6,7 +6,7 @@
 /* Segments per cycle: signs + - - + (a linear drift of z cancels). */
 #define SEGMENTS 4u
 /* The inverter error's square waves leave a ripple at 6 w (and its
- * multiples) in the rotor frame (design sec. 9b) */
+ * multiples) in the rotor frame (inverter_error_design.md sec. 4) */
 #define RIPPLE_HARMONIC 6.0f
 #define TWO_PI 6.28318531f
 /* r_track_step shifts a two-entry delay line */
@@ -107,7 +107,7 @@ void r_track_start(r_track_t *rt, r_track_phase_t phase)
  * ripple, as many as fit in seg_periods after the blanking (the segment's
  * last ones; the blanking longer), or one longer one up to sync_max_periods; a
  * synchronous sum cancels the ripple whatever its phase, where a fixed
- * 70-period sum aliases it into Ve (design sec. 9b). Slower: the fixed
+ * 70-period sum aliases it into Ve (inverter_error_design.md sec. 4). Slower: the fixed
  * segments, not synchronous. 4 float divisions, once per cycle. */
 static void cycle_length(r_track_t *rt, float omega_el_rad_s)
 {
@@ -203,7 +203,7 @@ static r_track_event_t end_cycle(r_track_t *rt)
         }
         ev = R_TRACK_NONE;
         if (rt->cycles >= rt->ident_need) {
-            /* Ve = -rho |i| with R^ = R0 (design sec. 9) */
+            /* Ve = -rho |i| with R^ = R0 (inverter_error_design.md sec. 5) */
             const float iq = rt->id_iq / (float)rt->cycles;
             const float i_abs = mathx_sqrtf(rt->i_inj_A * rt->i_inj_A + iq * iq);
             const float Ve = (rt->id_zs / rt->id_is) * i_abs;
@@ -247,10 +247,10 @@ r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, f
     rt->ref_q[0] = rt->ref_q[1];
     if (rt->j >= rt->blank_len) {
         if (rt->n == 0u) {
-            /* constant over the cycle: the L^ law's invariant stays one; IDENT only (design sec. 9c) */
+            /* constant over the cycle: the L^ law's invariant stays one; IDENT only (inverter_error_design.md sec. 6) */
             rt->L_c_H = (rt->phase == R_TRACK_IDENT) ? L_H : 0.0f;
         }
-        /* design sec. 9c: -w L0 iq out of z, so iq(+) != iq(-) does not leak */
+        /* inverter_error_design.md sec. 6: -w L0 iq out of z, so iq(+) != iq(-) does not leak */
         rt->s_zs += rt->s_now * (z_V + rt->L_c_H * omega_el_rad_s * iq_A);
         rt->s_is += rt->s_now * id_A;
         rt->s_iq += iq_A;

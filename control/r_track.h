@@ -1,18 +1,18 @@
 /*
  * r_track.h - d-axis square-wave current injection with synchronous
  * demodulation of the observer's f^_d (beyond the paper; derivation and
- * figures: observer_design.md sec. 9).
+ * inverter_error_design.md, r_tracking_design.md; figures: observer_log.md).
  *
  * For an SPMSM (Ld = Lq) an i_d makes no torque (Te = 1.5 p psi_f iq, eq. 3),
  * so a small i_d square wave +-I can run in service. In steady state the
- * observer's d disturbance is (design sec. 1a, 6)
+ * observer's d disturbance is (inverter_error_design.md sec. 2)
  *   fd = -dR id + Ve id/|i| + dL w iq - dL did/dt
  * dR = R^ - R0, Ve the inverter voltage error the controller does not model
  * (dead time, device drop: a vector of magnitude Ve against the current).
  * With z = fd^ - w L^ iq (invariant under param_est's L^ law) and, while
  * identifying, L_c the L^ of the cycle's first summed sample (0 while
  * tracking), z + L_c w iq = fd^ - w (L^ - L_c) iq is invariant too and
- * carries w (L_c - L0) iq instead of -w L0 iq (design sec. 9c: an iq that
+ * carries w (L_c - L0) iq instead of -w L0 iq (inverter_error_design.md sec. 6: an iq that
  * differs between the segments, the + segments at the voltage limit, no
  * longer leaks in at the gain w L0). Demodulated against the reference's sign s (pattern
  * + - - + per cycle, so a linear drift cancels; the first blank_periods of
@@ -45,7 +45,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-/* Design defaults (observer_design.md sec. 9). */
+/* Design defaults (inverter_error_design.md, r_tracking_design.md). */
 #define R_TRACK_I_IDENT_DEFAULT_A    1.0f   /* identification: 4.5 W for 0.12 s at 3 ohm */
 #define R_TRACK_I_TRACK_DEFAULT_A    0.5f   /* in service: 1.5 R I^2 = 1.1 W at 3 ohm */
 #define R_TRACK_SEG_DEFAULT          100u   /* periods per segment: 10 ms, cycle 40 ms */
@@ -61,7 +61,7 @@
 #define R_TRACK_K_I_DEFAULT          0.1f   /* per cycle: poles 0.7 +- 0.1j, |z| 0.71, time constant 115 ms */
 #define R_TRACK_VE_MAX_DEFAULT_V     20.0f  /* |Ve| beyond this is no inverter error: refused */
 /* What the identification may leave, as a bound (SIL: within 2.9 % of the
- * hand value, sec. 9), and the psi^ error it may cause: psi^ holds where
+ * hand value, inverter_error_design.md sec. 5), and the psi^ error it may cause: psi^ holds where
  * |w| psi_f < (unc_frac |Ve| + unc_abs) / psi_tol. */
 #define R_TRACK_VE_UNC_FRAC_DEFAULT  0.05f
 #define R_TRACK_VE_UNC_ABS_DEFAULT_V 0.05f
@@ -99,7 +99,7 @@ typedef struct {
     float iq_step_max_A;      /* |mean iq(+) - mean iq(-)| above: cycle held */
     float k_R;                /* fraction of rho corrected per cycle, (0, 1] */
     float k_I;                /* fraction of rho added to the rate per cycle, 0 <= k_I < k_R
-                               * (error poles: z^2 - (2 - k_R - k_I) z + 1 - k_R, sec. 9) */
+                               * (error poles: z^2 - (2 - k_R - k_I) z + 1 - k_R, r_tracking_design.md sec. 1) */
     float ve_max_V;           /* |Ve| above: identification refused */
     float ve_unc_frac;        /* bound on what identification leaves: frac |Ve| + abs [1, V] */
     float ve_unc_abs_V;
@@ -157,13 +157,13 @@ void r_track_delay(r_track_t *rt, uint16_t periods);
 
 /* TRACK: the cycle under way dropped, no injection until a segment
  * after the last call (the field weakened or the voltage at its limit:
- * the cycle would read the weakening loop or the clamp, not R; design
- * sec. 9d); nothing in other phases. ISR. */
+ * the cycle would read the weakening loop or the clamp, not R;
+ * r_tracking_design.md sec. 3); nothing in other phases. ISR. */
 void r_track_hold(r_track_t *rt);
 
 /* IDENT: the cycle under way dropped and started again, its length for
  * omega_el_rad_s [rad/s el] (the speed changing: the speed estimate's lag
- * and the 6 w ripple's changing period would read as Ve; design sec. 9c);
+ * and the 6 w ripple's changing period would read as Ve; inverter_error_design.md sec. 4);
  * nothing in other phases or during the delay. ISR. */
 void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s);
 

@@ -5,7 +5,7 @@
 
 #include "mathx.h"
 
-/* Fixed iteration count of the dR/dpsi/dL solve (design sec. 1c): dL
+/* Fixed iteration count of the dR/dpsi/dL solve (step1_design.md sec. 1): dL
  * enters fq only through dL w id, a small correction, so the error shrinks
  * by a factor ~ |id/iq| per pass; four passes reach float resolution. */
 #define SOLVE_ITERATIONS 4
@@ -240,7 +240,7 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
     }
 }
 
-/* The ripple fit of a window (design sec. 6e): inverse of G = Z'Z, Z the
+/* The ripple fit of a window (step1_design.md sec. 4): inverse of G = Z'Z, Z the
  * rows (1, C_i, S_i); false (plain means) when there are too few batches
  * or det(G / nb) is below RS_IDENT_RIPPLE_DET_MIN. 1 division. */
 static bool ripple_fit(const rs_ident_win_t *w, float Gi[3][3])
@@ -286,7 +286,7 @@ static void zt_channel(const rs_ident_win_t *w, int16_t a, float h[3])
     h[2] = w->mcs[a][1];
 }
 
-/* The fit's 6th harmonic (design sec. 6e), by partitioned regression on
+/* The fit's 6th harmonic (step1_design.md sec. 4), by partitioned regression on
  * the fit of (1, C, S) (f->Gi): with B the cross sums of (C6, S6) with
  * (1, C, S), D theirs, P = Gi B, the Schur complement Sc = D - B' P; false
  * (the 3-term fit alone) with fewer than RS_IDENT_RIPPLE6_BATCHES_MIN
@@ -474,7 +474,7 @@ static float intercept(const rs_ident_win_t *w, const rs_ident_ripple_t *f, int1
 }
 
 /* Window j's means and iq's slope into *out (the points the later stages
- * read there; design sec. 6f); RS_IDENT_OK or why the window is refused. */
+ * read there; step1_design.md sec. 5); RS_IDENT_OK or why the window is refused. */
 static rs_ident_result_t solve_means(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
@@ -498,7 +498,7 @@ static rs_ident_result_t solve_means(const rs_ident_solver_t *s, int16_t j, rs_i
                          out->mean_w_rad_s[j] + hd->s2_iq)) {
         return RS_IDENT_NON_FINITE;
     }
-    /* sec. 6f: iq's slope over the window, least squares on its batch
+    /* step1_design.md sec. 5: iq's slope over the window, least squares on its batch
      * means: sum (k - kbar) m_k / sum (k - kbar)^2, kbar = (nb - 1)/2 */
     const float nbf = (float)wn->nb;
     const float kbar = HALF * (nbf - 1.0f);
@@ -509,7 +509,7 @@ static rs_ident_result_t solve_means(const rs_ident_solver_t *s, int16_t j, rs_i
     return RS_IDENT_OK;
 }
 
-/* sec. 6e: window j's means of fq, iq, w over whole turns (and whole
+/* step1_design.md sec. 4: window j's means of fq, iq, w over whole turns (and whole
  * ripple periods with the 6th) where its ripple fit s->fit holds. */
 static void solve_intercepts(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
@@ -526,7 +526,7 @@ static void solve_intercepts(const rs_ident_solver_t *s, int16_t j, rs_ident_out
     }
 }
 
-/* dR, dpsi, dL from both windows' points (design sec. 1c; (41), (42)
+/* dR, dpsi, dL from both windows' points (step1_design.md sec. 1; (41), (42)
  * with the signs corrected) into *s and *out; RS_IDENT_OK or why not. */
 static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 {
@@ -567,7 +567,7 @@ static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
     float dL = 0.0f;
     float dpsi = 0.0f;
     for (it = 0; it < SOLVE_ITERATIONS; it++) {
-        /* design 1c: g_j = fq_j + dL w_j id_j (+ dL diq/dt_j, sec. 6f) = -dR iq_j - dpsi w_j */
+        /* step1_design.md sec. 1: g_j = fq_j + dL w_j id_j (+ dL diq/dt_j, sec. 5) = -dR iq_j - dpsi w_j */
         const float g0 = fq[0] + dL * (w[0] * id[0] + diq_dt[0]);
         const float g1 = fq[1] + dL * (w[1] * id[1] + diq_dt[1]);
         /* (41) with the corrected sign of (27) */
@@ -594,7 +594,7 @@ static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
     return RS_IDENT_OK;
 }
 
-/* design sec. 6: window j's share of se(R^), delta dR = -(w1 delta r2 - w2 delta r1) / den */
+/* step1_design.md sec. 3: window j's share of se(R^), delta dR = -(w1 delta r2 - w2 delta r1) / den */
 static void solve_se(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
     out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], &s->fit, s->se_sums));

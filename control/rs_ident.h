@@ -1,12 +1,12 @@
 /*
  * rs_ident.h - step 1 of the proposed method: offline stator resistance
  * from the observer's disturbances at two steady operating points
- * (paper sec. V-B, eq. 39-42, corrected per observer_design.md sec. 1c).
+ * (paper sec. V-B, eq. 39-42, corrected per step1_design.md sec. 1).
  *
  * Steady state with the corrected signs (d = x^ - x0, x^ = the observer's):
  *   fd_j = dL w_j iq_j - dR id_j,   fq_j = -dR iq_j - dL w_j id_j - dpsi w_j
  * Four fixed iterations from dL = 0:
- *   g_j  = fq_j + dL w_j id_j  (+ dL <diq/dt>_j, design sec. 6f)
+ *   g_j  = fq_j + dL w_j id_j  (+ dL <diq/dt>_j, step1_design.md sec. 5)
  *   dR   = -(w1 g2 - w2 g1)/(iq2 w1 - iq1 w2)      (41) with the sign of (27) fixed
  *   dpsi = -(g_j + dR iq_j)/w_j                   (at the faster point)
  *   dL   = mean_j (fd_j + dR id_j)/(w_j iq_j)     (points with |w iq| large enough)
@@ -20,7 +20,7 @@
  * the window that is active; then rs_ident_solve(), and on RS_IDENT_OK
  * smo_set_R(R_est_Ohm) (bumpless) and param_est_run().
  *
- * Steadiness from the windows' own statistics (observer_design.md sec. 6):
+ * Steadiness from the windows' own statistics (step1_design.md sec. 3):
  * each window is also cut into batches of n_batch samples; the spread of
  * the batch means of (fq, iq, w) gives the standard error of the model's
  * residual r_j = fq_j + dR iq_j + dpsi w_j in each window (batch means:
@@ -31,7 +31,7 @@
  * the angle given (rs_ident_step_el), the batch means are fitted as
  * alpha + a C_i + b S_i (C_i, S_i the batch means of cos, sin theta_el)
  * and the intercept alpha - the mean over whole turns - and its standard
- * error are used (design sec. 6e); where the fit is ill-conditioned
+ * error are used (step1_design.md sec. 4); where the fit is ill-conditioned
  * (batches of whole turns, standstill, no angle) the plain means. The
  * fit also takes the 6th harmonic (C6_i, S6_i: batch means of cos, sin
  * 6 theta_el), the ripple an untold inverter error (dead time) leaves in
@@ -39,7 +39,7 @@
  * batches.
  * A window that is still settling carries -dL <diq/dt> in fq^: with Ts_s
  * set, each window's mean slope of iq (least squares on its batch means)
- * and the estimated dL take it out (design sec. 6f).
+ * and the estimated dL take it out (step1_design.md sec. 5).
  * R^ is refused (NOT_STEADY) when se(R^) > R_se_max_rel |R^|; the caller
  * may go on filling window 2 and solve again (rs_ident_solve() does not
  * change the windows): out.R_se_part_Ohm[0] says whether window 2 alone
@@ -51,8 +51,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-/* Design defaults (observer_design.md sec. 3 and 6). */
-#define RS_IDENT_R_SE_MAX_REL_DEFAULT  0.015f /* se(R^) / R^: psi_f^ within 0.5 % at 500 r/min per se (sec. 6) */
+/* Design defaults (step1_design.md sec. 1, 3, 4, 8). */
+#define RS_IDENT_R_SE_MAX_REL_DEFAULT  0.015f /* se(R^) / R^: psi_f^ within 0.5 % at 500 r/min per se (step1_design.md sec. 3) */
 #define RS_IDENT_DEN_RATIO_DEFAULT     0.3f  /* |den| >= ratio * max(|iq2 w1|, |iq1 w2|) */
 #define RS_IDENT_BAND_MIN_FACTOR       0.1f  /* plausible R^, x nominal: a controller R up to 5x */
 #define RS_IDENT_BAND_MAX_FACTOR       6.0f  /*   or down to 0.25x the motor's stays 2x / 1.5x inside */
@@ -74,7 +74,7 @@ typedef enum {
     RS_IDENT_NON_FINITE = 5,    /* NaN/Inf in the data or the result */
     RS_IDENT_OUT_OF_BAND = 6,   /* R^ outside [R_min, R_max] */
     RS_IDENT_D_AXIS = 7         /* R^ hangs on the d-axis term dL w id (field weakening, voltage limit) more
-                                 * than se(R^)'s limit allows (est.c, observer_design.md sec. 6g) */
+                                 * than se(R^)'s limit allows (est.c, step1_design.md sec. 6) */
 } rs_ident_result_t;
 
 typedef struct {
@@ -85,7 +85,7 @@ typedef struct {
     float den_ratio_min;      /* conditioning of (41) [1] */
     uint32_t n_min;           /* minimum samples per window */
     uint32_t n_batch;         /* samples per batch of the standard error */
-    float Ts_s;               /* sample period [s] for the windows' mean diq/dt; 0: not corrected (sec. 6f) */
+    float Ts_s;               /* sample period [s] for the windows' mean diq/dt; 0: not corrected (step1_design.md sec. 5) */
 } rs_ident_cfg_t;
 
 /* Channels averaged per window. */
@@ -112,7 +112,7 @@ typedef struct {
     float bcs[2];             /* batch being filled: sums of cos, sin theta_el */
     float g[5];               /* over batches: sum of C, S, C C, C S, S S (batch means of cos, sin) */
     float mcs[RS_ST_COUNT][2];   /* sum of m_a C and of m_a S */
-    float bcs6[2];            /* batch being filled: sums of cos, sin 6 theta_el (design sec. 6e) */
+    float bcs6[2];            /* batch being filled: sums of cos, sin 6 theta_el (step1_design.md sec. 4) */
     float g6[9];              /* over batches: sum of C6, S6, C6 C6, C6 S6, S6 S6, C C6, C S6, S C6, S S6 */
     float mcs6[RS_ST_COUNT][2];  /* sum of m_a C6 and of m_a S6 */
     float km_iq;              /* sum of k m_iq(k), k = 0, 1, ...: the slope of iq's batch means */
@@ -139,7 +139,7 @@ typedef struct {
     float R_d_axis_Ohm;       /* R^'s d-axis uncertainty |w1 w2 (id2 - id1) (dL1 - dL2) / den| where the d-axis
                                * correction exceeds se(R^)'s limit (est.c; else 0) */
     float r_se_V[2];          /* standard error of the residual's mean per window */
-    bool ripple_fit[2];       /* the means are the ripple fit's intercepts (sec. 6e) */
+    bool ripple_fit[2];       /* the means are the ripple fit's intercepts (step1_design.md sec. 4) */
     bool ripple6_fit[2];      /*   and the fit has the 6th harmonic (an untold inverter error) too */
     float diq_dt_A_s[2];      /* mean diq/dt per window (0 without Ts_s) [A/s] */
     uint32_t batches[2];      /* complete batches per window */
@@ -179,11 +179,11 @@ void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V
                    float iq_A, float omega_el_rad_s);
 
 /* As rs_ident_step, with the electrical angle's cos_el, sin_el for the
- * ripple fit (design sec. 6e). ISR. */
+ * ripple fit (step1_design.md sec. 4). ISR. */
 void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A, float iq_A,
                       float omega_el_rad_s, float cos_el, float sin_el);
 
-/* Checks the windows and solves (design sec. 1c, 6); *out is filled as far
+/* Checks the windows and solves (step1_design.md sec. 1, 3); *out is filled as far
  * as the checks got (R_est_Ohm = R_nom unless OK); the windows are left as
  * they are. Background, or ISR (about 25 divisions, 4 square roots: an
  * ISR with a budget uses the stages below). */
@@ -203,7 +203,7 @@ rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
  * rs_ident_init). */
 #define RS_IDENT_SOLVE_STAGES 16u
 
-typedef struct {              /* a window's ripple fit (design sec. 6e), kept between the stages that use it */
+typedef struct {              /* a window's ripple fit (step1_design.md sec. 4), kept between the stages that use it */
     bool fit;                 /* the fit of (1, C, S) holds */
     bool fit6;                /*   and its 6th harmonic */
     float Gi[3][3];           /* G^-1, G = Z'Z */

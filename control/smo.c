@@ -56,7 +56,7 @@ static smo_status_t smo_check(const smo_cfg_t *c)
 }
 
 /* g = (Ts/L^)(1 - Ts R^/(2 L^)): Euler gain of (51b)/(55) with the
- * second-order term of the exact ZOH decay (design sec. 1b). 1 division. */
+ * second-order term of the exact ZOH decay (smo_design.md sec. 2). 1 division. */
 static void update_gain(smo_t *smo)
 {
     if (smo->status != SMO_CFG_OK) {
@@ -189,7 +189,7 @@ bool smo_set_R(smo_t *smo, float R_Ohm)
         !in_range(R_Ohm, c->R_min_Ohm, c->R_max_Ohm)) {
         return false;
     }
-    /* design sec. 1c: f^ += dR i^ with dR = R^old - R^new */
+    /* step1_design.md sec. 1: f^ += dR i^ with dR = R^old - R^new */
     const float dR = smo->R_Ohm - R_Ohm;
     smo->fd_V = mathx_clampf(smo->fd_V + dR * smo->i_hat_A.d, -c->f_max_V, c->f_max_V);
     smo->fq_V = mathx_clampf(smo->fq_V + dR * smo->i_hat_A.q, -c->f_max_V, c->f_max_V);
@@ -209,7 +209,7 @@ float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
     /* NaN maps to L_min: never a division by ~0 below */
     const float L_new = mathx_clampf(L_H, c->L_min_H, c->L_max_H);
 
-    /* design sec. 1d: w L^ iq - fd^ unchanged */
+    /* step2_design.md sec. 1: w L^ iq - fd^ unchanged */
     smo->fd_V = mathx_clampf(smo->fd_V + (L_new - smo->L_H) * w * iq, -c->f_max_V, c->f_max_V);
     smo->L_H = L_new;
     update_gain(smo);
@@ -225,7 +225,7 @@ float smo_set_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s)
     const float w = mathx_clampf(omega_el_rad_s, -c->omega_max_rad_s, c->omega_max_rad_s);
     const float psi_new = mathx_clampf(psi_f_Wb, c->psi_min_Wb, c->psi_max_Wb);
 
-    /* design sec. 1e: w psi^ + fq^ unchanged */
+    /* step2_design.md sec. 2: w psi^ + fq^ unchanged */
     smo->fq_V = mathx_clampf(smo->fq_V - (psi_new - smo->psi_f_Wb) * w, -c->f_max_V, c->f_max_V);
     smo->psi_f_Wb = psi_new;
     return psi_new;

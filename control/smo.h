@@ -1,10 +1,11 @@
 /*
  * smo.h - sliding-mode current and disturbance observer of the proposed
  * method (paper sec. V-A, eq. 28-32, discrete 51b and 55), with the
- * corrections of the design (observer_design.md sec. 1).
+ * corrections of the design (smo_design.md, corrected_model_design.md).
  *
- * Design note (replaces (25)-(28), (32), (43)-(55); figures: observer_design.md
- * sec. 4 and tests/test_smo.c, test_param_est.c).
+ * Design note (replaces (25)-(28), (32), (43)-(55); derivations:
+ * corrected_model_design.md, smo_design.md, step2_design.md; figures:
+ * build/sil/report.md and tests/test_smo.c, test_param_est.c).
  *  - Signs: with d = x^ - x0 and the model L^ di/dt = u - R^ i +- w L^ i -
  *    w psi^ - f: fd = -dL did/dt - dR id + dL w iq, fq = -dL diq/dt - dR iq
  *    - dL w id - dpsi w, all opposite to (26)-(27) (root of the errors in
@@ -36,7 +37,7 @@
 
 #include "clarke_park.h"
 
-/* Design defaults (observer_design.md sec. 3), filled in by smo_cfg_defaults(). */
+/* Design defaults (smo_design.md sec. 3), filled in by smo_cfg_defaults(). */
 #define SMO_KS_DEFAULT_V        100.0f  /* switching gain */
 #define SMO_PHI_DEFAULT_A       2.5f    /* boundary layer: G = 40 V/A */
 #define SMO_MU_DEFAULT_1_S      1100.0f /* near critical damping of the linear region */
@@ -129,8 +130,8 @@ float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A);
 float smo_set_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s);
 
 /* A voltage the model now compensates: f^ gives up (dfd_V, dfq_V) [V] it
- * no longer has to explain (the inverter error identified, design sec.
- * 9); the caller's compensation moves u by the same, so the prediction
+ * no longer has to explain (the inverter error identified,
+ * inverter_error_design.md sec. 5); the caller's compensation moves u by the same, so the prediction
  * does not move (bumpless). ISR. */
 void smo_shift_f(smo_t *smo, float dfd_V, float dfq_V);
 
