@@ -87,7 +87,7 @@ static inline void op_u_for(const op_plant_t *p, double id, double iq, double w,
     *uq = p->R * iq + w * p->L * id + w * p->psi;
 }
 
-/* Corrected steady-state disturbances (design sec. 1a) the observer with
+/* Corrected steady-state disturbances (corrected_model_design.md sec. 2) the observer with
  * R^, L^, psi^ must find: d = x^ - x0. */
 static inline void op_f_ss(const op_plant_t *p, double Rh, double Lh, double psih, double id,
                            double iq, double w, double *fd, double *fq)

@@ -148,7 +148,7 @@ static void init_does_not_rely_on_zeroed_memory(void **state)
     assert_int_equal(trace[0][n - 1].fault, APP_FAULT_NONE);
     /* step 1 on this board (no load through the alignment, 1 N m) solved
      * R^ = 8.1 Ohm for the 3 Ohm motor; the d-axis check refuses it
-     * (RSID_D_AXIS, observer_design.md sec. 6g) and the drive runs on
+     * (RSID_D_AXIS, step1_design.md sec. 6) and the drive runs on
      * conventionally with the warning: only that one is allowed */
     assert_int_equal(trace[0][n - 1].warnings & (uint16_t)~APP_WARN_STEP1_REFUSED, 0u);
     for (size_t j = 0; j < sizeof fills; j++) {

@@ -96,7 +96,7 @@ static void small_motor_limits_and_speed_loop(void **state)
     assert_float_equal(p.step1.accel_rad_s2, 3750.0 * RPM, 1e-2);
 }
 
-/* The observer's gains for the small motor (observer_design.md sec. 3b):
+/* The observer's gains for the small motor (smo_design.md sec. 4):
  * ef_max = 50 x 24/311 = 3.859 V, Ks = 7.717 V; the stability cap
  * G_max = 2 x 0.5 x 0.2 mH / (1.25 x 0.1 ms) / 1.45 = 1.103 V/A is below
  * Ks / (2.5 x 6.25/5.56 = 2.81 A) = 2.75 V/A, so phi = 7.717/1.103 = 6.99 A;

@@ -157,7 +157,7 @@ static void floor_from_the_encoder(void **state)
  * 0.05 s on. 300.3 r/min: the fraction of a count per period drifts by
  * 0.005, so a count's step meets the PLL about every 20 ms, isolated:
  * its answer peaks at 0.23 of a count's 471 rad/s^2 after the 2 ms
- * low-pass (design sec. 7), above the old floor 100. */
+ * low-pass (step2_design.md sec. 5), above the old floor 100. */
 static uint16_t encoder_run(float floor_rad_s2, double a_rpm_s)
 {
     const encoder_cfg_t ec = { .counts_per_rev = ENCODER_COUNTS_PER_LINE * ENC_LINES, .pole_pairs = ENC_P,
@@ -235,7 +235,7 @@ static void converging_estimates_keep_learning(void **state)
 }
 
 /* Settled once, the gate stays acting while L^ wanders: a real board's
- * L^ moved by up to 10 % in 5 ms (design sec. 7). Here +-3 % in turn every
+ * L^ moved by up to 10 % in 5 ms (step2_design.md sec. 6). Here +-3 % in turn every
  * 5 ms, copies 6 % apart, then a torque-command step of 1 N m. */
 static void noisy_estimates_stay_settled(void **state)
 {

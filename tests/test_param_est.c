@@ -248,7 +248,7 @@ static void transfer_laws_are_bumpless(void **state)
 }
 
 /* The L law's two rates: gamma_L for L_fast_s of running, then
- * gamma_L_slow (design sec. 1d). The told L 0.66 L0, id = 0 (the psi^
+ * gamma_L_slow (step2_design.md sec. 1). The told L 0.66 L0, id = 0 (the psi^
  * law does not feed dL): with L_fast_s = 10 ms, dL decays as
  * exp(-gamma_L t) to 10 ms, then as exp(-gamma_L_slow t): over the next
  * 100 ms by exp(-1.5) = 0.22 (gamma_L would give exp(-15), 3e-7). A new

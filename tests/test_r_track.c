@@ -1,5 +1,5 @@
 /* Unit tests of control/r_track.c: the d-current square wave and its
- * synchronous demodulation (observer_design.md sec. 9) on synthetic
+ * synchronous demodulation (inverter_error_design.md, r_tracking_design.md) on synthetic
  * signals whose answer is known by hand. */
 #include <stdarg.h>
 #include <stddef.h>
@@ -24,7 +24,7 @@ static r_track_cfg_t cfg_default(void)
 }
 
 /* A plant whose z answers the reference: z = -rho id + offset + drift k
- * - w L0 iq (z = fd^ - w L^ iq carries the true -w L0 iq, design sec. 9c),
+ * - w L0 iq (z = fd^ - w L^ iq carries the true -w L0 iq, inverter_error_design.md sec. 6),
  * id follows the reference two periods late (as the deadbeat does); the
  * observer reports w and L^ = L_hat. */
 typedef struct {
@@ -98,10 +98,10 @@ static void tracking_cycle_measures_rho_despite_offset_and_drift(void **state)
 /* At speed, iq differing between the + and - segments by step (the +
  * segments at the voltage limit, the speed loop moving iq) reaches z as
  * -w L0 iq. The identification demodulates z + L_c w iq (L_c: L^ at the
- * cycle's first summed sample, design sec. 9c), so by hand only
+ * cycle's first summed sample, inverter_error_design.md sec. 6), so by hand only
  * w (L0 - L_c) step / (2 I) leaks: 0 with L^ exact, -0.0069 ohm with L^ 1 %
  * high (I = 1 A); without L_c it would be w L0 step / (2 I) = +0.35 ohm.
- * Tracking demodulates z as before (sec. 9c: L_c there made the
+ * Tracking demodulates z as before (inverter_error_design.md sec. 6: L_c there made the
  * realistic board worse): the full leak. */
 static void identification_ignores_iq_difference_at_speed(void **state)
 {
@@ -269,7 +269,7 @@ static void init_refuses_bad_settings(void **state)
     assert_float_equal(r_track_id_ref(&rt), 0.0f, 0.0f);
 }
 
-/* The inverter error's 6 w ripple in z (design sec. 9b): at 78.5 rad/s
+/* The inverter error's 6 w ripple in z (inverter_error_design.md sec. 4): at 78.5 rad/s
  * el and Ts = 100 us its period is 2 pi / (6 x 78.5 x 1e-4) = 133.4
  * periods, longer than the 70 summed ones, so the synchronous segments
  * are 30 + 133 periods and one cycle does (3 x 100 / 163). A ripple of

@@ -1,6 +1,6 @@
 /* Unit tests for control/rs_ident: step-1 resistance from two steady
- * operating points, on analytic steady-state disturbances (design 1a, in
- * double) and on the smo observer running against the exact test plant of
+ * operating points, on analytic steady-state disturbances
+ * (corrected_model_design.md sec. 2, in double) and on the smo observer running against the exact test plant of
  * obs_plant.h (the paper's R = 4.3 R0 case); acceptance checks. */
 #include <stdarg.h>
 #include <stddef.h>
@@ -280,7 +280,7 @@ static void electrical_ripple_is_fitted_not_counted_as_noise(void **state)
 }
 
 /* A 6th-harmonic ripple of 0.5 V on fq^ (what an untold dead time leaves,
- * design sec. 6e) over 60 ms windows at 200 r/min: 60 Hz, 3.6 periods, 0.3
+ * step1_design.md sec. 4) over 60 ms windows at 200 r/min: 60 Hz, 3.6 periods, 0.3
  * of one per 5 ms batch. Its batch means are A (cos phi C6_i - sin phi
  * S6_i) exactly, so the fit with the 6th harmonic leaves no residual: R^
  * exact, se(R^) ~ 0. Without the angle the batch means scatter with it
@@ -328,7 +328,7 @@ static void sixth_harmonic_left_out_on_whole_periods(void **state)
 }
 
 /* Window 1 while iq still ramps at 20 A/s (a slow speed loop), L^ = 1.5
- * L0: fq^ carries -dL diq/dt = -0.11 V, fd^ = dL w iq (design 1a, id = 0).
+ * L0: fq^ carries -dL diq/dt = -0.11 V, fd^ = dL w iq (corrected_model_design.md sec. 2, id = 0).
  * By hand the bias in R^ without the correction is dL s / (iq2 - iq1)
  * (equal speeds): 0.0055 x 20 / 1.85 = 0.059 Ohm (2 %); with Ts given the
  * least-squares slope of iq's batch means (exact for a ramp) and the

@@ -1,5 +1,5 @@
 /* Step 1 of the proposed method on a real ADC
- * (control/observer_design.md sec. 6) in the SIL: switching inverter, the
+ * (control/step1_design.md) in the SIL: switching inverter, the
  * scenarios of tools/scenarios/ (paper timeline: windows 0.28-0.34 s at
  * 2 N m and 0.48-0.54 s at 4 N m), both methods on the same scenario.
  *  - ADC noise 0.05 A rms, seeds 1-5, L = 1.5 L0 and psi_f = 0.5 psi_f0:
@@ -175,7 +175,7 @@ static void controller_r_across_the_default_band(void **state)
 
 /* ADC offsets of 0.05 A not calibrated (run.calibrate off): a 25 Hz
  * ripple in dq at 500 r/min, which the fit on the electrical angle takes
- * out of the windows' means and their standard error (design sec. 6e). */
+ * out of the windows' means and their standard error (step1_design.md sec. 4). */
 static void uncalibrated_offsets(void **state)
 {
     static const char *const offsets[][2] = { { "plant.adc_offset_a_A=0.05", "plant.adc_offset_b_A=-0.05" },
@@ -206,7 +206,7 @@ static void inertia_10x_default_timing(void **state)
     assert_false(isnan(f.R_first));
     assert_true(fabs(f.R_first / R0 - 1.0) <= R_TOL_NOISY);
     /* and with L = 1.5 L0: dL diq/dt of the settling window, corrected by its
-     * mean slope (design sec. 6f; +4.9 % without) */
+     * mean slope (step1_design.md sec. 5; +4.9 % without) */
     const fig_t g = run("prop_L150", sets);
     print_message("J = 10 J0, L = 1.5 L0: step 1 %s, R^ %+.3f %%\n", isnan(g.R_first) ? "refused" : "done",
                   100.0 * (g.R_first / R0 - 1.0));
@@ -327,7 +327,7 @@ static void field_weakened_step1_refused(void **state)
 
 /* An encoder count jump of 46 (4.97 el. deg) at 0.1 s, 1500 r/min, 4 N m:
  * step 1's windows (2 and 4 N m) read the angle error from their dL_j
- * (observer_design.md sec. 6h): flag 0x0800 and est_hold 0x0080 in step
+ * (holds_design.md sec. 8): flag 0x0800 and est_hold 0x0080 in step
  * 2, L^ held at the told (exact) value instead of -51 %, no fault. */
 static void angle_error_holds_L(void **state)
 {

@@ -1,6 +1,6 @@
 /* The proposed method on a real inverter: inverter
  * voltage error not learned as flux, resistance tracked in service
- * (control/observer_design.md sec. 9), on the simulated board with the
+ * (control/inverter_error_design.md, r_tracking_design.md), on the simulated board with the
  * switching inverter and the paper's timeline (tools/scenarios/prop_paper.ini,
  * conv_paper.ini: step 1 at 500 r/min, 2 and 4 N m; step 2 from 0.54 s,
  * the inverter error identified 0.1 s later).
@@ -24,7 +24,7 @@
  *    limit there for a period, and R^ must still follow, within 5 % (it
  *    stood at step 1's value, 17 % low at the end, while an edge's clamp
  *    held every cycle; the encoder's count error scatters the cycles by
- *    up to w psi_f dtheta / I = 7 % of R here, design sec. 9d);
+ *    up to w psi_f dtheta / I = 7 % of R here, r_tracking_design.md sec. 5);
  *  - the same warm-up at 300 r/min: R^ within 3 % (the speed estimate's
  *    answer to each count arriving must not read as an acceleration that
  *    holds the tracking; with the gate's floor at 100 rad/s^2 every

@@ -7,8 +7,8 @@
  * T_rated from t = 0.
  *  - no fault with either method, step 1 completes, over 2.5-3.0 s every
  *    row's R^, L^, psi_f^ within 2 % of the plant (L^ averages the
- *    encoder's count error after its first second: observer_design.md
- *    sec. 9d), and the proposed mean |Te - Te*| at most the conventional
+ *    encoder's count error after its first second: step2_design.md
+ *    sec. 8), and the proposed mean |Te - Te*| at most the conventional
  *    one's + 0.5 % of T_rated;
  *  - the controller told R 1.3x, L 1.4x, psi_f 0.85x: no fault, the
  *    proposed mean |Te - Te*| at most half the conventional one's. */

@@ -1,4 +1,4 @@
-/* Acceptance of the proposed DB-DTC (paper sec. V, control/observer_design.md) in
+/* Acceptance of the proposed DB-DTC (paper sec. V, control/README.md's notes) in
  * the SIL: switching inverter, no dead time, no noise.
  *
  *  - sil_run() on the scenarios of tools/scenarios/ (prop_* and conv_*,

@@ -75,8 +75,9 @@ static void run_mismatch(double Rh, double Lh, double psih, double id, double iq
 }
 
 /* With R/L/psi_f mismatch, f^ converges to the corrected disturbances of
- * design 1a, fd = dL w iq - dR id, fq = -dR iq - dL w id - dpsi w, within
- * 1 %, and the prediction stays exact (the observer absorbs the mismatch).
+ * corrected_model_design.md sec. 2, fd = dL w iq - dR id,
+ * fq = -dR iq - dL w id - dpsi w, within 1 %, and the prediction stays
+ * exact (the observer absorbs the mismatch).
  * The signs are the opposite of the printed (26)-(27). */
 static void mismatch_disturbances_match_corrected_formulas(void **state)
 {
