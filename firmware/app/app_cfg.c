@@ -95,7 +95,7 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     cfg->comm.speed_lag_s = encoder_ramp_lag_s(p->tuning.pll_bw_rad_s); /* the spin's top within its bound */
     /* the speed PI from the measured J: the parameter set's rule, linear in J */
     drive_speed_pi(1.0f, p->tuning.speed_bw_rad_s, &cfg->comm.speed_kp_per_J_1_s, &cfg->comm.speed_ki_per_J_1_s2);
-    /* sec. 3: the I^2t budget of the short-time current (and i2t_rated_A) */
+    /* params_design.md sec. 3: the I^2t budget of the short-time current (and i2t_rated_A) */
     cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
                           p->rating.t_peak_s;
     cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));

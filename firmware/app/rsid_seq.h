@@ -28,7 +28,7 @@
  * window 2 goes on filling; the sequence acts on the result in the period
  * after the last stage (ctrl_rsid_finish_with: R^ as at the check),
  * RSID_CHECK_PERIODS periods after the check's.
- * Window 2 is lengthened (observer_design.md sec. 6): while R^ is refused
+ * Window 2 is lengthened (control/step1_design.md sec. 7): while R^ is refused
  * only for its standard error (NOT_STEADY), window 1's share of it is below the limit (so more of
  * window 2 can help) and window 2 is shorter than window_max_s, window 2
  * goes on. Window 2's operating point must hold that long (WINDOWS: the

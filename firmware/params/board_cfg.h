@@ -36,7 +36,7 @@
 #define REF_SPEED_BW_RAD_S       387.596899f  /* speed-loop crossover: 0.5 / 0.00129 [rad/s] */
 #define REF_PSI_F_WB             0.24f        /* [Wb] */
 #define REF_R_OHM                3.0f         /* [Ohm] */
-/* limits (sec. 2): the targets' current limit above i_peak; the software
+/* limits (params_design.md sec. 3): the targets' current limit above i_peak; the software
  * trip above it by a period of deadbeat overshoot and the ripple, at most
  * 14/15 of the ADC's range; overspeed 1.2 x n_max */
 #define REF_I_LIMIT_A            12.0f        /* at REF_I_PEAK_A [A] */
@@ -150,7 +150,7 @@
 #define BOARD_LEVEL4_I_LIMIT_PER_LIMIT 0.3f   /* level 4's current limit, x the drive's current limit [-] */
 
 /* ---- controller tuning: the SIL scenario defaults (tools/sil/scenario_keys.h) */
-/* Speed PI (params_design.md sec. 3): kp = J w_c, ki = kp w_c x 0.103;
+/* Speed PI (params_design.md sec. 4): kp = J w_c, ki = kp w_c x 0.103;
  * w_c = 0.5 / 0.00129 = 388 rad/s, the paper motor's kp 0.5 and ki 20. */
 #define TUNE_SPEED_BW_RAD_S      REF_SPEED_BW_RAD_S /* speed-loop crossover w_c [rad/s] */
 #define TUNE_ENC_PLL_BW_RAD_S    500.0f       /* speed estimator bandwidth [rad/s] */
@@ -161,7 +161,7 @@
  * speeds at the load present (a dyno or the driven machine must load it). */
 #define BOARD_RSID_MODE          0U           /* app_rsid_mode_t: 0 off, 1 windows, 2 speeds, 3 trusted R [-] */
 /* Speeds, ramp and settle times from the ratings and the speed loop
- * (params_design.md sec. 4; the paper motor's in brackets). */
+ * (params_design.md sec. 5; the paper motor's in brackets). */
 #define RSID_SPEED_1_PER_RATED   0.25f        /* first point, x n_rated (500 r/min) [-] */
 #define RSID_SPEED_2_PER_RATED   0.5f         /* second point: (41) needs w1 iq2 != w2 iq1 (1000 r/min) [-] */
 #define REF_RSID_ACCEL_RPM_S     2500.0f      /* ramp: the first point in 0.2 s, at REF's n_rated [r/min/s] */
@@ -172,10 +172,10 @@
 #define BOARD_RSID_WINDOW_MAX_S  0.3f         /* window 2 lengthened up to this while se(R^) is too large [s] */
 #define BOARD_RSID_REPEATS_MAX   2U           /* speeds mode: both windows repeated at most this often [-] */
 #define BOARD_RSID_ON_REFUSAL    1U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning (runs on) [-] */
-#define BOARD_TRACK_R            2U           /* CTRL_TRACK_R_*: 0 off, 1 on, 2 auto (1 s after step 2): R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9d; held while the field is weakened or the voltage at its limit) [-] */
+#define BOARD_TRACK_R            2U           /* CTRL_TRACK_R_*: 0 off, 1 on, 2 auto (1 s after step 2): R^ tracked in service by a 0.5 A i_d injection (control/r_tracking_design.md; held while the field is weakened or the voltage at its limit) [-] */
 
 /* The proposed method's amplitudes and thresholds (params_design.md
- * sec. 5), at the reference; scaled by the rated current (I), the rated
+ * sec. 6), at the reference; scaled by the rated current (I), the rated
  * torque (T) or the bus (V). */
 #define REF_OBS_EF_MAX_V         50.0f        /* (V) |f^ - f| the observer must dominate, (36) [V] */
 #define REF_OBS_PHI_A            2.5f         /* (I) boundary layer: G = 2 ef_max / phi = 40 V/A [A] */

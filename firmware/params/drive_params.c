@@ -44,7 +44,7 @@ float drive_scaled(float ref_value, float q, float q_ref)
 
 void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float *ki_Nm_rad)
 {
-    /* kp = J w_c, ki = kp w_i, w_i in proportion to w_c (params_design.md sec. 3) */
+    /* kp = J w_c, ki = kp w_i, w_i in proportion to w_c (params_design.md sec. 4) */
     const float bw = speed_bw_rad_s / REF_SPEED_BW_RAD_S;
     *kp_Nms_rad = REF_SPEED_KP_NMS_RAD * (J_kgm2 / REF_J_KGM2) * bw;
     *ki_Nm_rad = REF_SPEED_KI_NM_RAD * (J_kgm2 / REF_J_KGM2) * bw * bw;
@@ -61,7 +61,7 @@ drive_derive_t drive_params_derive(drive_params_t *p)
         !(r->n_rated_rad_s > 0.0f) || !(r->n_max_rad_s >= r->n_rated_rad_s)) {
         st |= DRIVE_DERIVE_RATINGS;
     }
-    /* sec. 2: limits from the ratings and the ADC's range */
+    /* sec. 3: limits from the ratings and the ADC's range */
     derive(&p->limits.te_max_Nm, kt_Nm_A * r->i_peak_A);
     derive(&p->limits.i_limit_A, drive_scaled(REF_I_LIMIT_A, r->i_peak_A, REF_I_PEAK_A));
     derive(&p->limits.i_trip_A, min_f(drive_scaled(REF_I_TRIP_A, r->i_peak_A, REF_I_PEAK_A),
@@ -70,14 +70,14 @@ drive_derive_t drive_params_derive(drive_params_t *p)
     if (!(p->limits.i_limit_A < p->limits.i_trip_A)) {
         st |= DRIVE_DERIVE_ADC_RANGE;
     }
-    /* sec. 3: speed PI from J and the crossover */
+    /* sec. 4: speed PI from J and the crossover */
     const float bw = p->tuning.speed_bw_rad_s / REF_SPEED_BW_RAD_S;
     float kp;
     float ki;
     drive_speed_pi(p->motor.J_kgm2, p->tuning.speed_bw_rad_s, &kp, &ki);
     derive(&p->tuning.speed_kp_Nms_rad, kp);
     derive(&p->tuning.speed_ki_Nm_rad, ki);
-    /* sec. 4: step 1 from the ratings and the speed loop's settling (1 / w_i) */
+    /* sec. 5: step 1 from the ratings and the speed loop's settling (1 / w_i) */
     derive(&p->step1.settle_2_s, REF_RSID_SETTLE_2_S / bw);
     derive(&p->step1.settle_1_s, RSID_SETTLE_1_PER_2 * p->step1.settle_2_s);
     derive(&p->step1.speed_1_rad_s, RSID_SPEED_1_PER_RATED * r->n_rated_rad_s);
@@ -85,7 +85,7 @@ drive_derive_t drive_params_derive(drive_params_t *p)
     derive(&p->step1.accel_rad_s2,
            min_f(drive_scaled(REF_RSID_ACCEL_RPM_S * MATHX_RAD_S_PER_RPM_F, r->n_rated_rad_s, n_rated_ref_rad_s),
                  RSID_RAMP_TORQUE_PER_RATED * kt_Nm_A * r->i_rated_A / p->motor.J_kgm2));
-    /* sec. 6: back-EMF at n_max against the bus's phase-voltage limit */
+    /* sec. 7: back-EMF at n_max against the bus's phase-voltage limit */
     if (r->n_max_rad_s * (float)p->motor.pole_pairs * p->motor.psi_f_Wb > p->board.vdc_nominal_V / SQRT3) {
         st |= DRIVE_DERIVE_WARN_BEMF;
     }
@@ -111,7 +111,7 @@ static float unexplained_V(float vdc_V, float Ts_s)
     return FUNDAMENTAL_OF_SQUARE * vdc_V * (EST_DT_UNC_S / Ts_s + EST_DROP_UNC_PER_VDC);
 }
 
-/* sec. 5: step 2's thresholds, the injections and the speed floor. */
+/* sec. 6: step 2's thresholds, the injections and the speed floor. */
 static void estimator_from(const drive_params_t *p, ctrl_cfg_t *c)
 {
     const float i_r = p->rating.i_rated_A;

@@ -142,7 +142,7 @@ typedef uint16_t drive_derive_t;
 float drive_rated_torque_Nm(const drive_params_t *p);
 
 /* The speed PI's gains for an inertia J_kgm2 [kg m^2] at the crossover
- * speed_bw_rad_s [rad/s] (params_design.md sec. 3): linear in J. Any context. */
+ * speed_bw_rad_s [rad/s] (params_design.md sec. 4): linear in J. Any context. */
 void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float *ki_Nm_rad);
 
 /* Start-up or host: the values of *p left to derive from the others (the formulas
@@ -150,7 +150,7 @@ void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float
 drive_derive_t drive_params_derive(drive_params_t *p);
 
 /* Start-up or host: the observer's gains for *p (derived first) and
- * the cap on G = Ks/phi (observer_design.md sec. 3b); false: none. */
+ * the cap on G = Ks/phi (control/smo_design.md sec. 4); false: none. */
 bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float *G_max_V_A);
 
 /* Start-up or host: the board's parameter set (firmware/params/board_cfg.h). */

@@ -9,7 +9,7 @@
  * path every period. proposed: step 2 from the start (ctrl_est_start with
  * the nominal R), so every period runs observer, estimator and the
  * observer-based model; proposed_track_R: the same with R^ tracked by the
- * d-current injection (ctrl_cfg_t.track_R, observer_design.md sec. 9).
+ * d-current injection (ctrl_cfg_t.track_R, control/r_tracking_design.md).
  * Host only. */
 #include <stdio.h>
 #include <stdlib.h>

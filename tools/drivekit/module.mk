@@ -179,7 +179,7 @@ test-sweep-net: $(DRIVE_SIL) ## (part of make test) 5 x 5 L x psi_f net: propose
 # Regression net: the realistic board at the low speeds of the
 # operating map (SWEEP_OP's 100 and 371 r/min, its six loads, both
 # methods), where the proposed method learned the inverter error left as
-# flux (observer_design.md sec. 9f).
+# flux (control/holds_design.md sec. 2).
 SWEEP_LOW_DIR := $(OUT)/sweep_op_real_low
 EXTRA_TESTS += test-sweep-op-real
 test-sweep-op-real: $(DRIVE_SIL) ## (part of make test) realistic board at 100 and 371 r/min, six loads
