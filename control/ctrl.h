@@ -2,8 +2,9 @@
  * ctrl.h - the drive controller: one ctrl_step() per 10 kHz PWM period.
  *
  * The ISR's order is ctrl_step()'s body (ctrl.c): its named stages -
- * mode, sample, estimate, references, limits, deadbeat, modulate,
- * realised voltage, monitor - each one call. The estimation of the
+ * mode, sample, estimate, model, references, limits, deadbeat, modulate
+ * (with the voltage the inverter realises), monitor, output - each one
+ * call (why this order: ctrl_step_design.md sec. 1). The estimation of the
  * proposed method (observer, step 1, step 2, inverter error, speed floor)
  * has one owner, est.h; ctrl_step takes its output model and status.
  *
