@@ -320,7 +320,7 @@ class LoadStep(CsvCase):
         self.assertAlmostEqual(r["speed_dip_rpm"], 1.5, places=9)
 
     def test_torque_mode_has_no_speed_figures(self):
-        # speed_ref_rpm is nan outside speed mode (hal/sim/README.md): no recovery and no dip
+        # speed_ref_rpm is nan outside speed mode (tools/sil/CSV_COLUMNS.md): no recovery and no dip
         # (metrics.py gave 0.0 ms and 0.0 r/min: nan > band is False, max(0, nan) = 0)
         rows = [dict(r, speed_ref_rpm=NAN) for r in load_rows({951: -30.0})]
         r = self.cli_json(self.write(rows), "--load-window", "0.95:1.05")
@@ -403,7 +403,7 @@ class Estimates(CsvCase):
 
 class NanColumns(CsvCase):
     def open_loop(self):
-        # open_loop: speed_ref_rpm, te_ref_Nm and psi_ref_Wb are nan (hal/sim/README.md)
+        # open_loop: speed_ref_rpm, te_ref_Nm and psi_ref_Wb are nan (tools/sil/CSV_COLUMNS.md)
         return self.write([{"t_s": t_of(k, 0.01), "speed_ref_rpm": NAN, "te_ref_Nm": NAN,
                             "psi_ref_Wb": NAN, "id_A": -0.5, "iq_A": 3.5} for k in range(100)])
 

@@ -1,6 +1,6 @@
 # tools/sil: the SIL runner (a host harness of the application, above
 # firmware/ and hal/sim/): scenario and profile parsing (libsilrun.a),
-# sil_run() and the program $(OUT)/drive_sil. See hal/sim/README.md.
+# sil_run() and the program $(OUT)/drive_sil. See tools/sil/README.md.
 
 DRIVE_SIL := $(OUT)/drive_sil
 HOST_PROGRAMS += $(DRIVE_SIL)

@@ -974,7 +974,7 @@ void scenario_print_keys_markdown(FILE *f)
     fputs("# Scenario keys\n\n"
           "Generated from `tools/sil/scenario_keys.h` by `drive_sil --list-keys --markdown`\n"
           "(`make scenario-keys` rewrites it; `make test` checks it). The format, the\n"
-          "defaults' sources and notes on the keys: `hal/sim/README.md`; the values\n"
+          "defaults' sources and notes on the keys: `tools/sil/README.md`; the values\n"
           "derived from the motor's data: `firmware/params/params_design.md`.\n\n"
           "Default: a value; `derived` (from the keys named, unless set); `-` (unset:\n"
           "see the meaning). Range: what the parser accepts (the plausibility bounds\n"

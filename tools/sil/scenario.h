@@ -5,7 +5,7 @@
  * configuration of the board (Table I). The keys are one table,
  * scenario_keys.h (a new key is one line there: its field here, its
  * parsing, default, target, --help and the documented list follow); the
- * format is documented in hal/sim/README.md, the keys in
+ * format is documented in tools/sil/README.md, the keys in
  * tools/sil/SCENARIO_KEYS.md (drive_sil --list-keys --markdown).
  *
  * Errors name the source and key: "FILE:LINE: [section] key: problem"
