@@ -39,8 +39,12 @@ enum {
     LINK_STREAM_SET = 0x06, LINK_CAPTURE_ARM = 0x07, LINK_CAPTURE_STATUS = 0x08, LINK_CAPTURE_READ = 0x09,
     LINK_PING = 0x0A,
     LINK_EVENT = 0x40, LINK_STREAM = 0x41,   /* unsolicited, seq 0 */
+    LINK_NOTICE = 0x42,                      /* unsolicited: the port's own news, then it closes (drive_sil) */
     LINK_REPLY = 0x80
 };
+
+/* LINK_NOTICE's first payload byte (then ASCII text to the end): why the port closes this client. */
+enum { LINK_NOTICE_HELD = 1, LINK_NOTICE_IDLE = 2 };
 
 /* A reply's first payload byte. */
 enum {

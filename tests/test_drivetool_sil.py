@@ -345,6 +345,142 @@ class Pty(unittest.TestCase):
                 p.wait()
 
 
+def raw_connect(port):
+    """A bare TCP client of drive_sil --link (no drivetool)."""
+    s = socket.create_connection(("127.0.0.1", port), timeout=30)
+    return s
+
+
+def read_until_closed(s, limit_s=30.0):
+    """Every frame s receives until the drive closes it: [(type, seq, payload)]."""
+    from drivetool import codec
+    rx = codec.Receiver()
+    frames = []
+    s.settimeout(limit_s)
+    while True:
+        try:
+            data = s.recv(4096)
+        except socket.timeout:
+            raise AssertionError("the drive did not close the connection") from None
+        except ConnectionResetError:
+            break
+        if not data:
+            break
+        frames += rx.feed(data)
+    return frames
+
+
+@unittest.skipUnless(HAVE_SERIAL and os.access(DRIVE_SIL, os.X_OK) and os.access(DRIVETOOL, os.X_OK),
+                     "needs pyserial, build/host/drive_sil and build/venv/bin/drivetool (make drivetool)")
+class Clients(unittest.TestCase):
+    """Whatever a client does, drive_sil --link runs on: a second client is told the link is
+    held and closed at once; a silent one is dropped after [link] idle_timeout_s; a stream killed
+    mid-frame, 20 kB of garbage then a close, a client that shuts its sending side after a
+    request (and gets its reply): each followed by a client that is served; at the end quit is
+    exit 0 with the CSV complete under its name."""
+    IDLE_S = 2.0
+
+    @classmethod
+    def setUpClass(cls):
+        from drivetool import Drive, codec
+        cls.tmp = tempfile.mkdtemp()
+        cls.csv_path = os.path.join(cls.tmp, "run.csv")
+        scenario = SCENARIO + f"[link]\nidle_timeout_s = {cls.IDLE_S:g}\n"
+        cls.p, cls.port = start_sil(cls.tmp, "--realtime", "1", "--out", cls.csv_path, scenario=scenario)
+        # two clients: the first (kept alive by PINGs) served, the second told at once
+        first = Drive(f"socket://127.0.0.1:{cls.port}", cache=False)
+        stop = threading.Event()
+
+        def keep_alive():
+            while not stop.wait(cls.IDLE_S / 4):
+                first.ping()
+        t = threading.Thread(target=keep_alive)
+        t.start()
+        try:
+            t0 = time.monotonic()
+            cls.second = tool(cls.port, "--timeout", "0.5", "status")
+            cls.second_s = time.monotonic() - t0
+            cls.first_after = first.get("state")
+        finally:
+            stop.set()
+            t.join()
+            first.close()
+        # a silent client: told "idle" and closed after idle_timeout_s, then the next is served
+        s = raw_connect(cls.port)
+        t0 = time.monotonic()
+        cls.silent_frames = read_until_closed(s)
+        cls.silent_s = time.monotonic() - t0
+        s.close()
+        cls.after_silent = tool(cls.port, "--timeout", "10", "--json", "status")
+        # a stream killed mid-frame (SIGKILL: the socket reset with the drive's bytes on their way)
+        sp = subprocess.Popen([DRIVETOOL, "--port", f"socket://127.0.0.1:{cls.port}", "stream", "iq_meas_A",
+                               "id_meas_A", "speed_est_rpm", "te_est_Nm", "--rate", "300", "--duration", "60"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                              env=dict(os.environ, XDG_CACHE_HOME=tempfile.gettempdir()))
+        cls.stream_line = sp.stderr.readline()          # "streaming ...": the stream runs
+        sp.kill()
+        sp.wait()
+        cls.after_kill = tool(cls.port, "--timeout", "10", "--json", "status")
+        # 20 kB of garbage, then a close
+        rng = random.Random(29)
+        s = raw_connect(cls.port)
+        s.sendall(bytes(rng.randrange(256) for _ in range(20000)))
+        s.close()
+        cls.after_garbage = tool(cls.port, "--timeout", "10", "--json", "status")
+        # half-close: HELLO, then no more sending; the reply still comes, then the drive closes
+        s = raw_connect(cls.port)
+        s.sendall(codec.frame_encode(codec.HELLO, 7))
+        s.shutdown(socket.SHUT_WR)
+        cls.half_frames = read_until_closed(s)
+        s.close()
+        cls.quit_rc, cls.quit_err = finish(cls.p, cls.port)
+
+    def test_a_second_client_is_told_the_link_is_held(self):
+        rc, _out, err = self.second
+        self.assertEqual(rc, 3, err)
+        self.assertIn("held by another client", err)
+        self.assertLess(self.second_s, 20.0)               # told, not left to time out
+        self.assertEqual(self.first_after["state"], 5)      # the first client is still served
+
+    def test_a_silent_client_is_dropped_after_the_idle_timeout(self):
+        from drivetool import codec
+        notices = [f for f in self.silent_frames if f[0] == codec.NOTICE]
+        self.assertEqual(len(notices), 1, self.silent_frames)
+        self.assertEqual(notices[0][2][0], codec.NOTICE_IDLE)
+        self.assertGreaterEqual(self.silent_s, self.IDLE_S * 0.9)
+        rc, out, err = self.after_silent
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out)["state_name"], "RUN")
+
+    def test_a_stream_killed_mid_frame_leaves_the_link_working(self):
+        self.assertTrue(self.stream_line.startswith("streaming"), self.stream_line)
+        rc, out, err = self.after_kill
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out)["state_name"], "RUN")
+
+    def test_garbage_then_close_leaves_the_link_working(self):
+        rc, out, err = self.after_garbage
+        self.assertEqual(rc, 0, err)
+        self.assertEqual(json.loads(out)["state_name"], "RUN")
+
+    def test_a_half_closed_client_gets_its_reply(self):
+        from drivetool import codec
+        replies = [f for f in self.half_frames if f[0] == codec.HELLO | codec.REPLY]
+        self.assertEqual(len(replies), 1, self.half_frames)
+        self.assertEqual(replies[0][1], 7)
+        self.assertEqual(replies[0][2][0], codec.ST_OK)
+
+    def test_quit_ends_the_run_with_the_csv_complete(self):
+        self.assertEqual(self.quit_rc, 0, self.quit_err)
+        self.assertEqual(self.p.returncode, 0)
+        self.assertEqual([f for f in os.listdir(self.tmp) if ".tmp" in f], [])
+        with open(self.csv_path) as f:
+            rows = list(csv.reader(f))
+        self.assertGreater(len(rows), 2)
+        self.assertEqual(len(rows[-1]), len(rows[0]))       # the last row whole
+        self.assertTrue(os.path.exists(os.path.join(self.tmp, "run.resolved.json")))
+
+
 class LossyProxy:
     """Forwards TCP connections frame by frame (split at each 0x00), spoiling RATE of
     the frames each way, a fifth each: dropped, a bit flipped, duplicated, garbage put

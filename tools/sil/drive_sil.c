@@ -739,6 +739,7 @@ int main(int argc, char **argv)
     prog.duration_s = sc.run.duration_s;
     prog.shown = 0;
     sil_hooks_t hooks;
+    a.link.idle_timeout_s = sc.link.idle_timeout_s;
     if (a.link.on && link_sil_open(&a.link, &hooks) != 0) {   /* the port is taken: a bad --link */
         if (csv.f != NULL) {
             (void)csv_writer_finish(&writer);

@@ -4,7 +4,13 @@
  *                     first period; prints "listening on 127.0.0.1:PORT" on
  *                     stderr. One client at a time; when it disconnects the
  *                     bytes not yet delivered are dropped (a pulled cable)
- *                     and the next connection is accepted.
+ *                     and the next connection is accepted. Another client
+ *                     meanwhile gets a LINK_NOTICE "held" frame at once and
+ *                     is closed; a client silent for [link] idle_timeout_s
+ *                     (wall time) gets an "idle" notice and is closed; one
+ *                     that shuts its sending side gets its replies, then is
+ *                     closed. No client can end the run: SIGPIPE is ignored
+ *                     and every send's error handled.
  *   --link pty        a pseudo-terminal; prints "link on /dev/pts/N" on stderr
  *   --baud B          the line's rate in simulated time (default 115200, 8N1:
  *                     B/10 bytes per second each way), so overruns behave
@@ -30,6 +36,7 @@ typedef struct {
     int port;
     long baud;
     double realtime;
+    double idle_timeout_s;  /* [link] idle_timeout_s: a client silent this long (wall time) is dropped; 0: never */
 } link_sil_opts_t;
 
 /* Parse argv[*i] if it is one of the options above (advancing *i past its value): 1 taken,

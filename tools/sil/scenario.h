@@ -58,6 +58,7 @@ typedef struct {
         bool endless_ok;           /* set by the caller after scenario_defaults: duration_s = 0 accepted (drive_sil --link) */
     } run;
     struct { SC_KEYS_faults(SC_FIELD) } faults;         /* injected on the simulated board (hal_sim_faults_t) */
+    struct { SC_KEYS_link(SC_FIELD) } link;             /* drive_sil --link */
     uint32_t derive_status;        /* drive_derive_t of scenario_finish (warnings) */
     /* where each key was last set ("" = default), for messages */
     char origin[SCENARIO_MAX_KEYS][SCENARIO_ORIGIN_LEN];

@@ -227,10 +227,15 @@
     X(faults, isr_overrun_run_s, REAL, SC_GT0, SC_TEXT("1.2e-4"), SC_NO, SC_F(isr_overrun_run_s, F64, 1.0), \
       "run time of that ISR call [s]")
 
+/* [link]: drive_sil --link (tools/sil/link_sil.h) */
+#define SC_KEYS_link(X) \
+    X(link, idle_timeout_s, REAL, SC_GE0, SC_TEXT("10"), SC_NO, SC_NO, \
+      "--link: a client that sends nothing this long (wall time) is told so and closed [s]; 0: never")
+
 /* Every key, in the order of --help, --list-keys and the resolved JSON. */
 #define SC_KEYS(X) \
     SC_KEYS_plant(X) SC_KEYS_motor(X) SC_KEYS_controller(X) SC_KEYS_identify(X) SC_KEYS_reference(X) \
-    SC_KEYS_load(X) SC_KEYS_run(X) SC_KEYS_faults(X)
+    SC_KEYS_load(X) SC_KEYS_run(X) SC_KEYS_faults(X) SC_KEYS_link(X)
 
 /* scenario_t's field of a key (scenario.h) */
 #define SC_FIELD(sec, key, KIND, ...) SC_FIELD_##KIND(key)

@@ -59,6 +59,16 @@ class NoAnswer(LinkError):
     code = 3
 
 
+class Held(NoAnswer):
+    """The port serves another client (drive_sil --link: one at a time)."""
+
+
+HELD_RETRY_S = 0.1          # a held port is tried again this often until the open's timeout
+# while only listening (a stream), a PING this often: the drive's host timeout and drive_sil's idle
+# timeout see a host that is there (a fifth of the shortest timeout, 1 s)
+KEEPALIVE_S = 0.2
+
+
 class Var:
     def __init__(self, vid, name, unit, vtype, access, lo, hi, scale):
         self.id, self.name, self.unit, self.type, self.access = vid, name, unit, vtype, access
@@ -91,21 +101,30 @@ class Drive:
         self.stream_rows = []       # (period index, [values]) of unsolicited stream frames
         self.stream_ids = []
         self.events = []            # (state, fault, period index)
-        self.port = self._open(url, timeout, baud)
+        self.last_tx_s = 0.0        # when the last request went out (time.monotonic)
         # a reply at the line's rate, with room for the drive's background loop
         self.reply_timeout = 0.15 + 2 * (codec.PAYLOAD_MAX + 8) * 10.0 / baud
-        self.info = self.hello()
+        deadline = time.monotonic() + timeout
+        while True:                 # a port held by another client is tried again until the timeout
+            self.port = self._open(url, deadline, baud)
+            try:
+                self.info = self.hello()
+                break
+            except Held:
+                self.port.close()
+                if time.monotonic() >= deadline:
+                    raise
+                time.sleep(HELD_RETRY_S)
         self.vars = self._table()
         self.by_name = {v.name: v for v in self.vars}
 
     # ---- port ---------------------------------------------------------------
     @staticmethod
-    def _open(url, timeout, baud):
+    def _open(url, deadline, baud):
         try:
             import serial  # pyserial
         except ImportError as e:  # pragma: no cover - the venv has it
             raise NoAnswer("pyserial is not installed (make drivetool)") from e
-        deadline = time.monotonic() + timeout
         while True:
             try:
                 return serial.serial_for_url(url, baudrate=baud, timeout=0.02)
@@ -123,7 +142,26 @@ class Drive:
     def __exit__(self, *exc):
         self.close()
 
+    def _read(self):
+        """What the port has (at most its read timeout's wait); NoAnswer when the drive closed it."""
+        try:
+            return self.port.read(max(1, self.port.in_waiting))
+        except OSError as e:        # pyserial's SerialException: the connection is gone
+            raise NoAnswer(f"{self.url}: the drive closed the connection ({e})") from None
+
+    def _write(self, frame):
+        try:
+            self.port.write(frame)
+        except OSError as e:        # pyserial's SerialException: the connection is gone
+            raise NoAnswer(f"{self.url}: the drive closed the connection ({e})") from None
+        self.last_tx_s = time.monotonic()
+
     def _take_unsolicited(self, ftype, payload):
+        if ftype == codec.NOTICE and payload:
+            text = payload[1:].decode("ascii", "replace")
+            if payload[0] == codec.NOTICE_HELD:
+                raise Held(f"{self.url}: {text} (drive_sil --link serves one client at a time)")
+            raise NoAnswer(f"{self.url}: {text}")
         if ftype == codec.STREAM and len(payload) >= 4:
             idx = struct.unpack_from("<I", payload, 0)[0]
             vals, i = [], 4
@@ -138,10 +176,13 @@ class Drive:
             self.events.append((payload[0], payload[1], struct.unpack_from("<I", payload, 2)[0]))
 
     def poll(self, wait=0.0):
-        """Read what has come (for up to `wait` s), keeping stream rows and events."""
+        """Read what has come (for up to `wait` s), keeping stream rows and events; a PING every
+        KEEPALIVE_S meanwhile (a host that only listens is still there)."""
         end = time.monotonic() + wait
         while True:
-            data = self.port.read(max(1, self.port.in_waiting))
+            if time.monotonic() - self.last_tx_s >= KEEPALIVE_S:
+                self.ping()
+            data = self._read()
             for ftype, _seq, payload in self.rx.feed(data):
                 self._take_unsolicited(ftype, payload)
             if time.monotonic() >= end:
@@ -152,10 +193,10 @@ class Drive:
         self.seq = (self.seq % 255) + 1     # 1..255; 0 is the unsolicited frames'
         frame = codec.frame_encode(ftype, self.seq, payload)
         for _ in range(self.retries):
-            self.port.write(frame)
+            self._write(frame)
             deadline = time.monotonic() + self.reply_timeout
             while time.monotonic() < deadline:
-                data = self.port.read(max(1, self.port.in_waiting))
+                data = self._read()
                 for rtype, rseq, rpay in self.rx.feed(data):
                     if rtype == (ftype | codec.REPLY) and rseq == self.seq and rpay:
                         return rpay[0], bytes(rpay[1:])
@@ -341,11 +382,11 @@ class Drive:
             for first in todo[:depth]:
                 self.seq = (self.seq % 255) + 1
                 sent[self.seq] = first
-                self.port.write(codec.frame_encode(codec.CAPTURE_READ, self.seq,
+                self._write(codec.frame_encode(codec.CAPTURE_READ, self.seq,
                                                    struct.pack("<HH", first, min(page, n - first))))
             deadline = time.monotonic() + self.reply_timeout * len(sent)
             while sent and time.monotonic() < deadline:
-                data = self.port.read(max(1, self.port.in_waiting))
+                data = self._read()
                 for rtype, rseq, rpay in self.rx.feed(data):
                     if rtype != (codec.CAPTURE_READ | codec.REPLY) or rseq not in sent:
                         self._take_unsolicited(rtype, rpay)
