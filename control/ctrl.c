@@ -589,6 +589,28 @@ static void stage_monitor(ctrl_t *c, const ctrl_period_t *p)
     c->mon.psi_est_Wb = mathx_sqrtf(p->x.psi_dq_Wb.d * p->x.psi_dq_Wb.d + p->x.psi_dq_Wb.q * p->x.psi_dq_Wb.q);
 }
 
+void ctrl_monitor_readings(ctrl_t *c, const ctrl_in_t *in, bool outputs_on)
+{
+    const dbdtc_par_t *m = &c->db.par;
+    float s;
+    float co;
+    mathx_sincosf(c->enc.theta_e_rad, &s, &co);
+    const dq_t i = park(clarke_2ph(in->ia_A, in->ib_A), s, co);
+    const float psi_d = m->L_H * i.d + m->psi_f_Wb;   /* Ld = Lq: the reluctance torque is 0 */
+    const float psi_q = m->L_H * i.q;
+    c->mon.theta_el_rad = c->enc.theta_e_rad;
+    c->mon.omega_el_rad_s = c->enc.omega_e_rad_s;
+    c->mon.speed_mech_rad_s = c->enc.omega_m_rad_s;
+    c->mon.id_A = i.d;
+    c->mon.iq_A = i.q;
+    c->mon.ud_V = outputs_on ? c->u_applied_V.d : 0.0f;
+    c->mon.uq_V = outputs_on ? c->u_applied_V.q : 0.0f;
+    c->mon.te_ref_Nm = 0.0f;
+    c->mon.te_est_Nm = m->kt_Nm_per_A * i.q;         /* eq. (3) */
+    c->mon.psi_ref_Wb = 0.0f;
+    c->mon.psi_est_Wb = mathx_sqrtf(psi_d * psi_d + psi_q * psi_q);
+}
+
 /* Stage output: one finiteness check per ISR (NaN and Inf survive a sum;
  * the inputs are in it because the blocks clamp, a NaN would become a
  * bound; the estimation's state because it carries over), the duties and

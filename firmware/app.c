@@ -188,12 +188,23 @@ static void run_state(app_t *app, const hal_sample_t *s)
     (void)app_output(app, r, s);
 }
 
-/* The operator's request (app_request_op), whole, at the start of a
- * period: the references every time, a mode or method when the operator
+/* A new configuration (app_request_reconfigure) while stopped; the background's
+ * warnings (app_request_warning); the operator's request (app_request_op),
+ * whole, at the start of a period: the references every time, a mode or method when the operator
  * changed it (the app's own choice, e.g. the conventional method after a
  * refused step 1, stands until then). */
 static void take_operator(app_t *app)
 {
+    const uint16_t reconf = app->req_reconfigure;
+    if ((reconf != 0u) &&
+        ((app->state == APP_STATE_INIT) || (app->state == APP_STATE_IDLE) || (app->state == APP_STATE_FAULT))) {
+        app->req_reconfigure = 0u;
+        app_reconfigure(app, reconf); /* a stopped period: the new configuration's pieces */
+    }
+    if (app->req_warning != 0u) {
+        app->warnings |= app->req_warning;
+        app->req_warning = 0u;
+    }
     if (app->req_op != 0u) {
         const app_op_t op = app->op_req;
         app->req_op = 0u;
@@ -253,6 +264,13 @@ static app_step_t watch(app_t *app, const hal_sample_t *s)
     return protect_watch(&app->prot, &in);
 }
 
+/* The monitor's readings of a period ctrl_step did not run in. */
+static void readings(app_t *app, const hal_sample_t *s)
+{
+    const ctrl_in_t in = ctrl_input(app, s);
+    ctrl_monitor_readings(&app->ctrl, &in, app->pwm_on);
+}
+
 /* FAULT: outputs stay off; a reset is taken only if no check fails now,
  * and never from FLASH_CRC (the image itself is bad). */
 static void fault_state(app_t *app, const hal_sample_t *s)
@@ -262,7 +280,15 @@ static void fault_state(app_t *app, const hal_sample_t *s)
     app->req_stop = 0u;
     if (app->req_fault_reset != 0u) {
         app->req_fault_reset = 0u;
-        if ((app->fault != APP_FAULT_FLASH_CRC) && (protection(app, s).status != APP_STEP_FAULT)) {
+        if (app->fault == APP_FAULT_FLASH_CRC) {
+            app->fault_present = APP_FAULT_FLASH_CRC; /* the image itself: no check clears it */
+            return;
+        }
+        const app_step_t now = protection(app, s);
+        if (now.status == APP_STEP_FAULT) {
+            app->fault_present = now.fault; /* the cause is still there: said, not cleared */
+        } else {
+            app->fault_present = APP_FAULT_NONE;
             app->state = APP_STATE_IDLE;
             app->fault = APP_FAULT_NONE;
         }
@@ -308,6 +334,7 @@ void app_isr(app_t *app)
     hal_sample_read(&s); /* first HAL call of the ISR (hal.h) */
     t_entry = hal_cycles();
     app->ticks++;
+    app->vdc_V = s.vdc_V;
     protect_track(&app->prot, s.enc_count, t_entry);
     ctrl_track(&app->ctrl, s.enc_count); /* every state: the speed estimate protection checks */
     take_operator(app);
@@ -331,6 +358,9 @@ void app_isr(app_t *app)
         }
     }
 
+    if ((app->state != APP_STATE_RUN) && (app->state != APP_STATE_IDENTIFY_R)) {
+        readings(app, &s); /* the states ctrl_step does not run in: the monitor's readings all the same */
+    }
     f = protect_run_time(&app->prot, t_entry, hal_cycles());
     if ((app->state != APP_STATE_FAULT) && (f.status == APP_STEP_FAULT)) {
         app_latch_fault(app, &f, &s);

@@ -46,7 +46,9 @@
  * references, mode and method) only set a flag; the ISR carries them out
  * at the start of its next call, so the controller state is only ever
  * touched from the ISR. ctrl_track() runs first in every call, in every
- * state: the controller owns the encoder. A fault turns the PWM off in the same
+ * state: the controller owns the encoder. The monitor's readings (speed,
+ * measured currents) and the bus reading are this period's in every
+ * state (ctrl_monitor_readings where ctrl_step does not run). A fault turns the PWM off in the same
  * ISR call that detected it and keeps a snapshot (protect.h).
  *
  * Protection (protect.h) in every state but FAULT, and from the state's
@@ -87,6 +89,7 @@
  * Bits above ctrl_out_t.flags' (CTRL_FLAG_*): the SIL's CSV column
  * `flags` carries both. Cleared at the next start. */
 #define APP_WARN_STEP1_REFUSED 0x1000u /* step 1 refused R^ (rsid_refusal says why): conventional method */
+#define APP_WARN_HOST_TIMEOUT  0x2000u /* the link's host went quiet: the drive ramped to zero and stopped (link.h) */
 
 /* CONFIG's snapshot value: ctrl_init's refusals (ctrl_status_t, bits up to
  * 0x0100) | app_cfg_t.params_refused shifted this far. */
@@ -150,6 +153,9 @@ typedef struct {
     bool commissioning;            /* this start is a commissioning (CALIBRATE leads to COMMISSION) */
     bool comm_valid;               /* comm.res holds a completed commissioning's results */
     uint16_t warnings;             /* APP_WARN_* since the last start */
+    float vdc_V;                   /* this period's bus reading [V] (every state) */
+    app_fault_t fault_present;     /* the check the last fault reset found still failing (its cause
+                                    * present, or FLASH_CRC); APP_FAULT_NONE when it cleared */
     app_step_t rsid_refusal;       /* APP_WARN_STEP1_REFUSED: the fault step 1 would have latched */
     uint16_t level;                /* the build level of the last start (level.h) */
     level_rot_t rot;               /* ENC_CHECK: level 3's rotation and its figures (rot.out) */
@@ -165,6 +171,8 @@ typedef struct {
     volatile app_op_t op_req;
     volatile uint16_t req_op;
     volatile uint16_t req_level;   /* the build level the next start takes */
+    volatile uint16_t req_warning; /* APP_WARN_* bits the background raises (app_request_warning) */
+    volatile uint16_t req_reconfigure; /* APP_RECONF_* | APP_RECONF_ASKED: cfg rewritten, the pieces to re-init */
     app_op_t op_taken;             /* the last request the ISR took */
 } app_t;
 
@@ -211,6 +219,23 @@ void app_request_op(app_t *app, const app_op_t *op);
  * start runs; another value is ignored. */
 void app_request_level(app_t *app, uint16_t level);
 
+/* Background: raise the warnings `bits` (APP_WARN_*) at the next ISR, as the ISR's own
+ * (cleared at the next start). */
+void app_request_warning(app_t *app, uint16_t bits);
+
+/* app_request_reconfigure's flags */
+#define APP_RECONF_ASKED      0x0001u /* set by every request */
+#define APP_RECONF_ENC_OFFSET 0x0002u /* the configuration's encoder offset replaces the one in use (aligned
+                                       * or commissioned included) */
+
+/* Background, the drive stopped (INIT, IDLE, FAULT), after app->cfg was rewritten whole (the
+ * drive's parameters changed: link_params.h): the ISR's next stopped period initialises the
+ * controller and the start-up steps from it again, as app_init; the encoder's tracking goes on
+ * (the angle and speed estimates kept when its geometry is the same), the operator's request,
+ * the alignment, the commissioning's results, the calibration and a latched fault kept. flags:
+ * APP_RECONF_*. Clear req_reconfigure before rewriting app->cfg: the ISR takes only a whole one. */
+void app_request_reconfigure(app_t *app, uint16_t flags);
+
 /* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN, COMMISSION and the levels' states -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);
 
@@ -223,7 +248,8 @@ void app_request_stop(app_t *app);
 void app_latch_startup_fault(app_t *app, app_fault_t fault, float value, float limit);
 
 /* Background, acts only in FAULT: clears a latched hardware trip; FAULT ->
- * IDLE at the next ISR if no protection check fails on that ISR's samples.
+ * IDLE at the next ISR if no protection check fails on that ISR's samples
+ * (else the failing check's fault in fault_present, the FAULT kept).
  * Outside FAULT it does nothing (no hal_trip_clear under a running drive,
  * no request kept for a later fault); the ISR also drops a reset request
  * it finds outside FAULT. */

@@ -2,17 +2,29 @@
  * and the requests the ISR takes at the start of its next call (app.c);
  * see app.h. */
 #include "app.h"
+#include "app_start.h"
 
 /* Duty that gives zero line-to-line voltage: the outputs' state while off. */
 #define DUTY_ZERO_VOLTAGE 0.5f
 
-void app_init(app_t *app, const app_cfg_t *cfg)
+void app_init_steps(app_t *app)
 {
+    const app_cfg_t *cfg = &app->cfg;
     const float Ts = cfg->ctrl.Ts_s;
-    const app_snapshot_t no_snapshot = { { 0.0f, 0.0f, 0.0f, 0u }, APP_STATE_INIT, 0.0f, 0.0f };
-    const ctrl_out_t zero_voltage = { { DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE }, 0u };
     const protect_drive_t drv = { Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.te_max_Nm,
                                   cfg->ctrl.pole_pairs };
+
+    protect_init(&app->prot, &cfg->prot, &drv);
+    calib_init(&app->cal, &cfg->cal, Ts);
+    align_init(&app->aln, &cfg->aln, Ts);
+    rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
+    level_rot_init(&app->rot, &cfg->lvl, &cfg->ctrl, Ts);
+}
+
+void app_init(app_t *app, const app_cfg_t *cfg)
+{
+    const app_snapshot_t no_snapshot = { { 0.0f, 0.0f, 0.0f, 0u }, APP_STATE_INIT, 0.0f, 0.0f };
+    const ctrl_out_t zero_voltage = { { DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE }, 0u };
 
     hal_pwm_disable();
     if (cfg != &app->cfg) {
@@ -31,25 +43,25 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->offset_ib_A = 0.0f;
     app->aligned = false;
     app->pwm_on = false;
-    protect_init(&app->prot, &cfg->prot, &drv);
-    calib_init(&app->cal, &cfg->cal, Ts);
-    align_init(&app->aln, &cfg->aln, Ts);
-    rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
+    app_init_steps(app);
     app->comm = NULL;
     app->commissioning = false;
     app->comm_valid = false;
     app->req_commission = 0u;
-    level_rot_init(&app->rot, &cfg->lvl, &cfg->ctrl, Ts);
     app->level = cfg->lvl.level;
     app->req_level = cfg->lvl.level;
     app->adc.ia_A = 0.0f;
     app->adc.ib_A = 0.0f;
     app->adc.vdc_V = 0.0f;
     app->warnings = 0u;
+    app->vdc_V = 0.0f;
+    app->fault_present = APP_FAULT_NONE;
     app->rsid_refusal = app_step_running();
     app->req_start = 0u;
     app->req_stop = 0u;
     app->req_fault_reset = 0u;
+    app->req_warning = 0u;
+    app->req_reconfigure = 0u;
     app->op_taken.ref = *ctrl_ref(&app->ctrl);
     app->op_taken.mode = ctrl_mode(&app->ctrl);
     app->op_taken.method = ctrl_method(&app->ctrl);
@@ -140,6 +152,16 @@ void app_request_level(app_t *app, uint16_t level)
     if ((level >= LEVEL_MIN) && (level <= LEVEL_MAX)) {
         app->req_level = level;
     }
+}
+
+void app_request_warning(app_t *app, uint16_t bits)
+{
+    app->req_warning = bits; /* one store: the ISR takes it whole */
+}
+
+void app_request_reconfigure(app_t *app, uint16_t flags)
+{
+    app->req_reconfigure = (uint16_t)(flags | APP_RECONF_ASKED);
 }
 
 void app_request_stop(app_t *app)

@@ -159,3 +159,43 @@ void app_align_state(app_t *app, const hal_sample_t *s)
         leave_align(app);
     }
 }
+
+/* ---- a new configuration, the drive stopped ----------------------------- */
+
+/* The encoder's geometry and PLL in *e are those *c asks for: its tracking can go on. */
+static bool same_encoder(const encoder_t *e, const ctrl_cfg_t *c)
+{
+    const encoder_cfg_t *ec = &e->cfg;
+    return (ec->counts_per_rev == ENCODER_COUNTS_PER_LINE * c->enc_lines) && (ec->pole_pairs == c->pole_pairs) &&
+           !(ec->pll_bw_rad_s < c->enc_pll_bw_rad_s) && !(ec->pll_bw_rad_s > c->enc_pll_bw_rad_s) &&
+           !(ec->Ts_s < c->Ts_s) && !(ec->Ts_s > c->Ts_s);
+}
+
+void app_reconfigure(app_t *app, uint16_t flags)
+{
+    const app_cfg_t *cfg = &app->cfg;
+    const encoder_t enc = app->ctrl.enc;
+
+    (void)ctrl_init(&app->ctrl, &cfg->ctrl); /* status kept in ctrl.status; a start checks it */
+    if (same_encoder(&enc, &cfg->ctrl)) {
+        app->ctrl.enc = enc; /* the angle and speed estimates go on, the offset in use with them */
+        if ((flags & APP_RECONF_ENC_OFFSET) != 0u) {
+            encoder_set_offset(&app->ctrl.enc, cfg->ctrl.enc_offset_el_rad);
+        }
+    } else {
+        app->aligned = false; /* another geometry: an aligned offset no longer holds */
+    }
+    if ((flags & APP_RECONF_ENC_OFFSET) != 0u) {
+        app->aligned = true; /* told as measured: no alignment at the next start */
+    }
+    ctrl_set_ref(&app->ctrl, &app->op_taken.ref);
+    ctrl_set_mode(&app->ctrl, app->op_taken.mode);
+    (void)ctrl_set_method(&app->ctrl, app->op_taken.method);
+    app_init_steps(app);
+    if (app->comm != NULL) {
+        const comm_result_t res = app->comm->res; /* the measured values stay readable */
+        comm_init(app->comm, &cfg->comm, cfg->ctrl.Ts_s, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines,
+                  cfg->ctrl.pole_pairs);
+        app->comm->res = res;
+    }
+}

@@ -20,6 +20,13 @@ void app_calibrate_state(app_t *app, const hal_sample_t *s);
 /* ALIGN's period: the alignment's vector out; done: the encoder aligned, the next state. */
 void app_align_state(app_t *app, const hal_sample_t *s);
 
+/* The drive stopped (INIT, IDLE, FAULT): the controller and the start-up steps from app->cfg
+ * again (app_request_reconfigure's flags). */
+void app_reconfigure(app_t *app, uint16_t flags);
+
+/* The start-up steps and protection from app->cfg (app_init, app_reconfigure; app_bg.c). */
+void app_init_steps(app_t *app);
+
 /* PWM off first, then FAULT with the step's fault and its snapshot (app.c). */
 void app_latch_fault(app_t *app, const app_step_t *f, const hal_sample_t *s);
 

@@ -82,6 +82,15 @@
 #define BOARD_ENC_STALL_S        0.3f         /* [s] */
 #define BOARD_ENC_STALL_TE_FRAC  0.9f         /* x te_max [-] */
 
+/* ---- the link (firmware/link.h) --------------------------------------- */
+/* Host timeout: once a host wrote a reference or started the drive, no
+ * valid frame for this long ramps the drive to zero and stops it. Off, as
+ * ODrive's watchdog (watchdog_timeout 0, enable_watchdog false): a
+ * reference set by one `drivetool set` must outlive that command's
+ * connection; a host program that feeds the link turns it on
+ * (link_protocol.md, "Host timeout": VESC's 1 s). */
+#define BOARD_HOST_TIMEOUT_S     0.0f         /* [s]; 0: off */
+
 /* ---- start-up sequence (used by the application) ---------------------- */
 /* Current-offset calibration, PWM off, at every start. */
 #define BOARD_CAL_SETTLE_S       0.01f        /* wait before averaging: a current decays through the diodes in L/R = 3.7 ms [s] */

@@ -160,4 +160,10 @@ void drive_params_board(drive_params_t *p);
  * rest of *cfg (start-up sequence, watch) is left. */
 void drive_params_to_app_cfg(const drive_params_t *p, app_cfg_t *cfg);
 
+/* Start-up or background (the drive stopped: app_request_reconfigure): the board's whole
+ * configuration from the parameter set *p: drive_params_to_app_cfg(), then the start-up
+ * sequence's, the watch checks' and the levels' settings of firmware/board_cfg.h
+ * (app_cfg_default() is this for drive_params_board()'s set). */
+void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p);
+
 #endif /* DRIVE_PARAMS_H */

@@ -45,6 +45,11 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     const app_t *a = t->app;
     const ctrl_mon_t *m = &a->ctrl.mon;
     const est_out_t *e = est_output(ctrl_est(&a->ctrl)); /* the estimation's model and status */
+    if (id >= (uint16_t)LV_PARAM_FIRST) {              /* a parameter: from the parameter set */
+        const uint16_t k = (uint16_t)(id - (uint16_t)LV_PARAM_FIRST);
+        const float x = (t->params != NULL) ? link_param_get(t->params, k) : 0.0f;
+        return (link_param(k)->type == (uint16_t)LINK_PARAM_U16) ? of_u((uint32_t)x) : of_f(x);
+    }
     switch (id) {
     case LV_STATE: return of_u((uint32_t)a->state);
     case LV_FAULT: return of_u((uint32_t)a->fault);
@@ -92,6 +97,14 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_COMM_SPEED_KI: return of_f((a->comm != NULL) ? a->comm->res.speed_ki_Nm_rad : 0.0f);
     case LV_LEVEL: return of_u((uint32_t)a->level);
     case LV_LEVEL_NEXT: return of_u((uint32_t)a->req_level);
+    case LV_VDC_V: return of_f(a->vdc_V);
+    /* the torque path that ran: proposed only while the estimation's model drove it */
+    case LV_METHOD_RAN:
+        return of_u(((ctrl_method(&a->ctrl) == CTRL_METHOD_PROPOSED) && (m->model_from_observer != 0u))
+                        ? (uint32_t)CTRL_METHOD_PROPOSED : (uint32_t)CTRL_METHOD_CONVENTIONAL);
+    case LV_HOLD_REASON: return of_u((uint32_t)e->hold);
+    case LV_FAULT_PRESENT: return of_u((uint32_t)a->fault_present);
+    case LV_HOST_TIMEOUT_S: return of_f(t->host->timeout_s);
     default: return of_u(0u);
     }
 }

@@ -13,6 +13,7 @@
 
 #include "app.h"
 #include "cmd.h"
+#include "link_params.h"
 
 typedef enum { LINK_T_U16 = 0, LINK_T_U32 = 1, LINK_T_F32 = 2 } link_type_t;
 typedef enum {
@@ -31,7 +32,11 @@ typedef enum {
     LV_COMM_RESULT, LV_COMM_STAGE, LV_COMM_R_OHM, LV_COMM_L_H, LV_COMM_PSIF_WB, LV_COMM_POLE_PAIRS,
     LV_COMM_J_KGM2, LV_COMM_B_NMS, LV_COMM_ENC_OFFSET, LV_COMM_SPEED_KP, LV_COMM_SPEED_KI,
     LV_LEVEL, LV_LEVEL_NEXT,
-    LV_COUNT
+    /* readings and the fallbacks named (every state) */
+    LV_VDC_V, LV_METHOD_RAN, LV_HOLD_REASON, LV_FAULT_PRESENT,
+    LV_HOST_TIMEOUT_S,          /* the link's own setting (link_host_t) */
+    LV_PARAM_FIRST,             /* the drive's parameters (link_params.h), LINK_PARAM_COUNT of them */
+    LV_COUNT = LV_PARAM_FIRST + LINK_PARAM_COUNT
 } link_var_id_t;
 
 /* How a capture keeps a variable: int16 counts scaled by its limits (the default), or its float32
@@ -54,12 +59,32 @@ typedef struct {
     uint16_t reset_by_watchdog; /* 1: the last reset was the watchdog's (set by the glue at start-up) */
 } link_stats_t;
 
+#define LINK_HOST_TIMEOUT_MAX_S 600.0f   /* host_timeout_s's top [s]: a host quiet longer is gone */
+
+/* The link's watch of its host (link.c; link_protocol.md, "Host timeout"). Background. */
+typedef struct {
+    float timeout_s;            /* host_timeout_s: no valid frame this long, once armed, ramps the drive to
+                                 * zero and stops it; 0: off */
+    bool armed;                 /* a host wrote a reference or started the drive (since the last stop) */
+    bool ramping;               /* the timeout fired: the stop ramp is under way */
+    bool at_zero;               /* the ramp's references reached zero: waiting for standstill */
+    uint32_t seen_ticks;        /* the app's ticks at the last valid frame */
+    uint32_t ramp_ticks;        /* ... at the ramp's start */
+    uint32_t zero_ticks;        /* ... when its references reached zero */
+    ctrl_ref_t ramp_from;       /* the references the ramp began from */
+} link_host_t;
+
 /* What the table reads and writes. */
 typedef struct {
     app_t *app;
     volatile cmd_t *cmd;        /* the operator's block: writes land here, then cmd_apply() */
     const cmd_limits_t *lim;
     const link_stats_t *stats;
+    link_host_t *host;          /* the link's own setting host_timeout_s */
+    drive_params_t *params;     /* the drive's parameter set (link_params.h), or NULL: none on the link */
+    void (*params_apply)(void *user, uint16_t k); /* after parameter k's write (stopped): the glue
+                                       * rebuilds the app's configuration from *params. Background */
+    void *params_user;
 } link_target_t;
 
 /* A value: integers in u (and f as float), floats in f. */
@@ -81,7 +106,10 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi);
 /* Write v (integers in u, floats in f) through cmd_apply(): the other fields of the command
  * are first set to what the drive runs with (app.op_req), a refused value is put back. Returns
  * CMD_OK or the cmd_error_t cmd_apply() named; *access_refused true when the table's access
- * refused it before cmd_apply() (read-only, or write-when-stopped while running). Background. */
+ * refused it before cmd_apply() (read-only, or write-when-stopped while running). The link's own
+ * settings and the drive's parameters (link_params.h) are checked against their limits instead
+ * (CMD_ERR_RANGE, nothing changed); a parameter written goes into the parameter set, then
+ * params_apply. Background. */
 uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool *access_refused);
 
 /* Where the ISR finds a float variable in place: its value in its unit is *p / raw_per_unit.
@@ -109,9 +137,18 @@ typedef enum {
     LINK_ACTION_LEVEL = 6       /* the build level the next start runs (level.h), with its argument */
 } link_action_t;
 
+/* The command block set to what the drive runs with (app.op_req), run and fault reset untouched
+ * (before a field of it is set and cmd_apply() called). Background. */
+void link_cmd_sync(const link_target_t *t);
+
+/* link_action's return for an action it does not know. */
+#define LINK_ACTION_UNKNOWN 0xFFFFu
+
 /* Carry out an action through cmd_apply() (start and stop as an edge of cmd.run, so a start after a
- * fault starts again). Returns false for an unknown action. Background. */
-bool link_action(const link_target_t *t, uint16_t action);
+ * fault reset starts again). Returns CMD_OK (or the command's field error cmd_apply() named), a
+ * refusal that did nothing (CMD_ERR_FAULTED: start or commission with a fault latched;
+ * CMD_ERR_NOT_STOPPED: commission while the drive runs), or LINK_ACTION_UNKNOWN. Background. */
+uint16_t link_action(const link_target_t *t, uint16_t action);
 
 /* The build level (LEVEL_MIN .. LEVEL_MAX, level.h) the next start runs, through cmd_t.level and
  * cmd_apply() as the debugger sets it. Returns CMD_OK, or CMD_ERR_LEVEL for a level outside

@@ -28,6 +28,7 @@
 #include "app.h"
 #include "board_cfg.h"
 #include "cmd.h"
+#include "drive_params.h"
 #include "flash_crc.h"
 #include "hal.h"
 #include "hal_f28335.h"
@@ -45,16 +46,19 @@ static app_t g_app;          /* the whole drive state, its cfg built in place (o
 static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
+static drive_params_t g_params; /* the drive's parameter set, its derived values derived: the link's
+                                 * parameters live in it (link_params.h), the configuration follows it */
 static volatile cmd_comm_t g_comm; /* the commissioning: g_comm.start = 1 while stopped; its report */
 static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
 /* In M0 (section m0data, f28335_flash.cmd), as .ebss in L6-L7 keeps its
  * margin only without them: objects whose init functions write every
  * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
- * proves it), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
+ * proves it; g_params: drive_params_board), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
 #if defined(__TMS320C28XX__)
 #pragma DATA_SECTION(g_commission, "m0data")
 #pragma DATA_SECTION(g_cmd, "m0data")
 #pragma DATA_SECTION(g_comm, "m0data")
+#pragma DATA_SECTION(g_params, "m0data")
 #endif
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
@@ -76,6 +80,18 @@ static void link_service(void)
         (void)hal_f28335_sci_putc(b);
     }
     hal_f28335_sci_pump();
+}
+
+/* Background, the drive stopped: parameter k of g_params was written over the link; the
+ * configuration follows (the ISR re-initialises at its next stopped period). */
+static void params_apply(void *user, uint16_t k)
+{
+    (void)user;
+    g_app.req_reconfigure = 0U;  /* the ISR takes no half-written configuration */
+    app_cfg_from_params(&g_app.cfg, &g_params);
+    g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
+    g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    app_request_reconfigure(&g_app, (k == (uint16_t)LINK_PARAM_ENC_OFFSET) ? APP_RECONF_ENC_OFFSET : 0U);
 }
 
 /* Start-up, before interrupts: the index of the first CRC record of the
@@ -116,7 +132,9 @@ int main(void)
     hal_init();  /* ramfuncs copied: its CRC record holds at either address */
     bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    app_cfg_default(&g_app.cfg);
+    drive_params_board(&g_params);
+    (void)drive_params_derive(&g_params);   /* refusals: a start faults CONFIG (params_refused) */
+    app_cfg_from_params(&g_app.cfg, &g_params);
     app_init(&g_app, &g_app.cfg);
     app_attach_comm(&g_app, &g_commission);
     if (bad_record >= 0) {
@@ -129,9 +147,12 @@ int main(void)
     g_lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
     g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
     g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    link_cfg_default(&lc);   /* the host timeout: BOARD_HOST_TIMEOUT_S */
     lc.Ts_s = g_app.cfg.ctrl.Ts_s;
     lc.baud = F28335_SCI_BAUD_ACTUAL;
     lc.firmware_id = FIRMWARE_ID;
+    lc.params = &g_params;
+    lc.params_apply = params_apply;
     link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
     g_link.stats.reset_by_watchdog = g_reset_by_watchdog ? 1U : 0U;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */

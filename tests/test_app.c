@@ -182,10 +182,12 @@ static void isr_call_order(void **state)
     for (int j = 0; j < 3; j++) {
         assert_float_equal(mock_hal_duty[j], app.out.duty[j], 0.0);
     }
-    const float id_before = app.ctrl.mon.id_A;
     hal_sample_t bad = sample(5.0f, 0.0f, 500.0f);
     isr_fault(&bad, 0);
-    assert_float_equal(app.ctrl.mon.id_A, id_before, 0.0); /* no ctrl_step */
+    /* no ctrl_step (no write, no reference): the monitor has this sample's readings all the same */
+    assert_float_equal(app.ctrl.mon.id_A, 5.0, 1e-2); /* at the encoder's angle, about 0 */
+    assert_float_equal(app.ctrl.mon.te_ref_Nm, 0.0, 0.0);
+    assert_float_equal(app.vdc_V, 500.0, 0.0);
 }
 
 static void background_kicks_watchdog(void **state)

@@ -35,7 +35,7 @@ static link_frame_t rep;
 static int setup(void **state)
 {
     app_cfg_t cfg;
-    link_cfg_t lc = { TS_S, BAUD, "test" };
+    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, NULL, NULL, NULL };
     (void)state;
     app_cfg_default(&cfg);
     expect_function_call(hal_pwm_disable);

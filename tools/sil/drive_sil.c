@@ -421,7 +421,7 @@ static int out_commit(out_file_t *o, const char *flag)
  * for another name; not OUT.json, a --summary's usual name): the resolved
  * truth and controller values of the run (sil_write_resolved), for the
  * report instead of the INI. None beside a CSV written in place (/dev/null). */
-static int resolved_write(const args_t *a, const scenario_t *sc, int csv_in_place)
+static int resolved_write(const args_t *a, const scenario_t *sc, const sil_result_t *res, int csv_in_place)
 {
     if (a->out_path == NULL || csv_in_place) {
         return 0;
@@ -438,7 +438,7 @@ static int resolved_write(const args_t *a, const scenario_t *sc, int csv_in_plac
     out_file_t o;
     int rc = out_open(&o, path, "--out");
     if (rc == 0) {
-        sil_write_resolved(o.f, sc, a->scenario_path);
+        sil_write_resolved(o.f, sc, res, a->scenario_path);
         rc = out_commit(&o, "--out");
     }
     free(path);
@@ -739,8 +739,7 @@ int main(int argc, char **argv)
     prog.duration_s = sc.run.duration_s;
     prog.shown = 0;
     sil_hooks_t hooks;
-    a.link.idle_timeout_s = sc.link.idle_timeout_s;
-    if (a.link.on && link_sil_open(&a.link, &hooks) != 0) {   /* the port is taken: a bad --link */
+    if (a.link.on && link_sil_open(&a.link, &sc, &hooks) != 0) {   /* the port is taken: a bad --link */
         if (csv.f != NULL) {
             (void)csv_writer_finish(&writer);
         }
@@ -775,7 +774,7 @@ int main(int argc, char **argv)
         summary_write_json(js.f, &sum, &sc, &res, a.scenario_path, NULL);
     }
     const int csv_in_place = (csv.f != NULL && csv.tmp_path == NULL);
-    if (out_commit(&csv, "--out") != 0 || resolved_write(&a, &sc, csv_in_place) != 0) {
+    if (out_commit(&csv, "--out") != 0 || resolved_write(&a, &sc, &res, csv_in_place) != 0) {
         out_abandon(&js);
         out_abandon(&comm_ini);
         return EXIT_FAILURE;

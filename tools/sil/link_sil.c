@@ -47,6 +47,8 @@ typedef struct {
 
 typedef struct {
     link_sil_opts_t o;
+    const scenario_t *sc;           /* its [link] keys, and the app's configuration for new parameters */
+    drive_params_t params;          /* the drive's parameter set: the link's parameters (link_params.h) */
     int listen_fd;
     int fd;                         /* the client or the pty master; -1: none */
     int slave_fd;                   /* pty: kept open so the master never reads EOF */
@@ -265,6 +267,27 @@ static void poll_closing(void)
     }
 }
 
+/* The command's limits from the app's configuration. */
+static void limits_from(const app_cfg_t *c)
+{
+    g.lim.speed_max_rpm = c->prot.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F;
+    g.lim.te_max_Nm = c->ctrl.te_max_Nm;
+    g.lim.u_max_V = c->ctrl.u_max_V;
+}
+
+/* Parameter k was written (the drive stopped): the app's configuration from the changed set, as
+ * sil_run builds it, and the ISR's re-initialisation asked for. */
+static void on_params(void *user, uint16_t k)
+{
+    static app_cfg_t cfg;   /* large: not on the stack */
+    (void)user;
+    g.app->req_reconfigure = 0u;     /* the ISR takes no half-written configuration */
+    sil_app_cfg(g.sc, &g.params, &cfg);
+    g.app->cfg = cfg;
+    limits_from(&g.app->cfg);
+    app_request_reconfigure(g.app, (k == (uint16_t)LINK_PARAM_ENC_OFFSET) ? APP_RECONF_ENC_OFFSET : 0u);
+}
+
 static void on_start(void *user, app_t *app)
 {
     (void)user;
@@ -273,15 +296,18 @@ static void on_start(void *user, app_t *app)
     g.app = app;
     g.Ts_s = (double)c->ctrl.Ts_s;
     g.bytes_per_period = (double)g.o.baud / BITS_PER_BYTE_8N1 * g.Ts_s;
-    g.lim.speed_max_rpm = c->prot.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F;
-    g.lim.te_max_Nm = c->ctrl.te_max_Nm;
-    g.lim.u_max_V = c->ctrl.u_max_V;
+    limits_from(c);
+    sil_drive_params(g.sc, &g.params);
     cmd_init(&g.cmd);
     g.cmd.run = 1u;        /* sil_run starts the drive itself */
     g.cmd.run_taken = 1u;
+    link_cfg_default(&lc);
+    scenario_map(g.sc, SC_TO_LINK, &lc, g.Ts_s);   /* [link] host_timeout_s */
     lc.Ts_s = c->ctrl.Ts_s;
     lc.baud = (uint32_t)g.o.baud;
     lc.firmware_id = FIRMWARE_ID;
+    lc.params = &g.params;
+    lc.params_apply = on_params;
     link_init(&g.link, &lc, app, &g.cmd, &g.lim);
     clock_gettime(CLOCK_MONOTONIC, &g.t0);
     g.k = 0u;
@@ -362,9 +388,9 @@ static void client_timeouts(void)
         }
         return;
     }
-    if (g.o.idle_timeout_s > 0.0 && now - g.last_rx_s > g.o.idle_timeout_s) {
+    if (g.sc->link.idle_timeout_s > 0.0 && now - g.last_rx_s > g.sc->link.idle_timeout_s) {
         fprintf(stderr, "drive_sil: link: the client was silent for %g s ([link] idle_timeout_s): dropped\n",
-                g.o.idle_timeout_s);
+                g.sc->link.idle_timeout_s);
         close_gently(g.fd, LINK_NOTICE_IDLE, NOTICE_IDLE_TEXT);
         g.fd = -1;
         g.in_n = 0;
@@ -464,10 +490,11 @@ static int on_period_end(void *user)
     return (g.link.quit && link_tx_pending(&g.link) == 0u) ? 1 : 0;
 }
 
-int link_sil_open(const link_sil_opts_t *o, sil_hooks_t *hooks)
+int link_sil_open(const link_sil_opts_t *o, const scenario_t *sc, sil_hooks_t *hooks)
 {
     memset(&g, 0, sizeof g);
     g.o = *o;
+    g.sc = sc;
     if (g.o.baud == 0) {
         g.o.baud = LINK_SIL_BAUD_DEFAULT;
     }

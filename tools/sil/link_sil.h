@@ -36,7 +36,6 @@ typedef struct {
     int port;
     long baud;
     double realtime;
-    double idle_timeout_s;  /* [link] idle_timeout_s: a client silent this long (wall time) is dropped; 0: never */
 } link_sil_opts_t;
 
 /* Parse argv[*i] if it is one of the options above (advancing *i past its value): 1 taken,
@@ -44,8 +43,9 @@ typedef struct {
 int link_sil_arg(link_sil_opts_t *o, int argc, char **argv, int *i);
 
 /* Open the port (listening socket or pty) and announce it on stderr; fills *hooks for
- * sil_ctl_t.hooks. 0, or -1 with a message. */
-int link_sil_open(const link_sil_opts_t *o, sil_hooks_t *hooks);
+ * sil_ctl_t.hooks. The scenario's [link] keys configure it and the firmware's link (kept: *sc
+ * must outlive the run). 0, or -1 with a message. */
+int link_sil_open(const link_sil_opts_t *o, const scenario_t *sc, sil_hooks_t *hooks);
 
 /* Close the port. */
 void link_sil_close(void);

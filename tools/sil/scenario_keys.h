@@ -20,10 +20,12 @@
  *         (NaN: resolved by scenario_finish, or never for a fault's time)
  * FROM    where a SC_PARAMS default is read: SC_P (drive_params_t, from
  *         drive_params_board()), SC_A (app_cfg_t, app_cfg_default()),
- *         SC_S (hal_sim_cfg_t, hal_sim_default_cfg()); SC_NO otherwise
+ *         SC_S (hal_sim_cfg_t, hal_sim_default_cfg()), SC_L (link_cfg_t,
+ *         link_cfg_default()); SC_NO otherwise
  * TO      where the value goes: SC_P (scenario_params), SC_A (the SIL's app
  *         configuration, after drive_params_to_app_cfg), SC_S (the simulated
- *         board, sil_board_from), SC_F (hal_sim_faults_t); SC_SAME: where
+ *         board, sil_board_from), SC_F (hal_sim_faults_t), SC_L (the link's
+ *         configuration, drive_sil --link); SC_SAME: where
  *         FROM reads; SC_NO: scenario.c or sil.c reads it by name (method,
  *         references, the controller's factors). A NaN value leaves the
  *         target as it is. Each location: (field, conversion, key unit per
@@ -230,7 +232,11 @@
 /* [link]: drive_sil --link (tools/sil/link_sil.h) */
 #define SC_KEYS_link(X) \
     X(link, idle_timeout_s, REAL, SC_GE0, SC_TEXT("10"), SC_NO, SC_NO, \
-      "--link: a client that sends nothing this long (wall time) is told so and closed [s]; 0: never")
+      "--link: a client that sends nothing this long (wall time) is told so and closed [s]; 0: never") \
+    X(link, host_timeout_s, REAL, SC_IN(0.0, LINK_HOST_TIMEOUT_MAX_S), SC_PARAMS, SC_L(host_timeout_s, F32, 1.0), \
+      SC_SAME, "the link's host timeout (the variable host_timeout_s): once a host wrote a reference or " \
+      "started the drive, no valid frame this long (the drive's time) ramps it to zero and stops it, warning " \
+      "HOST_TIMEOUT [s]; 0: off")
 
 /* Every key, in the order of --help, --list-keys and the resolved JSON. */
 #define SC_KEYS(X) \

@@ -59,7 +59,8 @@ void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const
 /* text as a JSON string (quoted; quotes, backslashes and control characters escaped). */
 void summary_json_string(FILE *f, const char *text);
 
-/* "STEP1_REFUSED (RSID_...)" for the run's warnings (app.h APP_WARN_*), "" without. */
+/* The run's warnings by name (app.h APP_WARN_*: "STEP1_REFUSED (RSID_...)", "HOST_TIMEOUT (...)",
+ * joined by ", "), "" without. */
 const char *summary_warning_text(const sil_result_t *res, char *buf, size_t len);
 
 /* Names of app_state_t / app_fault_t values ("FAULT_<n>" for one this table does not know). */
