@@ -4,6 +4,7 @@ and ended by 0x00, and a receiver that resyncs at every 0x00."""
 import struct
 
 PAYLOAD_MAX = 240
+FRAME_OVERHEAD = 8          # a frame's bytes on the wire beyond its payload: type, seq, CRC, COBS codes, 0x00
 
 # frame types
 HELLO, LIST_VARS, READ, WRITE, ACTION = 0x01, 0x02, 0x03, 0x04, 0x05
