@@ -150,6 +150,8 @@ typedef struct {                /* monitor: written by every ctrl_step (ctrl_mon
                                  * states), for logging/telemetry */
     float theta_el_rad, omega_el_rad_s, speed_mech_rad_s;   /* as the controller sees them */
     float id_A, iq_A;                     /* measured this period */
+    float i_aim_alpha_A, i_aim_beta_A;    /* the current the step aimed at (its Te*, psi_s* through the model
+                                           * in use), stator frame; 0 in open loop and the other states */
     float ud_V, uq_V;                     /* rotor-frame voltage commanded for the next period, after the hexagon clamp */
     float te_ref_Nm, te_est_Nm;           /* torque reference and the controller's torque estimate (at k+1) */
     float psi_ref_Wb, psi_est_Wb;         /* stator-flux reference and estimate (at k+1) */

@@ -188,12 +188,9 @@ static void run_state(app_t *app, const hal_sample_t *s)
     (void)app_output(app, r, s);
 }
 
-/* A new configuration (app_request_reconfigure) while stopped; the background's
- * warnings (app_request_warning); the operator's request (app_request_op),
- * whole, at the start of a period: the references every time, a mode or method when the operator
- * changed it (the app's own choice, e.g. the conventional method after a
- * refused step 1, stands until then). */
-static void take_operator(app_t *app)
+/* The background's requests: a new configuration (app_request_reconfigure) in a stopped
+ * period (it waits for one), its warnings (app_request_warning). */
+static void take_background(app_t *app)
 {
     const uint16_t reconf = app->req_reconfigure;
     if ((reconf != 0u) &&
@@ -204,6 +201,18 @@ static void take_operator(app_t *app)
     if (app->req_warning != 0u) {
         app->warnings |= app->req_warning;
         app->req_warning = 0u;
+    }
+}
+
+/* A new configuration (app_request_reconfigure) while stopped; the background's
+ * warnings (app_request_warning); the operator's request (app_request_op),
+ * whole, at the start of a period: the references every time, a mode or method when the operator
+ * changed it (the app's own choice, e.g. the conventional method after a
+ * refused step 1, stands until then). */
+static void take_operator(app_t *app)
+{
+    if ((app->req_reconfigure | app->req_warning) != 0u) { /* rare: one test in the common period */
+        take_background(app);
     }
     if (app->req_op != 0u) {
         const app_op_t op = app->op_req;
@@ -261,6 +270,8 @@ static app_step_t watch(app_t *app, const hal_sample_t *s)
     in.ctrl_running = (app->state == APP_STATE_RUN) || (app->state == APP_STATE_IDENTIFY_R);
     in.speed_m_rad_s = ctrl_speed_m_rad_s(&app->ctrl);
     in.te_ref_Nm = ctrl_monitor(&app->ctrl)->te_ref_Nm;
+    in.i_aim_alpha_A = ctrl_monitor(&app->ctrl)->i_aim_alpha_A; /* where the last step aimed the current */
+    in.i_aim_beta_A = ctrl_monitor(&app->ctrl)->i_aim_beta_A;
     return protect_watch(&app->prot, &in);
 }
 
@@ -341,6 +352,7 @@ void app_isr(app_t *app)
 
     if (app->state == APP_STATE_FAULT) {
         fault_state(app, &s);
+        readings(app, &s);
     } else {
         f = protection(app, &s);
         if (f.status != APP_STEP_FAULT) {
@@ -348,18 +360,18 @@ void app_isr(app_t *app)
         }
         if (f.status == APP_STEP_FAULT) {
             app_latch_fault(app, &f, &s);
+            readings(app, &s);
         } else {
             take_requests(app, &s);
             if (app->state == APP_STATE_RUN) {
                 run_state(app, &s); /* the common period first: no dispatch */
             } else {
                 other_state(app, &s);
+                if ((app->state != APP_STATE_RUN) && (app->state != APP_STATE_IDENTIFY_R)) {
+                    readings(app, &s); /* a state ctrl_step did not run in: the monitor's readings all the same */
+                }
             }
         }
-    }
-
-    if ((app->state != APP_STATE_RUN) && (app->state != APP_STATE_IDENTIFY_R)) {
-        readings(app, &s); /* the states ctrl_step does not run in: the monitor's readings all the same */
     }
     f = protect_run_time(&app->prot, t_entry, hal_cycles());
     if ((app->state != APP_STATE_FAULT) && (f.status == APP_STEP_FAULT)) {

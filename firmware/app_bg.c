@@ -12,7 +12,7 @@ void app_init_steps(app_t *app)
     const app_cfg_t *cfg = &app->cfg;
     const float Ts = cfg->ctrl.Ts_s;
     const protect_drive_t drv = { Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.te_max_Nm,
-                                  cfg->ctrl.pole_pairs };
+                                  cfg->ctrl.pole_pairs, cfg->ctrl.psi_f_Wb };
 
     protect_init(&app->prot, &cfg->prot, &drv);
     calib_init(&app->cal, &cfg->cal, Ts);

@@ -46,15 +46,16 @@
 #define BOARD_ISR_BUDGET_CYCLES  12000UL      /* 80 % of the period for app_isr [cycles] */
 /* Checks on the periods' history (firmware/protect.h derives each rule;
  * detection times measured in SIL: tests/test_sil_faults.c). */
-/* Open phase (protect.h): a window of 0.1 s covers half an electrical
- * turn (where a healthy phase carries 2/pi = 0.64 of |i|) from 100 r/min;
- * slower, the voltage on the phase decides: with i_x < 0.2 |i| (< 2.8 A)
- * a healthy phase gets R i_x + back-EMF (7.5 V peak at 100 r/min) + the
- * dead-time feedforward (3 V), below 25 V. The window slides by a quarter
- * (PROTECT_OP_SUBWINDOWS): SIL 65-100 ms, noise 0-0.15 A, 0-2000 r/min. */
+/* Open phase (protect.h, protect_design.md): a phase counts as carrying
+ * nothing below 0.2 of the current the controller aimed at it (a healthy
+ * one carries cos(30 deg + the current's lag) of it: 0.2 leaves 48 deg);
+ * slow, the voltage on the phase decides: with i_x < 0.2 |i| (< 2.4 A) a
+ * healthy phase gets R i_x + back-EMF (held below 12.5 V) + the dead-time
+ * feedforward (3 V), below 25 V. The window slides by a quarter
+ * (PROTECT_OP_SUBWINDOWS): SIL 25-100 ms, noise 0-0.15 A, 0-2000 r/min. */
 #define BOARD_OPEN_PHASE_WINDOW_S  0.1f       /* [s] */
-#define REF_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i| to judge by, at REF_I_RATED_A [A] */
-#define BOARD_OPEN_PHASE_RATIO     0.2f       /* mean |i_x| / mean |i| below it: no current in phase x [-] */
+#define REF_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i|, and a period's aimed |i*|, to judge by, at REF_I_RATED_A [A] */
+#define BOARD_OPEN_PHASE_RATIO     0.2f       /* |i_x| / |i*| (mean |i_x| / mean |i|) below it: no current in x [-] */
 #define REF_OPEN_PHASE_U_MIN_V   25.0f      /* ... while phase x was given this mean |u_x|, at REF_VDC_V [V] */
 /* Frozen current reading: half an ADC step of the range is "unchanged"
  * (drive_params.c, from the ADC range). In a net turn
