@@ -67,6 +67,9 @@ TEST_SRCS_test_sil_limits := tools/sil/sil.c
 # Fault injection ([faults]) against the app's protection.
 TEST_LIBS_test_sil_faults := silrun firmware sim control
 TEST_SRCS_test_sil_faults := tools/sil/sil.c
+# The gates off: the diode bridge, the passive load, the readings in every state.
+TEST_LIBS_test_sil_gates_off := silrun firmware sim control
+TEST_SRCS_test_sil_gates_off := tools/sil/sil.c
 
 # Step 1 on a real ADC: noise, offsets, inertia, the R^
 # band, the refusal policy; both methods on the same scenarios.

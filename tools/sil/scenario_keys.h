@@ -178,7 +178,12 @@
     X(reference, uq_V, PROF, SC_NONE, SC_TEXT(""), SC_NO, SC_NO, "q voltage [V] (open_loop mode)")
 
 #define SC_KEYS_load(X) \
-    X(load, torque_Nm, PROF, SC_NONE, SC_TEXT(""), SC_NO, SC_NO, "load torque [N m], opposing positive speed")
+    X(load, torque_Nm, PROF, SC_NONE, SC_TEXT(""), SC_NO, SC_NO, \
+      "active load torque [N m], opposing positive speed (it drives a shaft at rest: a hanging mass, a dyno)") \
+    X(load, friction_Nm, REAL, SC_GE0, SC_PARAMS, SC_S(load_coulomb_Nm, F64, 1.0), SC_SAME, \
+      "passive load: Coulomb friction [N m], opposing the motion (holds a shaft at rest up to it)") \
+    X(load, viscous_Nms, REAL, SC_GE0, SC_PARAMS, SC_S(load_B_Nms, F64, 1.0), SC_SAME, \
+      "passive load: viscous friction [N m s/rad], opposing the motion, beside [plant] B_Nms")
 
 #define SC_KEYS_run(X) \
     X(run, duration_s, REAL, SC_GT0, SC_TEXT("1.2"), SC_NO, SC_NO, "simulated time [s]") \

@@ -222,6 +222,10 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     app_cfg_t ac;
     sil_board_from(sc, &hc);
     app_cfg_from(sc, &ac);
+    if (ctl != NULL && ctl->commission != 0) {
+        hc.load_coulomb_Nm = 0.0;   /* a commissioning's free shaft: [load] plays no part */
+        hc.load_B_Nms = 0.0;
+    }
     memset(res, 0, sizeof *res);
     res->t_run_s = NAN;
     res->t_inject_s = NAN;
