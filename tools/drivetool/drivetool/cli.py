@@ -87,9 +87,11 @@ def cmd_status(d, args):
         v["hold_reason_names"] = bits_names("hold_reason", v["hold_reason"]).split()[1:]
     warn = v["flags"] & WARNING_BITS
     v["warnings"] = bits_names("flags", warn).split()[1:]
-    lines = [f"state {v['state_name']}  fault {v['fault_name']}  speed_est_rpm {v['speed_est_rpm']:.1f}  "
-             f"speed_ref_rpm {v['speed_ref_rpm']:.1f}  te_est_Nm {v['te_est_Nm']:.3f}  "
-             f"id_meas_A {v['id_meas_A']:.3f}  iq_meas_A {v['iq_meas_A']:.3f}"
+    def z(x):
+        return x + 0.0   # no "-0.0": a reading rounded to zero prints as zero
+    lines = [f"state {v['state_name']}  fault {v['fault_name']}  speed_est_rpm {z(round(v['speed_est_rpm'], 1)):.1f}  "
+             f"speed_ref_rpm {z(round(v['speed_ref_rpm'], 1)):.1f}  te_est_Nm {z(round(v['te_est_Nm'], 3)):.3f}  "
+             f"id_meas_A {z(round(v['id_meas_A'], 3)):.3f}  iq_meas_A {z(round(v['iq_meas_A'], 3)):.3f}"
              + (f"  vdc_V {v['vdc_V']:.1f}" if "vdc_V" in v else "")]
     if "method_ran" in v:
         lines.append(f"method {v['method_name']}, ran {v['method_ran_name']} "
