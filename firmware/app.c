@@ -188,31 +188,21 @@ static void run_state(app_t *app, const hal_sample_t *s)
     (void)app_output(app, r, s);
 }
 
-/* The background's requests: a new configuration (app_request_reconfigure) in a stopped
- * period (it waits for one), its warnings (app_request_warning). */
-static void take_background(app_t *app)
+/* The background's warnings (app_request_warning), at the start of a period. */
+static void take_warnings(app_t *app)
 {
-    const uint16_t reconf = app->req_reconfigure;
-    if ((reconf != 0u) &&
-        ((app->state == APP_STATE_INIT) || (app->state == APP_STATE_IDLE) || (app->state == APP_STATE_FAULT))) {
-        app->req_reconfigure = 0u;
-        app_reconfigure(app, reconf); /* a stopped period: the new configuration's pieces */
-    }
-    if (app->req_warning != 0u) {
-        app->warnings |= app->req_warning;
-        app->req_warning = 0u;
-    }
+    app->warnings |= app->req_warning;
+    app->req_warning = 0u;
 }
 
-/* A new configuration (app_request_reconfigure) while stopped; the background's
- * warnings (app_request_warning); the operator's request (app_request_op),
+/* The operator's request (app_request_op),
  * whole, at the start of a period: the references every time, a mode or method when the operator
  * changed it (the app's own choice, e.g. the conventional method after a
  * refused step 1, stands until then). */
 static void take_operator(app_t *app)
 {
-    if ((app->req_reconfigure | app->req_warning) != 0u) { /* rare: one test in the common period */
-        take_background(app);
+    if (app->req_warning != 0u) {
+        take_warnings(app);
     }
     if (app->req_op != 0u) {
         const app_op_t op = app->op_req;
@@ -292,14 +282,14 @@ static void fault_state(app_t *app, const hal_sample_t *s)
     if (app->req_fault_reset != 0u) {
         app->req_fault_reset = 0u;
         if (app->fault == APP_FAULT_FLASH_CRC) {
-            app->fault_present = APP_FAULT_FLASH_CRC; /* the image itself: no check clears it */
+            app->fault_present = (uint16_t)APP_FAULT_FLASH_CRC; /* the image itself: no check clears it */
             return;
         }
         const app_step_t now = protection(app, s);
         if (now.status == APP_STEP_FAULT) {
-            app->fault_present = now.fault; /* the cause is still there: said, not cleared */
+            app->fault_present = (uint16_t)now.fault; /* the cause is still there: said, not cleared */
         } else {
-            app->fault_present = APP_FAULT_NONE;
+            app->fault_present = (uint16_t)APP_FAULT_NONE;
             app->state = APP_STATE_IDLE;
             app->fault = APP_FAULT_NONE;
         }
@@ -352,7 +342,6 @@ void app_isr(app_t *app)
 
     if (app->state == APP_STATE_FAULT) {
         fault_state(app, &s);
-        readings(app, &s);
     } else {
         f = protection(app, &s);
         if (f.status != APP_STEP_FAULT) {
@@ -360,18 +349,17 @@ void app_isr(app_t *app)
         }
         if (f.status == APP_STEP_FAULT) {
             app_latch_fault(app, &f, &s);
-            readings(app, &s);
         } else {
             take_requests(app, &s);
             if (app->state == APP_STATE_RUN) {
                 run_state(app, &s); /* the common period first: no dispatch */
             } else {
                 other_state(app, &s);
-                if ((app->state != APP_STATE_RUN) && (app->state != APP_STATE_IDENTIFY_R)) {
-                    readings(app, &s); /* a state ctrl_step did not run in: the monitor's readings all the same */
-                }
             }
         }
+    }
+    if ((app->state != APP_STATE_RUN) && (app->state != APP_STATE_IDENTIFY_R)) {
+        readings(app, &s); /* a state ctrl_step did not run in: the monitor's readings all the same */
     }
     f = protect_run_time(&app->prot, t_entry, hal_cycles());
     if ((app->state != APP_STATE_FAULT) && (f.status == APP_STEP_FAULT)) {

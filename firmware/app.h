@@ -153,9 +153,9 @@ typedef struct {
     bool commissioning;            /* this start is a commissioning (CALIBRATE leads to COMMISSION) */
     bool comm_valid;               /* comm.res holds a completed commissioning's results */
     uint16_t warnings;             /* APP_WARN_* since the last start */
+    uint16_t fault_present;        /* app_fault_t: the check the last fault reset found still failing
+                                    * (its cause present, or FLASH_CRC); APP_FAULT_NONE when it cleared */
     float vdc_V;                   /* this period's bus reading [V] (every state) */
-    app_fault_t fault_present;     /* the check the last fault reset found still failing (its cause
-                                    * present, or FLASH_CRC); APP_FAULT_NONE when it cleared */
     app_step_t rsid_refusal;       /* APP_WARN_STEP1_REFUSED: the fault step 1 would have latched */
     uint16_t level;                /* the build level of the last start (level.h) */
     level_rot_t rot;               /* ENC_CHECK: level 3's rotation and its figures (rot.out) */
@@ -172,7 +172,8 @@ typedef struct {
     volatile uint16_t req_op;
     volatile uint16_t req_level;   /* the build level the next start takes */
     volatile uint16_t req_warning; /* APP_WARN_* bits the background raises (app_request_warning) */
-    volatile uint16_t req_reconfigure; /* APP_RECONF_* | APP_RECONF_ASKED: cfg rewritten, the pieces to re-init */
+    uint16_t req_reconfigure;          /* APP_RECONF_* | APP_RECONF_ASKED: a new configuration asked for
+                                        * (the background's own: app_reconfigure_now takes it) */
     app_op_t op_taken;             /* the last request the ISR took */
 } app_t;
 
@@ -228,13 +229,22 @@ void app_request_warning(app_t *app, uint16_t bits);
 #define APP_RECONF_ENC_OFFSET 0x0002u /* the configuration's encoder offset replaces the one in use (aligned
                                        * or commissioned included) */
 
-/* Background, the drive stopped (INIT, IDLE, FAULT), after app->cfg was rewritten whole (the
- * drive's parameters changed: link_params.h): the ISR's next stopped period initialises the
- * controller and the start-up steps from it again, as app_init; the encoder's tracking goes on
- * (the angle and speed estimates kept when its geometry is the same), the operator's request,
- * the alignment, the commissioning's results, the calibration and a latched fault kept. flags:
- * APP_RECONF_*. Clear req_reconfigure before rewriting app->cfg: the ISR takes only a whole one. */
+/* Background, the drive stopped (INIT, IDLE, FAULT): a new configuration (the drive's parameters
+ * changed: link_params.h), taken by app_reconfigure_now from app->cfg, which the caller writes
+ * where the ISR cannot read it half-written: with the ISR held off just before
+ * app_reconfigure_now (main.c), or between periods (the SIL). flags: APP_RECONF_*; requests
+ * before it is taken add up. */
 void app_request_reconfigure(app_t *app, uint16_t flags);
+
+/* Background: a new configuration asked for and the drive stopped (INIT, IDLE, FAULT). */
+bool app_reconfigure_due(const app_t *app);
+
+/* Background, with the control ISR held off (hal_isr_pause; the SIL's background runs between
+ * periods): when due, the controller and the start-up steps from app->cfg again, as app_init (flash code, divisions, a deep stack: start-up work, not the ISR's).
+ * Kept: the operator's request, the alignment, the commissioning's results, the calibration, a
+ * latched fault and the encoder's offset; the encoder's and protection's tracking start again
+ * (the periods held off were not tracked: the next count seeds them). */
+void app_reconfigure_now(app_t *app);
 
 /* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN, COMMISSION and the levels' states -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);

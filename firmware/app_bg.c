@@ -55,7 +55,7 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->adc.vdc_V = 0.0f;
     app->warnings = 0u;
     app->vdc_V = 0.0f;
-    app->fault_present = APP_FAULT_NONE;
+    app->fault_present = (uint16_t)APP_FAULT_NONE;
     app->rsid_refusal = app_step_running();
     app->req_start = 0u;
     app->req_stop = 0u;
@@ -112,6 +112,7 @@ static void i2t_step(app_t *app)
 
 void app_background(app_t *app)
 {
+
     if ((app->cfg.i2t_rated_A > 0.0f) && (app->cfg.i2t_budget_A2s > 0.0f)) {
         i2t_step(app);
     }
@@ -161,7 +162,26 @@ void app_request_warning(app_t *app, uint16_t bits)
 
 void app_request_reconfigure(app_t *app, uint16_t flags)
 {
-    app->req_reconfigure = (uint16_t)(flags | APP_RECONF_ASKED);
+    app->req_reconfigure = (uint16_t)(app->req_reconfigure | flags | APP_RECONF_ASKED);
+}
+
+static bool stopped(const app_t *app)
+{
+    return (app->state == APP_STATE_INIT) || (app->state == APP_STATE_IDLE) || (app->state == APP_STATE_FAULT);
+}
+
+bool app_reconfigure_due(const app_t *app)
+{
+    return (app->req_reconfigure != 0u) && stopped(app);
+}
+
+void app_reconfigure_now(app_t *app)
+{
+    if (!app_reconfigure_due(app)) {
+        return;   /* read again with the ISR held off: a start taken meanwhile waits for the next */
+    }
+    app_reconfigure(app, app->req_reconfigure);
+    app->req_reconfigure = 0u;
 }
 
 void app_request_stop(app_t *app)

@@ -174,16 +174,18 @@ static bool same_encoder(const encoder_t *e, const ctrl_cfg_t *c)
 void app_reconfigure(app_t *app, uint16_t flags)
 {
     const app_cfg_t *cfg = &app->cfg;
-    const encoder_t enc = app->ctrl.enc;
+    const bool same = same_encoder(&app->ctrl.enc, &cfg->ctrl);
+    const float offset_in_use = app->ctrl.enc.offset_el_rad; /* aligned or told: cfg's is the told one */
 
-    (void)ctrl_init(&app->ctrl, &cfg->ctrl); /* status kept in ctrl.status; a start checks it */
-    if (same_encoder(&enc, &cfg->ctrl)) {
-        app->ctrl.enc = enc; /* the angle and speed estimates go on, the offset in use with them */
-        if ((flags & APP_RECONF_ENC_OFFSET) != 0u) {
-            encoder_set_offset(&app->ctrl.enc, cfg->ctrl.enc_offset_el_rad);
-        }
-    } else {
+    /* status kept in ctrl.status (a start checks it); the encoder from cfg, its tracking from the
+     * next count (the periods held off were not tracked) */
+    (void)ctrl_init(&app->ctrl, &cfg->ctrl);
+    if (!same) {
         app->aligned = false; /* another geometry: an aligned offset no longer holds */
+    } else if ((flags & APP_RECONF_ENC_OFFSET) == 0u) {
+        encoder_set_offset(&app->ctrl.enc, offset_in_use);
+    } else {
+        /* the configuration's offset, as ctrl_init set it */
     }
     if ((flags & APP_RECONF_ENC_OFFSET) != 0u) {
         app->aligned = true; /* told as measured: no alignment at the next start */

@@ -20,8 +20,8 @@ void app_calibrate_state(app_t *app, const hal_sample_t *s);
 /* ALIGN's period: the alignment's vector out; done: the encoder aligned, the next state. */
 void app_align_state(app_t *app, const hal_sample_t *s);
 
-/* The drive stopped (INIT, IDLE, FAULT): the controller and the start-up steps from app->cfg
- * again (app_request_reconfigure's flags). */
+/* Background, the ISR held off (app_reconfigure_now): the controller and the start-up steps
+ * from app->cfg again (app_request_reconfigure's flags). */
 void app_reconfigure(app_t *app, uint16_t flags);
 
 /* The start-up steps and protection from app->cfg (app_init, app_reconfigure; app_bg.c). */

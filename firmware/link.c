@@ -35,9 +35,9 @@ void link_cfg_default(link_cfg_t *cfg)
     cfg->baud = 0u;
     cfg->firmware_id = NULL;
     cfg->host_timeout_s = BOARD_HOST_TIMEOUT_S;
-    cfg->params = NULL;
-    cfg->params_apply = NULL;
-    cfg->params_user = NULL;
+    cfg->params.set = NULL;
+    cfg->params.apply = NULL;
+    cfg->params.user = NULL;
 }
 
 void link_init(link_t *l, const link_cfg_t *cfg, app_t *app, volatile cmd_t *cmd, const cmd_limits_t *lim)
@@ -48,20 +48,11 @@ void link_init(link_t *l, const link_cfg_t *cfg, app_t *app, volatile cmd_t *cmd
     l->t.lim = lim;
     l->t.stats = &l->stats;
     l->t.host = &l->host;
-    l->t.params = cfg->params;
-    l->t.params_apply = cfg->params_apply;
-    l->t.params_user = cfg->params_user;
+    l->t.params = &l->cfg.params;
     l->host.timeout_s = cfg->host_timeout_s;
-    l->host.armed = false;
-    l->host.ramping = false;
-    l->host.at_zero = false;
+    l->host.phase = LINK_HOST_IDLE;
     l->host.seen_ticks = app->ticks;
-    l->host.ramp_ticks = 0u;
-    l->host.zero_ticks = 0u;
-    l->host.ramp_from.speed_ref_rad_s = 0.0f;
-    l->host.ramp_from.te_ref_Nm = 0.0f;
-    l->host.ramp_from.ud_ref_V = 0.0f;
-    l->host.ramp_from.uq_ref_V = 0.0f;
+    l->host.step_ticks = 0u;
     l->stats.writes = 0u;
     l->stats.err_crc = 0u;
     l->stats.err_framing = 0u;
@@ -308,8 +299,7 @@ static uint16_t do_write(link_t *l, const link_frame_t *q, uint16_t *p)
         l->written |= (id < LINK_WRITTEN_BITS) ? ((uint32_t)1u << id) : 0u;
     }
     if (!refused_access && (err == (uint16_t)CMD_OK) && is_reference(id)) {
-        l->host.armed = true;            /* the host commands the drive: its silence counts from now */
-        l->host.ramping = false;
+        l->host.phase = LINK_HOST_ARMED;  /* the host commands the drive: its silence counts from now */
     }
     p[0] = refused_access ? LINK_ST_ACCESS : ((err != (uint16_t)CMD_OK) ? LINK_ST_REFUSED : LINK_ST_OK);
     return link_put_u16(p, 1u, err);
@@ -354,11 +344,9 @@ static uint16_t do_action(link_t *l, const link_frame_t *q, uint16_t *p)
         l->quit = true;
     }
     if (q->payload[0] == (uint16_t)LINK_ACTION_START) {
-        l->host.armed = true;
-        l->host.ramping = false;
+        l->host.phase = LINK_HOST_ARMED;
     } else if ((q->payload[0] == (uint16_t)LINK_ACTION_STOP) || (q->payload[0] == (uint16_t)LINK_ACTION_QUIT)) {
-        l->host.armed = false;           /* stopped by the host itself: nothing to watch */
-        l->host.ramping = false;
+        l->host.phase = LINK_HOST_IDLE;  /* stopped by the host itself: nothing to watch */
     }
     return link_put_u16(p, 1u, err);
 }
@@ -668,20 +656,19 @@ static float toward_zero(float x, float step)
     return (x > 0.0f) ? m : -m;
 }
 
-/* The ramp's references t_s after its start, into the command block through cmd_apply(): the
- * speed at the drive's ramp rate, torque and voltages from their limits in the time the rated
- * speed takes at it. True when all are zero. */
-static bool host_ramp_refs(link_t *l, float t_s)
+/* The ramp's step over dt_s from the references in force, into the command block through
+ * cmd_apply(): the speed at the drive's ramp rate, torque and voltages from their limits in the
+ * time the rated speed takes at it. True when all are zero. */
+static bool host_ramp_step(link_t *l, float dt_s)
 {
     const app_t *a = l->t.app;
     volatile cmd_t *c = l->t.cmd;
     const float decel = a->cfg.rsid.accel_rad_s2;
     const float stop_s = a->cfg.comm.speed_max_rad_s / decel;   /* the rated speed to zero */
-    const ctrl_ref_t *r0 = &l->host.ramp_from;
-    const float w = toward_zero(r0->speed_ref_rad_s, decel * t_s);
-    const float te = toward_zero(r0->te_ref_Nm, l->t.lim->te_max_Nm * t_s / stop_s);
-    const float ud = toward_zero(r0->ud_ref_V, l->t.lim->u_max_V * t_s / stop_s);
-    const float uq = toward_zero(r0->uq_ref_V, l->t.lim->u_max_V * t_s / stop_s);
+    const float w = toward_zero(a->op_req.ref.speed_ref_rad_s, decel * dt_s);  /* the request in force */
+    const float te = toward_zero(a->op_req.ref.te_ref_Nm, l->t.lim->te_max_Nm * dt_s / stop_s);
+    const float ud = toward_zero(a->op_req.ref.ud_ref_V, l->t.lim->u_max_V * dt_s / stop_s);
+    const float uq = toward_zero(a->op_req.ref.uq_ref_V, l->t.lim->u_max_V * dt_s / stop_s);
     link_cmd_sync(&l->t);
     c->speed_ref_rpm = w / MATHX_RAD_S_PER_RPM_F;
     c->te_ref_Nm = te;
@@ -703,11 +690,14 @@ static void host_watch(link_t *l)
     app_t *a = l->t.app;
     const uint32_t now = a->ticks;
     const float Ts = l->cfg.Ts_s;
-    if (!h->ramping) {
-        if (!h->armed || !(h->timeout_s > 0.0f) || !((float)(now - h->seen_ticks) * Ts > h->timeout_s)) {
+    if (h->phase == LINK_HOST_IDLE) {
+        return;
+    }
+    if (h->phase == LINK_HOST_ARMED) {
+        if (!(h->timeout_s > 0.0f) || !((float)(now - h->seen_ticks) * Ts > h->timeout_s)) {
             return;
         }
-        h->armed = false;
+        h->phase = LINK_HOST_IDLE;
         if (!running(a)) {
             return;                      /* stopped already: nothing to do */
         }
@@ -716,31 +706,28 @@ static void host_watch(link_t *l)
             (void)link_action(&l->t, LINK_ACTION_STOP);
             return;
         }
-        h->ramping = true;
-        h->at_zero = false;
-        h->ramp_ticks = now;
-        h->ramp_from.speed_ref_rad_s = a->op_req.ref.speed_ref_rad_s;
-        h->ramp_from.te_ref_Nm = a->op_req.ref.te_ref_Nm;
-        h->ramp_from.ud_ref_V = a->op_req.ref.ud_ref_V;
-        h->ramp_from.uq_ref_V = a->op_req.ref.uq_ref_V;
+        h->phase = LINK_HOST_RAMPING;
+        h->step_ticks = now;
+        return;
     }
     if (!running(a)) {
-        h->ramping = false;              /* stopped or faulted meanwhile */
+        h->phase = LINK_HOST_IDLE;       /* stopped or faulted meanwhile */
         return;
     }
-    if (!host_ramp_refs(l, (float)(now - h->ramp_ticks) * Ts)) {
-        return;
-    }
-    if (!h->at_zero) {
-        h->at_zero = true;
-        h->zero_ticks = now;
+    if (h->phase == LINK_HOST_RAMPING) {
+        const bool zero = host_ramp_step(l, (float)(now - h->step_ticks) * Ts);
+        h->step_ticks = now;             /* at zero: from now on, when it got there */
+        if (!zero) {
+            return;
+        }
+        h->phase = LINK_HOST_AT_ZERO;
     }
     const float stop_s = a->cfg.comm.speed_max_rad_s / a->cfg.rsid.accel_rad_s2;
     const bool still = mathx_fabsf(ctrl_speed_m_rad_s(&a->ctrl)) <=
                        LINK_STOP_STANDSTILL_PER_RATED * a->cfg.comm.speed_max_rad_s;
-    if ((a->op_taken.mode != CTRL_MODE_SPEED) || still || ((float)(now - h->zero_ticks) * Ts > stop_s)) {
+    if ((a->op_taken.mode != CTRL_MODE_SPEED) || still || ((float)(now - h->step_ticks) * Ts > stop_s)) {
         (void)link_action(&l->t, LINK_ACTION_STOP);
-        h->ramping = false;
+        h->phase = LINK_HOST_IDLE;
     }
 }
 

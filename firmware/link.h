@@ -105,10 +105,8 @@ typedef struct {
     uint32_t baud;                       /* the line's rate [bit/s]: the stream's budget */
     const char *firmware_id;             /* HELLO's identification text */
     float host_timeout_s;                /* host_timeout_s at start-up (link_host_t; 0: off) [s] */
-    drive_params_t *params;              /* the drive's parameter set on the link (link_params.h), or NULL */
-    void (*params_apply)(void *user, uint16_t k); /* rebuilds the app's configuration from *params after
-                                          * parameter k's write (the drive stopped). Background */
-    void *params_user;
+    link_params_glue_t params;           /* the drive's parameter set on the link (link_params.h; set NULL:
+                                          * none) and the glue's hook after a write (the drive stopped) */
 } link_cfg_t;
 
 typedef struct {

@@ -47,7 +47,7 @@ link_val_t link_var_get(const link_target_t *t, uint16_t id)
     const est_out_t *e = est_output(ctrl_est(&a->ctrl)); /* the estimation's model and status */
     if (id >= (uint16_t)LV_PARAM_FIRST) {              /* a parameter: from the parameter set */
         const uint16_t k = (uint16_t)(id - (uint16_t)LV_PARAM_FIRST);
-        const float x = (t->params != NULL) ? link_param_get(t->params, k) : 0.0f;
+        const float x = (t->params->set != NULL) ? link_param_get(t->params->set, k) : 0.0f;
         return (link_param(k)->type == (uint16_t)LINK_PARAM_U16) ? of_u((uint32_t)x) : of_f(x);
     }
     switch (id) {

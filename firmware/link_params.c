@@ -3,23 +3,8 @@
 
 #define LINK_PARAM_ROW(id, key, unit, type, field, lo, hi, lo_open) \
     { key, unit, (uint16_t)(type), offsetof(drive_params_t, field), lo, hi, lo_open },
-static const link_param_t PARAMS[LINK_PARAM_COUNT] = { LINK_PARAMS(LINK_PARAM_ROW) };
+const link_param_t LINK_PARAM_TABLE[LINK_PARAM_COUNT] = { LINK_PARAMS(LINK_PARAM_ROW) };
 #undef LINK_PARAM_ROW
-
-const link_param_t *link_param(uint16_t k)
-{
-    return &PARAMS[(k < (uint16_t)LINK_PARAM_COUNT) ? k : 0u];
-}
-
-float link_param_get(const drive_params_t *p, uint16_t k)
-{
-    const link_param_t *d = link_param(k);
-    const char *at = (const char *)p + d->offset;
-    if (d->type == (uint16_t)LINK_PARAM_U16) {
-        return (float)*(const uint16_t *)(const void *)at;
-    }
-    return *(const float *)(const void *)at;
-}
 
 bool link_param_ok(uint16_t k, float v)
 {

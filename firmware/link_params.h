@@ -69,11 +69,26 @@ typedef struct {
     bool lo_open;
 } link_param_t;
 
-/* Parameter k (< LINK_PARAM_COUNT). Any context. */
-const link_param_t *link_param(uint16_t k);
+/* The table, in the list's order (link_params.c). */
+extern const link_param_t LINK_PARAM_TABLE[LINK_PARAM_COUNT];
 
-/* Parameter k's value in *p (a float; pole pairs as a whole number). Any context. */
-float link_param_get(const drive_params_t *p, uint16_t k);
+/* Parameter k (< LINK_PARAM_COUNT; another: the first). Any context; inline: a capture's read in
+ * the ISR calls nothing in flash. */
+static inline const link_param_t *link_param(uint16_t k)
+{
+    return &LINK_PARAM_TABLE[(k < (uint16_t)LINK_PARAM_COUNT) ? k : 0u];
+}
+
+/* Parameter k's value in *p (a float; pole pairs as a whole number). Any context; inline. */
+static inline float link_param_get(const drive_params_t *p, uint16_t k)
+{
+    const link_param_t *d = link_param(k);
+    const char *at = (const char *)p + d->offset;
+    if (d->type == (uint16_t)LINK_PARAM_U16) {
+        return (float)*(const uint16_t *)(const void *)at;
+    }
+    return *(const float *)(const void *)at;
+}
 
 /* v within parameter k's range (and whole for an integer one); a NaN never is. Any context. */
 bool link_param_ok(uint16_t k, float v);

@@ -223,15 +223,15 @@ static uint16_t link_setting_write(const link_target_t *t, uint16_t id, float v)
 static uint16_t param_write(const link_target_t *t, uint16_t k, link_val_t v, bool *access_refused)
 {
     const float x = (link_param(k)->type == (uint16_t)LINK_PARAM_U16) ? (float)v.u : v.f;
-    if (t->params == NULL) {
+    if (t->params->set == NULL) {
         *access_refused = true;
         return (uint16_t)CMD_OK;
     }
-    if (!link_param_set(t->params, k, x)) {
+    if (!link_param_set(t->params->set, k, x)) {
         return (uint16_t)CMD_ERR_RANGE;
     }
-    if (t->params_apply != NULL) {
-        t->params_apply(t->params_user, k);
+    if (t->params->apply != NULL) {
+        t->params->apply(t->params->user, k);
     }
     return (uint16_t)CMD_OK;
 }

@@ -65,14 +65,26 @@ typedef struct {
 typedef struct {
     float timeout_s;            /* host_timeout_s: no valid frame this long, once armed, ramps the drive to
                                  * zero and stops it; 0: off */
-    bool armed;                 /* a host wrote a reference or started the drive (since the last stop) */
-    bool ramping;               /* the timeout fired: the stop ramp is under way */
-    bool at_zero;               /* the ramp's references reached zero: waiting for standstill */
+    uint16_t phase;             /* LINK_HOST_*: what the watch is doing */
     uint32_t seen_ticks;        /* the app's ticks at the last valid frame */
-    uint32_t ramp_ticks;        /* ... at the ramp's start */
-    uint32_t zero_ticks;        /* ... when its references reached zero */
-    ctrl_ref_t ramp_from;       /* the references the ramp began from */
+    uint32_t step_ticks;        /* ... at the ramp's last step; at zero: when its references reached it */
 } link_host_t;
+
+/* link_host_t.phase */
+enum {
+    LINK_HOST_IDLE = 0,         /* no host command to watch (none yet, or stopped by the host) */
+    LINK_HOST_ARMED = 1,        /* a host wrote a reference or started the drive: its silence counts */
+    LINK_HOST_RAMPING = 2,      /* the timeout fired: the references ramp to zero */
+    LINK_HOST_AT_ZERO = 3       /* ... reached zero: waiting for standstill */
+};
+
+/* The drive's parameter set on the link (link_params.h) and the glue's hook. */
+typedef struct {
+    drive_params_t *set;        /* the set, or NULL: no parameters on the link */
+    void (*apply)(void *user, uint16_t k); /* after parameter k's write (stopped): the glue asks for
+                                 * the app's configuration from *set (app_request_reconfigure). Background */
+    void *user;
+} link_params_glue_t;
 
 /* What the table reads and writes. */
 typedef struct {
@@ -81,10 +93,7 @@ typedef struct {
     const cmd_limits_t *lim;
     const link_stats_t *stats;
     link_host_t *host;          /* the link's own setting host_timeout_s */
-    drive_params_t *params;     /* the drive's parameter set (link_params.h), or NULL: none on the link */
-    void (*params_apply)(void *user, uint16_t k); /* after parameter k's write (stopped): the glue
-                                       * rebuilds the app's configuration from *params. Background */
-    void *params_user;
+    const link_params_glue_t *params; /* the parameters (link_cfg_t.params) */
 } link_target_t;
 
 /* A value: integers in u (and f as float), floats in f. */

@@ -53,12 +53,13 @@ static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
 /* In M0 (section m0data, f28335_flash.cmd), as .ebss in L6-L7 keeps its
  * margin only without them: objects whose init functions write every
  * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
- * proves it; g_params: drive_params_board), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
+ * proves it; g_params: drive_params_board; g_lim: its three fields set in main), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
 #if defined(__TMS320C28XX__)
 #pragma DATA_SECTION(g_commission, "m0data")
 #pragma DATA_SECTION(g_cmd, "m0data")
 #pragma DATA_SECTION(g_comm, "m0data")
 #pragma DATA_SECTION(g_params, "m0data")
+#pragma DATA_SECTION(g_lim, "m0data")
 #endif
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
@@ -87,11 +88,21 @@ static void link_service(void)
 static void params_apply(void *user, uint16_t k)
 {
     (void)user;
-    g_app.req_reconfigure = 0U;  /* the ISR takes no half-written configuration */
-    app_cfg_from_params(&g_app.cfg, &g_params);
-    g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
-    g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    /* no copy of the configuration (RAM): the main loop builds it into g_app.cfg from g_params
+     * with the ISR held off (app_reconfigure_now) */
     app_request_reconfigure(&g_app, (k == (uint16_t)LINK_PARAM_ENC_OFFSET) ? APP_RECONF_ENC_OFFSET : 0U);
+}
+
+/* The main loop, the control ISR held off: a new configuration from g_params into g_app.cfg
+ * (the drive stopped, read again here), the app's pieces from it, the command limits. */
+static void reconfigure(void)
+{
+    if (app_reconfigure_due(&g_app)) {
+        app_cfg_from_params(&g_app.cfg, &g_params);
+        app_reconfigure_now(&g_app);
+        g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
+        g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    }
 }
 
 /* Start-up, before interrupts: the index of the first CRC record of the
@@ -151,8 +162,8 @@ int main(void)
     lc.Ts_s = g_app.cfg.ctrl.Ts_s;
     lc.baud = F28335_SCI_BAUD_ACTUAL;
     lc.firmware_id = FIRMWARE_ID;
-    lc.params = &g_params;
-    lc.params_apply = params_apply;
+    lc.params.set = &g_params;
+    lc.params.apply = params_apply;
     link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
     g_link.stats.reset_by_watchdog = g_reset_by_watchdog ? 1U : 0U;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
@@ -161,5 +172,12 @@ int main(void)
         cmd_comm_apply(&g_comm, &g_cmd, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         link_service();
+        if (app_reconfigure_due(&g_app)) {
+            /* the drive's parameters changed (the drive stopped, PWM off): start-up work with the
+             * control ISR held off, a few periods (tools/check/ram_budget.py counts it so) */
+            hal_isr_pause();
+            reconfigure();
+            hal_isr_resume();
+        }
     }
 }

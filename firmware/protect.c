@@ -14,53 +14,6 @@
 #define INV_SQRT3 0.577350269f
 #define OP_CONE_SHARE 0.5f /* the cone rule: x carried nothing in more than this share of its cone periods */
 
-static void op_sums_clear(protect_op_sums_t *a);
-
-/* OPEN_PHASE's voltage rule's top speed as the net count change of a part of part_ticks periods:
- * the back-EMF's peak w_el psi_f at PROTECT_OP_EMF_SHARE x op_u_min_V (protect_design.md). */
-static float op_slow_counts(const protect_cfg_t *cfg, const protect_drive_t *drv, uint32_t cpr, uint32_t part_ticks)
-{
-    const float w_el = PROTECT_OP_EMF_SHARE * cfg->watch.op_u_min_V / drv->psi_f_Wb;
-    const float counts = w_el / (float)drv->pole_pairs * drv->Ts_s * (float)part_ticks * (float)cpr / MATHX_TWO_PI_F;
-    return (mathx_isfinitef(counts) && (counts > 0.0f)) ? counts : 0.0f;
-}
-
-void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t *drv)
-{
-    p->cfg = *cfg;
-    p->drv = *drv;
-    p->enc_cpr = (drv->enc_cpr > 0u) ? drv->enc_cpr : 1u;
-    p->enc_jump_max = PROTECT_ENC_JUMP_MARGIN * cfg->speed_max_rad_s * drv->Ts_s * (float)p->enc_cpr /
-                          MATHX_TWO_PI_F +
-                      1.0f; /* + one count of quantisation */
-    /* 1.5 periods: the entry jitter is a few cycles, a missed period adds a whole one */
-    p->isr_late_cycles = cfg->isr_period_cycles + cfg->isr_period_cycles / 2u;
-    p->enc_prev = 0u;
-    p->enc_delta = 0;
-    p->seeded = false;
-    p->isr_entry = 0u;
-    p->isr_interval_cycles = 0u;
-    p->isr_run_cycles = 0u;
-    p->uv_armed = false;
-    p->op_part_ticks = app_periods_of(cfg->watch.op_window_s / (float)PROTECT_OP_SUBWINDOWS, drv->Ts_s);
-    /* a whole window is PROTECT_OP_SUBWINDOWS whole parts of op_part_ticks periods */
-    p->op_i_min_sum_A = cfg->watch.op_i_min_A * (float)(PROTECT_OP_SUBWINDOWS * p->op_part_ticks);
-    p->op_u_min_sum_V = cfg->watch.op_u_min_V * (float)(PROTECT_OP_SUBWINDOWS * p->op_part_ticks);
-    p->op_i_min2_A2 = cfg->watch.op_i_min_A * cfg->watch.op_i_min_A;
-    p->op_ratio2 = cfg->watch.op_ratio * cfg->watch.op_ratio;
-    p->op_cone_min = (uint32_t)(PROTECT_OP_CONE_MIN * (float)(PROTECT_OP_SUBWINDOWS * p->op_part_ticks));
-    p->op_slow_counts = op_slow_counts(cfg, drv, p->enc_cpr, p->op_part_ticks);
-    p->stall_ticks_max = app_periods_of(cfg->watch.enc_stall_s, drv->Ts_s);
-    p->el_rad_per_count = MATHX_TWO_PI_F * (float)drv->pole_pairs / (float)p->enc_cpr;
-    p->counts_per_rad = (float)p->enc_cpr / MATHX_TWO_PI_F;
-    p->op_phase = 0u;
-    /* the ring's parts are summed (op_prep_step) before the ring is full: start from zero sums */
-    for (uint32_t k = 0u; k < OP_WHOLE_PARTS; k++) {
-        op_sums_clear(&p->op_parts[k]);
-    }
-    protect_watch_reset(p);
-}
-
 /* Count change from prev to now (both < cpr), the shortest way round; no
  * 32-bit % (an RTS call from flash on the C28x). */
 static int32_t count_delta(uint32_t now, uint32_t prev, uint32_t cpr)
@@ -136,7 +89,7 @@ app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset
 
 /* ---- checks on the periods' history (protect_watch) --------------------- */
 
-static void op_sums_clear(protect_op_sums_t *a)
+void protect_op_sums_clear(protect_op_sums_t *a)
 {
     uint32_t x;
 
@@ -153,7 +106,7 @@ static void op_sums_clear(protect_op_sums_t *a)
 /* The window restarts: no whole part, the part so far empty. */
 static void op_clear(protect_t *p)
 {
-    op_sums_clear(&p->op_part);
+    protect_op_sums_clear(&p->op_part);
     p->op_parts_n = 0u;
     p->op_parts_next = 0u;
 }
@@ -187,19 +140,19 @@ static void op_prep_step(protect_t *p, uint32_t k)
     const protect_op_sums_t *q = &p->op_parts[k];
 
     if (k == 0u) {
-        op_sums_clear(b);
+        protect_op_sums_clear(b);
     }
-    b->n += q->n;
+    b->n = (uint16_t)(b->n + q->n);
     b->turn_counts = max_i32(b->turn_counts, abs_i32(q->turn_counts));
     b->ix_A[0] += q->ix_A[0];
     b->ix_A[1] += q->ix_A[1];
     b->ix_A[2] += q->ix_A[2];
-    b->cone_n[0] += q->cone_n[0];
-    b->cone_n[1] += q->cone_n[1];
-    b->cone_n[2] += q->cone_n[2];
-    b->none_n[0] += q->none_n[0];
-    b->none_n[1] += q->none_n[1];
-    b->none_n[2] += q->none_n[2];
+    b->cone_n[0] = (uint16_t)(b->cone_n[0] + q->cone_n[0]);
+    b->cone_n[1] = (uint16_t)(b->cone_n[1] + q->cone_n[1]);
+    b->cone_n[2] = (uint16_t)(b->cone_n[2] + q->cone_n[2]);
+    b->none_n[0] = (uint16_t)(b->none_n[0] + q->none_n[0]);
+    b->none_n[1] = (uint16_t)(b->none_n[1] + q->none_n[1]);
+    b->none_n[2] = (uint16_t)(b->none_n[2] + q->none_n[2]);
     b->ux_V[0] += mathx_fabsf(q->ux_V[0]);
     b->ux_V[1] += mathx_fabsf(q->ux_V[1]);
     b->ux_V[2] += mathx_fabsf(q->ux_V[2]);
@@ -216,18 +169,10 @@ static inline bool op_cone_open(const protect_t *p, const protect_op_sums_t *b, 
 
 /* ... the voltage rule, in sums over the window (ix_limit: op_ratio x the
  * sum of |i|; op_u_min_sum_V: op_u_min_V x the periods). */
-
 static inline bool op_slow_open(const protect_t *p, const protect_op_sums_t *b, const protect_op_sums_t *a, uint32_t x,
                                 float ix_limit)
 {
     return (b->ix_A[x] + a->ix_A[x] < ix_limit) && (b->ux_V[x] + mathx_fabsf(a->ux_V[x]) >= p->op_u_min_sum_V);
-}
-
-/* ... either (slow: the rotor slow enough for the voltage rule). */
-static inline bool op_phase_open(const protect_t *p, const protect_op_sums_t *b, const protect_op_sums_t *a,
-                                 uint32_t x, float ix_limit, bool slow)
-{
-    return op_cone_open(p, b, a, x) || (slow && op_slow_open(p, b, a, x, ix_limit));
 }
 
 /* OPEN_PHASE: the test of protect.h on the window of the whole parts before
@@ -247,23 +192,22 @@ static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *a)
     if (!(i_sum >= p->op_i_min_sum_A)) {
         return app_step_running();
     }
-    /* the phases written out: the first open one is the reason */
-    x = op_phase_open(p, b, a, 0u, ix_limit, slow)
-            ? 0u
-            : (op_phase_open(p, b, a, 1u, ix_limit, slow) ? 1u
-                                                         : (op_phase_open(p, b, a, 2u, ix_limit, slow) ? 2u : N_PHASES));
-    if (x == N_PHASES) {
-        return app_step_running();
+    /* the first open phase is the reason (a loop: once a part, RAM counts more than cycles) */
+    for (x = 0u; x < N_PHASES; x++) {
+        if (op_cone_open(p, b, a, x)) {
+            /* the share of x's cone periods it carried current in, below one half */
+            const float cone = (float)(b->cone_n[x] + a->cone_n[x]);
+            p->op_phase = (uint16_t)x;
+            return app_step_fault(APP_FAULT_OPEN_PHASE, 1.0f - (float)(b->none_n[x] + a->none_n[x]) / cone,
+                                  OP_CONE_SHARE);
+        }
+        if (slow && op_slow_open(p, b, a, x, ix_limit)) {
+            /* mean |i_x| / mean |i|, below op_ratio */
+            p->op_phase = (uint16_t)x;
+            return app_step_fault(APP_FAULT_OPEN_PHASE, (b->ix_A[x] + a->ix_A[x]) / i_sum, p->cfg.watch.op_ratio);
+        }
     }
-    p->op_phase = (uint16_t)x;
-    if (op_cone_open(p, b, a, x)) {
-        /* the share of x's cone periods it carried current in, below one half */
-        const float cone = (float)(b->cone_n[x] + a->cone_n[x]);
-        return app_step_fault(APP_FAULT_OPEN_PHASE, 1.0f - (float)(b->none_n[x] + a->none_n[x]) / cone, OP_CONE_SHARE);
-    }
-    /* mean |i_x| / mean |i|, below op_ratio */
-    return app_step_fault(APP_FAULT_OPEN_PHASE, (b->ix_A[x] + a->ix_A[x]) / i_sum,
-                          p->cfg.watch.op_ratio);
+    return app_step_running();
 }
 
 /* OPEN_PHASE's cone rule, this period: the aimed current i* (stator frame) at least op_i_min_A,
@@ -278,7 +222,8 @@ static void op_cones(protect_t *p, const protect_watch_in_t *in, float ic)
     const float be = in->i_aim_beta_A;
     const float n2 = al * al + be * be;
 
-    if (in->ctrl_running && (n2 >= p->op_i_min2_A2)) {
+    const float i_min = p->cfg.watch.op_i_min_A;
+    if (in->ctrl_running && (n2 >= i_min * i_min)) {
         const float proj_b = COS_120 * al + SIN_120 * be;
         const float pa = mathx_fabsf(al);
         const float pb = mathx_fabsf(proj_b);
@@ -296,7 +241,10 @@ static void op_cones(protect_t *p, const protect_watch_in_t *in, float ic)
             ix = ic;
         }
         a->cone_n[x]++;
-        a->none_n[x] += (ix * ix < p->op_ratio2 * n2) ? 1u : 0u;
+        const float ratio = p->cfg.watch.op_ratio;
+        if (ix * ix < ratio * ratio * n2) {
+            a->none_n[x]++;
+        }
     }
 }
 
@@ -344,7 +292,7 @@ static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
     } else {
         p->op_parts_n++;
     }
-    op_sums_clear(a);
+    protect_op_sums_clear(a);
     return r;
 }
 

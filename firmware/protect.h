@@ -165,11 +165,11 @@ typedef struct {
 #define PROTECT_OP_SUBWINDOWS 4u
 
 /* OPEN_PHASE's sums over a part of the window. */
-typedef struct {
-    uint32_t n;                 /* periods [-] */
+typedef struct {               /* the counts 16-bit (RAM): a window of at most 65535 periods */
+    uint16_t n;                 /* periods [-] */
+    uint16_t cone_n[3];         /* periods with the aim in phase x's cone and |i*| >= op_i_min_A [-] */
+    uint16_t none_n[3];         /* ... of them, x carrying nothing (|i_x| < op_ratio |i*|) [-] */
     float ix_A[3];              /* sums of |i_a|, |i_b|, |i_c| [A] */
-    uint32_t cone_n[3];         /* periods with the aim in phase x's cone and |i*| >= op_i_min_A [-] */
-    uint32_t none_n[3];         /* ... of them, x carrying nothing (|i_x| < op_ratio |i|) [-] */
     float ux_V[3];              /* sums of u_a, u_b, u_c (signed) [V] */
     int32_t turn_counts;        /* net count change [counts]; op_prev: the parts' largest |net change| */
 } protect_op_sums_t;
@@ -193,9 +193,6 @@ typedef struct {
     uint32_t op_part_ticks;        /* OPEN_PHASE window part [periods] */
     float op_i_min_sum_A;          /* op_i_min_A x a whole window's periods [A] */
     float op_u_min_sum_V;          /* op_u_min_V x a whole window's periods [V] */
-    float op_i_min2_A2;            /* op_i_min_A^2: the aimed current's |i*|^2 to count in a cone [A^2] */
-    float op_ratio2;               /* op_ratio^2 [-] */
-    uint32_t op_cone_min;          /* PROTECT_OP_CONE_MIN of a whole window's periods [-] */
     float op_slow_counts;          /* the voltage rule's top speed: net count change per part [counts] */
     uint32_t stall_ticks_max;      /* enc_stall_s [periods] */
     float el_rad_per_count;        /* electrical angle of one count [rad] */
@@ -208,6 +205,7 @@ typedef struct {
     protect_op_sums_t op_prev;     /* the ring's sums, built during the part: ux_V the sum of each part's
                                     * |sum of u_x|, turn_counts the parts' largest |net change| */
     uint16_t op_phase;             /* the phase found open (0 a, 1 b, 2 c), for the operator */
+    uint16_t op_cone_min;          /* PROTECT_OP_CONE_MIN of a whole window's periods [-] */
     /* protect_watch: CURRENT_SENSOR, per reading (0 ia, 1 ib) since it last changed */
     float st_last_A[2];
     float st_angle_el_rad[2];      /* net turn, signed [rad el] */
@@ -250,6 +248,9 @@ static inline app_step_t protect_run_time(protect_t *p, uint32_t t_entry_cycles,
     }
     return app_step_running();
 }
+
+/* OPEN_PHASE: a part's sums emptied (protect_init.c and protect.c). Any context. */
+void protect_op_sums_clear(protect_op_sums_t *a);
 
 /* ISR, after protect_check passed: the checks on the periods' history
  * (see above); RUNNING, or FAULT with the quantity and its limit:

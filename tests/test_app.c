@@ -198,6 +198,39 @@ static void background_kicks_watchdog(void **state)
     app_background(&app);
 }
 
+/* A new configuration (the link's parameters): due only while stopped; taken by
+ * app_reconfigure_now, which rebuilds the controller from app->cfg (the speed PI's gain and the
+ * model's L as written), keeps the operator's request and the encoder's offset in use, and
+ * clears the request; in RUN it waits (not due), the running controller untouched. */
+static void reconfigure_while_stopped(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s = sample(0.5f, -0.2f, VDC);
+    start(&s);
+    assert_int_equal(app.state, APP_STATE_RUN);
+    const float kp0 = app.ctrl.speed_pi.cfg.Kp;
+    app.cfg.ctrl.speed_kp_Nms_rad = 2.0f * kp0;
+    app.cfg.ctrl.L_H = 1.5f * app.cfg.ctrl.L_H;
+    app_request_reconfigure(&app, 0u);
+    assert_false(app_reconfigure_due(&app));
+    app_reconfigure_now(&app);                                  /* not due: nothing */
+    assert_true(app.ctrl.speed_pi.cfg.Kp == kp0);
+    isr_stop(&s);
+    assert_int_equal(app.state, APP_STATE_IDLE);
+    assert_true(app_reconfigure_due(&app));
+    const float offset = app.ctrl.enc.offset_el_rad;
+    const app_op_t op = app.op_taken;
+    app_reconfigure_now(&app);
+    assert_false(app_reconfigure_due(&app));
+    assert_int_equal(app.req_reconfigure, 0u);
+    assert_true(app.ctrl.speed_pi.cfg.Kp == 2.0f * kp0);
+    assert_true(app.ctrl.db.par.L_H == app.cfg.ctrl.L_H);
+    assert_true(app.ctrl.enc.offset_el_rad == offset);
+    assert_int_equal(app.ctrl.mode, op.mode);
+    assert_int_equal(app.state, APP_STATE_IDLE);
+}
+
 /* A refused block the conventional method needs (the encoder's PLL at
  * 6000 rad/s: bandwidth x Ts 0.6 > 0.5) faults CONFIG at the start, in
  * the request's own call, with ctrl_init's refusals as the snapshot's
@@ -289,6 +322,7 @@ int main(void)
         cmocka_unit_test(stop_during_calibrate_and_align),
         cmocka_unit_test(isr_call_order),
         cmocka_unit_test(background_kicks_watchdog),
+        cmocka_unit_test(reconfigure_while_stopped),
         cmocka_unit_test(refused_block_faults_config_at_start),
     };
     return cmocka_run_group_tests_name("app", tests, NULL, NULL);

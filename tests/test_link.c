@@ -39,7 +39,7 @@ static link_frame_t rep;
 static int setup(void **state)
 {
     app_cfg_t cfg;
-    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, NULL, NULL, NULL };
+    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, { NULL, NULL, NULL } };
     (void)state;
     app_cfg_default(&cfg);
     expect_function_call(hal_pwm_disable);
@@ -344,7 +344,7 @@ static void on_params(void *user, uint16_t k)
 static int setup_params(void **state)
 {
     app_cfg_t cfg;
-    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, &params, on_params, NULL };
+    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, { &params, on_params, NULL } };
     (void)state;
     app_cfg_default(&cfg);
     expect_function_call(hal_pwm_disable);

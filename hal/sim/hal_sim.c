@@ -459,6 +459,15 @@ void hal_isr_attach(hal_isr_fn isr)
     g_sim.isr_stalled = false;
 }
 
+/* The SIL's background runs between periods: nothing interrupts it. */
+void hal_isr_pause(void)
+{
+}
+
+void hal_isr_resume(void)
+{
+}
+
 void hal_sample_read(hal_sample_t *out)
 {
     *out = g_sim.sample;

@@ -279,11 +279,8 @@ static void limits_from(const app_cfg_t *c)
  * sil_run builds it, and the ISR's re-initialisation asked for. */
 static void on_params(void *user, uint16_t k)
 {
-    static app_cfg_t cfg;   /* large: not on the stack */
     (void)user;
-    g.app->req_reconfigure = 0u;     /* the ISR takes no half-written configuration */
-    sil_app_cfg(g.sc, &g.params, &cfg);
-    g.app->cfg = cfg;
+    sil_app_cfg(g.sc, &g.params, &g.app->cfg);   /* between periods: the ISR is not running */
     limits_from(&g.app->cfg);
     app_request_reconfigure(g.app, (k == (uint16_t)LINK_PARAM_ENC_OFFSET) ? APP_RECONF_ENC_OFFSET : 0u);
 }
@@ -306,8 +303,8 @@ static void on_start(void *user, app_t *app)
     lc.Ts_s = c->ctrl.Ts_s;
     lc.baud = (uint32_t)g.o.baud;
     lc.firmware_id = FIRMWARE_ID;
-    lc.params = &g.params;
-    lc.params_apply = on_params;
+    lc.params.set = &g.params;
+    lc.params.apply = on_params;
     link_init(&g.link, &lc, app, &g.cmd, &g.lim);
     clock_gettime(CLOCK_MONOTONIC, &g.t0);
     g.k = 0u;

@@ -294,6 +294,7 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
         const bool was_faulted = (g_app.state == APP_STATE_FAULT);
         hal_sim_period();
         app_background(&g_app);
+        app_reconfigure_now(&g_app);   /* a new configuration (the link's parameters): between periods */
 
         track_faults(tr, was_faulted, res);
         if (isnan(res->t_run_s) && g_app.state == APP_STATE_RUN) {
