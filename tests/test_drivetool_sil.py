@@ -493,21 +493,49 @@ class Clients(unittest.TestCase):
         self.assertTrue(os.path.exists(os.path.join(self.tmp, "run.resolved.json")))
 
 
-class LossyProxy:
-    """Forwards TCP connections frame by frame (split at each 0x00), spoiling RATE of
-    the frames each way, a fifth each: dropped, a bit flipped, duplicated, garbage put
-    before it, one byte lost."""
+class Proxy:
+    """Forwards TCP connections to target_port through self._pump(src, dst), one thread each
+    way; nodelay: TCP_NODELAY both sides (a byte goes on as it comes, as on a UART)."""
+    NODELAY = False
 
     def __init__(self, target_port, rate, seed):
         self.rng = random.Random(seed)
         self.rate = rate
-        self.spoiled = 0
         self.ls = socket.socket()
         self.ls.bind(("127.0.0.1", 0))
         self.ls.listen(4)
         self.port = self.ls.getsockname()[1]
         self.target = target_port
         threading.Thread(target=self._serve, daemon=True).start()
+
+    @staticmethod
+    def _close(a, b):
+        for s in (a, b):
+            try:
+                s.shutdown(socket.SHUT_RDWR)
+            except OSError:
+                pass
+            s.close()
+
+    def _serve(self):
+        while True:
+            c, _ = self.ls.accept()
+            d = socket.create_connection(("127.0.0.1", self.target))
+            if self.NODELAY:
+                for s in (c, d):
+                    s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            threading.Thread(target=self._pump, args=(c, d), daemon=True).start()
+            threading.Thread(target=self._pump, args=(d, c), daemon=True).start()
+
+
+class LossyProxy(Proxy):
+    """Forwards TCP connections frame by frame (split at each 0x00), spoiling RATE of
+    the frames each way, a fifth each: dropped, a bit flipped, duplicated, garbage put
+    before it, one byte lost."""
+
+    def __init__(self, target_port, rate, seed):
+        self.spoiled = 0
+        super().__init__(target_port, rate, seed)
 
     def _spoil(self, frame):
         if self.rng.random() >= self.rate:
@@ -540,19 +568,7 @@ class LossyProxy:
                     b.sendall(self._spoil(frame + b"\x00"))
         except OSError:
             pass
-        for s in (a, b):
-            try:
-                s.shutdown(socket.SHUT_RDWR)
-            except OSError:
-                pass
-            s.close()
-
-    def _serve(self):
-        while True:
-            c, _ = self.ls.accept()
-            d = socket.create_connection(("127.0.0.1", self.target))
-            threading.Thread(target=self._pump, args=(c, d), daemon=True).start()
-            threading.Thread(target=self._pump, args=(d, c), daemon=True).start()
+        self._close(a, b)
 
 
 @unittest.skipUnless(HAVE_SERIAL and os.access(DRIVE_SIL, os.X_OK), "needs pyserial and build/host/drive_sil")
@@ -1054,21 +1070,15 @@ class DailyUse(unittest.TestCase):
         self.assertIn("[0, 10]", text["state"])
 
 
-class ByteDropProxy:
+class ByteDropProxy(Proxy):
     """Forwards TCP connections byte by byte, dropping each byte with probability RATE each way
     (a noisy line: a lost byte spoils the frame it falls in). TCP_NODELAY both sides: a byte
     goes on as it comes, as on a UART."""
+    NODELAY = True
 
     def __init__(self, target_port, rate, seed):
-        self.rng = random.Random(seed)
-        self.rate = rate
         self.dropped = 0
-        self.ls = socket.socket()
-        self.ls.bind(("127.0.0.1", 0))
-        self.ls.listen(4)
-        self.port = self.ls.getsockname()[1]
-        self.target = target_port
-        threading.Thread(target=self._serve, daemon=True).start()
+        super().__init__(target_port, rate, seed)
 
     def _pump(self, a, b):
         try:
@@ -1082,21 +1092,7 @@ class ByteDropProxy:
                     b.sendall(kept)
         except OSError:
             pass
-        for s in (a, b):
-            try:
-                s.shutdown(socket.SHUT_RDWR)
-            except OSError:
-                pass
-            s.close()
-
-    def _serve(self):
-        while True:
-            c, _ = self.ls.accept()
-            d = socket.create_connection(("127.0.0.1", self.target))
-            for s in (c, d):
-                s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-            threading.Thread(target=self._pump, args=(c, d), daemon=True).start()
-            threading.Thread(target=self._pump, args=(d, c), daemon=True).start()
+        self._close(a, b)
 
 
 @unittest.skipUnless(os.access(DRIVE_SIL, os.X_OK) and os.access(DRIVETOOL, os.X_OK),

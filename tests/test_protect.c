@@ -615,6 +615,23 @@ static void open_phase_cone_rule_by_hand(void **state)
  * enough such periods (1/8 of the window) and more than half carrying
  * nothing is the fault, with the share carried: within a window and a
  * part of the opening. protect_watch must agree period by period. */
+/* protect_watch over the periods of in[] (the encoder at counts[k]): RUNNING in every period
+ * before trip, then OPEN_PHASE of phase a with the value (within tol) and the limit. */
+static void assert_open_phase_a_at(protect_t *p, const protect_watch_in_t *in, const uint32_t *counts, int trip,
+                                   double value, double tol, double limit)
+{
+    for (int k = 0; k < trip; k++) {
+        protect_track(p, counts[k], (uint32_t)k * PERIOD_CYC);
+        assert_int_equal(protect_watch(p, &in[k]).status, APP_STEP_RUNNING);
+    }
+    protect_track(p, counts[trip], (uint32_t)trip * PERIOD_CYC);
+    const app_step_t r = protect_watch(p, &in[trip]);
+    assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
+    assert_int_equal(p->op_phase, 0);
+    assert_float_equal(r.value, value, tol);
+    assert_float_equal(r.limit, limit, 1e-6);
+}
+
 #define CONE_PART 8
 #define CONE_WINDOW (4 * CONE_PART)
 #define CONE_OPEN_AT 141
@@ -636,6 +653,8 @@ static void open_phase_cone_rule_against_a_count(void **state)
 {
     (void)state;
     static float ia[CONE_PERIODS], ib[CONE_PERIODS], th[CONE_PERIODS];
+    static protect_watch_in_t ins[CONE_PERIODS];
+    static uint32_t counts[CONE_PERIODS];
     const float duty[3] = { 0.6f, 0.5f, 0.4f };
     protect_cfg_t cfg = prot_cfg();
     cfg.watch.op_window_s = CONE_WINDOW * 1e-4f;
@@ -673,19 +692,10 @@ static void open_phase_cone_rule_against_a_count(void **state)
     protect_init(&p, &cfg, &drv);
     assert_int_equal(p.op_part_ticks, CONE_PART);
     for (int k = 0; k < CONE_PERIODS; k++) {
-        protect_track(&p, (uint32_t)k * CONE_TURN_COUNTS % CPR, (uint32_t)k * PERIOD_CYC);
-        const protect_watch_in_t in = watch_in_at(ia[k], ib[k], duty, true, th[k], 0.0f, 3.0f);
-        const app_step_t r = protect_watch(&p, &in);
-        if (k < trip_ref) {
-            assert_int_equal(r.status, APP_STEP_RUNNING);
-            continue;
-        }
-        assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
-        assert_int_equal(p.op_phase, 0);
-        assert_float_equal(r.value, value_ref, 1e-6);
-        assert_float_equal(r.limit, 0.5, 0.0);
-        break;
+        ins[k] = watch_in_at(ia[k], ib[k], duty, true, th[k], 0.0f, 3.0f);
+        counts[k] = (uint32_t)k * CONE_TURN_COUNTS % CPR;
     }
+    assert_open_phase_a_at(&p, ins, counts, trip_ref, value_ref, 1e-6, 0.5);
 }
 
 /* The window's parts longer than its preparation steps (as on the board,
@@ -711,6 +721,8 @@ static void open_phase_spread_steps_trip_at_the_documented_part_end(void **state
 {
     (void)state;
     static float ia[SPREAD_PERIODS], ib[SPREAD_PERIODS], duty[SPREAD_PERIODS][3];
+    static protect_watch_in_t ins[SPREAD_PERIODS];
+    static uint32_t counts[SPREAD_PERIODS];
     protect_cfg_t cfg = prot_cfg();
     cfg.watch.op_window_s = SPREAD_WINDOW * 1e-4f;
     const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES, PSI_F };
@@ -760,22 +772,11 @@ static void open_phase_spread_steps_trip_at_the_documented_part_end(void **state
 
     protect_init(&p, &cfg, &drv);
     assert_int_equal(p.op_part_ticks, SPREAD_PART);
-    uint32_t count = 0u;
     for (int k = 0; k < SPREAD_PERIODS; k++) {
-        protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
-        count += SPREAD_TURN_COUNTS;
-        const protect_watch_in_t in = watch_in(ia[k], ib[k], duty[k], false, 0.0f, 0.0f);
-        const app_step_t r = protect_watch(&p, &in);
-        if (k < trip_ref) {
-            assert_int_equal(r.status, APP_STEP_RUNNING);
-            continue;
-        }
-        assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
-        assert_int_equal(p.op_phase, 0);
-        assert_float_equal(r.value, value_ref, 1e-5);
-        assert_float_equal(r.limit, 0.2, 1e-6);
-        break;
+        ins[k] = watch_in(ia[k], ib[k], duty[k], false, 0.0f, 0.0f);
+        counts[k] = (uint32_t)k * SPREAD_TURN_COUNTS;
     }
+    assert_open_phase_a_at(&p, ins, counts, trip_ref, value_ref, 1e-5, 0.2);
 }
 
 /* ia frozen at 1 A while the count moves 10 per period (10 x 2 pi x 3 /
