@@ -1,7 +1,7 @@
 /* app_cfg.c - the board's configuration into the app's: the parameter set
  * (drive_params.h) through its mapping (drive_params_to_app_cfg), then the
  * start-up sequence's own settings from firmware/params/board_cfg.h; see
- * app_cfg_default() in app.h. */
+ * app_cfg_default() and app_cfg_from_params() in app.h. */
 #include "app.h"
 #include "board_cfg.h"
 #include "drive_params.h"
@@ -11,12 +11,18 @@
 
 void app_cfg_default(app_cfg_t *cfg)
 {
-    static const app_cfg_t zero; /* a field added later reads 0, not garbage */
     drive_params_t p;
 
-    *cfg = zero;
     drive_params_board(&p);
-    drive_params_to_app_cfg(&p, cfg);
+    app_cfg_from_params(cfg, &p);
+}
+
+void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p)
+{
+    static const app_cfg_t zero; /* a field added later reads 0, not garbage */
+
+    *cfg = zero;
+    drive_params_to_app_cfg(p, cfg);
     cfg->prot.watch.op_window_s = BOARD_OPEN_PHASE_WINDOW_S;
     cfg->prot.watch.op_ratio = BOARD_OPEN_PHASE_RATIO;
     cfg->prot.watch.stuck_angle_el_rad = BOARD_I_STUCK_ANGLE_EL_DEG * RAD_PER_DEG;

@@ -28,6 +28,7 @@
 #include "app.h"
 #include "board_cfg.h"
 #include "cmd.h"
+#include "drive_params.h"
 #include "flash_crc.h"
 #include "hal.h"
 #include "hal_f28335.h"
@@ -45,16 +46,20 @@ static app_t g_app;          /* the whole drive state, its cfg built in place (o
 static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
+static drive_params_t g_params; /* the drive's parameter set, its derived values derived: the link's
+                                 * parameters live in it (link_params.h), the configuration follows it */
 static volatile cmd_comm_t g_comm; /* the commissioning: g_comm.start = 1 while stopped; its report */
 static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
 /* In M0 (section m0data, f28335_flash.cmd), as .ebss in L6-L7 keeps its
  * margin only without them: objects whose init functions write every
  * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
- * proves it), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
+ * proves it; g_params: drive_params_board; g_lim: its three fields set in main), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
 #if defined(__TMS320C28XX__)
 #pragma DATA_SECTION(g_commission, "m0data")
 #pragma DATA_SECTION(g_cmd, "m0data")
 #pragma DATA_SECTION(g_comm, "m0data")
+#pragma DATA_SECTION(g_params, "m0data")
+#pragma DATA_SECTION(g_lim, "m0data")
 #endif
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
@@ -76,6 +81,28 @@ static void link_service(void)
         (void)hal_f28335_sci_putc(b);
     }
     hal_f28335_sci_pump();
+}
+
+/* Background, the drive stopped: parameter k of g_params was written over the link; the
+ * configuration follows (the ISR re-initialises at its next stopped period). */
+static void params_apply(void *user, uint16_t k)
+{
+    (void)user;
+    /* no copy of the configuration (RAM): the main loop builds it into g_app.cfg from g_params
+     * with the ISR held off (app_reconfigure_now) */
+    app_request_reconfigure(&g_app, (k == (uint16_t)LINK_PARAM_ENC_OFFSET) ? APP_RECONF_ENC_OFFSET : 0U);
+}
+
+/* The main loop, the control ISR held off: a new configuration from g_params into g_app.cfg
+ * (the drive stopped, read again here), the app's pieces from it, the command limits. */
+static void reconfigure(void)
+{
+    if (app_reconfigure_due(&g_app)) {
+        app_cfg_from_params(&g_app.cfg, &g_params);
+        app_reconfigure_now(&g_app);
+        g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
+        g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    }
 }
 
 /* Start-up, before interrupts: the index of the first CRC record of the
@@ -113,7 +140,9 @@ int main(void)
     hal_init();  /* ramfuncs copied: its CRC record holds at either address */
     bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    app_cfg_default(&g_app.cfg);
+    drive_params_board(&g_params);
+    (void)drive_params_derive(&g_params);   /* refusals: a start faults CONFIG (params_refused) */
+    app_cfg_from_params(&g_app.cfg, &g_params);
     app_init(&g_app, &g_app.cfg);
     app_attach_comm(&g_app, &g_commission);
     if (bad_record >= 0) {
@@ -126,9 +155,12 @@ int main(void)
     g_lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
     g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
     g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    link_cfg_default(&lc);   /* the host timeout: BOARD_HOST_TIMEOUT_S */
     lc.Ts_s = g_app.cfg.ctrl.Ts_s;
     lc.baud = F28335_SCI_BAUD_ACTUAL;
     lc.firmware_id = FIRMWARE_ID;
+    lc.params.set = &g_params;
+    lc.params.apply = params_apply;
     link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
     g_link.stats.reset_by_watchdog = g_reset_by_watchdog ? 1U : 0U;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
@@ -137,5 +169,12 @@ int main(void)
         cmd_comm_apply(&g_comm, &g_cmd, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         link_service();
+        if (app_reconfigure_due(&g_app)) {
+            /* the drive's parameters changed (the drive stopped, PWM off): start-up work with the
+             * control ISR held off, a few periods (tools/check/ram_budget.py counts it so) */
+            hal_isr_pause();
+            reconfigure();
+            hal_isr_resume();
+        }
     }
 }

@@ -444,7 +444,7 @@ static int out_commit(out_file_t *o, const char *flag)
  * for another name; not OUT.json, a --summary's usual name): the resolved
  * truth and controller values of the run (sil_write_resolved), for the
  * report instead of the INI. None beside a CSV written in place (/dev/null). */
-static int resolved_write(const args_t *a, const scenario_t *sc, int csv_in_place)
+static int resolved_write(const args_t *a, const scenario_t *sc, const sil_result_t *res, int csv_in_place)
 {
     if (a->out_path == NULL || csv_in_place) {
         return 0;
@@ -462,7 +462,8 @@ static int resolved_write(const args_t *a, const scenario_t *sc, int csv_in_plac
     int rc = out_open(&o, path, "--out");
     if (rc == 0) {
         const sil_origin_t origin = { a->scenario_path, a->sets, a->n_sets, a->commission_path != NULL };
-        sil_write_resolved(o.f, sc, &origin);
+        char wbuf[NAME_LEN];
+        sil_write_resolved(o.f, sc, &origin, summary_warning_text(res, wbuf, sizeof wbuf));
         rc = out_commit(&o, "--out");
     }
     free(path);
@@ -773,7 +774,7 @@ static int run(const args_t *a, const scenario_t *sc, sink_t *sink, sil_result_t
     prog.duration_s = sc->run.duration_s;
     prog.shown = 0;
     sil_hooks_t hooks;
-    if (a->link.on && link_sil_open(&a->link, &hooks) != 0) {
+    if (a->link.on && link_sil_open(&a->link, sc, &hooks) != 0) {
         return EXIT_BAD_INPUT;
     }
     const int show = isatty(STDERR_FILENO) && sc->run.duration_s > 0.0;
@@ -808,7 +809,7 @@ static int outputs_finish(const args_t *a, const scenario_t *sc, outputs_t *o, c
         summary_write_json(o->js.f, sink->summary, sc, res, a->scenario_path, NULL);
     }
     const int csv_in_place = (o->csv.f != NULL && o->csv.tmp_path == NULL);
-    if (out_commit(&o->csv, "--out") != 0 || resolved_write(a, sc, csv_in_place) != 0 ||
+    if (out_commit(&o->csv, "--out") != 0 || resolved_write(a, sc, res, csv_in_place) != 0 ||
         out_commit(&o->js, "--summary") != 0) {
         outputs_abandon(o);
         return EXIT_FAILURE;

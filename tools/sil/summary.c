@@ -61,9 +61,14 @@ const char *summary_fault_name(int fault, char *buf, size_t len)
 const char *summary_warning_text(const sil_result_t *res, char *buf, size_t len)
 {
     char fbuf[32];
+    int n = 0;
     buf[0] = '\0';
     if ((res->warnings & APP_WARN_STEP1_REFUSED) != 0u) {
-        snprintf(buf, len, "STEP1_REFUSED (%s)", summary_fault_name(res->rsid_refusal, fbuf, sizeof fbuf));
+        n = snprintf(buf, len, "STEP1_REFUSED (%s)", summary_fault_name(res->rsid_refusal, fbuf, sizeof fbuf));
+    }
+    if ((res->warnings & APP_WARN_HOST_TIMEOUT) != 0u && n >= 0 && (size_t)n < len) {
+        (void)snprintf(buf + n, len - (size_t)n, "%sHOST_TIMEOUT (the link's host went quiet: ramped to zero, stopped)",
+                       (n > 0) ? ", " : "");
     }
     return buf;
 }
