@@ -462,7 +462,7 @@ static int resolved_write(const args_t *a, const scenario_t *sc, const sil_resul
     int rc = out_open(&o, path, "--out");
     if (rc == 0) {
         const sil_origin_t origin = { a->scenario_path, a->sets, a->n_sets, a->commission_path != NULL };
-        char wbuf[NAME_LEN];
+        char wbuf[SUMMARY_WARNING_LEN];
         sil_write_resolved(o.f, sc, &origin, summary_warning_text(res, wbuf, sizeof wbuf));
         rc = out_commit(&o, "--out");
     }
@@ -828,7 +828,7 @@ static int run_status(const args_t *a, const sil_result_t *res, int stopped)
     if (a->out_path != NULL && !summary_on_stdout(a)) {
         char sbuf[NAME_LEN];
         char fbuf[NAME_LEN];
-        char wbuf[NAME_LEN];
+        char wbuf[SUMMARY_WARNING_LEN];
         const char *warn = summary_warning_text(res, wbuf, sizeof wbuf);
         printf("drive_sil: %s: %u periods, %u rows, final state %d (%s), fault %d (%s), max |i| %.2f A%s%s -> %s\n",
                a->scenario_path, res->periods, res->rows, res->final_state,

@@ -180,7 +180,8 @@ void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const
     json_num(f, "final_fault", (double)res->final_fault, ", ");
     put_str(f, "fault_name", summary_fault_name(res->final_fault, buf, sizeof buf));
     json_num(f, "warnings", (double)res->warnings, ", ");
-    put_str(f, "warning", summary_warning_text(res, buf, sizeof buf));
+    char wbuf[SUMMARY_WARNING_LEN];
+    put_str(f, "warning", summary_warning_text(res, wbuf, sizeof wbuf));
     json_num(f, "t_run_s", res->t_run_s, ", ");
     json_num(f, "max_abs_i_A", res->max_abs_i_A, ", ");
     json_num(f, "te_err_Nm", mean(&s->te_abs), ", ");
