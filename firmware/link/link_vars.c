@@ -131,7 +131,7 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     case LV_HOST_TIMEOUT_S: *hi = LINK_HOST_TIMEOUT_MAX_S; break;
     /* the commissioning's values: what a plausible measurement can reach on this drive */
     case LV_COMM_RESULT: *hi = (float)COMM_REFUSED; break;
-    case LV_COMM_STAGE: *hi = (float)COMM_STAGE_WIRING; break;
+    case LV_COMM_STAGE: *hi = (float)COMM_STAGE_LAST; break;
     case LV_COMM_R_OHM: *hi = c->ctrl.R_max_Ohm; break;
     case LV_COMM_L_H: *hi = L_RANGE_PER_L * c->ctrl.L_H; break;
     case LV_COMM_PSIF_WB: *hi = flux_max_Wb; break;
