@@ -872,7 +872,7 @@ class Refusals(unittest.TestCase):
 
 
 PARAM_KEYS = ("R_ohm", "L_H", "psif_Wb", "pole_pairs", "J_kgm2", "B_Nms", "encoder_offset_el_rad",
-              "speed_kp_Nms_rad", "speed_ki_Nm_rad", "te_max_Nm", "i_limit_A", "deadtime_s")
+              "speed_kp_Nms_rad", "speed_ki_Nm_rad", "te_max_Nm", "i_limit_A", "deadtime_s", "device_drop_V")
 
 
 def f32(x):

@@ -33,6 +33,7 @@
 #define LINK_PARAM_J_KGM2_HI    100.0f
 #define LINK_PARAM_B_NMS_HI     100.0f   /* [N m s/rad]: as J's top, a shaft that stops in its own time constant */
 #define LINK_PARAM_DEADTIME_HI_S 1e-5f   /* [s]: 0.1 of a 10 kHz period, the most ctrl_init compensates */
+#define LINK_PARAM_DROP_HI_V    10.0f    /* [V]: above any switch's or diode's on-state drop (1-3 V); mV as V refused */
 #define LINK_PARAM_UNBOUNDED    3.4e38f  /* no plausible top: the largest float, rounded down */
 
 typedef enum { LINK_PARAM_F32 = 0, LINK_PARAM_U16 = 1 } link_param_type_t;
@@ -54,7 +55,8 @@ typedef enum { LINK_PARAM_F32 = 0, LINK_PARAM_U16 = 1 } link_param_type_t;
       true) \
     X(TE_MAX, "te_max_Nm", "N m", LINK_PARAM_F32, limits.te_max_Nm, 0.0f, LINK_PARAM_UNBOUNDED, true) \
     X(I_LIMIT, "i_limit_A", "A", LINK_PARAM_F32, limits.i_limit_A, 0.0f, LINK_PARAM_UNBOUNDED, true) \
-    X(DEADTIME, "deadtime_s", "s", LINK_PARAM_F32, board.deadtime_s, 0.0f, LINK_PARAM_DEADTIME_HI_S, false)
+    X(DEADTIME, "deadtime_s", "s", LINK_PARAM_F32, board.deadtime_s, 0.0f, LINK_PARAM_DEADTIME_HI_S, false) \
+    X(DEVICE_DROP, "device_drop_V", "V", LINK_PARAM_F32, board.device_drop_V, 0.0f, LINK_PARAM_DROP_HI_V, false)
 
 #define LINK_PARAM_ENUM(id, key, unit, type, field, lo, hi, lo_open) LINK_PARAM_##id,
 typedef enum { LINK_PARAMS(LINK_PARAM_ENUM) LINK_PARAM_COUNT } link_param_id_t;
