@@ -40,7 +40,7 @@
  *              block of ctrl_init and app_attach_comm(). The measured
  *              offset replaces the controller's (as an alignment).
  * Why the sequence is built this way (dead points of the alignment,
- * open-loop voltage, the handover): firmware/startup_design.md.
+ * open-loop voltage, the handover): firmware/app/startup_design.md.
  *
  * Background requests (start, stop, fault reset, the operator's
  * references, mode and method) only set a flag; the ISR carries them out
