@@ -28,23 +28,6 @@
 #define SERIES_INV_120 0.00833333333f
 #define SERIES_INV_720 0.00138888889f
 #define DUTY_ZERO_VOLTAGE 0.5f
-/* Default floor of L^: this factor above the observer's stability bound
- * L > (Ks/phi + R_max) Ts / 2 (smo_init), so an estimate near the floor
- * still leaves the linear region a pole margin. */
-#define OBS_L_MIN_STABILITY_MARGIN 1.25f
-/* ctrl_obs_gains_design (observer_design.md sec. 3b): the lowest floor of
- * L^ the gain must allow, x the told L (an L told 1.4x high leaves the
- * true one at 0.71x); the R^ band's top that (36) leaves, x G (the
- * band's 0.9 (Ks - ef_max)/phi with Ks = 2 ef_max); Ks over ef_max:
- * (36)'s floor ef_max / (1 - 0.45) with a 10 % margin. Table I: Ks 100 V,
- * G = 40 V/A, R^ up to 18 Ohm, the cap 0.8 L/(1.45 Ts) = 61 V/A not reached. */
-#define OBS_L_FLOOR_SHARE 0.5f
-#define OBS_R_TOP_PER_G   0.45f
-#define OBS_KS_PER_EF     2.0f
-#define HALF 0.5f
-/* The default R^ band's top stays this fraction of the largest R that
- * meets (36) with the observer's default gains (18 Ohm for Table I). */
-#define RSID_BAND_KS_MARGIN 0.9f
 /* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
 /* Share of the hexagon's inscribed circle Vdc/sqrt(3) the flux reference
@@ -61,14 +44,6 @@
 #define MODEL_EST      0u      /* the estimation's model */
 #define MODEL_NOMINAL  1u      /* the configured parameters */
 
-/* ctrl_cfg_t.track_R is the estimation's */
-typedef char ctrl_track_r_is_est[((CTRL_TRACK_R_OFF == EST_TRACK_R_OFF) && (CTRL_TRACK_R_ON == EST_TRACK_R_ON) &&
-                                  (CTRL_TRACK_R_AUTO == EST_TRACK_R_AUTO)) ? 1 : -1];
-
-/* ctrl_ident_t is the estimation's phase */
-typedef char ctrl_ident_is_est_phase[((CTRL_IDENT_OFF == (int)EST_OFF) && (CTRL_IDENT_STEP1 == (int)EST_STEP1) &&
-                                      (CTRL_IDENT_STEP2 == (int)EST_STEP2)) ? 1 : -1];
-
 static uint16_t map_dbdtc_flags(uint16_t f)
 {
     uint16_t out = 0u;
@@ -81,106 +56,30 @@ static uint16_t map_dbdtc_flags(uint16_t f)
     return out;
 }
 
-void ctrl_obs_gains_default(ctrl_obs_gains_t *g)
+void ctrl_cfg_told(const ctrl_cfg_t *cfg, est_told_t *told)
 {
-    g->Ks_V = SMO_KS_DEFAULT_V;
-    g->phi_A = SMO_PHI_DEFAULT_A;
-    g->ef_max_V = SMO_EF_MAX_DEFAULT_V;
+    told->Ts_s = cfg->Ts_s;
+    told->R_Ohm = cfg->R_Ohm;
+    told->L_H = cfg->L_H;
+    told->psi_f_Wb = cfg->psi_f_Wb;
+    told->pole_pairs = cfg->pole_pairs;
+    told->i_max_A = cfg->i_max_A;
+    told->u_max_V = cfg->u_max_V;
+    told->omega_max_el_rad_s = cfg->omega_max_el_rad_s;
+    told->deadtime_s = cfg->deadtime_s;
+    told->enc_counts_per_rev = ENCODER_COUNTS_PER_LINE * cfg->enc_lines;
+    told->enc_pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
 }
 
-bool ctrl_obs_gains_design(float Ts_s, float R_Ohm, float L_H, float ef_max_V, float phi_A,
-                           ctrl_obs_gains_t *g, float *G_max_V_A)
+/* The estimation from its settings and the told values and bounds; its
+ * settings patched in c->cfg.est_cfg (est_init's scratch: no second copy on
+ * the start-up stack). */
+static ctrl_status_t init_est(ctrl_t *c)
 {
-    /* 1.25 (Ts/2)(G + R_max) <= L_FLOOR_SHARE L with R_max <= R_TOP_PER_G G */
-    const float G_max = (2.0f * OBS_L_FLOOR_SHARE * L_H / (OBS_L_MIN_STABILITY_MARGIN * Ts_s)) /
-                        (1.0f + OBS_R_TOP_PER_G);
-    g->Ks_V = OBS_KS_PER_EF * ef_max_V;
-    g->phi_A = phi_A;
-    g->ef_max_V = ef_max_V;
-    if (g->Ks_V / phi_A > G_max) {
-        g->phi_A = g->Ks_V / G_max;   /* the cap: a wider layer keeps (36)'s margin */
-    }
-    *G_max_V_A = G_max;
-    return (G_max > 0.0f) && (OBS_R_TOP_PER_G * (g->Ks_V / g->phi_A) >= R_Ohm);
-}
-
-void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm)
-{
-    ctrl_obs_gains_t g;
-    ctrl_obs_gains_default(&g);
-    ctrl_cfg_proposed_with(cfg, R_min_Ohm, R_max_Ohm, &g);
-}
-
-void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, const ctrl_obs_gains_t *g)
-{
-    smo_cfg_t *sc = &cfg->smo;
-    param_est_cfg_t *ec = &cfg->pe;
-
-    cfg->R_min_Ohm = R_min_Ohm;
-    cfg->R_max_Ohm = R_max_Ohm;
-    smo_cfg_defaults(sc, cfg->Ts_s, cfg->R_Ohm, cfg->L_H, cfg->psi_f_Wb);
-    sc->Ks_V = g->Ks_V;
-    sc->phi_A = g->phi_A;
-    sc->ef_max_V = g->ef_max_V;
-    const float L_stable_H = OBS_L_MIN_STABILITY_MARGIN * HALF * cfg->Ts_s *
-                             (sc->Ks_V / sc->phi_A + R_max_Ohm);
-    /* not capped at L_max: a floor above it is refused by smo_init */
-    sc->L_min_H = (sc->L_min_H >= L_stable_H) ? sc->L_min_H : L_stable_H;
-    sc->f_max_V = cfg->u_max_V; /* a disturbance beyond the voltage bound is no estimate */
-    param_est_cfg_defaults(ec, cfg->Ts_s, cfg->L_H, cfg->psi_f_Wb);
-    ec->L_min_H = sc->L_min_H;  /* clamps = the observer's ranges */
-    ec->L_max_H = sc->L_max_H;
-    ec->psi_min_Wb = sc->psi_min_Wb;
-    ec->psi_max_Wb = sc->psi_max_Wb;
-    rs_ident_cfg_defaults(&cfg->rsid, cfg->R_Ohm);
-    r_track_cfg_defaults(&cfg->rtrack);
-    cfg->track_R = 0u;
-    cfg->untold_deadtime_s = EST_UNTOLD_DEADTIME_DEFAULT_S;
-    est_gate_cfg_defaults(&cfg->gate, cfg->Ts_s);
-    /* above the speed estimate's count quantisation (design sec. 7) */
-    cfg->gate.accel_floor_rad_s2 =
-        est_gate_accel_floor_rad_s2(ENCODER_COUNTS_PER_LINE * cfg->enc_lines, cfg->pole_pairs, cfg->enc_pll_bw_rad_s);
-}
-
-void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm)
-{
-    ctrl_obs_gains_t g;
-    ctrl_obs_gains_default(&g);
-    ctrl_rsid_band_with(cfg, &g, R_min_Ohm, R_max_Ohm);
-}
-
-void ctrl_rsid_band_with(const ctrl_cfg_t *cfg, const ctrl_obs_gains_t *g, float *R_min_Ohm, float *R_max_Ohm)
-{
-    /* (36): Ks > ef_max + R_max phi, with a margin */
-    const float R_ks_Ohm = RSID_BAND_KS_MARGIN * (g->Ks_V - g->ef_max_V) / g->phi_A;
-    const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * cfg->R_Ohm;
-    *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * cfg->R_Ohm;
-    *R_max_Ohm = (R_top_Ohm < R_ks_Ohm) ? R_top_Ohm : R_ks_Ohm;
-    *R_max_Ohm = (*R_max_Ohm > cfg->R_Ohm) ? *R_max_Ohm : cfg->R_Ohm;
-}
-
-/* The estimation, with the told values and bounds from ctrl_cfg_t. */
-static ctrl_status_t init_est(ctrl_t *c, const ctrl_cfg_t *cfg)
-{
-    est_cfg_t e;
-    e.Ts_s = cfg->Ts_s;
-    e.R_Ohm = cfg->R_Ohm;
-    e.L_H = cfg->L_H;
-    e.psi_f_Wb = cfg->psi_f_Wb;
-    e.R_min_Ohm = cfg->R_min_Ohm;
-    e.R_max_Ohm = cfg->R_max_Ohm;
-    e.i_max_A = cfg->i_max_A;
-    e.u_max_V = cfg->u_max_V;
-    e.omega_max_el_rad_s = cfg->omega_max_el_rad_s;
-    e.deadtime_s = c->deadtime_frac * cfg->Ts_s; /* as taken (0 when refused) */
-    e.untold_deadtime_s = cfg->untold_deadtime_s;
-    e.smo = cfg->smo;
-    e.pe = cfg->pe;
-    e.rsid = cfg->rsid;
-    e.rtrack = cfg->rtrack;
-    e.track_R = cfg->track_R;
-    e.gate = cfg->gate;
-    return est_init(&c->est, &e);
+    est_told_t told;
+    ctrl_cfg_told(&c->cfg, &told);
+    told.deadtime_s = c->deadtime_frac * c->cfg.Ts_s; /* as taken (0 when refused) */
+    return (ctrl_status_t)est_init(&c->est, &c->cfg.est_cfg, &told);
 }
 
 /* status with bit added unless ok. */
@@ -234,7 +133,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
                                                 ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
     oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
-    c->status = (ctrl_status_t)(status | init_est(c, cfg));
+    c->status = (ctrl_status_t)(status | init_est(c));
     c->mode = CTRL_MODE_TORQUE;
     c->mode_req = CTRL_MODE_TORQUE;
     c->method = CTRL_METHOD_CONVENTIONAL;
@@ -267,6 +166,8 @@ void ctrl_reset(ctrl_t *c)
     c->mon.uq_V = 0.0f;
     c->mon.te_ref_Nm = 0.0f;
     c->mon.te_est_Nm = 0.0f;
+    c->te_ref_last_Nm = 0.0f;
+    c->te_est_last_Nm = 0.0f;
     c->mon.psi_ref_Wb = 0.0f;
     c->mon.psi_est_Wb = 0.0f;
     c->mon.model_from_observer = 0u;
@@ -294,47 +195,6 @@ bool ctrl_set_method(ctrl_t *c, ctrl_method_t method)
     }
     c->method = method; /* one store: the ISR sees the old or the new method */
     return true;
-}
-
-bool ctrl_rsid_begin(ctrl_t *c)
-{
-    if ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) {
-        return false;
-    }
-    return est_rsid_begin(&c->est);
-}
-
-void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win)
-{
-    est_rsid_window(&c->est, win);
-}
-
-rs_ident_result_t ctrl_rsid_finish(ctrl_t *c)
-{
-    return est_rsid_finish(&c->est);
-}
-
-bool ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_head_t *win2_copy)
-{
-    return est_rsid_stage_begin(&c->est, s, win2_copy);
-}
-
-bool ctrl_rsid_stage_step(ctrl_t *c, rs_ident_solver_t *s)
-{
-    return est_rsid_stage_step(&c->est, s);
-}
-
-rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r_solved)
-{
-    return est_rsid_finish_with(&c->est, r_solved);
-}
-
-bool ctrl_est_start(ctrl_t *c, float R_Ohm)
-{
-    if ((c->status & CTRL_CFG_NEEDED_PROPOSED) != 0u) {
-        return false;
-    }
-    return est_start_trusted(&c->est, R_Ohm);
 }
 
 void ctrl_set_i_limit(ctrl_t *c, float i_lim_A)
@@ -470,7 +330,7 @@ static void stage_mode(ctrl_t *c)
 {
     if (c->mode_req != c->mode) {
         if (c->mode_req == CTRL_MODE_SPEED) {
-            pi_reset(&c->speed_pi, c->mon.te_est_Nm); /* start from the torque there is */
+            pi_reset(&c->speed_pi, c->te_est_last_Nm); /* start from the torque there is */
         }
         c->mode = c->mode_req;
     }
@@ -499,7 +359,7 @@ static void stage_estimate(ctrl_t *c, const ctrl_period_t *p, float vdc_V)
     e->cos_el = p->co;
     e->u_V = c->u_applied_V;
     e->vdc_V = vdc_V;
-    e->te_ref_Nm = c->mon.te_ref_Nm;
+    e->te_ref_Nm = c->te_ref_last_Nm;
     e->voltage_limited = (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u;
     e->dpsi_weak_Wb = c->lim.dpsi_Wb;
     est_step(&c->est, e);
@@ -602,7 +462,10 @@ static void stage_output(ctrl_t *c, const ctrl_period_t *p, const ctrl_in_t *in,
                       c->ref.ud_ref_V + c->ref.uq_ref_V + p->omega + p->x.te_Nm + p->u.d + p->u.q +
                       p->duty.a + p->duty.b + p->duty.c + c->u_applied_V.d + c->u_applied_V.q + f.d + f.q +
                       i_hat.d + i_hat.q + e->L_H + est_psi_f_obs_Wb(&c->est);
+    /* the next period's memory: the estimation's checks, the bumpless speed mode */
     c->flags_last = p->flags; /* before any NONFINITE: the estimation's voltage check */
+    c->te_ref_last_Nm = p->te_ref;
+    c->te_est_last_Nm = p->x.te_Nm;
     output_duties(c, p->duty, mathx_isfinitef(chk), (uint16_t)(p->flags | e->flags), out);
 }
 

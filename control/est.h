@@ -80,7 +80,7 @@ typedef enum {
  * least this dead-time error nobody told [s] (observer_design.md sec. 9g). */
 #define EST_UNTOLD_DEADTIME_DEFAULT_S 0.15e-6f
 
-/* What est_init refused (bits; the same as ctrl.h's CTRL_CFG_*). */
+/* What est_init refused (bits; ctrl_init's status carries them). */
 typedef uint16_t est_status_t;
 #define EST_CFG_OK        ((est_status_t)0x0000u)
 #define EST_CFG_OBSERVER  ((est_status_t)0x0001u) /* smo_init refused (stability, (36)) */
@@ -88,19 +88,41 @@ typedef uint16_t est_status_t;
 #define EST_CFG_RSID      ((est_status_t)0x0004u) /* rs_ident_init refused */
 #define EST_CFG_GATE      ((est_status_t)0x0080u) /* est_gate_init refused */
 #define EST_CFG_RTRACK    ((est_status_t)0x0100u) /* r_track_init refused */
+/* Every bit est_init may return: any of them makes the estimation unavailable. */
+#define EST_CFG_ANY ((est_status_t)(EST_CFG_OBSERVER | EST_CFG_ESTIMATOR | EST_CFG_RSID | EST_CFG_GATE | EST_CFG_RTRACK))
 
+/* What the drive is told of the motor and the board, as the estimation
+ * takes it (the controller's configuration: ctrl_cfg_told()). */
 typedef struct {
     float Ts_s;                 /* control period [s] */
     float R_Ohm, L_H, psi_f_Wb; /* the told model [Ohm, H, Wb] */
+    uint16_t pole_pairs;        /* [-] */
+    float i_max_A;              /* bounds the observer's inputs take [A] */
+    float u_max_V;              /* [V] */
+    float omega_max_el_rad_s;   /* [rad/s el] */
+    float deadtime_s;           /* the told dead time as compensated (its fundamental bounds psi_band's Vb) [s] */
+    uint32_t enc_counts_per_rev; /* encoder counts a turn (the gate's acceleration floor) [-] */
+    float enc_pll_bw_rad_s;     /* the speed estimate's bandwidth [rad/s] */
+} est_told_t;
+
+/* The observer's switching gain, boundary layer and the disturbance
+ * error condition (36) must dominate (smo_cfg_t Ks_V, phi_A, ef_max_V). */
+typedef struct {
+    float Ks_V;                 /* switching gain [V] */
+    float phi_A;                /* boundary layer [A]; G = Ks/phi [V/A] */
+    float ef_max_V;             /* |f^ - f| (36) must dominate [V] */
+} est_obs_gains_t;
+
+/* The estimation's settings: est_cfg_defaults() builds them from the told
+ * values; a caller may then change a field (the scenario keys, the
+ * parameter set's scaling rules). The told model and bounds are not
+ * repeated here: est_init takes them (est_told_t). */
+typedef struct {
     float R_min_Ohm;            /* accepted R^ band [Ohm] */
     float R_max_Ohm;
-    float i_max_A;              /* bounds the observer's inputs take */
-    float u_max_V;
-    float omega_max_el_rad_s;
-    float deadtime_s;           /* the told dead time (its fundamental bounds psi_band's Vb) [s] */
     float untold_deadtime_s;    /* until the inverter error is identified, the least error nobody
                                  * told, as a dead time (the speed floor's prior; >= 0) [s] */
-    smo_cfg_t smo;              /* observer gains and ranges (the told values and bounds from above) */
+    smo_cfg_t smo;              /* observer gains and ranges (est_init writes the told values and bounds) */
     param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection */
@@ -108,7 +130,7 @@ typedef struct {
     est_gate_cfg_t gate;        /* when step 2 may learn */
 } est_cfg_t;
 
-typedef struct {                /* what est_t keeps of est_cfg_t (the blocks keep their own) */
+typedef struct {                /* what est_t keeps of its configuration (the blocks keep their own) */
     float R_Ohm, L_H, psi_f_Wb; /* the told model [Ohm, H, Wb] */
     float R_min_Ohm;            /* accepted R^ band [Ohm] */
     float R_max_Ohm;
@@ -116,7 +138,7 @@ typedef struct {                /* what est_t keeps of est_cfg_t (the blocks kee
     float wiq_min_A_rad_s;      /* pe.wiq_min_A_rad_s: the L^ law's |w iq| floor [A rad/s] */
     uint16_t track_R;           /* EST_TRACK_R_* */
     uint16_t auto_delay_periods; /* rtrack.auto_delay_periods */
-} est_told_t;
+} est_kept_t;
 
 typedef struct {                /* one period's inputs */
     dq_t i_dq_A;                /* i(k), rotor frame [A] */
@@ -141,7 +163,7 @@ typedef struct {                /* the output: written by est_step and the phase
 } est_out_t;
 
 typedef struct {
-    est_told_t cfg;
+    est_kept_t cfg;
     est_status_t status;
     est_phase_t phase;
     smo_t smo;
@@ -162,11 +184,40 @@ typedef struct {
     est_out_t out;
 } est_t;
 
-/* Builds everything; the told values and bounds of *cfg are written into
- * its smo/pe/rsid/gate members first (*cfg is the caller's scratch: no
- * second copy on the start-up stack). Returns the refusals (EST_CFG_*);
- * a refused estimation must not be started. Background. */
-est_status_t est_init(est_t *e, est_cfg_t *cfg);
+/* Background, before est_init: the observer's gains from smo.h's design
+ * defaults (Table I: 100 V, 2.5 A, 50 V). */
+void est_obs_gains_default(est_obs_gains_t *g);
+
+/* Background: the gains for a motor (observer_design.md sec. 3b): Ks =
+ * 2 ef_max_V ((36) with R^ up to 0.45 G and a 10 % margin), phi = phi_A
+ * unless G = Ks/phi would pass the discrete stability bound with L^'s
+ * floor at half the told L_H and the margin EST_L_MIN_STABILITY_MARGIN
+ * (*G_max_V_A), then phi = Ks / G_max. Returns false (g filled all the
+ * same) when the band's top 0.45 G leaves out R_Ohm, or G_max <= 0: no
+ * gain satisfies both bounds. */
+bool est_obs_gains_design(float Ts_s, float R_Ohm, float L_H, float ef_max_V, float phi_A, est_obs_gains_t *g,
+                          float *G_max_V_A);
+
+/* The default R^ band [Ohm] for the told R (told->R_Ohm) under condition
+ * (36) with the gains *g: rs_ident.h's RS_IDENT_BAND_*_FACTOR x R_Ohm, the
+ * top kept below the largest R^ (36) takes (observer_design.md sec. 6c),
+ * and not below R_Ohm. Background, before est_cfg_defaults. */
+void est_rsid_band(const est_told_t *told, const est_obs_gains_t *g, float *R_min_Ohm, float *R_max_Ohm);
+
+/* The estimation's settings for the told values *told with the observer's
+ * gains *g and the R^ band [R_min_Ohm, R_max_Ohm] (absolute: the told R
+ * may be far from the motor's): the modules' design defaults, L^ kept
+ * above the observer's stability bound at R_max, the gate's acceleration
+ * floor above the encoder's quantisation. Background. */
+void est_cfg_defaults(est_cfg_t *cfg, const est_told_t *told, const est_obs_gains_t *g, float R_min_Ohm,
+                      float R_max_Ohm);
+
+/* Builds everything from the settings *cfg and the told values *told;
+ * the told values and bounds are written into cfg's smo/pe/rsid/gate
+ * members first (*cfg is the caller's scratch: no second copy on the
+ * start-up stack). Returns the refusals (EST_CFG_*); a refused
+ * estimation must not be started. Background. */
+est_status_t est_init(est_t *e, est_cfg_t *cfg, const est_told_t *told);
 
 /* Observer stopped, estimates back to the told values, windows emptied.
  * Background, or ISR before PWM is enabled. */

@@ -121,7 +121,7 @@ static void identify_state(app_t *app, const hal_sample_t *s)
     if ((r.status == APP_STEP_FAULT) && is_rsid_refusal(r.fault) &&
         (app->cfg.rsid.on_refusal == APP_RSID_REFUSAL_CONVENTIONAL)) {
         /* no silent fallback: the method says so, the warning names why;
-         * the observer is stopped (ctrl_rsid_finish), so control is the
+         * the observer is stopped (est_rsid_finish_with), so control is the
          * conventional method's either way */
         app->rsid_refusal = r;
         app->warnings |= APP_WARN_STEP1_REFUSED;

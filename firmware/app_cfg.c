@@ -36,7 +36,7 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->aln.prepos_s = BOARD_ALIGN_PREPOS_S;
     cfg->aln.settle_s = BOARD_ALIGN_SETTLE_S;
 
-    cfg->ctrl.track_R = BOARD_TRACK_R;
+    cfg->ctrl.est_cfg.track_R = BOARD_TRACK_R;
     cfg->comm.pole_pairs_max = (uint16_t)COMM_POLE_PAIRS_MAX;
     cfg->comm.u_frac = COMM_U_FRAC;
     cfg->comm.r_i1_frac = COMM_R_I1_FRAC;

@@ -21,10 +21,10 @@ static void leave_align(app_t *app)
         enter_run(app);
     } else if (app->cfg.rsid.mode == APP_RSID_TRUSTED) {
         enter_run(app);
-        (void)ctrl_est_start(&app->ctrl, app->cfg.ctrl.R_Ohm); /* nominal R is in its own band */
+        (void)est_start_trusted(ctrl_est_rw(&app->ctrl), app->cfg.ctrl.R_Ohm); /* nominal R is in its own band */
     } else {
         ctrl_reset(&app->ctrl);
-        (void)ctrl_rsid_begin(&app->ctrl); /* status checked by leave_calibrate */
+        (void)est_rsid_begin(ctrl_est_rw(&app->ctrl)); /* status checked by leave_calibrate */
         app->state = APP_STATE_IDENTIFY_R;
         rsid_seq_start(&app->rsid, ctrl_speed_m_rad_s(&app->ctrl));
     }

@@ -6,7 +6,7 @@
 #include "mathx.h"
 
 #define DRIVE_S_PER_NS 1.0e-9f
-#define DRIVE_DEFAULT_BAND (-1.0f) /* R^ band end: ctrl_rsid_band_with()'s */
+#define DRIVE_DEFAULT_BAND (-1.0f) /* R^ band end: est_rsid_band()'s */
 #define TORQUE_PER_P_PSI_I 1.5f /* Te = 1.5 p psi_f iq (SPMSM, i_d = 0) */
 #define SQRT3 1.7320508f
 /* A per-leg square wave of amplitude dv has the fundamental (4/pi) dv. */
@@ -91,7 +91,7 @@ drive_derive_t drive_params_derive(drive_params_t *p)
     if (r->n_max_rad_s * (float)p->motor.pole_pairs * p->motor.psi_f_Wb > p->board.vdc_nominal_V / SQRT3) {
         st |= DRIVE_DERIVE_WARN_BEMF;
     }
-    ctrl_obs_gains_t g;
+    est_obs_gains_t g;
     float G_max;
     if (!drive_params_obs_gains(p, &g, &G_max)) {
         st |= DRIVE_DERIVE_OBSERVER;
@@ -99,9 +99,9 @@ drive_derive_t drive_params_derive(drive_params_t *p)
     return st;
 }
 
-bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float *G_max_V_A)
+bool drive_params_obs_gains(const drive_params_t *p, est_obs_gains_t *g, float *G_max_V_A)
 {
-    return ctrl_obs_gains_design(p->board.Ts_s, p->motor.R_Ohm, p->motor.L_H,
+    return est_obs_gains_design(p->board.Ts_s, p->motor.R_Ohm, p->motor.L_H,
                                  scaled(REF_OBS_EF_MAX_V, p->board.vdc_nominal_V, REF_VDC_V),
                                  scaled(REF_OBS_PHI_A, p->rating.i_rated_A, REF_I_RATED_A), g, G_max_V_A);
 }
@@ -114,7 +114,7 @@ static float unexplained_V(float vdc_V, float Ts_s)
 }
 
 /* sec. 5: step 2's thresholds, the injections and the speed floor. */
-static void estimator_from(const drive_params_t *p, ctrl_cfg_t *c)
+static void estimator_from(const drive_params_t *p, est_cfg_t *c)
 {
     const float i_r = p->rating.i_rated_A;
     const float T_r = drive_rated_torque_Nm(p);
@@ -145,7 +145,8 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     drive_params_t d = *p_in;
     const drive_params_t *p = &d;
     ctrl_cfg_t *c = &cfg->ctrl;
-    ctrl_obs_gains_t g;
+    est_obs_gains_t g;
+    est_told_t told;
     float G_max;
     float R_min_Ohm;
     float R_max_Ohm;
@@ -176,13 +177,14 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     /* the proposed method's settings for these values; the R^ band in ohms.
      * Gains refused here make smo_init refuse too (CONFIG at the start). */
     (void)drive_params_obs_gains(p, &g, &G_max);
-    ctrl_rsid_band_with(c, &g, &R_min_Ohm, &R_max_Ohm);
+    ctrl_cfg_told(c, &told);
+    est_rsid_band(&told, &g, &R_min_Ohm, &R_max_Ohm);
     if (p->tuning.R_min_Ohm >= 0.0f) {
         R_min_Ohm = p->tuning.R_min_Ohm;
     }
     if (p->tuning.R_max_Ohm > 0.0f) {
         R_max_Ohm = p->tuning.R_max_Ohm;
     }
-    ctrl_cfg_proposed_with(c, R_min_Ohm, R_max_Ohm, &g);
-    estimator_from(p, c);
+    est_cfg_defaults(&c->est_cfg, &told, &g, R_min_Ohm, R_max_Ohm);
+    estimator_from(p, &c->est_cfg);
 }

@@ -86,8 +86,8 @@
     X(tuning, pll_bw_rad_s, float, TUNE_ENC_PLL_BW_RAD_S, \
       DRIVE_TO(ctrl.enc_pll_bw_rad_s))                                    /* encoder speed-estimator bandwidth [rad/s] */ \
     X(tuning, u_margin, float, TUNE_U_MARGIN, DRIVE_TO(ctrl.u_margin))    /* steady-state share of Vdc/sqrt(3) for flux weakening [-] */ \
-    X(tuning, R_min_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /* accepted R^ band [Ohm]; < 0: ctrl_rsid_band_with()'s */ \
-    X(tuning, R_max_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /*   <= 0: ctrl_rsid_band_with()'s */
+    X(tuning, R_min_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /* accepted R^ band [Ohm]; < 0: est_rsid_band()'s */ \
+    X(tuning, R_max_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /*   <= 0: est_rsid_band()'s */
 
 #define DRIVE_PARAMS_step1(X)  /* step 1 (rsid_seq.h); all derived */ \
     X(step1, settle_1_s, float, DRIVE_PARAM_DERIVED, DRIVE_TO(rsid.settle_1_s)) /* IDENTIFY_R entry (speeds: ramp end) to window 1 [s] */ \
@@ -147,7 +147,7 @@ drive_derive_t drive_params_derive(drive_params_t *p);
 
 /* Start-up or host: the observer's gains for *p (derived first) and
  * the cap on G = Ks/phi (observer_design.md sec. 3b); false: none. */
-bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float *G_max_V_A);
+bool drive_params_obs_gains(const drive_params_t *p, est_obs_gains_t *g, float *G_max_V_A);
 
 /* Start-up or host: the board's parameter set (firmware/board_cfg.h). */
 void drive_params_board(drive_params_t *p);

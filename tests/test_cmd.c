@@ -178,7 +178,7 @@ static void proposed_method_is_taken_or_refused_by_its_configuration(void **stat
 
     cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
     apply();
-    app.ctrl.status = CTRL_CFG_OBSERVER; /* as if smo_init had refused the gains */
+    app.ctrl.status = EST_CFG_OBSERVER; /* as if smo_init had refused the gains */
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_CFG);

@@ -10,6 +10,7 @@
 #include <math.h>
 
 #include "ctrl.h"
+#include "est_defaults.h"
 
 #define PI_D 3.14159265358979323846
 #define TS   1e-4
@@ -313,7 +314,7 @@ static void init_reports_each_refusal(void **state)
     };
     ctrl_t c;
     ctrl_cfg_t cfg = make_cfg();
-    ctrl_cfg_proposed_defaults(&cfg, 0.2f * (float)RS, 2.0f * (float)RS);
+    test_est_defaults(&cfg, 0.2f * (float)RS, 2.0f * (float)RS);
     assert_int_equal(ctrl_init(&c, &cfg), CTRL_CFG_OK);
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         ctrl_cfg_t bad = cfg;
@@ -335,7 +336,7 @@ static void init_reports_each_refusal(void **state)
     }
     /* the proposed method's refusal alone leaves the conventional blocks accepted */
     ctrl_cfg_t obs = cfg;
-    ctrl_cfg_proposed_defaults(&obs, 0.2f * (float)RS, 1000.0f);
+    test_est_defaults(&obs, 0.2f * (float)RS, 1000.0f);
     const ctrl_status_t st = ctrl_init(&c, &obs);
     assert_int_not_equal(st & CTRL_CFG_NEEDED_PROPOSED, 0);
     assert_int_equal(st & CTRL_CFG_NEEDED_ALWAYS, 0);
@@ -356,13 +357,13 @@ static void default_band_holds_the_motor_r(void **state)
         float R_min;
         float R_max;
         cfg.R_Ohm = (float)(factors[i] * RS);
-        ctrl_rsid_band_default(&cfg, &R_min, &R_max);
+        test_est_band_default(&cfg, &R_min, &R_max);
         print_message("controller R %.2f x: band [%.3f, %.3f] Ohm\n", factors[i], R_min, R_max);
         assert_float_equal(R_min, 0.1 * factors[i] * RS, 1e-5);
         assert_float_equal(R_max, fmin(6.0 * factors[i] * RS, 18.0), 1e-4);
         assert_true(R_min <= 0.5 * RS);   /* the motor's R at least 2x inside */
         assert_true(R_max >= 1.5 * RS);   /*   and 1.5x inside at the top */
-        ctrl_cfg_proposed_defaults(&cfg, R_min, R_max);
+        test_est_defaults(&cfg, R_min, R_max);
         assert_int_equal(ctrl_init(&c, &cfg), CTRL_CFG_OK);
     }
 }

@@ -32,19 +32,19 @@ static void paper_motor_gets_the_old_constants_to_the_bit(void **state)
     assert_float_equal(c->te_max_Nm, 12.0f, 0.0);
     assert_float_equal(c->i_lim_A, 12.0f, 0.0);
     assert_float_equal(cfg.prot.i_max_A, 14.0f, 0.0);
-    assert_float_equal(c->smo.Ks_V, 100.0f, 0.0);
-    assert_float_equal(c->smo.phi_A, 2.5f, 0.0);
-    assert_float_equal(c->smo.ef_max_V, 50.0f, 0.0);
-    assert_float_equal(c->R_max_Ohm, 18.0f, 0.0);
-    assert_float_equal(c->gate.di_max_A, 0.5f, 0.0);
-    assert_float_equal(c->gate.dte_max_Nm, 0.3f, 0.0);
-    assert_float_equal(c->rtrack.i_ident_A, 1.0f, 0.0);
-    assert_float_equal(c->rtrack.i_track_A, 0.5f, 0.0);
-    assert_float_equal(c->rtrack.iq_min_A, 1.0f, 0.0);
-    assert_float_equal(c->rtrack.iq_step_max_A, 0.2f, 0.0);
-    assert_float_equal(c->rtrack.ve_max_V, 20.0f, 0.0);
-    assert_float_equal(c->pe.w_min_rad_s, 30.0f, 0.0);
-    assert_float_equal(c->pe.wiq_min_A_rad_s, 30.0f, 0.0);
+    assert_float_equal(c->est_cfg.smo.Ks_V, 100.0f, 0.0);
+    assert_float_equal(c->est_cfg.smo.phi_A, 2.5f, 0.0);
+    assert_float_equal(c->est_cfg.smo.ef_max_V, 50.0f, 0.0);
+    assert_float_equal(c->est_cfg.R_max_Ohm, 18.0f, 0.0);
+    assert_float_equal(c->est_cfg.gate.di_max_A, 0.5f, 0.0);
+    assert_float_equal(c->est_cfg.gate.dte_max_Nm, 0.3f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.i_ident_A, 1.0f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.i_track_A, 0.5f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.iq_min_A, 1.0f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.iq_step_max_A, 0.2f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.ve_max_V, 20.0f, 0.0);
+    assert_float_equal(c->est_cfg.pe.w_min_rad_s, 30.0f, 0.0);
+    assert_float_equal(c->est_cfg.pe.wiq_min_A_rad_s, 30.0f, 0.0);
     assert_float_equal(cfg.aln.u_V, 9.0f, 0.0);
     assert_float_equal(cfg.prot.watch.op_u_min_V, 25.0f, 0.0);
     assert_float_equal(cfg.prot.watch.op_i_min_A, 1.0f, 0.0);
@@ -105,7 +105,7 @@ static void small_motor_observer_gain_capped_and_accepted(void **state)
 {
     (void)state;
     drive_params_t p;
-    ctrl_obs_gains_t g;
+    est_obs_gains_t g;
     float G_max;
     small_motor(&p);
     assert_true(drive_params_obs_gains(&p, &g, &G_max));
@@ -121,8 +121,8 @@ static void small_motor_observer_gain_capped_and_accepted(void **state)
     cfg.ctrl.u_max_V = 24.0f;
     assert_int_equal(ctrl_init(&ctrl, &cfg.ctrl) & CTRL_CFG_NEEDED_PROPOSED, 0);
     /* the bound itself, as smo_init checks it */
-    const smo_cfg_t *s = &cfg.ctrl.smo;
-    assert_true(s->Ks_V / s->phi_A < 2.0f * s->L_min_H / s->Ts_s - cfg.ctrl.R_max_Ohm);
+    const smo_cfg_t *s = &cfg.ctrl.est_cfg.smo;
+    assert_true(s->Ks_V / s->phi_A < 2.0f * s->L_min_H / s->Ts_s - cfg.ctrl.est_cfg.R_max_Ohm);
     assert_true(s->L_min_H <= 0.5f * cfg.ctrl.L_H);
 }
 
@@ -138,13 +138,13 @@ static void tracking_injection_by_bus_then_capped(void **state)
     small_motor(&p);
     app_cfg_default(&cfg);
     drive_params_to_app_cfg(&p, &cfg);
-    assert_float_equal(cfg.ctrl.rtrack.i_track_A, 0.5 * (24.0 / 0.1) / (311.0 / 3.0), 1e-5);
+    assert_float_equal(cfg.ctrl.est_cfg.rtrack.i_track_A, 0.5 * (24.0 / 0.1) / (311.0 / 3.0), 1e-5);
     p.motor.R_Ohm = 0.5f;
     p.board.vdc_nominal_V = 540.0f;
     p.rating.i_rated_A = 9.5238f;
     p.rating.i_peak_A = 2.0f * 9.5238f;
     drive_params_to_app_cfg(&p, &cfg);
-    assert_float_equal(cfg.ctrl.rtrack.i_track_A, 0.2 * 9.5238, 1e-5);
+    assert_float_equal(cfg.ctrl.est_cfg.rtrack.i_track_A, 0.2 * 9.5238, 1e-5);
 }
 
 /* L 20 uH at 10 kHz: G_max = 0.11 V/A, the band's top 0.45 G = 0.05 ohm

@@ -13,6 +13,7 @@
 #include <math.h>
 
 #include "ctrl.h"
+#include "est_defaults.h"
 #include "est.h"
 
 #define TS   1e-4f
@@ -28,13 +29,12 @@ static void init(void)
                      .i_max_A = 60.0f, .u_max_V = 500.0f, .omega_max_el_rad_s = 3000.0f, .psi_max_Wb = 1.0f };
     float R_min;
     float R_max;
-    ctrl_rsid_band_default(&c, &R_min, &R_max);
-    ctrl_cfg_proposed_defaults(&c, R_min, R_max);
-    est_cfg_t ec = { .Ts_s = TS, .R_Ohm = RS, .L_H = LS, .psi_f_Wb = PSIF, .R_min_Ohm = R_min,
-                     .R_max_Ohm = R_max, .i_max_A = c.i_max_A, .u_max_V = c.u_max_V,
-                     .omega_max_el_rad_s = c.omega_max_el_rad_s, .deadtime_s = 0.0f, .smo = c.smo, .pe = c.pe,
-                     .rsid = c.rsid, .rtrack = c.rtrack, .track_R = 0u, .gate = c.gate };
-    assert_int_equal(est_init(&e, &ec), EST_CFG_OK);
+    test_est_band_default(&c, &R_min, &R_max);
+    test_est_defaults(&c, R_min, R_max);
+    est_told_t told;
+    ctrl_cfg_told(&c, &told);
+    told.deadtime_s = 0.0f;
+    assert_int_equal(est_init(&e, &c.est_cfg, &told), EST_CFG_OK);
 }
 
 /* n periods at a held operating point: i = (0, iq), w, the voltage of

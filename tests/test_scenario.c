@@ -122,12 +122,12 @@ static void defaults_come_from_the_parameter_set(void **state)
     assert_int_equal(sc.identify.repeats_max, ac.rsid.repeats_max);
     /* step 1's checks and policies: the app's too (board_cfg.h, rs_ident.h) */
     assert_true(sc.identify.R_se_max_rel == 0.015);
-    assert_float_equal(sc.identify.R_se_max_rel, ac.ctrl.rsid.R_se_max_rel, 1e-9);
+    assert_float_equal(sc.identify.R_se_max_rel, ac.ctrl.est_cfg.rsid.R_se_max_rel, 1e-9);
     assert_true(sc.identify.batch_s == 0.005);  /* 50 periods of 0.1 ms */
-    assert_int_equal(llround(sc.identify.batch_s / ac.ctrl.Ts_s), ac.ctrl.rsid.n_batch);
+    assert_int_equal(llround(sc.identify.batch_s / ac.ctrl.Ts_s), ac.ctrl.est_cfg.rsid.n_batch);
     assert_int_equal(sc.identify.mode, ac.rsid.mode);
     assert_int_equal(sc.identify.on_refusal, ac.rsid.on_refusal);
-    assert_int_equal(sc.identify.track_R, ac.ctrl.track_R);
+    assert_int_equal(sc.identify.track_R, ac.ctrl.est_cfg.track_R);
     assert_float_equal(sc.plant.encoder_offset_el_rad, p.board.enc_offset_el_rad, 0.0);
     /* the simulated board's own settings: hal_sim_default_cfg()'s (hal_sim.h) */
     assert_true(sc.plant.substep_s == 1e-4);

@@ -54,7 +54,7 @@ static int on_row(const sil_row_t *r, void *user)
     const bool warn = (((unsigned)r->flags) & APP_WARN_STEP1_REFUSED) != 0u;
     f->state = r->state;
     f->fault = r->fault;
-    if (isnan(f->R_first) && (int)r->est == CTRL_IDENT_STEP2) {
+    if (isnan(f->R_first) && (int)r->est == EST_STEP2) {
         f->R_first = r->R_est_ohm;
         f->t2 = r->t_s;
     }
@@ -84,11 +84,11 @@ static double angle_L_dev;
 
 static int on_row_angle(const sil_row_t *r, void *user)
 {
-    if ((int)r->est == CTRL_IDENT_STEP2) {
+    if ((int)r->est == EST_STEP2) {
         const unsigned flags = (unsigned)r->flags;
         const unsigned hold = (unsigned)r->est_hold;
         angle_rows++;
-        if (((flags & CTRL_FLAG_ANGLE_SUSPECT) != 0u) && ((hold & CTRL_EST_HOLD_ANGLE) != 0u)) {
+        if (((flags & EST_FLAG_ANGLE_SUSPECT) != 0u) && ((hold & EST_HOLD_ANGLE) != 0u)) {
             angle_warned++;
         }
         angle_L_dev = fmax(angle_L_dev, fabs(r->L_est_H / 0.011 - 1.0));

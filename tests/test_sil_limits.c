@@ -59,7 +59,7 @@ static int on_row(const sil_row_t *r, void *user)
         fig.spd_max = fmax(fig.spd_max, r->speed_rpm);
         fig.id_max = fmax(fig.id_max, r->id_A);
     }
-    if ((int)r->est == CTRL_IDENT_STEP2 && r->t_s >= fig.t_est) {
+    if ((int)r->est == EST_STEP2 && r->t_s >= fig.t_est) {
         fig.est_dev = fmax(fig.est_dev, fabs(r->L_est_H / L0 - 1.0));
         fig.est_dev = fmax(fig.est_dev, fabs(r->psif_est_Wb / PSI0 - 1.0));
     }

@@ -22,6 +22,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "est_defaults.h"
 #include "hal_sim.h"
 #include "mathx.h"
 #include "sil.h"
@@ -88,7 +89,7 @@ static int on_row(const sil_row_t *r, void *user)
     fig.R = r->R_est_ohm;
     fig.L = r->L_est_H;
     fig.psi = r->psif_est_Wb;
-    if (isnan(fig.t2) && (int)r->est == CTRL_IDENT_STEP2) {
+    if (isnan(fig.t2) && (int)r->est == EST_STEP2) {
         fig.t2 = r->t_s;
     }
     if (r->t_s < WIN_T1) {
@@ -453,7 +454,7 @@ static ctrl_status_t c_setup(double L_factor, float R_max_Ohm)
         .te_max_Nm = 12.0f, .i_max_A = 60.0f, .u_max_V = 311.0f, .omega_max_el_rad_s = 3000.0f,
         .psi_max_Wb = 1.0f,
     };
-    ctrl_cfg_proposed_defaults(&cfg, 0.2f * (float)R0, R_max_Ohm);
+    test_est_defaults(&cfg, 0.2f * (float)R0, R_max_Ohm);
     const ctrl_status_t st = ctrl_init(&c, &cfg);
     ctrl_set_mode(&c, CTRL_MODE_TORQUE);
     c_pwm = false;
@@ -484,15 +485,15 @@ static void c_run(double te_Nm, long periods, double *te_dev_max)
 /* Step 1 in torque mode at 2 and 4 N m; returns the result. */
 static rs_ident_result_t c_step1(double te1, double te2)
 {
-    assert_true(ctrl_rsid_begin(&c));
+    assert_true(est_rsid_begin(ctrl_est_rw(&c)));
     c_run(te1, 500, NULL);
-    ctrl_rsid_window(&c, RS_IDENT_WINDOW_1);
+    est_rsid_window(ctrl_est_rw(&c), RS_IDENT_WINDOW_1);
     c_run(te1, 500, NULL);
-    ctrl_rsid_window(&c, RS_IDENT_WINDOW_NONE);
+    est_rsid_window(ctrl_est_rw(&c), RS_IDENT_WINDOW_NONE);
     c_run(te2, 500, NULL);
-    ctrl_rsid_window(&c, RS_IDENT_WINDOW_2);
+    est_rsid_window(ctrl_est_rw(&c), RS_IDENT_WINDOW_2);
     c_run(te2, 500, NULL);
-    return ctrl_rsid_finish(&c);
+    return est_rsid_finish(ctrl_est_rw(&c));
 }
 
 /* Switching at run time both ways, estimates converged: the true torque
@@ -518,13 +519,13 @@ static void method_switch_bumpless(void **state)
     print_message("method switching at 4 N m, L = 1.5 L0: max |Te - Te*| proposed %.4f, after -> conventional %.4f, "
                   "after -> proposed %.4f N m; L^ %+.3f %%\n",
                   dev_prop, dev_conv, dev_back, 100.0 * (c.est.smo.L_H / L0 - 1.0));
-    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_STEP2);
+    assert_int_equal(est_output(ctrl_est(&c))->phase, EST_STEP2);
     assert_true(dev_conv <= SWITCH_TE_DEV_MAX_NM);
     assert_true(dev_back <= SWITCH_TE_DEV_MAX_NM);
     assert_true(fabs(c.est.smo.L_H / L0 - 1.0) <= EST_TOL);
 }
 
-/* PROPOSED before step 2 controls as CONVENTIONAL; ctrl_est_start with the
+/* PROPOSED before step 2 controls as CONVENTIONAL; est_start_trusted with the
  * true R (trusted) starts step 2 without step 1, and L^ converges. */
 static void step2_without_step1(void **state)
 {
@@ -532,13 +533,13 @@ static void step2_without_step1(void **state)
     assert_int_equal(c_setup(1.5, 2.0f * (float)R0), CTRL_CFG_OK);
     assert_true(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
     c_run(4.0, 100, NULL);
-    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_OFF);
+    assert_int_equal(est_output(ctrl_est(&c))->phase, EST_OFF);
     assert_int_equal(c.mon.model_from_observer, 0u);
-    assert_false(ctrl_est_start(&c, 100.0f));   /* outside the band */
-    assert_false(ctrl_est_start(&c, NAN));
-    assert_true(ctrl_est_start(&c, (float)R0));
+    assert_false(est_start_trusted(ctrl_est_rw(&c), 100.0f));   /* outside the band */
+    assert_false(est_start_trusted(ctrl_est_rw(&c), NAN));
+    assert_true(est_start_trusted(ctrl_est_rw(&c), (float)R0));
     c_run(4.0, 2000, NULL);
-    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_STEP2);
+    assert_int_equal(est_output(ctrl_est(&c))->phase, EST_STEP2);
     assert_int_equal(c.mon.model_from_observer, 1u);
     assert_true(fabs(c.est.smo.L_H / L0 - 1.0) <= EST_TOL);
 }
@@ -550,10 +551,10 @@ static void step1_failures(void **state)
     (void)state;
     assert_int_equal(c_setup(1.0, 2.0f * (float)R0), CTRL_CFG_OK);
     assert_int_equal(c_step1(3.0, 3.0), RS_IDENT_DEGENERATE);
-    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_OFF);
-    assert_int_equal(ctrl_rsid_finish(&c), RS_IDENT_TOO_FEW); /* no step 1 under way */
-    assert_true(ctrl_rsid_begin(&c));
-    assert_int_equal(ctrl_rsid_finish(&c), RS_IDENT_TOO_FEW);
+    assert_int_equal(est_output(ctrl_est(&c))->phase, EST_OFF);
+    assert_int_equal(est_rsid_finish(ctrl_est_rw(&c)), RS_IDENT_TOO_FEW); /* no step 1 under way */
+    assert_true(est_rsid_begin(ctrl_est_rw(&c)));
+    assert_int_equal(est_rsid_finish(ctrl_est_rw(&c)), RS_IDENT_TOO_FEW);
 }
 
 /* An R band whose top breaks (36) / the stability bound: init reports it,
@@ -562,11 +563,11 @@ static void init_refuses_unstable_observer(void **state)
 {
     double dev = 0.0;
     (void)state;
-    assert_int_equal(c_setup(1.0, 60.0f), CTRL_CFG_OBSERVER);
+    assert_int_equal(c_setup(1.0, 60.0f), EST_CFG_OBSERVER);
     assert_true(c.est.smo.status != SMO_CFG_OK);
     assert_false(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
-    assert_false(ctrl_rsid_begin(&c));
-    assert_false(ctrl_est_start(&c, (float)R0));
+    assert_false(est_rsid_begin(ctrl_est_rw(&c)));
+    assert_false(est_start_trusted(ctrl_est_rw(&c), (float)R0));
     c_run(2.0, C_START_PERIODS, NULL);
     c_run(2.0, 200, &dev);
     assert_true(dev <= SWITCH_TE_DEV_MAX_NM);

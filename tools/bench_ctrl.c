@@ -6,10 +6,10 @@
  * voltage kept both methods on the hexagon limit every period: flags 3).
  * The first TORQUE_STEPS run in torque mode at 4 N m, so the speed PI
  * starts from it (bumpless) and holds it at zero speed error: the normal
- * path every period. proposed: step 2 from the start (ctrl_est_start with
+ * path every period. proposed: step 2 from the start (est_start_trusted with
  * the nominal R), so every period runs observer, estimator and the
  * observer-based model; proposed_track_R: the same with R^ tracked by the
- * d-current injection (ctrl_cfg_t.track_R, observer_design.md sec. 9).
+ * d-current injection (est_cfg_t.track_R, observer_design.md sec. 9).
  * Host only. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -52,13 +52,17 @@ int main(int argc, char **argv)
     const int track_R = (argc > 2) && (strcmp(argv[2], "proposed_track_R") == 0);
     const int proposed = track_R || ((argc > 2) && (strcmp(argv[2], "proposed") == 0));
     ctrl_cfg_t full = cfg;
-    ctrl_cfg_proposed_defaults(&full, R_MIN_OHM, R_MAX_OHM);
-    full.track_R = track_R ? 1u : 0u;
+    est_told_t told;
+    est_obs_gains_t g;
+    ctrl_cfg_told(&full, &told);
+    est_obs_gains_default(&g);
+    est_cfg_defaults(&full.est_cfg, &told, &g, R_MIN_OHM, R_MAX_OHM);
+    full.est_cfg.track_R = track_R ? EST_TRACK_R_ON : EST_TRACK_R_OFF;
     if (ctrl_init(&c, &full) != CTRL_CFG_OK) {
         fprintf(stderr, "bench_ctrl: ctrl_init refused the proposed method's settings\n");
         return 1;
     }
-    if (proposed && (!ctrl_set_method(&c, CTRL_METHOD_PROPOSED) || !ctrl_est_start(&c, full.R_Ohm))) {
+    if (proposed && (!ctrl_set_method(&c, CTRL_METHOD_PROPOSED) || !est_start_trusted(ctrl_est_rw(&c), full.R_Ohm))) {
         fprintf(stderr, "bench_ctrl: proposed method unavailable\n");
         return 1;
     }

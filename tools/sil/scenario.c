@@ -804,7 +804,7 @@ static int derive_keys(scenario_t *sc, char *err, size_t errlen)
         return -1;
     }
     if ((st & DRIVE_DERIVE_OBSERVER) != 0u && sc->controller.method == SC_METHOD_PROPOSED) {
-        ctrl_obs_gains_t g;
+        est_obs_gains_t g;
         float G_max;
         (void)drive_params_obs_gains(&p, &g, &G_max);
         snprintf(err, errlen,

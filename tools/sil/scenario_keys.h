@@ -129,14 +129,14 @@
       SC_P(limits.speed_max_rad_s, F32, DRIVE_RPM_PER_RAD_S), "overspeed trip [r/min] (1.2 n_max_rpm)") \
     X(controller, deadtime_s, REAL, SC_GE0, SC_UNSET, SC_NO, SC_P(board.deadtime_s, F32, 1.0), \
       "dead time the controller compensates [s] (default the plant's, >= 0)") \
-    X(controller, untold_deadtime_s, REAL, SC_IN(0.0, 1e-5), SC_UNSET, SC_NO, SC_A(ctrl.untold_deadtime_s, F32, 1.0), \
+    X(controller, untold_deadtime_s, REAL, SC_IN(0.0, 1e-5), SC_UNSET, SC_NO, SC_A(ctrl.est_cfg.untold_deadtime_s, F32, 1.0), \
       "proposed: until the inverter error is identified, the least error nobody told, as a dead time [s] " \
       "(the speed floor's prior; default 0.15e-6: EST_UNTOLD_DEADTIME_DEFAULT_S, >= 0)") \
     X(controller, encoder_offset_el_rad, REAL, SC_ANY, SC_UNSET, SC_NO, SC_NO, \
       "encoder offset the controller is told [rad, electrical], sign as plant.encoder_offset_el_rad " \
       "(default the plant's; run.align = on: the alignment's measurement replaces it)") \
     X(controller, R_min_ohm, REAL, SC_GT0, SC_UNSET, SC_NO, SC_P(tuning.R_min_Ohm, F32, 1.0), \
-      "accepted R^ band, low end [ohm] (default 0.1 x controller's R: ctrl_rsid_band_default)") \
+      "accepted R^ band, low end [ohm] (default 0.1 x controller's R: est_rsid_band)") \
     X(controller, R_max_ohm, REAL, SC_GT0, SC_UNSET, SC_NO, SC_P(tuning.R_max_Ohm, F32, 1.0), \
       "accepted R^ band, high end [ohm] (default 6 x controller's R, at most the observer's eq. (36) bound)")
 
@@ -155,9 +155,9 @@
     X(identify, settle_1_s, REAL, SC_GE0, SC_DERIVED("controller.speed_bw_rad_s"), SC_NO, \
       SC_P(step1.settle_1_s, F32, 1.0), "start of IDENTIFY_R to window 1 [s] (2 x settle_2_s)") \
     X(identify, window_s, REAL, SC_GT0, SC_PARAMS, SC_A(rsid.window_s, F32, 1.0), SC_SAME, "each averaging window [s]") \
-    X(identify, R_se_max_rel, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.rsid.R_se_max_rel, F32, 1.0), SC_SAME, \
+    X(identify, R_se_max_rel, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.est_cfg.rsid.R_se_max_rel, F32, 1.0), SC_SAME, \
       "largest standard error of R^ accepted, x R^") \
-    X(identify, batch_s, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.rsid.n_batch, PERIODS, 1.0), SC_SAME, \
+    X(identify, batch_s, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.est_cfg.rsid.n_batch, PERIODS, 1.0), SC_SAME, \
       "batch of the standard error's batch means [s] (more than the staged check's 16 periods, else CONFIG)") \
     X(identify, window_max_s, REAL, SC_GE0, SC_PARAMS, SC_A(rsid.window_max_s, F32, 1.0), SC_SAME, \
       "window 2 is lengthened up to this while the standard error of R^ is too large [s]") \
@@ -165,7 +165,7 @@
       "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large") \
     X(identify, on_refusal, ENUM, SC_NAMES(SC_REFUSAL_NAMES), SC_PARAMS, SC_A(rsid.on_refusal, ENUM, 1.0), SC_SAME, \
       "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)") \
-    X(identify, track_R, ENUM, SC_NAMES(SC_TRACK_NAMES), SC_PARAMS, SC_A(ctrl.track_R, U16, 1.0), SC_SAME, \
+    X(identify, track_R, ENUM, SC_NAMES(SC_TRACK_NAMES), SC_PARAMS, SC_A(ctrl.est_cfg.track_R, U16, 1.0), SC_SAME, \
       "off | on | auto: R^ tracked in step 2 by a d-current injection (a warming winding); auto: from 1 s after " \
       "step 2; both held while the field is weakened or the voltage at its limit")
 
