@@ -4,9 +4,9 @@
 #   1. no member access through an est_t: `.est.` or `->est.` followed by
 #      a member, outside control/est.[ch] (tests/ may look inside: white box)
 #   2. no per-period call of the estimation's blocks (smo_, rs_ident_,
-#      param_est_, est_gate_, r_track_, psi_band_ functions other than the
-#      *_cfg_defaults of a configuration) outside control/est.[ch] and the
-#      blocks themselves
+#      param_est_, est_gate_, r_track_, psi_band_ functions, their names
+#      with digits too, other than the *_cfg_defaults of a configuration)
+#      outside control/est.[ch] and the blocks themselves
 # Each failure names the file and line; exit 1 if any.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -23,7 +23,7 @@ for f in $files; do
     if echo "$f" | grep -qE "$blocks"; then
         continue
     fi
-    if hits=$(grep -nE '\b(smo|rs_ident|param_est|est_gate|r_track|psi_band)_[a-z_]+\(' "$f" |
+    if hits=$(grep -nE '\b(smo|rs_ident|param_est|est_gate|r_track|psi_band)_[a-z0-9_]+\(' "$f" |
               grep -vE '\b(smo|rs_ident|param_est|est_gate|r_track|psi_band)_cfg_defaults\('); then
         echo "FAIL $f: calls an estimation block directly (the estimation owns them: est.h):"
         echo "$hits" | sed 's/^/    /'
