@@ -16,17 +16,6 @@
 #include "oplim.h"
 #include "svpwm.h"
 
-/* The voltage computed now is applied over [k+1, k+2]: its middle lies
- * 1.5 periods after the sample instant. */
-#define ANGLE_ADVANCE_PERIODS 1.5f
-/* Bound on that advance [rad]: the series below is exact to float within it
- * (error < delta^7/5040 = 1.5e-6 at the bound). */
-#define ANGLE_ADVANCE_MAX_RAD 0.5f
-#define SERIES_INV_2   0.5f
-#define SERIES_INV_6   0.166666667f
-#define SERIES_INV_24  0.0416666667f
-#define SERIES_INV_120 0.00833333333f
-#define SERIES_INV_720 0.00138888889f
 #define DUTY_ZERO_VOLTAGE 0.5f
 /* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
 #define DEADTIME_FRAC_MAX 0.1f
@@ -71,15 +60,13 @@ void ctrl_cfg_told(const ctrl_cfg_t *cfg, est_told_t *told)
     told->enc_pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
 }
 
-/* The estimation from its settings and the told values and bounds; its
- * settings patched in c->cfg.est_cfg (est_init's scratch: no second copy on
- * the start-up stack). */
-static ctrl_status_t init_est(ctrl_t *c)
+/* The estimation from its settings and the told values and bounds. */
+static ctrl_status_t init_est(ctrl_t *c, const ctrl_cfg_t *cfg)
 {
     est_told_t told;
-    ctrl_cfg_told(&c->cfg, &told);
-    told.deadtime_s = c->deadtime_frac * c->cfg.Ts_s; /* as taken (0 when refused) */
-    return (ctrl_status_t)est_init(&c->est, &c->cfg.est_cfg, &told);
+    ctrl_cfg_told(cfg, &told);
+    told.deadtime_s = c->deadtime_frac * cfg->Ts_s; /* as taken (0 when refused) */
+    return (ctrl_status_t)est_init(&c->est, &cfg->est_cfg, &told);
 }
 
 /* status with bit added unless ok. */
@@ -95,7 +82,12 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     pi_cfg_t pc;
     ctrl_status_t status = CTRL_CFG_OK;
 
-    c->cfg = *cfg;
+    c->cfg.Ts_s = cfg->Ts_s;
+    c->cfg.i_max_A = cfg->i_max_A;
+    c->cfg.i_lim_A = cfg->i_lim_A;
+    c->cfg.u_max_V = cfg->u_max_V;
+    c->cfg.omega_max_el_rad_s = cfg->omega_max_el_rad_s;
+    c->cfg.te_max_Nm = cfg->te_max_Nm;
 
     ec.counts_per_rev = ENCODER_COUNTS_PER_LINE * cfg->enc_lines;
     ec.pole_pairs = cfg->pole_pairs;
@@ -133,7 +125,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
                                                 ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
     oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
-    c->status = (ctrl_status_t)(status | init_est(c));
+    c->status = (ctrl_status_t)(status | init_est(c, cfg));
     c->mode = CTRL_MODE_TORQUE;
     c->mode_req = CTRL_MODE_TORQUE;
     c->method = CTRL_METHOD_CONVENTIONAL;
@@ -218,7 +210,7 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
  * conventional method. 2 divisions in dbdtc_set_params, only when the
  * model moved by more than CTRL_MODEL_UPDATE_REL or was re-based.
  */
-static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
+static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
 {
     const est_out_t *e = est_output(&c->est);
     if ((c->method == CTRL_METHOD_PROPOSED) && (e->src != EST_SRC_TOLD)) {
@@ -232,24 +224,28 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, float omega_el_rad_s)
             c->mon.model_from_observer = 1u; /* the monitor's, written when it changes */
         }
         if (e->src == EST_SRC_OBSERVER) {
+            /* the observer's R^, L^: its period's model (one division for both) */
+            dbdtc_period_from(&c->db, turn, est_zoh_g_c(&c->est));
             return dbdtc_state_from_currents(&c->db, est_i_hat_A(&c->est)); /* replaces eq. (10) */
         }
-        return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s);
+        dbdtc_period(&c->db, turn);
+        return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V);
     }
     if (c->model_src != MODEL_NOMINAL) {
-        dbdtc_reset(&c->db); /* back to the told model: 2 divisions once */
+        dbdtc_reset(&c->db); /* back to the told model: 4 divisions once */
         c->model_src = MODEL_NOMINAL;
         c->mon.model_from_observer = 0u;
     }
-    return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V, omega_el_rad_s); /* eq. (10)-(12) */
+    dbdtc_period(&c->db, turn);
+    return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V); /* eq. (10)-(12) */
 }
 
-/* Mean rotor-frame voltage error [V] the dead time adds over the period
+/* Mean stator-frame voltage error [V] the dead time adds over the period
  * whose middle is at the angle (sin_a, cos_a): each leg loses or gains
  * vdc*td/Ts against the sign of its current (diode conduction in the dead
  * band), the currents taken as i_dq at that angle. Hard sign: near a zero
  * crossing the real error is smaller (left in f^ for those periods). */
-static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
+static ab_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
 {
     const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
     /* below the speed floor the conventional path: the told dead time only */
@@ -258,20 +254,18 @@ static dq_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_
     const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
     const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);
     const float vc = (i.c > 0.0f) ? -dv : ((i.c < 0.0f) ? dv : 0.0f);
-    return park(clarke_3ph(va, vb, vc), sin_a, cos_a);
+    return clarke_3ph(va, vb, vc);
 }
 
-/* sin/cos of theta + delta from those of theta: rotation by a series in
- * delta (|delta| <= ANGLE_ADVANCE_MAX_RAD), saving a second sincos. */
-static void rotate_sincos(float s, float c, float delta_rad, float *s_out, float *c_out)
+/* sin/cos of the angle the voltage computed now acts at, the middle of
+ * [k+1, k+2]: theta(k) + 1.5 w Ts, a rotation by the period's turn and
+ * its half (zoh.h), saving a second sincos. */
+static void advance_sincos(float s, float c, const zoh_turn_t *t, float *s_out, float *c_out)
 {
-    const float d = mathx_clampf(delta_rad, -ANGLE_ADVANCE_MAX_RAD, ANGLE_ADVANCE_MAX_RAD);
-    const float d2 = d * d;
-    const float sd = d * (1.0f - d2 * SERIES_INV_6 * (1.0f - d2 * (SERIES_INV_120 / SERIES_INV_6)));
-    const float cd = 1.0f - d2 * SERIES_INV_2 * (1.0f - d2 * (SERIES_INV_24 / SERIES_INV_2) *
-                                                          (1.0f - d2 * (SERIES_INV_720 / SERIES_INV_24)));
-    *s_out = s * cd + c * sd;
-    *c_out = c * cd - s * sd;
+    const float c15 = t->c1 * t->ch - t->s1 * t->sh;
+    const float s15 = t->s1 * t->ch + t->c1 * t->sh;
+    *s_out = s * c15 + c * s15;
+    *c_out = c * c15 - s * s15;
 }
 
 /* The period's duties out; when not finite (the period's check sum, or
@@ -316,6 +310,7 @@ void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out)
 typedef struct {
     float s, co;             /* sin, cos of theta_el(k) */
     float omega;             /* w(k) [rad/s electrical] */
+    zoh_turn_t turn;         /* the rotor's turn over a period at w(k) (the model's bound on it) */
     dq_t i_dq;               /* i(k) [A] */
     dbdtc_state_t x;         /* the model's state at k+1 */
     float te_ref;            /* Te* [N m] (0 in open loop) */
@@ -344,6 +339,8 @@ static void stage_sample(ctrl_t *c, const ctrl_in_t *in, ctrl_period_t *p)
     }
     c->tracked = false;
     p->omega = c->enc.omega_e_rad_s;
+    const float w = mathx_clampf(p->omega, -c->cfg.omega_max_el_rad_s, c->cfg.omega_max_el_rad_s);
+    zoh_turn(w * c->cfg.Ts_s, w, &p->turn);
     mathx_sincosf(c->enc.theta_e_rad, &p->s, &p->co);
     p->i_dq = park(clarke_2ph(in->ia_A, in->ib_A), p->s, p->co);
 }
@@ -355,6 +352,7 @@ static void stage_estimate(ctrl_t *c, const ctrl_period_t *p, float vdc_V)
     est_in_t *e = &c->est_in; /* in ctrl_t, not on the ISR's stack */
     e->i_dq_A = p->i_dq;
     e->omega_el_rad_s = p->omega;
+    e->turn = &p->turn;
     e->sin_el = p->s;
     e->cos_el = p->co;
     e->u_V = c->u_applied_V;
@@ -399,7 +397,7 @@ static void stage_deadbeat(ctrl_t *c, ctrl_period_t *p, float vdc_V)
         p->u.d = mathx_clampf(c->ref.ud_ref_V, -c->cfg.u_max_V, c->cfg.u_max_V);
         p->u.q = mathx_clampf(c->ref.uq_ref_V, -c->cfg.u_max_V, c->cfg.u_max_V);
     } else {
-        p->flags = map_dbdtc_flags(dbdtc_solve(&c->db, &p->x, p->te_ref, p->psi_ref, p->omega, &p->u));
+        p->flags = map_dbdtc_flags(dbdtc_solve(&c->db, &p->x, p->te_ref, p->psi_ref, &p->u));
         oplim_fw_update(&c->lim, p->u, c->u_lim_per_vdc * vdc_V);
     }
 }
@@ -415,21 +413,21 @@ static void stage_modulate(ctrl_t *c, ctrl_period_t *p, float vdc_V)
     float sa;
     float ca;
     ab_t u_real;
-    dq_t u_cmd;
 
-    rotate_sincos(p->s, p->co, ANGLE_ADVANCE_PERIODS * p->omega * c->cfg.Ts_s, &sa, &ca);
+    advance_sincos(p->s, p->co, &p->turn, &sa, &ca);
     p->flags |= map_dbdtc_flags(dbdtc_limit(&p->u, sa, ca, vdc_V));
-    const dq_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V);
-    u_cmd.d = p->u.d - u_dt.d; /* fed forward: the inverter adds u_dt back */
-    u_cmd.q = p->u.q - u_dt.q;
-    if ((svpwm_duty(park_inv(u_cmd, sa, ca), vdc_V, &p->duty, &u_real) & SVPWM_SATURATED) != 0u) {
+    const ab_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V);
+    ab_t u_cmd = park_inv(p->u, sa, ca);
+    u_cmd.a -= u_dt.a; /* fed forward: the inverter adds u_dt back */
+    u_cmd.b -= u_dt.b;
+    if ((svpwm_duty(u_cmd, vdc_V, &p->duty, &u_real) & SVPWM_SATURATED) != 0u) {
         p->flags |= CTRL_FLAG_VOLTAGE_LIMIT;
     }
+    u_real.a += u_dt.a;
+    u_real.b += u_dt.b;
     c->u_applied_V = park(u_real, sa, ca);
-    c->u_applied_V.d += u_dt.d;
-    c->u_applied_V.q += u_dt.q;
     if (c->mode == CTRL_MODE_SPEED) {
-        pi_apply(&c->speed_pi, dbdtc_torque_after(&c->db, &p->x, c->u_applied_V.q, p->omega));
+        pi_apply(&c->speed_pi, dbdtc_torque_after(&c->db, c->u_applied_V));
     }
 }
 
@@ -477,7 +475,7 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     stage_mode(c);                             /* the mode asked for */
     stage_sample(c, in, &p);                   /* angle, speed, i(k) */
     stage_estimate(c, &p, in->vdc_V);          /* observer, steps 1 and 2 (est.h) */
-    p.x = ctrl_model(c, p.i_dq, p.omega);      /* the model in use and the state at k+1 */
+    p.x = ctrl_model(c, p.i_dq, &p.turn);      /* the model in use and the state at k+1 */
     stage_references(c, &p);                   /* Te*: speed PI or torque reference */
     stage_limits(c, &p);                       /* current limit, MTPA, flux weakening: Te*, psi_s* */
     stage_deadbeat(c, &p, in->vdc_V);          /* eq. (17): u(k+1) */

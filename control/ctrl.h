@@ -104,8 +104,17 @@ typedef struct {                /* monitor: written by every ctrl_step, for logg
 } ctrl_mon_t;                           /* the estimation's model and status: ctrl_est(); written,
                                          * never read back by ctrl_step */
 
+typedef struct {                /* what ctrl_t keeps of ctrl_cfg_t (the blocks keep their own) */
+    float Ts_s;                 /* control period [s] */
+    float i_max_A;              /* bound on the currents the model uses [A] */
+    float i_lim_A;              /* the configured current limit (ctrl_cfg_t.i_lim_A as given) [A] */
+    float u_max_V;              /* bound on |ud|, |uq| [V] */
+    float omega_max_el_rad_s;   /* bound on |omega_el| [rad/s el] */
+    float te_max_Nm;            /* |Te*| limit [N m] */
+} ctrl_kept_t;
+
 typedef struct {
-    ctrl_cfg_t cfg;
+    ctrl_kept_t cfg;
     ctrl_mode_t mode;           /* active mode */
     ctrl_mode_t mode_req;       /* set in background, taken at the next step */
     ctrl_method_t method;
@@ -130,8 +139,8 @@ typedef struct {
 } ctrl_t;
 
 /* The told model and bounds of *cfg as the estimation takes them (for
- * est_cfg_defaults(&cfg->est_cfg, ...); ctrl_init passes the same to
- * est_init). Background. */
+ * est_cfg_defaults(&cfg->est_cfg, ...); ctrl_init passes the same, with
+ * the dead time as taken, to est_init). Background. */
 void ctrl_cfg_told(const ctrl_cfg_t *cfg, est_told_t *told);
 
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method

@@ -3,9 +3,6 @@
 
 #include "mathx.h"
 
-/* A per-leg square wave of amplitude dv (dead time, device drop) has the
- * rotor-frame fundamental (4/pi) dv against the current (design sec. 9). */
-#define FUNDAMENTAL_OF_SQUARE 1.27323954f
 #define QUARTER_PI 0.785398163f
 /* Step 1's windows suggest an encoder angle error beyond this [rad el]:
  * L^ held, EST_FLAG_ANGLE_SUSPECT (observer_design.md sec. 6h; 1.5 deg:
@@ -13,24 +10,6 @@
 #define EST_ANGLE_SUSPECT_RAD 0.026f
 /* ... read only where the windows' iq differ by this share of the larger [1] */
 #define EST_ANGLE_IQ_SPREAD_MIN 0.2f
-
-/* Default floor of L^: this factor above the observer's stability bound
- * L > (Ks/phi + R_max) Ts / 2 (smo_init), so an estimate near the floor
- * still leaves the linear region a pole margin. */
-#define EST_L_MIN_STABILITY_MARGIN 1.25f
-/* est_obs_gains_design (observer_design.md sec. 3b): the lowest floor of
- * L^ the gain must allow, x the told L (an L told 1.4x high leaves the
- * true one at 0.71x); the R^ band's top that (36) leaves, x G (the
- * band's 0.9 (Ks - ef_max)/phi with Ks = 2 ef_max); Ks over ef_max:
- * (36)'s floor ef_max / (1 - 0.45) with a 10 % margin. Table I: Ks 100 V,
- * G = 40 V/A, R^ up to 18 Ohm, the cap 0.8 L/(1.45 Ts) = 61 V/A not reached. */
-#define EST_OBS_L_FLOOR_SHARE 0.5f
-#define EST_OBS_R_TOP_PER_G   0.45f
-#define EST_OBS_KS_PER_EF     2.0f
-#define HALF 0.5f
-/* The default R^ band's top stays this fraction of the largest R that
- * meets (36) with the observer's gains (18 Ohm for Table I). */
-#define EST_RSID_BAND_KS_MARGIN 0.9f
 
 /* est_hold passes the gate's reasons through unchanged */
 typedef char est_hold_is_gate[((EST_HOLD_ACCEL == EST_GATE_ACCEL) && (EST_HOLD_CURRENT == EST_GATE_CURRENT) &&
@@ -46,136 +25,12 @@ static void out_told(est_t *e)
     o->L_H = e->cfg.L_H;
     o->psi_f_Wb = e->cfg.psi_f_Wb;
     o->inv_dv_V = 0.0f;
-    o->inv_err_V = FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
+    o->inv_err_V = EST_FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
     o->src = EST_SRC_TOLD;
     o->moved = 0u;
     o->hold = EST_HOLD_NO_STEP2;
     o->flags = e->rt_flags;
     o->phase = e->phase;
-}
-
-void est_obs_gains_default(est_obs_gains_t *g)
-{
-    g->Ks_V = SMO_KS_DEFAULT_V;
-    g->phi_A = SMO_PHI_DEFAULT_A;
-    g->ef_max_V = SMO_EF_MAX_DEFAULT_V;
-}
-
-bool est_obs_gains_design(float Ts_s, float R_Ohm, float L_H, float ef_max_V, float phi_A, est_obs_gains_t *g,
-                          float *G_max_V_A)
-{
-    /* 1.25 (Ts/2)(G + R_max) <= L_FLOOR_SHARE L with R_max <= R_TOP_PER_G G */
-    const float G_max = (2.0f * EST_OBS_L_FLOOR_SHARE * L_H / (EST_L_MIN_STABILITY_MARGIN * Ts_s)) /
-                        (1.0f + EST_OBS_R_TOP_PER_G);
-    g->Ks_V = EST_OBS_KS_PER_EF * ef_max_V;
-    g->phi_A = phi_A;
-    g->ef_max_V = ef_max_V;
-    if (g->Ks_V / phi_A > G_max) {
-        g->phi_A = g->Ks_V / G_max; /* the cap: a wider layer keeps (36)'s margin */
-    }
-    *G_max_V_A = G_max;
-    return (G_max > 0.0f) && (EST_OBS_R_TOP_PER_G * (g->Ks_V / g->phi_A) >= R_Ohm);
-}
-
-void est_rsid_band(const est_told_t *told, const est_obs_gains_t *g, float *R_min_Ohm, float *R_max_Ohm)
-{
-    /* (36): Ks > ef_max + R_max phi, with a margin */
-    const float R_ks_Ohm = EST_RSID_BAND_KS_MARGIN * (g->Ks_V - g->ef_max_V) / g->phi_A;
-    const float R_top_Ohm = RS_IDENT_BAND_MAX_FACTOR * told->R_Ohm;
-    *R_min_Ohm = RS_IDENT_BAND_MIN_FACTOR * told->R_Ohm;
-    *R_max_Ohm = (R_top_Ohm < R_ks_Ohm) ? R_top_Ohm : R_ks_Ohm;
-    *R_max_Ohm = (*R_max_Ohm > told->R_Ohm) ? *R_max_Ohm : told->R_Ohm;
-}
-
-void est_cfg_defaults(est_cfg_t *cfg, const est_told_t *told, const est_obs_gains_t *g, float R_min_Ohm,
-                      float R_max_Ohm)
-{
-    smo_cfg_t *sc = &cfg->smo;
-    param_est_cfg_t *ec = &cfg->pe;
-
-    cfg->R_min_Ohm = R_min_Ohm;
-    cfg->R_max_Ohm = R_max_Ohm;
-    smo_cfg_defaults(sc, told->Ts_s, told->R_Ohm, told->L_H, told->psi_f_Wb);
-    sc->Ks_V = g->Ks_V;
-    sc->phi_A = g->phi_A;
-    sc->ef_max_V = g->ef_max_V;
-    const float L_stable_H = EST_L_MIN_STABILITY_MARGIN * HALF * told->Ts_s * (sc->Ks_V / sc->phi_A + R_max_Ohm);
-    /* not capped at L_max: a floor above it is refused by smo_init */
-    sc->L_min_H = (sc->L_min_H >= L_stable_H) ? sc->L_min_H : L_stable_H;
-    sc->f_max_V = told->u_max_V; /* a disturbance beyond the voltage bound is no estimate */
-    param_est_cfg_defaults(ec, told->Ts_s, told->L_H, told->psi_f_Wb);
-    ec->L_min_H = sc->L_min_H; /* clamps = the observer's ranges */
-    ec->L_max_H = sc->L_max_H;
-    ec->psi_min_Wb = sc->psi_min_Wb;
-    ec->psi_max_Wb = sc->psi_max_Wb;
-    rs_ident_cfg_defaults(&cfg->rsid, told->R_Ohm);
-    r_track_cfg_defaults(&cfg->rtrack);
-    cfg->track_R = EST_TRACK_R_OFF;
-    cfg->untold_deadtime_s = EST_UNTOLD_DEADTIME_DEFAULT_S;
-    est_gate_cfg_defaults(&cfg->gate, told->Ts_s);
-    /* above the speed estimate's count quantisation (design sec. 7) */
-    cfg->gate.accel_floor_rad_s2 =
-        est_gate_accel_floor_rad_s2(told->enc_counts_per_rev, told->pole_pairs, told->enc_pll_bw_rad_s);
-}
-
-est_status_t est_init(est_t *e, est_cfg_t *cfg, const est_told_t *told)
-{
-    const rs_ident_out_t no_result = { 0 };
-    est_cfg_t *c = cfg; /* patched in place: no second copy on the start-up stack */
-    const est_told_t *t = told;
-    est_status_t status;
-
-    e->cfg.R_Ohm = t->R_Ohm;
-    e->cfg.L_H = t->L_H;
-    e->cfg.psi_f_Wb = t->psi_f_Wb;
-    e->cfg.R_min_Ohm = c->R_min_Ohm;
-    e->cfg.R_max_Ohm = c->R_max_Ohm;
-    e->cfg.w_min_rad_s = c->pe.w_min_rad_s;
-    e->cfg.wiq_min_A_rad_s = c->pe.wiq_min_A_rad_s;
-    e->cfg.track_R = c->track_R;
-    e->cfg.auto_delay_periods = c->rtrack.auto_delay_periods;
-    c->smo.Ts_s = t->Ts_s;
-    c->smo.R_Ohm = t->R_Ohm;
-    c->smo.L_H = t->L_H;
-    c->smo.psi_f_Wb = t->psi_f_Wb;
-    c->smo.R_min_Ohm = c->R_min_Ohm;
-    c->smo.R_max_Ohm = c->R_max_Ohm;
-    c->smo.i_max_A = t->i_max_A;
-    c->smo.u_max_V = t->u_max_V;
-    c->smo.omega_max_rad_s = t->omega_max_el_rad_s;
-    c->pe.Ts_s = t->Ts_s;
-    c->rsid.R_nom_Ohm = t->R_Ohm;
-    c->rsid.Ts_s = t->Ts_s;
-    c->rsid.R_min_Ohm = c->R_min_Ohm;
-    c->rsid.R_max_Ohm = c->R_max_Ohm;
-    c->gate.Ts_s = t->Ts_s;
-    c->rtrack.Ts_s = t->Ts_s;
-
-    psi_band_cfg_t bc;
-    psi_band_cfg_defaults(&bc, t->Ts_s, c->pe.w_min_rad_s, c->pe.psi_min_Wb, c->pe.psi_max_Wb);
-    bc.ve_told_per_vdc = (t->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * t->deadtime_s / t->Ts_s) : 0.0f;
-    bc.ve_prior_per_vdc = (t->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * c->untold_deadtime_s / t->Ts_s) : 0.0f;
-    const est_status_t gate = est_gate_init(&e->gate, &c->gate) ? EST_CFG_OK : EST_CFG_GATE;
-    const bool obs_ok = (smo_init(&e->smo, &c->smo) == SMO_CFG_OK);
-    const bool rt_ok = r_track_init(&e->rt, &c->rtrack);
-    /* every block initialised; the first refusal in this order names the cause (a refused
-     * observer also freezes the estimator: not reported again) */
-    const bool pe_ok = param_est_init(&e->pe, &c->pe, &e->smo) && psi_band_init(&e->pb, &bc);
-    const bool ri_ok = rs_ident_init(&e->ri, &c->rsid);
-    if (!obs_ok) {
-        status = (est_status_t)(EST_CFG_OBSERVER | gate);
-    } else if (!rt_ok) {
-        status = EST_CFG_RTRACK;
-    } else if (!pe_ok) {
-        status = (est_status_t)(EST_CFG_ESTIMATOR | gate);
-    } else {
-        status = (est_status_t)((ri_ok ? EST_CFG_OK : EST_CFG_RSID) | gate);
-    }
-    e->status = status;
-    e->rsid_out = no_result;
-    e->rsid_out.R_est_Ohm = t->R_Ohm;
-    est_reset(e);
-    return status;
 }
 
 void est_reset(est_t *e)
@@ -260,12 +115,12 @@ static void add_inverter_error(est_t *e, float dv_V, dq_t i_dq_A)
     float dfq = 0.0f;
     e->inv_dv_V += dv_V;
     if (i_abs > 0.0f) {
-        const float k = -FUNDAMENTAL_OF_SQUARE * dv_V / i_abs;
+        const float k = -EST_FUNDAMENTAL_OF_SQUARE * dv_V / i_abs;
         dfq = k * i_dq_A.q;
         smo_shift_f(&e->smo, k * i_dq_A.d, dfq);
     }
     psi_band_rebase(&e->pb, dfq, e->rt.ident_sync); /* the fine bound from here (design sec. 9f) */
-    e->out.inv_err_V = FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
+    e->out.inv_err_V = EST_FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
 }
 
 void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)

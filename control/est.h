@@ -8,9 +8,10 @@
  * One est_step() per period, one output (est_out_t): the motor model - R,
  * L, psi_f and the inverter voltage error to compensate - that the
  * deadbeat law, MTPA and the limits use, how to use it (src), and what
- * is held and why (hold). Nothing outside est.c touches est_t's members
- * (`make check`, tools/check/est_owner.sh): the controller reads
- * est_output() and calls the functions below.
+ * is held and why (hold). Nothing outside est.c and est_cfg.c (the
+ * settings and start-up) touches est_t's members (`make check`,
+ * tools/check/est_owner.sh): the controller reads est_output() and calls
+ * the functions below.
  *
  * Order inside est_step (the phase's part of it):
  *   observer: i^(k+1), f^ from i(k), w(k), u(k)            (smo_step)
@@ -59,6 +60,10 @@ typedef enum {
 #define EST_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f did not move this period */
 #define EST_FLAG_ANGLE_SUSPECT    0x0800u /* step 1's windows suggest an encoder angle error: L^ held (a warning) */
 
+/* A per-leg square wave of amplitude dv (dead time, device drop) has the
+ * rotor-frame fundamental (4/pi) dv against the current (design sec. 9). */
+#define EST_FUNDAMENTAL_OF_SQUARE 1.27323954f
+
 /* est_out_t.src: how the model is used. */
 #define EST_SRC_TOLD     0u /* the told values, eq. (10), the told dead time: the conventional path */
 #define EST_SRC_OBSERVER 1u /* step 2's estimates, the state at k+1 from i^(k+1) (eq. 11, 12) */
@@ -105,14 +110,6 @@ typedef struct {
     float enc_pll_bw_rad_s;     /* the speed estimate's bandwidth [rad/s] */
 } est_told_t;
 
-/* The observer's switching gain, boundary layer and the disturbance
- * error condition (36) must dominate (smo_cfg_t Ks_V, phi_A, ef_max_V). */
-typedef struct {
-    float Ks_V;                 /* switching gain [V] */
-    float phi_A;                /* boundary layer [A]; G = Ks/phi [V/A] */
-    float ef_max_V;             /* |f^ - f| (36) must dominate [V] */
-} est_obs_gains_t;
-
 /* The estimation's settings: est_cfg_defaults() builds them from the told
  * values; a caller may then change a field (the scenario keys, the
  * parameter set's scaling rules). The told model and bounds are not
@@ -143,6 +140,7 @@ typedef struct {                /* what est_t keeps of its configuration (the bl
 typedef struct {                /* one period's inputs */
     dq_t i_dq_A;                /* i(k), rotor frame [A] */
     float omega_el_rad_s;       /* w(k) [rad/s electrical] */
+    const zoh_turn_t *turn;     /* the rotor's turn over the period at w(k) within +-omega_max (zoh.h) */
     float sin_el, cos_el;       /* of theta_el(k) */
     dq_t u_V;                   /* u(k): the voltage realised over [k, k+1] [V] */
     float vdc_V;                /* bus [V] */
@@ -184,40 +182,33 @@ typedef struct {
     est_out_t out;
 } est_t;
 
-/* Background, before est_init: the observer's gains from smo.h's design
- * defaults (Table I: 100 V, 2.5 A, 50 V). */
-void est_obs_gains_default(est_obs_gains_t *g);
+/* The observer's gains for the told R, L at Ts with the disturbance error
+ * ef_max_V [V] it must dominate (smo_gains_design: designed on the exact
+ * discrete model, discrete_model_design.md sec. 5). False (g filled for
+ * the diagnosis) when the told L/R is below SMO_LR_MIN_PERIODS x Ts: the
+ * proposed method is then refused. Background. */
+bool est_obs_gains(const est_told_t *told, float ef_max_V, smo_gains_t *g);
 
-/* Background: the gains for a motor (observer_design.md sec. 3b): Ks =
- * 2 ef_max_V ((36) with R^ up to 0.45 G and a 10 % margin), phi = phi_A
- * unless G = Ks/phi would pass the discrete stability bound with L^'s
- * floor at half the told L_H and the margin EST_L_MIN_STABILITY_MARGIN
- * (*G_max_V_A), then phi = Ks / G_max. Returns false (g filled all the
- * same) when the band's top 0.45 G leaves out R_Ohm, or G_max <= 0: no
- * gain satisfies both bounds. */
-bool est_obs_gains_design(float Ts_s, float R_Ohm, float L_H, float ef_max_V, float phi_A, est_obs_gains_t *g,
-                          float *G_max_V_A);
-
-/* The default R^ band [Ohm] for the told R (told->R_Ohm) under condition
- * (36) with the gains *g: rs_ident.h's RS_IDENT_BAND_*_FACTOR x R_Ohm, the
- * top kept below the largest R^ (36) takes (observer_design.md sec. 6c),
- * and not below R_Ohm. Background, before est_cfg_defaults. */
-void est_rsid_band(const est_told_t *told, const est_obs_gains_t *g, float *R_min_Ohm, float *R_max_Ohm);
+/* The default R^ band [Ohm] for the told R (told->R_Ohm): rs_ident.h's
+ * RS_IDENT_BAND_*_FACTOR x R_Ohm (observer_design.md sec. 6c; the
+ * observer's reaching condition and stability hold for any R^ on the
+ * exact model, discrete_model_design.md sec. 5). Background, before
+ * est_cfg_defaults. */
+void est_rsid_band(const est_told_t *told, float *R_min_Ohm, float *R_max_Ohm);
 
 /* The estimation's settings for the told values *told with the observer's
  * gains *g and the R^ band [R_min_Ohm, R_max_Ohm] (absolute: the told R
  * may be far from the motor's): the modules' design defaults, L^ kept
- * above the observer's stability bound at R_max, the gate's acceleration
- * floor above the encoder's quantisation. Background. */
-void est_cfg_defaults(est_cfg_t *cfg, const est_told_t *told, const est_obs_gains_t *g, float R_min_Ohm,
+ * above the observer's reaching condition at R_min (smo_L_floor_H), the
+ * gate's acceleration floor above the encoder's quantisation. Background. */
+void est_cfg_defaults(est_cfg_t *cfg, const est_told_t *told, const smo_gains_t *g, float R_min_Ohm,
                       float R_max_Ohm);
 
-/* Builds everything from the settings *cfg and the told values *told;
- * the told values and bounds are written into cfg's smo/pe/rsid/gate
- * members first (*cfg is the caller's scratch: no second copy on the
- * start-up stack). Returns the refusals (EST_CFG_*); a refused
- * estimation must not be started. Background. */
-est_status_t est_init(est_t *e, est_cfg_t *cfg, const est_told_t *told);
+/* Builds everything from the settings *cfg and the told values *told
+ * (written into each block's settings as it is built). Returns the
+ * refusals (EST_CFG_*); a refused estimation must not be started.
+ * Background. */
+est_status_t est_init(est_t *e, const est_cfg_t *cfg, const est_told_t *told);
 
 /* Observer stopped, estimates back to the told values, windows emptied.
  * Background, or ISR before PWM is enabled. */
@@ -330,7 +321,7 @@ static inline void est_step(est_t *e, const est_in_t *in)
         return;
     }
     /* u(k) is the clamped voltage the last step realised, as the observer needs */
-    (void)smo_step(&e->smo, in->i_dq_A, in->omega_el_rad_s, in->u_V); /* i^(k+1): (51b), (55) */
+    (void)smo_step_turn(&e->smo, in->i_dq_A, in->u_V, in->turn); /* i^(k+1): (51b), (55) */
     if (e->rt.phase != R_TRACK_OFF) {
         const bool edge = r_track_at_edge(&e->rt);
         if ((!edge && ((in->dpsi_weak_Wb > 0.0f) || ((e->gate.reasons & EST_GATE_VOLTAGE) != 0u))) ||
@@ -380,6 +371,13 @@ static inline const est_out_t *est_output(const est_t *e)
 static inline dq_t est_i_hat_A(const est_t *e)
 {
     return e->smo.i_hat_A;
+}
+
+/* The observer's gain g_c of a rotor-frame voltage in the last est_step's
+ * turn (zoh.h) [A/V]: the model's when src is EST_SRC_OBSERVER (its R^, L^). */
+static inline dq_t est_zoh_g_c(const est_t *e)
+{
+    return e->smo.g_c;
 }
 
 /* The observer's internal psi^ [Wb]: it carries the voltage the model

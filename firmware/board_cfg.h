@@ -174,7 +174,6 @@
  * sec. 5), at the reference; scaled by the rated current (I), the rated
  * torque (T) or the bus (V). */
 #define REF_OBS_EF_MAX_V         50.0f        /* (V) |f^ - f| the observer must dominate, (36) [V] */
-#define REF_OBS_PHI_A            2.5f         /* (I) boundary layer: G = 2 ef_max / phi = 40 V/A [A] */
 #define REF_EST_DI_MAX_A         0.5f         /* (I) est_gate: current step that pauses step 2 [A] */
 #define REF_EST_DTE_MAX_NM       0.3f         /* (T) est_gate: torque-reference step [N m] */
 #define REF_RT_I_IDENT_A         1.0f         /* (I) r_track: injection identifying the inverter error [A] */

@@ -91,19 +91,20 @@ drive_derive_t drive_params_derive(drive_params_t *p)
     if (r->n_max_rad_s * (float)p->motor.pole_pairs * p->motor.psi_f_Wb > p->board.vdc_nominal_V / SQRT3) {
         st |= DRIVE_DERIVE_WARN_BEMF;
     }
-    est_obs_gains_t g;
-    float G_max;
-    if (!drive_params_obs_gains(p, &g, &G_max)) {
+    smo_gains_t g;
+    if (!drive_params_obs_gains(p, &g)) {
         st |= DRIVE_DERIVE_OBSERVER;
     }
     return st;
 }
 
-bool drive_params_obs_gains(const drive_params_t *p, est_obs_gains_t *g, float *G_max_V_A)
+bool drive_params_obs_gains(const drive_params_t *p, smo_gains_t *g)
 {
-    return est_obs_gains_design(p->board.Ts_s, p->motor.R_Ohm, p->motor.L_H,
-                                 scaled(REF_OBS_EF_MAX_V, p->board.vdc_nominal_V, REF_VDC_V),
-                                 scaled(REF_OBS_PHI_A, p->rating.i_rated_A, REF_I_RATED_A), g, G_max_V_A);
+    est_told_t told = { 0 };
+    told.Ts_s = p->board.Ts_s;
+    told.R_Ohm = p->motor.R_Ohm;
+    told.L_H = p->motor.L_H;
+    return est_obs_gains(&told, scaled(REF_OBS_EF_MAX_V, p->board.vdc_nominal_V, REF_VDC_V), g);
 }
 
 /* The voltage the drive cannot explain [V]: (4/pi) bus (dead-time
@@ -145,9 +146,8 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     drive_params_t d = *p_in;
     const drive_params_t *p = &d;
     ctrl_cfg_t *c = &cfg->ctrl;
-    est_obs_gains_t g;
+    smo_gains_t g;
     est_told_t told;
-    float G_max;
     float R_min_Ohm;
     float R_max_Ohm;
 
@@ -176,9 +176,9 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
 
     /* the proposed method's settings for these values; the R^ band in ohms.
      * Gains refused here make smo_init refuse too (CONFIG at the start). */
-    (void)drive_params_obs_gains(p, &g, &G_max);
+    (void)drive_params_obs_gains(p, &g);
     ctrl_cfg_told(c, &told);
-    est_rsid_band(&told, &g, &R_min_Ohm, &R_max_Ohm);
+    est_rsid_band(&told, &R_min_Ohm, &R_max_Ohm);
     if (p->tuning.R_min_Ohm >= 0.0f) {
         R_min_Ohm = p->tuning.R_min_Ohm;
     }

@@ -130,7 +130,7 @@ typedef uint16_t drive_derive_t;
 #define DRIVE_DERIVE_OK          ((drive_derive_t)0x0000u)
 #define DRIVE_DERIVE_RATINGS     ((drive_derive_t)0x0001u) /* ratings not positive, i_peak < i_rated or n_max < n_rated */
 #define DRIVE_DERIVE_ADC_RANGE   ((drive_derive_t)0x0002u) /* the current limit reaches the trip the ADC range allows */
-#define DRIVE_DERIVE_OBSERVER    ((drive_derive_t)0x0004u) /* no observer gain meets stability and (36) (the proposed method) */
+#define DRIVE_DERIVE_OBSERVER    ((drive_derive_t)0x0004u) /* no observer gain: the told L/R below SMO_LR_MIN_PERIODS periods (the proposed method) */
 #define DRIVE_DERIVE_WARN_BEMF   ((drive_derive_t)0x0100u) /* warning: back-EMF at n_max beyond the bus's phase-voltage limit */
 #define DRIVE_DERIVE_REFUSED     ((drive_derive_t)0x00FFu) /* the refusals among the bits */
 
@@ -145,9 +145,11 @@ void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float
  * of params_design.md); returns the refusals and warnings. Idempotent. */
 drive_derive_t drive_params_derive(drive_params_t *p);
 
-/* Start-up or host: the observer's gains for *p (derived first) and
- * the cap on G = Ks/phi (observer_design.md sec. 3b); false: none. */
-bool drive_params_obs_gains(const drive_params_t *p, est_obs_gains_t *g, float *G_max_V_A);
+/* Start-up or host: the observer's gains for *p's told R, L at Ts, the
+ * disturbance bound in proportion to the bus (smo_gains_design,
+ * discrete_model_design.md sec. 5); false: the told L/R is below
+ * SMO_LR_MIN_PERIODS periods (the proposed method refused). */
+bool drive_params_obs_gains(const drive_params_t *p, smo_gains_t *g);
 
 /* Start-up or host: the board's parameter set (firmware/board_cfg.h). */
 void drive_params_board(drive_params_t *p);

@@ -334,9 +334,11 @@ static void init_reports_each_refusal(void **state)
         }
         assert_int_equal(c.status, st);
     }
-    /* the proposed method's refusal alone leaves the conventional blocks accepted */
+    /* the proposed method's refusal alone leaves the conventional blocks
+     * accepted: a told L/R of 1.5 periods has no observer gain */
     ctrl_cfg_t obs = cfg;
-    test_est_defaults(&obs, 0.2f * (float)RS, 1000.0f);
+    obs.L_H = 1.5f * obs.Ts_s * obs.R_Ohm;
+    test_est_defaults(&obs, 0.2f * (float)RS, 2.0f * (float)RS);
     const ctrl_status_t st = ctrl_init(&c, &obs);
     assert_int_not_equal(st & CTRL_CFG_NEEDED_PROPOSED, 0);
     assert_int_equal(st & CTRL_CFG_NEEDED_ALWAYS, 0);
@@ -344,9 +346,9 @@ static void init_reports_each_refusal(void **state)
 }
 
 /* The default R^ band holds the motor's R with margin for a controller R
- * from 0.25x to 5x it, and the observer built on it is valid:
- * by hand, [0.1, 6] x Rs with the top at 0.9 (Ks - ef_max) / phi =
- * 0.9 x (100 - 50) / 2.5 = 18 Ohm. */
+ * from 0.25x to 5x it, and the observer built on it is valid: by hand,
+ * [0.1, 6] x the controller's R (the reaching condition and stability
+ * hold at any R^ on the exact model). */
 static void default_band_holds_the_motor_r(void **state)
 {
     static const double factors[] = { 0.25, 0.5, 1.0, 2.0, 4.3, 5.0 };
@@ -360,7 +362,7 @@ static void default_band_holds_the_motor_r(void **state)
         test_est_band_default(&cfg, &R_min, &R_max);
         print_message("controller R %.2f x: band [%.3f, %.3f] Ohm\n", factors[i], R_min, R_max);
         assert_float_equal(R_min, 0.1 * factors[i] * RS, 1e-5);
-        assert_float_equal(R_max, fmin(6.0 * factors[i] * RS, 18.0), 1e-4);
+        assert_float_equal(R_max, 6.0 * factors[i] * RS, 1e-4);
         assert_true(R_min <= 0.5 * RS);   /* the motor's R at least 2x inside */
         assert_true(R_max >= 1.5 * RS);   /*   and 1.5x inside at the top */
         test_est_defaults(&cfg, R_min, R_max);

@@ -41,7 +41,9 @@ static void init(void)
  * the told model's steady state u = (-w L iq, R iq + w psi_f). */
 static void run(int n, float iq, float w)
 {
-    est_in_t in = { .i_dq_A = { 0.0f, iq }, .omega_el_rad_s = w, .sin_el = 0.0f, .cos_el = 1.0f,
+    zoh_turn_t turn;
+    zoh_turn(w * TS, w, &turn);
+    est_in_t in = { .i_dq_A = { 0.0f, iq }, .omega_el_rad_s = w, .turn = &turn, .sin_el = 0.0f, .cos_el = 1.0f,
                     .u_V = { -w * LS * iq, RS * iq + w * PSIF }, .vdc_V = 311.0f, .te_ref_Nm = 2.0f,
                     .voltage_limited = false };
     for (int k = 0; k < n; k++) {

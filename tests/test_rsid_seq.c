@@ -159,15 +159,15 @@ static void identify_trusted_and_off_skip_step_1(void **state)
     assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_OFF);
 }
 
-/* Observer settings ctrl_init refused (a band whose top breaks (36)):
- * the start faults CONFIG in its own call, nothing energised - also when
- * an alignment would come first (it would energise the motor). */
+/* Observer settings ctrl_init refused (an R^ band that leaves out the
+ * told R): the start faults CONFIG in its own call, nothing energised -
+ * also when an alignment would come first (it would energise the motor). */
 static void identify_refused_config_faults_at_start(void **state)
 {
     (void)state;
     for (int align = 0; align <= 1; align++) {
         app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, align != 0);
-        test_est_defaults(&cfg.ctrl, R_BAND_MIN, 1000.0f);
+        test_est_defaults(&cfg.ctrl, R_BAND_MIN, 0.5f * cfg.ctrl.R_Ohm);
         init_cfg(&cfg);
         assert_int_not_equal(app.ctrl.status, CTRL_CFG_OK);
         hal_sample_t s = sample(0.0f, 0.0f, VDC);

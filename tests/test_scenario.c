@@ -341,12 +341,16 @@ static void motor_the_drive_cannot_run_refused(void **state)
     (void)state;
     scenario_t sc;
     char err[SCENARIO_ERR_LEN] = "";
-    /* L 20 uH at 10 kHz: no observer gain (proposed only) */
-    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 20e-6\n[controller]\nmethod = proposed\n"
+    /* L 15 uH with 0.1 ohm at 10 kHz: L/R 1.5 periods, no observer gain (proposed only) */
+    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 15e-6\n[controller]\nmethod = proposed\n"
                                     "[identify]\nmode = speeds\n", err), -1);
     print_message("  -> %s\n", err);
     assert_non_null(strstr(err, "[controller] L_H, R_ohm: no observer gain"));
-    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 20e-6\n", err), 0);   /* conventional runs */
+    assert_non_null(strstr(err, "L/R = 0.00015 s is 1.5 PWM periods (Ts = 0.0001 s)"));
+    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 15e-6\n", err), 0);   /* conventional runs */
+    /* the D5065's 39 mOhm, 15.7 uH: 4 periods, accepted */
+    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.039\nL_H = 15.7e-6\n[controller]\nmethod = proposed\n"
+                                    "[identify]\nmode = speeds\n", err), 0);
     /* a rated current beyond the 15 A ADC */
     expect_error("[motor]\ni_rated_A = 10\n", 2, "i_peak_A");
     expect_error("[motor]\ni_rated_A = 5\ni_peak_A = 4\n", 2, "ratings do not fit");

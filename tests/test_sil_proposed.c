@@ -402,11 +402,11 @@ static void identify_out_of_band_faults(void **state)
     assert_int_equal((int)fig.fault, APP_FAULT_RSID_OUT_OF_BAND);
 }
 
-/* A band whose top breaks (36) (Ks > ef_max + R_max phi): ctrl_init refuses
- * the observer, the app refuses to identify (CONFIG) before energising. */
+/* An R^ band that leaves out the told R (12.9 ohm): ctrl_init refuses the
+ * observer, the app refuses to identify (CONFIG) before energising. */
 static void identify_refused_config_faults(void **state)
 {
-    const char *const sets[] = { "controller.R_max_ohm=25.8", NULL };
+    const char *const sets[] = { "controller.R_max_ohm=10", NULL };
     (void)state;
     run_scenario("prop_R430", sets, 0.0);
     assert_int_equal((int)fig.state, APP_STATE_FAULT);
@@ -557,13 +557,13 @@ static void step1_failures(void **state)
     assert_int_equal(est_rsid_finish(ctrl_est_rw(&c)), RS_IDENT_TOO_FEW);
 }
 
-/* An R band whose top breaks (36) / the stability bound: init reports it,
- * the conventional method still works, the proposed one is refused. */
-static void init_refuses_unstable_observer(void **state)
+/* An R band that leaves out the told R: init reports it, the
+ * conventional method still works, the proposed one is refused. */
+static void init_refuses_observer_outside_its_band(void **state)
 {
     double dev = 0.0;
     (void)state;
-    assert_int_equal(c_setup(1.0, 60.0f), EST_CFG_OBSERVER);
+    assert_int_equal(c_setup(1.0, 0.5f * (float)R0) & EST_CFG_OBSERVER, EST_CFG_OBSERVER);
     assert_true(c.est.smo.status != SMO_CFG_OK);
     assert_false(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
     assert_false(est_rsid_begin(ctrl_est_rw(&c)));
@@ -579,7 +579,7 @@ int main(void)
         cmocka_unit_test(method_switch_bumpless),
         cmocka_unit_test(step2_without_step1),
         cmocka_unit_test(step1_failures),
-        cmocka_unit_test(init_refuses_unstable_observer),
+        cmocka_unit_test(init_refuses_observer_outside_its_band),
         cmocka_unit_test(case_R430),
         cmocka_unit_test(case_L150),
         cmocka_unit_test(case_L066),

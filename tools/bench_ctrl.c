@@ -1,7 +1,7 @@
 /* bench_ctrl.c STEPS [conventional|proposed|proposed_track_R] - drives ctrl_step() in speed
  * mode at 500 r/min with 4 N m worth of current, for tools/bench_ctrl.sh
  * (callgrind). Inputs are synthesised: a counting encoder and the currents
- * of a rotor-frame Euler model of the Table I motor, shaft held, fed the
+ * of the Table I motor's rotor-frame model, exact over the period, fed the
  * voltage the controller realises (a fixed current phasor that ignored the
  * voltage kept both methods on the hexagon limit every period: flags 3).
  * The first TORQUE_STEPS run in torque mode at 4 N m, so the speed PI
@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <complex.h>
 #include <math.h>
 
 #include "ctrl.h"
@@ -53,9 +54,9 @@ int main(int argc, char **argv)
     const int proposed = track_R || ((argc > 2) && (strcmp(argv[2], "proposed") == 0));
     ctrl_cfg_t full = cfg;
     est_told_t told;
-    est_obs_gains_t g;
+    smo_gains_t g;
     ctrl_cfg_told(&full, &told);
-    est_obs_gains_default(&g);
+    (void)est_obs_gains(&told, SMO_EF_MAX_DEFAULT_V, &g);
     est_cfg_defaults(&full.est_cfg, &told, &g, R_MIN_OHM, R_MAX_OHM);
     full.est_cfg.track_R = track_R ? EST_TRACK_R_ON : EST_TRACK_R_OFF;
     if (ctrl_init(&c, &full) != CTRL_CFG_OK) {
@@ -89,10 +90,16 @@ int main(int argc, char **argv)
         ctrl_step(&c, &in, &out);
         sum += out.duty[0];
         {
-            const double did = TS_S / PLANT_L_H * ((double)u.d - PLANT_R_OHM * id + w_e * PLANT_L_H * iq);
-            const double diq = TS_S / PLANT_L_H * ((double)u.q - PLANT_R_OHM * iq - w_e * PLANT_L_H * id - w_e * PLANT_PSI_F_WB);
-            id += did;
-            iq += diq;
+            /* exact over the period (control/discrete_model_design.md): i' = Phi i + g_u u + g_c (-j w psi_f) */
+            const double complex i0 = id + I * iq;
+            const double rho = exp(-TS_S * PLANT_R_OHM / PLANT_L_H);
+            const double turn = w_e * TS_S;
+            const double complex phi = rho * cexp(-I * turn);
+            const double complex g_u = (1.0 - rho) / PLANT_R_OHM * cexp(-0.5 * I * turn);
+            const double complex g_c = (1.0 - phi) / (PLANT_R_OHM + I * w_e * PLANT_L_H);
+            const double complex i1 = phi * i0 + g_u * ((double)u.d + I * (double)u.q) + g_c * (-I * w_e * PLANT_PSI_F_WB);
+            id = creal(i1);
+            iq = cimag(i1);
         }
     }
     printf("bench_ctrl: %s, %ld steps, mean duty a %.4f, flags %u, L^ %.5f H, Te* %.3f N m, iq %.3f A\n",

@@ -804,15 +804,13 @@ static int derive_keys(scenario_t *sc, char *err, size_t errlen)
         return -1;
     }
     if ((st & DRIVE_DERIVE_OBSERVER) != 0u && sc->controller.method == SC_METHOD_PROPOSED) {
-        est_obs_gains_t g;
-        float G_max;
-        (void)drive_params_obs_gains(&p, &g, &G_max);
         snprintf(err, errlen,
-                 "[controller] L_H, R_ohm: no observer gain for this motor: the discrete stability bound with "
-                 "L^'s floor at half the told L (%g H) allows G = Ks/phi <= %.4g V/A at Ts = %g s, and eq. (36) "
-                 "then accepts R^ only up to %.4g ohm, below the told R_ohm %g ohm (a shorter PWM period or "
-                 "method = conventional)",
-                 sc->controller.L_H, (double)G_max, (double)p.board.Ts_s, 0.45 * (double)G_max, sc->controller.R_ohm);
+                 "[controller] L_H, R_ohm: no observer gain for this motor: its L/R = %g s is %.3g PWM periods "
+                 "(Ts = %g s), below the %g periods the observer needs (its own decay e^(-Ts R/L) must stay "
+                 "above its designed pole; a shorter PWM period or method = conventional)",
+                 sc->controller.L_H / sc->controller.R_ohm,
+                 sc->controller.L_H / (sc->controller.R_ohm * (double)p.board.Ts_s), (double)p.board.Ts_s,
+                 (double)SMO_LR_MIN_PERIODS);
         return -1;
     }
     for (int i = 0; i < N_KEYS; i++) {

@@ -438,11 +438,13 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
     static const char V[] = "plant.vdc_V";
     json_derived(f, "observer.Ks_V", (double)c->est_cfg.smo.Ks_V, 0, "plant.vdc_V (2 ef_max)", ",\n");
     json_derived(f, "observer.phi_A", (double)c->est_cfg.smo.phi_A, 0,
-                 "motor.i_rated_A; capped by controller.L_H controller.R_ohm and Ts", ",\n");
+                 "observer.Ks_V / G, G from controller.R_ohm controller.L_H and Ts", ",\n");
+    json_derived(f, "observer.mu_1_s", (double)c->est_cfg.smo.mu_d_1_s, 0, "controller.R_ohm controller.L_H and Ts",
+                 ",\n");
     json_derived(f, "observer.ef_max_V", (double)c->est_cfg.smo.ef_max_V, 0, V, ",\n");
     json_derived(f, "observer.L_min_H", (double)c->est_cfg.smo.L_min_H, 0, "controller.L_H observer gains", ",\n");
     json_derived(f, "controller.R_max_ohm", (double)c->est_cfg.R_max_Ohm, scenario_key_set(sc, "controller", "R_max_ohm"),
-                 "controller.R_ohm observer gains", ",\n");
+                 "controller.R_ohm", ",\n");
     json_derived(f, "estimator.w_min_rad_s", (double)c->est_cfg.pe.w_min_rad_s, 0, "plant.vdc_V controller.psif_Wb", ",\n");
     json_derived(f, "estimator.wiq_min_A_rad_s", (double)c->est_cfg.pe.wiq_min_A_rad_s, 0,
                  "estimator.w_min_rad_s motor.i_rated_A", ",\n");
