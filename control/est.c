@@ -28,7 +28,7 @@ static void out_told(est_t *e)
     o->inv_err_V = EST_FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
     o->src = EST_SRC_TOLD;
     o->moved = 0u;
-    o->hold = EST_HOLD_NO_STEP2;
+    o->hold = (uint16_t)(EST_HOLD_NO_STEP2 | (e->refused ? EST_HOLD_STEP1_REFUSED : 0u));
     o->flags = e->rt_flags;
     o->phase = e->phase;
 }
@@ -45,6 +45,7 @@ void est_reset(est_t *e)
     e->rt_flags = 0u;
     e->force = 0u;
     e->hold_fixed = 0u;
+    e->refused = false;
     e->trusted = false;
     e->w_psi_min_rad_s = e->cfg.w_min_rad_s;
     est_gate_reset(&e->gate, &e->smo);
@@ -66,6 +67,7 @@ bool est_rsid_begin(est_t *e)
     e->w_psi_min_rad_s = e->cfg.w_min_rad_s;
     e->rt_flags = 0u;
     e->hold_fixed = 0u;
+    e->refused = false;
     out_told(e);
     return true;
 }
@@ -258,6 +260,7 @@ rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
             r_track_start(&e->rt, R_TRACK_IDENT);
         }
     } else {
+        e->refused = (e->phase == EST_STEP1); /* a step 1 under way was refused */
         e->phase = EST_OFF;
         out_told(e);
     }

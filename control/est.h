@@ -53,6 +53,11 @@ typedef enum {
                                        * with EST_FLAG_INV_UNIDENTIFIED at every speed */
 #define EST_HOLD_NO_STEP2    0x0040u /* step 2 not running: the told model */
 #define EST_HOLD_ANGLE       0x0080u /* L^ held: step 1's windows suggest an angle error (EST_FLAG_ANGLE_SUSPECT) */
+#define EST_HOLD_STEP1_REFUSED 0x0100u /* with EST_HOLD_NO_STEP2: step 1 was refused (the told model until the next) */
+#define EST_HOLD_INVERTER_UNKNOWN 0x0200u /* with EST_HOLD_SPEED_FLOOR: the inverter error could not be
+                                            * measured (EST_FLAG_INV_UNIDENTIFIED), so every speed is below the floor */
+/* The named bits (est_hold_name()). */
+#define EST_HOLD_NAMES_N 10u
 
 /* est_out_t.flags: bits of the controller's output flags. */
 #define EST_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
@@ -177,6 +182,7 @@ typedef struct {
     uint16_t rt_flags;          /* EST_FLAG_INV_UNIDENTIFIED, EST_FLAG_R_HELD while they last */
     uint16_t force;             /* EST_MOVED_ALL due at the next output */
     uint16_t hold_fixed;        /* EST_HOLD_ANGLE while an angle error is suspected (else 0) */
+    bool refused;               /* the last step 1 was refused (EST_HOLD_STEP1_REFUSED) */
     bool trusted;               /* the model was taken above the speed floor as psi_band decided it under
                                  * the final bound (the last trusted model, kept below the floor) */
     est_out_t out;
@@ -253,7 +259,9 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A);
  * the speed floor when it is the speed, the angle hold. ISR. */
 static inline uint16_t est_hold_low(const est_t *e)
 {
-    const uint16_t floor = ((e->pb.low & (PSI_BAND_LOW_W | PSI_BAND_LOW_BAND)) != 0u) ? EST_HOLD_SPEED_FLOOR : 0u;
+    const uint16_t floor = ((e->pb.low & (PSI_BAND_LOW_W | PSI_BAND_LOW_BAND)) == 0u)
+                               ? 0u
+                               : (e->pb.unknown ? (EST_HOLD_SPEED_FLOOR | EST_HOLD_INVERTER_UNKNOWN) : EST_HOLD_SPEED_FLOOR);
     return (uint16_t)(e->gate.reasons | e->hold_fixed | floor);
 }
 
@@ -359,6 +367,20 @@ static inline float est_psi_ref(const est_t *e, float psi_ref_Wb, float L_H)
 {
     return (e->rt.phase == R_TRACK_OFF) ? psi_ref_Wb : r_track_psi_ref(&e->rt, psi_ref_Wb, L_H);
 }
+
+/* The name of one est_hold bit (EST_HOLD_*: "ACCEL", "CURRENT", "TORQUE",
+ * "VOLTAGE", "SETTLE", "SPEED_FLOOR", "NO_STEP2", "ANGLE_SUSPECT",
+ * "STEP1_REFUSED", "INVERTER_UNKNOWN"), "" for anything else. Any context. */
+const char *est_hold_name(uint16_t bit);
+
+/* The bit of est_hold that explains what the model holds best
+ * (STEP1_REFUSED, NO_STEP2, ANGLE_SUSPECT, INVERTER_UNKNOWN, SPEED_FLOOR,
+ * then the step-2 gate's VOLTAGE, CURRENT, TORQUE, ACCEL, SETTLE); 0 for
+ * none. Any context. */
+uint16_t est_hold_reason_bit(uint16_t hold);
+
+/* est_hold_name(est_hold_reason_bit(hold)): the reason's name, "" for 0. Any context. */
+const char *est_hold_reason(uint16_t hold);
 
 /* ---- readers (any context) ---- */
 

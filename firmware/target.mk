@@ -43,13 +43,13 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 
 # The ISR path runs from RAM: the control core and the application are
 # compiled with every function in .TI.ramfunc, except the files below that
-# only the background loop and start-up use (control/'s configuration files
-# smo_cfg.c and est_cfg.c among them; a new firmware/ file is in RAM
-# unless listed); the HAL marks its ISR-path functions with CODE_SECTION
+# only the background loop and start-up use (control/'s configuration and
+# naming files smo_cfg.c, est_cfg.c, est_names.c among them; a new
+# firmware/ file is in RAM unless listed); the HAL marks its ISR-path functions with CODE_SECTION
 # "ramfuncs" itself (hal_init must run from flash). tools/check/isr_path.sh
 # (make check) fails if a function the ISR reaches would run from flash.
 # (one line: tools/check/isr_path.sh and ram_budget.py read it)
-FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_bg.c firmware/flash_crc.c firmware/link.c firmware/link_codec.c firmware/link_vars.c firmware/drive_params.c firmware/commission.c firmware/level.c firmware/enc_check.c firmware/calib.c firmware/align.c firmware/app_start.c control/smo_cfg.c control/est_cfg.c
+FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_bg.c firmware/flash_crc.c firmware/link.c firmware/link_codec.c firmware/link_vars.c firmware/drive_params.c firmware/commission.c firmware/level.c firmware/enc_check.c firmware/calib.c firmware/align.c firmware/app_start.c control/smo_cfg.c control/est_cfg.c control/est_names.c
 # Of those, the ones the ISR does call, but only in a state that does not
 # control the motor for the user: the commissioning (COMMISSION), the
 # bring-up level 3's rotation and encoder check (ENC_CHECK), the start's

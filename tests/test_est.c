@@ -114,9 +114,39 @@ static void floor_before_any_trusted_model_is_the_told_one(void **state)
     assert_int_equal(est_output(&e)->hold, EST_HOLD_NO_STEP2);
 }
 
+/* Every est_hold bit has a name, and the reason of a set of bits is its
+ * most telling one: a refused step 1 over step 2 not running, an
+ * unmeasured inverter over the speed floor, any told-model reason over
+ * the step-2 gate's transients; a bit nobody named has none. */
+static void every_hold_bit_is_named(void **state)
+{
+    (void)state;
+    static const struct {
+        uint16_t bit;
+        const char *name;
+    } names[] = {
+        { EST_HOLD_ACCEL, "ACCEL" }, { EST_HOLD_CURRENT, "CURRENT" }, { EST_HOLD_TORQUE, "TORQUE" },
+        { EST_HOLD_VOLTAGE, "VOLTAGE" }, { EST_HOLD_SETTLE, "SETTLE" }, { EST_HOLD_SPEED_FLOOR, "SPEED_FLOOR" },
+        { EST_HOLD_NO_STEP2, "NO_STEP2" }, { EST_HOLD_ANGLE, "ANGLE_SUSPECT" },
+        { EST_HOLD_STEP1_REFUSED, "STEP1_REFUSED" }, { EST_HOLD_INVERTER_UNKNOWN, "INVERTER_UNKNOWN" },
+    };
+    assert_int_equal(sizeof names / sizeof names[0], EST_HOLD_NAMES_N);
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+        assert_string_equal(est_hold_name(names[k].bit), names[k].name);
+        assert_string_equal(est_hold_reason(names[k].bit), names[k].name);
+    }
+    assert_string_equal(est_hold_name(0x8000u), "");
+    assert_string_equal(est_hold_reason(0u), "");
+    assert_string_equal(est_hold_reason(EST_HOLD_NO_STEP2 | EST_HOLD_STEP1_REFUSED), "STEP1_REFUSED");
+    assert_string_equal(est_hold_reason(EST_HOLD_SPEED_FLOOR | EST_HOLD_INVERTER_UNKNOWN), "INVERTER_UNKNOWN");
+    assert_string_equal(est_hold_reason(EST_HOLD_SPEED_FLOOR | EST_HOLD_CURRENT | EST_HOLD_SETTLE), "SPEED_FLOOR");
+    assert_int_equal(est_hold_reason_bit(EST_HOLD_TORQUE | EST_HOLD_ACCEL), EST_HOLD_TORQUE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(every_hold_bit_is_named),
         cmocka_unit_test(off_is_the_told_model),
         cmocka_unit_test(trusted_start_above_and_below_the_floor),
         cmocka_unit_test(floor_before_any_trusted_model_is_the_told_one),

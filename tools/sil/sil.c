@@ -97,6 +97,7 @@ static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
     r->fq_est = (double)f.q;
     r->est = (double)eo->phase;
     r->est_hold = (double)eo->hold;
+    r->est_src = (double)eo->src;
     r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)eo->inv_err_V;
     r->psif_model_Wb = r->psif_est_Wb; /* the older name */
@@ -356,7 +357,7 @@ static const sil_col_t COLS[] = {
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
     COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
     COL(psif_model_Wb), COL(id_meas_A), COL(iq_meas_A), COL(ia_adc_A), COL(ib_adc_A), COL(vdc_adc_V), COL(ia_offset_A),
-    COL(ib_offset_A), COL(psif_obs_Wb),
+    COL(ib_offset_A), COL(psif_obs_Wb), COL(est_src),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 /* SIL_CSV_LINE_MAX counts one column per double of sil_row_t */

@@ -44,6 +44,7 @@ typedef struct {
     double ia_adc_A, ib_adc_A, vdc_adc_V;   /* level 2's report (app_t.adc): the last ADC_CHECK period's readings (offsets in), 0 before one */
     double ia_offset_A, ib_offset_A;        /* the current offsets the app subtracts (0 until calibrated) */
     double psif_obs_Wb;                     /* the observer's internal psi^ (est_psi_f_obs_Wb) */
+    double est_src;                         /* EST_SRC_*: 0 the told model, 1 the observer's, 2 held estimates */
 } sil_row_t;
 
 typedef struct {

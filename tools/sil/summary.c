@@ -87,6 +87,7 @@ void summary_init(summary_t *s, const scenario_t *sc, double t0_s, double t1_s)
     s->L_H = sc->plant.L_H;
     s->psif_Wb = sc->plant.psif_Wb;
     s->speed_abs_max = NAN;
+    s->proposed = (sc->controller.method == SC_METHOD_PROPOSED);
 }
 
 static void add(summary_mean_t *m, double x)
@@ -140,6 +141,29 @@ void summary_add(summary_t *s, const sil_row_t *r)
     add(&s->R_rel, (r->R_est_ohm - s->R_ohm) / s->R_ohm);
     add(&s->L_rel, (r->L_est_H - s->L_H) / s->L_H);
     add(&s->psif_rel, (r->psif_est_Wb - s->psif_Wb) / s->psif_Wb);
+    if (!s->proposed || ((int)r->est_src == (int)EST_SRC_TOLD)) {
+        s->told_rows++;
+        const uint16_t bit = est_hold_reason_bit((uint16_t)r->est_hold);
+        for (int k = 0; s->proposed && (bit != 0u) && (k < SUMMARY_HOLD_BITS); k++) {
+            if (bit == (uint16_t)(1u << k)) {
+                s->reason_rows[k]++;
+            }
+        }
+    }
+}
+
+/* The most frequent reason of the proposed method's rows on the told model ("" for none). */
+static const char *hold_reason(const summary_t *s)
+{
+    uint32_t best = 0u;
+    uint16_t bit = 0u;
+    for (int k = 0; k < SUMMARY_HOLD_BITS; k++) {
+        if (s->reason_rows[k] > best) {
+            best = s->reason_rows[k];
+            bit = (uint16_t)(1u << k);
+        }
+    }
+    return est_hold_name(bit);
 }
 
 static void put_num(FILE *f, const char *key, double v, int last)
@@ -209,6 +233,10 @@ void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const
     put_num(f, "speed_err_max_rpm", s->speed_abs_max, 0);
     put_num(f, "id_A", mean(&s->id), 0);
     put_num(f, "iq_A", mean(&s->iq), 0);
+    const double held = (s->rows > 0u) ? (double)s->told_rows / (double)s->rows : NAN;
+    put_str(f, "method_ran", (s->rows == 0u) ? "" : ((held > SUMMARY_METHOD_RAN_SHARE) ? "conventional" : "proposed"));
+    put_num(f, "held_share", held, 0);
+    put_str(f, "hold_reason", hold_reason(s));
     put_num(f, "R_err_pct", PERCENT * mean(&s->R_rel), 0);
     put_num(f, "L_err_pct", PERCENT * mean(&s->L_rel), 0);
     put_num(f, "psif_err_pct", PERCENT * mean(&s->psif_rel), 1);
