@@ -105,6 +105,10 @@ est_status_t est_init(est_t *e, const est_cfg_t *cfg, const est_told_t *told)
     {
         psi_band_cfg_t bc;
         psi_band_cfg_defaults(&bc, t->Ts_s, c->pe.w_min_rad_s, c->pe.psi_min_Wb, c->pe.psi_max_Wb);
+        /* the band's own guard of 1/w: where even the noise alone (unc_abs) fakes
+         * unexplained_max of the largest psi_f the model may take, no band can pass;
+         * above it the band decides (the psi^ law's floor stays pe's) */
+        bc.w_min_rad_s = bc.unc_abs_V / (bc.unexplained_max * c->pe.psi_max_Wb);
         bc.ve_told_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * t->deadtime_s / t->Ts_s) : 0.0f;
         bc.ve_prior_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * c->untold_deadtime_s / t->Ts_s) : 0.0f;
         pe_ok = psi_band_init(&e->pb, &bc) && pe_ok;
