@@ -69,6 +69,17 @@ static ctrl_status_t init_est(ctrl_t *c, const ctrl_cfg_t *cfg)
     return (ctrl_status_t)est_init(&c->est, &cfg->est_cfg, &told);
 }
 
+/* The torque limit for the model now in c->db.par: te_max, times the
+ * model's kt over the told one's when it follows kt (the torque the same
+ * current gives with the learned psi_f); the speed PI's output limits
+ * with it. A division; when the model changes. */
+static void update_te_limit(ctrl_t *c)
+{
+    const float k = (c->cfg.te_max_follows_kt != 0u) ? (c->db.par.psi_f_Wb / c->db.cfg.psi_f_Wb) : 1.0f;
+    c->te_lim_Nm = k * c->cfg.te_max_Nm;
+    pi_set_limits(&c->speed_pi, -c->te_lim_Nm, c->te_lim_Nm);
+}
+
 /* status with bit added unless ok. */
 static ctrl_status_t refused_if(bool ok, ctrl_status_t bit, ctrl_status_t status)
 {
@@ -88,6 +99,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     c->cfg.u_max_V = cfg->u_max_V;
     c->cfg.omega_max_el_rad_s = cfg->omega_max_el_rad_s;
     c->cfg.te_max_Nm = cfg->te_max_Nm;
+    c->cfg.te_max_follows_kt = cfg->te_max_follows_kt;
 
     ec.counts_per_rev = ENCODER_COUNTS_PER_LINE * cfg->enc_lines;
     ec.pole_pairs = cfg->pole_pairs;
@@ -104,7 +116,8 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     dc.i_max_A = cfg->i_max_A;
     dc.omega_max_rad_s = cfg->omega_max_el_rad_s;
     dc.u_max_V = cfg->u_max_V;
-    dc.te_max_Nm = cfg->te_max_Nm;
+    /* a bound, not the limit: a te_max that follows kt may reach the model's largest psi_f */
+    dc.te_max_Nm = ((cfg->te_max_follows_kt != 0u) ? DBDTC_PARAM_FACTOR_MAX : 1.0f) * cfg->te_max_Nm;
     dc.psi_max_Wb = cfg->psi_max_Wb;
     status = refused_if(dbdtc_init(&c->db, &dc), CTRL_CFG_DBDTC, status);
 
@@ -141,6 +154,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 void ctrl_reset(ctrl_t *c)
 {
     dbdtc_reset(&c->db);
+    update_te_limit(c);
     c->model_src = MODEL_NOMINAL;
     est_reset(&c->est);
     oplim_reset(&c->lim);
@@ -220,6 +234,7 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
              ((mathx_fabsf(e->L_H - p->L_H) > CTRL_MODEL_UPDATE_REL * p->L_H) ||
               (mathx_fabsf(e->psi_f_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb)))) {
             dbdtc_set_params(&c->db, e->R_Ohm, e->L_H, e->psi_f_Wb);
+            update_te_limit(c);
             c->model_src = MODEL_EST;
             c->mon.model_from_observer = 1u; /* the monitor's, written when it changes */
         }
@@ -233,6 +248,7 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
     }
     if (c->model_src != MODEL_NOMINAL) {
         dbdtc_reset(&c->db); /* back to the told model: 4 divisions once */
+        update_te_limit(c);
         c->model_src = MODEL_NOMINAL;
         c->mon.model_from_observer = 0u;
     }
@@ -370,7 +386,7 @@ static void stage_references(ctrl_t *c, ctrl_period_t *p)
     if (c->mode == CTRL_MODE_SPEED) {
         p->te_ref = pi_step(&c->speed_pi, c->ref.speed_ref_rad_s - c->enc.omega_m_rad_s);
     } else if (c->mode == CTRL_MODE_TORQUE) {
-        p->te_ref = mathx_clampf(c->ref.te_ref_Nm, -c->cfg.te_max_Nm, c->cfg.te_max_Nm);
+        p->te_ref = mathx_clampf(c->ref.te_ref_Nm, -c->te_lim_Nm, c->te_lim_Nm);
     } else {
         /* open loop: no torque reference */
     }

@@ -54,6 +54,9 @@ typedef struct {
     float speed_kp_Nms_rad;     /* speed PI: N m per (rad/s) of mechanical speed error */
     float speed_ki_Nm_rad;      /* speed PI: N m per rad of integrated speed error */
     float te_max_Nm;            /* |Te*| limit, 2x rated = 12 N m */
+    uint16_t te_max_follows_kt; /* 1: te_max_Nm is the told model's kt times a current (the derived
+                                 * default: kt i_peak), so the limit follows the kt of the model in use
+                                 * (the learned psi_f); 0: a fixed cap */
     float i_max_A;              /* bound on the currents the model uses */
     float u_max_V;              /* bound on |ud|, |uq| before the hexagon */
     float omega_max_el_rad_s;   /* bound on |omega_el| the model uses */
@@ -110,7 +113,8 @@ typedef struct {                /* what ctrl_t keeps of ctrl_cfg_t (the blocks k
     float i_lim_A;              /* the configured current limit (ctrl_cfg_t.i_lim_A as given) [A] */
     float u_max_V;              /* bound on |ud|, |uq| [V] */
     float omega_max_el_rad_s;   /* bound on |omega_el| [rad/s el] */
-    float te_max_Nm;            /* |Te*| limit [N m] */
+    float te_max_Nm;            /* |Te*| limit as configured [N m] */
+    uint16_t te_max_follows_kt; /* ctrl_cfg_t's */
 } ctrl_kept_t;
 
 typedef struct {
@@ -125,6 +129,7 @@ typedef struct {
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
     float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
     float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
+    float te_lim_Nm;            /* |Te*| limit in use: te_max_Nm, times kt(model)/kt(told) when it follows kt [N m] */
     float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */
     oplim_t lim;                /* current limit and flux weakening (oplim.h) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */

@@ -5,10 +5,6 @@
 
 #include "mathx.h"
 
-/* Parameters handed to dbdtc_set_params() are kept within these factors of
- * the configured ones, so an estimator gone astray cannot divide by ~0. */
-#define PARAM_FACTOR_MIN 0.1f
-#define PARAM_FACTOR_MAX 10.0f
 
 #define ONE_AND_HALF 1.5f      /* 3/2 of the amplitude-invariant torque, eq. (3) */
 #define TWO_THIRDS   CLARKE_TWO_THIRDS /* hexagon vertex = 2/3 Vdc */
@@ -57,10 +53,10 @@ void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb)
     const dbdtc_cfg_t *cfg = &db->cfg;
     dbdtc_par_t *p = &db->par;
 
-    p->R_Ohm = mathx_clampf(R_Ohm, PARAM_FACTOR_MIN * cfg->R_Ohm, PARAM_FACTOR_MAX * cfg->R_Ohm);
-    p->L_H = mathx_clampf(L_H, PARAM_FACTOR_MIN * cfg->L_H, PARAM_FACTOR_MAX * cfg->L_H);
-    p->psi_f_Wb = mathx_clampf(psi_f_Wb, PARAM_FACTOR_MIN * cfg->psi_f_Wb,
-                               PARAM_FACTOR_MAX * cfg->psi_f_Wb);
+    p->R_Ohm = mathx_clampf(R_Ohm, DBDTC_PARAM_FACTOR_MIN * cfg->R_Ohm, DBDTC_PARAM_FACTOR_MAX * cfg->R_Ohm);
+    p->L_H = mathx_clampf(L_H, DBDTC_PARAM_FACTOR_MIN * cfg->L_H, DBDTC_PARAM_FACTOR_MAX * cfg->L_H);
+    p->psi_f_Wb = mathx_clampf(psi_f_Wb, DBDTC_PARAM_FACTOR_MIN * cfg->psi_f_Wb,
+                               DBDTC_PARAM_FACTOR_MAX * cfg->psi_f_Wb);
 
     const float inv_L = 1.0f / p->L_H;                                  /* division 1 */
     if (!zoh_model(p->R_Ohm, p->L_H, cfg->Ts_s, &p->zm)) {              /* divisions 2, 3 */

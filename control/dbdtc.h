@@ -55,6 +55,11 @@
 #include "clarke_park.h"
 #include "zoh.h"
 
+/* Parameters handed to dbdtc_set_params() are kept within these factors of
+ * the configured ones, so an estimator gone astray cannot divide by ~0. */
+#define DBDTC_PARAM_FACTOR_MIN 0.1f
+#define DBDTC_PARAM_FACTOR_MAX 10.0f
+
 /* Flags returned by dbdtc_solve() and dbdtc_limit(), a bit set. */
 #define DBDTC_FLAG_VOLTAGE_LIMIT    0x0001u /* moved onto the inverter hexagon */
 #define DBDTC_FLAG_FLUX_UNREACHABLE 0x0002u /* negative discriminant */

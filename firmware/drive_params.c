@@ -158,6 +158,8 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
                           p->rating.t_peak_s;
     cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));
+    /* a derived torque limit is the told kt at i_peak: it follows the learned psi_f (sec. 3) */
+    c->te_max_follows_kt = (p_in->limits.te_max_Nm >= 0.0f) ? 0u : 1u;
     /* the plain copies (drive_params.h's lists' DRIVE_TO), the derived values derived */
     DRIVE_PARAMS(DRIVE_PARAM_COPY)
     /* the model's bounds: generous, never the active limit */

@@ -211,6 +211,55 @@ static void case_psif200(void **state) { (void)state; mismatch_case("psif200"); 
 static void case_psif050(void **state) { (void)state; mismatch_case("psif050"); }
 static void case_L066_psif150(void **state) { (void)state; mismatch_case("L066_psif150"); }
 
+/* psi_f told 0.5x (prop_psif050): the derived torque limit is the told kt
+ * at i_peak, 0.5 x 1.5 p psi_f0 x 11.1 A = 6.0 N m, which the 6 N m load
+ * step (0.95-1.05 s) fills: with the limit fixed at the told kt the speed
+ * sagged to 424 r/min for the whole 100 ms. The limit follows the learned
+ * psi_f (kt^ i_peak = 12 N m): Te* goes above 6 N m to pull the speed
+ * back, and the speed is back within 2 % after half the step (the PI's
+ * time, not the limit's). */
+#define PSI50_STEP_T0    0.95
+#define PSI50_STEP_T1    1.05
+#define PSI50_BACK_T     1.00     /* half the step */
+#define PSI50_SPEED_RPM  500.0
+#define PSI50_SPEED_TOL  0.02
+#define PSI50_TOLD_TE_NM (0.5 * KT0 * 11.1)
+
+typedef struct {
+    double te_ref_max;      /* max Te* over the step */
+    double speed_min_back;  /* min speed over the step's second half */
+} psi50_t;
+
+static int on_psi50_row(const sil_row_t *r, void *user)
+{
+    psi50_t *f = user;
+    if (r->t_s >= PSI50_STEP_T0 && r->t_s < PSI50_STEP_T1) {
+        f->te_ref_max = fmax(f->te_ref_max, r->te_ref_Nm);
+        if (r->t_s >= PSI50_BACK_T) {
+            f->speed_min_back = fmin(f->speed_min_back, r->speed_rpm);
+        }
+    }
+    return 0;
+}
+
+static void te_limit_follows_learned_psif(void **state)
+{
+    static const char *const sets[] = { "run.log_every=1", NULL };
+    scenario_t sc;
+    sil_result_t res;
+    psi50_t f = { -1e9, 1e9 };
+    (void)state;
+    sil_scenario_open(&sc, "prop_psif050");
+    sil_scenario_set(&sc, sets);
+    sil_scenario_finish(&sc);
+    assert_int_equal(sil_run(&sc, on_psi50_row, &f, &res), 0);
+    print_message("psi_f told 0.5x, 6 N m step: Te* up to %.2f N m (told limit %.2f), speed from %.2f s >= %.1f r/min\n",
+                  f.te_ref_max, PSI50_TOLD_TE_NM, PSI50_BACK_T, f.speed_min_back);
+    assert_int_equal(res.final_fault, APP_FAULT_NONE);
+    assert_true(f.te_ref_max > PSI50_TOLD_TE_NM);
+    assert_true(f.speed_min_back >= (1.0 - PSI50_SPEED_TOL) * PSI50_SPEED_RPM);
+}
+
 /* Torque step 2 -> 4 N m at 0.42 s under L = 1.5 L0, estimates converged. */
 #define TSTEP_T_S      0.42
 #define TSTEP_FROM_NM  2.0
@@ -586,6 +635,7 @@ int main(void)
         cmocka_unit_test(case_psif200),
         cmocka_unit_test(case_psif050),
         cmocka_unit_test(case_L066_psif150),
+        cmocka_unit_test(te_limit_follows_learned_psif),
         cmocka_unit_test(torque_step_L150),
         cmocka_unit_test(speed_200),
         cmocka_unit_test(speed_2000),

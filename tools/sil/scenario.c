@@ -719,7 +719,9 @@ void scenario_map(const scenario_t *sc, sc_target_t target, void *cfg, double Ts
     for (int i = 0; i < N_KEYS; i++) {
         const sc_key_t *k = &KEYS[i];
         const sc_loc_t *to = key_to(k);
-        if (to->target == target) {
+        /* a derived key nobody set stays to derive (DRIVE_PARAM_DERIVED): the parameter set
+         * then knows it derived it (a derived torque limit follows the learned psi_f) */
+        if (to->target == target && !(k->def == DERIVED && sc->origin[i][0] == '\0')) {
             const double v = (k->kind == K_REAL || k->kind == K_RPROFILE)
                                  ? real_value(sc, (k->kind == K_RPROFILE) ? k->offset_t0 : k->offset)
                                  : (double)*(const uint32_t *)(const void *)((const char *)sc + k->offset);

@@ -119,7 +119,7 @@
     X(controller, pll_bw_rad_s, REAL, SC_GT0, SC_PARAMS, SC_P(tuning.pll_bw_rad_s, F32, 1.0), SC_SAME, \
       "speed estimator bandwidth [rad/s]") \
     X(controller, te_max_Nm, REAL, SC_GT0, SC_DERIVED("motor.i_peak_A controller.psif_Wb plant.pole_pairs"), SC_NO, \
-      SC_P(limits.te_max_Nm, F32, 1.0), "torque reference limit [N m] (1.5 p psi_f i_peak_A)") \
+      SC_P(limits.te_max_Nm, F32, 1.0), "torque reference limit [N m] (1.5 p psi_f i_peak_A; derived, it follows the learned psi_f)") \
     X(controller, i_limit_A, REAL, SC_GT0, SC_DERIVED("motor.i_peak_A"), SC_NO, SC_P(limits.i_limit_A, F32, 1.0), \
       "stator-current limit the targets respect [A] (1.08 i_peak_A)") \
     X(controller, i_max_A, REAL, SC_GT0, SC_DERIVED("motor.i_peak_A plant.adc_full_scale_A"), SC_NO, \
