@@ -29,7 +29,7 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->calibrate = true;
     cfg->cal.settle_s = BOARD_CAL_SETTLE_S;
     cfg->cal.samples = (uint32_t)BOARD_CAL_SAMPLES;
-    cfg->cal.offset_max_A = BOARD_I_OFFSET_MAX_A;
+    /* cal.offset_max_A: drive_params_to_app_cfg(), from the ADC's range */
     cfg->align = (BOARD_ENC_OFFSET_KNOWN == 0U);
     cfg->aln.prepos_el_rad = BOARD_ALIGN_PREPOS_EL_DEG * RAD_PER_DEG;
     cfg->aln.ramp_s = BOARD_ALIGN_RAMP_S;

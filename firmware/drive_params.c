@@ -11,6 +11,8 @@
 #define SQRT3 1.7320508f
 /* A per-leg square wave of amplitude dv has the fundamental (4/pi) dv. */
 #define FUNDAMENTAL_OF_SQUARE 1.27323954f
+/* +- full scale over the ADC's counts: a step is full scale / (counts / 2) */
+#define HALF_ADC_COUNTS (0.5f * BOARD_ADC_COUNTS)
 
 #define DRIVE_PARAM_DEFAULT(group, field, type, dflt, to) p->group.field = (type)(dflt);
 
@@ -52,6 +54,26 @@ void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float
     *ki_Nm_rad = REF_SPEED_KI_NM_RAD * (J_kgm2 / REF_J_KGM2) * bw * bw;
 }
 
+/* The voltage the drive cannot explain [V]: (4/pi) bus (dead-time
+ * uncertainty x f_s + device drop per bus). */
+static float unexplained_V(float vdc_V, float Ts_s)
+{
+    return FUNDAMENTAL_OF_SQUARE * vdc_V * (EST_DT_UNC_S / Ts_s + EST_DROP_UNC_PER_VDC);
+}
+
+float drive_i_readable_A(const drive_params_t *p)
+{
+    /* a reading tops out at the range less the offset calibration subtracted,
+     * which may be up to the accepted offset (5 % of the range) */
+    return p->board.i_full_scale_A - scaled(BOARD_I_OFFSET_MAX_A, p->board.i_full_scale_A, BOARD_I_FULL_SCALE_A);
+}
+
+float drive_trip_margin_A(const drive_params_t *p)
+{
+    /* a sample at the limit reads above it by the ADC's noise: BOARD_TRIP_NOISE_SIGMAS of it */
+    return BOARD_TRIP_NOISE_SIGMAS * BOARD_ADC_NOISE_CODES_RMS * p->board.i_full_scale_A / HALF_ADC_COUNTS;
+}
+
 drive_derive_t drive_params_derive(drive_params_t *p)
 {
     const drive_rating_t *r = &p->rating;
@@ -63,13 +85,15 @@ drive_derive_t drive_params_derive(drive_params_t *p)
         !(r->n_rated_rad_s > 0.0f) || !(r->n_max_rad_s >= r->n_rated_rad_s)) {
         st |= DRIVE_DERIVE_RATINGS;
     }
-    /* sec. 2: limits from the ratings and the ADC's range */
+    /* sec. 3: limits from the ratings and the ADC's range */
     derive(&p->limits.te_max_Nm, kt_Nm_A * r->i_peak_A);
-    derive(&p->limits.i_limit_A, scaled(REF_I_LIMIT_A, r->i_peak_A, REF_I_PEAK_A));
-    derive(&p->limits.i_trip_A, min_f(scaled(REF_I_TRIP_A, r->i_peak_A, REF_I_PEAK_A),
-                                      scaled(REF_I_TRIP_A, p->board.i_full_scale_A, REF_I_FULL_SCALE_A)));
+    derive(&p->limits.i_limit_A, r->i_peak_A);
+    derive(&p->limits.i_trip_A, min_f(scaled(REF_I_TRIP_A, r->i_peak_A, REF_I_PEAK_A), drive_i_readable_A(p)));
     derive(&p->limits.speed_max_rad_s, LIM_OVERSPEED_PER_MAX * r->n_max_rad_s);
-    if (!(p->limits.i_limit_A < p->limits.i_trip_A)) {
+    if (p->limits.i_limit_A > r->i_peak_A) {
+        st |= DRIVE_DERIVE_I_LIMIT;
+    }
+    if (!(p->limits.i_limit_A + drive_trip_margin_A(p) <= p->limits.i_trip_A)) {
         st |= DRIVE_DERIVE_ADC_RANGE;
     }
     /* sec. 3: speed PI from J and the crossover */
@@ -105,13 +129,6 @@ bool drive_params_obs_gains(const drive_params_t *p, smo_gains_t *g)
     told.R_Ohm = p->motor.R_Ohm;
     told.L_H = p->motor.L_H;
     return est_obs_gains(&told, scaled(REF_OBS_EF_MAX_V, p->board.vdc_nominal_V, REF_VDC_V), g);
-}
-
-/* The voltage the drive cannot explain [V]: (4/pi) bus (dead-time
- * uncertainty x f_s + device drop per bus). */
-static float unexplained_V(float vdc_V, float Ts_s)
-{
-    return FUNDAMENTAL_OF_SQUARE * vdc_V * (EST_DT_UNC_S / Ts_s + EST_DROP_UNC_PER_VDC);
 }
 
 /* sec. 5: step 2's thresholds, the injections and the speed floor. */
@@ -157,7 +174,8 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     /* sec. 3: the I^2t budget of the short-time current (and i2t_rated_A) */
     cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
                           p->rating.t_peak_s;
-    cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));
+    cfg->params_refused =
+        (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE | DRIVE_DERIVE_I_LIMIT));
     /* a derived torque limit is the told kt at i_peak: it follows the learned psi_f (sec. 3) */
     c->te_max_follows_kt = (p_in->limits.te_max_Nm >= 0.0f) ? 0u : 1u;
     /* the plain copies (drive_params.h's lists' DRIVE_TO), the derived values derived */
@@ -167,6 +185,8 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * MATHX_RAD_S_PER_RPM_F * (float)p->motor.pole_pairs;
     c->psi_max_Wb = MODEL_PSI_BOUND_PER_PSIF * p->motor.psi_f_Wb;
 
+    /* the offsets calibration accepts: the share of the range drive_i_readable_A() leaves */
+    cfg->cal.offset_max_A = scaled(BOARD_I_OFFSET_MAX_A, p->board.i_full_scale_A, BOARD_I_FULL_SCALE_A);
     /* half an ADC step of the current range (+- full scale over the counts) */
     cfg->prot.watch.stuck_delta_A = p->board.i_full_scale_A / BOARD_ADC_COUNTS;
     cfg->prot.watch.op_i_min_A = scaled(REF_OPEN_PHASE_I_MIN_A, p->rating.i_rated_A, REF_I_RATED_A);

@@ -129,10 +129,20 @@ typedef struct {
 typedef uint16_t drive_derive_t;
 #define DRIVE_DERIVE_OK          ((drive_derive_t)0x0000u)
 #define DRIVE_DERIVE_RATINGS     ((drive_derive_t)0x0001u) /* ratings not positive, i_peak < i_rated or n_max < n_rated */
-#define DRIVE_DERIVE_ADC_RANGE   ((drive_derive_t)0x0002u) /* the current limit reaches the trip the ADC range allows */
+#define DRIVE_DERIVE_ADC_RANGE   ((drive_derive_t)0x0002u) /* the current limit plus drive_trip_margin_A() above the trip (the ADC's readable range) */
 #define DRIVE_DERIVE_OBSERVER    ((drive_derive_t)0x0004u) /* no observer gain: the told L/R below SMO_LR_MIN_PERIODS periods (the proposed method) */
+#define DRIVE_DERIVE_I_LIMIT     ((drive_derive_t)0x0008u) /* a set current limit above the peak rating i_peak */
 #define DRIVE_DERIVE_WARN_BEMF   ((drive_derive_t)0x0100u) /* warning: back-EMF at n_max beyond the bus's phase-voltage limit */
 #define DRIVE_DERIVE_REFUSED     ((drive_derive_t)0x00FFu) /* the refusals among the bits */
+
+/* The largest current the ADC can read [A]: the range less the offset the
+ * calibration accepts (a reading tops out there). Any context. */
+float drive_i_readable_A(const drive_params_t *p);
+
+/* The least the trip must stay above the current limit [A]: the ADC's
+ * noise on a sample at the limit, BOARD_TRIP_NOISE_SIGMAS of it
+ * (params_design.md sec. 3). Any context. */
+float drive_trip_margin_A(const drive_params_t *p);
 
 /* Rated torque 1.5 p psi_f i_rated (SPMSM, i_d = 0) [N m]. Any context. */
 float drive_rated_torque_Nm(const drive_params_t *p);

@@ -30,8 +30,9 @@ static void paper_motor_gets_the_old_constants_to_the_bit(void **state)
     assert_float_equal(c->speed_kp_Nms_rad, 0.5f, 0.0);
     assert_float_equal(c->speed_ki_Nm_rad, 20.0f, 0.0);
     assert_float_equal(c->te_max_Nm, 12.0f, 0.0);
-    assert_float_equal(c->i_lim_A, 12.0f, 0.0);
+    assert_float_equal(c->i_lim_A, REF_I_PEAK_A, 0.0); /* never above the peak rating (params_design.md sec. 3) */
     assert_float_equal(cfg.prot.i_max_A, 14.0f, 0.0);
+    assert_float_equal(cfg.cal.offset_max_A, 0.75f, 0.0);
     /* the observer's gains on the exact discrete model (discrete_model_design.md sec. 5):
      * a = Ts R/L, rho = e^-a, g = (1 - rho)/R, the double pole 0.8: G g = rho - 0.6,
      * mu Ts G g = 0.04, Ks = 2 ef_max, phi = Ks/G */
@@ -82,7 +83,8 @@ static void small_motor(drive_params_t *p)
 }
 
 /* Hand values: kt = 1.5 x 4 x 0.008 = 0.048 N m/A; te_max 0.048 x 12.5 = 0.6;
- * i_limit 12 x 12.5/11.11 = 13.5 A; trip min(14 x 12.5/11.11, 14 x 15/15) = 14 A;
+ * i_limit = i_peak = 12.5 A; trip min(14 x 12.5/11.11 = 15.75, 15 - 0.75 = 14.25) = 14.25 A,
+ * above 12.5 A + 6 x 2 x 15/2048 = 0.088 A (6 sigma of 2 codes of ADC noise);
  * kp = 0.5 x 2e-5/0.00129 = 0.00775; ki = 20 x 2e-5/0.00129 = 0.310;
  * speeds 750, 1500 r/min; overspeed 3600 r/min. */
 static void small_motor_limits_and_speed_loop(void **state)
@@ -93,8 +95,9 @@ static void small_motor_limits_and_speed_loop(void **state)
     const drive_derive_t st = drive_params_derive(&p);
     assert_int_equal(st & DRIVE_DERIVE_REFUSED, 0);
     assert_float_equal(p.limits.te_max_Nm, 0.6, 1e-5);
-    assert_float_equal(p.limits.i_limit_A, 13.5, 1e-4);
-    assert_float_equal(p.limits.i_trip_A, 14.0, 1e-4);
+    assert_float_equal(p.limits.i_limit_A, 12.5, 0.0);
+    assert_float_equal(p.limits.i_trip_A, 14.25, 1e-5);
+    assert_float_equal(drive_trip_margin_A(&p), 12.0 * 15.0 / 2048.0, 1e-6);
     assert_float_equal(p.tuning.speed_kp_Nms_rad, 0.5 * 2e-5 / 0.00129, 1e-7);
     assert_float_equal(p.tuning.speed_ki_Nm_rad, 20.0 * 2e-5 / 0.00129, 1e-5);
     assert_float_equal(p.step1.speed_1_rad_s, 750.0 * RPM, 1e-3);
@@ -174,8 +177,13 @@ static void observer_refused_below_two_periods(void **state)
     assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, 0);
 }
 
-/* i_peak 20 A on the board's 15 A ADC: i_limit 21.6 A against a trip of at
- * most 14 A: refused (ADC_RANGE). Ratings that contradict: RATINGS. */
+/* i_peak 20 A on the board's 15 A ADC: i_limit 20 A against a trip of at
+ * most 14.25 A: refused (ADC_RANGE). The paper motor (i_peak 11.11 A) on an
+ * ADC range of 1.1 i_peak = 12.22 A: it reads up to 0.95 x 12.22 = 11.61 A,
+ * the trip, above 11.11 A + 12 x 12.22/2048 = 0.072 A (6 sigma of 2 codes of
+ * noise): accepted; the least range accepted is i_peak / (0.95 - 12/2048) =
+ * 1.0592 i_peak: 1.06 i_peak accepted, 1.058 refused. A set limit above
+ * i_peak: I_LIMIT. Ratings that contradict: RATINGS. */
 static void ratings_beyond_the_adc_or_inconsistent_refused(void **state)
 {
     (void)state;
@@ -184,6 +192,21 @@ static void ratings_beyond_the_adc_or_inconsistent_refused(void **state)
     p.rating.i_rated_A = 10.0f;
     p.rating.i_peak_A = 20.0f;
     assert_true((drive_params_derive(&p) & DRIVE_DERIVE_ADC_RANGE) != 0u);
+    drive_params_board(&p);
+    p.board.i_full_scale_A = 1.1f * p.rating.i_peak_A;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, 0);
+    assert_float_equal(p.limits.i_limit_A, p.rating.i_peak_A, 0.0);
+    assert_float_equal(p.limits.i_trip_A, 0.95 * 1.1 * 11.1111, 1e-4);
+    assert_float_equal(drive_trip_margin_A(&p), 12.0 * 1.1 * 11.1111 / 2048.0, 1e-5);
+    drive_params_board(&p);
+    p.board.i_full_scale_A = 1.06f * p.rating.i_peak_A;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, 0);
+    drive_params_board(&p);
+    p.board.i_full_scale_A = 1.058f * p.rating.i_peak_A;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, DRIVE_DERIVE_ADC_RANGE);
+    drive_params_board(&p);
+    p.limits.i_limit_A = 1.01f * p.rating.i_peak_A;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, DRIVE_DERIVE_I_LIMIT);
     drive_params_board(&p);
     p.rating.i_peak_A = 0.5f * p.rating.i_rated_A;
     assert_true((drive_params_derive(&p) & DRIVE_DERIVE_RATINGS) != 0u);

@@ -426,7 +426,9 @@ static void bad_inputs_name_file_line_key(void **state)
     expect_error("[plant]\nmodel = pwm\n", 2, "model");
     expect_error("[controller]\nmethod = better\n", 2, "method");
     expect_error("[controller]\nmode = position\n", 2, "mode");
-    expect_error("[controller]\ni_limit_A = 14\n", 2, "i_limit_A"); /* = the 14 A trip */
+    expect_error("[controller]\ni_limit_A = 14\n", 2, "i_limit_A"); /* above the 11.1 A peak rating */
+    expect_error("[motor]\ni_peak_A = 14.2\n", 2, "i_peak_A"); /* its limit 14.2 A + 0.09 A: above the 14.25 A the ADC reads */
+    expect_error("[controller]\ni_limit_A = 11\ni_max_A = 11.01\n", 2, "i_limit_A"); /* a margin of 0.01 A */
     expect_error("[reference]\nspeed_rpm = 0:0, 0.1 500\n", 2, "speed_rpm");
     expect_error("[reference]\nspeed_rpm = 0:0, 0.1:500, 0.05:0\n", 2, "speed_rpm");
     expect_error("[load]\ntorque_Nm = 0:abc\n", 2, "torque_Nm");
@@ -478,7 +480,7 @@ static void level_and_wrong_board_keys(void **state)
     assert_float_equal(sc.run.level4_i_limit_A, 2.0, 0.0);
     expect_error("[run]\nlevel = 0\n", 2, "level");
     expect_error("[run]\nlevel = 6\n", 2, "level");
-    expect_error("[run]\nlevel4_i_limit_A = 13\n", 2, "level4_i_limit_A"); /* above the 12 A limit */
+    expect_error("[run]\nlevel4_i_limit_A = 13\n", 2, "level4_i_limit_A"); /* above the 11.1 A limit */
     expect_error("[plant]\nencoder_direction = 2\n", 2, "encoder_direction");
     expect_error("[plant]\nphase_order = bac\n", 2, "phase_order");
     expect_error("[controller]\npole_pairs = 65\n", 2, "pole_pairs");

@@ -26,7 +26,7 @@
 #define PP        3.0
 #define KT0       (1.5 * PP * PSI0)
 #define VDC       311.0
-#define I_LIMIT_A 12.0      /* the scenarios' [controller] i_limit_A */
+#define I_LIMIT_A (2.0 * 6.0 / KT0) /* the derived current limit: i_peak = 2 i_rated, 11.1 A */
 
 #define NO_FAULT_STATE APP_STATE_RUN
 

@@ -687,30 +687,45 @@ static int check_faults(const scenario_t *sc, char *err, size_t errlen)
     return -1;
 }
 
-/* [controller] i_limit_A: the targets' current limit must stay below the
- * overcurrent trip, or the drive would trip where it should limit. Set by
- * the user: named; derived: the rating and the ADC range named. */
+/* [controller] i_limit_A: never above the peak rating, and below the
+ * overcurrent trip by drive_trip_margin_A() (the ADC's noise), or the drive
+ * would trip where it should limit. Set by the user: named; derived: the rating and the ADC
+ * range named, with the numbers. */
 static int check_limits(const scenario_t *sc, char *err, size_t errlen)
 {
     int known = 0;
     const int i = find_key("controller", "i_limit_A", &known);
     const int i_pk = find_key("motor", "i_peak_A", &known);
     const int i_ir = find_key("motor", "i_rated_A", &known);
-    if (sc->controller.i_limit_A < sc->controller.i_max_A) {
+    const int i_fs = find_key("plant", "adc_full_scale_A", &known);
+    drive_params_t p;
+    scenario_params(sc, &p);
+    if ((sc->derive_status & DRIVE_DERIVE_I_LIMIT) != 0u) {
+        snprintf(err, errlen, "%s: [controller] i_limit_A: %g A is above the motor's peak current [motor] i_peak_A = %g A",
+                 sc->origin[i], sc->controller.i_limit_A, (double)p.rating.i_peak_A);
+        return -1;
+    }
+    const double margin = (double)drive_trip_margin_A(&p);
+    if (sc->controller.i_limit_A + margin <= sc->controller.i_max_A) {
         return 0;
     }
     if (sc->origin[i][0] != '\0') {
-        snprintf(err, errlen, "%s: [controller] i_limit_A: %g A is not below the overcurrent trip i_max_A (%g A)",
-                 sc->origin[i], sc->controller.i_limit_A, sc->controller.i_max_A);
+        snprintf(err, errlen,
+                 "%s: [controller] i_limit_A: %g A is not below the overcurrent trip i_max_A (%g A) by the %.3g A "
+                 "a sample at the limit may read above it (6 sigma of the ADC's noise)",
+                 sc->origin[i], sc->controller.i_limit_A, sc->controller.i_max_A, margin);
         return -1;
     }
-    const char *where = (sc->origin[i_pk][0] != '\0') ? sc->origin[i_pk] : sc->origin[i_ir];
+    const char *where = (sc->origin[i_pk][0] != '\0') ? sc->origin[i_pk]
+                        : (sc->origin[i_fs][0] != '\0') ? sc->origin[i_fs] : sc->origin[i_ir];
     snprintf(err, errlen,
-             "%s: [motor] i_peak_A: the current limit it asks for (i_limit_A %g A) reaches the overcurrent trip "
-             "(i_max_A %g A: 1.26 x i_peak_A, at most 14/15 of [plant] adc_full_scale_A = %g A): a rated "
-             "current beyond the ADC's range; a wider ADC range or a lower i_peak_A",
-             (where[0] != '\0') ? where : "[motor]", sc->controller.i_limit_A, sc->controller.i_max_A,
-             sc->plant.adc_full_scale_A);
+             "%s: [motor] i_peak_A = %g A: the current limit (i_limit_A = i_peak_A) plus the %.3g A a sample at "
+             "it may read above it (6 sigma of the ADC's noise) reaches the overcurrent trip (i_max_A %g A: 1.26 x i_peak_A, at most "
+             "%.4g A, the largest current the ADC reads: [plant] adc_full_scale_A = %g A less the accepted offset); "
+             "a wider ADC range (above %.4g A) or a lower i_peak_A",
+             (where[0] != '\0') ? where : "[motor]", (double)p.rating.i_peak_A, margin, sc->controller.i_max_A,
+             (double)drive_i_readable_A(&p), sc->plant.adc_full_scale_A,
+             sc->controller.i_limit_A * sc->plant.adc_full_scale_A / ((double)drive_i_readable_A(&p) - margin));
     return -1;
 }
 

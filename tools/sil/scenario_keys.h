@@ -121,10 +121,10 @@
     X(controller, te_max_Nm, REAL, SC_GT0, SC_DERIVED("motor.i_peak_A controller.psif_Wb plant.pole_pairs"), SC_NO, \
       SC_P(limits.te_max_Nm, F32, 1.0), "torque reference limit [N m] (1.5 p psi_f i_peak_A; derived, it follows the learned psi_f)") \
     X(controller, i_limit_A, REAL, SC_GT0, SC_DERIVED("motor.i_peak_A"), SC_NO, SC_P(limits.i_limit_A, F32, 1.0), \
-      "stator-current limit the targets respect [A] (1.08 i_peak_A)") \
+      "stator-current limit the targets respect [A] (i_peak_A; never above it)") \
     X(controller, i_max_A, REAL, SC_GT0, SC_DERIVED("motor.i_peak_A plant.adc_full_scale_A"), SC_NO, \
       SC_P(limits.i_trip_A, F32, 1.0), \
-      "software overcurrent threshold [A] (1.26 i_peak_A, at most 14/15 adc_full_scale_A)") \
+      "software overcurrent threshold [A] (1.26 i_peak_A, at most 0.95 adc_full_scale_A: what the ADC reads)") \
     X(controller, overspeed_rpm, REAL, SC_GT0, SC_DERIVED("motor.n_max_rpm"), SC_NO, \
       SC_P(limits.speed_max_rad_s, F32, DRIVE_RPM_PER_RAD_S), "overspeed trip [r/min] (1.2 n_max_rpm)") \
     X(controller, deadtime_s, REAL, SC_GE0, SC_UNSET, SC_NO, SC_P(board.deadtime_s, F32, 1.0), \
