@@ -138,6 +138,8 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
                                                 ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
     oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
+    c->turn_tol_rad_s = ZOH_THETA_TOL_RAD / cfg->Ts_s;
+    c->osc_den_min_A2 = (cfg->osc_i_min_A > 0.0f) ? (cfg->osc_i_min_A * cfg->osc_i_min_A) : 0.0f;
     c->status = (ctrl_status_t)(status | init_est(c, cfg));
     c->mode = CTRL_MODE_TORQUE;
     c->mode_req = CTRL_MODE_TORQUE;
@@ -153,6 +155,13 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
 
 void ctrl_reset(ctrl_t *c)
 {
+    zoh_turn(0.0f, 0.0f, &c->turn); /* at standstill until the first period takes w(k) */
+    c->osc.pred_A.d = 0.0f;
+    c->osc.pred_A.q = 0.0f;
+    c->osc.eps_A = c->osc.pred_A;
+    c->osc.phase = 0u;
+    c->osc.num_A2 = 0.0f;
+    c->osc.den_A2 = 0.0f;
     dbdtc_reset(&c->db);
     update_te_limit(c);
     c->model_src = MODEL_NOMINAL;
@@ -240,8 +249,9 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
         }
         if (e->src == EST_SRC_OBSERVER) {
             /* the observer's R^, L^: its period's model (one division for both) */
-            dbdtc_period_from(&c->db, turn, est_zoh_g_c(&c->est));
-            return dbdtc_state_from_currents(&c->db, est_i_hat_A(&c->est)); /* replaces eq. (10) */
+            dbdtc_period_from(&c->db, turn, est_zoh_g_c(&c->est), est_zoh_rev(&c->est));
+            /* replaces eq. (10); i^ within the observer's i_max, the model's (init_est) */
+            return dbdtc_state_from_bounded(&c->db, est_i_hat_A(&c->est));
         }
         dbdtc_period(&c->db, turn);
         return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V);
@@ -326,7 +336,6 @@ void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out)
 typedef struct {
     float s, co;             /* sin, cos of theta_el(k) */
     float omega;             /* w(k) [rad/s electrical] */
-    zoh_turn_t turn;         /* the rotor's turn over a period at w(k) (the model's bound on it) */
     dq_t i_dq;               /* i(k) [A] */
     dbdtc_state_t x;         /* the model's state at k+1 */
     float te_ref;            /* Te* [N m] (0 in open loop) */
@@ -354,9 +363,11 @@ static void stage_sample(ctrl_t *c, const ctrl_in_t *in, ctrl_period_t *p)
         encoder_step(&c->enc, in->enc_count);
     }
     c->tracked = false;
-    p->omega = c->enc.omega_e_rad_s;
-    const float w = mathx_clampf(p->omega, -c->cfg.omega_max_el_rad_s, c->cfg.omega_max_el_rad_s);
-    zoh_turn(w * c->cfg.Ts_s, w, &p->turn);
+    /* w(k) within the model's bound (every user's) */
+    p->omega = mathx_clampf(c->enc.omega_e_rad_s, -c->cfg.omega_max_el_rad_s, c->cfg.omega_max_el_rad_s);
+    if (!(mathx_fabsf(p->omega - c->turn.w_rad_s) <= c->turn_tol_rad_s)) {
+        zoh_turn(p->omega * c->cfg.Ts_s, p->omega, &c->turn); /* the turn moved: taken anew (zoh.h) */
+    }
     mathx_sincosf(c->enc.theta_e_rad, &p->s, &p->co);
     p->i_dq = park(clarke_2ph(in->ia_A, in->ib_A), p->s, p->co);
 }
@@ -368,7 +379,7 @@ static void stage_estimate(ctrl_t *c, const ctrl_period_t *p, float vdc_V)
     est_in_t *e = &c->est_in; /* in ctrl_t, not on the ISR's stack */
     e->i_dq_A = p->i_dq;
     e->omega_el_rad_s = p->omega;
-    e->turn = &p->turn;
+    e->turn = &c->turn;
     e->sin_el = p->s;
     e->cos_el = p->co;
     e->u_V = c->u_applied_V;
@@ -430,7 +441,7 @@ static void stage_modulate(ctrl_t *c, ctrl_period_t *p, float vdc_V)
     float ca;
     ab_t u_real;
 
-    advance_sincos(p->s, p->co, &p->turn, &sa, &ca);
+    advance_sincos(p->s, p->co, &c->turn, &sa, &ca);
     p->flags |= map_dbdtc_flags(dbdtc_limit(&p->u, sa, ca, vdc_V));
     const ab_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V);
     ab_t u_cmd = park_inv(p->u, sa, ca);
@@ -483,6 +494,25 @@ static void stage_output(ctrl_t *c, const ctrl_period_t *p, const ctrl_in_t *in,
     output_duties(c, p->duty, mathx_isfinitef(chk), (uint16_t)(p->flags | e->flags), out);
 }
 
+/* The oscillation watch (ctrl.h CTRL_OSC_*) on the model the estimation
+ * gave: at lambda = L^/L >= CTRL_OSC_LAMBDA_HOLD, L^ cut to L^/lambda.
+ * Otherwise only the state x at k+1 the model starts from this period,
+ * the next prediction. */
+static void stage_watch(ctrl_t *c, const ctrl_period_t *p)
+{
+    ctrl_osc_t *o = &c->osc;
+    if ((c->model_src == MODEL_EST) && (c->osc_den_min_A2 > 0.0f)) {
+        const float lambda = ctrl_osc_step(o, p->i_dq, p->x.i_dq_A, c->osc_den_min_A2);
+        if (lambda > 0.0f) {
+            est_hold_oscillation(&c->est, 1.0f / lambda, p->omega, p->i_dq.q); /* one division, once */
+        }
+    } else {
+        o->pred_A = p->x.i_dq_A;
+        o->num_A2 = 0.0f; /* a new watch with the next estimated model */
+        o->den_A2 = 0.0f;
+    }
+}
+
 /* The ISR's order: each stage one call. */
 void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
@@ -491,7 +521,8 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
     stage_mode(c);                             /* the mode asked for */
     stage_sample(c, in, &p);                   /* angle, speed, i(k) */
     stage_estimate(c, &p, in->vdc_V);          /* observer, steps 1 and 2 (est.h) */
-    p.x = ctrl_model(c, p.i_dq, &p.turn);      /* the model in use and the state at k+1 */
+    p.x = ctrl_model(c, p.i_dq, &c->turn);      /* the model in use and the state at k+1 */
+    stage_watch(c, &p);                        /* the current's oscillation on an estimated model */
     stage_references(c, &p);                   /* Te*: speed PI or torque reference */
     stage_limits(c, &p);                       /* current limit, MTPA, flux weakening: Te*, psi_s* */
     stage_deadbeat(c, &p, in->vdc_V);          /* eq. (17): u(k+1) */

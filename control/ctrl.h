@@ -34,6 +34,56 @@
 #include "pi.h"
 
 typedef enum { CTRL_MODE_OPEN_LOOP = 0, CTRL_MODE_TORQUE = 1, CTRL_MODE_SPEED = 2 } ctrl_mode_t;
+
+/* The oscillation watch on the estimated model (discrete_model_design.md
+ * sec. 7). The deadbeat's innovation eps(k) = i(k) - (the state at k it
+ * started from a period before) obeys eps(k+2) = (1 - lambda) eps(k) for
+ * a model L^ = lambda L: its lag-2 regression num/den is 1 - lambda, near
+ * 0 on a right model, -1 where the error stops shrinking (lambda = 2),
+ * below it growing (at 2.2 by 1.2x per 2 periods, a hundredfold in 50).
+ * Averaged over CTRL_OSC_PERIODS, while the innovation's rms is above
+ * ctrl_cfg_t.osc_i_min_A (the ADC's noise): at lambda >= CTRL_OSC_LAMBDA_HOLD
+ * L^ is cut by 1/lambda, the L the oscillation measures, and held
+ * (est_hold_oscillation). */
+#define CTRL_OSC_PERIODS     128.0f /* the regression's averaging (a pair every 4 periods) [periods] */
+#define CTRL_OSC_LAMBDA_HOLD 2.0f  /* L^/L at which the error stops shrinking: cut [-] */
+
+typedef struct {
+    dq_t pred_A;                /* the state at k+1 the model started from this period [A] */
+    dq_t eps_A;                 /* the innovation i - pred of the pair's first period [A] */
+    float num_A2;               /* <eps(k), eps(k-2)>, <eps(k-2), eps(k-2)>, averaged [A^2] */
+    float den_A2;
+    uint16_t phase;             /* 0..3: a lag-2 pair every 4 periods (0: its first, 2: its second) */
+} ctrl_osc_t;
+
+/* One period of the watch: every 4 periods a pair of innovations
+ * i_A - o->pred_A two periods apart into the regression (the lag-2
+ * regression needs no more); x_next_A the next prediction. Returns
+ * lambda = 1 - num/den when it reached CTRL_OSC_LAMBDA_HOLD with den above
+ * den_min_A2 [A^2] (the watch then starts anew), else 0. ISR (inline). */
+static inline float ctrl_osc_step(ctrl_osc_t *o, dq_t i_A, dq_t x_next_A, float den_min_A2)
+{
+    float lambda = 0.0f;
+    if (o->phase == 0u) {
+        o->eps_A.d = i_A.d - o->pred_A.d;
+        o->eps_A.q = i_A.q - o->pred_A.q;
+    } else if (o->phase == 2u) {
+        const float ed = i_A.d - o->pred_A.d;
+        const float eq = i_A.q - o->pred_A.q;
+        o->num_A2 += (4.0f / CTRL_OSC_PERIODS) * ((ed * o->eps_A.d + eq * o->eps_A.q) - o->num_A2);
+        o->den_A2 += (4.0f / CTRL_OSC_PERIODS) * ((o->eps_A.d * o->eps_A.d + o->eps_A.q * o->eps_A.q) - o->den_A2);
+        if ((o->den_A2 > den_min_A2) && (o->num_A2 < (1.0f - CTRL_OSC_LAMBDA_HOLD) * o->den_A2)) {
+            lambda = 1.0f - o->num_A2 / o->den_A2;
+            o->num_A2 = 0.0f;
+            o->den_A2 = 0.0f;
+        }
+    } else {
+        /* between the pairs */
+    }
+    o->phase = (uint16_t)((o->phase + 1u) & 3u);
+    o->pred_A = x_next_A;
+    return lambda;
+}
 typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_method_t;
 
 /* Flags in ctrl_out_t.flags; the estimation's bits (est.h EST_FLAG_*,
@@ -60,6 +110,8 @@ typedef struct {
     float i_max_A;              /* bound on the currents the model uses */
     float u_max_V;              /* bound on |ud|, |uq| before the hexagon */
     float omega_max_el_rad_s;   /* bound on |omega_el| the model uses */
+    float osc_i_min_A;          /* the oscillation watch judges an innovation above this rms (the ADC's
+                                 * noise: drive_trip_margin_A); <= 0: no watch [A] */
     float psi_max_Wb;           /* bound on psi_s* */
     float deadtime_s;           /* inverter dead time [s]: its voltage error is fed forward and
                                  * counted in the realised voltage; 0: none */
@@ -128,8 +180,12 @@ typedef struct {
     pi_t speed_pi;
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
     float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
+    zoh_turn_t turn;            /* the rotor's turn over a period, taken at w within turn_tol of w(k) (zoh.h) */
+    float turn_tol_rad_s;       /* ZOH_THETA_TOL_RAD / Ts [rad/s el] */
     float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
     float te_lim_Nm;            /* |Te*| limit in use: te_max_Nm, times kt(model)/kt(told) when it follows kt [N m] */
+    ctrl_osc_t osc;             /* the oscillation watch (CTRL_OSC_*) */
+    float osc_den_min_A2;       /* osc_i_min_A^2 (0: no watch) [A^2] */
     float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */
     oplim_t lim;                /* current limit and flux weakening (oplim.h) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */

@@ -76,20 +76,23 @@ void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb)
     p->te_per_Wb = p->kt_Nm_per_A * inv_L;
     p->psiq_per_Nm = p->L_H / p->kt_Nm_per_A;                           /* division 4 */
     p->inv_psi_f_1_Wb = ONE_AND_HALF * (float)cfg->pole_pairs * p->psiq_per_Nm * inv_L; /* 1.5 p / kt */
+    db->st.taken = DBDTC_TAKEN_NONE; /* the period is taken again */
 }
 
-void dbdtc_period(dbdtc_t *db, const zoh_turn_t *t)
-{
-    zoh_step_t z;
-    zoh_step(&db->par.zm, t, &z);
-    dbdtc_period_from(db, t, z.g_c);
-}
-
-void dbdtc_period_from(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V)
+void dbdtc_take_period(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V, uint32_t g_rev, uint16_t taken)
 {
     const dbdtc_par_t *p = &db->par;
     dbdtc_step_t *st = &db->st;
+    dq_t g_c = g_c_A_V;
 
+    if (taken == DBDTC_TAKEN_OWN) {
+        zoh_step_t z;
+        zoh_step(&p->zm, t, &z); /* 1 division */
+        g_c = z.g_c;
+    }
+    st->taken = taken;
+    st->turn = t->seq;
+    st->g_rev = g_rev;
     if (!(p->zm.R_Ohm > 0.0f) || !(p->zm.tau_s > 0.0f)) {
         /* refused parameters: the identity, no voltage (a refused model is never run) */
         st->Phi.d = 1.0f;
@@ -104,8 +107,8 @@ void dbdtc_period_from(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V)
     }
     st->Phi.d = p->zm.rho * t->c1;         /* rho e^(-j theta) */
     st->Phi.q = -p->zm.rho * t->s1;
-    st->D_Wb.d = p->psiR_Wb_Ohm * g_c_A_V.d;
-    st->D_Wb.q = p->psiR_Wb_Ohm * g_c_A_V.q;
+    st->D_Wb.d = p->psiR_Wb_Ohm * g_c.d;
+    st->D_Wb.q = p->psiR_Wb_Ohm * g_c.q;
     st->gu_Wb_V.d = p->L_gamma_Wb_V * t->ch;  /* L gamma e^(-j theta/2) */
     st->gu_Wb_V.q = -p->L_gamma_Wb_V * t->sh;
     st->ku_V_Wb.d = p->zm.kappa_1_s * t->ch;  /* kappa e^(+j theta/2) */

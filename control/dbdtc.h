@@ -103,7 +103,14 @@ typedef struct {           /* the model in this period's turn (dbdtc_period) */
     dq_t gu_Wb_V;          /* L g_u: the flux a volt at the middle angle moves [Wb/V] */
     dq_t ku_V_Wb;          /* 1/(L g_u): the volts a flux change takes [V/Wb] */
     dq_t free_Wb;          /* dbdtc_solve's free flux at k+2 (dbdtc_torque_after's) [Wb] */
+    uint16_t taken;        /* what Phi .. ku were taken from: DBDTC_TAKEN_* */
+    uint32_t turn;         /* ... in the turn of this number (zoh_turn_t.seq) */
+    uint32_t g_rev;        /* ... with the g_c of this number (dbdtc_period_from's) */
 } dbdtc_step_t;
+
+#define DBDTC_TAKEN_NONE 0u /* the parameters changed since: to take */
+#define DBDTC_TAKEN_OWN  1u /* dbdtc_period: the model's own g_c */
+#define DBDTC_TAKEN_FROM 2u /* dbdtc_period_from: a g_c handed over */
 
 typedef struct {
     dbdtc_cfg_t cfg;
@@ -125,15 +132,35 @@ void dbdtc_reset(dbdtc_t *db);
  * period's turn must be taken again (dbdtc_period). ISR or background. */
 void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb);
 
+/* Takes the period's Phi, D, gu, ku (dbdtc_period, dbdtc_period_from):
+ * the model's own g_c (taken = DBDTC_TAKEN_OWN: 1 division) or g_c_A_V of
+ * number g_rev (DBDTC_TAKEN_FROM). ISR. */
+void dbdtc_take_period(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V, uint32_t g_rev, uint16_t taken);
+
 /* This period's model from the rotor's turn *t (w within +-omega_max;
  * zoh_turn): once a period, after any dbdtc_set_params of it, before
- * dbdtc_predict, dbdtc_solve, dbdtc_torque_after. 1 division. ISR. */
-void dbdtc_period(dbdtc_t *db, const zoh_turn_t *t);
+ * dbdtc_predict, dbdtc_solve, dbdtc_torque_after. 1 division when the
+ * turn or the parameters changed since it was last taken, else none. ISR
+ * (inline: the check). */
+static inline void dbdtc_period(dbdtc_t *db, const zoh_turn_t *t)
+{
+    if ((db->st.taken != DBDTC_TAKEN_OWN) || (db->st.turn != t->seq)) {
+        const dq_t none = { 0.0f, 0.0f };
+        dbdtc_take_period(db, t, none, 0u, DBDTC_TAKEN_OWN);
+    }
+}
 
 /* As dbdtc_period with the period's gain g_c_A_V (zoh_step_t.g_c) of a
  * model with the same R, L (the observer's, whose estimates the model
- * takes: one division for both). No division. ISR. */
-void dbdtc_period_from(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V);
+ * takes: one division for both), g_rev its number (smo_t.z_rev). No
+ * division; nothing when the turn, the parameters and g_c are those it
+ * was last taken with. ISR (inline: the check). */
+static inline void dbdtc_period_from(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V, uint32_t g_rev)
+{
+    if ((db->st.taken != DBDTC_TAKEN_FROM) || (db->st.turn != t->seq) || (db->st.g_rev != g_rev)) {
+        dbdtc_take_period(db, t, g_c_A_V, g_rev, DBDTC_TAKEN_FROM);
+    }
+}
 
 /* Torque Te(k+2) [N m] the model expects from the state dbdtc_solve was
  * given this period when u_dq_V [V] is applied over [k+1, k+2] (eq. 5 on
@@ -143,6 +170,20 @@ float dbdtc_torque_after(const dbdtc_t *db, dq_t u_dq_V);
 
 /* Flux and torque (eq. 11, 12) from the currents i_dq_A [A]. ISR context. */
 dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A);
+
+/* As dbdtc_state_from_currents for currents already within +-i_max_A
+ * (the observer's prediction, bounded by the same i_max): no clamp. ISR
+ * (inline). */
+static inline dbdtc_state_t dbdtc_state_from_bounded(const dbdtc_t *db, dq_t i_dq_A)
+{
+    const dbdtc_par_t *p = &db->par;
+    dbdtc_state_t x;
+    x.i_dq_A = i_dq_A;
+    x.psi_dq_Wb.d = p->L_H * i_dq_A.d + p->psi_f_Wb; /* eq. (11) */
+    x.psi_dq_Wb.q = p->L_H * i_dq_A.q;               /* eq. (11) */
+    x.te_Nm = p->kt_Nm_per_A * i_dq_A.q;             /* eq. (12) */
+    return x;
+}
 
 /* Delay compensation: state at k+1 from the sampled i_dq_A(k) [A] and the
  * voltage u_dq_V(k) [V] being applied now (eq. 10-12 on the exact

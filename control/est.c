@@ -283,3 +283,15 @@ bool est_start_trusted(est_t *e, float R_Ohm)
     psi_band_bound_final(&e->pb);
     return true;
 }
+
+void est_hold_oscillation(est_t *e, float L_scale, float omega_el_rad_s, float iq_A)
+{
+    if ((e->phase != EST_STEP2) || !(L_scale > 0.0f) || !(L_scale < 1.0f)) {
+        return;
+    }
+    param_est_hold_L(&e->pe, true);
+    const float L_H = smo_set_L(&e->smo, L_scale * e->smo.L_H, omega_el_rad_s, iq_A);
+    est_gate_take_L(&e->gate, L_H); /* a transient's restore keeps it */
+    e->force = EST_MOVED_ALL;       /* the model takes it this period */
+    e->hold_fixed = (uint16_t)(e->hold_fixed | EST_HOLD_OSCILLATION);
+}

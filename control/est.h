@@ -56,8 +56,10 @@ typedef enum {
 #define EST_HOLD_STEP1_REFUSED 0x0100u /* with EST_HOLD_NO_STEP2: step 1 was refused (the told model until the next) */
 #define EST_HOLD_INVERTER_UNKNOWN 0x0200u /* with EST_HOLD_SPEED_FLOOR: the inverter error could not be
                                             * measured (EST_FLAG_INV_UNIDENTIFIED), so every speed is below the floor */
+#define EST_HOLD_OSCILLATION 0x0400u /* the model's L^ made the current oscillate (ctrl.h's watch): L^ cut to the
+                                       * L the oscillation measures and held there until the next start (a warning) */
 /* The named bits (est_hold_name()). */
-#define EST_HOLD_NAMES_N 10u
+#define EST_HOLD_NAMES_N 11u
 
 /* est_out_t.flags: bits of the controller's output flags. */
 #define EST_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
@@ -144,7 +146,7 @@ typedef struct {                /* what est_t keeps of its configuration (the bl
 
 typedef struct {                /* one period's inputs */
     dq_t i_dq_A;                /* i(k), rotor frame [A] */
-    float omega_el_rad_s;       /* w(k) [rad/s electrical] */
+    float omega_el_rad_s;       /* w(k) within +-omega_max [rad/s electrical] */
     const zoh_turn_t *turn;     /* the rotor's turn over the period at w(k) within +-omega_max (zoh.h) */
     float sin_el, cos_el;       /* of theta_el(k) */
     dq_t u_V;                   /* u(k): the voltage realised over [k, k+1] [V] */
@@ -181,7 +183,8 @@ typedef struct {
     float w_psi_min_rad_s;      /* the transfer laws' speed floor for psi^ (param_est_step's input) */
     uint16_t rt_flags;          /* EST_FLAG_INV_UNIDENTIFIED, EST_FLAG_R_HELD while they last */
     uint16_t force;             /* EST_MOVED_ALL due at the next output */
-    uint16_t hold_fixed;        /* EST_HOLD_ANGLE while an angle error is suspected (else 0) */
+    uint16_t hold_fixed;        /* EST_HOLD_ANGLE while an angle error is suspected, EST_HOLD_OSCILLATION
+                                 * once the current oscillated on the estimates (else 0) */
     bool refused;               /* the last step 1 was refused (EST_HOLD_STEP1_REFUSED) */
     bool trusted;               /* the model was taken above the speed floor as psi_band decided it under
                                  * the final bound (the last trusted model, kept below the floor) */
@@ -254,6 +257,14 @@ bool est_start_trusted(est_t *e, float R_Ohm);
  * nothing else): the inverter error into the compensation, R^ tracked,
  * the holds. ISR. */
 void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A);
+
+/* The controller saw the current oscillate on step 2's model (ctrl.h's
+ * watch, which measured L^ at 1/L_scale of the motor's L): L^ times
+ * L_scale (0 < L_scale < 1; keeping the transfer law's invariant at
+ * omega_el_rad_s, iq_A), taken by the model at once and held there (the L
+ * law stopped, the gate's copies with it): EST_HOLD_OSCILLATION until the
+ * next step 1 or start. Nothing outside step 2. ISR (rare). */
+void est_hold_oscillation(est_t *e, float L_scale, float omega_el_rad_s, float iq_A);
 
 /* est_hold while psi_band's `low` holds the model: the gate's reasons,
  * the speed floor when it is the speed, the angle hold. ISR. */
@@ -329,7 +340,7 @@ static inline void est_step(est_t *e, const est_in_t *in)
         return;
     }
     /* u(k) is the clamped voltage the last step realised, as the observer needs */
-    (void)smo_step_turn(&e->smo, in->i_dq_A, in->u_V, in->turn); /* i^(k+1): (51b), (55) */
+    (void)smo_step_turn(&e->smo, in->i_dq_A, in->u_V, in->omega_el_rad_s, in->turn); /* i^(k+1): (51b), (55) */
     if (e->rt.phase != R_TRACK_OFF) {
         const bool edge = r_track_at_edge(&e->rt);
         if ((!edge && ((in->dpsi_weak_Wb > 0.0f) || ((e->gate.reasons & EST_GATE_VOLTAGE) != 0u))) ||
@@ -399,7 +410,13 @@ static inline dq_t est_i_hat_A(const est_t *e)
  * turn (zoh.h) [A/V]: the model's when src is EST_SRC_OBSERVER (its R^, L^). */
 static inline dq_t est_zoh_g_c(const est_t *e)
 {
-    return e->smo.g_c;
+    return e->smo.z.g_c;
+}
+
+/* The number of the observer's g_c (smo_t.z_rev: changes when it is taken again). ISR. */
+static inline uint32_t est_zoh_rev(const est_t *e)
+{
+    return e->smo.z_rev;
 }
 
 /* The observer's internal psi^ [Wb]: it carries the voltage the model

@@ -198,3 +198,9 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
     g->reasons = why;
     return restored;
 }
+
+void est_gate_take_L(est_gate_t *g, float L_H)
+{
+    g->L_old = L_H;
+    g->L_new = L_H;
+}

@@ -8,6 +8,7 @@ static const struct {
     uint16_t bit;
     const char *name;
 } HOLD_NAMES[EST_HOLD_NAMES_N] = {
+    { EST_HOLD_OSCILLATION, "OSCILLATION" },
     { EST_HOLD_STEP1_REFUSED, "STEP1_REFUSED" },
     { EST_HOLD_NO_STEP2, "NO_STEP2" },
     { EST_HOLD_ANGLE, "ANGLE_SUSPECT" },

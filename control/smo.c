@@ -8,9 +8,10 @@ static bool in_range(float x, float lo, float hi)
     return (x >= lo) && (x <= hi);
 }
 
-/* The decay at R^, L^ (zoh.h): 2 divisions. */
+/* The decay at R^, L^ (zoh.h): 2 divisions; Phi, g_u, g_c follow at the next step. */
 static void update_model(smo_t *smo)
 {
+    smo->z_turn = 0u; /* no turn's number: taken again at the next step */
     if ((smo->status != SMO_CFG_OK) || !zoh_model(smo->R_Ohm, smo->L_H, smo->cfg.Ts_s, &smo->zm)) {
         /* a refused cfg: no decay, no gain (smo_step passes i(k) through) */
         smo->zm.R_Ohm = 1.0f;
@@ -32,12 +33,12 @@ void smo_reset(smo_t *smo)
     smo->L_H = smo->cfg.L_H;
     smo->psi_f_Wb = smo->cfg.psi_f_Wb;
     update_model(smo);
-    zoh_turn(0.0f, 0.0f, &still);
-    {
-        zoh_step_t z;
-        zoh_step(&smo->zm, &still, &z);
-        smo->g_c = z.g_c;
-    }
+    zoh_turn(0.0f, 0.0f, &still); /* at standstill until the first step's turn */
+    zoh_step(&smo->zm, &still, &smo->z);
+    smo->z_rc = 0.0f;
+    smo->z_rs = 0.0f;
+    smo->z_turn = still.seq;
+    smo->z_rev++;
     smo->i_hat_A.d = 0.0f;
     smo->i_hat_A.q = 0.0f;
     smo->fd_V = 0.0f;
@@ -52,19 +53,19 @@ static float switching(const smo_t *smo, float e_A)
     return smo->cfg.Ks_V * mathx_clampf(e_A * smo->inv_phi_1_A, -1.0f, 1.0f);
 }
 
-dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, const zoh_turn_t *turn)
+dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const zoh_turn_t *turn)
 {
     const smo_cfg_t *c = &smo->cfg;
     dq_t i;
     dq_t u;
     dq_t v;
     dq_t next;
-    zoh_step_t z;
 
     i.d = mathx_clampf(i_A.d, -c->i_max_A, c->i_max_A);
     i.q = mathx_clampf(i_A.q, -c->i_max_A, c->i_max_A);
-    u.d = mathx_clampf(u_V.d, -c->u_max_V, c->u_max_V);
-    u.q = mathx_clampf(u_V.q, -c->u_max_V, c->u_max_V);
+    /* u as applied: the inverter bounds it (a non-finite u is the caller's
+     * NONFINITE fault; smo_reset at the next start clears what it left) */
+    u = u_V;
     if (smo->status != SMO_CFG_OK) {
         smo->i_hat_A = i;
         return smo->i_hat_A;
@@ -79,19 +80,26 @@ dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, const zoh_turn_t *turn)
     const float Ud = switching(smo, smo->i_hat_A.d - i.d);
     const float Uq = switching(smo, smo->i_hat_A.q - i.q);
     const float rho = smo->zm.rho;
-    zoh_step(&smo->zm, turn, &z);
-    smo->g_c = z.g_c; /* the model's too while it follows the observer (dbdtc_period_from) */
+    if (turn->seq != smo->z_turn) {
+        zoh_step(&smo->zm, turn, &smo->z); /* 1 division */
+        /* (Phi - rho) i = rho (cos theta - 1 - j sin theta) i, cos theta - 1 = -2 sin^2(theta/2) */
+        smo->z_rc = -2.0f * rho * turn->sh * turn->sh;
+        smo->z_rs = rho * turn->s1;
+        smo->z_turn = turn->seq;
+        smo->z_rev++;
+    }
+    const zoh_step_t *z = &smo->z;
 
     /* (51b), (55) exact: the rotor's turn on the measured current (the
      * paper's cross terms w Ts i(k)), rho on the observer's own; U with +
      * sign from the error dynamics; -w psi^ with the psi^ in use */
     v.d = -smo->fd_V - Ud;
-    v.q = -turn->w_rad_s * smo->psi_f_Wb - smo->fq_V - Uq;
-    const dq_t gu = zoh_mul(z.g_u, u);
-    const dq_t gv = zoh_mul(z.g_c, v);
-    /* (Phi - rho) i = rho (cos theta - 1 - j sin theta) i, cos theta - 1 = -2 sin^2(theta/2) */
-    const float rc = -2.0f * rho * turn->sh * turn->sh;
-    const float rs = rho * turn->s1;
+    v.q = -omega_el_rad_s * smo->psi_f_Wb - smo->fq_V - Uq; /* w(k) itself: a kept turn's w is up to
+                                                               * ZOH_THETA_TOL_RAD/Ts off, w psi by that x psi */
+    const dq_t gu = zoh_mul(z->g_u, u);
+    const dq_t gv = zoh_mul(z->g_c, v);
+    const float rc = smo->z_rc;
+    const float rs = smo->z_rs;
     next.d = rho * smo->i_hat_A.d + rc * i.d + rs * i.q + gu.d + gv.d;
     next.q = rho * smo->i_hat_A.q + rc * i.q - rs * i.d + gu.q + gv.q;
     /* (51b), (55): f^ += mu Ts U, the sign that makes (37) converge */
@@ -110,7 +118,7 @@ dq_t smo_step(smo_t *smo, dq_t i_A, float omega_el_rad_s, dq_t u_V)
     const float w = mathx_clampf(omega_el_rad_s, -smo->cfg.omega_max_rad_s, smo->cfg.omega_max_rad_s);
     zoh_turn_t t;
     zoh_turn(w * smo->cfg.Ts_s, w, &t);
-    return smo_step_turn(smo, i_A, u_V, &t);
+    return smo_step_turn(smo, i_A, u_V, w, &t);
 }
 
 void smo_shift_f(smo_t *smo, float dfd_V, float dfq_V)

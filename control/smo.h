@@ -56,11 +56,19 @@
  * this share since it was taken: the transfer law moves L^ every second
  * period, and a model 1e-4 off changes the prediction by 1e-4 of w L iq
  * Ts/L (the L law then reads it within that). */
-#define SMO_MODEL_UPDATE_REL    1.0e-4f
+#define SMO_MODEL_UPDATE_REL    1.0e-3f
 #define SMO_R_MIN_FACTOR        0.2f    /* accepted R^ range, x nominal */
 #define SMO_R_MAX_FACTOR        2.0f
-#define SMO_LPSI_MIN_FACTOR     0.3f    /* accepted L^, psi^ range, x nominal */
-#define SMO_LPSI_MAX_FACTOR     3.0f
+/* The bands of L^ and psi_f^, x the told value: written once, for the
+ * observer and the transfer laws (param_est.c) alike. A told value within
+ * a factor of about 3 of the motor's (the paper's and the campaigns' worst
+ * are 2: psi_f 0.5x and 2x, L 0.66x and 1.5x); est_cfg_defaults raises
+ * L^'s floor to the observer's own stability (smo_L_floor_H at R_min).
+ * The deadbeat's stability (L^ < 2 L) is no band: it depends on the
+ * motor's L, which a band from the told value cannot know; ctrl.h's
+ * oscillation watch judges it (discrete_model_design.md sec. 7). */
+#define SMO_LPSI_MIN_FACTOR     0.3f    /* [-] */
+#define SMO_LPSI_MAX_FACTOR     3.0f    /* [-] */
 
 typedef enum {
     SMO_CFG_OK = 0,
@@ -112,7 +120,13 @@ typedef struct {
     float L_H;
     float psi_f_Wb;
     zoh_model_t zm;           /* the decay over a period at R^, L^ (zoh.h) */
-    dq_t g_c;                 /* its gain g_c of a rotor-frame voltage in the last step's turn [A/V] (zoh.h) */
+    zoh_step_t z;             /* Phi, g_u, g_c of zm in the turn z_turn (zoh.h): taken again when the
+                               * turn or zm changed (g_c: the model's too while it follows the observer,
+                               * dbdtc_period_from) */
+    uint32_t z_turn;          /* the turn's number (zoh_turn_t.seq) z was taken in; 0: zm changed since */
+    uint32_t z_rev;           /* z's own number: one more each time it is taken */
+    float z_rc;               /* Phi - rho = z_rc - j z_rs, taken with z: rho (cos theta - 1) = -2 rho sin^2(theta/2) */
+    float z_rs;               /* ... and rho sin theta [-] */
     dq_t i_hat_A;             /* prediction i^(k+1) made by the last step */
     float fd_V;               /* disturbance estimates f^ [V] */
     float fq_V;
@@ -153,10 +167,12 @@ smo_status_t smo_init(smo_t *smo, const smo_cfg_t *cfg);
 void smo_reset(smo_t *smo);
 
 /* One period: i_A = measured i(k) [A], u_V = the voltage applied over
- * [k, k+1] after the hexagon clamp [V], *turn the rotor's turn over it
- * (zoh_turn at w(k) within +-omega_max). Returns and stores i^(k+1) [A]
- * (eq. 51b, 55 as corrected in this header). 1 division. ISR. */
-dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, const zoh_turn_t *turn);
+ * [k, k+1] after the hexagon clamp [V], omega_el_rad_s = w(k) within
+ * +-omega_max [rad/s el] (the back-EMF's), *turn the rotor's turn over it
+ * (zoh_turn at w(k), or within ZOH_THETA_TOL_RAD of it). Returns and stores i^(k+1) [A]
+ * (eq. 51b, 55 as corrected in this header). 1 division when the turn or
+ * the decay changed since the last step, else none. ISR. */
+dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const zoh_turn_t *turn);
 
 /* As smo_step_turn at omega_el_rad_s = w(k) [rad/s el] (the turn taken
  * here). ISR. */

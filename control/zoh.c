@@ -1,6 +1,8 @@
 /* zoh.c - the model's decay over a period; see zoh.h. */
 #include "zoh.h"
 
+uint32_t zoh_turn_seq = 0u;
+
 /* (1 - e^-x)/x by its series up to x^7: error below x^8/9! = 1.1e-8 for
  * x <= ZOH_SERIES_MAX; beyond, x is halved until it is within (e^-x
  * squared back). ZOH_HALVINGS_MAX halvings cover x up to 2^15 (e^-x is 0

@@ -18,15 +18,19 @@
  *   psi(k+1) = Phi psi(k) + psi_f R g_c + L g_u u_m
  *
  * Per period the rotor's turn (zoh_turn_t: cos, sin of theta and theta/2,
- * short series) is shared by every model; per model (R, L at Ts) the
- * decay (zoh_model_t) is computed when R or L change. The two mixed
- * (zoh_step: Phi, g_u, g_c) cost one division a period.
+ * short series) is shared by every model, and taken anew only when the
+ * speed moved it by more than ZOH_THETA_TOL_RAD; per model (R, L at Ts)
+ * the decay (zoh_model_t) is computed when R or L change. The two mixed
+ * (zoh_step: Phi, g_u, g_c) cost one division when either changed.
  *
  * Calling context: zoh_turn, zoh_step ISR (inline); zoh_model ISR when a
  * model changes, or background.
  */
 #ifndef ZOH_H
 #define ZOH_H
+
+#include <stdbool.h>
+#include <stdint.h>
 
 #include "clarke_park.h"
 
@@ -37,12 +41,27 @@
  * 0.5: error < 0.5^9/9! = 5.4e-9). */
 #define ZOH_THETA_MAX_RAD 1.0f
 
+/* A turn is taken anew when the speed moved it by more than this since it
+ * was taken [rad]: a turn 1e-5 rad stale moves a one-period prediction by
+ * 1e-5 |i|, 0.1 mA at 10 A, a 70th of the board's ADC step. The speed
+ * estimate moves by ~0.02 rad/s el a period at steady speed (2e-6 rad at
+ * 10 kHz), by 0.08 rad/s el on a 2500 r/min/s ramp: the turn, and what
+ * each model computes from it (zoh_step, dbdtc_period), is kept over
+ * most periods (discrete_model_design.md sec. 2). The observer's back-EMF
+ * -j w psi^ takes w(k) itself: a w 0.1 rad/s el stale moves w psi by
+ * 24 mV on the paper motor, what step 1's R^ at 0.25 % must not carry. */
+#define ZOH_THETA_TOL_RAD 1e-5f
+
 /* The rotor's turn over a period: theta = w Ts. */
 typedef struct {
     float c1, s1; /* cos, sin of theta */
     float ch, sh; /* cos, sin of theta / 2 */
     float w_rad_s; /* the speed it was taken at [rad/s el] */
+    uint32_t seq;  /* which turn: every zoh_turn() a new number (what was taken from a turn keeps it) */
 } zoh_turn_t;
+
+/* The number of the last turn taken (zoh.c). */
+extern uint32_t zoh_turn_seq;
 
 /* One model's decay over a period: R, L at Ts. */
 typedef struct {
@@ -76,6 +95,8 @@ static inline void zoh_turn(float theta_rad, float w_rad_s, zoh_turn_t *t)
     t->s1 = 2.0f * t->sh * t->ch;
     t->c1 = 1.0f - 2.0f * t->sh * t->sh;
     t->w_rad_s = w_rad_s;
+    zoh_turn_seq++;
+    t->seq = zoh_turn_seq;
 }
 
 /* The decay of the model R_Ohm, L_H [Ohm, H] (both > 0) over Ts_s [s];

@@ -185,6 +185,9 @@ static void run_state(app_t *app, const hal_sample_t *s)
     if ((app->out.flags & CTRL_FLAG_NONFINITE) != 0u) {
         r = app_step_fault(APP_FAULT_NONFINITE_OUTPUT, 0.0f, 0.0f);
     }
+    if ((est_output(ctrl_est(&app->ctrl))->hold & EST_HOLD_OSCILLATION) != 0u) {
+        app->warnings |= APP_WARN_OSCILLATION; /* no silent fallback: the told model since */
+    }
     (void)app_output(app, r, s);
 }
 

@@ -87,6 +87,8 @@
  * Bits above ctrl_out_t.flags' (CTRL_FLAG_*): the SIL's CSV column
  * `flags` carries both. Cleared at the next start. */
 #define APP_WARN_STEP1_REFUSED 0x1000u /* step 1 refused R^ (rsid_refusal says why): conventional method */
+#define APP_WARN_OSCILLATION   0x2000u /* the current oscillated on step 2's model: the told model since
+                                        * (est.h EST_HOLD_OSCILLATION) */
 
 /* CONFIG's snapshot value: ctrl_init's refusals (ctrl_status_t, bits up to
  * 0x0100) | app_cfg_t.params_refused shifted this far. */

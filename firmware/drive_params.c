@@ -184,6 +184,8 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     c->i_max_A = MODEL_I_BOUND_PER_TRIP * p->limits.i_trip_A;
     c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * MATHX_RAD_S_PER_RPM_F * (float)p->motor.pole_pairs;
     c->psi_max_Wb = MODEL_PSI_BOUND_PER_PSIF * p->motor.psi_f_Wb;
+    /* the oscillation watch judges innovations above what the ADC's noise reads */
+    c->osc_i_min_A = drive_trip_margin_A(p);
 
     /* the offsets calibration accepts: the share of the range drive_i_readable_A() leaves */
     cfg->cal.offset_max_A = scaled(BOARD_I_OFFSET_MAX_A, p->board.i_full_scale_A, BOARD_I_FULL_SCALE_A);

@@ -8,6 +8,7 @@
 #include <setjmp.h>
 #include <cmocka.h>
 #include <math.h>
+#include <string.h>
 
 #include "ctrl.h"
 #include "est_defaults.h"
@@ -370,6 +371,73 @@ static void default_band_holds_the_motor_r(void **state)
     }
 }
 
+/* ---- the oscillation watch (ctrl.h CTRL_OSC_*) on synthetic innovations ---- */
+
+#define OSC_FLOOR_A  0.088     /* 6 sigma of 2 codes at 15 A (drive_trip_margin_A) */
+#define OSC_PERIODS  20000L
+
+static uint32_t osc_seed;
+
+/* uniform in [-a, a), rms a / sqrt(3) */
+static double osc_noise(double a)
+{
+    osc_seed = osc_seed * 1664525u + 1013904223u;
+    return a * (2.0 * ((double)(osc_seed >> 8) / 16777216.0) - 1.0);
+}
+
+/* eps(k) = g eps(k-2) + noise (d and q), fed as i = pred + eps; returns
+ * the first period the watch gave the model up (-1: never), its lambda
+ * and the largest |eps| until then. */
+static long osc_feed(double g, double eps0, double noise, double drift, float den_min, float *lambda, double *eps_max)
+{
+    ctrl_osc_t o;
+    memset(&o, 0, sizeof o);
+    osc_seed = 7u;
+    double e[2][2] = { { eps0, 0.5 * eps0 }, { -0.3 * eps0, eps0 } }; /* [k-2 or k-1][d, q] */
+    *eps_max = 0.0;
+    *lambda = 0.0f;
+    for (long k = 0; k < OSC_PERIODS; k++) {
+        const double ed = g * e[0][0] + osc_noise(noise) + drift * sin(2.0 * 3.14159265 * (double)k / 200.0);
+        const double eq = g * e[0][1] + osc_noise(noise) + drift * cos(2.0 * 3.14159265 * (double)k / 200.0);
+        e[0][0] = e[1][0];
+        e[0][1] = e[1][1];
+        e[1][0] = ed;
+        e[1][1] = eq;
+        *eps_max = fmax(*eps_max, hypot(ed, eq));
+        const dq_t i = { (float)(o.pred_A.d + ed), (float)(o.pred_A.q + eq) };
+        const dq_t x_next = { 1.0f, 2.0f };
+        *lambda = ctrl_osc_step(&o, i, x_next, den_min);
+        if (*lambda > 0.0f) {
+            return k;
+        }
+    }
+    return -1;
+}
+
+/* A growing oscillation eps(k+2) = -1.2 eps(k) (L^ = 2.2 L) from 0.01 A:
+ * given up once its rms passes the floor, lambda measured within 10 %, far
+ * below a trip (|eps| < 10 x the floor). Not given up: a stable model
+ * (L^ = 1.6 L: -0.6) with 0.3 A of noise, noise alone, a slow drift of
+ * 0.5 A (lag-2 regression near +1), a sustained oscillation (lambda 2)
+ * of 0.01 A, under the floor. */
+static void oscillation_watch_on_innovations(void **state)
+{
+    (void)state;
+    const float floor2 = (float)(OSC_FLOOR_A * OSC_FLOOR_A);
+    float lambda;
+    double eps_max;
+    const long k = osc_feed(-1.2, 0.01, 0.001, 0.0, floor2, &lambda, &eps_max);
+    print_message("growing (lambda 2.2): given up at period %ld, lambda %.3f, |eps| up to %.3f A\n", k, (double)lambda,
+                  eps_max);
+    assert_true(k > 0);
+    assert_true(fabs((double)lambda - 2.2) <= 0.22);
+    assert_true(eps_max < 10.0 * OSC_FLOOR_A);
+    assert_int_equal(osc_feed(-0.6, 0.3, 0.5, 0.0, floor2, &lambda, &eps_max), -1);
+    assert_int_equal(osc_feed(0.0, 0.0, 0.5, 0.0, floor2, &lambda, &eps_max), -1);
+    assert_int_equal(osc_feed(0.0, 0.0, 0.0, 0.5, floor2, &lambda, &eps_max), -1);
+    assert_int_equal(osc_feed(-1.0, 0.01, 0.0, 0.0, floor2, &lambda, &eps_max), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -381,6 +449,7 @@ int main(void)
         cmocka_unit_test(monitor_filled),
         cmocka_unit_test(init_reports_each_refusal),
         cmocka_unit_test(default_band_holds_the_motor_r),
+        cmocka_unit_test(oscillation_watch_on_innovations),
     };
     return cmocka_run_group_tests_name("ctrl", tests, NULL, NULL);
 }

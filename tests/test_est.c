@@ -129,6 +129,7 @@ static void every_hold_bit_is_named(void **state)
         { EST_HOLD_VOLTAGE, "VOLTAGE" }, { EST_HOLD_SETTLE, "SETTLE" }, { EST_HOLD_SPEED_FLOOR, "SPEED_FLOOR" },
         { EST_HOLD_NO_STEP2, "NO_STEP2" }, { EST_HOLD_ANGLE, "ANGLE_SUSPECT" },
         { EST_HOLD_STEP1_REFUSED, "STEP1_REFUSED" }, { EST_HOLD_INVERTER_UNKNOWN, "INVERTER_UNKNOWN" },
+        { EST_HOLD_OSCILLATION, "OSCILLATION" },
     };
     assert_int_equal(sizeof names / sizeof names[0], EST_HOLD_NAMES_N);
     for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
@@ -138,6 +139,7 @@ static void every_hold_bit_is_named(void **state)
     assert_string_equal(est_hold_name(0x8000u), "");
     assert_string_equal(est_hold_reason(0u), "");
     assert_string_equal(est_hold_reason(EST_HOLD_NO_STEP2 | EST_HOLD_STEP1_REFUSED), "STEP1_REFUSED");
+    assert_string_equal(est_hold_reason(EST_HOLD_OSCILLATION | EST_HOLD_SPEED_FLOOR), "OSCILLATION");
     assert_string_equal(est_hold_reason(EST_HOLD_SPEED_FLOOR | EST_HOLD_INVERTER_UNKNOWN), "INVERTER_UNKNOWN");
     assert_string_equal(est_hold_reason(EST_HOLD_SPEED_FLOOR | EST_HOLD_CURRENT | EST_HOLD_SETTLE), "SPEED_FLOOR");
     assert_int_equal(est_hold_reason_bit(EST_HOLD_TORQUE | EST_HOLD_ACCEL), EST_HOLD_TORQUE);

@@ -487,6 +487,9 @@ static void c_isr(void)
     hal_isr_ack();
 }
 
+/* the oscillation watch's floor: 6 sigma of the board's 2 codes of ADC noise (drive_trip_margin_A) */
+#define OSC_I_MIN_A (12.0 * 15.0 / 2048.0)
+
 /* Table I motor held at 500 r/min, torque mode at te_Nm; controller with L = L_factor x L0. */
 static ctrl_status_t c_setup(double L_factor, float R_max_Ohm)
 {
@@ -501,7 +504,7 @@ static ctrl_status_t c_setup(double L_factor, float R_max_Ohm)
         .pole_pairs = 3u, .enc_lines = hc.sens.enc_lines, .enc_offset_el_rad = 0.0f,
         .enc_pll_bw_rad_s = 500.0f, .speed_kp_Nms_rad = 0.3f, .speed_ki_Nm_rad = 20.0f,
         .te_max_Nm = 12.0f, .i_max_A = 60.0f, .u_max_V = 311.0f, .omega_max_el_rad_s = 3000.0f,
-        .psi_max_Wb = 1.0f,
+        .psi_max_Wb = 1.0f, .osc_i_min_A = (float)OSC_I_MIN_A,
     };
     test_est_defaults(&cfg, 0.2f * (float)R0, R_max_Ohm);
     const ctrl_status_t st = ctrl_init(&c, &cfg);
@@ -593,6 +596,47 @@ static void step2_without_step1(void **state)
     assert_true(fabs(c.est.smo.L_H / L0 - 1.0) <= EST_TOL);
 }
 
+/* L^ forced to L_factor x L0 on step 2's model of the Table I motor (the
+ * L law held, the gate's copies with it): the deadbeat starts from the
+ * observer's i^(k+1), whose f^ takes up the model's error, so even
+ * L^ = 2.9 L (beyond the 2 L at which eq. (10)'s deadbeat loses
+ * stability) keeps the current at its 4 N m value; the oscillation watch
+ * (ctrl.h CTRL_OSC_*) must not take that for an oscillation. */
+#define FORCED_I_TOL 1.05    /* |i| within 5 % of the 4 N m current */
+
+static void forced_L_hat_no_false_watch(void **state)
+{
+    static const double factors[] = { 0.5, 1.3, 2.9 };
+    const ctrl_ref_t ref = { 0.0f, 4.0f, 0.0f, 0.0f };
+    hal_sim_truth_t t;
+    (void)state;
+    for (size_t j = 0; j < sizeof factors / sizeof factors[0]; j++) {
+        double i_max = 0.0;
+        assert_int_equal(c_setup(1.0, 2.0f * (float)R0), CTRL_CFG_OK);
+        assert_true(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
+        c_run(4.0, C_START_PERIODS, NULL);
+        ctrl_set_ref(&c, &ref);
+        assert_true(est_start_trusted(ctrl_est_rw(&c), (float)R0));
+        c_run(4.0, 2000, NULL);
+        param_est_hold_L(&c.est.pe, true);
+        est_gate_take_L(&c.est.gate, smo_set_L(&c.est.smo, (float)(factors[j] * L0), c.enc.omega_e_rad_s, c.mon.iq_A));
+        c.est.force = EST_MOVED_ALL;
+        for (long k = 0; k < 2000; k++) {
+            hal_sim_period();
+            hal_sim_truth(&t);
+            if (k >= C_SETTLE_PERIODS) {
+                i_max = fmax(i_max, hypot(t.id_A, t.iq_A));
+            }
+        }
+        print_message("L^ = %.1f L0 forced: model L %.4f H, largest |i| %.2f A (4 N m: %.2f A), watch %.3f\n",
+                      factors[j], (double)c.db.par.L_H, i_max, 4.0 / KT0,
+                      (c.osc.den_A2 > 0.0f) ? (double)(c.osc.num_A2 / c.osc.den_A2) : 0.0);
+        assert_true(fabs((double)c.db.par.L_H / (factors[j] * L0) - 1.0) < 1e-3);
+        assert_int_equal(est_output(ctrl_est(&c))->hold & EST_HOLD_OSCILLATION, 0u);
+        assert_true(i_max <= FORCED_I_TOL * 4.0 / KT0);
+    }
+}
+
 /* Step-1 failures: one operating point -> DEGENERATE, no window -> TOO_FEW;
  * either leaves the observer stopped. */
 static void step1_failures(void **state)
@@ -627,6 +671,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(method_switch_bumpless),
         cmocka_unit_test(step2_without_step1),
+        cmocka_unit_test(forced_L_hat_no_false_watch),
         cmocka_unit_test(step1_failures),
         cmocka_unit_test(init_refuses_observer_outside_its_band),
         cmocka_unit_test(case_R430),

@@ -44,6 +44,7 @@ int main(int argc, char **argv)
         .enc_pll_bw_rad_s = 500.0f, .speed_kp_Nms_rad = 0.3f, .speed_ki_Nm_rad = 20.0f,
         .te_max_Nm = 12.0f, .i_max_A = 30.0f, .u_max_V = 311.0f,
         .omega_max_el_rad_s = 2000.0f, .psi_max_Wb = 0.5f,
+        .osc_i_min_A = 12.0f * 15.0f / 2048.0f, /* the oscillation watch: drive_trip_margin_A on the board */
     };
     const double w_m = SPEED_RPM * 2.0 * PI_D / 60.0;
     const ctrl_ref_t ref = { (float)w_m, 0.0f, 0.0f, 0.0f };

@@ -61,8 +61,13 @@ const char *summary_warning_text(const sil_result_t *res, char *buf, size_t len)
 {
     char fbuf[32];
     buf[0] = '\0';
+    size_t n = 0u;
     if ((res->warnings & APP_WARN_STEP1_REFUSED) != 0u) {
-        snprintf(buf, len, "STEP1_REFUSED (%s)", summary_fault_name(res->rsid_refusal, fbuf, sizeof fbuf));
+        n = (size_t)snprintf(buf, len, "STEP1_REFUSED (%s)", summary_fault_name(res->rsid_refusal, fbuf, sizeof fbuf));
+    }
+    if (((res->warnings & APP_WARN_OSCILLATION) != 0u) && (n < len)) {
+        snprintf(buf + n, len - n, "%sOSCILLATION (the current oscillated on step 2's L^: the told model since)",
+                 (n > 0u) ? ", " : "");
     }
     return buf;
 }
