@@ -72,12 +72,14 @@ static ctrl_status_t init_est(ctrl_t *c, const ctrl_cfg_t *cfg)
 /* The torque limit for the model now in c->db.par: te_max, times the
  * model's kt over the told one's when it follows kt (the torque the same
  * current gives with the learned psi_f); the speed PI's output limits
- * with it. A division; when the model changes. */
+ * with it, when it moved. When the model changes. */
 static void update_te_limit(ctrl_t *c)
 {
-    const float k = (c->cfg.te_max_follows_kt != 0u) ? (c->db.par.psi_f_Wb / c->db.cfg.psi_f_Wb) : 1.0f;
-    c->te_lim_Nm = k * c->cfg.te_max_Nm;
-    pi_set_limits(&c->speed_pi, -c->te_lim_Nm, c->te_lim_Nm);
+    const float te = (c->te_per_psi_Nm_Wb > 0.0f) ? (c->te_per_psi_Nm_Wb * c->db.par.psi_f_Wb) : c->cfg.te_max_Nm;
+    if (te != c->te_lim_Nm) {
+        c->te_lim_Nm = te;
+        pi_set_limits(&c->speed_pi, -te, te);
+    }
 }
 
 /* status with bit added unless ok. */
@@ -139,6 +141,10 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
                                                 ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
     oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
     c->turn_tol_rad_s = ZOH_THETA_TOL_RAD / cfg->Ts_s;
+    /* te_max / psi_f(told): the limit of a model's psi_f when it follows kt (0: a fixed cap) */
+    c->te_per_psi_Nm_Wb = ((cfg->te_max_follows_kt != 0u) && (cfg->psi_f_Wb > 0.0f)) ? (cfg->te_max_Nm / cfg->psi_f_Wb)
+                                                                                    : 0.0f;
+    c->te_lim_Nm = 0.0f; /* taken at the reset */
     c->osc_den_min_A2 = (cfg->osc_i_min_A > 0.0f) ? (cfg->osc_i_min_A * cfg->osc_i_min_A) : 0.0f;
     c->status = (ctrl_status_t)(status | init_est(c, cfg));
     c->mode = CTRL_MODE_TORQUE;
@@ -239,10 +245,11 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
     if ((c->method == CTRL_METHOD_PROPOSED) && (e->src != EST_SRC_TOLD)) {
         const dbdtc_par_t *p = &c->db.par;
         if ((c->model_src != MODEL_EST) || ((e->moved & EST_MOVED_ALL) != 0u) ||
+            (p->zm.L_H != est_zoh_model(&c->est)->L_H) || /* the observer's decay, taken since */
             (((e->moved & EST_MOVED_LPSI) != 0u) &&
              ((mathx_fabsf(e->L_H - p->L_H) > CTRL_MODEL_UPDATE_REL * p->L_H) ||
               (mathx_fabsf(e->psi_f_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb)))) {
-            dbdtc_set_params(&c->db, e->R_Ohm, e->L_H, e->psi_f_Wb);
+            dbdtc_set_params_zm(&c->db, e->R_Ohm, e->L_H, e->psi_f_Wb, est_zoh_model(&c->est));
             update_te_limit(c);
             c->model_src = MODEL_EST;
             c->mon.model_from_observer = 1u; /* the monitor's, written when it changes */
@@ -253,7 +260,15 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
             /* replaces eq. (10); i^ within the observer's i_max, the model's (init_est) */
             return dbdtc_state_from_bounded(&c->db, est_i_hat_A(&c->est));
         }
-        dbdtc_period(&c->db, turn);
+        /* held estimates, eq. (10): the observer's g_c when it was taken in this turn for this
+         * R and L (within the observer's own SMO_MODEL_UPDATE_REL), else the model's own */
+        const zoh_model_t *zo = est_zoh_model(&c->est);
+        if (est_zoh_taken_in(&c->est, turn) && (zo->R_Ohm == p->zm.R_Ohm) &&
+            (mathx_fabsf(zo->L_H - p->L_H) <= SMO_MODEL_UPDATE_REL * p->L_H)) {
+            dbdtc_period_from(&c->db, turn, est_zoh_g_c(&c->est), est_zoh_rev(&c->est));
+        } else {
+            dbdtc_period(&c->db, turn);
+        }
         return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V);
     }
     if (c->model_src != MODEL_NOMINAL) {

@@ -184,6 +184,7 @@ typedef struct {
     float turn_tol_rad_s;       /* ZOH_THETA_TOL_RAD / Ts [rad/s el] */
     float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
     float te_lim_Nm;            /* |Te*| limit in use: te_max_Nm, times kt(model)/kt(told) when it follows kt [N m] */
+    float te_per_psi_Nm_Wb;     /* te_max_Nm / told psi_f when the limit follows kt, else 0 [N m/Wb] */
     ctrl_osc_t osc;             /* the oscillation watch (CTRL_OSC_*) */
     float osc_den_min_A2;       /* osc_i_min_A^2 (0: no watch) [A^2] */
     float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */

@@ -50,6 +50,11 @@ void dbdtc_reset(dbdtc_t *db)
 
 void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb)
 {
+    dbdtc_set_params_zm(db, R_Ohm, L_H, psi_f_Wb, NULL);
+}
+
+void dbdtc_set_params_zm(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb, const zoh_model_t *zm)
+{
     const dbdtc_cfg_t *cfg = &db->cfg;
     dbdtc_par_t *p = &db->par;
 
@@ -59,7 +64,9 @@ void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb)
                                DBDTC_PARAM_FACTOR_MAX * cfg->psi_f_Wb);
 
     const float inv_L = 1.0f / p->L_H;                                  /* division 1 */
-    if (!zoh_model(p->R_Ohm, p->L_H, cfg->Ts_s, &p->zm)) {              /* divisions 2, 3 */
+    if ((zm != NULL) && (zm->R_Ohm == p->R_Ohm) && (zm->tau_s > 0.0f)) {
+        p->zm = *zm; /* the observer's decay at this R and its L (within SMO_MODEL_UPDATE_REL) */
+    } else if (!zoh_model(p->R_Ohm, p->L_H, cfg->Ts_s, &p->zm)) {        /* divisions 2, 3 */
         /* a refused configuration (dbdtc_init said so): no decay, Euler's gains */
         p->zm.R_Ohm = p->R_Ohm;
         p->zm.L_H = p->L_H;

@@ -50,6 +50,7 @@
 #define DBDTC_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "clarke_park.h"
@@ -131,6 +132,11 @@ void dbdtc_reset(dbdtc_t *db);
  * recomputes the derived constants and the decay (4 divisions). The
  * period's turn must be taken again (dbdtc_period). ISR or background. */
 void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb);
+
+/* As dbdtc_set_params with the decay *zm of the same R (the observer's,
+ * taken at its L within SMO_MODEL_UPDATE_REL): 2 divisions less; zm NULL,
+ * a bounded R that is not zm's or a refused zm: as dbdtc_set_params. ISR. */
+void dbdtc_set_params_zm(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb, const zoh_model_t *zm);
 
 /* Takes the period's Phi, D, gu, ku (dbdtc_period, dbdtc_period_from):
  * the model's own g_c (taken = DBDTC_TAKEN_OWN: 1 division) or g_c_A_V of

@@ -295,3 +295,21 @@ void est_hold_oscillation(est_t *e, float L_scale, float omega_el_rad_s, float i
     e->force = EST_MOVED_ALL;       /* the model takes it this period */
     e->hold_fixed = (uint16_t)(e->hold_fixed | EST_HOLD_OSCILLATION);
 }
+
+bool est_start_told(est_t *e)
+{
+    if (e->status != EST_CFG_OK) {
+        return false;
+    }
+    if (e->phase == EST_OFF) {
+        smo_reset(&e->smo); /* the told R, L, psi_f; seeded with i(k) at the next step */
+    }
+    (void)smo_set_R(&e->smo, e->cfg.R_Ohm);
+    rs_ident_reset(&e->ri);
+    e->win = RS_IDENT_WINDOW_NONE;
+    e->hold_fixed = 0u;
+    e->rt_flags = 0u;
+    start_step2(e);
+    r_track_start(&e->rt, R_TRACK_IDENT); /* the inverter error first, then R^ tracked (track_R) */
+    return true;
+}

@@ -253,6 +253,12 @@ rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved);
  * or when init refused. ISR or background. */
 bool est_start_trusted(est_t *e, float R_Ohm);
 
+/* Step 2 from the told R when step 1 could not measure it: the inverter
+ * error identified first (R_TRACK_IDENT at the told R), then R^ learned by
+ * the injection as track_R says. False when init refused. ISR or
+ * background. */
+bool est_start_told(est_t *e);
+
 /* An injection event of the period (r_track_step's; est_step calls it,
  * nothing else): the inverter error into the compensation, R^ tracked,
  * the holds. ISR. */
@@ -411,6 +417,19 @@ static inline dq_t est_i_hat_A(const est_t *e)
 static inline dq_t est_zoh_g_c(const est_t *e)
 {
     return e->smo.z.g_c;
+}
+
+/* The observer's decay over a period at its R^, L^ (zoh.h). ISR. */
+static inline const zoh_model_t *est_zoh_model(const est_t *e)
+{
+    return &e->smo.zm;
+}
+
+/* The observer's Phi, g_u, g_c were taken in the turn *t for its decay
+ * as it is now. ISR. */
+static inline bool est_zoh_taken_in(const est_t *e, const zoh_turn_t *t)
+{
+    return e->smo.z_turn == t->seq;
 }
 
 /* The number of the observer's g_c (smo_t.z_rev: changes when it is taken again). ISR. */

@@ -169,7 +169,7 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
         if (g->hold_cnt == 0u) {
             /* onset: back to the delayed copy, which the transient's first
              * periods have not touched */
-            (void)smo_set_L(smo, g->L_old, omega_el_rad_s, i_dq_A.q);
+            (void)smo_set_L_deferred(smo, g->L_old, omega_el_rad_s, i_dq_A.q);
             (void)smo_set_psi(smo, g->psi_old, omega_el_rad_s);
             g->L_new = g->L_old;
             g->psi_new = g->psi_old;

@@ -11,6 +11,7 @@ static bool in_range(float x, float lo, float hi)
 /* The decay at R^, L^ (zoh.h): 2 divisions; Phi, g_u, g_c follow at the next step. */
 static void update_model(smo_t *smo)
 {
+    smo->zm_stale = false;
     smo->z_turn = 0u; /* no turn's number: taken again at the next step */
     if ((smo->status != SMO_CFG_OK) || !zoh_model(smo->R_Ohm, smo->L_H, smo->cfg.Ts_s, &smo->zm)) {
         /* a refused cfg: no decay, no gain (smo_step passes i(k) through) */
@@ -79,6 +80,10 @@ dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const z
     /* (30): e = i^ - i, with i^(k) the previous prediction */
     const float Ud = switching(smo, smo->i_hat_A.d - i.d);
     const float Uq = switching(smo, smo->i_hat_A.q - i.q);
+    if (smo->zm_stale) {
+        smo->zm_stale = false;
+        update_model(smo); /* L^ moved since: 2 divisions */
+    }
     const float rho = smo->zm.rho;
     if (turn->seq != smo->z_turn) {
         zoh_step(&smo->zm, turn, &smo->z); /* 1 division */
@@ -145,6 +150,15 @@ bool smo_set_R(smo_t *smo, float R_Ohm)
 
 float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
 {
+    const float L_new = smo_set_L_deferred(smo, L_H, omega_el_rad_s, iq_A);
+    if (smo->zm_stale) {
+        update_model(smo); /* the decay at the L^ in use; 2 divisions */
+    }
+    return L_new;
+}
+
+float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
+{
     const smo_cfg_t *c = &smo->cfg;
     if (smo->status != SMO_CFG_OK) {
         return smo->L_H;
@@ -158,7 +172,7 @@ float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
     smo->fd_V = mathx_clampf(smo->fd_V + (L_new - smo->L_H) * w * iq, -c->f_max_V, c->f_max_V);
     smo->L_H = L_new;
     if (mathx_fabsf(L_new - smo->zm.L_H) > SMO_MODEL_UPDATE_REL * smo->zm.L_H) {
-        update_model(smo); /* the decay at the L^ in use; 2 divisions */
+        smo->zm_stale = true; /* the decay at the L^ in use at the next step (2 divisions there) */
     }
     return L_new;
 }

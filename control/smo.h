@@ -56,7 +56,7 @@
  * this share since it was taken: the transfer law moves L^ every second
  * period, and a model 1e-4 off changes the prediction by 1e-4 of w L iq
  * Ts/L (the L law then reads it within that). */
-#define SMO_MODEL_UPDATE_REL    1.0e-3f
+#define SMO_MODEL_UPDATE_REL    1.0e-4f
 #define SMO_R_MIN_FACTOR        0.2f    /* accepted R^ range, x nominal */
 #define SMO_R_MAX_FACTOR        2.0f
 /* The bands of L^ and psi_f^, x the told value: written once, for the
@@ -123,6 +123,7 @@ typedef struct {
     zoh_step_t z;             /* Phi, g_u, g_c of zm in the turn z_turn (zoh.h): taken again when the
                                * turn or zm changed (g_c: the model's too while it follows the observer,
                                * dbdtc_period_from) */
+    bool zm_stale;            /* L^ moved by more than SMO_MODEL_UPDATE_REL since zm: taken at the next step */
     uint32_t z_turn;          /* the turn's number (zoh_turn_t.seq) z was taken in; 0: zm changed since */
     uint32_t z_rev;           /* z's own number: one more each time it is taken */
     float z_rc;               /* Phi - rho = z_rc - j z_rs, taken with z: rho (cos theta - 1) = -2 rho sin^2(theta/2) */
@@ -189,6 +190,11 @@ bool smo_set_R(smo_t *smo, float R_Ohm);
  * follows when L^ moved by more than SMO_MODEL_UPDATE_REL since it was
  * taken (2 divisions then). Returns the L^ now in use. ISR. */
 float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A);
+
+/* As smo_set_L with the decay taken at the next step (2 divisions there):
+ * for the gate's restore at a transient's onset, the ISR's busiest period
+ * (the laws paused, the model held: a period's stale decay is harmless). */
+float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A);
 
 /* Sets psi^ [Wb], limited to [psi_min, psi_max], keeping w psi^ + fq^ at
  * the given omega_el_rad_s; returns the psi^ now in use. ISR. */

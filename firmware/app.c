@@ -119,13 +119,15 @@ static void identify_state(app_t *app, const hal_sample_t *s)
     app_step_t r = rsid_seq_step(&app->rsid, &app->ctrl, &in, &app->out);
 
     if ((r.status == APP_STEP_FAULT) && is_rsid_refusal(r.fault) &&
-        (app->cfg.rsid.on_refusal == APP_RSID_REFUSAL_CONVENTIONAL)) {
-        /* no silent fallback: the method says so, the warning names why;
-         * the observer is stopped (est_rsid_finish_with), so control is the
-         * conventional method's either way */
+        (app->cfg.rsid.on_refusal != APP_RSID_REFUSAL_FAULT)) {
+        /* no silent fallback: the warning names why; the observer was
+         * stopped (est_rsid_finish_with): step 2 from the told R (TOLD), or
+         * the conventional method, which also takes a refused start */
         app->rsid_refusal = r;
         app->warnings |= APP_WARN_STEP1_REFUSED;
-        (void)ctrl_set_method(&app->ctrl, CTRL_METHOD_CONVENTIONAL);
+        if ((app->cfg.rsid.on_refusal != APP_RSID_REFUSAL_TOLD) || !est_start_told(ctrl_est_rw(&app->ctrl))) {
+            (void)ctrl_set_method(&app->ctrl, CTRL_METHOD_CONVENTIONAL);
+        }
         r = app_step_done();
     }
     if (app_output(app, r, s).status == APP_STEP_DONE) {

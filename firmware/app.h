@@ -11,7 +11,9 @@
  *   COMMISSION --stop--> IDLE; --refused (COMM_*)--> FAULT
  *   INIT --start-up fault (app_latch_startup_fault)--> FAULT
  *   IDENTIFY_R --R^ refused--> FAULT (the reason in the code), or with
- *              rsid.on_refusal = CONVENTIONAL --> RUN, conventional method,
+ *              rsid.on_refusal = TOLD --> RUN, step 2 from the told R (the
+ *              inverter error identified, R^ learned by injection), or
+ *              CONVENTIONAL --> RUN, conventional method; both with the
  *              warning APP_WARN_STEP1_REFUSED (the reason in rsid_refusal)
  *   FAULT --fault reset, cause gone--> IDLE (never from FLASH_CRC)
  *

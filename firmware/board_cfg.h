@@ -173,7 +173,7 @@
 #define BOARD_RSID_WINDOW_S      0.06f        /* averaging window, 600 periods [s] */
 #define BOARD_RSID_WINDOW_MAX_S  0.3f         /* window 2 lengthened up to this while se(R^) is too large [s] */
 #define BOARD_RSID_REPEATS_MAX   2U           /* speeds mode: both windows repeated at most this often [-] */
-#define BOARD_RSID_ON_REFUSAL    1U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning (runs on) [-] */
+#define BOARD_RSID_ON_REFUSAL    2U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning, 2 step 2 from the told R + warning (R^ learned by injection) [-] */
 #define BOARD_TRACK_R            2U           /* EST_TRACK_R_*: 0 off, 1 on, 2 auto (1 s after step 2): R^ tracked in service by a 0.5 A i_d injection (observer_design.md sec. 9d; held while the field is weakened or the voltage at its limit) [-] */
 
 /* The proposed method's amplitudes and thresholds (params_design.md

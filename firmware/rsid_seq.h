@@ -56,11 +56,14 @@ typedef enum {
 } app_rsid_mode_t;
 
 /* What a refused step 1 does: latch the RSID_* fault (PWM
- * off), or run on with the conventional method and the warning
+ * off); run on with the conventional method; or run on with step 2 from
+ * the told R, the inverter error identified first and R^ learned by the
+ * injection (est_start_told; track_R as configured). Both run-ons warn
  * APP_WARN_STEP1_REFUSED (app.h). */
 typedef enum {
     APP_RSID_REFUSAL_FAULT = 0,
-    APP_RSID_REFUSAL_CONVENTIONAL = 1
+    APP_RSID_REFUSAL_CONVENTIONAL = 1,
+    APP_RSID_REFUSAL_TOLD = 2
 } app_rsid_refusal_t;
 
 typedef struct {

@@ -308,11 +308,15 @@ static void refusal_runs_conventional_with_the_warning(void **state)
  * told): the windows' id differ by 1.4 A, and the d-axis term moves R^ by
  * |w1 w2 (id2 - id1) dL / den| ~ 1.4 Ohm, 40x se(R^)'s limit (R^ came
  * out -21 %): refused with RSID_D_AXIS (on_refusal = conventional: RUN,
- * the warning, no step 2). At the paper's 500 r/min with L 1.5x (id ~ 0)
+ * the warning, no step 2; the default told: step 2 from the told R). At the paper's 500 r/min with L 1.5x (id ~ 0)
  * the share is 0.009 Ohm, a fifth of the limit: taken (case L150 above). */
 static void field_weakened_step1_refused(void **state)
 {
     const char *const sets[] = { "plant.model=switching", "plant.vdc_V=250", "controller.L_factor=1.4",
+                                 "controller.psif_factor=0.85", "reference.speed_rpm=0:0, 0.2:1800~",
+                                 "load.torque_Nm=0:2, 0.35:4, 0.6:6", "run.duration_s=0.7",
+                                 "identify.on_refusal=conventional", NULL };
+    const char *const told[] = { "plant.model=switching", "plant.vdc_V=250", "controller.L_factor=1.4",
                                  "controller.psif_factor=0.85", "reference.speed_rpm=0:0, 0.2:1800~",
                                  "load.torque_Nm=0:2, 0.35:4, 0.6:6", "run.duration_s=0.7", NULL };
     (void)state;
@@ -323,6 +327,13 @@ static void field_weakened_step1_refused(void **state)
     assert_int_equal((int)p.fault, APP_FAULT_NONE);
     assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_D_AXIS);
     assert_true(isnan(p.R_first)); /* no step 2 */
+    /* the default (on_refusal = told): step 2 from the told R, the warning */
+    const fig_t q = run("prop_paper", told);
+    assert_int_equal((int)q.state, APP_STATE_RUN);
+    assert_int_equal((int)q.fault, APP_FAULT_NONE);
+    assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_D_AXIS);
+    assert_int_equal(last_res.warnings & APP_WARN_STEP1_REFUSED, APP_WARN_STEP1_REFUSED);
+    assert_false(isnan(q.R_first)); /* step 2 ran */
 }
 
 /* An encoder count jump of 46 (4.97 el. deg) at 0.1 s, 1500 r/min, 4 N m:

@@ -164,7 +164,9 @@
     X(identify, repeats_max, UINT, SC_IN(0.0, 100.0), SC_PARAMS, SC_A(rsid.repeats_max, U16, 1.0), SC_SAME, \
       "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large") \
     X(identify, on_refusal, ENUM, SC_NAMES(SC_REFUSAL_NAMES), SC_PARAMS, SC_A(rsid.on_refusal, ENUM, 1.0), SC_SAME, \
-      "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)") \
+      "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED) | told " \
+      "(default: runs on with step 2 from the told R, the inverter error identified, R^ learned by the injection; " \
+      "warning STEP1_REFUSED)") \
     X(identify, track_R, ENUM, SC_NAMES(SC_TRACK_NAMES), SC_PARAMS, SC_A(ctrl.est_cfg.track_R, U16, 1.0), SC_SAME, \
       "off | on | auto: R^ tracked in step 2 by a d-current injection (a warming winding); auto: from 1 s after " \
       "step 2; both held while the field is weakened or the voltage at its limit")
