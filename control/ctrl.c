@@ -8,7 +8,8 @@
  * gain on L^'s turns (proposed); dbdtc_set_params only when the model
  * moved by more than CTRL_MODEL_UPDATE_REL; 3 more only in the periods
  * the hexagon limit acts. One sin/cos (the advanced angle is a rotation
- * by a short series).
+ * by a short series). The start-up (ctrl_init, ctrl_cfg_told) is in
+ * ctrl_cfg.c (flash).
  */
 #include "ctrl.h"
 
@@ -17,21 +18,14 @@
 #include "svpwm.h"
 
 #define DUTY_ZERO_VOLTAGE 0.5f
-/* Longest dead time taken as such, in periods; beyond it the cfg is refused (0 used). */
-#define DEADTIME_FRAC_MAX 0.1f
-/* Share of the hexagon's inscribed circle Vdc/sqrt(3) the flux reference
- * leaves for steady state when cfg.u_margin is not in (0, 1] (design
- * sec. 7): the rest is the deadbeat's headroom for torque changes. */
-#define CTRL_U_MARGIN_DEFAULT 0.92f
 
 /* The model takes the observer's L^, psi^ when they moved by more than
  * this share since it last did: below it the change of the torque and
  * flux targets is 1e-4 of theirs, and the 2 divisions of
  * dbdtc_set_params are saved in the periods of steady state. */
 #define CTRL_MODEL_UPDATE_REL 1.0e-4f
-/* What db.par holds (ctrl_t.model_src). */
-#define MODEL_EST      0u      /* the estimation's model */
-#define MODEL_NOMINAL  1u      /* the configured parameters */
+#define MODEL_EST      CTRL_MODEL_EST
+#define MODEL_NOMINAL  CTRL_MODEL_NOMINAL
 
 static uint16_t map_dbdtc_flags(uint16_t f)
 {
@@ -45,35 +39,11 @@ static uint16_t map_dbdtc_flags(uint16_t f)
     return out;
 }
 
-void ctrl_cfg_told(const ctrl_cfg_t *cfg, est_told_t *told)
-{
-    told->Ts_s = cfg->Ts_s;
-    told->R_Ohm = cfg->R_Ohm;
-    told->L_H = cfg->L_H;
-    told->psi_f_Wb = cfg->psi_f_Wb;
-    told->pole_pairs = cfg->pole_pairs;
-    told->i_max_A = cfg->i_max_A;
-    told->u_max_V = cfg->u_max_V;
-    told->omega_max_el_rad_s = cfg->omega_max_el_rad_s;
-    told->deadtime_s = cfg->deadtime_s;
-    told->enc_counts_per_rev = ENCODER_COUNTS_PER_LINE * cfg->enc_lines;
-    told->enc_pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
-}
-
-/* The estimation from its settings and the told values and bounds. */
-static ctrl_status_t init_est(ctrl_t *c, const ctrl_cfg_t *cfg)
-{
-    est_told_t told;
-    ctrl_cfg_told(cfg, &told);
-    told.deadtime_s = c->deadtime_frac * cfg->Ts_s; /* as taken (0 when refused) */
-    return (ctrl_status_t)est_init(&c->est, &cfg->est_cfg, &told);
-}
-
 /* The torque limit for the model now in c->db.par: te_max, times the
  * model's kt over the told one's when it follows kt (the torque the same
  * current gives with the learned psi_f); the speed PI's output limits
  * with it, when it moved. When the model changes. */
-static void update_te_limit(ctrl_t *c)
+void ctrl_take_te_limit(ctrl_t *c)
 {
     const float te = (c->te_per_psi_Nm_Wb > 0.0f) ? (c->te_per_psi_Nm_Wb * c->db.par.psi_f_Wb) : c->cfg.te_max_Nm;
     if (te != c->te_lim_Nm) {
@@ -82,117 +52,6 @@ static void update_te_limit(ctrl_t *c)
     }
 }
 
-/* status with bit added unless ok. */
-static ctrl_status_t refused_if(bool ok, ctrl_status_t bit, ctrl_status_t status)
-{
-    return ok ? status : (ctrl_status_t)(status | bit);
-}
-
-ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
-{
-    encoder_cfg_t ec;
-    dbdtc_cfg_t dc;
-    pi_cfg_t pc;
-    ctrl_status_t status = CTRL_CFG_OK;
-
-    c->cfg.Ts_s = cfg->Ts_s;
-    c->cfg.i_max_A = cfg->i_max_A;
-    c->cfg.i_lim_A = cfg->i_lim_A;
-    c->cfg.u_max_V = cfg->u_max_V;
-    c->cfg.omega_max_el_rad_s = cfg->omega_max_el_rad_s;
-    c->cfg.te_max_Nm = cfg->te_max_Nm;
-    c->cfg.te_max_follows_kt = cfg->te_max_follows_kt;
-
-    ec.counts_per_rev = ENCODER_COUNTS_PER_LINE * cfg->enc_lines;
-    ec.pole_pairs = cfg->pole_pairs;
-    ec.offset_el_rad = cfg->enc_offset_el_rad;
-    ec.Ts_s = cfg->Ts_s;
-    ec.pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
-    status = refused_if(encoder_init(&c->enc, &ec), CTRL_CFG_ENCODER, status); /* refused: angle 0, speed 0 */
-
-    dc.Ts_s = cfg->Ts_s;
-    dc.pole_pairs = cfg->pole_pairs;
-    dc.R_Ohm = cfg->R_Ohm;
-    dc.L_H = cfg->L_H;
-    dc.psi_f_Wb = cfg->psi_f_Wb;
-    dc.i_max_A = cfg->i_max_A;
-    dc.omega_max_rad_s = cfg->omega_max_el_rad_s;
-    dc.u_max_V = cfg->u_max_V;
-    /* a bound, not the limit: a te_max that follows kt may reach the model's largest psi_f */
-    dc.te_max_Nm = ((cfg->te_max_follows_kt != 0u) ? DBDTC_PARAM_FACTOR_MAX : 1.0f) * cfg->te_max_Nm;
-    dc.psi_max_Wb = cfg->psi_max_Wb;
-    status = refused_if(dbdtc_init(&c->db, &dc), CTRL_CFG_DBDTC, status);
-
-    pc.Kp = cfg->speed_kp_Nms_rad;
-    pc.Ki = cfg->speed_ki_Nm_rad;
-    pc.Ts_s = cfg->Ts_s;
-    pc.u_min = -cfg->te_max_Nm;
-    pc.u_max = cfg->te_max_Nm;
-    status = refused_if(pi_init(&c->speed_pi, &pc), CTRL_CFG_SPEED_PI, status); /* refused: Te* = 0 */
-
-    /* td/Ts; a non-finite or implausible dead time is refused (and not compensated) */
-    c->deadtime_frac = cfg->deadtime_s / cfg->Ts_s;
-    if (!((c->deadtime_frac >= 0.0f) && (c->deadtime_frac <= DEADTIME_FRAC_MAX))) {
-        c->deadtime_frac = 0.0f;
-        status = refused_if(false, CTRL_CFG_DEADTIME, status);
-    }
-    c->i_lim_A = ((cfg->i_lim_A > 0.0f) && (cfg->i_lim_A <= cfg->i_max_A)) ? cfg->i_lim_A : cfg->i_max_A;
-    c->u_lim_per_vdc = MATHX_INV_SQRT3_F * (((cfg->u_margin > 0.0f) && (cfg->u_margin <= 1.0f))
-                                                ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
-    oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
-    c->turn_tol_rad_s = ZOH_THETA_TOL_RAD / cfg->Ts_s;
-    /* te_max / psi_f(told): the limit of a model's psi_f when it follows kt (0: a fixed cap) */
-    c->te_per_psi_Nm_Wb = ((cfg->te_max_follows_kt != 0u) && (cfg->psi_f_Wb > 0.0f)) ? (cfg->te_max_Nm / cfg->psi_f_Wb)
-                                                                                    : 0.0f;
-    c->te_lim_Nm = 0.0f; /* taken at the reset */
-    c->osc_den_min_A2 = (cfg->osc_i_min_A > 0.0f) ? (cfg->osc_i_min_A * cfg->osc_i_min_A) : 0.0f;
-    c->status = (ctrl_status_t)(status | init_est(c, cfg));
-    c->mode = CTRL_MODE_TORQUE;
-    c->mode_req = CTRL_MODE_TORQUE;
-    c->method = CTRL_METHOD_CONVENTIONAL;
-    c->ref.speed_ref_rad_s = 0.0f;
-    c->ref.te_ref_Nm = 0.0f;
-    c->ref.ud_ref_V = 0.0f;
-    c->ref.uq_ref_V = 0.0f;
-    c->tracked = false;
-    ctrl_reset(c);
-    return c->status;
-}
-
-void ctrl_reset(ctrl_t *c)
-{
-    zoh_turn(0.0f, 0.0f, &c->turn); /* at standstill until the first period takes w(k) */
-    c->osc.pred_A.d = 0.0f;
-    c->osc.pred_A.q = 0.0f;
-    c->osc.eps_A = c->osc.pred_A;
-    c->osc.phase = 0u;
-    c->osc.num_A2 = 0.0f;
-    c->osc.den_A2 = 0.0f;
-    dbdtc_reset(&c->db);
-    update_te_limit(c);
-    c->model_src = MODEL_NOMINAL;
-    est_reset(&c->est);
-    oplim_reset(&c->lim);
-    c->flags_last = 0u;
-    pi_reset(&c->speed_pi, 0.0f);
-    c->mode = c->mode_req;
-    c->u_applied_V.d = 0.0f;
-    c->u_applied_V.q = 0.0f;
-    c->mon.theta_el_rad = 0.0f;
-    c->mon.omega_el_rad_s = 0.0f;
-    c->mon.speed_mech_rad_s = 0.0f;
-    c->mon.id_A = 0.0f;
-    c->mon.iq_A = 0.0f;
-    c->mon.ud_V = 0.0f;
-    c->mon.uq_V = 0.0f;
-    c->mon.te_ref_Nm = 0.0f;
-    c->mon.te_est_Nm = 0.0f;
-    c->te_ref_last_Nm = 0.0f;
-    c->te_est_last_Nm = 0.0f;
-    c->mon.psi_ref_Wb = 0.0f;
-    c->mon.psi_est_Wb = 0.0f;
-    c->mon.model_from_observer = 0u;
-}
 
 void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
 {
@@ -250,7 +109,7 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
              ((mathx_fabsf(e->L_H - p->L_H) > CTRL_MODEL_UPDATE_REL * p->L_H) ||
               (mathx_fabsf(e->psi_f_Wb - p->psi_f_Wb) > CTRL_MODEL_UPDATE_REL * p->psi_f_Wb)))) {
             dbdtc_set_params_zm(&c->db, e->R_Ohm, e->L_H, e->psi_f_Wb, est_zoh_model(&c->est));
-            update_te_limit(c);
+            ctrl_take_te_limit(c);
             c->model_src = MODEL_EST;
             c->mon.model_from_observer = 1u; /* the monitor's, written when it changes */
         }
@@ -273,7 +132,7 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
     }
     if (c->model_src != MODEL_NOMINAL) {
         dbdtc_reset(&c->db); /* back to the told model: 4 divisions once */
-        update_te_limit(c);
+        ctrl_take_te_limit(c);
         c->model_src = MODEL_NOMINAL;
         c->mon.model_from_observer = 0u;
     }

@@ -33,6 +33,10 @@
 #include "oplim.h"
 #include "pi.h"
 
+/* What ctrl_t.db.par holds (ctrl_t.model_src). */
+#define CTRL_MODEL_EST      0u      /* the estimation's model */
+#define CTRL_MODEL_NOMINAL  1u      /* the configured parameters */
+
 typedef enum { CTRL_MODE_OPEN_LOOP = 0, CTRL_MODE_TORQUE = 1, CTRL_MODE_SPEED = 2 } ctrl_mode_t;
 
 /* The oscillation watch on the estimated model (discrete_model_design.md
@@ -204,6 +208,11 @@ typedef struct {
  * est_cfg_defaults(&cfg->est_cfg, ...); ctrl_init passes the same, with
  * the dead time as taken, to est_init). Background. */
 void ctrl_cfg_told(const ctrl_cfg_t *cfg, est_told_t *told);
+
+/* The torque limit (ctrl_t.te_lim_Nm) and the speed PI's output limits
+ * for the model now in use (ctrl.c; ctrl_init, ctrl_reset and the model's
+ * changes call it). ISR or background. */
+void ctrl_take_te_limit(ctrl_t *c);
 
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method
  * conventional. Returns the set of refusals of every block (CTRL_CFG_*):

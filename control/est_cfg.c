@@ -49,6 +49,39 @@ void est_cfg_defaults(est_cfg_t *cfg, const est_told_t *told, const smo_gains_t 
         est_gate_accel_floor_rad_s2(told->enc_counts_per_rev, told->pole_pairs, told->enc_pll_bw_rad_s);
 }
 
+/* The observer with the told values and bounds written in: true when smo_init took it. */
+static bool init_observer(est_t *e, const est_cfg_t *c, const est_told_t *t)
+{
+    smo_cfg_t sc = c->smo;
+    sc.Ts_s = t->Ts_s;
+    sc.R_Ohm = t->R_Ohm;
+    sc.L_H = t->L_H;
+    sc.psi_f_Wb = t->psi_f_Wb;
+    sc.R_min_Ohm = c->R_min_Ohm;
+    sc.R_max_Ohm = c->R_max_Ohm;
+    sc.i_max_A = t->i_max_A;
+    sc.u_max_V = t->u_max_V;
+    sc.omega_max_rad_s = t->omega_max_el_rad_s;
+    return smo_init(&e->smo, &sc) == SMO_CFG_OK;
+}
+
+/* The transfer laws and psi_f's band (after the observer): true when both took theirs. */
+static bool init_laws(est_t *e, const est_cfg_t *c, const est_told_t *t)
+{
+    param_est_cfg_t pc = c->pe;
+    pc.Ts_s = t->Ts_s;
+    const bool pe_ok = param_est_init(&e->pe, &pc, &e->smo);
+    psi_band_cfg_t bc;
+    psi_band_cfg_defaults(&bc, t->Ts_s, c->pe.w_min_rad_s, c->pe.psi_min_Wb, c->pe.psi_max_Wb);
+    /* the band's own guard of 1/w: where even the noise alone (unc_abs) fakes
+     * unexplained_max of the largest psi_f the model may take, no band can pass;
+     * above it the band decides (the psi^ law's floor stays pe's) */
+    bc.w_min_rad_s = bc.unc_abs_V / (bc.unexplained_max * c->pe.psi_max_Wb);
+    bc.ve_told_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * t->deadtime_s / t->Ts_s) : 0.0f;
+    bc.ve_prior_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * c->untold_deadtime_s / t->Ts_s) : 0.0f;
+    return psi_band_init(&e->pb, &bc) && pe_ok;
+}
+
 est_status_t est_init(est_t *e, const est_cfg_t *cfg, const est_told_t *told)
 {
     const rs_ident_out_t no_result = { 0 };
@@ -77,19 +110,7 @@ est_status_t est_init(est_t *e, const est_cfg_t *cfg, const est_told_t *told)
         gc.Ts_s = t->Ts_s;
         gate = est_gate_init(&e->gate, &gc) ? EST_CFG_OK : EST_CFG_GATE;
     }
-    {
-        smo_cfg_t sc = c->smo;
-        sc.Ts_s = t->Ts_s;
-        sc.R_Ohm = t->R_Ohm;
-        sc.L_H = t->L_H;
-        sc.psi_f_Wb = t->psi_f_Wb;
-        sc.R_min_Ohm = c->R_min_Ohm;
-        sc.R_max_Ohm = c->R_max_Ohm;
-        sc.i_max_A = t->i_max_A;
-        sc.u_max_V = t->u_max_V;
-        sc.omega_max_rad_s = t->omega_max_el_rad_s;
-        obs_ok = (smo_init(&e->smo, &sc) == SMO_CFG_OK);
-    }
+    obs_ok = init_observer(e, c, t);
     {
         r_track_cfg_t rc = c->rtrack;
         rc.Ts_s = t->Ts_s;
@@ -97,22 +118,7 @@ est_status_t est_init(est_t *e, const est_cfg_t *cfg, const est_told_t *told)
     }
     /* every block initialised; the first refusal in this order names the cause (a refused
      * observer also freezes the estimator: not reported again) */
-    {
-        param_est_cfg_t pc = c->pe;
-        pc.Ts_s = t->Ts_s;
-        pe_ok = param_est_init(&e->pe, &pc, &e->smo);
-    }
-    {
-        psi_band_cfg_t bc;
-        psi_band_cfg_defaults(&bc, t->Ts_s, c->pe.w_min_rad_s, c->pe.psi_min_Wb, c->pe.psi_max_Wb);
-        /* the band's own guard of 1/w: where even the noise alone (unc_abs) fakes
-         * unexplained_max of the largest psi_f the model may take, no band can pass;
-         * above it the band decides (the psi^ law's floor stays pe's) */
-        bc.w_min_rad_s = bc.unc_abs_V / (bc.unexplained_max * c->pe.psi_max_Wb);
-        bc.ve_told_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * t->deadtime_s / t->Ts_s) : 0.0f;
-        bc.ve_prior_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * c->untold_deadtime_s / t->Ts_s) : 0.0f;
-        pe_ok = psi_band_init(&e->pb, &bc) && pe_ok;
-    }
+    pe_ok = init_laws(e, c, t);
     {
         rs_ident_cfg_t ic = c->rsid;
         ic.R_nom_Ohm = t->R_Ohm;

@@ -48,6 +48,25 @@ void smo_reset(smo_t *smo)
     smo->U_V.q = 0.0f;
 }
 
+/* The period's Phi, g_u, g_c (and Phi - rho) in the turn *turn: taken
+ * again when the turn or the decay changed (the decay first when L^
+ * moved: smo_set_L_deferred). */
+static void take_period(smo_t *smo, const zoh_turn_t *turn)
+{
+    if (smo->zm_stale) {
+        update_model(smo); /* L^ moved since: 2 divisions */
+    }
+    if (turn->seq != smo->z_turn) {
+        const float rho = smo->zm.rho;
+        zoh_step(&smo->zm, turn, &smo->z); /* 1 division */
+        /* (Phi - rho) i = rho (cos theta - 1 - j sin theta) i, cos theta - 1 = -2 sin^2(theta/2) */
+        smo->z_rc = -2.0f * rho * turn->sh * turn->sh;
+        smo->z_rs = rho * turn->s1;
+        smo->z_turn = turn->seq;
+        smo->z_rev++;
+    }
+}
+
 /* Boundary-layer switching term Ks sat(e/phi) [V] (replaces sign() of (32)). */
 static float switching(const smo_t *smo, float e_A)
 {
@@ -80,19 +99,8 @@ dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const z
     /* (30): e = i^ - i, with i^(k) the previous prediction */
     const float Ud = switching(smo, smo->i_hat_A.d - i.d);
     const float Uq = switching(smo, smo->i_hat_A.q - i.q);
-    if (smo->zm_stale) {
-        smo->zm_stale = false;
-        update_model(smo); /* L^ moved since: 2 divisions */
-    }
+    take_period(smo, turn);
     const float rho = smo->zm.rho;
-    if (turn->seq != smo->z_turn) {
-        zoh_step(&smo->zm, turn, &smo->z); /* 1 division */
-        /* (Phi - rho) i = rho (cos theta - 1 - j sin theta) i, cos theta - 1 = -2 sin^2(theta/2) */
-        smo->z_rc = -2.0f * rho * turn->sh * turn->sh;
-        smo->z_rs = rho * turn->s1;
-        smo->z_turn = turn->seq;
-        smo->z_rev++;
-    }
     const zoh_step_t *z = &smo->z;
 
     /* (51b), (55) exact: the rotor's turn on the measured current (the

@@ -49,7 +49,7 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # "ramfuncs" itself (hal_init must run from flash). tools/check/isr_path.sh
 # (make check) fails if a function the ISR reaches would run from flash.
 # (one line: tools/check/isr_path.sh and ram_budget.py read it)
-FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_bg.c firmware/flash_crc.c firmware/link.c firmware/link_codec.c firmware/link_vars.c firmware/drive_params.c firmware/commission.c firmware/level.c firmware/enc_check.c firmware/calib.c firmware/align.c firmware/app_start.c control/smo_cfg.c control/est_cfg.c control/est_names.c
+FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_bg.c firmware/flash_crc.c firmware/link.c firmware/link_codec.c firmware/link_vars.c firmware/drive_params.c firmware/commission.c firmware/level.c firmware/enc_check.c firmware/calib.c firmware/align.c firmware/app_start.c control/smo_cfg.c control/est_cfg.c control/est_names.c control/ctrl_cfg.c control/dbdtc_cfg.c
 # Of those, the ones the ISR does call, but only in a state that does not
 # control the motor for the user: the commissioning (COMMISSION), the
 # bring-up level 3's rotation and encoder check (ENC_CHECK), the start's
@@ -58,7 +58,7 @@ FLASH_SRCS   := firmware/main.c firmware/cmd.c firmware/app_cfg.c firmware/app_b
 # with its wait states (hal/f28335/README.md, "What runs from flash").
 # isr_path.sh accepts these on the ISR path and no others.
 # (one line: tools/check/isr_path.sh reads it)
-FLASH_ISR_SRCS := firmware/commission.c firmware/level.c firmware/enc_check.c firmware/calib.c firmware/align.c firmware/app_start.c
+FLASH_ISR_SRCS := firmware/commission.c firmware/level.c firmware/enc_check.c firmware/calib.c firmware/align.c firmware/app_start.c control/ctrl_cfg.c
 RAMFUNC_SRCS := $(filter-out $(FLASH_SRCS),$(wildcard control/*.c) $(wildcard firmware/*.c))
 
 APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*.c) $(wildcard hal/f28335/*.c)
