@@ -42,15 +42,15 @@
 #define ZOH_THETA_MAX_RAD 1.0f
 
 /* A turn is taken anew when the speed moved it by more than this since it
- * was taken [rad]: a turn 1e-5 rad stale moves a one-period prediction by
- * 1e-5 |i|, 0.1 mA at 10 A, a 70th of the board's ADC step. The speed
+ * was taken [rad]: a turn 5e-6 rad stale moves a one-period prediction by
+ * 5e-6 |i|, 0.05 mA at 10 A, a 150th of the board's ADC step. The speed
  * estimate moves by ~0.02 rad/s el a period at steady speed (2e-6 rad at
  * 10 kHz), by 0.08 rad/s el on a 2500 r/min/s ramp: the turn, and what
  * each model computes from it (zoh_step, dbdtc_period), is kept over
  * most periods (discrete_model_design.md sec. 2). The observer's back-EMF
- * -j w psi^ takes w(k) itself: a w 0.1 rad/s el stale moves w psi by
- * 24 mV on the paper motor, what step 1's R^ at 0.25 % must not carry. */
-#define ZOH_THETA_TOL_RAD 1e-5f
+ * -j w psi^ takes w(k) itself: a w 0.05 rad/s el stale moves w psi by
+ * 12 mV on the paper motor, what step 1's R^ at 0.25 % must not carry. */
+#define ZOH_THETA_TOL_RAD 5e-6f
 
 /* The rotor's turn over a period: theta = w Ts. */
 typedef struct {
