@@ -35,44 +35,68 @@
 #include "oplim.h"
 #include "pi.h"
 
+/* What ctrl_t.db.par holds (ctrl_t.model_src). */
+#define CTRL_MODEL_EST      0u      /* the estimation's model */
+#define CTRL_MODEL_NOMINAL  1u      /* the configured parameters */
+
 typedef enum { CTRL_MODE_OPEN_LOOP = 0, CTRL_MODE_TORQUE = 1, CTRL_MODE_SPEED = 2 } ctrl_mode_t;
+
+/* The oscillation watch on the estimated model (discrete_model_design.md
+ * sec. 7). The deadbeat's innovation eps(k) = i(k) - (the state at k it
+ * started from a period before) obeys eps(k+2) = (1 - lambda) eps(k) for
+ * a model L^ = lambda L: its lag-2 regression num/den is 1 - lambda, near
+ * 0 on a right model, -1 where the error stops shrinking (lambda = 2),
+ * below it growing (at 2.2 by 1.2x per 2 periods, a hundredfold in 50).
+ * Averaged over CTRL_OSC_PERIODS, while the innovation's rms is above
+ * ctrl_cfg_t.osc_i_min_A (the ADC's noise): at lambda >= CTRL_OSC_LAMBDA_HOLD
+ * L^ is cut by 1/lambda, the L the oscillation measures, and held
+ * (est_hold_oscillation). */
+#define CTRL_OSC_PERIODS     128.0f /* the regression's averaging (a pair every 4 periods) [periods] */
+#define CTRL_OSC_LAMBDA_HOLD 2.0f  /* L^/L at which the error stops shrinking: cut [-] */
+
+typedef struct {
+    dq_t pred_A;                /* the state at k+1 the model started from this period [A] */
+    dq_t eps_A;                 /* the innovation i - pred of the pair's first period [A] */
+    float num_A2;               /* <eps(k), eps(k-2)>, <eps(k-2), eps(k-2)>, averaged [A^2] */
+    float den_A2;
+    uint16_t phase;             /* 0..3: a lag-2 pair every 4 periods (0: its first, 2: its second) */
+} ctrl_osc_t;
+
+/* One period of the watch: every 4 periods a pair of innovations
+ * i_A - o->pred_A two periods apart into the regression (the lag-2
+ * regression needs no more); x_next_A the next prediction. Returns
+ * lambda = 1 - num/den when it reached CTRL_OSC_LAMBDA_HOLD with den above
+ * den_min_A2 [A^2] (the watch then starts anew), else 0. ISR (inline). */
+static inline float ctrl_osc_step(ctrl_osc_t *o, dq_t i_A, dq_t x_next_A, float den_min_A2)
+{
+    float lambda = 0.0f;
+    if (o->phase == 0u) {
+        o->eps_A.d = i_A.d - o->pred_A.d;
+        o->eps_A.q = i_A.q - o->pred_A.q;
+    } else if (o->phase == 2u) {
+        const float ed = i_A.d - o->pred_A.d;
+        const float eq = i_A.q - o->pred_A.q;
+        o->num_A2 += (4.0f / CTRL_OSC_PERIODS) * ((ed * o->eps_A.d + eq * o->eps_A.q) - o->num_A2);
+        o->den_A2 += (4.0f / CTRL_OSC_PERIODS) * ((o->eps_A.d * o->eps_A.d + o->eps_A.q * o->eps_A.q) - o->den_A2);
+        if ((o->den_A2 > den_min_A2) && (o->num_A2 < (1.0f - CTRL_OSC_LAMBDA_HOLD) * o->den_A2)) {
+            lambda = 1.0f - o->num_A2 / o->den_A2;
+            o->num_A2 = 0.0f;
+            o->den_A2 = 0.0f;
+        }
+    } else {
+        /* between the pairs */
+    }
+    o->phase = (uint16_t)((o->phase + 1u) & 3u);
+    o->pred_A = x_next_A;
+    return lambda;
+}
 typedef enum { CTRL_METHOD_CONVENTIONAL = 0, CTRL_METHOD_PROPOSED = 1 } ctrl_method_t;
 
-/* Flags in ctrl_out_t.flags */
+/* Flags in ctrl_out_t.flags; the estimation's bits (est.h EST_FLAG_*,
+ * 0x0100-0x0800) are or-ed in. */
 #define CTRL_FLAG_VOLTAGE_LIMIT    0x0001u /* vector clamped to the hexagon */
 #define CTRL_FLAG_FLUX_UNREACHABLE 0x0002u /* negative discriminant: flux target not reachable in one period */
 #define CTRL_FLAG_NONFINITE        0x0004u /* a non-finite value appeared; duties are 0.5 and the app must fault */
-/* Inverter error and R tracking (inverter_error_design.md, r_tracking_design.md); high bits, set while it lasts: */
-#define CTRL_FLAG_INV_UNIDENTIFIED EST_FLAG_INV_UNIDENTIFIED /* 0x0100: the inverter error could not be identified: not compensated */
-#define CTRL_FLAG_R_HELD           EST_FLAG_R_HELD /* 0x0200: track_R: the last cycle was held (no current, transient, band) */
-#define CTRL_FLAG_PSI_HELD         EST_FLAG_PSI_HELD /* 0x0400: step 2: the model's psi_f holds (holds_design.md sec. 2) */
-#define CTRL_FLAG_ANGLE_SUSPECT    EST_FLAG_ANGLE_SUSPECT /* 0x0800: step 1 suggests an encoder angle error: L^ held */
-
-/* Why the estimates are held: ctrl_mon_t.est_hold, the CSV's est_hold (0:
- * step 2 learning; psi_f^ is then a magnet-temperature indicator). While
- * any bit is set, the estimate columns show the values the model holds.
- * The first five are est_gate.h's (step 2 paused, estimates from before
- * the transient). */
-#define CTRL_EST_HOLD_ACCEL       EST_HOLD_ACCEL       /* 0x0001 speed changing faster than its estimate follows */
-#define CTRL_EST_HOLD_CURRENT     EST_HOLD_CURRENT     /* 0x0002 current transient */
-#define CTRL_EST_HOLD_TORQUE      EST_HOLD_TORQUE      /* 0x0004 torque-command transient */
-#define CTRL_EST_HOLD_VOLTAGE     EST_HOLD_VOLTAGE     /* 0x0008 voltage limit: the applied voltage is not the model's */
-#define CTRL_EST_HOLD_SETTLE      EST_HOLD_SETTLE      /* 0x0010 one of those cleared, the hold time running */
-#define CTRL_EST_HOLD_SPEED_FLOOR EST_HOLD_SPEED_FLOOR /* 0x0020 below the speed where w psi_f dominates the voltage
-                                                        * the drive cannot explain (psi_band.h): the last trusted
-                                                        * or the told model, the conventional torque path
-                                                        * (with flag 0x0100, the inverter error unmeasured:
-                                                        * at every speed) */
-#define CTRL_EST_HOLD_NO_STEP2    EST_HOLD_NO_STEP2    /* 0x0040 step 2 not running (observer off, step 1, step 1
-                                                        * refused): the told values */
-#define CTRL_EST_HOLD_ANGLE       EST_HOLD_ANGLE       /* 0x0080 L^ held: step 1 suggests an angle error */
-
-/* ctrl_cfg_t.track_R: off; on from step 2's start; auto from
- * rtrack.auto_delay_periods after it (step 1's R^ holds that long: a
- * winding's thermal time constant is minutes; r_tracking_design.md sec. 3). */
-#define CTRL_TRACK_R_OFF  0u
-#define CTRL_TRACK_R_ON   1u
-#define CTRL_TRACK_R_AUTO 2u
 
 typedef struct {
     float Ts_s;                 /* control period [s], 1e-4 */
@@ -86,9 +110,14 @@ typedef struct {
     float speed_kp_Nms_rad;     /* speed PI: N m per (rad/s) of mechanical speed error */
     float speed_ki_Nm_rad;      /* speed PI: N m per rad of integrated speed error */
     float te_max_Nm;            /* |Te*| limit, 2x rated = 12 N m */
+    uint16_t te_max_follows_kt; /* 1: te_max_Nm is the told model's kt times a current (the derived
+                                 * default: kt i_peak), so the limit follows the kt of the model in use
+                                 * (the learned psi_f); 0: a fixed cap */
     float i_max_A;              /* bound on the currents the model uses */
     float u_max_V;              /* bound on |ud|, |uq| before the hexagon */
     float omega_max_el_rad_s;   /* bound on |omega_el| the model uses */
+    float osc_i_min_A;          /* the oscillation watch judges an innovation above this rms (the ADC's
+                                 * noise: drive_trip_margin_A); <= 0: no watch [A] */
     float psi_max_Wb;           /* bound on psi_s* */
     float deadtime_s;           /* inverter dead time [s]: its voltage error is fed forward and
                                  * counted in the realised voltage; 0: none */
@@ -100,47 +129,25 @@ typedef struct {
     float i_lim_A;              /* stator-current limit |i| [A] the deadbeat target respects */
     float u_margin;             /* share of the inscribed circle Vdc/sqrt(3) the flux
                                  * reference leaves for steady state (flux weakening) [-] */
-    /* Proposed method; ctrl_cfg_proposed_defaults() fills all of it. The
-     * fields of smo/pe/rsid that repeat the ones above (Ts, nominal R, L,
-     * psi_f, the bounds, the R band) are taken from here by ctrl_init(). */
-    float R_min_Ohm;            /* accepted R^ band [Ohm], absolute: rs_ident's */
-    float R_max_Ohm;            /*   plausibility check and smo's setter range */
-    smo_cfg_t smo;              /* observer gains and ranges */
-    param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
-    rs_ident_cfg_t rsid;        /* step-1 checks */
-    r_track_cfg_t rtrack;       /* d-axis injection: inverter error after step 1, R in service */
-    uint16_t track_R;           /* CTRL_TRACK_R_*: R^ tracked in step 2 by the injection (r_tracking_design.md) */
-    float untold_deadtime_s;    /* the speed floor's prior until the inverter error is identified: the
-                                 * least error nobody told, as a dead time [s] (holds_design.md sec. 6) */
-    est_gate_cfg_t gate;        /* when step 2 may learn (est_gate.h) */
+    est_cfg_t est_cfg;          /* the proposed method's estimation: est_cfg_defaults() for
+                                 * ctrl_cfg_told() of the fields above builds it */
 } ctrl_cfg_t;
 
 /* What ctrl_init refused, a set of bits (0: nothing). A refused block
  * must not run: the app refuses a start that needs one (CONFIG fault). */
 typedef uint16_t ctrl_status_t;
 #define CTRL_CFG_OK         ((ctrl_status_t)0x0000u)
-#define CTRL_CFG_OBSERVER   EST_CFG_OBSERVER         /* 0x0001 smo_init refused (stability, (36)) */
-#define CTRL_CFG_ESTIMATOR  EST_CFG_ESTIMATOR        /* 0x0002 param_est_init or psi_band_init refused */
-#define CTRL_CFG_RSID       EST_CFG_RSID             /* 0x0004 rs_ident_init refused */
 #define CTRL_CFG_ENCODER    ((ctrl_status_t)0x0008u) /* encoder_init refused (e.g. PLL bandwidth x Ts above its bound) */
 #define CTRL_CFG_SPEED_PI   ((ctrl_status_t)0x0010u) /* pi_init refused the speed PI's gains or limits */
 #define CTRL_CFG_DBDTC      ((ctrl_status_t)0x0020u) /* dbdtc_init refused the model's parameters or bounds */
 #define CTRL_CFG_DEADTIME   ((ctrl_status_t)0x0040u) /* dead time not finite, negative or above 0.1 Ts;
                                                       * or device drop so, or above 0.1 u_max_V */
-#define CTRL_CFG_GATE       EST_CFG_GATE             /* 0x0080 est_gate_init refused (step 2's pause and hold) */
-#define CTRL_CFG_RTRACK     EST_CFG_RTRACK           /* 0x0100 r_track_init refused (d-current injection, inverter_error_design.md) */
-/* Needed by every method (encoder, speed loop, model, output path)... */
+/* The estimation's refusals (est.h EST_CFG_*: 0x0001, 0x0002, 0x0004,
+ * 0x0080, 0x0100) are or-ed in. Needed by every method (encoder, speed
+ * loop, model, output path)... */
 #define CTRL_CFG_NEEDED_ALWAYS   ((ctrl_status_t)(CTRL_CFG_ENCODER | CTRL_CFG_SPEED_PI | CTRL_CFG_DBDTC | CTRL_CFG_DEADTIME))
-/* ...and by the proposed method's steps 1 and 2. */
-#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)(CTRL_CFG_OBSERVER | CTRL_CFG_ESTIMATOR | CTRL_CFG_RSID | CTRL_CFG_GATE | CTRL_CFG_RTRACK))
-
-/* Where the proposed method's steps stand (ctrl_t.ident, monitor). */
-typedef enum {
-    CTRL_IDENT_OFF = 0,           /* observer stopped */
-    CTRL_IDENT_STEP1 = 1,         /* observer runs, R^ (then the inverter error) being identified,
-                                 * conventional control */
-    CTRL_IDENT_STEP2 = 2          /* observer and L^, psi^ estimator run */
-} ctrl_ident_t;
+/* ...and by the proposed method's steps 1 and 2: every refusal of the estimation. */
+#define CTRL_CFG_NEEDED_PROPOSED ((ctrl_status_t)EST_CFG_ANY)
 
 typedef struct { float ia_A; float ib_A; float vdc_V; uint32_t enc_count; } ctrl_in_t; /* one period's samples */
 
@@ -162,10 +169,21 @@ typedef struct {                /* monitor: written by every ctrl_step (ctrl_mon
     float te_ref_Nm, te_est_Nm;           /* torque reference and the controller's torque estimate (at k+1) */
     float psi_ref_Wb, psi_est_Wb;         /* stator-flux reference and estimate (at k+1) */
     uint16_t model_from_observer;         /* 1: this step's model was the estimation's (proposed, step 2) */
-} ctrl_mon_t;                           /* the estimation's model and status: ctrl_est() */
+} ctrl_mon_t;                           /* the estimation's model and status: ctrl_est(); written,
+                                         * never read back by ctrl_step */
+
+typedef struct {                /* what ctrl_t keeps of ctrl_cfg_t (the blocks keep their own) */
+    float Ts_s;                 /* control period [s] */
+    float i_max_A;              /* bound on the currents the model uses [A] */
+    float i_lim_A;              /* the configured current limit (ctrl_cfg_t.i_lim_A as given) [A] */
+    float u_max_V;              /* bound on |ud|, |uq| [V] */
+    float omega_max_el_rad_s;   /* bound on |omega_el| [rad/s el] */
+    float te_max_Nm;            /* |Te*| limit as configured [N m] */
+    uint16_t te_max_follows_kt; /* ctrl_cfg_t's */
+} ctrl_kept_t;
 
 typedef struct {
-    ctrl_cfg_t cfg;
+    ctrl_kept_t cfg;
     ctrl_mode_t mode;           /* active mode */
     ctrl_mode_t mode_req;       /* set in background, taken at the next step */
     ctrl_method_t method;
@@ -176,57 +194,35 @@ typedef struct {
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
     float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
     float device_drop_V;        /* the drop from cfg (0: none or refused) [V] */
+    zoh_turn_t turn;            /* the rotor's turn over a period, taken at w within turn_tol of w(k) (zoh.h) */
+    float turn_tol_rad_s;       /* ZOH_THETA_TOL_RAD / Ts [rad/s el] */
     float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
+    float te_lim_Nm;            /* |Te*| limit in use: te_max_Nm, times kt(model)/kt(told) when it follows kt [N m] */
+    float te_per_psi_Nm_Wb;     /* te_max_Nm / told psi_f when the limit follows kt, else 0 [N m/Wb] */
+    ctrl_osc_t osc;             /* the oscillation watch (CTRL_OSC_*) */
+    float osc_den_min_A2;       /* osc_i_min_A^2 (0: no watch) [A^2] */
     float u_lim_per_vdc;        /* steady-state voltage limit / Vdc: u_margin / sqrt(3) [-] */
     oplim_t lim;                /* current limit and flux weakening (oplim.h) */
     ctrl_status_t status;       /* from ctrl_init; not OK: the proposed method is unavailable */
     est_t est;                  /* the proposed method's estimation (est.h): only through its calls */
     est_in_t est_in;            /* the estimation's inputs of this period (ctrl.c stage_estimate) */
     uint16_t flags_last;        /* CTRL_FLAG_* of the last step (the estimation's voltage check) */
+    float te_ref_last_Nm;       /* Te* of the last step (the estimation's transient check) [N m] */
+    float te_est_last_Nm;       /* the model's Te(k+1) of the last step (bumpless into speed mode) [N m] */
     uint16_t model_src;         /* what db.par holds: the told model or the estimation's (ctrl.c MODEL_*) */
     bool tracked;               /* ctrl_track ran this period: ctrl_step leaves the encoder alone */
     ctrl_mon_t mon;
 } ctrl_t;
 
-/* The observer's switching gain, boundary layer and the disturbance
- * error condition (36) must dominate (smo_cfg_t Ks_V, phi_A, ef_max_V). */
-typedef struct {
-    float Ks_V;                 /* switching gain [V] */
-    float phi_A;                /* boundary layer [A]; G = Ks/phi [V/A] */
-    float ef_max_V;             /* |f^ - f| (36) must dominate [V] */
-} ctrl_obs_gains_t;
+/* The told model and bounds of *cfg as the estimation takes them (for
+ * est_cfg_defaults(&cfg->est_cfg, ...); ctrl_init passes the same, with
+ * the dead time as taken, to est_init). Background. */
+void ctrl_cfg_told(const ctrl_cfg_t *cfg, est_told_t *told);
 
-/* Background: smo.h's design defaults (Table I: 100 V, 2.5 A, 50 V). */
-void ctrl_obs_gains_default(ctrl_obs_gains_t *g);
-
-/* Background: the gains for a motor (smo_design.md sec. 4): Ks =
- * 2 ef_max_V ((36) with R^ up to 0.45 G and a 10 % margin), phi = phi_A
- * unless G = Ks/phi would pass the discrete stability bound with L^'s
- * floor at half the told L_H and the margin OBS_L_MIN_STABILITY_MARGIN
- * (*G_max_V_A), then phi = Ks / G_max. Returns false (g filled all the
- * same) when the band's top 0.45 G leaves out R_Ohm, or G_max <= 0: no
- * gain satisfies both bounds. */
-bool ctrl_obs_gains_design(float Ts_s, float R_Ohm, float L_H, float ef_max_V, float phi_A,
-                           ctrl_obs_gains_t *g, float *G_max_V_A);
-
-/* Fills the proposed method's settings of *cfg from its other fields
- * (set those first) with the modules' design defaults, the R^ band
- * [R_min_Ohm, R_max_Ohm] (absolute: the nominal R may be far from the
- * motor's) and L^ kept above the observer's stability bound at R_max.
- * Background, before ctrl_init. */
-void ctrl_cfg_proposed_defaults(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm);
-
-/* As ctrl_cfg_proposed_defaults with the observer's gains *g. Background. */
-void ctrl_cfg_proposed_with(ctrl_cfg_t *cfg, float R_min_Ohm, float R_max_Ohm, const ctrl_obs_gains_t *g);
-
-/* The default R^ band for cfg->R_Ohm (set it first): rs_ident.h's
- * RS_IDENT_BAND_*_FACTOR x R_Ohm, the top kept below the largest R^ the
- * observer's default gains take under condition (36) (step1_design.md
- * sec. 8), and not below R_Ohm. Background, before ctrl_cfg_proposed_defaults. */
-void ctrl_rsid_band_default(const ctrl_cfg_t *cfg, float *R_min_Ohm, float *R_max_Ohm);
-
-/* As ctrl_rsid_band_default under condition (36) with the gains *g. Background. */
-void ctrl_rsid_band_with(const ctrl_cfg_t *cfg, const ctrl_obs_gains_t *g, float *R_min_Ohm, float *R_max_Ohm);
+/* The torque limit (ctrl_t.te_lim_Nm) and the speed PI's output limits
+ * for the model now in use (ctrl.c; ctrl_init, ctrl_reset and the model's
+ * changes call it). ISR or background. */
+void ctrl_take_te_limit(ctrl_t *c);
 
 /* Start-up: copy *cfg, build the blocks, reset; mode torque, method
  * conventional. Returns the set of refusals of every block (CTRL_CFG_*):
@@ -255,42 +251,6 @@ void ctrl_set_i_lim(ctrl_t *c, float i_lim_A);
  * header comment). Returns false (method unchanged) for PROPOSED when
  * ctrl_init did not return CTRL_CFG_OK. */
 bool ctrl_set_method(ctrl_t *c, ctrl_method_t method);
-
-/* Step 1 begins: observer (re)started from the nominal parameters, step 2
- * stopped, windows emptied; control conventional until ctrl_rsid_finish().
- * Returns false when the proposed method is unavailable. ISR (the app's
- * state machine) or background while stopped. */
-bool ctrl_rsid_begin(ctrl_t *c);
-
-/* Window the following periods are averaged into (RS_IDENT_WINDOW_NONE
- * while settling). ISR or background. */
-void ctrl_rsid_window(ctrl_t *c, rs_ident_window_t win);
-
-/* Step 1 ends: solves (step1_design.md sec. 1) into c->rsid_out; on RS_IDENT_OK
- * sets R^ bumplessly and starts step 2 - its first 0.12 s at the same
- * operating point identify the inverter error (inverter_error_design.md sec. 5) -
- * otherwise stops the
- * observer and returns the reason. ISR once (about 20 divisions) or background. */
-rs_ident_result_t ctrl_rsid_finish(ctrl_t *c);
-
-/* A staged check of step 1's windows so far (est.h
- * est_rsid_stage_begin/_step): begun (true) only at a batch boundary of
- * window 2, its sample sums copied into *win2_copy, *s the caller's
- * solver; one stage per call of ctrl_rsid_stage_step, true when
- * s->result and ctrl_rsid_out() are final (the d-axis and angle checks
- * included). ISR (a bounded stage each). */
-bool ctrl_rsid_stage_begin(ctrl_t *c, rs_ident_solver_t *s, rs_ident_head_t *win2_copy);
-bool ctrl_rsid_stage_step(ctrl_t *c, rs_ident_solver_t *s);
-
-/* Step 1 ends on a staged solve's result r (in ctrl_rsid_out()); the rest
- * as ctrl_rsid_finish. No division. ISR once. */
-rs_ident_result_t ctrl_rsid_finish_with(ctrl_t *c, rs_ident_result_t r);
-
-/* Step 2 without step 1, for an R the caller trusts (a recent
- * identification at the same winding temperature): R^ = R_Ohm, observer
- * started (seeded) if stopped, estimator running. False when R_Ohm is
- * outside [R_min_Ohm, R_max_Ohm] or the method is unavailable. ISR or background. */
-bool ctrl_est_start(ctrl_t *c, float R_Ohm);
 
 /* References [rad/s mech, N m, V]. As ctrl_set_mode: a multi-word copy
  * the ISR must not be interrupted in by another writer. */
@@ -380,30 +340,20 @@ static inline const ctrl_ref_t *ctrl_ref(const ctrl_t *c)
     return &c->ref;
 }
 
-/* The last ctrl_rsid_finish(): R^ (raw, accepted or not), window means,
- * standard errors. */
-static inline const rs_ident_out_t *ctrl_rsid_out(const ctrl_t *c)
-{
-    return est_rsid_out(&c->est);
-}
-
-/* The step-1 settings ctrl_init gave rs_ident (R band, limits, batch). */
-static inline const rs_ident_cfg_t *ctrl_rsid_cfg(const ctrl_t *c)
-{
-    return est_rsid_cfg(&c->est);
-}
-
-/* The estimation (est.h readers: est_output() - the model, its status
- * and phase - est_psi_f_obs_Wb(), est_f_V()). */
+/* The estimation (est.h: its readers est_output() - the model, its
+ * status and phase - est_psi_f_obs_Wb(), est_f_V(), est_rsid_out()). */
 static inline const est_t *ctrl_est(const ctrl_t *c)
 {
     return &c->est;
 }
 
-/* Where the proposed method's steps stand now. */
-static inline ctrl_ident_t ctrl_ident(const ctrl_t *c)
+/* The estimation for its calls (est.h: step 1's begin, windows, staged
+ * solve and finish, est_start_trusted); the proposed method's steps are
+ * asked for there. ISR (the app's state machine) or background while
+ * stopped. */
+static inline est_t *ctrl_est_rw(ctrl_t *c)
 {
-    return (ctrl_ident_t)est_output(&c->est)->phase;
+    return &c->est;
 }
 
 #endif /* CTRL_H */

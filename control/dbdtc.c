@@ -6,10 +6,6 @@
 #include "mathx.h"
 #include "spmsm.h"
 
-/* Parameters handed to dbdtc_set_params() are kept within these factors of
- * the configured ones, so an estimator gone astray cannot divide by ~0. */
-#define PARAM_FACTOR_MIN 0.1f
-#define PARAM_FACTOR_MAX 10.0f
 
 #define TWO_THIRDS   CLARKE_TWO_THIRDS /* hexagon vertex = 2/3 Vdc */
 #define HALF_SQRT3   CLARKE_HALF_SQRT3 /* cos 30 deg */
@@ -24,24 +20,7 @@
  * more than the projections' rounding and |(sin, cos)| - 1 (1e-6). */
 #define INSCRIBED_SAFE_SQ 0.998f
 
-/* x finite and > 0 (a NaN fails). */
-static bool positive(float x)
-{
-    return mathx_isfinitef(x) && (x > 0.0f);
-}
-
-bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg)
-{
-    const bool ok = positive(cfg->Ts_s) && positive(cfg->R_Ohm) && positive(cfg->L_H) &&
-                    positive(cfg->psi_f_Wb) && (cfg->pole_pairs > 0u) && positive(cfg->i_max_A) &&
-                    positive(cfg->omega_max_rad_s) && positive(cfg->u_max_V) && positive(cfg->te_max_Nm) &&
-                    positive(cfg->psi_max_Wb);
-
-    db->cfg = *cfg;
-    db->inv_Ts_1_s = 1.0f / cfg->Ts_s;
-    dbdtc_reset(db);
-    return ok;
-}
+/* dbdtc_init: dbdtc_cfg.c (start-up, from flash). */
 
 void dbdtc_reset(dbdtc_t *db)
 {
@@ -50,22 +29,76 @@ void dbdtc_reset(dbdtc_t *db)
 
 void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb)
 {
+    dbdtc_set_params_zm(db, R_Ohm, L_H, psi_f_Wb, NULL);
+}
+
+void dbdtc_set_params_zm(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb, const zoh_model_t *zm)
+{
     const dbdtc_cfg_t *cfg = &db->cfg;
     dbdtc_par_t *p = &db->par;
 
-    p->R_Ohm = mathx_clampf(R_Ohm, PARAM_FACTOR_MIN * cfg->R_Ohm, PARAM_FACTOR_MAX * cfg->R_Ohm);
-    p->L_H = mathx_clampf(L_H, PARAM_FACTOR_MIN * cfg->L_H, PARAM_FACTOR_MAX * cfg->L_H);
-    p->psi_f_Wb = mathx_clampf(psi_f_Wb, PARAM_FACTOR_MIN * cfg->psi_f_Wb,
-                               PARAM_FACTOR_MAX * cfg->psi_f_Wb);
+    p->R_Ohm = mathx_clampf(R_Ohm, DBDTC_PARAM_FACTOR_MIN * cfg->R_Ohm, DBDTC_PARAM_FACTOR_MAX * cfg->R_Ohm);
+    p->L_H = mathx_clampf(L_H, DBDTC_PARAM_FACTOR_MIN * cfg->L_H, DBDTC_PARAM_FACTOR_MAX * cfg->L_H);
+    p->psi_f_Wb = mathx_clampf(psi_f_Wb, DBDTC_PARAM_FACTOR_MIN * cfg->psi_f_Wb,
+                               DBDTC_PARAM_FACTOR_MAX * cfg->psi_f_Wb);
 
     const float inv_L = 1.0f / p->L_H;                                  /* division 1 */
-    p->Ts_over_L = cfg->Ts_s * inv_L;
-    p->a = p->R_Ohm * p->Ts_over_L;
-    p->one_minus_a = 1.0f - p->a;
+    if ((zm != NULL) && (zm->R_Ohm == p->R_Ohm) && (zm->tau_s > 0.0f)) {
+        p->zm = *zm; /* the observer's decay at this R and its L (within SMO_MODEL_UPDATE_REL) */
+    } else if (!zoh_model(p->R_Ohm, p->L_H, cfg->Ts_s, &p->zm)) {        /* divisions 2, 3 */
+        /* a refused configuration (dbdtc_init said so): no decay, Euler's gains */
+        p->zm.R_Ohm = p->R_Ohm;
+        p->zm.L_H = p->L_H;
+        p->zm.tau_s = 0.0f;
+        p->zm.rho = 1.0f;
+        p->zm.one_m_rho = 0.0f;
+        p->zm.gamma_A_V = 0.0f;
+        p->zm.kappa_1_s = 0.0f;
+    }
+    p->inv_L_1_H = inv_L;
+    p->psiR_Wb_Ohm = p->psi_f_Wb * p->R_Ohm;
+    p->L_gamma_Wb_V = p->L_H * p->zm.gamma_A_V;
     p->kt_Nm_per_A = spmsm_kt_Nm_A(cfg->pole_pairs, p->psi_f_Wb);
     p->te_per_Wb = p->kt_Nm_per_A * inv_L;
-    p->psiq_per_Nm = p->L_H / p->kt_Nm_per_A;                           /* division 2 */
+    p->psiq_per_Nm = p->L_H / p->kt_Nm_per_A;                           /* division 4 */
     p->inv_psi_f_1_Wb = spmsm_kt_Nm_A(cfg->pole_pairs, 1.0f) * p->psiq_per_Nm * inv_L; /* 1.5 p / kt */
+    db->st.taken = DBDTC_TAKEN_NONE; /* the period is taken again */
+}
+
+void dbdtc_take_period(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V, uint32_t g_rev, uint16_t taken)
+{
+    const dbdtc_par_t *p = &db->par;
+    dbdtc_step_t *st = &db->st;
+    dq_t g_c = g_c_A_V;
+
+    if (taken == DBDTC_TAKEN_OWN) {
+        zoh_step_t z;
+        zoh_step(&p->zm, t, &z); /* 1 division */
+        g_c = z.g_c;
+    }
+    st->taken = taken;
+    st->turn = t->seq;
+    st->g_rev = g_rev;
+    if (!(p->zm.R_Ohm > 0.0f) || !(p->zm.tau_s > 0.0f)) {
+        /* refused parameters: the identity, no voltage (a refused model is never run) */
+        st->Phi.d = 1.0f;
+        st->Phi.q = 0.0f;
+        st->D_Wb.d = 0.0f;
+        st->D_Wb.q = 0.0f;
+        st->gu_Wb_V.d = 0.0f;
+        st->gu_Wb_V.q = 0.0f;
+        st->ku_V_Wb.d = 0.0f;
+        st->ku_V_Wb.q = 0.0f;
+        return;
+    }
+    st->Phi.d = p->zm.rho * t->c1;         /* rho e^(-j theta) */
+    st->Phi.q = -p->zm.rho * t->s1;
+    st->D_Wb.d = p->psiR_Wb_Ohm * g_c.d;
+    st->D_Wb.q = p->psiR_Wb_Ohm * g_c.q;
+    st->gu_Wb_V.d = p->L_gamma_Wb_V * t->ch;  /* L gamma e^(-j theta/2) */
+    st->gu_Wb_V.q = -p->L_gamma_Wb_V * t->sh;
+    st->ku_V_Wb.d = p->zm.kappa_1_s * t->ch;  /* kappa e^(+j theta/2) */
+    st->ku_V_Wb.q = p->zm.kappa_1_s * t->sh;
 }
 
 dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A)
@@ -82,61 +115,70 @@ dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A)
     return x;
 }
 
-dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V, float omega_el_rad_s)
+/* The free flux one period on: Phi psi + psi_f R g_c (no voltage). */
+static dq_t free_flux(const dbdtc_step_t *st, dq_t psi)
+{
+    dq_t f = zoh_mul(st->Phi, psi);
+    f.d += st->D_Wb.d;
+    f.q += st->D_Wb.q;
+    return f;
+}
+
+dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V)
 {
     const dbdtc_cfg_t *cfg = &db->cfg;
     const dbdtc_par_t *p = &db->par;
-    const float id = mathx_clampf(i_dq_A.d, -cfg->i_max_A, cfg->i_max_A);
-    const float iq = mathx_clampf(i_dq_A.q, -cfg->i_max_A, cfg->i_max_A);
-    const float ud = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
-    const float uq = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
-    const float w = mathx_clampf(omega_el_rad_s, -cfg->omega_max_rad_s, cfg->omega_max_rad_s);
-    const float w_Ts = w * cfg->Ts_s;
+    dq_t u;
+    dq_t psi;
     dq_t i1;
 
-    /* eq. (10), Ld = Lq = L: i + Ts/L (u - R i -+ w L i -+ w psi_f) */
-    i1.d = p->one_minus_a * id + w_Ts * iq + p->Ts_over_L * ud;
-    i1.q = p->one_minus_a * iq - w_Ts * id + p->Ts_over_L * (uq - w * p->psi_f_Wb);
+    u.d = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
+    u.q = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
+    psi.d = p->L_H * mathx_clampf(i_dq_A.d, -cfg->i_max_A, cfg->i_max_A) + p->psi_f_Wb;
+    psi.q = p->L_H * mathx_clampf(i_dq_A.q, -cfg->i_max_A, cfg->i_max_A);
+    /* eq. (10) exact: psi(k+1) = Phi psi + psi_f R g_c + L g_u u */
+    const dq_t f = free_flux(&db->st, psi);
+    const dq_t v = zoh_mul(db->st.gu_Wb_V, u);
+    i1.d = (f.d + v.d - p->psi_f_Wb) * p->inv_L_1_H;
+    i1.q = (f.q + v.q) * p->inv_L_1_H;
     return dbdtc_state_from_currents(db, i1);
 }
 
-float dbdtc_torque_after(const dbdtc_t *db, const dbdtc_state_t *x, float u_q_V,
-                         float omega_el_rad_s)
+/* The state's flux, bounded as dbdtc_state_from_currents() makes it. */
+static dq_t bounded_flux(const dbdtc_t *db, const dbdtc_state_t *x)
 {
-    const dbdtc_cfg_t *cfg = &db->cfg;
-    const dbdtc_par_t *p = &db->par;
-    const float psi_bound = p->L_H * cfg->i_max_A + p->psi_f_Wb;
-    const float psi_d = mathx_clampf(x->psi_dq_Wb.d, -psi_bound, psi_bound);
-    const float psi_q = mathx_clampf(x->psi_dq_Wb.q, -psi_bound, psi_bound);
-    const float uq = mathx_clampf(u_q_V, -cfg->u_max_V, cfg->u_max_V);
-    const float w_Ts = mathx_clampf(omega_el_rad_s, -cfg->omega_max_rad_s, cfg->omega_max_rad_s) * cfg->Ts_s;
-
-    /* eq. (4), q axis, then eq. (5) */
-    return p->te_per_Wb * (cfg->Ts_s * uq + p->one_minus_a * psi_q - w_Ts * psi_d);
+    const float psi_bound = db->par.L_H * db->cfg.i_max_A + db->par.psi_f_Wb;
+    dq_t psi;
+    psi.d = mathx_clampf(x->psi_dq_Wb.d, -psi_bound, psi_bound);
+    psi.q = mathx_clampf(x->psi_dq_Wb.q, -psi_bound, psi_bound);
+    return psi;
 }
 
-uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
-                     float psi_ref_Wb, float omega_el_rad_s, dq_t *u_dq_V)
+float dbdtc_torque_after(const dbdtc_t *db, dq_t u_dq_V)
+{
+    const dbdtc_cfg_t *cfg = &db->cfg;
+    const dbdtc_step_t *st = &db->st;
+    const float ud = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
+    const float uq = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
+
+    /* eq. (5) on psi_q(k+2) */
+    return db->par.te_per_Wb * (st->free_Wb.q + st->gu_Wb_V.d * uq + st->gu_Wb_V.q * ud);
+}
+
+uint16_t dbdtc_solve(dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm, float psi_ref_Wb, dq_t *u_dq_V)
 {
     const dbdtc_cfg_t *cfg = &db->cfg;
     const dbdtc_par_t *p = &db->par;
-    /* The state is bounded as dbdtc_state_from_currents() makes it. */
-    const float psi_bound = p->L_H * cfg->i_max_A + p->psi_f_Wb;
-    const float psi_d = mathx_clampf(x->psi_dq_Wb.d, -psi_bound, psi_bound);
-    const float psi_q = mathx_clampf(x->psi_dq_Wb.q, -psi_bound, psi_bound);
     const float te_ref = mathx_clampf(te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
     const float psi_ref = mathx_clampf(psi_ref_Wb, 0.0f, cfg->psi_max_Wb);
-    const float w = mathx_clampf(omega_el_rad_s, -cfg->omega_max_rad_s, cfg->omega_max_rad_s);
-    const float w_Ts = w * cfg->Ts_s;
     uint16_t flags = 0u;
 
-    /* eq. (4) from k+1 to k+2 without the voltage term */
-    const float X1 = p->one_minus_a * psi_d + w_Ts * psi_q + p->a * p->psi_f_Wb;
-    const float Y = p->one_minus_a * psi_q - w_Ts * psi_d;
+    /* the free flux at k+2 (the voltage's part aside) */
+    const dq_t f = free_flux(&db->st, bounded_flux(db, x));
+    db->st.free_Wb = f;
 
-    /* eq. (5): the q flux that makes Te(k+2) = Te*; Ts*uq = B' (eq. 17) */
+    /* eq. (5): the q flux that makes Te(k+2) = Te* */
     const float psiq_tgt = p->psiq_per_Nm * te_ref;
-    const float Bp = psiq_tgt - Y;
 
     /* eq. (17): X1'^2 - X2' = psi_s*^2 - psi_q*^2 */
     const float disc = psi_ref * psi_ref - psiq_tgt * psiq_tgt;
@@ -147,8 +189,13 @@ uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
         flags |= DBDTC_FLAG_FLUX_UNREACHABLE;
     }
 
-    u_dq_V->d = mathx_clampf((psid_tgt - X1) * db->inv_Ts_1_s, -cfg->u_max_V, cfg->u_max_V);
-    u_dq_V->q = mathx_clampf(Bp * db->inv_Ts_1_s, -cfg->u_max_V, cfg->u_max_V);
+    /* u = (psi* - free) / (L g_u) */
+    dq_t dpsi;
+    dpsi.d = psid_tgt - f.d;
+    dpsi.q = psiq_tgt - f.q;
+    const dq_t u = zoh_mul(db->st.ku_V_Wb, dpsi);
+    u_dq_V->d = mathx_clampf(u.d, -cfg->u_max_V, cfg->u_max_V);
+    u_dq_V->q = mathx_clampf(u.q, -cfg->u_max_V, cfg->u_max_V);
     return flags;
 }
 

@@ -1,13 +1,20 @@
 /*
  * dbdtc.h - deadbeat direct torque control of a surface PMSM (Ld = Lq = L),
- * conventional form: Euler one-step delay compensation (eq. 10-12) and the
- * deadbeat voltage (eq. 17), plus the inverter voltage-limit policy.
+ * conventional form: one-step delay compensation (eq. 10-12) and the
+ * deadbeat voltage (eq. 17), plus the inverter voltage-limit policy. The
+ * discrete model of both is the exact zero-order hold over the period
+ * (zoh.h; discrete_model_design.md) in place of the paper's Euler forms
+ * (4) and (10), which it has as its limit Ts -> 0.
  *
  * Timing (index k = the sample just taken):
  *   u(k)   was computed in the previous step and is being applied now;
+ *   dbdtc_period() takes this period's turn of the rotor (after any
+ *   dbdtc_set_params() of the period);
  *   dbdtc_predict() gives the state at k+1 from i(k), u(k) (eq. 10-12);
  *   dbdtc_solve() gives u(k+1), applied over [k+1, k+2], that puts
- *   Te(k+2) = Te* and |psi_s(k+2)| = psi_s* in the discrete model (eq. 4).
+ *   Te(k+2) = Te* and |psi_s(k+2)| = psi_s* in the discrete model.
+ *   Voltages are rotor-frame values at the middle angle of the period
+ *   they act in (the modulation applies them there).
  *
  * The model parameters (R, L, psi_f) live in one place, dbdtc_t.par, set by
  * dbdtc_set_params(): the observer-based method replaces both the
@@ -15,9 +22,9 @@
  * dbdtc_set_params() and dbdtc_state_from_currents().
  *
  * The deadbeat solution (eq. 17) in a form with no division and one
- * square root per step (1/Ts, 2L/(3p psi_f), 1.5 p psi_f, Ts*R/L and Ts/L
- * precomputed in dbdtc_set_params()): derived in corrected_model_design.md
- * sec. 4.
+ * square root per step (2L/(3p psi_f), 1.5 p psi_f and the model's decay
+ * precomputed in dbdtc_set_params(), the period's rotation in
+ * dbdtc_period(): 1 division): discrete_model_design.md sec. 4.
  *
  * Negative discriminant (psi_q*^2 > psi_s*^2: the torque asks for more
  * q flux than the whole flux target): psi_d(k+2) = 0, i.e. u_d = -X1/Ts,
@@ -43,9 +50,16 @@
 #define DBDTC_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "clarke_park.h"
+#include "zoh.h"
+
+/* Parameters handed to dbdtc_set_params() are kept within these factors of
+ * the configured ones, so an estimator gone astray cannot divide by ~0. */
+#define DBDTC_PARAM_FACTOR_MIN 0.1f
+#define DBDTC_PARAM_FACTOR_MAX 10.0f
 
 /* Flags returned by dbdtc_solve() and dbdtc_limit(), a bit set. */
 #define DBDTC_FLAG_VOLTAGE_LIMIT    0x0001u /* moved onto the inverter hexagon */
@@ -68,9 +82,10 @@ typedef struct {           /* model parameters in use and what follows from them
     float R_Ohm;
     float L_H;
     float psi_f_Wb;
-    float a;               /* Ts*R/L, eq. (4) */
-    float one_minus_a;     /* 1 - Ts*R/L */
-    float Ts_over_L;       /* Ts/L [s/H], eq. (10) */
+    zoh_model_t zm;        /* the decay over a period (zoh.h) */
+    float psiR_Wb_Ohm;     /* psi_f R: the back-EMF's share of the free flux, psi_f R g_c [Wb Ohm] */
+    float L_gamma_Wb_V;    /* L gamma = 1/kappa: the flux a volt moves over a period [Wb/V] */
+    float inv_L_1_H;       /* 1/L [1/H] */
     float te_per_Wb;       /* 1.5*p*psi_f/L [N m/Wb], eq. (5) */
     float kt_Nm_per_A;     /* 1.5*p*psi_f, eq. (12) */
     float psiq_per_Nm;     /* 2L/(3p psi_f) [Wb/(N m)], eq. (5) inverted */
@@ -83,10 +98,25 @@ typedef struct {           /* predicted state at k+1, eq. (10)-(12) */
     float te_Nm;
 } dbdtc_state_t;
 
+typedef struct {           /* the model in this period's turn (dbdtc_period) */
+    dq_t Phi;              /* rho e^(-j theta): the free flux's decay and turn [-] */
+    dq_t D_Wb;             /* psi_f R g_c: the back-EMF's part of the free flux [Wb] */
+    dq_t gu_Wb_V;          /* L g_u: the flux a volt at the middle angle moves [Wb/V] */
+    dq_t ku_V_Wb;          /* 1/(L g_u): the volts a flux change takes [V/Wb] */
+    dq_t free_Wb;          /* dbdtc_solve's free flux at k+2 (dbdtc_torque_after's) [Wb] */
+    uint16_t taken;        /* what Phi .. ku were taken from: DBDTC_TAKEN_* */
+    uint32_t turn;         /* ... in the turn of this number (zoh_turn_t.seq) */
+    uint32_t g_rev;        /* ... with the g_c of this number (dbdtc_period_from's) */
+} dbdtc_step_t;
+
+#define DBDTC_TAKEN_NONE 0u /* the parameters changed since: to take */
+#define DBDTC_TAKEN_OWN  1u /* dbdtc_period: the model's own g_c */
+#define DBDTC_TAKEN_FROM 2u /* dbdtc_period_from: a g_c handed over */
+
 typedef struct {
     dbdtc_cfg_t cfg;
-    float inv_Ts_1_s;      /* 1/Ts */
     dbdtc_par_t par;
+    dbdtc_step_t st;
 } dbdtc_t;
 
 /* Start-up: copy *cfg and set the model parameters from it. False (the
@@ -99,27 +129,78 @@ bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg);
 void dbdtc_reset(dbdtc_t *db);
 
 /* Model parameters [Ohm, H, Wb], bounded to 0.1..10 x the configured value;
- * recomputes the derived constants (2 divisions). ISR or background. */
+ * recomputes the derived constants and the decay (4 divisions). The
+ * period's turn must be taken again (dbdtc_period). ISR or background. */
 void dbdtc_set_params(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb);
 
-/* Torque Te(k+2) [N m] the model expects from the state *x at k+1 when
- * u_q_V [V] is applied over [k+1, k+2] (eq. 4, 5): what a voltage-limited
- * step really asks of the motor, for the speed loop's anti-windup. ISR. */
-float dbdtc_torque_after(const dbdtc_t *db, const dbdtc_state_t *x, float u_q_V,
-                         float omega_el_rad_s);
+/* As dbdtc_set_params with the decay *zm of the same R (the observer's,
+ * taken at its L within SMO_MODEL_UPDATE_REL): 2 divisions less; zm NULL,
+ * a bounded R that is not zm's or a refused zm: as dbdtc_set_params. ISR. */
+void dbdtc_set_params_zm(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb, const zoh_model_t *zm);
+
+/* Takes the period's Phi, D, gu, ku (dbdtc_period, dbdtc_period_from):
+ * the model's own g_c (taken = DBDTC_TAKEN_OWN: 1 division) or g_c_A_V of
+ * number g_rev (DBDTC_TAKEN_FROM). ISR. */
+void dbdtc_take_period(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V, uint32_t g_rev, uint16_t taken);
+
+/* This period's model from the rotor's turn *t (w within +-omega_max;
+ * zoh_turn): once a period, after any dbdtc_set_params of it, before
+ * dbdtc_predict, dbdtc_solve, dbdtc_torque_after. 1 division when the
+ * turn or the parameters changed since it was last taken, else none. ISR
+ * (inline: the check). */
+static inline void dbdtc_period(dbdtc_t *db, const zoh_turn_t *t)
+{
+    if ((db->st.taken != DBDTC_TAKEN_OWN) || (db->st.turn != t->seq)) {
+        const dq_t none = { 0.0f, 0.0f };
+        dbdtc_take_period(db, t, none, 0u, DBDTC_TAKEN_OWN);
+    }
+}
+
+/* As dbdtc_period with the period's gain g_c_A_V (zoh_step_t.g_c) of a
+ * model with the same R, L (the observer's, whose estimates the model
+ * takes: one division for both), g_rev its number (smo_t.z_rev). No
+ * division; nothing when the turn, the parameters and g_c are those it
+ * was last taken with. ISR (inline: the check). */
+static inline void dbdtc_period_from(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V, uint32_t g_rev)
+{
+    if ((db->st.taken != DBDTC_TAKEN_FROM) || (db->st.turn != t->seq) || (db->st.g_rev != g_rev)) {
+        dbdtc_take_period(db, t, g_c_A_V, g_rev, DBDTC_TAKEN_FROM);
+    }
+}
+
+/* Torque Te(k+2) [N m] the model expects from the state dbdtc_solve was
+ * given this period when u_dq_V [V] is applied over [k+1, k+2] (eq. 5 on
+ * the discrete model): what a voltage-limited step really asks of the
+ * motor, for the speed loop's anti-windup. After dbdtc_solve. ISR. */
+float dbdtc_torque_after(const dbdtc_t *db, dq_t u_dq_V);
 
 /* Flux and torque (eq. 11, 12) from the currents i_dq_A [A]. ISR context. */
 dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A);
 
-/* Delay compensation: state at k+1 from the sampled i_dq_A(k) [A], the
- * voltage u_dq_V(k) [V] being applied now and omega_el_rad_s (eq. 10-12). ISR. */
-dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V, float omega_el_rad_s);
+/* As dbdtc_state_from_currents for currents already within +-i_max_A
+ * (the observer's prediction, bounded by the same i_max): no clamp. ISR
+ * (inline). */
+static inline dbdtc_state_t dbdtc_state_from_bounded(const dbdtc_t *db, dq_t i_dq_A)
+{
+    const dbdtc_par_t *p = &db->par;
+    dbdtc_state_t x;
+    x.i_dq_A = i_dq_A;
+    x.psi_dq_Wb.d = p->L_H * i_dq_A.d + p->psi_f_Wb; /* eq. (11) */
+    x.psi_dq_Wb.q = p->L_H * i_dq_A.q;               /* eq. (11) */
+    x.te_Nm = p->kt_Nm_per_A * i_dq_A.q;             /* eq. (12) */
+    return x;
+}
+
+/* Delay compensation: state at k+1 from the sampled i_dq_A(k) [A] and the
+ * voltage u_dq_V(k) [V] being applied now (eq. 10-12 on the exact
+ * discrete model). ISR. */
+dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V);
 
 /* Deadbeat voltage u(k+1) [V] (eq. 17) that gives Te(k+2) = te_ref_Nm and
  * |psi_s(k+2)| = psi_ref_Wb from the predicted state *x; bounded to
- * +-u_max_V; returns DBDTC_FLAG_*. 0 divisions, 1 square root. ISR context. */
-uint16_t dbdtc_solve(const dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm,
-                     float psi_ref_Wb, float omega_el_rad_s, dq_t *u_dq_V);
+ * +-u_max_V; returns DBDTC_FLAG_*. Keeps the free flux at k+2 for
+ * dbdtc_torque_after. 0 divisions, 1 square root. ISR context. */
+uint16_t dbdtc_solve(dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm, float psi_ref_Wb, dq_t *u_dq_V);
 
 /* Torque-first limit of *u_dq_V [V] (in/out) to the inverter hexagon at
  * vdc_V [V], for a rotor frame at the angle whose sin/cos are given;

@@ -3,9 +3,6 @@
 
 #include "mathx.h"
 
-/* A per-leg square wave of amplitude dv (dead time, device drop) has the
- * rotor-frame fundamental (4/pi) dv against the current (inverter_error_design.md sec. 2). */
-#define FUNDAMENTAL_OF_SQUARE 1.27323954f
 #define QUARTER_PI 0.785398163f
 /* Step 1's windows suggest an encoder angle error beyond this [rad el]:
  * L^ held, EST_FLAG_ANGLE_SUSPECT (holds_design.md sec. 8; 1.5 deg:
@@ -28,71 +25,12 @@ static void out_told(est_t *e)
     o->L_H = e->cfg.L_H;
     o->psi_f_Wb = e->cfg.psi_f_Wb;
     o->inv_dv_V = 0.0f;
-    o->inv_err_V = FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
+    o->inv_err_V = EST_FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
     o->src = EST_SRC_TOLD;
     o->moved = 0u;
-    o->hold = EST_HOLD_NO_STEP2;
+    o->hold = (uint16_t)(EST_HOLD_NO_STEP2 | (e->refused ? EST_HOLD_STEP1_REFUSED : 0u));
     o->flags = e->rt_flags;
     o->phase = e->phase;
-}
-
-est_status_t est_init(est_t *e, est_cfg_t *cfg)
-{
-    const rs_ident_out_t no_result = { 0 };
-    est_cfg_t *c = cfg; /* patched in place: no second copy on the start-up stack */
-    est_status_t status;
-
-    e->cfg.R_Ohm = c->R_Ohm;
-    e->cfg.L_H = c->L_H;
-    e->cfg.psi_f_Wb = c->psi_f_Wb;
-    e->cfg.R_min_Ohm = c->R_min_Ohm;
-    e->cfg.R_max_Ohm = c->R_max_Ohm;
-    e->cfg.w_min_rad_s = c->pe.w_min_rad_s;
-    e->cfg.wiq_min_A_rad_s = c->pe.wiq_min_A_rad_s;
-    e->cfg.track_R = c->track_R;
-    e->cfg.auto_delay_periods = c->rtrack.auto_delay_periods;
-    c->smo.Ts_s = c->Ts_s;
-    c->smo.R_Ohm = c->R_Ohm;
-    c->smo.L_H = c->L_H;
-    c->smo.psi_f_Wb = c->psi_f_Wb;
-    c->smo.R_min_Ohm = c->R_min_Ohm;
-    c->smo.R_max_Ohm = c->R_max_Ohm;
-    c->smo.i_max_A = c->i_max_A;
-    c->smo.u_max_V = c->u_max_V;
-    c->smo.omega_max_rad_s = c->omega_max_el_rad_s;
-    c->pe.Ts_s = c->Ts_s;
-    c->rsid.R_nom_Ohm = c->R_Ohm;
-    c->rsid.Ts_s = c->Ts_s;
-    c->rsid.R_min_Ohm = c->R_min_Ohm;
-    c->rsid.R_max_Ohm = c->R_max_Ohm;
-    c->gate.Ts_s = c->Ts_s;
-    c->rtrack.Ts_s = c->Ts_s;
-
-    psi_band_cfg_t bc;
-    psi_band_cfg_defaults(&bc, c->Ts_s, c->pe.w_min_rad_s, c->pe.psi_min_Wb, c->pe.psi_max_Wb);
-    bc.ve_told_per_vdc = (c->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * c->deadtime_s / c->Ts_s) : 0.0f;
-    bc.ve_prior_per_vdc = (c->Ts_s > 0.0f) ? (FUNDAMENTAL_OF_SQUARE * c->untold_deadtime_s / c->Ts_s) : 0.0f;
-    const est_status_t gate = est_gate_init(&e->gate, &c->gate) ? EST_CFG_OK : EST_CFG_GATE;
-    const bool obs_ok = (smo_init(&e->smo, &c->smo) == SMO_CFG_OK);
-    const bool rt_ok = r_track_init(&e->rt, &c->rtrack);
-    /* every block initialised; the first refusal in this order names the cause (a refused
-     * observer also freezes the estimator: not reported again) */
-    const bool pe_ok = param_est_init(&e->pe, &c->pe, &e->smo) && psi_band_init(&e->pb, &bc);
-    const bool ri_ok = rs_ident_init(&e->ri, &c->rsid);
-    if (!obs_ok) {
-        status = (est_status_t)(EST_CFG_OBSERVER | gate);
-    } else if (!rt_ok) {
-        status = EST_CFG_RTRACK;
-    } else if (!pe_ok) {
-        status = (est_status_t)(EST_CFG_ESTIMATOR | gate);
-    } else {
-        status = (est_status_t)((ri_ok ? EST_CFG_OK : EST_CFG_RSID) | gate);
-    }
-    e->status = status;
-    e->rsid_out = no_result;
-    e->rsid_out.R_est_Ohm = c->R_Ohm;
-    est_reset(e);
-    return status;
 }
 
 void est_reset(est_t *e)
@@ -107,6 +45,7 @@ void est_reset(est_t *e)
     e->rt_flags = 0u;
     e->force = 0u;
     e->hold_fixed = 0u;
+    e->refused = false;
     e->trusted = false;
     e->w_psi_min_rad_s = e->cfg.w_min_rad_s;
     est_gate_reset(&e->gate, &e->smo);
@@ -128,6 +67,7 @@ bool est_rsid_begin(est_t *e)
     e->w_psi_min_rad_s = e->cfg.w_min_rad_s;
     e->rt_flags = 0u;
     e->hold_fixed = 0u;
+    e->refused = false;
     out_told(e);
     return true;
 }
@@ -177,12 +117,12 @@ static void add_inverter_error(est_t *e, float dv_V, dq_t i_dq_A)
     float dfq = 0.0f;
     e->inv_dv_V += dv_V;
     if (i_abs > 0.0f) {
-        const float k = -FUNDAMENTAL_OF_SQUARE * dv_V / i_abs;
+        const float k = -EST_FUNDAMENTAL_OF_SQUARE * dv_V / i_abs;
         dfq = k * i_dq_A.q;
         smo_shift_f(&e->smo, k * i_dq_A.d, dfq);
     }
     psi_band_rebase(&e->pb, dfq, e->rt.ident_sync); /* the fine bound from here (holds_design.md sec. 3) */
-    e->out.inv_err_V = FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
+    e->out.inv_err_V = EST_FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
 }
 
 void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
@@ -320,6 +260,7 @@ rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
             r_track_start(&e->rt, R_TRACK_IDENT);
         }
     } else {
+        e->refused = (e->phase == EST_STEP1); /* a step 1 under way was refused */
         e->phase = EST_OFF;
         out_told(e);
     }
@@ -340,5 +281,35 @@ bool est_start_trusted(est_t *e, float R_Ohm)
     e->win = RS_IDENT_WINDOW_NONE;
     start_step2(e); /* no inverter-error identification: R is trusted, not measured */
     psi_band_bound_final(&e->pb);
+    return true;
+}
+
+void est_hold_oscillation(est_t *e, float L_scale, float omega_el_rad_s, float iq_A)
+{
+    if ((e->phase != EST_STEP2) || !(L_scale > 0.0f) || !(L_scale < 1.0f)) {
+        return;
+    }
+    param_est_hold_L(&e->pe, true);
+    const float L_H = smo_set_L(&e->smo, L_scale * e->smo.L_H, omega_el_rad_s, iq_A);
+    est_gate_take_L(&e->gate, L_H); /* a transient's restore keeps it */
+    e->force = EST_MOVED_ALL;       /* the model takes it this period */
+    e->hold_fixed = (uint16_t)(e->hold_fixed | EST_HOLD_OSCILLATION);
+}
+
+bool est_start_told(est_t *e)
+{
+    if (e->status != EST_CFG_OK) {
+        return false;
+    }
+    if (e->phase == EST_OFF) {
+        smo_reset(&e->smo); /* the told R, L, psi_f; seeded with i(k) at the next step */
+    }
+    (void)smo_set_R(&e->smo, e->cfg.R_Ohm);
+    rs_ident_reset(&e->ri);
+    e->win = RS_IDENT_WINDOW_NONE;
+    e->hold_fixed = 0u;
+    e->rt_flags = 0u;
+    start_step2(e);
+    r_track_start(&e->rt, R_TRACK_IDENT); /* the inverter error first, then R^ tracked (track_R) */
     return true;
 }

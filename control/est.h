@@ -8,9 +8,10 @@
  * One est_step() per period, one output (est_out_t): the motor model - R,
  * L, psi_f and the inverter voltage error to compensate - that the
  * deadbeat law, MTPA and the limits use, how to use it (src), and what
- * is held and why (hold). Nothing outside est.c touches est_t's members
- * (`make check`, tools/check/est_owner.sh): the controller reads
- * est_output() and calls the functions below.
+ * is held and why (hold). Nothing outside est.c and est_cfg.c (the
+ * settings and start-up) touches est_t's members (`make check`,
+ * tools/check/est_owner.sh): the controller reads est_output() and calls
+ * the functions below.
  *
  * Order inside est_step (the phase's part of it):
  *   observer: i^(k+1), f^ from i(k), w(k), u(k)            (smo_step)
@@ -52,12 +53,23 @@ typedef enum {
                                        * with EST_FLAG_INV_UNIDENTIFIED at every speed */
 #define EST_HOLD_NO_STEP2    0x0040u /* step 2 not running: the told model */
 #define EST_HOLD_ANGLE       0x0080u /* L^ held: step 1's windows suggest an angle error (EST_FLAG_ANGLE_SUSPECT) */
+#define EST_HOLD_STEP1_REFUSED 0x0100u /* with EST_HOLD_NO_STEP2: step 1 was refused (the told model until the next) */
+#define EST_HOLD_INVERTER_UNKNOWN 0x0200u /* with EST_HOLD_SPEED_FLOOR: the inverter error could not be
+                                            * measured (EST_FLAG_INV_UNIDENTIFIED), so every speed is below the floor */
+#define EST_HOLD_OSCILLATION 0x0400u /* the model's L^ made the current oscillate (ctrl.h's watch): L^ cut to the
+                                       * L the oscillation measures and held there until the next start (a warning) */
+/* The named bits (est_hold_name()). */
+#define EST_HOLD_NAMES_N 11u
 
 /* est_out_t.flags: bits of the controller's output flags. */
 #define EST_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
 #define EST_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
 #define EST_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f did not move this period */
 #define EST_FLAG_ANGLE_SUSPECT    0x0800u /* step 1's windows suggest an encoder angle error: L^ held (a warning) */
+
+/* A per-leg square wave of amplitude dv (dead time, device drop) has the
+ * rotor-frame fundamental (4/pi) dv against the current (inverter_error_design.md sec. 2). */
+#define EST_FUNDAMENTAL_OF_SQUARE 1.27323954f
 
 /* est_out_t.src: how the model is used. */
 #define EST_SRC_TOLD     0u /* the told values, eq. (10), the told dead time: the conventional path */
@@ -80,7 +92,7 @@ typedef enum {
  * least this dead-time error nobody told [s] (holds_design.md sec. 6). */
 #define EST_UNTOLD_DEADTIME_DEFAULT_S 0.15e-6f
 
-/* What est_init refused (bits; the same as ctrl.h's CTRL_CFG_*). */
+/* What est_init refused (bits; ctrl_init's status carries them). */
 typedef uint16_t est_status_t;
 #define EST_CFG_OK        ((est_status_t)0x0000u)
 #define EST_CFG_OBSERVER  ((est_status_t)0x0001u) /* smo_init refused (stability, (36)) */
@@ -88,19 +100,33 @@ typedef uint16_t est_status_t;
 #define EST_CFG_RSID      ((est_status_t)0x0004u) /* rs_ident_init refused */
 #define EST_CFG_GATE      ((est_status_t)0x0080u) /* est_gate_init refused */
 #define EST_CFG_RTRACK    ((est_status_t)0x0100u) /* r_track_init refused */
+/* Every bit est_init may return: any of them makes the estimation unavailable. */
+#define EST_CFG_ANY ((est_status_t)(EST_CFG_OBSERVER | EST_CFG_ESTIMATOR | EST_CFG_RSID | EST_CFG_GATE | EST_CFG_RTRACK))
 
+/* What the drive is told of the motor and the board, as the estimation
+ * takes it (the controller's configuration: ctrl_cfg_told()). */
 typedef struct {
     float Ts_s;                 /* control period [s] */
     float R_Ohm, L_H, psi_f_Wb; /* the told model [Ohm, H, Wb] */
+    uint16_t pole_pairs;        /* [-] */
+    float i_max_A;              /* bounds the observer's inputs take [A] */
+    float u_max_V;              /* [V] */
+    float omega_max_el_rad_s;   /* [rad/s el] */
+    float deadtime_s;           /* the told dead time as compensated (its fundamental bounds psi_band's Vb) [s] */
+    uint32_t enc_counts_per_rev; /* encoder counts a turn (the gate's acceleration floor) [-] */
+    float enc_pll_bw_rad_s;     /* the speed estimate's bandwidth [rad/s] */
+} est_told_t;
+
+/* The estimation's settings: est_cfg_defaults() builds them from the told
+ * values; a caller may then change a field (the scenario keys, the
+ * parameter set's scaling rules). The told model and bounds are not
+ * repeated here: est_init takes them (est_told_t). */
+typedef struct {
     float R_min_Ohm;            /* accepted R^ band [Ohm] */
     float R_max_Ohm;
-    float i_max_A;              /* bounds the observer's inputs take */
-    float u_max_V;
-    float omega_max_el_rad_s;
-    float deadtime_s;           /* the told dead time (its fundamental bounds psi_band's Vb) [s] */
     float untold_deadtime_s;    /* until the inverter error is identified, the least error nobody
                                  * told, as a dead time (the speed floor's prior; >= 0) [s] */
-    smo_cfg_t smo;              /* observer gains and ranges (the told values and bounds from above) */
+    smo_cfg_t smo;              /* observer gains and ranges (est_init writes the told values and bounds) */
     param_est_cfg_t pe;         /* step-2 rates, thresholds, clamps */
     rs_ident_cfg_t rsid;        /* step-1 checks */
     r_track_cfg_t rtrack;       /* d-axis injection */
@@ -108,7 +134,7 @@ typedef struct {
     est_gate_cfg_t gate;        /* when step 2 may learn */
 } est_cfg_t;
 
-typedef struct {                /* what est_t keeps of est_cfg_t (the blocks keep their own) */
+typedef struct {                /* what est_t keeps of its configuration (the blocks keep their own) */
     float R_Ohm, L_H, psi_f_Wb; /* the told model [Ohm, H, Wb] */
     float R_min_Ohm;            /* accepted R^ band [Ohm] */
     float R_max_Ohm;
@@ -116,11 +142,12 @@ typedef struct {                /* what est_t keeps of est_cfg_t (the blocks kee
     float wiq_min_A_rad_s;      /* pe.wiq_min_A_rad_s: the L^ law's |w iq| floor [A rad/s] */
     uint16_t track_R;           /* EST_TRACK_R_* */
     uint16_t auto_delay_periods; /* rtrack.auto_delay_periods */
-} est_told_t;
+} est_kept_t;
 
 typedef struct {                /* one period's inputs */
     dq_t i_dq_A;                /* i(k), rotor frame [A] */
-    float omega_el_rad_s;       /* w(k) [rad/s electrical] */
+    float omega_el_rad_s;       /* w(k) within +-omega_max [rad/s electrical] */
+    const zoh_turn_t *turn;     /* the rotor's turn over the period at w(k) within +-omega_max (zoh.h) */
     float sin_el, cos_el;       /* of theta_el(k) */
     dq_t u_V;                   /* u(k): the voltage realised over [k, k+1] [V] */
     float vdc_V;                /* bus [V] */
@@ -141,7 +168,7 @@ typedef struct {                /* the output: written by est_step and the phase
 } est_out_t;
 
 typedef struct {
-    est_told_t cfg;
+    est_kept_t cfg;
     est_status_t status;
     est_phase_t phase;
     smo_t smo;
@@ -156,17 +183,41 @@ typedef struct {
     float w_psi_min_rad_s;      /* the transfer laws' speed floor for psi^ (param_est_step's input) */
     uint16_t rt_flags;          /* EST_FLAG_INV_UNIDENTIFIED, EST_FLAG_R_HELD while they last */
     uint16_t force;             /* EST_MOVED_ALL due at the next output */
-    uint16_t hold_fixed;        /* EST_HOLD_ANGLE while an angle error is suspected (else 0) */
+    uint16_t hold_fixed;        /* EST_HOLD_ANGLE while an angle error is suspected, EST_HOLD_OSCILLATION
+                                 * once the current oscillated on the estimates (else 0) */
+    bool refused;               /* the last step 1 was refused (EST_HOLD_STEP1_REFUSED) */
     bool trusted;               /* the model was taken above the speed floor as psi_band decided it under
                                  * the final bound (the last trusted model, kept below the floor) */
     est_out_t out;
 } est_t;
 
-/* Builds everything; the told values and bounds of *cfg are written into
- * its smo/pe/rsid/gate members first (*cfg is the caller's scratch: no
- * second copy on the start-up stack). Returns the refusals (EST_CFG_*);
- * a refused estimation must not be started. Background. */
-est_status_t est_init(est_t *e, est_cfg_t *cfg);
+/* The observer's gains for the told R, L at Ts with the disturbance error
+ * ef_max_V [V] it must dominate (smo_gains_design: designed on the exact
+ * discrete model, discrete_model_design.md sec. 5). False (g filled for
+ * the diagnosis) when the told L/R is below SMO_LR_MIN_PERIODS x Ts: the
+ * proposed method is then refused. Background. */
+bool est_obs_gains(const est_told_t *told, float ef_max_V, smo_gains_t *g);
+
+/* The default R^ band [Ohm] for the told R (told->R_Ohm): rs_ident.h's
+ * RS_IDENT_BAND_*_FACTOR x R_Ohm (step1_design.md sec. 8; the
+ * observer's reaching condition and stability hold for any R^ on the
+ * exact model, discrete_model_design.md sec. 5). Background, before
+ * est_cfg_defaults. */
+void est_rsid_band(const est_told_t *told, float *R_min_Ohm, float *R_max_Ohm);
+
+/* The estimation's settings for the told values *told with the observer's
+ * gains *g and the R^ band [R_min_Ohm, R_max_Ohm] (absolute: the told R
+ * may be far from the motor's): the modules' design defaults, L^ kept
+ * above the observer's reaching condition at R_min (smo_L_floor_H), the
+ * gate's acceleration floor above the encoder's quantisation. Background. */
+void est_cfg_defaults(est_cfg_t *cfg, const est_told_t *told, const smo_gains_t *g, float R_min_Ohm,
+                      float R_max_Ohm);
+
+/* Builds everything from the settings *cfg and the told values *told
+ * (written into each block's settings as it is built). Returns the
+ * refusals (EST_CFG_*); a refused estimation must not be started.
+ * Background. */
+est_status_t est_init(est_t *e, const est_cfg_t *cfg, const est_told_t *told);
 
 /* Observer stopped, estimates back to the told values, windows emptied.
  * Background, or ISR before PWM is enabled. */
@@ -202,16 +253,32 @@ rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved);
  * or when init refused. ISR or background. */
 bool est_start_trusted(est_t *e, float R_Ohm);
 
+/* Step 2 from the told R when step 1 could not measure it: the inverter
+ * error identified first (R_TRACK_IDENT at the told R), then R^ learned by
+ * the injection as track_R says. False when init refused. ISR or
+ * background. */
+bool est_start_told(est_t *e);
+
 /* An injection event of the period (r_track_step's; est_step calls it,
  * nothing else): the inverter error into the compensation, R^ tracked,
  * the holds. ISR. */
 void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A);
 
+/* The controller saw the current oscillate on step 2's model (ctrl.h's
+ * watch, which measured L^ at 1/L_scale of the motor's L): L^ times
+ * L_scale (0 < L_scale < 1; keeping the transfer law's invariant at
+ * omega_el_rad_s, iq_A), taken by the model at once and held there (the L
+ * law stopped, the gate's copies with it): EST_HOLD_OSCILLATION until the
+ * next step 1 or start. Nothing outside step 2. ISR (rare). */
+void est_hold_oscillation(est_t *e, float L_scale, float omega_el_rad_s, float iq_A);
+
 /* est_hold while psi_band's `low` holds the model: the gate's reasons,
  * the speed floor when it is the speed, the angle hold. ISR. */
 static inline uint16_t est_hold_low(const est_t *e)
 {
-    const uint16_t floor = ((e->pb.low & (PSI_BAND_LOW_W | PSI_BAND_LOW_BAND)) != 0u) ? EST_HOLD_SPEED_FLOOR : 0u;
+    const uint16_t floor = ((e->pb.low & (PSI_BAND_LOW_W | PSI_BAND_LOW_BAND)) == 0u)
+                               ? 0u
+                               : (e->pb.unknown ? (EST_HOLD_SPEED_FLOOR | EST_HOLD_INVERTER_UNKNOWN) : EST_HOLD_SPEED_FLOOR);
     return (uint16_t)(e->gate.reasons | e->hold_fixed | floor);
 }
 
@@ -279,7 +346,7 @@ static inline void est_step(est_t *e, const est_in_t *in)
         return;
     }
     /* u(k) is the clamped voltage the last step realised, as the observer needs */
-    (void)smo_step(&e->smo, in->i_dq_A, in->omega_el_rad_s, in->u_V); /* i^(k+1): (51b), (55) */
+    (void)smo_step_turn(&e->smo, in->i_dq_A, in->u_V, in->omega_el_rad_s, in->turn); /* i^(k+1): (51b), (55) */
     if (e->rt.phase != R_TRACK_OFF) {
         const bool edge = r_track_at_edge(&e->rt);
         if ((!edge && ((in->dpsi_weak_Wb > 0.0f) || ((e->gate.reasons & EST_GATE_VOLTAGE) != 0u))) ||
@@ -318,6 +385,20 @@ static inline float est_psi_ref(const est_t *e, float psi_ref_Wb, float L_H)
     return (e->rt.phase == R_TRACK_OFF) ? psi_ref_Wb : r_track_psi_ref(&e->rt, psi_ref_Wb, L_H);
 }
 
+/* The name of one est_hold bit (EST_HOLD_*: "ACCEL", "CURRENT", "TORQUE",
+ * "VOLTAGE", "SETTLE", "SPEED_FLOOR", "NO_STEP2", "ANGLE_SUSPECT",
+ * "STEP1_REFUSED", "INVERTER_UNKNOWN"), "" for anything else. Any context. */
+const char *est_hold_name(uint16_t bit);
+
+/* The bit of est_hold that explains what the model holds best
+ * (STEP1_REFUSED, NO_STEP2, ANGLE_SUSPECT, INVERTER_UNKNOWN, SPEED_FLOOR,
+ * then the step-2 gate's VOLTAGE, CURRENT, TORQUE, ACCEL, SETTLE); 0 for
+ * none. Any context. */
+uint16_t est_hold_reason_bit(uint16_t hold);
+
+/* est_hold_name(est_hold_reason_bit(hold)): the reason's name, "" for 0. Any context. */
+const char *est_hold_reason(uint16_t hold);
+
 /* ---- readers (any context) ---- */
 
 static inline const est_out_t *est_output(const est_t *e)
@@ -329,6 +410,32 @@ static inline const est_out_t *est_output(const est_t *e)
 static inline dq_t est_i_hat_A(const est_t *e)
 {
     return e->smo.i_hat_A;
+}
+
+/* The observer's gain g_c of a rotor-frame voltage in the last est_step's
+ * turn (zoh.h) [A/V]: the model's when src is EST_SRC_OBSERVER (its R^, L^). */
+static inline dq_t est_zoh_g_c(const est_t *e)
+{
+    return e->smo.z.g_c;
+}
+
+/* The observer's decay over a period at its R^, L^ (zoh.h). ISR. */
+static inline const zoh_model_t *est_zoh_model(const est_t *e)
+{
+    return &e->smo.zm;
+}
+
+/* The observer's Phi, g_u, g_c were taken in the turn *t for its decay
+ * as it is now. ISR. */
+static inline bool est_zoh_taken_in(const est_t *e, const zoh_turn_t *t)
+{
+    return e->smo.z_turn == t->seq;
+}
+
+/* The number of the observer's g_c (smo_t.z_rev: changes when it is taken again). ISR. */
+static inline uint32_t est_zoh_rev(const est_t *e)
+{
+    return e->smo.z_rev;
 }
 
 /* The observer's internal psi^ [Wb]: it carries the voltage the model

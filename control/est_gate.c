@@ -110,17 +110,12 @@ void est_gate_reset(est_gate_t *g, const smo_t *smo)
     g->settled = false;
 }
 
-bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
-                   bool v_limited)
+/* The period's transients (EST_GATE_ACCEL, _CURRENT, _TORQUE, _VOLTAGE):
+ * the deviations from the low-passed values, then the filters. */
+static uint16_t transients(est_gate_t *g, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm, bool v_limited)
 {
     const est_gate_cfg_t *c = &g->cfg;
     uint16_t why = 0u;
-    bool restored = false;
-
-    if (!g->valid) {
-        g->reasons = EST_GATE_HOLD;
-        return false;
-    }
     if (!g->seeded) {
         g->w_prev = omega_el_rad_s;
         g->i_lp = i_dq_A;
@@ -155,6 +150,16 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
     if (v_limited) {
         why |= EST_GATE_VOLTAGE;
     }
+    return why;
+}
+
+/* The holds after the transients why: the copies restored at an onset
+ * (true), the hold time, the snapshots while clear. */
+static bool hold_and_snap(est_gate_t *g, smo_t *smo, uint16_t why_now, float omega_el_rad_s, dq_t i_dq_A)
+{
+    uint16_t why = why_now;
+    bool restored = false;
+
     if ((why & (EST_GATE_CURRENT | EST_GATE_TORQUE)) != 0u) {
         g->di_cnt = g->f_hold_n;
     } else if (g->di_cnt > 0u) {
@@ -169,7 +174,7 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
         if (g->hold_cnt == 0u) {
             /* onset: back to the delayed copy, which the transient's first
              * periods have not touched */
-            (void)smo_set_L(smo, g->L_old, omega_el_rad_s, i_dq_A.q);
+            (void)smo_set_L_deferred(smo, g->L_old, omega_el_rad_s, i_dq_A.q);
             (void)smo_set_psi(smo, g->psi_old, omega_el_rad_s);
             g->L_new = g->L_old;
             g->psi_new = g->psi_old;
@@ -197,4 +202,20 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
     }
     g->reasons = why;
     return restored;
+}
+
+bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
+                   bool v_limited)
+{
+    if (!g->valid) {
+        g->reasons = EST_GATE_HOLD;
+        return false;
+    }
+    return hold_and_snap(g, smo, transients(g, omega_el_rad_s, i_dq_A, te_ref_Nm, v_limited), omega_el_rad_s, i_dq_A);
+}
+
+void est_gate_take_L(est_gate_t *g, float L_H)
+{
+    g->L_old = L_H;
+    g->L_new = L_H;
 }

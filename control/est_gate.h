@@ -126,6 +126,10 @@ void est_gate_reset(est_gate_t *g, const smo_t *smo);
 bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
                    bool v_limited);
 
+/* L_H [H] set from outside the laws (est_hold_oscillation): both copies
+ * take it, so a transient's restore keeps it. ISR. */
+void est_gate_take_L(est_gate_t *g, float L_H);
+
 /* True while the observer's prediction i^(k+1) (through f^) may replace
  * eq. (10): no current or torque-command transient within f_hold_s (f^
  * integrates its tracking lag during one, step2_design.md sec. 7) and the gate

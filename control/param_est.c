@@ -39,10 +39,10 @@ void param_est_cfg_defaults(param_est_cfg_t *cfg, float Ts_s, float L_H, float p
     cfg->gamma_psi_1_s = PARAM_EST_GAMMA_PSI_DEFAULT_1_S;
     cfg->wiq_min_A_rad_s = PARAM_EST_WIQ_MIN_DEFAULT_A_RAD_S;
     cfg->w_min_rad_s = PARAM_EST_W_MIN_DEFAULT_RAD_S;
-    cfg->L_min_H = PARAM_EST_CLAMP_MIN_FACTOR * L_H;
-    cfg->L_max_H = PARAM_EST_CLAMP_MAX_FACTOR * L_H;
-    cfg->psi_min_Wb = PARAM_EST_CLAMP_MIN_FACTOR * psi_f_Wb;
-    cfg->psi_max_Wb = PARAM_EST_CLAMP_MAX_FACTOR * psi_f_Wb;
+    cfg->L_min_H = SMO_LPSI_MIN_FACTOR * L_H; /* the observer's bands (smo.h) */
+    cfg->L_max_H = SMO_LPSI_MAX_FACTOR * L_H;
+    cfg->psi_min_Wb = SMO_LPSI_MIN_FACTOR * psi_f_Wb;
+    cfg->psi_max_Wb = SMO_LPSI_MAX_FACTOR * psi_f_Wb;
     cfg->L_rate_max_H_s = PARAM_EST_RATE_MAX_FACTOR_1_S * L_H;
     cfg->psi_rate_max_Wb_s = PARAM_EST_RATE_MAX_FACTOR_1_S * psi_f_Wb;
 }

@@ -42,8 +42,6 @@
 #define PARAM_EST_L_FAST_MAX_S          3600.0f /* its counter's range */
 #define PARAM_EST_WIQ_MIN_DEFAULT_A_RAD_S       30.0f  /* [A rad/s] */
 #define PARAM_EST_W_MIN_DEFAULT_RAD_S   30.0f  /* electrical, ~95 r/min at p = 3 */
-#define PARAM_EST_CLAMP_MIN_FACTOR      0.3f   /* L^, psi^ clamps, x nominal */
-#define PARAM_EST_CLAMP_MAX_FACTOR      3.0f
 /* Rate limits of L^ and psi^, x nominal per second (step2_design.md sec. 3): a
  * 50 % error still goes in 50 ms, a transient the gate misses moves an
  * estimate by at most 1 % per ms. */

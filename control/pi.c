@@ -47,3 +47,15 @@ void pi_reset(pi_t *pi, float xi_init)
     pi->xi = mathx_clampf(xi_init, pi->cfg.u_min, pi->cfg.u_max);
     pi->xi_old = pi->xi;
 }
+
+void pi_set_limits(pi_t *pi, float u_min_out, float u_max_out)
+{
+    if (!(pi->cfg.Kp > 0.0f) || !mathx_isfinitef(u_min_out) || !mathx_isfinitef(u_max_out) ||
+        !(u_min_out <= u_max_out)) {
+        return;
+    }
+    pi->cfg.u_min = u_min_out;
+    pi->cfg.u_max = u_max_out;
+    pi->xi = mathx_clampf(pi->xi, u_min_out, u_max_out);
+    pi->xi_old = mathx_clampf(pi->xi_old, u_min_out, u_max_out);
+}

@@ -45,6 +45,12 @@ bool pi_init(pi_t *pi, const pi_cfg_t *cfg);
  * start (zero error then gives xi_init). Background or ISR context. */
 void pi_reset(pi_t *pi, float xi_init);
 
+/* The output limits from now on, u_min_out <= u_max_out (finite; else
+ * nothing changes): the integral state is clamped into them. A PI that
+ * init refused keeps its zero limits. ISR (a limit that follows a model)
+ * or background. */
+void pi_set_limits(pi_t *pi, float u_min_out, float u_max_out);
+
 /* One period with control error err [error unit]; returns the limited
  * output. A non-finite err counts as 0. ISR context (inline: a few
  * lines every period, no call). */

@@ -181,8 +181,11 @@ static r_track_event_t end_cycle(r_track_t *rt)
     const float iq_step = 2.0f * rt->s_iqs * inv_n; /* mean iq(+) - mean iq(-): equal counts */
     /* a demodulated current well below the injection: the current did not follow */
     const bool followed = (rt->s_is > 0.5f * rt->i_inj_A * (float)rt->n);
-    const bool ok = followed && (mathx_fabsf(iq_mean) >= c->iq_min_A) &&
-                    (mathx_fabsf(iq_step) <= c->iq_step_max_A);
+    /* identifying, any load: the injection's +-I is the current's direction, and
+     * rho = -Ve/|i| holds for the square wave itself (|i| = sqrt(I^2 + iq^2)); tracking
+     * reads dR on a tilt that needs a load current */
+    const bool loaded = (rt->phase == R_TRACK_IDENT) || (mathx_fabsf(iq_mean) >= c->iq_min_A);
+    const bool ok = followed && loaded && (mathx_fabsf(iq_step) <= c->iq_step_max_A);
     r_track_event_t ev = R_TRACK_HELD;
 
     if (ok) {

@@ -30,9 +30,11 @@
  *                  rho = dR; per cycle the caller moves R^ by dR_step_Ohm =
  *                  -k_R rho + rate, rate -= k_I rho (type 2: a winding
  *                  warming at a steady rate is followed without lag).
- * A cycle is held (no result) when |mean iq| < iq_min_A (the error's
- * direction and the tilt model need a current) or when the mean iq of the
- * + and - segments differ by more than iq_step_max_A (a load transient).
+ * A cycle is held (no result) when the mean iq of the + and - segments
+ * differ by more than iq_step_max_A (a load transient), and while
+ * tracking when |mean iq| < iq_min_A (dR's tilt needs a load current);
+ * identifying takes any load: the square wave +-I is then the current's
+ * direction itself, and Ve = -rho |i| holds with |i| = I.
  *
  * Timing: r_track_step() once per period after smo_step(), with that
  * period's measurements; r_track_id_ref() then gives the reference for the
@@ -95,7 +97,7 @@ typedef struct {
     uint16_t ident_delay_periods; /* IDENT waits this long, without injection, before its first cycle
                                    * (whose synchronous length is decided as the wait ends: >= 1) */
     uint16_t auto_delay_periods;  /* ctrl's track_R auto: TRACK waits this long after step 2's start */
-    float iq_min_A;           /* |mean iq| below: cycle held */
+    float iq_min_A;           /* TRACK: |mean iq| below: cycle held */
     float iq_step_max_A;      /* |mean iq(+) - mean iq(-)| above: cycle held */
     float k_R;                /* fraction of rho corrected per cycle, (0, 1] */
     float k_I;                /* fraction of rho added to the rate per cycle, 0 <= k_I < k_R

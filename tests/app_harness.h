@@ -15,6 +15,7 @@
 #include <math.h>
 
 #include "app.h"
+#include "est_defaults.h"
 #include "board_cfg.h"
 #include "mock_hal.h"
 #include "obs_plant.h"
@@ -272,7 +273,7 @@ static inline void align_u(int k, float *ua, float *ub)
 static inline app_cfg_t rsid_cfg(app_rsid_mode_t mode, bool align)
 {
     app_cfg_t cfg = make_cfg(false, align);
-    ctrl_cfg_proposed_defaults(&cfg.ctrl, R_BAND_MIN, R_BAND_MAX);
+    test_est_defaults(&cfg.ctrl, R_BAND_MIN, R_BAND_MAX);
     cfg.rsid.mode = mode;
     cfg.rsid.settle_1_s = RSID_SETTLE_1 * 1e-4f;
     cfg.rsid.window_s = RSID_WIN * 1e-4f;

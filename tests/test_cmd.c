@@ -160,10 +160,15 @@ static void proposed_method_without_step1_is_refused(void **state)
     assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
     /* step 1 configured but refused at this start (on_refusal = conventional): refused too */
     app.cfg.rsid.mode = APP_RSID_WINDOWS;
+    app.cfg.rsid.on_refusal = APP_RSID_REFUSAL_CONVENTIONAL;
     app.warnings = APP_WARN_STEP1_REFUSED;
     cmd_apply(&cmd, &LIM, &app);
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
     assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+    /* ... with on_refusal = told step 2 runs from the told R: taken */
+    app.cfg.rsid.on_refusal = APP_RSID_REFUSAL_TOLD;
+    cmd_apply(&cmd, &LIM, &app);
+    assert_int_equal(cmd.error, CMD_OK);
 }
 
 static void proposed_method_is_taken_or_refused_by_its_configuration(void **state)
@@ -178,7 +183,7 @@ static void proposed_method_is_taken_or_refused_by_its_configuration(void **stat
 
     cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
     apply();
-    app.ctrl.status = CTRL_CFG_OBSERVER; /* as if smo_init had refused the gains */
+    app.ctrl.status = EST_CFG_OBSERVER; /* as if smo_init had refused the gains */
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_CFG);

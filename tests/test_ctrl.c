@@ -8,8 +8,10 @@
 #include <setjmp.h>
 #include <cmocka.h>
 #include <math.h>
+#include <string.h>
 
 #include "ctrl.h"
+#include "est_defaults.h"
 
 #define PI_D 3.14159265358979323846
 #define TS   1e-4
@@ -320,7 +322,7 @@ static void init_reports_each_refusal(void **state)
     };
     ctrl_t c;
     ctrl_cfg_t cfg = make_cfg();
-    ctrl_cfg_proposed_defaults(&cfg, 0.2f * (float)RS, 2.0f * (float)RS);
+    test_est_defaults(&cfg, 0.2f * (float)RS, 2.0f * (float)RS);
     assert_int_equal(ctrl_init(&c, &cfg), CTRL_CFG_OK);
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         ctrl_cfg_t bad = cfg;
@@ -343,9 +345,11 @@ static void init_reports_each_refusal(void **state)
         }
         assert_int_equal(c.status, st);
     }
-    /* the proposed method's refusal alone leaves the conventional blocks accepted */
+    /* the proposed method's refusal alone leaves the conventional blocks
+     * accepted: a told L/R of 1.5 periods has no observer gain */
     ctrl_cfg_t obs = cfg;
-    ctrl_cfg_proposed_defaults(&obs, 0.2f * (float)RS, 1000.0f);
+    obs.L_H = 1.5f * obs.Ts_s * obs.R_Ohm;
+    test_est_defaults(&obs, 0.2f * (float)RS, 2.0f * (float)RS);
     const ctrl_status_t st = ctrl_init(&c, &obs);
     assert_int_not_equal(st & CTRL_CFG_NEEDED_PROPOSED, 0);
     assert_int_equal(st & CTRL_CFG_NEEDED_ALWAYS, 0);
@@ -353,9 +357,9 @@ static void init_reports_each_refusal(void **state)
 }
 
 /* The default R^ band holds the motor's R with margin for a controller R
- * from 0.25x to 5x it, and the observer built on it is valid:
- * by hand, [0.1, 6] x Rs with the top at 0.9 (Ks - ef_max) / phi =
- * 0.9 x (100 - 50) / 2.5 = 18 Ohm. */
+ * from 0.25x to 5x it, and the observer built on it is valid: by hand,
+ * [0.1, 6] x the controller's R (the reaching condition and stability
+ * hold at any R^ on the exact model). */
 static void default_band_holds_the_motor_r(void **state)
 {
     static const double factors[] = { 0.25, 0.5, 1.0, 2.0, 4.3, 5.0 };
@@ -366,15 +370,82 @@ static void default_band_holds_the_motor_r(void **state)
         float R_min;
         float R_max;
         cfg.R_Ohm = (float)(factors[i] * RS);
-        ctrl_rsid_band_default(&cfg, &R_min, &R_max);
+        test_est_band_default(&cfg, &R_min, &R_max);
         print_message("controller R %.2f x: band [%.3f, %.3f] Ohm\n", factors[i], R_min, R_max);
         assert_float_equal(R_min, 0.1 * factors[i] * RS, 1e-5);
-        assert_float_equal(R_max, fmin(6.0 * factors[i] * RS, 18.0), 1e-4);
+        assert_float_equal(R_max, 6.0 * factors[i] * RS, 1e-4);
         assert_true(R_min <= 0.5 * RS);   /* the motor's R at least 2x inside */
         assert_true(R_max >= 1.5 * RS);   /*   and 1.5x inside at the top */
-        ctrl_cfg_proposed_defaults(&cfg, R_min, R_max);
+        test_est_defaults(&cfg, R_min, R_max);
         assert_int_equal(ctrl_init(&c, &cfg), CTRL_CFG_OK);
     }
+}
+
+/* ---- the oscillation watch (ctrl.h CTRL_OSC_*) on synthetic innovations ---- */
+
+#define OSC_FLOOR_A  0.088     /* 6 sigma of 2 codes at 15 A (drive_trip_margin_A) */
+#define OSC_PERIODS  20000L
+
+static uint32_t osc_seed;
+
+/* uniform in [-a, a), rms a / sqrt(3) */
+static double osc_noise(double a)
+{
+    osc_seed = osc_seed * 1664525u + 1013904223u;
+    return a * (2.0 * ((double)(osc_seed >> 8) / 16777216.0) - 1.0);
+}
+
+/* eps(k) = g eps(k-2) + noise (d and q), fed as i = pred + eps; returns
+ * the first period the watch gave the model up (-1: never), its lambda
+ * and the largest |eps| until then. */
+static long osc_feed(double g, double eps0, double noise, double drift, float den_min, float *lambda, double *eps_max)
+{
+    ctrl_osc_t o;
+    memset(&o, 0, sizeof o);
+    osc_seed = 7u;
+    double e[2][2] = { { eps0, 0.5 * eps0 }, { -0.3 * eps0, eps0 } }; /* [k-2 or k-1][d, q] */
+    *eps_max = 0.0;
+    *lambda = 0.0f;
+    for (long k = 0; k < OSC_PERIODS; k++) {
+        const double ed = g * e[0][0] + osc_noise(noise) + drift * sin(2.0 * 3.14159265 * (double)k / 200.0);
+        const double eq = g * e[0][1] + osc_noise(noise) + drift * cos(2.0 * 3.14159265 * (double)k / 200.0);
+        e[0][0] = e[1][0];
+        e[0][1] = e[1][1];
+        e[1][0] = ed;
+        e[1][1] = eq;
+        *eps_max = fmax(*eps_max, hypot(ed, eq));
+        const dq_t i = { (float)(o.pred_A.d + ed), (float)(o.pred_A.q + eq) };
+        const dq_t x_next = { 1.0f, 2.0f };
+        *lambda = ctrl_osc_step(&o, i, x_next, den_min);
+        if (*lambda > 0.0f) {
+            return k;
+        }
+    }
+    return -1;
+}
+
+/* A growing oscillation eps(k+2) = -1.2 eps(k) (L^ = 2.2 L) from 0.01 A:
+ * given up once its rms passes the floor, lambda measured within 10 %, far
+ * below a trip (|eps| < 10 x the floor). Not given up: a stable model
+ * (L^ = 1.6 L: -0.6) with 0.3 A of noise, noise alone, a slow drift of
+ * 0.5 A (lag-2 regression near +1), a sustained oscillation (lambda 2)
+ * of 0.01 A, under the floor. */
+static void oscillation_watch_on_innovations(void **state)
+{
+    (void)state;
+    const float floor2 = (float)(OSC_FLOOR_A * OSC_FLOOR_A);
+    float lambda;
+    double eps_max;
+    const long k = osc_feed(-1.2, 0.01, 0.001, 0.0, floor2, &lambda, &eps_max);
+    print_message("growing (lambda 2.2): given up at period %ld, lambda %.3f, |eps| up to %.3f A\n", k, (double)lambda,
+                  eps_max);
+    assert_true(k > 0);
+    assert_true(fabs((double)lambda - 2.2) <= 0.22);
+    assert_true(eps_max < 10.0 * OSC_FLOOR_A);
+    assert_int_equal(osc_feed(-0.6, 0.3, 0.5, 0.0, floor2, &lambda, &eps_max), -1);
+    assert_int_equal(osc_feed(0.0, 0.0, 0.5, 0.0, floor2, &lambda, &eps_max), -1);
+    assert_int_equal(osc_feed(0.0, 0.0, 0.0, 0.5, floor2, &lambda, &eps_max), -1);
+    assert_int_equal(osc_feed(-1.0, 0.01, 0.0, 0.0, floor2, &lambda, &eps_max), -1);
 }
 
 int main(void)
@@ -388,6 +459,7 @@ int main(void)
         cmocka_unit_test(monitor_filled),
         cmocka_unit_test(init_reports_each_refusal),
         cmocka_unit_test(default_band_holds_the_motor_r),
+        cmocka_unit_test(oscillation_watch_on_innovations),
     };
     return cmocka_run_group_tests_name("ctrl", tests, NULL, NULL);
 }

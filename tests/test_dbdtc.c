@@ -1,6 +1,7 @@
-/* Unit tests for control/dbdtc: the deadbeat solution against a plant model
- * written here in double (Euler flux model, eq. 4), hand values, the
- * negative-discriminant and voltage-limit policies, and finiteness. */
+/* Unit tests for control/dbdtc: the deadbeat solution and the prediction
+ * against the continuous model integrated by Runge-Kutta in double
+ * (tests/rk4_motor.h), hand values, the negative-discriminant and
+ * voltage-limit policies, and finiteness. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -10,6 +11,7 @@
 #include <math.h>
 
 #include "dbdtc.h"
+#include "rk4_motor.h"
 
 /* Table I of the paper; Ts = 1/(10 kHz). */
 #define TS   1e-4
@@ -31,14 +33,24 @@ static dbdtc_t make(void)
     return db;
 }
 
-/* Plant: the discrete flux model eq. (4), in double, one period of u. */
+/* The period's model at w [rad/s el], as ctrl takes it. */
+static void at_speed(dbdtc_t *db, double w)
+{
+    zoh_turn_t t;
+    zoh_turn((float)(w * TS), (float)w, &t);
+    dbdtc_period(db, &t);
+}
+
+/* Plant: the continuous model over one period of the inverter's u (its
+ * rotor-frame value at the period's middle), in flux, by Runge-Kutta. */
 static void plant_step(double *psi_d, double *psi_q, double ud, double uq, double w)
 {
-    const double a = TS * RS / LS;
-    const double d = *psi_d;
-    const double q = *psi_q;
-    *psi_d = TS * ud + d + TS * w * q - a * (d - PSIF);
-    *psi_q = TS * uq + q - TS * w * d - a * q;
+    const rk4_motor_t m = { RS, LS, PSIF, w, TS, ud, uq, 0.0, 0.0 };
+    double id = (*psi_d - PSIF) / LS;
+    double iq = *psi_q / LS;
+    rk4_motor_period(&m, &id, &iq);
+    *psi_d = LS * id + PSIF;
+    *psi_q = LS * iq;
 }
 
 static double te_of(double psi_q) { return 1.5 * PP * PSIF * psi_q / LS; } /* eq. (5) */
@@ -67,18 +79,24 @@ static void deadbeat_hits_torque_and_flux_exactly(void **state)
                     dq_t i = { (float)id, (float)iq };
                     dbdtc_state_t x = dbdtc_state_from_currents(&db, i);
                     dq_t u;
-                    uint16_t fl = dbdtc_solve(&db, &x, (float)te_ref, (float)psi_ref, (float)w, &u);
+                    at_speed(&db, (double)(float)w);
+                    uint16_t fl = dbdtc_solve(&db, &x, (float)te_ref, (float)psi_ref, &u);
                     assert_int_equal(fl, 0u);
                     double pd = LS * (double)(float)id + PSIF;
                     double pq = LS * (double)(float)iq;
                     plant_step(&pd, &pq, u.d, u.q, (double)(float)w);
-                    assert_float_equal(te_of(pq), te_ref, 1e-5 * fabs(te_ref));
+                    assert_float_equal(te_of(pq), te_ref, 1e-5 * fabs(te_ref) + 1e-5);
                     assert_float_equal(sqrt(pd * pd + pq * pq), psi_ref, 1e-5 * psi_ref);
-                    /* the anti-windup's torque of the same voltage is the target */
-                    assert_float_equal(dbdtc_torque_after(&db, &x, u.q, (float)w), te_ref,
-                                       1e-5 * fabs(te_ref));
-                    assert_float_equal(dbdtc_torque_after(&db, &x, u.q - 10.0f, (float)w),
-                                       te_ref - 1.5 * PP * PSIF / LS * TS * 10.0, 1e-4);
+                    /* the anti-windup's torque of the same voltage is the target; 10 V
+                     * less of u_q at the middle angle: its q flux is L g_u's real part,
+                     * Ts (1 - Ts R/(2 L)) cos(w Ts/2) to first order */
+                    assert_float_equal(dbdtc_torque_after(&db, u), te_ref, 1e-5 * fabs(te_ref) + 1e-5);
+                    dq_t u_less = u;
+                    u_less.q -= 10.0f;
+                    double pd2 = LS * (double)(float)id + PSIF;
+                    double pq2 = LS * (double)(float)iq;
+                    plant_step(&pd2, &pq2, u_less.d, u_less.q, (double)(float)w);
+                    assert_float_equal(dbdtc_torque_after(&db, u_less), te_of(pq2), 1e-4);
                     n++;
                 }
             }
@@ -87,50 +105,59 @@ static void deadbeat_hits_torque_and_flux_exactly(void **state)
     assert_int_equal(n, 625);
 }
 
-/* Hand-derived: at standstill from rest, Te* = 1.5*3*0.24*1 A = 1.08 N m
- * needs psi_q = L*1 A = 0.011 Wb in one period: uq = 0.011/1e-4 = 110 V;
- * the MTPA flux keeps psi_d = psi_f: ud = 0. At w = 100 rad/s the q axis
- * also needs the back-EMF w*psi_f = 24 V: uq = 134 V. In steady state at
- * iq = 1 A only the drop R*iq = 3 V remains. */
+/* Hand-derived at standstill (w = 0: no turn, the model is the scalar
+ * decay rho = e^(-a), a = Ts R/L = 0.0272727): from rest, Te* =
+ * 1.5*3*0.24*1 A = 1.08 N m needs psi_q = L*1 A = 0.011 Wb in one period,
+ * and a volt moves psi_q by L (1 - rho)/R = Ts (1 - rho)/a: uq = 0.011 a /
+ * (Ts (1 - rho)) = 111.51 V (Euler's eq. (4): 110 V); the MTPA flux keeps
+ * psi_d = psi_f: ud = 0. In steady state at iq = 1 A only the drop R*iq =
+ * 3 V remains, exactly: (1 - rho) psi_q = L (1 - rho)/R uq. */
 static void hand_values(void **state)
 {
     (void)state;
     dbdtc_t db = make();
     const float psi_ref = (float)sqrt(0.24 * 0.24 + 0.011 * 0.011);
+    const double a = TS * RS / LS;
     dq_t u;
     dq_t i0 = { 0.0f, 0.0f };
     dq_t i1 = { 0.0f, 1.0f };
+    at_speed(&db, 0.0);
     dbdtc_state_t x = dbdtc_state_from_currents(&db, i0);
     assert_float_equal(x.te_Nm, 0.0, 1e-7);
-    assert_int_equal(dbdtc_solve(&db, &x, 1.08f, psi_ref, 0.0f, &u), 0u);
-    assert_float_equal(u.q, 110.0, 1e-3);
-    assert_float_equal(u.d, 0.0, 1e-2);
-    dbdtc_solve(&db, &x, 1.08f, psi_ref, 100.0f, &u);
-    assert_float_equal(u.q, 134.0, 1e-3);
+    assert_int_equal(dbdtc_solve(&db, &x, 1.08f, psi_ref, &u), 0u);
+    assert_float_equal(u.q, 0.011 * a / (TS * (1.0 - exp(-a))), 1e-3);
+    assert_float_equal(u.q, 111.51, 0.01);
     assert_float_equal(u.d, 0.0, 1e-2);
     x = dbdtc_state_from_currents(&db, i1);
     assert_float_equal(x.te_Nm, 1.08, 1e-6);
-    dbdtc_solve(&db, &x, 1.08f, psi_ref, 0.0f, &u);
+    dbdtc_solve(&db, &x, 1.08f, psi_ref, &u);
     assert_float_equal(u.q, 3.0, 1e-3);
     assert_float_equal(u.d, 0.0, 1e-2);
 }
 
-/* eq. (10) written out here: i(k+1) = i + Ts/L (u - R i +- w L i - w psi_f). */
-static void prediction_matches_eq10(void **state)
+/* The prediction (eq. 10 on the exact model) against the continuous
+ * model by Runge-Kutta, at 500 r/min and at 0.4 rad a period. */
+static void prediction_matches_the_continuous_model(void **state)
 {
     (void)state;
     dbdtc_t db = make();
-    const double id = -1.2, iq = 3.7, ud = 40.0, uq = 95.0, w = 157.0;
-    dq_t i = { (float)id, (float)iq };
-    dq_t u = { (float)ud, (float)uq };
-    dbdtc_state_t x = dbdtc_predict(&db, i, u, (float)w);
-    const double id1 = id + TS / LS * (ud - RS * id + w * LS * iq);
-    const double iq1 = iq + TS / LS * (uq - RS * iq - w * LS * id - w * PSIF);
-    assert_float_equal(x.i_dq_A.d, id1, 1e-5);
-    assert_float_equal(x.i_dq_A.q, iq1, 1e-5);
-    assert_float_equal(x.psi_dq_Wb.d, LS * id1 + PSIF, 1e-7);
-    assert_float_equal(x.psi_dq_Wb.q, LS * iq1, 1e-7);
-    assert_float_equal(x.te_Nm, 1.5 * PP * PSIF * iq1, 1e-5);
+    const double ws[] = { 157.0, 0.4 / TS };
+    for (size_t k = 0; k < sizeof ws / sizeof ws[0]; k++) {
+        const double id = -1.2, iq = 3.7, ud = 40.0, uq = 95.0 + ws[k] * PSIF, w = ws[k];
+        dq_t i = { (float)id, (float)iq };
+        dq_t u = { (float)ud, (float)uq };
+        at_speed(&db, w);
+        dbdtc_state_t x = dbdtc_predict(&db, i, u);
+        const rk4_motor_t m = { RS, LS, PSIF, w, TS, ud, uq, 0.0, 0.0 };
+        double id1 = id;
+        double iq1 = iq;
+        rk4_motor_period(&m, &id1, &iq1);
+        assert_float_equal(x.i_dq_A.d, id1, 2e-5);
+        assert_float_equal(x.i_dq_A.q, iq1, 2e-5);
+        assert_float_equal(x.psi_dq_Wb.d, LS * id1 + PSIF, 2e-7);
+        assert_float_equal(x.psi_dq_Wb.q, LS * iq1, 2e-7);
+        assert_float_equal(x.te_Nm, 1.5 * PP * PSIF * iq1, 2e-5);
+    }
 }
 
 /* psi_s* below |psi_q*|: flagged; psi_d(k+2) = 0 (the vertex -X1/Ts) and
@@ -143,18 +170,22 @@ static void negative_discriminant_takes_vertex(void **state)
     dbdtc_state_t x = dbdtc_state_from_currents(&db, i);
     const double te_ref = 10.0; /* psi_q* = 0.011 * 10/1.08 = 0.102 Wb */
     dq_t u;
-    uint16_t fl = dbdtc_solve(&db, &x, (float)te_ref, 0.05f, 200.0f, &u);
+    at_speed(&db, 200.0);
+    uint16_t fl = dbdtc_solve(&db, &x, (float)te_ref, 0.05f, &u);
     assert_int_equal(fl, DBDTC_FLAG_FLUX_UNREACHABLE);
     double pd = LS * 0.5 + PSIF;
     double pq = LS * 2.0;
     plant_step(&pd, &pq, u.d, u.q, 200.0);
     assert_float_equal(pd, 0.0, 1e-6);
     assert_float_equal(te_of(pq), te_ref, 1e-5 * te_ref);
-    /* any other ud gives a flux magnitude farther from 0.05 Wb */
+    /* any other psi_d(k+2) at the same torque gives a flux magnitude farther
+     * from 0.05 Wb: the voltage that moves psi_d alone is ku (1 Wb) = (ku.d, ku.q) per Wb */
     for (int s = -1; s <= 1; s += 2) {
         double pd2 = LS * 0.5 + PSIF;
         double pq2 = LS * 2.0;
-        plant_step(&pd2, &pq2, u.d + s * 1.0, u.q, 200.0);
+        const double dpsi = s * 1e-3;
+        plant_step(&pd2, &pq2, u.d + db.st.ku_V_Wb.d * dpsi, u.q + db.st.ku_V_Wb.q * dpsi, 200.0);
+        assert_float_equal(te_of(pq2), te_ref, 1e-4 * te_ref);
         assert_true(sqrt(pd2 * pd2 + pq2 * pq2) > sqrt(pd * pd + pq * pq));
     }
 }
@@ -454,17 +485,18 @@ static void finite_for_any_finite_input(void **state)
             for (int c = 0; c < n; c++) {
                 dq_t i = { v[a], v[b] };
                 dq_t u0 = { v[c], v[b] };
-                dbdtc_state_t x = dbdtc_predict(&db, i, u0, v[c]);
+                at_speed(&db, fmax(-3000.0, fmin(3000.0, (double)v[c]))); /* as ctrl bounds it */
+                dbdtc_state_t x = dbdtc_predict(&db, i, u0);
                 assert_true(isfinite(x.i_dq_A.d) && isfinite(x.i_dq_A.q) && isfinite(x.te_Nm));
                 assert_true(isfinite(x.psi_dq_Wb.d) && isfinite(x.psi_dq_Wb.q));
                 dq_t u;
-                dbdtc_solve(&db, &x, v[a], v[b], v[c], &u);
+                dbdtc_solve(&db, &x, v[a], v[b], &u);
                 assert_true(isfinite(u.d) && isfinite(u.q));
                 assert_true(fabsf(u.d) <= 5000.0f && fabsf(u.q) <= 5000.0f);
                 dbdtc_limit(&u, v[a], v[b], v[c]);
                 assert_true(isfinite(u.d) && isfinite(u.q));
                 dbdtc_set_params(&db, v[a], v[b], v[c]);
-                assert_true(isfinite(db.par.psiq_per_Nm) && isfinite(db.par.Ts_over_L));
+                assert_true(isfinite(db.par.psiq_per_Nm) && isfinite(db.par.L_gamma_Wb_V) && isfinite(db.par.zm.kappa_1_s));
             }
         }
     }
@@ -477,7 +509,7 @@ static void parameters_bounded_and_reset(void **state)
     dbdtc_t db = make();
     dbdtc_set_params(&db, 2.0f * (float)RS, 0.5f * (float)LS, 1.5f * (float)PSIF);
     assert_float_equal(db.par.R_Ohm, 2.0 * RS, 1e-6);
-    assert_float_equal(db.par.a, TS * 2.0 * RS / (0.5 * LS), 1e-7);
+    assert_float_equal(db.par.zm.rho, exp(-TS * 2.0 * RS / (0.5 * LS)), 1e-6);
     assert_float_equal(db.par.psiq_per_Nm, 0.5 * LS / (1.5 * PP * 1.5 * PSIF), 1e-7);
     dbdtc_set_params(&db, -1.0f, 0.0f, 100.0f);
     assert_float_equal(db.par.R_Ohm, 0.1 * RS, 1e-6);
@@ -521,7 +553,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(deadbeat_hits_torque_and_flux_exactly),
         cmocka_unit_test(hand_values),
-        cmocka_unit_test(prediction_matches_eq10),
+        cmocka_unit_test(prediction_matches_the_continuous_model),
         cmocka_unit_test(negative_discriminant_takes_vertex),
         cmocka_unit_test(voltage_limit_torque_first),
         cmocka_unit_test(voltage_limit_without_bus),

@@ -30,21 +30,30 @@ static void paper_motor_gets_the_old_constants_to_the_bit(void **state)
     assert_float_equal(c->speed_kp_Nms_rad, 0.5f, 0.0);
     assert_float_equal(c->speed_ki_Nm_rad, 20.0f, 0.0);
     assert_float_equal(c->te_max_Nm, 12.0f, 0.0);
-    assert_float_equal(c->i_lim_A, 12.0f, 0.0);
+    assert_float_equal(c->i_lim_A, REF_I_PEAK_A, 0.0); /* never above the peak rating (params_design.md sec. 3) */
     assert_float_equal(cfg.prot.i_max_A, 14.0f, 0.0);
-    assert_float_equal(c->smo.Ks_V, 100.0f, 0.0);
-    assert_float_equal(c->smo.phi_A, 2.5f, 0.0);
-    assert_float_equal(c->smo.ef_max_V, 50.0f, 0.0);
-    assert_float_equal(c->R_max_Ohm, 18.0f, 0.0);
-    assert_float_equal(c->gate.di_max_A, 0.5f, 0.0);
-    assert_float_equal(c->gate.dte_max_Nm, 0.3f, 0.0);
-    assert_float_equal(c->rtrack.i_ident_A, 1.0f, 0.0);
-    assert_float_equal(c->rtrack.i_track_A, 0.5f, 0.0);
-    assert_float_equal(c->rtrack.iq_min_A, 1.0f, 0.0);
-    assert_float_equal(c->rtrack.iq_step_max_A, 0.2f, 0.0);
-    assert_float_equal(c->rtrack.ve_max_V, 20.0f, 0.0);
-    assert_float_equal(c->pe.w_min_rad_s, 30.0f, 0.0);
-    assert_float_equal(c->pe.wiq_min_A_rad_s, 30.0f, 0.0);
+    assert_float_equal(cfg.cal.offset_max_A, 0.75f, 0.0);
+    /* the observer's gains on the exact discrete model (discrete_model_design.md sec. 5):
+     * a = Ts R/L, rho = e^-a, g = (1 - rho)/R, the double pole 0.8: G g = rho - 0.6,
+     * mu Ts G g = 0.04, Ks = 2 ef_max, phi = Ks/G */
+    const double a = 1e-4 * 3.0 / 0.011;
+    const double rho = exp(-a);
+    const double g = (1.0 - rho) / 3.0;
+    const double G = (rho - 0.6) / g;
+    assert_float_equal(c->est_cfg.smo.phi_A, 100.0 / G, 1e-5);
+    assert_float_equal(c->est_cfg.smo.Ks_V, 100.0f, 0.0);
+    assert_float_equal(c->est_cfg.smo.mu_d_1_s, 0.04 / (1e-4 * (rho - 0.6)), 1e-3);
+    assert_float_equal(c->est_cfg.smo.ef_max_V, 50.0f, 0.0);
+    assert_float_equal(c->est_cfg.R_max_Ohm, 18.0f, 0.0);
+    assert_float_equal(c->est_cfg.gate.di_max_A, 0.5f, 0.0);
+    assert_float_equal(c->est_cfg.gate.dte_max_Nm, 0.3f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.i_ident_A, 1.0f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.i_track_A, 0.5f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.iq_min_A, 1.0f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.iq_step_max_A, 0.2f, 0.0);
+    assert_float_equal(c->est_cfg.rtrack.ve_max_V, 20.0f, 0.0);
+    assert_float_equal(c->est_cfg.pe.w_min_rad_s, 30.0f, 0.0);
+    assert_float_equal(c->est_cfg.pe.wiq_min_A_rad_s, 30.0f, 0.0);
     assert_float_equal(cfg.aln.u_V, 9.0f, 0.0);
     assert_float_equal(cfg.prot.watch.op_u_min_V, 25.0f, 0.0);
     assert_float_equal(cfg.prot.watch.op_i_min_A, 1.0f, 0.0);
@@ -74,7 +83,8 @@ static void small_motor(drive_params_t *p)
 }
 
 /* Hand values: kt = 1.5 x 4 x 0.008 = 0.048 N m/A; te_max 0.048 x 12.5 = 0.6;
- * i_limit 12 x 12.5/11.11 = 13.5 A; trip min(14 x 12.5/11.11, 14 x 15/15) = 14 A;
+ * i_limit = i_peak = 12.5 A; trip min(14 x 12.5/11.11 = 15.75, 15 - 0.75 = 14.25) = 14.25 A,
+ * above 12.5 A + 6 x 2 x 15/2048 = 0.088 A (6 sigma of 2 codes of ADC noise);
  * kp = 0.5 x 2e-5/0.00129 = 0.00775; ki = 20 x 2e-5/0.00129 = 0.310;
  * speeds 750, 1500 r/min; overspeed 3600 r/min. */
 static void small_motor_limits_and_speed_loop(void **state)
@@ -85,8 +95,9 @@ static void small_motor_limits_and_speed_loop(void **state)
     const drive_derive_t st = drive_params_derive(&p);
     assert_int_equal(st & DRIVE_DERIVE_REFUSED, 0);
     assert_float_equal(p.limits.te_max_Nm, 0.6, 1e-5);
-    assert_float_equal(p.limits.i_limit_A, 13.5, 1e-4);
-    assert_float_equal(p.limits.i_trip_A, 14.0, 1e-4);
+    assert_float_equal(p.limits.i_limit_A, 12.5, 0.0);
+    assert_float_equal(p.limits.i_trip_A, 14.25, 1e-5);
+    assert_float_equal(drive_trip_margin_A(&p), 12.0 * 15.0 / 2048.0, 1e-6);
     assert_float_equal(p.tuning.speed_kp_Nms_rad, 0.5 * 2e-5 / 0.00129, 1e-7);
     assert_float_equal(p.tuning.speed_ki_Nm_rad, 20.0 * 2e-5 / 0.00129, 1e-5);
     assert_float_equal(p.step1.speed_1_rad_s, 750.0 * RPM, 1e-3);
@@ -96,23 +107,26 @@ static void small_motor_limits_and_speed_loop(void **state)
     assert_float_equal(p.step1.accel_rad_s2, 3750.0 * RPM, 1e-2);
 }
 
-/* The observer's gains for the small motor (smo_design.md sec. 4):
- * ef_max = 50 x 24/311 = 3.859 V, Ks = 7.717 V; the stability cap
- * G_max = 2 x 0.5 x 0.2 mH / (1.25 x 0.1 ms) / 1.45 = 1.103 V/A is below
- * Ks / (2.5 x 6.25/5.56 = 2.81 A) = 2.75 V/A, so phi = 7.717/1.103 = 6.99 A;
- * ctrl_init then accepts the proposed method. */
-static void small_motor_observer_gain_capped_and_accepted(void **state)
+/* The observer's gains for the small motor (discrete_model_design.md
+ * sec. 5): ef_max = 50 x 24/311 = 3.859 V, Ks = 7.717 V; a = Ts R/L =
+ * 0.05, rho = e^-0.05, g = (1 - rho)/R = 0.4877 A/V, G = (rho - 0.6)/g =
+ * 0.7202 V/A, phi = Ks/G = 10.72 A; ctrl_init then accepts the proposed
+ * method, its L^ floor below half the told L. */
+static void small_motor_observer_gain_designed_and_accepted(void **state)
 {
     (void)state;
     drive_params_t p;
-    ctrl_obs_gains_t g;
-    float G_max;
+    smo_gains_t g;
     small_motor(&p);
-    assert_true(drive_params_obs_gains(&p, &g, &G_max));
-    assert_float_equal(G_max, 1.6 / 1.45, 1e-5);
-    assert_float_equal(g.ef_max_V, 50.0 * 24.0 / 311.0, 1e-5);
-    assert_float_equal(g.Ks_V, 100.0 * 24.0 / 311.0, 1e-5);
-    assert_float_equal(g.phi_A, (100.0 * 24.0 / 311.0) / (1.6 / 1.45), 1e-4);
+    assert_true(drive_params_obs_gains(&p, &g));
+    const double ef = 50.0 * 24.0 / 311.0;
+    const double rho = exp(-0.05);
+    const double gam = (1.0 - rho) / 0.1;
+    const double G = (rho - 0.6) / gam;
+    assert_float_equal(g.ef_max_V, ef, 1e-5);
+    assert_float_equal(g.Ks_V, 2.0 * ef, 1e-5);
+    assert_float_equal(g.phi_A, 2.0 * ef / G, 1e-4);
+    assert_float_equal(g.phi_A, 10.72, 0.01);
 
     static app_cfg_t cfg;
     static ctrl_t ctrl;
@@ -120,10 +134,7 @@ static void small_motor_observer_gain_capped_and_accepted(void **state)
     drive_params_to_app_cfg(&p, &cfg);
     cfg.ctrl.u_max_V = 24.0f;
     assert_int_equal(ctrl_init(&ctrl, &cfg.ctrl) & CTRL_CFG_NEEDED_PROPOSED, 0);
-    /* the bound itself, as smo_init checks it */
-    const smo_cfg_t *s = &cfg.ctrl.smo;
-    assert_true(s->Ks_V / s->phi_A < 2.0f * s->L_min_H / s->Ts_s - cfg.ctrl.R_max_Ohm);
-    assert_true(s->L_min_H <= 0.5f * cfg.ctrl.L_H);
+    assert_true(cfg.ctrl.est_cfg.smo.L_min_H <= 0.5f * cfg.ctrl.L_H);
 }
 
 /* The tracking injection (params_design.md sec. 6): R I = 1.5 V x bus /
@@ -138,28 +149,41 @@ static void tracking_injection_by_bus_then_capped(void **state)
     small_motor(&p);
     app_cfg_default(&cfg);
     drive_params_to_app_cfg(&p, &cfg);
-    assert_float_equal(cfg.ctrl.rtrack.i_track_A, 0.5 * (24.0 / 0.1) / (311.0 / 3.0), 1e-5);
+    assert_float_equal(cfg.ctrl.est_cfg.rtrack.i_track_A, 0.5 * (24.0 / 0.1) / (311.0 / 3.0), 1e-5);
     p.motor.R_Ohm = 0.5f;
     p.board.vdc_nominal_V = 540.0f;
     p.rating.i_rated_A = 9.5238f;
     p.rating.i_peak_A = 2.0f * 9.5238f;
     drive_params_to_app_cfg(&p, &cfg);
-    assert_float_equal(cfg.ctrl.rtrack.i_track_A, 0.2 * 9.5238, 1e-5);
+    assert_float_equal(cfg.ctrl.est_cfg.rtrack.i_track_A, 0.2 * 9.5238, 1e-5);
 }
 
-/* L 20 uH at 10 kHz: G_max = 0.11 V/A, the band's top 0.45 G = 0.05 ohm
- * leaves out R = 0.1 ohm: refused (OBSERVER), the rest derived. */
-static void observer_refused_when_no_gain_fits(void **state)
+/* L/R below 2 periods: L 19 uH with R 0.1 ohm at 10 kHz (1.9 periods)
+ * is refused (OBSERVER), the rest derived; 21 uH (2.1 periods) and the
+ * D5065 (39 mOhm, 15.7 uH: 4 periods) are accepted. */
+static void observer_refused_below_two_periods(void **state)
 {
     (void)state;
     drive_params_t p;
     small_motor(&p);
-    p.motor.L_H = 20.0e-6f;
+    p.motor.L_H = 19.0e-6f;
     assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, DRIVE_DERIVE_OBSERVER);
+    small_motor(&p);
+    p.motor.L_H = 21.0e-6f;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, 0);
+    small_motor(&p);
+    p.motor.R_Ohm = 0.039f;
+    p.motor.L_H = 15.7e-6f;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, 0);
 }
 
-/* i_peak 20 A on the board's 15 A ADC: i_limit 21.6 A against a trip of at
- * most 14 A: refused (ADC_RANGE). Ratings that contradict: RATINGS. */
+/* i_peak 20 A on the board's 15 A ADC: i_limit 20 A against a trip of at
+ * most 14.25 A: refused (ADC_RANGE). The paper motor (i_peak 11.11 A) on an
+ * ADC range of 1.1 i_peak = 12.22 A: it reads up to 0.95 x 12.22 = 11.61 A,
+ * the trip, above 11.11 A + 12 x 12.22/2048 = 0.072 A (6 sigma of 2 codes of
+ * noise): accepted; the least range accepted is i_peak / (0.95 - 12/2048) =
+ * 1.0592 i_peak: 1.06 i_peak accepted, 1.058 refused. A set limit above
+ * i_peak: I_LIMIT. Ratings that contradict: RATINGS. */
 static void ratings_beyond_the_adc_or_inconsistent_refused(void **state)
 {
     (void)state;
@@ -168,6 +192,21 @@ static void ratings_beyond_the_adc_or_inconsistent_refused(void **state)
     p.rating.i_rated_A = 10.0f;
     p.rating.i_peak_A = 20.0f;
     assert_true((drive_params_derive(&p) & DRIVE_DERIVE_ADC_RANGE) != 0u);
+    drive_params_board(&p);
+    p.board.i_full_scale_A = 1.1f * p.rating.i_peak_A;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, 0);
+    assert_float_equal(p.limits.i_limit_A, p.rating.i_peak_A, 0.0);
+    assert_float_equal(p.limits.i_trip_A, 0.95 * 1.1 * 11.1111, 1e-4);
+    assert_float_equal(drive_trip_margin_A(&p), 12.0 * 1.1 * 11.1111 / 2048.0, 1e-5);
+    drive_params_board(&p);
+    p.board.i_full_scale_A = 1.06f * p.rating.i_peak_A;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, 0);
+    drive_params_board(&p);
+    p.board.i_full_scale_A = 1.058f * p.rating.i_peak_A;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, DRIVE_DERIVE_ADC_RANGE);
+    drive_params_board(&p);
+    p.limits.i_limit_A = 1.01f * p.rating.i_peak_A;
+    assert_int_equal(drive_params_derive(&p) & DRIVE_DERIVE_REFUSED, DRIVE_DERIVE_I_LIMIT);
     drive_params_board(&p);
     p.rating.i_peak_A = 0.5f * p.rating.i_rated_A;
     assert_true((drive_params_derive(&p) & DRIVE_DERIVE_RATINGS) != 0u);
@@ -236,9 +275,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(paper_motor_gets_the_old_constants_to_the_bit),
         cmocka_unit_test(small_motor_limits_and_speed_loop),
-        cmocka_unit_test(small_motor_observer_gain_capped_and_accepted),
+        cmocka_unit_test(small_motor_observer_gain_designed_and_accepted),
         cmocka_unit_test(tracking_injection_by_bus_then_capped),
-        cmocka_unit_test(observer_refused_when_no_gain_fits),
+        cmocka_unit_test(observer_refused_below_two_periods),
         cmocka_unit_test(ratings_beyond_the_adc_or_inconsistent_refused),
         cmocka_unit_test(set_values_stay_and_bandwidth_scales),
         cmocka_unit_test(back_emf_beyond_the_bus_warns),

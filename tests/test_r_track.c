@@ -193,14 +193,35 @@ static void identification_gives_the_inverter_error(void **state)
     assert_float_equal(rt.Ve_V, (float)Ve, 1e-3);
 }
 
-/* IDENT refused: no current at the operating point (every cycle held,
- * gives up after twice ident_cycles), or an implausible error. */
+/* IDENT at no load: the injection's square wave +-I is the current's
+ * direction, rho = -Ve/I: rho -0.5 ohm at I = 1 A reads Ve = 0.5 V (the
+ * tilt formula with |i| = sqrt(I^2 + 0)). */
+static void identification_at_no_load(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    r_track_t rt;
+    synth_t s = { -0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    r_track_event_t ev = R_TRACK_NONE;
+    long n = 0;
+    assert_true(r_track_init(&rt, &c));
+    r_track_start(&rt, R_TRACK_IDENT);
+    while (ev == R_TRACK_NONE && n < 10 * CYCLE) {
+        ev = synth_step(&rt, &s);
+        n++;
+    }
+    assert_int_equal(ev, R_TRACK_IDENT_DONE);
+    assert_float_equal(rt.Ve_V, 0.5 * c.i_ident_A, 1e-4);
+}
+
+/* IDENT refused: a load step in every cycle (every cycle held, gives up
+ * after twice ident_cycles), or an implausible error. */
 static void identification_refused(void **state)
 {
     (void)state;
     r_track_cfg_t c = cfg_default();
     r_track_t rt;
-    synth_t s = { -0.5, 0.0, 0.0, 0.2, 0.0, 0.0, 0.0, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    synth_t s = { -0.5, 0.0, 0.0, 3.0, 1.0, 0.0, 0.0, 0.0, { 0.0, 0.0, 0.0 }, 0 };
     r_track_event_t ev = R_TRACK_NONE;
     long n = 0;
     assert_true(r_track_init(&rt, &c));
@@ -214,6 +235,7 @@ static void identification_refused(void **state)
     assert_float_equal(rt.Ve_V, 0.0f, 0.0f);
 
     s.iq = 3.0;
+    s.iq_step = 0.0;
     s.rho = -30.0; /* Ve = 30 sqrt(10) V > ve_max */
     ev = R_TRACK_NONE;
     r_track_start(&rt, R_TRACK_IDENT);
@@ -351,6 +373,7 @@ int main(void)
         cmocka_unit_test(restart_cycle_drops_the_sums),
         cmocka_unit_test(cycle_held_without_current_or_in_transient),
         cmocka_unit_test(identification_gives_the_inverter_error),
+        cmocka_unit_test(identification_at_no_load),
         cmocka_unit_test(identification_refused),
         cmocka_unit_test(flux_reference_carries_the_injection),
         cmocka_unit_test(init_refuses_bad_settings),

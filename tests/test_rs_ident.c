@@ -33,7 +33,7 @@ static void feed_analytic(rs_ident_t *ri, rs_ident_window_t win, double Rh, doub
 {
     op_plant_t p = { OP_R0, OP_L0, OP_PSI0, 0.0, 0.0 };
     double fd, fq;
-    op_f_ss(&p, Rh, Lh, psih, id, iq, w, &fd, &fq);
+    op_f_cont(&p, Rh, Lh, psih, id, iq, w, &fd, &fq);
     for (int k = 0; k < n; k++) {
         rs_ident_step(ri, win, (float)fd, (float)fq, (float)id, (float)iq, (float)w);
     }

@@ -123,12 +123,12 @@ static void defaults_come_from_the_parameter_set(void **state)
     assert_int_equal(sc.identify.repeats_max, ac.rsid.repeats_max);
     /* step 1's checks and policies: the app's too (board_cfg.h, rs_ident.h) */
     assert_true(sc.identify.R_se_max_rel == 0.015);
-    assert_float_equal(sc.identify.R_se_max_rel, ac.ctrl.rsid.R_se_max_rel, 1e-9);
+    assert_float_equal(sc.identify.R_se_max_rel, ac.ctrl.est_cfg.rsid.R_se_max_rel, 1e-9);
     assert_true(sc.identify.batch_s == 0.005);  /* 50 periods of 0.1 ms */
-    assert_int_equal(llround(sc.identify.batch_s / ac.ctrl.Ts_s), ac.ctrl.rsid.n_batch);
+    assert_int_equal(llround(sc.identify.batch_s / ac.ctrl.Ts_s), ac.ctrl.est_cfg.rsid.n_batch);
     assert_int_equal(sc.identify.mode, ac.rsid.mode);
     assert_int_equal(sc.identify.on_refusal, ac.rsid.on_refusal);
-    assert_int_equal(sc.identify.track_R, ac.ctrl.track_R);
+    assert_int_equal(sc.identify.track_R, ac.ctrl.est_cfg.track_R);
     assert_float_equal(sc.plant.encoder_offset_el_rad, p.board.enc_offset_el_rad, 0.0);
     /* the simulated board's own settings: hal_sim_default_cfg()'s (hal_sim.h) */
     assert_true(sc.plant.substep_s == 1e-4);
@@ -364,12 +364,16 @@ static void motor_the_drive_cannot_run_refused(void **state)
     (void)state;
     scenario_t sc;
     char err[SCENARIO_ERR_LEN] = "";
-    /* L 20 uH at 10 kHz: no observer gain (proposed only) */
-    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 20e-6\n[controller]\nmethod = proposed\n"
+    /* L 15 uH with 0.1 ohm at 10 kHz: L/R 1.5 periods, no observer gain (proposed only) */
+    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 15e-6\n[controller]\nmethod = proposed\n"
                                     "[identify]\nmode = speeds\n", err), -1);
     print_message("  -> %s\n", err);
     assert_non_null(strstr(err, "[controller] L_H, R_ohm: no observer gain"));
-    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 20e-6\n", err), 0);   /* conventional runs */
+    assert_non_null(strstr(err, "L/R = 0.00015 s is 1.5 PWM periods (Ts = 0.0001 s)"));
+    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.1\nL_H = 15e-6\n", err), 0);   /* conventional runs */
+    /* the D5065's 39 mOhm, 15.7 uH: 4 periods, accepted */
+    assert_int_equal(load_text(&sc, "[plant]\nR_ohm = 0.039\nL_H = 15.7e-6\n[controller]\nmethod = proposed\n"
+                                    "[identify]\nmode = speeds\n", err), 0);
     /* a rated current beyond the 15 A ADC */
     expect_error("[motor]\ni_rated_A = 10\n", 2, "i_peak_A");
     expect_error("[motor]\ni_rated_A = 5\ni_peak_A = 4\n", 2, "ratings do not fit");
@@ -445,7 +449,9 @@ static void bad_inputs_name_file_line_key(void **state)
     expect_error("[plant]\nmodel = pwm\n", 2, "model");
     expect_error("[controller]\nmethod = better\n", 2, "method");
     expect_error("[controller]\nmode = position\n", 2, "mode");
-    expect_error("[controller]\ni_limit_A = 14\n", 2, "i_limit_A"); /* = the 14 A trip */
+    expect_error("[controller]\ni_limit_A = 14\n", 2, "i_limit_A"); /* above the 11.1 A peak rating */
+    expect_error("[motor]\ni_peak_A = 14.2\n", 2, "i_peak_A"); /* its limit 14.2 A + 0.09 A: above the 14.25 A the ADC reads */
+    expect_error("[controller]\ni_limit_A = 11\ni_max_A = 11.01\n", 2, "i_limit_A"); /* a margin of 0.01 A */
     expect_error("[reference]\nspeed_rpm = 0:0, 0.1 500\n", 2, "speed_rpm");
     expect_error("[reference]\nspeed_rpm = 0:0, 0.1:500, 0.05:0\n", 2, "speed_rpm");
     expect_error("[load]\ntorque_Nm = 0:abc\n", 2, "torque_Nm");
@@ -497,7 +503,7 @@ static void level_and_wrong_board_keys(void **state)
     assert_float_equal(sc.run.level4_i_limit_A, 2.0, 0.0);
     expect_error("[run]\nlevel = 0\n", 2, "level");
     expect_error("[run]\nlevel = 6\n", 2, "level");
-    expect_error("[run]\nlevel4_i_limit_A = 13\n", 2, "level4_i_limit_A"); /* above the 12 A limit */
+    expect_error("[run]\nlevel4_i_limit_A = 13\n", 2, "level4_i_limit_A"); /* above the 11.1 A limit */
     expect_error("[plant]\nencoder_direction = 2\n", 2, "encoder_direction");
     expect_error("[plant]\nphase_order = bac\n", 2, "phase_order");
     expect_error("[controller]\npole_pairs = 65\n", 2, "pole_pairs");

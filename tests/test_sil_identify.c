@@ -54,7 +54,7 @@ static int on_row(const sil_row_t *r, void *user)
     const bool warn = (((unsigned)r->flags) & APP_WARN_STEP1_REFUSED) != 0u;
     f->state = r->state;
     f->fault = r->fault;
-    if (isnan(f->R_first) && (int)r->est == CTRL_IDENT_STEP2) {
+    if (isnan(f->R_first) && (int)r->est == EST_STEP2) {
         f->R_first = r->R_est_ohm;
         f->t2 = r->t_s;
     }
@@ -84,11 +84,11 @@ static double angle_L_dev;
 
 static int on_row_angle(const sil_row_t *r, void *user)
 {
-    if ((int)r->est == CTRL_IDENT_STEP2) {
+    if ((int)r->est == EST_STEP2) {
         const unsigned flags = (unsigned)r->flags;
         const unsigned hold = (unsigned)r->est_hold;
         angle_rows++;
-        if (((flags & CTRL_FLAG_ANGLE_SUSPECT) != 0u) && ((hold & CTRL_EST_HOLD_ANGLE) != 0u)) {
+        if (((flags & EST_FLAG_ANGLE_SUSPECT) != 0u) && ((hold & EST_HOLD_ANGLE) != 0u)) {
             angle_warned++;
         }
         angle_L_dev = fmax(angle_L_dev, fabs(r->L_est_H / 0.011 - 1.0));
@@ -216,7 +216,7 @@ static void inertia_10x_default_timing(void **state)
 
 /* se(R^) held to 0.3 % with 0.05 A noise, 60 ms windows of 12 batches:
  * seed 4 needs window 2 longer (step 2 well after 0.54 s) and is then
- * taken; in seed 6 window 2 grows to window_max_s (0.48 + 0.3 s) and R^ is
+ * taken; in seed 10 window 2 grows to window_max_s (0.48 + 0.3 s) and R^ is
  * refused NOT_STEADY there; in seed 1 window 1's share alone is above the
  * limit, so R^ is refused at window 2's nominal end (0.54 s). */
 static fig_t lengthen_case(const char *seed)
@@ -236,8 +236,8 @@ static void window_2_lengthened_then_taken_or_refused(void **state)
     assert_true(a.t2 > 0.54 + 0.005);   /* at least one more batch */
     assert_true(a.t2 < 0.78);
     assert_true(fabs(a.R_first / R0 - 1.0) <= R_TOL_NOISY);
-    const fig_t b = lengthen_case("plant.seed=6");
-    print_message("se(R^) <= 0.3 %%, seed 6: fault %d at %.4f s (window 2 at its longest: 0.78 s)\n", (int)b.fault,
+    const fig_t b = lengthen_case("plant.seed=10");
+    print_message("se(R^) <= 0.3 %%, seed 10: fault %d at %.4f s (window 2 at its longest: 0.78 s)\n", (int)b.fault,
                   b.t_fault);
     assert_int_equal((int)b.fault, APP_FAULT_RSID_NOT_STEADY);
     assert_true(fabs(b.t_fault - 0.78) < 0.006);
@@ -308,11 +308,15 @@ static void refusal_runs_conventional_with_the_warning(void **state)
  * told): the windows' id differ by 1.4 A, and the d-axis term moves R^ by
  * |w1 w2 (id2 - id1) dL / den| ~ 1.4 Ohm, 40x se(R^)'s limit (R^ came
  * out -21 %): refused with RSID_D_AXIS (on_refusal = conventional: RUN,
- * the warning, no step 2). At the paper's 500 r/min with L 1.5x (id ~ 0)
+ * the warning, no step 2; the default told: step 2 from the told R). At the paper's 500 r/min with L 1.5x (id ~ 0)
  * the share is 0.009 Ohm, a fifth of the limit: taken (case L150 above). */
 static void field_weakened_step1_refused(void **state)
 {
     const char *const sets[] = { "plant.model=switching", "plant.vdc_V=250", "controller.L_factor=1.4",
+                                 "controller.psif_factor=0.85", "reference.speed_rpm=0:0, 0.2:1800~",
+                                 "load.torque_Nm=0:2, 0.35:4, 0.6:6", "run.duration_s=0.7",
+                                 "identify.on_refusal=conventional", NULL };
+    const char *const told[] = { "plant.model=switching", "plant.vdc_V=250", "controller.L_factor=1.4",
                                  "controller.psif_factor=0.85", "reference.speed_rpm=0:0, 0.2:1800~",
                                  "load.torque_Nm=0:2, 0.35:4, 0.6:6", "run.duration_s=0.7", NULL };
     (void)state;
@@ -323,6 +327,13 @@ static void field_weakened_step1_refused(void **state)
     assert_int_equal((int)p.fault, APP_FAULT_NONE);
     assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_D_AXIS);
     assert_true(isnan(p.R_first)); /* no step 2 */
+    /* the default (on_refusal = told): step 2 from the told R, the warning */
+    const fig_t q = run("prop_paper", told);
+    assert_int_equal((int)q.state, APP_STATE_RUN);
+    assert_int_equal((int)q.fault, APP_FAULT_NONE);
+    assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_D_AXIS);
+    assert_int_equal(last_res.warnings & APP_WARN_STEP1_REFUSED, APP_WARN_STEP1_REFUSED);
+    assert_false(isnan(q.R_first)); /* step 2 ran */
 }
 
 /* An encoder count jump of 46 (4.97 el. deg) at 0.1 s, 1500 r/min, 4 N m:

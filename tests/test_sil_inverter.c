@@ -124,7 +124,7 @@ static int on_row_warm(const sil_row_t *r, void *user)
     (void)user;
     fig.state = (int)r->state;
     fig.fault = (int)r->fault;
-    if (isnan(fig.t2) && (int)r->est == CTRL_IDENT_STEP2) {
+    if (isnan(fig.t2) && (int)r->est == EST_STEP2) {
         fig.t2 = r->t_s;
     }
     if (!isnan(fig.t2) && r->t_s >= fig.t2 + T_AFTER_STEP2) {

@@ -18,8 +18,8 @@
  *     PHASE_ORDER. The operator's mode and method do not matter.
  *   4 torque control (the scenario's speed mode ignored), shaft held at
  *     300 r/min: 2 N m followed; 6 N m asked, the current held to the
- *     level's limit 0.3 x 12 A = 3.6 A, the torque to kt 3.6 A =
- *     1.5 x 3 x 0.24 x 3.6 = 3.888 N m.
+ *     level's limit 0.3 x i_peak 11.11 A = 3.333 A, the torque to kt 3.333 A =
+ *     1.5 x 3 x 0.24 x 3.333 = 3.6 N m.
  *   5 the full drive: speed mode to 500 r/min, as without levels. */
 #include <stdarg.h>
 #include <stddef.h>
@@ -37,6 +37,7 @@
 #define I_LSB_A      (30.0 / 4096.0)    /* the sim's current ADC step (+-15 A, 12 bit) */
 #define VDC_LSB_V    (600.0 / 4096.0)   /* its bus ADC step */
 #define KT_NM_A      (1.5 * 3.0 * 0.24)  /* Table I */
+#define I_LEVEL4_A   (0.3 * 2.0 * 6.0 / KT_NM_A) /* 0.3 x the current limit i_peak = 2 x rated */
 #define PI_D         3.14159265358979323846
 
 static sil_row_t g_rows[MAX_ROWS];
@@ -222,8 +223,8 @@ static void level4_torque_control_at_reduced_limit(void **state)
     assert_int_equal(res.final_state, APP_STATE_RUN);
     assert_int_equal(res.final_fault, APP_FAULT_NONE);
     assert_float_equal(te2, 2.0, 0.04);
-    assert_float_equal(te6, KT_NM_A * 3.6, 0.04 * KT_NM_A * 3.6);
-    assert_true(i6 < 3.6 * 1.05);
+    assert_float_equal(te6, KT_NM_A * I_LEVEL4_A, 0.04 * KT_NM_A * I_LEVEL4_A);
+    assert_true(i6 < I_LEVEL4_A * 1.05);
 }
 
 static void level5_full_drive(void **state)

@@ -26,7 +26,7 @@
 #define PP        3.0
 #define KT0       (1.5 * PP * PSI0)
 #define VDC       311.0
-#define I_LIMIT_A 12.0      /* the scenarios' [controller] i_limit_A */
+#define I_LIMIT_A (2.0 * 6.0 / KT0) /* the derived current limit: i_peak = 2 i_rated, 11.1 A */
 
 #define NO_FAULT_STATE APP_STATE_RUN
 
@@ -59,7 +59,7 @@ static int on_row(const sil_row_t *r, void *user)
         fig.spd_max = fmax(fig.spd_max, r->speed_rpm);
         fig.id_max = fmax(fig.id_max, r->id_A);
     }
-    if ((int)r->est == CTRL_IDENT_STEP2 && r->t_s >= fig.t_est) {
+    if ((int)r->est == EST_STEP2 && r->t_s >= fig.t_est) {
         fig.est_dev = fmax(fig.est_dev, fabs(r->L_est_H / L0 - 1.0));
         fig.est_dev = fmax(fig.est_dev, fabs(r->psif_est_Wb / PSI0 - 1.0));
     }

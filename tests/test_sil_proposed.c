@@ -22,6 +22,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "est_defaults.h"
 #include "hal_sim.h"
 #include "mathx.h"
 #include "sil.h"
@@ -88,7 +89,7 @@ static int on_row(const sil_row_t *r, void *user)
     fig.R = r->R_est_ohm;
     fig.L = r->L_est_H;
     fig.psi = r->psif_est_Wb;
-    if (isnan(fig.t2) && (int)r->est == CTRL_IDENT_STEP2) {
+    if (isnan(fig.t2) && (int)r->est == EST_STEP2) {
         fig.t2 = r->t_s;
     }
     if (r->t_s < WIN_T1) {
@@ -209,6 +210,55 @@ static void case_L066(void **state) { (void)state; mismatch_case("L066"); }
 static void case_psif200(void **state) { (void)state; mismatch_case("psif200"); }
 static void case_psif050(void **state) { (void)state; mismatch_case("psif050"); }
 static void case_L066_psif150(void **state) { (void)state; mismatch_case("L066_psif150"); }
+
+/* psi_f told 0.5x (prop_psif050): the derived torque limit is the told kt
+ * at i_peak, 0.5 x 1.5 p psi_f0 x 11.1 A = 6.0 N m, which the 6 N m load
+ * step (0.95-1.05 s) fills: with the limit fixed at the told kt the speed
+ * sagged to 424 r/min for the whole 100 ms. The limit follows the learned
+ * psi_f (kt^ i_peak = 12 N m): Te* goes above 6 N m to pull the speed
+ * back, and the speed is back within 2 % after half the step (the PI's
+ * time, not the limit's). */
+#define PSI50_STEP_T0    0.95
+#define PSI50_STEP_T1    1.05
+#define PSI50_BACK_T     1.00     /* half the step */
+#define PSI50_SPEED_RPM  500.0
+#define PSI50_SPEED_TOL  0.02
+#define PSI50_TOLD_TE_NM (0.5 * KT0 * 11.1)
+
+typedef struct {
+    double te_ref_max;      /* max Te* over the step */
+    double speed_min_back;  /* min speed over the step's second half */
+} psi50_t;
+
+static int on_psi50_row(const sil_row_t *r, void *user)
+{
+    psi50_t *f = user;
+    if (r->t_s >= PSI50_STEP_T0 && r->t_s < PSI50_STEP_T1) {
+        f->te_ref_max = fmax(f->te_ref_max, r->te_ref_Nm);
+        if (r->t_s >= PSI50_BACK_T) {
+            f->speed_min_back = fmin(f->speed_min_back, r->speed_rpm);
+        }
+    }
+    return 0;
+}
+
+static void te_limit_follows_learned_psif(void **state)
+{
+    static const char *const sets[] = { "run.log_every=1", NULL };
+    scenario_t sc;
+    sil_result_t res;
+    psi50_t f = { -1e9, 1e9 };
+    (void)state;
+    sil_scenario_open(&sc, "prop_psif050");
+    sil_scenario_set(&sc, sets);
+    sil_scenario_finish(&sc);
+    assert_int_equal(sil_run(&sc, on_psi50_row, &f, &res), 0);
+    print_message("psi_f told 0.5x, 6 N m step: Te* up to %.2f N m (told limit %.2f), speed from %.2f s >= %.1f r/min\n",
+                  f.te_ref_max, PSI50_TOLD_TE_NM, PSI50_BACK_T, f.speed_min_back);
+    assert_int_equal(res.final_fault, APP_FAULT_NONE);
+    assert_true(f.te_ref_max > PSI50_TOLD_TE_NM);
+    assert_true(f.speed_min_back >= (1.0 - PSI50_SPEED_TOL) * PSI50_SPEED_RPM);
+}
 
 /* Torque step 2 -> 4 N m at 0.42 s under L = 1.5 L0, estimates converged. */
 #define TSTEP_T_S      0.42
@@ -401,11 +451,11 @@ static void identify_out_of_band_faults(void **state)
     assert_int_equal((int)fig.fault, APP_FAULT_RSID_OUT_OF_BAND);
 }
 
-/* A band whose top breaks (36) (Ks > ef_max + R_max phi): ctrl_init refuses
- * the observer, the app refuses to identify (CONFIG) before energising. */
+/* An R^ band that leaves out the told R (12.9 ohm): ctrl_init refuses the
+ * observer, the app refuses to identify (CONFIG) before energising. */
 static void identify_refused_config_faults(void **state)
 {
-    const char *const sets[] = { "controller.R_max_ohm=25.8", NULL };
+    const char *const sets[] = { "controller.R_max_ohm=10", NULL };
     (void)state;
     run_scenario("prop_R430", sets, 0.0);
     assert_int_equal((int)fig.state, APP_STATE_FAULT);
@@ -437,6 +487,9 @@ static void c_isr(void)
     hal_isr_ack();
 }
 
+/* the oscillation watch's floor: 6 sigma of the board's 2 codes of ADC noise (drive_trip_margin_A) */
+#define OSC_I_MIN_A (12.0 * 15.0 / 2048.0)
+
 /* Table I motor held at 500 r/min, torque mode at te_Nm; controller with L = L_factor x L0. */
 static ctrl_status_t c_setup(double L_factor, float R_max_Ohm)
 {
@@ -451,9 +504,9 @@ static ctrl_status_t c_setup(double L_factor, float R_max_Ohm)
         .pole_pairs = 3u, .enc_lines = hc.sens.enc_lines, .enc_offset_el_rad = 0.0f,
         .enc_pll_bw_rad_s = 500.0f, .speed_kp_Nms_rad = 0.3f, .speed_ki_Nm_rad = 20.0f,
         .te_max_Nm = 12.0f, .i_max_A = 60.0f, .u_max_V = 311.0f, .omega_max_el_rad_s = 3000.0f,
-        .psi_max_Wb = 1.0f,
+        .psi_max_Wb = 1.0f, .osc_i_min_A = (float)OSC_I_MIN_A,
     };
-    ctrl_cfg_proposed_defaults(&cfg, 0.2f * (float)R0, R_max_Ohm);
+    test_est_defaults(&cfg, 0.2f * (float)R0, R_max_Ohm);
     const ctrl_status_t st = ctrl_init(&c, &cfg);
     ctrl_set_mode(&c, CTRL_MODE_TORQUE);
     c_pwm = false;
@@ -484,15 +537,15 @@ static void c_run(double te_Nm, long periods, double *te_dev_max)
 /* Step 1 in torque mode at 2 and 4 N m; returns the result. */
 static rs_ident_result_t c_step1(double te1, double te2)
 {
-    assert_true(ctrl_rsid_begin(&c));
+    assert_true(est_rsid_begin(ctrl_est_rw(&c)));
     c_run(te1, 500, NULL);
-    ctrl_rsid_window(&c, RS_IDENT_WINDOW_1);
+    est_rsid_window(ctrl_est_rw(&c), RS_IDENT_WINDOW_1);
     c_run(te1, 500, NULL);
-    ctrl_rsid_window(&c, RS_IDENT_WINDOW_NONE);
+    est_rsid_window(ctrl_est_rw(&c), RS_IDENT_WINDOW_NONE);
     c_run(te2, 500, NULL);
-    ctrl_rsid_window(&c, RS_IDENT_WINDOW_2);
+    est_rsid_window(ctrl_est_rw(&c), RS_IDENT_WINDOW_2);
     c_run(te2, 500, NULL);
-    return ctrl_rsid_finish(&c);
+    return est_rsid_finish(ctrl_est_rw(&c));
 }
 
 /* Switching at run time both ways, estimates converged: the true torque
@@ -518,13 +571,13 @@ static void method_switch_bumpless(void **state)
     print_message("method switching at 4 N m, L = 1.5 L0: max |Te - Te*| proposed %.4f, after -> conventional %.4f, "
                   "after -> proposed %.4f N m; L^ %+.3f %%\n",
                   dev_prop, dev_conv, dev_back, 100.0 * (c.est.smo.L_H / L0 - 1.0));
-    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_STEP2);
+    assert_int_equal(est_output(ctrl_est(&c))->phase, EST_STEP2);
     assert_true(dev_conv <= SWITCH_TE_DEV_MAX_NM);
     assert_true(dev_back <= SWITCH_TE_DEV_MAX_NM);
     assert_true(fabs(c.est.smo.L_H / L0 - 1.0) <= EST_TOL);
 }
 
-/* PROPOSED before step 2 controls as CONVENTIONAL; ctrl_est_start with the
+/* PROPOSED before step 2 controls as CONVENTIONAL; est_start_trusted with the
  * true R (trusted) starts step 2 without step 1, and L^ converges. */
 static void step2_without_step1(void **state)
 {
@@ -532,15 +585,56 @@ static void step2_without_step1(void **state)
     assert_int_equal(c_setup(1.5, 2.0f * (float)R0), CTRL_CFG_OK);
     assert_true(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
     c_run(4.0, 100, NULL);
-    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_OFF);
+    assert_int_equal(est_output(ctrl_est(&c))->phase, EST_OFF);
     assert_int_equal(c.mon.model_from_observer, 0u);
-    assert_false(ctrl_est_start(&c, 100.0f));   /* outside the band */
-    assert_false(ctrl_est_start(&c, NAN));
-    assert_true(ctrl_est_start(&c, (float)R0));
+    assert_false(est_start_trusted(ctrl_est_rw(&c), 100.0f));   /* outside the band */
+    assert_false(est_start_trusted(ctrl_est_rw(&c), NAN));
+    assert_true(est_start_trusted(ctrl_est_rw(&c), (float)R0));
     c_run(4.0, 2000, NULL);
-    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_STEP2);
+    assert_int_equal(est_output(ctrl_est(&c))->phase, EST_STEP2);
     assert_int_equal(c.mon.model_from_observer, 1u);
     assert_true(fabs(c.est.smo.L_H / L0 - 1.0) <= EST_TOL);
+}
+
+/* L^ forced to L_factor x L0 on step 2's model of the Table I motor (the
+ * L law held, the gate's copies with it): the deadbeat starts from the
+ * observer's i^(k+1), whose f^ takes up the model's error, so even
+ * L^ = 2.9 L (beyond the 2 L at which eq. (10)'s deadbeat loses
+ * stability) keeps the current at its 4 N m value; the oscillation watch
+ * (ctrl.h CTRL_OSC_*) must not take that for an oscillation. */
+#define FORCED_I_TOL 1.05    /* |i| within 5 % of the 4 N m current */
+
+static void forced_L_hat_no_false_watch(void **state)
+{
+    static const double factors[] = { 0.5, 1.3, 2.9 };
+    const ctrl_ref_t ref = { 0.0f, 4.0f, 0.0f, 0.0f };
+    hal_sim_truth_t t;
+    (void)state;
+    for (size_t j = 0; j < sizeof factors / sizeof factors[0]; j++) {
+        double i_max = 0.0;
+        assert_int_equal(c_setup(1.0, 2.0f * (float)R0), CTRL_CFG_OK);
+        assert_true(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
+        c_run(4.0, C_START_PERIODS, NULL);
+        ctrl_set_ref(&c, &ref);
+        assert_true(est_start_trusted(ctrl_est_rw(&c), (float)R0));
+        c_run(4.0, 2000, NULL);
+        param_est_hold_L(&c.est.pe, true);
+        est_gate_take_L(&c.est.gate, smo_set_L(&c.est.smo, (float)(factors[j] * L0), c.enc.omega_e_rad_s, c.mon.iq_A));
+        c.est.force = EST_MOVED_ALL;
+        for (long k = 0; k < 2000; k++) {
+            hal_sim_period();
+            hal_sim_truth(&t);
+            if (k >= C_SETTLE_PERIODS) {
+                i_max = fmax(i_max, hypot(t.id_A, t.iq_A));
+            }
+        }
+        print_message("L^ = %.1f L0 forced: model L %.4f H, largest |i| %.2f A (4 N m: %.2f A), watch %.3f\n",
+                      factors[j], (double)c.db.par.L_H, i_max, 4.0 / KT0,
+                      (c.osc.den_A2 > 0.0f) ? (double)(c.osc.num_A2 / c.osc.den_A2) : 0.0);
+        assert_true(fabs((double)c.db.par.L_H / (factors[j] * L0) - 1.0) < 1e-3);
+        assert_int_equal(est_output(ctrl_est(&c))->hold & EST_HOLD_OSCILLATION, 0u);
+        assert_true(i_max <= FORCED_I_TOL * 4.0 / KT0);
+    }
 }
 
 /* Step-1 failures: one operating point -> DEGENERATE, no window -> TOO_FEW;
@@ -550,23 +644,23 @@ static void step1_failures(void **state)
     (void)state;
     assert_int_equal(c_setup(1.0, 2.0f * (float)R0), CTRL_CFG_OK);
     assert_int_equal(c_step1(3.0, 3.0), RS_IDENT_DEGENERATE);
-    assert_int_equal(ctrl_ident(&c), CTRL_IDENT_OFF);
-    assert_int_equal(ctrl_rsid_finish(&c), RS_IDENT_TOO_FEW); /* no step 1 under way */
-    assert_true(ctrl_rsid_begin(&c));
-    assert_int_equal(ctrl_rsid_finish(&c), RS_IDENT_TOO_FEW);
+    assert_int_equal(est_output(ctrl_est(&c))->phase, EST_OFF);
+    assert_int_equal(est_rsid_finish(ctrl_est_rw(&c)), RS_IDENT_TOO_FEW); /* no step 1 under way */
+    assert_true(est_rsid_begin(ctrl_est_rw(&c)));
+    assert_int_equal(est_rsid_finish(ctrl_est_rw(&c)), RS_IDENT_TOO_FEW);
 }
 
-/* An R band whose top breaks (36) / the stability bound: init reports it,
- * the conventional method still works, the proposed one is refused. */
-static void init_refuses_unstable_observer(void **state)
+/* An R band that leaves out the told R: init reports it, the
+ * conventional method still works, the proposed one is refused. */
+static void init_refuses_observer_outside_its_band(void **state)
 {
     double dev = 0.0;
     (void)state;
-    assert_int_equal(c_setup(1.0, 60.0f), CTRL_CFG_OBSERVER);
+    assert_int_equal(c_setup(1.0, 0.5f * (float)R0) & EST_CFG_OBSERVER, EST_CFG_OBSERVER);
     assert_true(c.est.smo.status != SMO_CFG_OK);
     assert_false(ctrl_set_method(&c, CTRL_METHOD_PROPOSED));
-    assert_false(ctrl_rsid_begin(&c));
-    assert_false(ctrl_est_start(&c, (float)R0));
+    assert_false(est_rsid_begin(ctrl_est_rw(&c)));
+    assert_false(est_start_trusted(ctrl_est_rw(&c), (float)R0));
     c_run(2.0, C_START_PERIODS, NULL);
     c_run(2.0, 200, &dev);
     assert_true(dev <= SWITCH_TE_DEV_MAX_NM);
@@ -577,14 +671,16 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(method_switch_bumpless),
         cmocka_unit_test(step2_without_step1),
+        cmocka_unit_test(forced_L_hat_no_false_watch),
         cmocka_unit_test(step1_failures),
-        cmocka_unit_test(init_refuses_unstable_observer),
+        cmocka_unit_test(init_refuses_observer_outside_its_band),
         cmocka_unit_test(case_R430),
         cmocka_unit_test(case_L150),
         cmocka_unit_test(case_L066),
         cmocka_unit_test(case_psif200),
         cmocka_unit_test(case_psif050),
         cmocka_unit_test(case_L066_psif150),
+        cmocka_unit_test(te_limit_follows_learned_psif),
         cmocka_unit_test(torque_step_L150),
         cmocka_unit_test(speed_200),
         cmocka_unit_test(speed_2000),

@@ -109,6 +109,32 @@ class SummaryMode(unittest.TestCase):
         self.assertIsNone(summary["speed_err_rpm"])
         self.assert_figures_equal(summary, hand)
 
+    def test_fallback_named_from_the_csv_columns(self):
+        # step 1 forced to refuse (a band that holds no R^ it could measure): the
+        # conventional torque path with the warning; held_share, method_ran and
+        # hold_reason as the CSV's est_src and est_hold columns give them
+        js = os.path.join(self.tmp, "f.json")
+        csv_path = os.path.join(self.tmp, "f.csv")
+        cmd = [DRIVE_SIL, "--scenario", SCENARIO, "--out", csv_path, "--summary", js,
+               "--set", "identify.R_se_max_rel=1e-6", "--set", "identify.on_refusal=conventional"]
+        subprocess.run(cmd, check=True, capture_output=True)
+        with open(js) as f:
+            summary = json.load(f)
+        col = metrics.load_csv(csv_path)
+        rows = [k for k, t in enumerate(col["t_s"]) if 0.8 <= t < 0.95]
+        told = [k for k in rows if col["est_src"][k] == 0]
+        self.assertAlmostEqual(summary["held_share"], len(told) / len(rows), delta=1e-12)
+        self.assertEqual(summary["held_share"], 1.0)
+        self.assertEqual(summary["method_ran"], "conventional")
+        self.assertEqual(summary["hold_reason"], "STEP1_REFUSED")   # est_hold 0x140
+        self.assertTrue(all(int(col["est_hold"][k]) == 0x140 for k in rows))
+        # the paper's run learns: nothing on the told model in the window
+        r = subprocess.run([DRIVE_SIL, "--scenario", SCENARIO, "--summary", "-"], check=True,
+                           capture_output=True, text=True)
+        learned = json.loads(r.stdout)
+        self.assertEqual((learned["method_ran"], learned["held_share"], learned["hold_reason"]),
+                         ("proposed", 0, ""))
+
     def test_bad_window_exits_2(self):
         r = subprocess.run([DRIVE_SIL, "--scenario", SCENARIO, "--summary", "-", "--window", "0.9:0.8"],
                            capture_output=True, text=True)

@@ -85,10 +85,10 @@ FLASHFUNC static void leave_align(app_t *app)
         enter_run(app);
     } else if (app->cfg.rsid.mode == APP_RSID_TRUSTED) {
         enter_run(app);
-        (void)ctrl_est_start(&app->ctrl, app->cfg.ctrl.R_Ohm); /* nominal R is in its own band */
+        (void)est_start_trusted(ctrl_est_rw(&app->ctrl), app->cfg.ctrl.R_Ohm); /* nominal R is in its own band */
     } else {
         ctrl_reset(&app->ctrl);
-        (void)ctrl_rsid_begin(&app->ctrl); /* status checked by leave_calibrate */
+        (void)est_rsid_begin(ctrl_est_rw(&app->ctrl)); /* status checked by leave_calibrate */
         app->state = APP_STATE_IDENTIFY_R;
         rsid_seq_start(&app->rsid, ctrl_speed_m_rad_s(&app->ctrl));
     }
@@ -288,13 +288,15 @@ RAMFUNC static void identify_state(app_t *app, const hal_sample_t *s)
     app_step_t r = rsid_seq_step(&app->rsid, &app->ctrl, &in, &app->out);
 
     if ((r.status == APP_STEP_FAULT) && is_rsid_refusal(r.fault) &&
-        (app->cfg.rsid.on_refusal == APP_RSID_REFUSAL_CONVENTIONAL)) {
-        /* no silent fallback: the method says so, the warning names why;
-         * the observer is stopped (ctrl_rsid_finish), so control is the
-         * conventional method's either way */
+        (app->cfg.rsid.on_refusal != APP_RSID_REFUSAL_FAULT)) {
+        /* no silent fallback: the warning names why; the observer was
+         * stopped (est_rsid_finish_with): step 2 from the told R (TOLD), or
+         * the conventional method, which also takes a refused start */
         app->rsid_refusal = r;
         app->warnings |= APP_WARN_STEP1_REFUSED;
-        (void)ctrl_set_method(&app->ctrl, CTRL_METHOD_CONVENTIONAL);
+        if ((app->cfg.rsid.on_refusal != APP_RSID_REFUSAL_TOLD) || !est_start_told(ctrl_est_rw(&app->ctrl))) {
+            (void)ctrl_set_method(&app->ctrl, CTRL_METHOD_CONVENTIONAL);
+        }
         r = app_step_done();
     }
     if (app_output(app, r, s).status == APP_STEP_DONE) {
@@ -353,6 +355,9 @@ RAMFUNC static void run_state(app_t *app, const hal_sample_t *s)
     }
     if ((app->out.flags & CTRL_FLAG_NONFINITE) != 0u) {
         r = app_step_fault(APP_FAULT_NONFINITE_OUTPUT, 0.0f, 0.0f);
+    }
+    if ((est_output(ctrl_est(&app->ctrl))->hold & EST_HOLD_OSCILLATION) != 0u) {
+        app->warnings |= APP_WARN_OSCILLATION; /* no silent fallback: the told model since */
     }
     (void)app_output(app, r, s);
 }

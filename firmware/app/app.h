@@ -11,7 +11,9 @@
  *   COMMISSION --stop--> IDLE; --refused (COMM_*)--> FAULT
  *   INIT --start-up fault (app_latch_startup_fault)--> FAULT
  *   IDENTIFY_R --R^ refused--> FAULT (the reason in the code), or with
- *              rsid.on_refusal = CONVENTIONAL --> RUN, conventional method,
+ *              rsid.on_refusal = TOLD --> RUN, step 2 from the told R (the
+ *              inverter error identified, R^ learned by injection), or
+ *              CONVENTIONAL --> RUN, conventional method; both with the
  *              warning APP_WARN_STEP1_REFUSED (the reason in rsid_refusal)
  *   FAULT --fault reset, cause gone--> IDLE (never from FLASH_CRC)
  *
@@ -91,6 +93,8 @@
  * `flags` carries both. Cleared at the next start. */
 #define APP_WARN_STEP1_REFUSED 0x1000u /* step 1 refused R^ (rsid_refusal says why): conventional method */
 #define APP_WARN_HOST_TIMEOUT  0x2000u /* the link's host went quiet: the drive ramped to zero and stopped (link.h) */
+#define APP_WARN_OSCILLATION   0x4000u /* the current oscillated on step 2's model: the told model since
+                                        * (est.h EST_HOLD_OSCILLATION) */
 
 /* CONFIG's snapshot value: ctrl_init's refusals (ctrl_status_t, bits up to
  * 0x0100) | app_cfg_t.params_refused shifted this far. */

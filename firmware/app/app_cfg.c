@@ -36,14 +36,14 @@ void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p)
     cfg->calibrate = true;
     cfg->cal.settle_s = BOARD_CAL_SETTLE_S;
     cfg->cal.samples = (uint32_t)BOARD_CAL_SAMPLES;
-    cfg->cal.offset_max_A = BOARD_I_OFFSET_MAX_A;
+    /* cal.offset_max_A: drive_params_to_app_cfg(), from the ADC's range */
     cfg->align = (BOARD_ENC_OFFSET_KNOWN == 0U);
     cfg->aln.prepos_el_rad = BOARD_ALIGN_PREPOS_EL_DEG * RAD_PER_DEG;
     cfg->aln.ramp_s = BOARD_ALIGN_RAMP_S;
     cfg->aln.prepos_s = BOARD_ALIGN_PREPOS_S;
     cfg->aln.settle_s = BOARD_ALIGN_SETTLE_S;
 
-    cfg->ctrl.track_R = BOARD_TRACK_R;
+    cfg->ctrl.est_cfg.track_R = BOARD_TRACK_R;
     cfg->comm.pole_pairs_max = (uint16_t)COMM_POLE_PAIRS_MAX;
     cfg->comm.u_frac = COMM_U_FRAC;
     cfg->comm.r_i1_frac = COMM_R_I1_FRAC;
@@ -104,10 +104,15 @@ void drive_params_to_app_cfg(const drive_params_t *p_in, app_cfg_t *cfg)
     /* params_design.md sec. 3: the I^2t budget of the short-time current (and i2t_rated_A) */
     cfg->i2t_budget_A2s = (p->rating.i_peak_A * p->rating.i_peak_A - p->rating.i_rated_A * p->rating.i_rated_A) *
                           p->rating.t_peak_s;
-    cfg->params_refused = (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE));
+    cfg->params_refused =
+        (uint16_t)(drive_params_derive(&d) & (DRIVE_DERIVE_RATINGS | DRIVE_DERIVE_ADC_RANGE | DRIVE_DERIVE_I_LIMIT));
+    /* a derived torque limit is the told kt at i_peak: it follows the learned psi_f (params_design.md sec. 3) */
+    cfg->ctrl.te_max_follows_kt = ((p->derived & DRIVE_DERIVED_TE_MAX) != 0u) ? 1u : 0u;
     /* the plain copies (drive_params.h's lists' DRIVE_TO), the derived values derived */
     DRIVE_PARAMS(DRIVE_PARAM_COPY)
 
+    /* the offsets calibration accepts: the share of the range drive_i_readable_A() leaves */
+    cfg->cal.offset_max_A = drive_scaled(BOARD_I_OFFSET_MAX_A, p->board.i_full_scale_A, BOARD_I_FULL_SCALE_A);
     /* half an ADC step of the current range (+- full scale over the counts) */
     cfg->prot.watch.stuck_delta_A = p->board.i_full_scale_A / BOARD_ADC_COUNTS;
     cfg->prot.watch.op_i_min_A = drive_scaled(REF_OPEN_PHASE_I_MIN_A, p->rating.i_rated_A, REF_I_RATED_A);

@@ -121,8 +121,9 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
     if (c.method > (uint16_t)CTRL_METHOD_PROPOSED) {
         err = CMD_ERR_METHOD;
     } else if ((c.method == (uint16_t)CTRL_METHOD_PROPOSED) &&
-               ((app->cfg.rsid.mode == APP_RSID_OFF) || ((app->warnings & APP_WARN_STEP1_REFUSED) != 0u))) {
-        err = CMD_ERR_METHOD_NO_STEP1; /* no silent fallback to the conventional method */
+               ((app->cfg.rsid.mode == APP_RSID_OFF) || (((app->warnings & APP_WARN_STEP1_REFUSED) != 0u) &&
+                                                         (app->cfg.rsid.on_refusal != APP_RSID_REFUSAL_TOLD)))) {
+        err = CMD_ERR_METHOD_NO_STEP1; /* no silent fallback to the conventional method (told: step 2 runs) */
     } else if ((c.method == (uint16_t)CTRL_METHOD_PROPOSED) &&
                ((ctrl_status(&app->ctrl) & CTRL_CFG_NEEDED_PROPOSED) != 0u)) {
         err = CMD_ERR_METHOD_CFG;

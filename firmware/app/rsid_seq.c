@@ -59,8 +59,8 @@ RAMFUNC static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_
 /* The fault naming why step 1 refused R^, with the quantity and its limit. */
 RAMFUNC static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
 {
-    const rs_ident_out_t *o = ctrl_rsid_out(c);
-    const rs_ident_cfg_t *rc = ctrl_rsid_cfg(c);
+    const rs_ident_out_t *o = est_rsid_out(ctrl_est(c));
+    const rs_ident_cfg_t *rc = est_rsid_cfg(ctrl_est(c));
 
     switch (r) {
     case RS_IDENT_NOT_STEADY:
@@ -114,10 +114,10 @@ RAMFUNC static after_t after_check(const rsid_seq_t *q, rs_ident_result_t r, con
  * sums unchanged until the check ends: n_batch > RS_IDENT_SOLVE_STAGES). */
 RAMFUNC static void check_begin(rsid_seq_t *q, ctrl_t *c)
 {
-    const uint32_t batch = ctrl_rsid_cfg(c)->n_batch;
+    const uint32_t batch = est_rsid_cfg(ctrl_est(c))->n_batch;
 
     q->check_ticks = (batch > 0u) ? batch : 1u;
-    if (!ctrl_rsid_stage_begin(c, &q->solver, &q->win2)) {
+    if (!est_rsid_stage_begin(ctrl_est_rw(c), &q->solver, &q->win2)) {
         return; /* inside a batch of window 2: at its end */
     }
     q->check_tick = q->ticks;
@@ -130,7 +130,7 @@ RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, 
     rs_ident_window_t win = RS_IDENT_WINDOW_NONE;
     bool moving = false;
     /* a solved check is acted on in this period: known before the sample */
-    const after_t next = (q->check == RSID_CHECK_SOLVED) ? after_check(q, q->solver.result, ctrl_rsid_out(c))
+    const after_t next = (q->check == RSID_CHECK_SOLVED) ? after_check(q, q->solver.result, est_rsid_out(ctrl_est(c)))
                                                          : AFTER_GO_ON;
 
     if ((k >= q->win1_tick) && (k < q->win1_tick + q->window_ticks)) {
@@ -140,7 +140,7 @@ RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, 
          * period that finishes (the windows are emptied in it) */
         win = RS_IDENT_WINDOW_2;
     }
-    ctrl_rsid_window(c, win);
+    est_rsid_window(ctrl_est_rw(c), win);
     if (q->cfg.mode == APP_RSID_SPEEDS) {
         /* point 1 until window 1 ends, then point 2, in place of the outside reference */
         const float target = (k < q->win1_tick + q->window_ticks) ? q->cfg.speed_1_rad_s : q->cfg.speed_2_rad_s;
@@ -168,7 +168,7 @@ RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, 
     if (q->check == RSID_CHECK_SOLVING) {
         /* the sequence acts on the result from the next period: the last
          * stage and the start of step 2 do not share one */
-        if (ctrl_rsid_stage_step(c, &q->solver)) {
+        if (est_rsid_stage_step(ctrl_est_rw(c), &q->solver)) {
             q->check = RSID_CHECK_SOLVED;
         }
         return app_step_running();
@@ -183,7 +183,7 @@ RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, 
     if (next != AFTER_FINISH) {
         return app_step_running();
     }
-    q->result = ctrl_rsid_finish_with(c, q->solver.result);
+    q->result = est_rsid_finish_with(ctrl_est_rw(c), q->solver.result);
     if (q->result != RS_IDENT_OK) {
         return refusal(c, q->result);
     }

@@ -3,7 +3,7 @@
  * IDENTIFY_R state, app.h; paper sec. V-B): ctrl_step every period
  * (conventional control, observer running) and, from IDENTIFY_R's first
  * period, settle_1_s, window 1 (window_s), settle_2_s, window 2, then
- * the check below, then ctrl_rsid_finish_with(): R^ into the observer,
+ * the check below, then est_rsid_finish_with(): R^ into the observer,
  * step 2 (L^, psi_f^) starts.
  * The operating points (mode):
  *   WINDOWS  set from outside (a dyno's load, the speed reference): the
@@ -26,7 +26,7 @@
  * stages, one per period
  * (rs_ident_solve_step: no ISR period carries a whole solve), while
  * window 2 goes on filling; the sequence acts on the result in the period
- * after the last stage (ctrl_rsid_finish_with: R^ as at the check),
+ * after the last stage (est_rsid_finish_with: R^ as at the check),
  * RSID_CHECK_PERIODS periods after the check's.
  * Window 2 is lengthened (control/step1_design.md sec. 7): while R^ is refused
  * only for its standard error (NOT_STEADY), window 1's share of it is below the limit (so more of
@@ -56,11 +56,14 @@ typedef enum {
 } app_rsid_mode_t;
 
 /* What a refused step 1 does: latch the RSID_* fault (PWM
- * off), or run on with the conventional method and the warning
+ * off); run on with the conventional method; or run on with step 2 from
+ * the told R, the inverter error identified first and R^ learned by the
+ * injection (est_start_told; track_R as configured). Both run-ons warn
  * APP_WARN_STEP1_REFUSED (app.h). */
 typedef enum {
     APP_RSID_REFUSAL_FAULT = 0,
-    APP_RSID_REFUSAL_CONVENTIONAL = 1
+    APP_RSID_REFUSAL_CONVENTIONAL = 1,
+    APP_RSID_REFUSAL_TOLD = 2
 } app_rsid_refusal_t;
 
 typedef struct {
@@ -103,20 +106,20 @@ typedef struct {
     rsid_check_t check;         /* where the check is */
     uint32_t check_tick;        /* the tick it was started at */
     rs_ident_head_t win2;       /* window 2's sample sums then (rs_ident_copy_head) */
-    rs_ident_solver_t solver;   /* the solve, into the controller's step-1 result (ctrl_rsid_out) */
+    rs_ident_solver_t solver;   /* the solve, into the controller's step-1 result (est_rsid_out) */
 } rsid_seq_t;
 
 /* Start-up: copy *cfg, derive the periods at Ts_s [s]. */
 void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s);
 
-/* ISR, on entering IDENTIFY_R after ctrl_rsid_begin(): SPEEDS ramps from
+/* ISR, on entering IDENTIFY_R after est_rsid_begin(): SPEEDS ramps from
  * speed_now_rad_s [rad/s, mechanical]. */
 void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s);
 
 /* ISR, once per IDENTIFY_R period: the window, the commanded speed and
  * one ctrl_step on *in into *out. DONE in the period step 1 succeeded
  * (step 2 runs from the next), NONFINITE_OUTPUT when ctrl_step flagged
- * it, RSID_* or CONFIG when ctrl_rsid_finish refused R^. */
+ * it, RSID_* or CONFIG when est_rsid_finish_with refused R^. */
 app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
 
 /* ISR, RUN while q->handover: one ctrl_step at the handover ramp's speed;

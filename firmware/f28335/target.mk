@@ -49,7 +49,10 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # RAMFUNC_ALL) runs from RAM whole: every function of control/ is the ISR's
 # or its set-up's, compiled --ramfunc=on, but for the files in
 # RAMFUNC_ALL_EXCEPT: the commissioning's motor math (control/ident.c),
-# which the ISR calls only in COMMISSION. Elsewhere, and in those files,
+# which the ISR calls only in COMMISSION, and control/'s configuration,
+# start-up and naming files (smo_cfg.c, est_cfg.c, est_names.c,
+# ctrl_cfg.c, dbdtc_cfg.c), which the background loop and the start
+# sequence's transitions use. Elsewhere, and in those files,
 # each function's definition says where it runs (control/c28x_portable.h):
 # RAMFUNC in .TI.ramfunc (RAM), FLASHFUNC in flash on the ISR path on
 # purpose (the start-up steps, commissioning and build levels: states that
@@ -58,7 +61,7 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # (make check) fails if a function the ISR reaches carries neither.
 # (one line each: tools/check/placement.py reads them)
 RAMFUNC_ALL := control
-RAMFUNC_ALL_EXCEPT := control/ident.c
+RAMFUNC_ALL_EXCEPT := control/ident.c control/smo_cfg.c control/est_cfg.c control/est_names.c control/ctrl_cfg.c control/dbdtc_cfg.c
 
 APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*/*.c) $(wildcard hal/f28335/*.c)
 TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c

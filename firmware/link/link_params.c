@@ -32,5 +32,8 @@ bool link_param_set(drive_params_t *p, uint16_t k, float v)
     } else {
         *(float *)(void *)at = v;
     }
+    if (d->offset == offsetof(drive_params_t, limits.te_max_Nm)) {
+        p->derived &= (uint16_t)~DRIVE_DERIVED_TE_MAX; /* the user's limit now: a fixed cap */
+    }
     return true;
 }

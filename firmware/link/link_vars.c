@@ -120,7 +120,7 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     case LV_ID_MEAS_A: case LV_IQ_MEAS_A: sym(c->prot.i_max_A, lo, hi); break;
     case LV_UD_CMD_V: case LV_UQ_CMD_V: sym(c->ctrl.u_max_V, lo, hi); break;
     case LV_UD_REF_V: case LV_UQ_REF_V: sym(t->lim->u_max_V, lo, hi); break;
-    case LV_R_EST_OHM: *hi = c->ctrl.R_max_Ohm; break;
+    case LV_R_EST_OHM: *hi = c->ctrl.est_cfg.R_max_Ohm; break;
     case LV_L_EST_H: *hi = L_RANGE_PER_L * c->ctrl.L_H; break;
     case LV_STATE: *hi = (float)APP_STATE_LAST; break;
     case LV_FAULT: case LV_FAULT_PRESENT: *hi = (float)APP_FAULT_LAST; break;
@@ -132,7 +132,7 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     /* the commissioning's values: what a plausible measurement can reach on this drive */
     case LV_COMM_RESULT: *hi = (float)COMM_REFUSED; break;
     case LV_COMM_STAGE: *hi = (float)COMM_STAGE_LAST; break;
-    case LV_COMM_R_OHM: *hi = c->ctrl.R_max_Ohm; break;
+    case LV_COMM_R_OHM: *hi = c->ctrl.est_cfg.R_max_Ohm; break;
     case LV_COMM_L_H: *hi = L_RANGE_PER_L * c->ctrl.L_H; break;
     case LV_COMM_PSIF_WB: *hi = flux_max_Wb; break;
     case LV_COMM_ENC_OFFSET: *hi = MATHX_TWO_PI_F; break;

@@ -31,16 +31,22 @@
 #define REF_I_PEAK_A             (2.0f * REF_I_RATED_A)  /* 11.1 A: 12 N m */
 #define REF_T_RATED_NM           6.0f         /* [N m] */
 #define REF_VDC_V                311.0f       /* [V] */
-#define REF_I_FULL_SCALE_A       15.0f        /* current ADC range [A] */
 #define REF_J_KGM2               0.00129f     /* [kg m^2] */
 #define REF_SPEED_BW_RAD_S       387.596899f  /* speed-loop crossover: 0.5 / 0.00129 [rad/s] */
 #define REF_PSI_F_WB             0.24f        /* [Wb] */
 #define REF_R_OHM                3.0f         /* [Ohm] */
-/* limits (params_design.md sec. 3): the targets' current limit above i_peak; the software
- * trip above it by a period of deadbeat overshoot and the ripple, at most
- * 14/15 of the ADC's range; overspeed 1.2 x n_max */
-#define REF_I_LIMIT_A            12.0f        /* at REF_I_PEAK_A [A] */
-#define REF_I_TRIP_A             14.0f        /* at REF_I_PEAK_A, and at most at REF_I_FULL_SCALE_A [A] */
+/* limits (params_design.md sec. 3): the targets' current limit i_peak;
+ * the software trip 14 A at i_peak 11.1 A (1.26 i_peak: the reversals'
+ * 5 % of deadbeat overshoot and the switching ripple above the limit),
+ * at most the largest current the ADC reads (the range less the accepted
+ * offset, BOARD_I_OFFSET_MAX_A's share of it) and at least the limit plus
+ * the noise a sample at it reads (drive_trip_margin_A()); overspeed 1.2 x n_max */
+#define REF_I_TRIP_A             14.0f        /* at REF_I_PEAK_A [A] */
+/* The current ADC's noise (assumed, as for the frozen-reading check below)
+ * and how far above the limit a sample at it may read: 6 sigma, once in
+ * 1e9 samples (9 h of three readings at 10 kHz; 4 sigma: twice a second). */
+#define BOARD_ADC_NOISE_CODES_RMS 2.0f        /* [codes rms] */
+#define BOARD_TRIP_NOISE_SIGMAS  6.0f         /* [-] */
 #define LIM_OVERSPEED_PER_MAX    1.2f         /* overspeed trip / n_max [-] */
 #define BOARD_VDC_MIN_V          200.0f       /* undervoltage trip [V] */
 #define BOARD_VDC_MAX_V          400.0f       /* overvoltage trip [V] */
@@ -100,7 +106,7 @@
 /* Current-offset calibration, PWM off, at every start. */
 #define BOARD_CAL_SETTLE_S       0.01f        /* wait before averaging: a current decays through the diodes in L/R = 3.7 ms [s] */
 #define BOARD_CAL_SAMPLES        1024U        /* periods averaged (0.1 s): noise / 32 [-] */
-#define BOARD_I_OFFSET_MAX_A     0.75f        /* accepted |offset| of ia, ib: 75 mV at the pin, 5 % of the range (assumed) [A] */
+#define BOARD_I_OFFSET_MAX_A     0.75f        /* accepted |offset| of ia, ib: 75 mV at the pin, 5 % of the range (assumed); another range: the same share [A] */
 /* Rotor alignment (d axis onto phase a), once per power-up, in two steps:
  * a vector at the pre-position angle first, then the one on phase a (a
  * rotor 180 deg from the last vector gets no torque; app.h derives why
@@ -181,14 +187,13 @@
 #define BOARD_RSID_WINDOW_S      0.06f        /* averaging window, 600 periods [s] */
 #define BOARD_RSID_WINDOW_MAX_S  0.3f         /* window 2 lengthened up to this while se(R^) is too large [s] */
 #define BOARD_RSID_REPEATS_MAX   2U           /* speeds mode: both windows repeated at most this often [-] */
-#define BOARD_RSID_ON_REFUSAL    1U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning (runs on) [-] */
-#define BOARD_TRACK_R            2U           /* CTRL_TRACK_R_*: 0 off, 1 on, 2 auto (1 s after step 2): R^ tracked in service by a 0.5 A i_d injection (control/r_tracking_design.md; held while the field is weakened or the voltage at its limit) [-] */
+#define BOARD_RSID_ON_REFUSAL    2U           /* app_rsid_refusal_t: 0 fault (PWM off), 1 conventional + warning, 2 step 2 from the told R + warning (R^ learned by injection) [-] */
+#define BOARD_TRACK_R            2U           /* EST_TRACK_R_*: 0 off, 1 on, 2 auto (1 s after step 2): R^ tracked in service by a 0.5 A i_d injection (control/r_tracking_design.md sec. 3; held while the field is weakened or the voltage at its limit) [-] */
 
 /* The proposed method's amplitudes and thresholds (params_design.md
  * sec. 6), at the reference; scaled by the rated current (I), the rated
  * torque (T) or the bus (V). */
 #define REF_OBS_EF_MAX_V         50.0f        /* (V) |f^ - f| the observer must dominate, (36) [V] */
-#define REF_OBS_PHI_A            2.5f         /* (I) boundary layer: G = 2 ef_max / phi = 40 V/A [A] */
 #define REF_EST_DI_MAX_A         0.5f         /* (I) est_gate: current step that pauses step 2 [A] */
 #define REF_EST_DTE_MAX_NM       0.3f         /* (T) est_gate: torque-reference step [N m] */
 #define REF_RT_I_IDENT_A         1.0f         /* (I) r_track: injection identifying the inverter error [A] */

@@ -7,16 +7,19 @@
 #include "spmsm.h"
 
 #define DRIVE_S_PER_NS 1.0e-9f
-#define DRIVE_DEFAULT_BAND (-1.0f) /* R^ band end: ctrl_rsid_band_with()'s */
+#define DRIVE_DEFAULT_BAND (-1.0f) /* R^ band end: est_rsid_band()'s */
 #define SQRT3 1.7320508f
 /* A per-leg square wave of amplitude dv has the fundamental (4/pi) dv. */
 #define FUNDAMENTAL_OF_SQUARE 1.27323954f
+/* +- full scale over the ADC's counts: a step is full scale / (counts / 2) */
+#define HALF_ADC_COUNTS (0.5f * BOARD_ADC_COUNTS)
 
 #define DRIVE_PARAM_DEFAULT(group, field, type, dflt, to) p->group.field = (type)(dflt);
 
 void drive_params_board(drive_params_t *p)
 {
     DRIVE_PARAMS(DRIVE_PARAM_DEFAULT)
+    p->derived = 0u;
 }
 
 float drive_rated_torque_Nm(const drive_params_t *p)
@@ -50,6 +53,26 @@ void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float
     *ki_Nm_rad = REF_SPEED_KI_NM_RAD * (J_kgm2 / REF_J_KGM2) * bw * bw;
 }
 
+/* The voltage the drive cannot explain [V]: (4/pi) bus (dead-time
+ * uncertainty x f_s + device drop per bus). */
+static float unexplained_V(float vdc_V, float Ts_s)
+{
+    return FUNDAMENTAL_OF_SQUARE * vdc_V * (EST_DT_UNC_S / Ts_s + EST_DROP_UNC_PER_VDC);
+}
+
+float drive_i_readable_A(const drive_params_t *p)
+{
+    /* a reading tops out at the range less the offset calibration subtracted,
+     * which may be up to the accepted offset (5 % of the range) */
+    return p->board.i_full_scale_A - drive_scaled(BOARD_I_OFFSET_MAX_A, p->board.i_full_scale_A, BOARD_I_FULL_SCALE_A);
+}
+
+float drive_trip_margin_A(const drive_params_t *p)
+{
+    /* a sample at the limit reads above it by the ADC's noise: BOARD_TRIP_NOISE_SIGMAS of it */
+    return BOARD_TRIP_NOISE_SIGMAS * BOARD_ADC_NOISE_CODES_RMS * p->board.i_full_scale_A / HALF_ADC_COUNTS;
+}
+
 drive_derive_t drive_params_derive(drive_params_t *p)
 {
     const drive_rating_t *r = &p->rating;
@@ -62,12 +85,17 @@ drive_derive_t drive_params_derive(drive_params_t *p)
         st |= DRIVE_DERIVE_RATINGS;
     }
     /* sec. 3: limits from the ratings and the ADC's range */
+    if (!(p->limits.te_max_Nm >= 0.0f)) {
+        p->derived |= DRIVE_DERIVED_TE_MAX;
+    }
     derive(&p->limits.te_max_Nm, kt_Nm_A * r->i_peak_A);
-    derive(&p->limits.i_limit_A, drive_scaled(REF_I_LIMIT_A, r->i_peak_A, REF_I_PEAK_A));
-    derive(&p->limits.i_trip_A, min_f(drive_scaled(REF_I_TRIP_A, r->i_peak_A, REF_I_PEAK_A),
-                                      drive_scaled(REF_I_TRIP_A, p->board.i_full_scale_A, REF_I_FULL_SCALE_A)));
+    derive(&p->limits.i_limit_A, r->i_peak_A);
+    derive(&p->limits.i_trip_A, min_f(drive_scaled(REF_I_TRIP_A, r->i_peak_A, REF_I_PEAK_A), drive_i_readable_A(p)));
     derive(&p->limits.speed_max_rad_s, LIM_OVERSPEED_PER_MAX * r->n_max_rad_s);
-    if (!(p->limits.i_limit_A < p->limits.i_trip_A)) {
+    if (p->limits.i_limit_A > r->i_peak_A) {
+        st |= DRIVE_DERIVE_I_LIMIT;
+    }
+    if (!(p->limits.i_limit_A + drive_trip_margin_A(p) <= p->limits.i_trip_A)) {
         st |= DRIVE_DERIVE_ADC_RANGE;
     }
     /* sec. 4: speed PI from J and the crossover */
@@ -89,30 +117,24 @@ drive_derive_t drive_params_derive(drive_params_t *p)
     if (r->n_max_rad_s * (float)p->motor.pole_pairs * p->motor.psi_f_Wb > p->board.vdc_nominal_V / SQRT3) {
         st |= DRIVE_DERIVE_WARN_BEMF;
     }
-    ctrl_obs_gains_t g;
-    float G_max;
-    if (!drive_params_obs_gains(p, &g, &G_max)) {
+    smo_gains_t g;
+    if (!drive_params_obs_gains(p, &g)) {
         st |= DRIVE_DERIVE_OBSERVER;
     }
     return st;
 }
 
-bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float *G_max_V_A)
+bool drive_params_obs_gains(const drive_params_t *p, smo_gains_t *g)
 {
-    return ctrl_obs_gains_design(p->board.Ts_s, p->motor.R_Ohm, p->motor.L_H,
-                                 drive_scaled(REF_OBS_EF_MAX_V, p->board.vdc_nominal_V, REF_VDC_V),
-                                 drive_scaled(REF_OBS_PHI_A, p->rating.i_rated_A, REF_I_RATED_A), g, G_max_V_A);
-}
-
-/* The voltage the drive cannot explain [V]: (4/pi) bus (dead-time
- * uncertainty x f_s + device drop per bus). */
-static float unexplained_V(float vdc_V, float Ts_s)
-{
-    return FUNDAMENTAL_OF_SQUARE * vdc_V * (EST_DT_UNC_S / Ts_s + EST_DROP_UNC_PER_VDC);
+    est_told_t told = { 0 };
+    told.Ts_s = p->board.Ts_s;
+    told.R_Ohm = p->motor.R_Ohm;
+    told.L_H = p->motor.L_H;
+    return est_obs_gains(&told, drive_scaled(REF_OBS_EF_MAX_V, p->board.vdc_nominal_V, REF_VDC_V), g);
 }
 
 /* sec. 6: step 2's thresholds, the injections and the speed floor. */
-static void estimator_from(const drive_params_t *p, ctrl_cfg_t *c)
+static void estimator_from(const drive_params_t *p, est_cfg_t *c)
 {
     const float i_r = p->rating.i_rated_A;
     const float T_r = drive_rated_torque_Nm(p);
@@ -135,8 +157,8 @@ static void estimator_from(const drive_params_t *p, ctrl_cfg_t *c)
 
 void drive_params_to_ctrl_cfg(const drive_params_t *p, ctrl_cfg_t *c)
 {
-    ctrl_obs_gains_t g;
-    float G_max;
+    smo_gains_t g;
+    est_told_t told;
     float R_min_Ohm;
     float R_max_Ohm;
 
@@ -144,17 +166,20 @@ void drive_params_to_ctrl_cfg(const drive_params_t *p, ctrl_cfg_t *c)
     c->i_max_A = MODEL_I_BOUND_PER_TRIP * p->limits.i_trip_A;
     c->omega_max_el_rad_s = MODEL_SPEED_BOUND_RPM * MATHX_RAD_S_PER_RPM_F * (float)p->motor.pole_pairs;
     c->psi_max_Wb = MODEL_PSI_BOUND_PER_PSIF * p->motor.psi_f_Wb;
+    /* the oscillation watch judges innovations above what the ADC's noise reads */
+    c->osc_i_min_A = drive_trip_margin_A(p);
 
     /* the proposed method's settings for these values; the R^ band in ohms.
      * Gains refused here make smo_init refuse too (CONFIG at the start). */
-    (void)drive_params_obs_gains(p, &g, &G_max);
-    ctrl_rsid_band_with(c, &g, &R_min_Ohm, &R_max_Ohm);
+    (void)drive_params_obs_gains(p, &g);
+    ctrl_cfg_told(c, &told);
+    est_rsid_band(&told, &R_min_Ohm, &R_max_Ohm);
     if (p->tuning.R_min_Ohm >= 0.0f) {
         R_min_Ohm = p->tuning.R_min_Ohm;
     }
     if (p->tuning.R_max_Ohm > 0.0f) {
         R_max_Ohm = p->tuning.R_max_Ohm;
     }
-    ctrl_cfg_proposed_with(c, R_min_Ohm, R_max_Ohm, &g);
-    estimator_from(p, c);
+    est_cfg_defaults(&c->est_cfg, &told, &g, R_min_Ohm, R_max_Ohm);
+    estimator_from(p, &c->est_cfg);
 }

@@ -90,8 +90,8 @@
     X(tuning, pll_bw_rad_s, float, TUNE_ENC_PLL_BW_RAD_S, \
       DRIVE_TO(ctrl.enc_pll_bw_rad_s))                                    /* encoder speed-estimator bandwidth [rad/s] */ \
     X(tuning, u_margin, float, TUNE_U_MARGIN, DRIVE_TO(ctrl.u_margin))    /* steady-state share of Vdc/sqrt(3) for flux weakening [-] */ \
-    X(tuning, R_min_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /* accepted R^ band [Ohm]; < 0: ctrl_rsid_band_with()'s */ \
-    X(tuning, R_max_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /*   <= 0: ctrl_rsid_band_with()'s */
+    X(tuning, R_min_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /* accepted R^ band [Ohm]; < 0: est_rsid_band()'s */ \
+    X(tuning, R_max_Ohm, float, DRIVE_DEFAULT_BAND, DRIVE_TO_NONE)        /*   <= 0: est_rsid_band()'s */
 
 #define DRIVE_PARAMS_step1(X)  /* step 1 (rsid_seq.h); all derived */ \
     X(step1, settle_1_s, float, DRIVE_PARAM_DERIVED, DRIVE_TO(rsid.settle_1_s)) /* IDENTIFY_R entry (speeds: ramp end) to window 1 [s] */ \
@@ -123,7 +123,12 @@ typedef struct {
     drive_limits_t limits;
     drive_tuning_t tuning;
     drive_step1_t step1;
+    uint16_t derived;           /* DRIVE_DERIVED_*: values drive_params_derive() derived rather than
+                                 * took from the user, kept when the set is derived in place */
 } drive_params_t;
+
+/* drive_params_t.derived */
+#define DRIVE_DERIVED_TE_MAX 0x0001u /* te_max_Nm, the told kt at i_peak: it follows the learned psi_f */
 
 /* r/min per rad/s, for the SIL's derived keys in r/min (tools/sil/scenario_keys.h:
  * each derived key names its field here and the keys it comes from). */
@@ -133,10 +138,20 @@ typedef struct {
 typedef uint16_t drive_derive_t;
 #define DRIVE_DERIVE_OK          ((drive_derive_t)0x0000u)
 #define DRIVE_DERIVE_RATINGS     ((drive_derive_t)0x0001u) /* ratings not positive, i_peak < i_rated or n_max < n_rated */
-#define DRIVE_DERIVE_ADC_RANGE   ((drive_derive_t)0x0002u) /* the current limit reaches the trip the ADC range allows */
-#define DRIVE_DERIVE_OBSERVER    ((drive_derive_t)0x0004u) /* no observer gain meets stability and (36) (the proposed method) */
+#define DRIVE_DERIVE_ADC_RANGE   ((drive_derive_t)0x0002u) /* the current limit plus drive_trip_margin_A() above the trip (the ADC's readable range) */
+#define DRIVE_DERIVE_OBSERVER    ((drive_derive_t)0x0004u) /* no observer gain: the told L/R below SMO_LR_MIN_PERIODS periods (the proposed method) */
+#define DRIVE_DERIVE_I_LIMIT     ((drive_derive_t)0x0008u) /* a set current limit above the peak rating i_peak */
 #define DRIVE_DERIVE_WARN_BEMF   ((drive_derive_t)0x0100u) /* warning: back-EMF at n_max beyond the bus's phase-voltage limit */
 #define DRIVE_DERIVE_REFUSED     ((drive_derive_t)0x00FFu) /* the refusals among the bits */
+
+/* The largest current the ADC can read [A]: the range less the offset the
+ * calibration accepts (a reading tops out there). Any context. */
+float drive_i_readable_A(const drive_params_t *p);
+
+/* The least the trip must stay above the current limit [A]: the ADC's
+ * noise on a sample at the limit, BOARD_TRIP_NOISE_SIGMAS of it
+ * (params_design.md sec. 3). Any context. */
+float drive_trip_margin_A(const drive_params_t *p);
 
 /* Rated torque 1.5 p psi_f i_rated (SPMSM, i_d = 0) [N m]. Any context. */
 float drive_rated_torque_Nm(const drive_params_t *p);
@@ -149,9 +164,11 @@ void drive_speed_pi(float J_kgm2, float speed_bw_rad_s, float *kp_Nms_rad, float
  * of params_design.md); returns the refusals and warnings. Idempotent. */
 drive_derive_t drive_params_derive(drive_params_t *p);
 
-/* Start-up or host: the observer's gains for *p (derived first) and
- * the cap on G = Ks/phi (control/smo_design.md sec. 4); false: none. */
-bool drive_params_obs_gains(const drive_params_t *p, ctrl_obs_gains_t *g, float *G_max_V_A);
+/* Start-up or host: the observer's gains for *p's told R, L at Ts, the
+ * disturbance bound in proportion to the bus (smo_gains_design,
+ * control/discrete_model_design.md sec. 5); false: the told L/R is below
+ * SMO_LR_MIN_PERIODS periods (the proposed method refused). */
+bool drive_params_obs_gains(const drive_params_t *p, smo_gains_t *g);
 
 /* Start-up or host: the board's parameter set (firmware/params/board_cfg.h). */
 void drive_params_board(drive_params_t *p);

@@ -201,15 +201,16 @@ def main():
                       not os.path.exists(out))
                 check(ok, "%s %s: exit %d, %s" % (m, what, r.returncode, r.stderr.strip()))
         # told values the observer refuses (a start with them faults, or the scenario
-        # is refused for them) do not stop the commissioning: the small motor told 10x L
+        # is refused for them) do not stop the commissioning: the small motor told
+        # 0.05x L (L/R 1 PWM period, below the observer's 2)
         path = os.path.join(sdir, "real_prop_motor_small.ini")
-        bad = ("controller.L_factor=0.1",)
+        bad = ("controller.L_factor=0.05",)
         r0 = subprocess.run([binary, "--scenario", path, "--summary", "-"] + [a for p in bad for a in ("--set", p)],
                             capture_output=True, text=True)
         refused = r0.returncode == 2 or '"CONFIG"' in r0.stdout
         r = commission(binary, path, os.path.join(tmp, "bad.ini"), bad)
         check(refused and r.returncode == 0,
-              "small told L 0.1x: a run %s (exit %d), the commissioning exit %d" %
+              "small told L 0.05x: a run %s (exit %d), the commissioning exit %d" %
               ("refused" if refused else "not refused", r0.returncode, r.returncode))
         # the command line: a bad OUT.ini path or a flag that does not go with it is bad input (exit 2)
         path = os.path.join(tmp, "in.ini")

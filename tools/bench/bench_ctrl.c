@@ -1,19 +1,20 @@
 /* bench_ctrl.c STEPS [conventional|proposed|proposed_track_R] - drives ctrl_step() in speed
  * mode at 500 r/min with 4 N m worth of current, for tools/bench/bench_ctrl.sh
  * (callgrind). Inputs are synthesised: a counting encoder and the currents
- * of a rotor-frame Euler model of the Table I motor, shaft held, fed the
+ * of the Table I motor's rotor-frame model, exact over the period, fed the
  * voltage the controller realises (a fixed current phasor that ignored the
  * voltage kept both methods on the hexagon limit every period: flags 3).
  * The first TORQUE_STEPS run in torque mode at 4 N m, so the speed PI
  * starts from it (bumpless) and holds it at zero speed error: the normal
- * path every period. proposed: step 2 from the start (ctrl_est_start with
+ * path every period. proposed: step 2 from the start (est_start_trusted with
  * the nominal R), so every period runs observer, estimator and the
  * observer-based model; proposed_track_R: the same with R^ tracked by the
- * d-current injection (ctrl_cfg_t.track_R, control/r_tracking_design.md).
+ * d-current injection (est_cfg_t.track_R, control/r_tracking_design.md).
  * Host only. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <complex.h>
 #include <math.h>
 
 #include "ctrl.h"
@@ -44,17 +45,22 @@ static int bench_init(int argc, char **argv, int *proposed)
         .enc_pll_bw_rad_s = 500.0f, .speed_kp_Nms_rad = 0.3f, .speed_ki_Nm_rad = 20.0f,
         .te_max_Nm = 12.0f, .i_max_A = 30.0f, .u_max_V = 311.0f,
         .omega_max_el_rad_s = 2000.0f, .psi_max_Wb = 0.5f,
+        .osc_i_min_A = 12.0f * 15.0f / 2048.0f, /* the oscillation watch: drive_trip_margin_A on the board */
     };
     const int track_R = (argc > 2) && (strcmp(argv[2], "proposed_track_R") == 0);
     *proposed = track_R || ((argc > 2) && (strcmp(argv[2], "proposed") == 0));
     ctrl_cfg_t full = cfg;
-    ctrl_cfg_proposed_defaults(&full, R_MIN_OHM, R_MAX_OHM);
-    full.track_R = track_R ? 1u : 0u;
+    est_told_t told;
+    smo_gains_t g;
+    ctrl_cfg_told(&full, &told);
+    (void)est_obs_gains(&told, SMO_EF_MAX_DEFAULT_V, &g);
+    est_cfg_defaults(&full.est_cfg, &told, &g, R_MIN_OHM, R_MAX_OHM);
+    full.est_cfg.track_R = track_R ? EST_TRACK_R_ON : EST_TRACK_R_OFF;
     if (ctrl_init(&c, &full) != CTRL_CFG_OK) {
         fprintf(stderr, "bench_ctrl: ctrl_init refused the proposed method's settings\n");
         return 1;
     }
-    if (*proposed && (!ctrl_set_method(&c, CTRL_METHOD_PROPOSED) || !ctrl_est_start(&c, full.R_Ohm))) {
+    if (*proposed && (!ctrl_set_method(&c, CTRL_METHOD_PROPOSED) || !est_start_trusted(ctrl_est_rw(&c), full.R_Ohm))) {
         fprintf(stderr, "bench_ctrl: proposed method unavailable\n");
         return 1;
     }
@@ -96,10 +102,16 @@ int main(int argc, char **argv)
         ctrl_step(&c, &in, &out);
         sum += out.duty[0];
         {
-            const double did = TS_S / PLANT_L_H * ((double)u.d - PLANT_R_OHM * id + w_e * PLANT_L_H * iq);
-            const double diq = TS_S / PLANT_L_H * ((double)u.q - PLANT_R_OHM * iq - w_e * PLANT_L_H * id - w_e * PLANT_PSI_F_WB);
-            id += did;
-            iq += diq;
+            /* exact over the period (control/discrete_model_design.md): i' = Phi i + g_u u + g_c (-j w psi_f) */
+            const double complex i0 = id + I * iq;
+            const double rho = exp(-TS_S * PLANT_R_OHM / PLANT_L_H);
+            const double turn = w_e * TS_S;
+            const double complex phi = rho * cexp(-I * turn);
+            const double complex g_u = (1.0 - rho) / PLANT_R_OHM * cexp(-0.5 * I * turn);
+            const double complex g_c = (1.0 - phi) / (PLANT_R_OHM + I * w_e * PLANT_L_H);
+            const double complex i1 = phi * i0 + g_u * ((double)u.d + I * (double)u.q) + g_c * (-I * w_e * PLANT_PSI_F_WB);
+            id = creal(i1);
+            iq = cimag(i1);
         }
     }
     printf("bench_ctrl: %s, %ld steps, mean duty a %.4f, flags %u, L^ %.5f H, Te* %.3f N m, iq %.3f A\n",

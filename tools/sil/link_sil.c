@@ -295,6 +295,7 @@ static void on_start(void *user, app_t *app)
     g.bytes_per_period = (double)g.o.baud / BITS_PER_BYTE_8N1 * g.Ts_s;
     limits_from(c);
     sil_drive_params(g.sc, &g.params);
+    (void)drive_params_derive(&g.params); /* as the target: the link shows the values in use */
     cmd_init(&g.cmd);
     g.cmd.run = 1u;        /* sil_run starts the drive itself */
     g.cmd.run_taken = 1u;

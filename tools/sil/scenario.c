@@ -43,7 +43,7 @@ static const char *const SC_RSID_NAMES[] = { "off", "windows", "speeds", "truste
 static const char *const SC_PHASE_NAMES[] = { "a", "b", "c", NULL };
 static const char *const SC_PAIR_NAMES[] = { "ab", "bc", "ca", NULL };
 static const char *const SC_CHANNEL_NAMES[] = { "a", "b", NULL };
-static const char *const SC_REFUSAL_NAMES[] = { "fault", "conventional", NULL };
+static const char *const SC_REFUSAL_NAMES[] = { "fault", "conventional", "told", NULL };
 static const char *const SC_TRACK_NAMES[] = { "off", "on", "auto", NULL };
 static const char *const SC_DIRECTION_NAMES[] = { "1", "-1", NULL };   /* sc_direction_t */
 static const char *const SC_ORDER_NAMES[] = { "abc", "acb", NULL };   /* sc_phase_order_t */
@@ -696,30 +696,45 @@ static int check_faults(const scenario_t *sc, char *err, size_t errlen)
     return -1;
 }
 
-/* [controller] i_limit_A: the targets' current limit must stay below the
- * overcurrent trip, or the drive would trip where it should limit. Set by
- * the user: named; derived: the rating and the ADC range named. */
+/* [controller] i_limit_A: never above the peak rating, and below the
+ * overcurrent trip by drive_trip_margin_A() (the ADC's noise), or the drive
+ * would trip where it should limit. Set by the user: named; derived: the rating and the ADC
+ * range named, with the numbers. */
 static int check_limits(const scenario_t *sc, char *err, size_t errlen)
 {
     int known = 0;
     const int i = find_key("controller", "i_limit_A", &known);
     const int i_pk = find_key("motor", "i_peak_A", &known);
     const int i_ir = find_key("motor", "i_rated_A", &known);
-    if (sc->controller.i_limit_A < sc->controller.i_max_A) {
+    const int i_fs = find_key("plant", "adc_full_scale_A", &known);
+    drive_params_t p;
+    scenario_params(sc, &p);
+    if ((sc->derive_status & DRIVE_DERIVE_I_LIMIT) != 0u) {
+        snprintf(err, errlen, "%s: [controller] i_limit_A: %g A is above the motor's peak current [motor] i_peak_A = %g A",
+                 sc->origin[i], sc->controller.i_limit_A, (double)p.rating.i_peak_A);
+        return -1;
+    }
+    const double margin = (double)drive_trip_margin_A(&p);
+    if (sc->controller.i_limit_A + margin <= sc->controller.i_max_A) {
         return 0;
     }
     if (sc->origin[i][0] != '\0') {
-        snprintf(err, errlen, "%s: [controller] i_limit_A: %g A is not below the overcurrent trip i_max_A (%g A)",
-                 sc->origin[i], sc->controller.i_limit_A, sc->controller.i_max_A);
+        snprintf(err, errlen,
+                 "%s: [controller] i_limit_A: %g A is not below the overcurrent trip i_max_A (%g A) by the %.3g A "
+                 "a sample at the limit may read above it (6 sigma of the ADC's noise)",
+                 sc->origin[i], sc->controller.i_limit_A, sc->controller.i_max_A, margin);
         return -1;
     }
-    const char *where = (sc->origin[i_pk][0] != '\0') ? sc->origin[i_pk] : sc->origin[i_ir];
+    const char *where = (sc->origin[i_pk][0] != '\0') ? sc->origin[i_pk]
+                        : (sc->origin[i_fs][0] != '\0') ? sc->origin[i_fs] : sc->origin[i_ir];
     snprintf(err, errlen,
-             "%s: [motor] i_peak_A: the current limit it asks for (i_limit_A %g A) reaches the overcurrent trip "
-             "(i_max_A %g A: 1.26 x i_peak_A, at most 14/15 of [plant] adc_full_scale_A = %g A): a rated "
-             "current beyond the ADC's range; a wider ADC range or a lower i_peak_A",
-             (where[0] != '\0') ? where : "[motor]", sc->controller.i_limit_A, sc->controller.i_max_A,
-             sc->plant.adc_full_scale_A);
+             "%s: [motor] i_peak_A = %g A: the current limit (i_limit_A = i_peak_A) plus the %.3g A a sample at "
+             "it may read above it (6 sigma of the ADC's noise) reaches the overcurrent trip (i_max_A %g A: 1.26 x i_peak_A, at most "
+             "%.4g A, the largest current the ADC reads: [plant] adc_full_scale_A = %g A less the accepted offset); "
+             "a wider ADC range (above %.4g A) or a lower i_peak_A",
+             (where[0] != '\0') ? where : "[motor]", (double)p.rating.i_peak_A, margin, sc->controller.i_max_A,
+             (double)drive_i_readable_A(&p), sc->plant.adc_full_scale_A,
+             sc->controller.i_limit_A * sc->plant.adc_full_scale_A / ((double)drive_i_readable_A(&p) - margin));
     return -1;
 }
 
@@ -728,7 +743,9 @@ void scenario_map(const scenario_t *sc, sc_target_t target, void *cfg, double Ts
     for (int i = 0; i < N_KEYS; i++) {
         const sc_key_t *k = &KEYS[i];
         const sc_loc_t *to = key_to(k);
-        if (to->target == target) {
+        /* a derived key nobody set stays to derive (DRIVE_PARAM_DERIVED): the parameter set
+         * then knows it derived it (a derived torque limit follows the learned psi_f) */
+        if (to->target == target && !(k->def == DERIVED && sc->origin[i][0] == '\0')) {
             const double v = (k->kind == K_REAL || k->kind == K_RPROFILE)
                                  ? real_value(sc, (k->kind == K_RPROFILE) ? k->offset_t0 : k->offset)
                                  : (double)*(const uint32_t *)(const void *)((const char *)sc + k->offset);
@@ -813,15 +830,13 @@ static int derive_keys(scenario_t *sc, char *err, size_t errlen)
         return -1;
     }
     if ((st & DRIVE_DERIVE_OBSERVER) != 0u && sc->controller.method == SC_METHOD_PROPOSED) {
-        ctrl_obs_gains_t g;
-        float G_max;
-        (void)drive_params_obs_gains(&p, &g, &G_max);
         snprintf(err, errlen,
-                 "[controller] L_H, R_ohm: no observer gain for this motor: the discrete stability bound with "
-                 "L^'s floor at half the told L (%g H) allows G = Ks/phi <= %.4g V/A at Ts = %g s, and eq. (36) "
-                 "then accepts R^ only up to %.4g ohm, below the told R_ohm %g ohm (a shorter PWM period or "
-                 "method = conventional)",
-                 sc->controller.L_H, (double)G_max, (double)p.board.Ts_s, 0.45 * (double)G_max, sc->controller.R_ohm);
+                 "[controller] L_H, R_ohm: no observer gain for this motor: its L/R = %g s is %.3g PWM periods "
+                 "(Ts = %g s), below the %g periods the observer needs (its own decay e^(-Ts R/L) must stay "
+                 "above its designed pole; a shorter PWM period or method = conventional)",
+                 sc->controller.L_H / sc->controller.R_ohm,
+                 sc->controller.L_H / (sc->controller.R_ohm * (double)p.board.Ts_s), (double)p.board.Ts_s,
+                 (double)SMO_LR_MIN_PERIODS);
         return -1;
     }
     for (int i = 0; i < N_KEYS; i++) {

@@ -121,12 +121,12 @@
     X(controller, pll_bw_rad_s, REAL, SC_GT0, SC_PARAMS, SC_P(tuning.pll_bw_rad_s, F32, 1.0), SC_SAME, \
       "speed estimator bandwidth [rad/s]") \
     X(controller, te_max_Nm, REAL, SC_GT0, SC_DERIVED("motor.i_peak_A controller.psif_Wb plant.pole_pairs"), SC_NO, \
-      SC_P(limits.te_max_Nm, F32, 1.0), "torque reference limit [N m] (1.5 p psi_f i_peak_A)") \
+      SC_P(limits.te_max_Nm, F32, 1.0), "torque reference limit [N m] (1.5 p psi_f i_peak_A; derived, it follows the learned psi_f)") \
     X(controller, i_limit_A, REAL, SC_GT0, SC_DERIVED("motor.i_peak_A"), SC_NO, SC_P(limits.i_limit_A, F32, 1.0), \
-      "stator-current limit the targets respect [A] (1.08 i_peak_A)") \
+      "stator-current limit the targets respect [A] (i_peak_A; never above it)") \
     X(controller, i_max_A, REAL, SC_GT0, SC_DERIVED("motor.i_peak_A plant.adc_full_scale_A"), SC_NO, \
       SC_P(limits.i_trip_A, F32, 1.0), \
-      "software overcurrent threshold [A] (1.26 i_peak_A, at most 14/15 adc_full_scale_A)") \
+      "software overcurrent threshold [A] (1.26 i_peak_A, at most 0.95 adc_full_scale_A: what the ADC reads)") \
     X(controller, overspeed_rpm, REAL, SC_GT0, SC_DERIVED("motor.n_max_rpm"), SC_NO, \
       SC_P(limits.speed_max_rad_s, F32, DRIVE_RPM_PER_RAD_S), "overspeed trip [r/min] (1.2 n_max_rpm)") \
     X(controller, deadtime_s, REAL, SC_GE0, SC_UNSET, SC_NO, SC_P(board.deadtime_s, F32, 1.0), \
@@ -134,7 +134,7 @@
     X(controller, device_drop_V, REAL, SC_GE0, SC_UNSET, SC_NO, SC_P(board.device_drop_V, F32, 1.0), \
       "on-state drop of a leg's conducting device the controller compensates, on top of the dead time, " \
       "both methods [V] (default 0: none; --commission writes what it measured)") \
-    X(controller, untold_deadtime_s, REAL, SC_IN(0.0, 1e-5), SC_UNSET, SC_NO, SC_A(ctrl.untold_deadtime_s, F32, 1.0), \
+    X(controller, untold_deadtime_s, REAL, SC_IN(0.0, 1e-5), SC_UNSET, SC_NO, SC_A(ctrl.est_cfg.untold_deadtime_s, F32, 1.0), \
       "proposed: until the inverter error is identified, the least error nobody told, as a dead time [s] " \
       "(the speed floor's prior; default 0.15e-6: EST_UNTOLD_DEADTIME_DEFAULT_S, >= 0; --commission writes " \
       "what its measurement of the inverter leaves uncertain)") \
@@ -142,7 +142,7 @@
       "encoder offset the controller is told [rad, electrical], sign as plant.encoder_offset_el_rad " \
       "(default the plant's; run.align = on: the alignment's measurement replaces it)") \
     X(controller, R_min_ohm, REAL, SC_GT0, SC_UNSET, SC_NO, SC_P(tuning.R_min_Ohm, F32, 1.0), \
-      "accepted R^ band, low end [ohm] (default 0.1 x controller's R: ctrl_rsid_band_default)") \
+      "accepted R^ band, low end [ohm] (default 0.1 x controller's R: est_rsid_band)") \
     X(controller, R_max_ohm, REAL, SC_GT0, SC_UNSET, SC_NO, SC_P(tuning.R_max_Ohm, F32, 1.0), \
       "accepted R^ band, high end [ohm] (default 6 x controller's R, at most the observer's eq. (36) bound)")
 
@@ -162,17 +162,19 @@
     X(identify, settle_1_s, REAL, SC_GE0, SC_DERIVED("controller.speed_bw_rad_s"), SC_NO, \
       SC_P(step1.settle_1_s, F32, 1.0), "start of IDENTIFY_R to window 1 [s] (2 x settle_2_s)") \
     X(identify, window_s, REAL, SC_GT0, SC_PARAMS, SC_A(rsid.window_s, F32, 1.0), SC_SAME, "each averaging window [s]") \
-    X(identify, R_se_max_rel, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.rsid.R_se_max_rel, F32, 1.0), SC_SAME, \
+    X(identify, R_se_max_rel, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.est_cfg.rsid.R_se_max_rel, F32, 1.0), SC_SAME, \
       "largest standard error of R^ accepted, x R^") \
-    X(identify, batch_s, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.rsid.n_batch, PERIODS, 1.0), SC_SAME, \
+    X(identify, batch_s, REAL, SC_GT0, SC_PARAMS, SC_A(ctrl.est_cfg.rsid.n_batch, PERIODS, 1.0), SC_SAME, \
       "batch of the standard error's batch means [s] (more than the staged check's 16 periods, else CONFIG)") \
     X(identify, window_max_s, REAL, SC_GE0, SC_PARAMS, SC_A(rsid.window_max_s, F32, 1.0), SC_SAME, \
       "window 2 is lengthened up to this while the standard error of R^ is too large [s]") \
     X(identify, repeats_max, UINT, SC_IN(0.0, 100.0), SC_PARAMS, SC_A(rsid.repeats_max, U16, 1.0), SC_SAME, \
       "speeds mode: both windows repeated at most this often while window 1's share of se(R^) is too large") \
     X(identify, on_refusal, ENUM, SC_NAMES(SC_REFUSAL_NAMES), SC_PARAMS, SC_A(rsid.on_refusal, ENUM, 1.0), SC_SAME, \
-      "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED)") \
-    X(identify, track_R, ENUM, SC_NAMES(SC_TRACK_NAMES), SC_PARAMS, SC_A(ctrl.track_R, U16, 1.0), SC_SAME, \
+      "a refused step 1: fault (PWM off, RSID_* fault) | conventional (runs on, warning STEP1_REFUSED) | told " \
+      "(default: runs on with step 2 from the told R, the inverter error identified, R^ learned by the injection; " \
+      "warning STEP1_REFUSED)") \
+    X(identify, track_R, ENUM, SC_NAMES(SC_TRACK_NAMES), SC_PARAMS, SC_A(ctrl.est_cfg.track_R, U16, 1.0), SC_SAME, \
       "off | on | auto: R^ tracked in step 2 by a d-current injection (a warming winding); auto: from 1 s after " \
       "step 2; both held while the field is weakened or the voltage at its limit")
 

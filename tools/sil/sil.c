@@ -111,6 +111,7 @@ static void fill_row(sil_row_t *r)
     r->fq_est = (double)f.q;
     r->est = (double)eo->phase;
     r->est_hold = (double)eo->hold;
+    r->est_src = (double)eo->src;
     r->R_ohm = tr.R_Ohm;
     r->inv_err_est_V = (double)eo->inv_err_V;
     r->psif_model_Wb = r->psif_est_Wb; /* the older name */
@@ -416,7 +417,7 @@ static const sil_col_t COLS[] = {
     COL(load_Nm), COL(R_est_ohm), COL(L_est_H), COL(psif_est_Wb), COL(fd_est), COL(fq_est), COL(est),
     COL(R_ohm), COL(est_hold), COL(pwm), COL(inj), COL(fault_value), COL(fault_limit), COL(inv_err_est_V),
     COL(psif_model_Wb), COL(id_meas_A), COL(iq_meas_A), COL(ia_adc_A), COL(ib_adc_A), COL(vdc_adc_V), COL(ia_offset_A),
-    COL(ib_offset_A), COL(psif_obs_Wb),
+    COL(ib_offset_A), COL(psif_obs_Wb), COL(est_src),
 };
 #define N_COLS (sizeof COLS / sizeof COLS[0])
 /* SIL_CSV_LINE_MAX counts one column per double of sil_row_t */
@@ -477,23 +478,25 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac,
     }
     static const char I[] = "motor.i_rated_A";
     static const char V[] = "plant.vdc_V";
-    json_derived(f, "observer.Ks_V", (double)c->smo.Ks_V, 0, "plant.vdc_V (2 ef_max)", ",\n");
-    json_derived(f, "observer.phi_A", (double)c->smo.phi_A, 0,
-                 "motor.i_rated_A; capped by controller.L_H controller.R_ohm and Ts", ",\n");
-    json_derived(f, "observer.ef_max_V", (double)c->smo.ef_max_V, 0, V, ",\n");
-    json_derived(f, "observer.L_min_H", (double)c->smo.L_min_H, 0, "controller.L_H observer gains", ",\n");
-    json_derived(f, "controller.R_max_ohm", (double)c->R_max_Ohm, scenario_key_set(sc, "controller", "R_max_ohm"),
-                 "controller.R_ohm observer gains", ",\n");
-    json_derived(f, "estimator.w_min_rad_s", (double)c->pe.w_min_rad_s, 0, "plant.vdc_V controller.psif_Wb", ",\n");
-    json_derived(f, "estimator.wiq_min_A_rad_s", (double)c->pe.wiq_min_A_rad_s, 0,
+    json_derived(f, "observer.Ks_V", (double)c->est_cfg.smo.Ks_V, 0, "plant.vdc_V (2 ef_max)", ",\n");
+    json_derived(f, "observer.phi_A", (double)c->est_cfg.smo.phi_A, 0,
+                 "observer.Ks_V / G, G from controller.R_ohm controller.L_H and Ts", ",\n");
+    json_derived(f, "observer.mu_1_s", (double)c->est_cfg.smo.mu_d_1_s, 0, "controller.R_ohm controller.L_H and Ts",
+                 ",\n");
+    json_derived(f, "observer.ef_max_V", (double)c->est_cfg.smo.ef_max_V, 0, V, ",\n");
+    json_derived(f, "observer.L_min_H", (double)c->est_cfg.smo.L_min_H, 0, "controller.L_H observer gains", ",\n");
+    json_derived(f, "controller.R_max_ohm", (double)c->est_cfg.R_max_Ohm, scenario_key_set(sc, "controller", "R_max_ohm"),
+                 "controller.R_ohm", ",\n");
+    json_derived(f, "estimator.w_min_rad_s", (double)c->est_cfg.pe.w_min_rad_s, 0, "plant.vdc_V controller.psif_Wb", ",\n");
+    json_derived(f, "estimator.wiq_min_A_rad_s", (double)c->est_cfg.pe.wiq_min_A_rad_s, 0,
                  "estimator.w_min_rad_s motor.i_rated_A", ",\n");
-    json_derived(f, "gate.di_max_A", (double)c->gate.di_max_A, 0, I, ",\n");
-    json_derived(f, "gate.dte_max_Nm", (double)c->gate.dte_max_Nm, 0, "motor.i_rated_A controller.psif_Wb plant.pole_pairs", ",\n");
-    json_derived(f, "r_track.i_ident_A", (double)c->rtrack.i_ident_A, 0, I, ",\n");
-    json_derived(f, "r_track.i_track_A", (double)c->rtrack.i_track_A, 0, I, ",\n");
-    json_derived(f, "r_track.iq_min_A", (double)c->rtrack.iq_min_A, 0, I, ",\n");
-    json_derived(f, "r_track.iq_step_max_A", (double)c->rtrack.iq_step_max_A, 0, I, ",\n");
-    json_derived(f, "r_track.ve_max_V", (double)c->rtrack.ve_max_V, 0, V, ",\n");
+    json_derived(f, "gate.di_max_A", (double)c->est_cfg.gate.di_max_A, 0, I, ",\n");
+    json_derived(f, "gate.dte_max_Nm", (double)c->est_cfg.gate.dte_max_Nm, 0, "motor.i_rated_A controller.psif_Wb plant.pole_pairs", ",\n");
+    json_derived(f, "r_track.i_ident_A", (double)c->est_cfg.rtrack.i_ident_A, 0, I, ",\n");
+    json_derived(f, "r_track.i_track_A", (double)c->est_cfg.rtrack.i_track_A, 0, I, ",\n");
+    json_derived(f, "r_track.iq_min_A", (double)c->est_cfg.rtrack.iq_min_A, 0, I, ",\n");
+    json_derived(f, "r_track.iq_step_max_A", (double)c->est_cfg.rtrack.iq_step_max_A, 0, I, ",\n");
+    json_derived(f, "r_track.ve_max_V", (double)c->est_cfg.rtrack.ve_max_V, 0, V, ",\n");
     json_derived(f, "align.u_V", (double)ac->aln.u_V, 0, "motor.i_rated_A controller.R_ohm", ",\n");
     json_derived(f, "open_phase.u_min_V", (double)ac->prot.watch.op_u_min_V, 0, V, ",\n");
     json_derived(f, "open_phase.i_min_A", (double)ac->prot.watch.op_i_min_A, 0, I, "\n");
@@ -554,8 +557,8 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origi
     json_flt(f, "L_H", c->L_H, ", ");
     json_flt(f, "psif_Wb", c->psi_f_Wb, ", ");
     json_num(f, "pole_pairs", (double)c->pole_pairs, ", ");
-    json_flt(f, "R_min_ohm", c->R_min_Ohm, ", ");
-    json_flt(f, "R_max_ohm", c->R_max_Ohm, ", ");
+    json_flt(f, "R_min_ohm", c->est_cfg.R_min_Ohm, ", ");
+    json_flt(f, "R_max_ohm", c->est_cfg.R_max_Ohm, ", ");
     json_flt(f, "deadtime_s", c->deadtime_s, ", ");
     json_flt(f, "pll_bw_rad_s", c->enc_pll_bw_rad_s, ", ");
     json_flt(f, "speed_kp_Nms_rad", c->speed_kp_Nms_rad, ", ");

@@ -32,9 +32,9 @@ typedef struct {
     double ud_cmd_V, uq_cmd_V;              /* commanded for the next period (monitor) */
     double load_Nm;
     double R_est_ohm, L_est_H, psif_est_Wb, fd_est, fq_est;
-    double est;                             /* ctrl_ident_t: 0 observer off, 1 step 1, 2 step 2 */
+    double est;                             /* est_phase_t: 0 observer off, 1 step 1, 2 step 2 */
     double R_ohm;                           /* true stator resistance at t_k (warms with [plant] R_ohm's profile) */
-    double est_hold;                        /* CTRL_EST_HOLD_* bits: why the estimates are held (0: learning) */
+    double est_hold;                        /* EST_HOLD_* bits: why the estimates are held (0: learning) */
     double pwm;                             /* 1: gates on during [t_k, t_k + Ts] */
     double inj;                             /* hal_sim_fault_bit_t of the injected faults active ([faults]) */
     double fault_value, fault_limit;        /* the fault snapshot's quantity and limit; 0 unless in FAULT */
@@ -44,6 +44,7 @@ typedef struct {
     double ia_adc_A, ib_adc_A, vdc_adc_V;   /* level 2's report (app_t.adc): the last ADC_CHECK period's readings (offsets in), 0 before one */
     double ia_offset_A, ib_offset_A;        /* the current offsets the app subtracts (0 until calibrated) */
     double psif_obs_Wb;                     /* the observer's internal psi^ (est_psi_f_obs_Wb) */
+    double est_src;                         /* EST_SRC_*: 0 the told model, 1 the observer's, 2 held estimates */
 } sil_row_t;
 
 typedef struct {

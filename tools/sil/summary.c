@@ -61,14 +61,20 @@ const char *summary_fault_name(int fault, char *buf, size_t len)
 const char *summary_warning_text(const sil_result_t *res, char *buf, size_t len)
 {
     char fbuf[32];
-    int n = 0;
+    size_t n = 0u;
     buf[0] = '\0';
     if ((res->warnings & APP_WARN_STEP1_REFUSED) != 0u) {
-        n = snprintf(buf, len, "STEP1_REFUSED (%s)", summary_fault_name(res->rsid_refusal, fbuf, sizeof fbuf));
+        const int k = snprintf(buf, len, "STEP1_REFUSED (%s)", summary_fault_name(res->rsid_refusal, fbuf, sizeof fbuf));
+        n = (k > 0) ? (size_t)k : 0u;
     }
-    if ((res->warnings & APP_WARN_HOST_TIMEOUT) != 0u && n >= 0 && (size_t)n < len) {
-        (void)snprintf(buf + n, len - (size_t)n, "%sHOST_TIMEOUT (the link's host went quiet: ramped to zero, stopped)",
-                       (n > 0) ? ", " : "");
+    if (((res->warnings & APP_WARN_HOST_TIMEOUT) != 0u) && (n < len)) {
+        const int k = snprintf(buf + n, len - n, "%sHOST_TIMEOUT (the link's host went quiet: ramped to zero, stopped)",
+                               (n > 0u) ? ", " : "");
+        n += (k > 0) ? (size_t)k : 0u;
+    }
+    if (((res->warnings & APP_WARN_OSCILLATION) != 0u) && (n < len)) {
+        (void)snprintf(buf + n, len - n, "%sOSCILLATION (the current oscillated on step 2's L^: the told model since)",
+                       (n > 0u) ? ", " : "");
     }
     return buf;
 }
@@ -93,6 +99,7 @@ void summary_init(summary_t *s, const scenario_t *sc, double t0_s, double t1_s)
     s->L_H = sc->plant.L_H;
     s->psif_Wb = sc->plant.psif_Wb;
     s->speed_abs_max = NAN;
+    s->proposed = (sc->controller.method == SC_METHOD_PROPOSED);
 }
 
 static void add(summary_mean_t *m, double x)
@@ -146,6 +153,29 @@ void summary_add(summary_t *s, const sil_row_t *r)
     add(&s->R_rel, (r->R_est_ohm - s->R_ohm) / s->R_ohm);
     add(&s->L_rel, (r->L_est_H - s->L_H) / s->L_H);
     add(&s->psif_rel, (r->psif_est_Wb - s->psif_Wb) / s->psif_Wb);
+    if (!s->proposed || ((int)r->est_src == (int)EST_SRC_TOLD)) {
+        s->told_rows++;
+        const uint16_t bit = est_hold_reason_bit((uint16_t)r->est_hold);
+        for (int k = 0; s->proposed && (bit != 0u) && (k < SUMMARY_HOLD_BITS); k++) {
+            if (bit == (uint16_t)(1u << k)) {
+                s->reason_rows[k]++;
+            }
+        }
+    }
+}
+
+/* The most frequent reason of the proposed method's rows on the told model ("" for none). */
+static const char *hold_reason(const summary_t *s)
+{
+    uint32_t best = 0u;
+    uint16_t bit = 0u;
+    for (int k = 0; k < SUMMARY_HOLD_BITS; k++) {
+        if (s->reason_rows[k] > best) {
+            best = s->reason_rows[k];
+            bit = (uint16_t)(1u << k);
+        }
+    }
+    return est_hold_name(bit);
 }
 
 static void put_str(FILE *f, const char *key, const char *text)
@@ -192,6 +222,10 @@ void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const
     json_num(f, "speed_err_max_rpm", s->speed_abs_max, ", ");
     json_num(f, "id_A", mean(&s->id), ", ");
     json_num(f, "iq_A", mean(&s->iq), ", ");
+    const double held = (s->rows > 0u) ? (double)s->told_rows / (double)s->rows : NAN;
+    put_str(f, "method_ran", (s->rows == 0u) ? "" : ((held > SUMMARY_METHOD_RAN_SHARE) ? "conventional" : "proposed"));
+    json_num(f, "held_share", held, ", ");
+    put_str(f, "hold_reason", hold_reason(s));
     json_num(f, "R_err_pct", PERCENT * mean(&s->R_rel), ", ");
     json_num(f, "L_err_pct", PERCENT * mean(&s->L_rel), ", ");
     json_num(f, "psif_err_pct", PERCENT * mean(&s->psif_rel), "}\n");

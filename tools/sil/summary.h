@@ -8,6 +8,12 @@
  *   speed_err_rpm  mean speed - speed*      speed_err_max_rpm  max |.|
  *   id_A, iq_A     means of the true currents
  *   R/L/psif_err_pct  mean (x^ - x) / x [%] against the plant's values
+ *   held_share     the share of rows on the told model (the conventional
+ *                  torque path: method conventional, or the estimation's
+ *                  src EST_SRC_TOLD), 0-1
+ *   method_ran     "conventional" when held_share > 1/2, else "proposed"
+ *   hold_reason    the most frequent est_hold_reason() (control/est.h) of
+ *                  the proposed method's rows on the told model, "" for none
  * Means skip non-finite terms (a NaN reference column in the mode), a mean
  * of nothing is NaN (null in the JSON). Window membership is decided on
  * t_s as the CSV prints it (%.9g), so both see the same rows.
@@ -28,6 +34,8 @@
 #define SUMMARY_PAPER_T1_S 0.95
 #define SUMMARY_PAPER_MIN_RUN_S 1.05
 #define SUMMARY_TAIL_FRACTION 0.25
+#define SUMMARY_HOLD_BITS 16      /* est_hold's width */
+#define SUMMARY_METHOD_RAN_SHARE 0.5 /* method_ran: conventional above this held_share */
 
 typedef struct {
     double sum, n;            /* of finite terms */
@@ -39,6 +47,9 @@ typedef struct {
     uint32_t rows;            /* rows inside the window */
     summary_mean_t te_abs, te_sq, psi_abs, psi_rel, speed, id, iq, R_rel, L_rel, psif_rel;
     double speed_abs_max;     /* NaN until a finite term */
+    int proposed;             /* the scenario's method is the proposed one */
+    uint32_t told_rows;       /* rows on the told model */
+    uint32_t reason_rows[SUMMARY_HOLD_BITS]; /* of the proposed method's, per est_hold_reason_bit() position */
 } summary_t;
 
 /* The default window of a run of duration_s (see SUMMARY_PAPER_*). */
@@ -57,7 +68,7 @@ void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const
                         const char *scenario_path, const char *id);
 
 /* Room for summary_warning_text's every warning at once, with their reasons. */
-#define SUMMARY_WARNING_LEN 160
+#define SUMMARY_WARNING_LEN 256
 
 /* The run's warnings by name (app.h APP_WARN_*: "STEP1_REFUSED (RSID_...)", "HOST_TIMEOUT (...)",
  * joined by ", "), "" without; len: SUMMARY_WARNING_LEN for all of them. */

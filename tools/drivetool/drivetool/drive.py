@@ -53,10 +53,11 @@ CMD_ERROR_NAMES = ["OK", "METHOD", "METHOD_CFG", "MODE", "SPEED", "TORQUE", "VOL
 # the bits of `flags` (CTRL_FLAG_*, then the app's warnings APP_WARN_*) and of `est_hold` / `hold_reason`
 FLAG_BITS = {0x0001: "VOLTAGE_LIMIT", 0x0002: "FLUX_UNREACHABLE", 0x0004: "NONFINITE", 0x0100: "INV_UNIDENTIFIED",
              0x0200: "R_HELD", 0x0400: "PSI_HELD", 0x0800: "ANGLE_SUSPECT", 0x1000: "STEP1_REFUSED",
-             0x2000: "HOST_TIMEOUT"}
+             0x2000: "HOST_TIMEOUT", 0x4000: "OSCILLATION"}
 HOLD_BITS = {0x0001: "ACCEL", 0x0002: "CURRENT", 0x0004: "TORQUE", 0x0008: "VOLTAGE", 0x0010: "SETTLE",
-             0x0020: "SPEED_FLOOR", 0x0040: "NO_STEP2", 0x0080: "ANGLE"}
-WARNING_BITS = 0x3000           # the app's warnings among the flags
+             0x0020: "SPEED_FLOOR", 0x0040: "NO_STEP2", 0x0080: "ANGLE", 0x0100: "STEP1_REFUSED",
+             0x0200: "INVERTER_UNKNOWN", 0x0400: "OSCILLATION"}
+WARNING_BITS = 0x7000           # the app's warnings among the flags
 # variable -> the names of its values (shown by name, numbers with --json; accepted by name in set)
 ENUMS = {"state": STATES, "fault": FAULTS, "fault_present": FAULTS, "mode": MODES, "method": METHODS,
          "method_ran": METHODS, "est": EST_PHASES, "comm_result": COMM_RESULTS, "comm_stage": COMM_STAGES,
