@@ -56,16 +56,17 @@ PORTABLE_INC  := -include control/c28x_portable.h
 # and inside firmware/ a room itself and the rooms below it
 # (firmware/rooms.mk); `make check` gates the same (tools/check/layers.sh).
 include firmware/rooms.mk
+include control/rooms.mk
 # fw_upto ROOM: the rooms from the bottom up to ROOM
 fw_upto        = $(call fw_upto_in,$1,$(FIRMWARE_ROOMS))
 fw_upto_in     = $(firstword $2) $(if $(filter $1,$(firstword $2)),,$(call fw_upto_in,$1,$(wordlist 2,$(words $2),$2)))
-INC_CONTROL   := -Icontrol
-INC_F28335    := -Ihal -Ihal/f28335 -Icontrol -Itests/c2000_fake/include
+INC_CONTROL   := $(addprefix -I,$(CONTROL_ROOMS))
+INC_F28335    := -Ihal -Ihal/f28335 $(INC_CONTROL) -Itests/c2000_fake/include
 INC_SIM       := -Ihal -Ihal/sim
 INC_FW_ALL    := $(addprefix -Ifirmware/,$(FIRMWARE_ROOMS))
-inc_firmware   = $(addprefix -Ifirmware/,$(call fw_upto,$1)) -Ihal -Ihal/f28335 -Icontrol
-INC_SILRUN    := -Itools/sil $(INC_FW_ALL) -Ihal -Ihal/sim -Ihal/f28335 -Icontrol
-INC           := -Icontrol -Ihal $(INC_FW_ALL) -Ihal/sim -Itools/sil -Ihal/f28335 -Itests -Itests/c2000_fake/include
+inc_firmware   = $(addprefix -Ifirmware/,$(call fw_upto,$1)) -Ihal -Ihal/f28335 $(INC_CONTROL)
+INC_SILRUN    := -Itools/sil $(INC_FW_ALL) -Ihal -Ihal/sim -Ihal/f28335 $(INC_CONTROL)
+INC           := $(INC_CONTROL) -Ihal $(INC_FW_ALL) -Ihal/sim -Itools/sil -Ihal/f28335 -Itests -Itests/c2000_fake/include
 
 CF_CONTROL  := $(WARN_BASE) $(FLOAT_ONLY) -Wconversion $(PORTABLE_INC)
 CF_PORTABLE := $(WARN_BASE) $(FLOAT_ONLY) $(PORTABLE_INC)
@@ -77,7 +78,7 @@ inc_for    = $(if $(filter control/%,$1),$(INC_CONTROL),$(if $(filter firmware/%
 
 # Source groups, each archived into one static library, so a runner links
 # only what it references. Fragments below add programs and test wiring.
-CONTROL_SRCS  := $(wildcard control/*.c)
+CONTROL_SRCS  := $(foreach d,$(CONTROL_ROOMS),$(wildcard $d/*.c))
 FIRMWARE_SRCS := $(filter-out firmware/f28335/main.c,$(wildcard firmware/*/*.c))
 SIM_SRCS      := $(wildcard hal/sim/*.c)
 SILRUN_SRCS   := tools/sil/scenario.c tools/sil/profile.c tools/sil/csv_num.c tools/sil/summary.c \

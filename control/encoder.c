@@ -16,7 +16,7 @@
 #define ENCODER_COUNT_CENTRE 0.5f
 
 /* Position [counts] into [0, cpr); inputs lie within one turn of it. */
-static float encoder_wrap_counts(float x, float cpr)
+RAMFUNC static float encoder_wrap_counts(float x, float cpr)
 {
     if (x >= cpr) {
         x -= cpr;
@@ -27,7 +27,7 @@ static float encoder_wrap_counts(float x, float cpr)
     return (x < cpr) ? x : 0.0f;
 }
 
-static void encoder_outputs_zero(encoder_t *enc)
+RAMFUNC static void encoder_outputs_zero(encoder_t *enc)
 {
     enc->theta_e_rad = 0.0f;
     enc->omega_m_rad_s = 0.0f;
@@ -39,7 +39,7 @@ static void encoder_outputs_zero(encoder_t *enc)
  * position, so the interval's start lags by half a count on average (0.94
  * mrad electrical at 2500 lines, p = 3: enough to bias the observer's L^
  * by 0.8 % through the back-EMF it sees on d); the centre is unbiased. */
-static float encoder_elec_angle(const encoder_t *enc, uint32_t count)
+RAMFUNC static float encoder_elec_angle(const encoder_t *enc, uint32_t count)
 {
     /* Integer product mod cpr: exact, and init checked it cannot overflow.
      * count < cpr, so fewer than pole_pairs subtractions bring it into
@@ -98,7 +98,7 @@ bool encoder_init(encoder_t *enc, const encoder_cfg_t *cfg)
     return enc->valid;
 }
 
-void encoder_reset(encoder_t *enc)
+RAMFUNC void encoder_reset(encoder_t *enc)
 {
     enc->seeded = false;
     enc->pos = 0.0f;
@@ -106,7 +106,7 @@ void encoder_reset(encoder_t *enc)
     encoder_outputs_zero(enc);
 }
 
-void encoder_step(encoder_t *enc, uint32_t count)
+RAMFUNC void encoder_step(encoder_t *enc, uint32_t count)
 {
     if (!enc->valid) {
         encoder_outputs_zero(enc);
@@ -137,14 +137,14 @@ void encoder_step(encoder_t *enc, uint32_t count)
     enc->omega_e_rad_s = enc->omega_m_rad_s * enc->pole_pairs_f;
 }
 
-void encoder_set_offset(encoder_t *enc, float offset_el_rad)
+RAMFUNC void encoder_set_offset(encoder_t *enc, float offset_el_rad)
 {
     if (mathx_isfinitef(offset_el_rad)) {
         enc->offset_el_rad = mathx_wrap_2pi(offset_el_rad);
     }
 }
 
-void encoder_align(encoder_t *enc, uint32_t count)
+RAMFUNC void encoder_align(encoder_t *enc, uint32_t count)
 {
     if (!enc->valid) {
         return;

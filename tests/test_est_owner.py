@@ -19,10 +19,11 @@ class EstOwner(unittest.TestCase):
         self._tmp = tempfile.TemporaryDirectory()
         self.root = self._tmp.name
         os.makedirs(os.path.join(self.root, "tools", "check"))
-        os.makedirs(os.path.join(self.root, "control"))
+        os.makedirs(os.path.join(self.root, "control", "est"))
+        os.makedirs(os.path.join(self.root, "control", "ctrl"))
         shutil.copy(SCRIPT, os.path.join(self.root, "tools", "check", "est_owner.sh"))
-        self.write("control/est.c", "void f(void) { est_gate_accel_floor_rad_s2(1u, 3u, 500.0f); }\n")
-        self.write("control/est_gate.c", "float est_gate_accel_floor_rad_s2(void) { return 0.0f; }\n")
+        self.write("control/est/est.c", "void f(void) { est_gate_accel_floor_rad_s2(1u, 3u, 500.0f); }\n")
+        self.write("control/est/est_gate.c", "float est_gate_accel_floor_rad_s2(void) { return 0.0f; }\n")
 
     def tearDown(self):
         self._tmp.cleanup()
@@ -37,23 +38,23 @@ class EstOwner(unittest.TestCase):
         return p.returncode, p.stdout
 
     def test_clean_tree_passes(self):
-        self.write("control/ctrl.c", "void g(est_t *e) { est_step(e, 0); est_cfg_defaults(0, 0, 0, 0.0f, 0.0f); "
+        self.write("control/ctrl/ctrl.c", "void g(est_t *e) { est_step(e, 0); est_cfg_defaults(0, 0, 0, 0.0f, 0.0f); "
                    "smo_cfg_defaults(0, 0.0f, 0.0f, 0.0f, 0.0f); }\n")
         rc, out = self.run_gate()
         self.assertEqual(rc, 0, out)
 
     def test_call_with_digits_in_the_name_fails(self):
-        self.write("control/ctrl.c", "void g(void)\n{\n    x = est_gate_accel_floor_rad_s2(4u, 3u, 500.0f);\n}\n")
+        self.write("control/ctrl/ctrl.c", "void g(void)\n{\n    x = est_gate_accel_floor_rad_s2(4u, 3u, 500.0f);\n}\n")
         rc, out = self.run_gate()
         self.assertEqual(rc, 1, out)
-        self.assertIn("FAIL control/ctrl.c: calls an estimation block directly", out)
+        self.assertIn("FAIL control/ctrl/ctrl.c: calls an estimation block directly", out)
         self.assertIn("3:    x = est_gate_accel_floor_rad_s2(", out)
 
     def test_member_access_fails(self):
-        self.write("control/ctrl.c", "float h(const ctrl_t *c) { return c->est.smo.L_H; }\n")
+        self.write("control/ctrl/ctrl.c", "float h(const ctrl_t *c) { return c->est.smo.L_H; }\n")
         rc, out = self.run_gate()
         self.assertEqual(rc, 1, out)
-        self.assertIn("FAIL control/ctrl.c: touches the estimation's members", out)
+        self.assertIn("FAIL control/ctrl/ctrl.c: touches the estimation's members", out)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-/* Unit tests of control/r_track.c: the d-current square wave and its
+/* Unit tests of control/est/r_track.c: the d-current square wave and its
  * synchronous demodulation (inverter_error_design.md, r_tracking_design.md) on synthetic
  * signals whose answer is known by hand. */
 #include <stdarg.h>

@@ -5,7 +5,7 @@
 #   make -f firmware/f28335/target.mk flash CCXML=<target config> [UNIFLASH_ROOT=<uniflash>]
 #
 # Run through the top-level Makefile's `firmware` target, which first checks
-# the tools (tools/check/ti_tools.sh). Sources: control/*.c, the rooms'
+# the tools (tools/check/ti_tools.sh). Sources: control/'s rooms (control/rooms.mk), the rooms'
 # firmware/*/*.c (firmware/rooms.mk), hal/f28335/*.c,
 # firmware/f28335/f28335_codestart.asm (the flash entry: watchdog
 # off, .ebss zeroed), plus from C2000Ware the peripheral register
@@ -19,6 +19,7 @@ SHELL := /bin/bash
 .DELETE_ON_ERROR:
 
 include firmware/rooms.mk
+include control/rooms.mk
 
 BUILD ?= build
 OUT   := $(BUILD)/f28335
@@ -38,7 +39,7 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
           --diag_warning=225 --display_error_number \
           --preinclude=control/c28x_portable.h \
           --include_path=$(CG_TOOL_ROOT)/include \
-          --include_path=control --include_path=hal \
+          $(addprefix --include_path=,$(CONTROL_ROOMS)) --include_path=hal \
           $(addprefix --include_path=firmware/,$(FIRMWARE_ROOMS)) \
           --include_path=hal/f28335 \
           --include_path=$(F2833X_HEADERS)/include \
@@ -49,10 +50,13 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # RAMFUNC_ALL) runs from RAM whole: every function of control/ is the ISR's
 # or its set-up's, compiled --ramfunc=on, but for the files in
 # RAMFUNC_ALL_EXCEPT: the commissioning's motor math (control/ident.c),
-# which the ISR calls only in COMMISSION, and control/'s configuration,
+# which the ISR calls only in COMMISSION; control/'s configuration,
 # start-up and naming files (smo_cfg.c, est_cfg.c, est_names.c,
 # ctrl_cfg.c, dbdtc_cfg.c), which the background loop and the start
-# sequence's transitions use. Elsewhere, and in those files,
+# sequence's transitions use; and the blocks whose set-up (init, cfg
+# defaults) is large beside their per-period code (encoder.c,
+# param_est.c, est_gate.c, psi_band.c, r_track.c): their ISR functions
+# marked RAMFUNC, the set-up in flash. Elsewhere, and in those files,
 # each function's definition says where it runs (control/c28x_portable.h):
 # RAMFUNC in .TI.ramfunc (RAM), FLASHFUNC in flash on the ISR path on
 # purpose (the start-up steps, commissioning and build levels: states that
@@ -61,9 +65,9 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # (make check) fails if a function the ISR reaches carries neither.
 # (one line each: tools/check/placement.py reads them)
 RAMFUNC_ALL := control
-RAMFUNC_ALL_EXCEPT := control/ident.c control/smo_cfg.c control/est_cfg.c control/est_names.c control/ctrl_cfg.c control/dbdtc_cfg.c
+RAMFUNC_ALL_EXCEPT := control/ident.c control/encoder.c control/est/param_est.c control/est/est_gate.c control/est/psi_band.c control/est/r_track.c control/est/smo_cfg.c control/est/est_cfg.c control/est/est_names.c control/ctrl/ctrl_cfg.c control/dbdtc_cfg.c
 
-APP_SRCS  := $(wildcard control/*.c) $(wildcard firmware/*/*.c) $(wildcard hal/f28335/*.c)
+APP_SRCS  := $(foreach d,$(CONTROL_ROOMS),$(wildcard $d/*.c)) $(wildcard firmware/*/*.c) $(wildcard hal/f28335/*.c)
 TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c
 # The boot entry is ours (f28335_codestart.asm: watchdog off as C2000Ware's
 # DSP2833x_CodeStartBranch.asm, then .ebss zeroed), not C2000Ware's.

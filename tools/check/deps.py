@@ -14,7 +14,7 @@ compiler, so a seeded copy of the tree is checked in a moment.
 
 The order, bottom up, one group a line (folders in a group are siblings:
 neither uses the other):
-  control
+  control/<room>           one group per room, in control/rooms.mk's order
   hal                      (hal.h)
   hal/sim, hal/f28335
   firmware/<room>          one group per room, in firmware/rooms.mk's order
@@ -40,7 +40,10 @@ def layer_order(root):
     rooms = re.search(r'(?m)^FIRMWARE_ROOMS\s*:=\s*(.*)$', csrc.read(os.path.join(root, 'firmware/rooms.mk')))
     if not rooms:
         sys.exit("deps: error: firmware/rooms.mk has no FIRMWARE_ROOMS line")
-    return ([['control'], ['hal'], ['hal/sim', 'hal/f28335']] +
+    control = re.search(r'(?m)^CONTROL_ROOMS\s*:=\s*(.*)$', csrc.read(os.path.join(root, 'control/rooms.mk')))
+    if not control:
+        sys.exit("deps: error: control/rooms.mk has no CONTROL_ROOMS line")
+    return ([[d] for d in control.group(1).split()] + [['hal'], ['hal/sim', 'hal/f28335']] +
             [['firmware/' + r] for r in rooms.group(1).split()] + [['tools/sil'], ['tools/bench']])
 
 

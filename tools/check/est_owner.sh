@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # est_owner.sh - the estimation's owner gate of `make check`: nothing
-# outside control/est.[ch] and control/est_cfg.c (the owner's start-up)
-# touches the estimation's state (control/est.h).
+# outside control/est/est.[ch] and control/est/est_cfg.c (the owner's start-up)
+# touches the estimation's state (control/est/est.h).
 #   1. no member access through an est_t: `.est.` or `->est.` followed by
 #      a member, outside the owner's files (tests/ may look inside: white box)
 #   2. no per-period call of the estimation's blocks (smo_, rs_ident_,
@@ -12,9 +12,9 @@
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 fail=0
-blocks='control/(smo|smo_cfg|rs_ident|param_est|est_gate|r_track|psi_band)\.[ch]$'
-files=$(ls control/*.[ch] firmware/*/*.[ch] hal/*.h hal/*/*.[ch] tools/bench/*.c tools/sil/*.[ch] 2>/dev/null |
-        grep -vE '^control/est(\.[ch]|_cfg\.c)$')
+blocks='control/est/(smo|smo_cfg|rs_ident|param_est|est_gate|r_track|psi_band)\.[ch]$'
+files=$(ls control/*.[ch] control/*/*.[ch] firmware/*/*.[ch] hal/*.h hal/*/*.[ch] tools/bench/*.c tools/sil/*.[ch] 2>/dev/null |
+        grep -vE '^control/est/est(\.[ch]|_cfg\.c)$')
 for f in $files; do
     if hits=$(grep -nE '(\.|->)est\.[A-Za-z_]' "$f"); then
         echo "FAIL $f: touches the estimation's members (use est.h's calls and readers):"
@@ -32,6 +32,6 @@ for f in $files; do
     fi
 done
 if [ "$fail" -eq 0 ]; then
-    echo "est_owner: nothing outside control/est.[ch], est_cfg.c touches the estimation's state"
+    echo "est_owner: nothing outside control/est/est.[ch], est_cfg.c touches the estimation's state"
 fi
 exit "$fail"

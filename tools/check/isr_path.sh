@@ -31,9 +31,10 @@ allowed='^(sinf|cosf|atan2f|sqrtf)$'
 flags=(-mthumb -march=armv7-a+fp -mfloat-abi=hard -O2 -std=c99 -ffunction-sections -fdata-sections
        -fno-tree-loop-distribute-patterns -fcallgraph-info=su
        -Wall -Wextra -Werror -include control/c28x_portable.h
-       -Icontrol -Ihal -Ihal/f28335 -Itests/c2000_fake/include)
+       -Ihal -Ihal/f28335 -Itests/c2000_fake/include)
+for d in $(sed -n 's/^CONTROL_ROOMS *:= *//p' control/rooms.mk); do flags+=(-I"$d"); done
 for d in firmware/*/; do flags+=(-I"${d%/}"); done  # the rooms (firmware/rooms.mk)
-srcs=$(ls control/*.c firmware/*/*.c hal/f28335/*.c tests/c2000_fake/*.c)
+srcs=$(ls control/*.c control/*/*.c firmware/*/*.c hal/f28335/*.c tests/c2000_fake/*.c)
 objs=()
 for f in $srcs; do
     o="$out/$(echo "$f" | tr / _).o"
@@ -79,7 +80,7 @@ if [ $fail -eq 0 ]; then
     echo "isr_path: code reached from app_isr ${code:-0} bytes (Thumb-2; the RAM budget: ram_budget.py)"
 fi
 # cl2000's isfinite and friends may call RTS functions; mathx_isfinitef is inline.
-cls=$(grep -nE '\b(isfinite|isnan|isinf|fpclassify)[[:space:]]*\(' control/*.[ch] firmware/*/*.[ch] hal/f28335/*.[ch] 2>/dev/null)
+cls=$(grep -nE '\b(isfinite|isnan|isinf|fpclassify)[[:space:]]*\(' control/*.[ch] control/*/*.[ch] firmware/*/*.[ch] hal/f28335/*.[ch] 2>/dev/null)
 if [ -n "$cls" ]; then
     echo "FAIL classification macro outside mathx_isfinitef (may call an RTS function):"
     echo "$cls" | sed 's/^/    /'

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # layers.sh [OUTDIR] - the layer gate of `make check`: layers and rooms
 # point down only, and nothing loops.
-#   control/     includes nothing outside control/
+#   control/     in rooms (control/rooms.mk, bottom up): a room includes
+#                itself and the rooms below it, nothing outside control/
 #   hal/         the interface (hal.h) and each board: never firmware/,
 #                tools/ or tests/ (hal/f28335 may use control's mathx.h
 #                and the C2000 register map, here its host fake)
@@ -53,21 +54,32 @@ gate() {
 
 rooms=$(sed -n 's/^FIRMWARE_ROOMS *:= *//p' firmware/rooms.mk)
 [ -n "$rooms" ] || { echo "FAIL firmware/rooms.mk: no FIRMWARE_ROOMS line"; exit 1; }
-gate "control" control/*.c control/*.h
+croom=$(sed -n 's/^CONTROL_ROOMS *:= *//p' control/rooms.mk)
+[ -n "$croom" ] || { echo "FAIL control/rooms.mk: no CONTROL_ROOMS line"; exit 1; }
+cbelow=""
+for r in $croom; do
+    cbelow="$cbelow $r"
+    gate "$cbelow" "$r"/*.[ch]
+done
+for d in control/*/; do
+    case " $croom " in *" ${d%/} "*) ;; *)
+        echo "FAIL $d: a folder of control/ that control/rooms.mk does not name"; fail=1 ;;
+    esac
+done
 gate "hal" hal/*.h
-gate "hal hal/f28335 control tests/c2000_fake/include" hal/f28335/*.c hal/f28335/*.h
+gate "hal hal/f28335 $croom tests/c2000_fake/include" hal/f28335/*.c hal/f28335/*.h
 gate "hal hal/sim" hal/sim/*.c hal/sim/*.h
 below=""
 for r in $rooms; do
     below="$below firmware/$r"
-    gate "$below hal hal/f28335 control" firmware/"$r"/*.[ch]
+    gate "$below hal hal/f28335 $croom" firmware/"$r"/*.[ch]
 done
 for d in firmware/*/; do
     case " $rooms " in *" $(basename "$d") "*) ;; *)
         echo "FAIL $d: a folder of firmware/ that firmware/rooms.mk does not name"; fail=1 ;;
     esac
 done
-gate "tools/sil $below hal hal/sim hal/f28335 control" tools/sil/*.[ch]
+gate "tools/sil $below hal hal/sim hal/f28335 $croom" tools/sil/*.[ch]
 
 if ! python3 tools/check/deps.py; then
     fail=1
@@ -108,6 +120,6 @@ if [ $fail -ne 0 ]; then
     echo "layer gate: FAILED (a lower layer or room includes or calls a higher one, or a loop)"
     exit 1
 fi
-echo "layer gate: control/, hal/, firmware/'s rooms ($rooms) and tools/sil/ point down only, no loop," \
+echo "layer gate: control/'s rooms ($croom), hal/, firmware/'s rooms ($rooms) and tools/sil/ point down only, no loop," \
      "no folder over $C_FILES_MAX C files; self-test: an include loop, a call loop and a room" \
      "including a higher one each fail it"

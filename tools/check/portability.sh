@@ -14,11 +14,12 @@ out=${1:-build/check}
 cd "$(dirname "$0")/../.."
 mkdir -p "$out/arm" "$out/avr"
 
-# Each layer's include list, as the Makefile's: control/ sees control/ only.
-inc_control=(-Icontrol)
-inc_firmware=(-Ihal -Ihal/f28335 -Icontrol)
+# Each layer's include list, as the Makefile's: control/ sees its rooms only.
+inc_control=()
+for d in $(sed -n 's/^CONTROL_ROOMS *:= *//p' control/rooms.mk); do inc_control+=(-I"$d"); done
+inc_firmware=(-Ihal -Ihal/f28335 "${inc_control[@]}")
 for d in firmware/*/; do inc_firmware+=(-I"${d%/}"); done  # the rooms (layers.sh gates their order)
-inc_f28335=(-Ihal -Ihal/f28335 -Icontrol -Itests/c2000_fake/include)
+inc_f28335=(-Ihal -Ihal/f28335 "${inc_control[@]}" -Itests/c2000_fake/include)
 inc=("${inc_firmware[@]}" -Itests/c2000_fake/include)
 common=(-std=c99 -Wall -Wextra -Werror -Wshadow -Wdouble-promotion -Wfloat-conversion
         -Wunsuffixed-float-constants -include control/c28x_portable.h)
@@ -30,10 +31,10 @@ inc_of() {
         *) echo "${inc_f28335[@]}" ;;
     esac
 }
-srcs=$(ls control/*.c firmware/*/*.c hal/f28335/*.c 2>/dev/null)
+srcs=$(ls control/*.c control/*/*.c firmware/*/*.c hal/f28335/*.c 2>/dev/null)
 # Header-only modules (static inline transforms) are gated as their own
 # translation units, with their unused inline functions still emitted.
-hdrs=$(ls control/*.h 2>/dev/null)
+hdrs=$(ls control/*.h control/*/*.h 2>/dev/null)
 keep=(-fkeep-inline-functions -fkeep-static-functions)
 fail=0
 

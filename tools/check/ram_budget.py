@@ -166,7 +166,7 @@ def parse_map(path):
 
 
 def obj_source(obj):
-    """build/check/isr/control_ctrl.c.o -> control/ctrl.c (None: the register fake)"""
+    """build/check/isr/control_ctrl_ctrl.c.o -> control/ctrl/ctrl.c (None: the register fake)"""
     src = placement.source_of(obj, placement.image_sources())
     return None if src is None or src.startswith('tests/') else src
 
@@ -250,13 +250,14 @@ def data_bytes(obj):
 # (stdbool.h's guard set first, so that it does not define bool as _Bool).
 WIDE_BOOL_FLAGS = ['-mthumb', '-march=armv7-a+fp', '-mfloat-abi=hard', '-O2', '-std=c99', '-fdata-sections',
                    '-include', 'control/c28x_portable.h', '-D_STDBOOL_H', '-Dbool=uint16_t', '-Dtrue=1',
-                   '-Dfalse=0', '-D__bool_true_false_are_defined=1', '-Icontrol', '-Ihal',
+                   '-Dfalse=0', '-D__bool_true_false_are_defined=1', '-Ihal',
                    '-Ihal/f28335', '-Itests/c2000_fake/include']
 
 
 def wide_bool_flags():
-    """WIDE_BOOL_FLAGS and every room of firmware/ (layers.sh gates their order)."""
-    return WIDE_BOOL_FLAGS + ['-I' + d.rstrip('/') for d in sorted(glob.glob('firmware/*/'))]
+    """WIDE_BOOL_FLAGS, control/'s rooms and every room of firmware/ (layers.sh gates their order)."""
+    rooms = re.search(r'(?m)^CONTROL_ROOMS\s*:=\s*(.*)$', open('control/rooms.mk').read()).group(1).split()
+    return WIDE_BOOL_FLAGS + ['-I' + d for d in rooms] + ['-I' + d.rstrip('/') for d in sorted(glob.glob('firmware/*/'))]
 
 
 CHAR_OBJECT = re.compile(r'(?m)^\s*(static\s+)?(volatile\s+)?(unsigned\s+|signed\s+)?char\s+\w+\s*\[')

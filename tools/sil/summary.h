@@ -12,7 +12,7 @@
  *                  torque path: method conventional, or the estimation's
  *                  src EST_SRC_TOLD), 0-1
  *   method_ran     "conventional" when held_share > 1/2, else "proposed"
- *   hold_reason    the most frequent est_hold_reason() (control/est.h) of
+ *   hold_reason    the most frequent est_hold_reason() (control/est/est.h) of
  *                  the proposed method's rows on the told model, "" for none
  * Means skip non-finite terms (a NaN reference column in the mode), a mean
  * of nothing is NaN (null in the JSON). Window membership is decided on

@@ -51,8 +51,8 @@ L_TOL = 0.05                 # L^ within 5 % of the plant's
 LEARN_MIN_FRAC = 0.5         # in-range points: est_hold 0 in at least this share of the window's rows
 PSIF_TOLD_FACTOR = 0.9       # where psi_f^ must learn, the drive is told 0.9 psi_f (the estimate must move)
 JUDGE_S = 0.25               # the judged window: the run's last 0.25 s
-HOLD_ANGLE = 0x0080          # est_hold: L^ held for a suspected angle error (control/est.h)
-FLAG_ANGLE = 0x0800          # flags: step 1 suggests an encoder angle error (control/est.h)
+HOLD_ANGLE = 0x0080          # est_hold: L^ held for a suspected angle error (control/est/est.h)
+FLAG_ANGLE = 0x0800          # flags: step 1 suggests an encoder angle error (control/est/est.h)
 DEG = math.pi / 180.0
 
 

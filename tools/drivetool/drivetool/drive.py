@@ -33,7 +33,7 @@ CMD_ERRORS = {
     11: "not finite or outside the variable's limits",
 }
 CMD_ERR_FAULTED, CMD_ERR_NOT_STOPPED, CMD_ERR_RANGE = 9, 10, 11
-# the firmware's enumerations (firmware/protect/app_step.h, control/ctrl.h, control/est.h,
+# the firmware's enumerations (firmware/protect/app_step.h, control/ctrl/ctrl.h, control/est/est.h,
 # firmware/commission/commission.h)
 STATES = ["INIT", "IDLE", "CALIBRATE", "ALIGN", "IDENTIFY_R", "RUN", "FAULT", "PWM_CHECK", "ADC_CHECK",
           "ENC_CHECK", "COMMISSION"]

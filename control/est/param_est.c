@@ -62,20 +62,20 @@ bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *sm
 
 /* The L law's gain per update for the held flag and the phase: zero
  * holds L^ without a test in the ISR's path. */
-static void set_gain_L(param_est_t *pe)
+RAMFUNC static void set_gain_L(param_est_t *pe)
 {
     const float gamma = (pe->L_fast_left != 0u) ? pe->cfg.gamma_L_1_s : pe->cfg.gamma_L_slow_1_s;
     pe->gamma_L_Tu = (pe->valid && !pe->L_held) ? gamma * (PARAM_EST_LAW_PERIODS * pe->cfg.Ts_s) : 0.0f;
 }
 
 /* The L law's updates at gamma_L from a (re)start: L_fast_s of running. */
-static void restart_fast_L(param_est_t *pe)
+RAMFUNC static void restart_fast_L(param_est_t *pe)
 {
     pe->L_fast_left = pe->valid ? (uint32_t)(pe->cfg.L_fast_s / (PARAM_EST_LAW_PERIODS * pe->cfg.Ts_s)) : 0u;
     set_gain_L(pe);
 }
 
-void param_est_reset(param_est_t *pe)
+RAMFUNC void param_est_reset(param_est_t *pe)
 {
     pe->running = false;
     pe->phase_psi = true; /* the first update is L^'s */
@@ -84,13 +84,13 @@ void param_est_reset(param_est_t *pe)
     restart_fast_L(pe);
 }
 
-void param_est_hold_L(param_est_t *pe, bool hold)
+RAMFUNC void param_est_hold_L(param_est_t *pe, bool hold)
 {
     pe->L_held = hold;
     set_gain_L(pe);
 }
 
-void param_est_run(param_est_t *pe, bool run)
+RAMFUNC void param_est_run(param_est_t *pe, bool run)
 {
     pe->running = run && pe->valid;
     if (pe->running) {
@@ -98,7 +98,7 @@ void param_est_run(param_est_t *pe, bool run)
     }
 }
 
-uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A, float w_min_rad_s)
+RAMFUNC uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A, float w_min_rad_s)
 {
     const param_est_cfg_t *c = &pe->cfg;
     uint16_t flags = 0u;

@@ -42,7 +42,7 @@ bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg)
     return ok;
 }
 
-void psi_band_start(psi_band_t *pb, float psi_Wb)
+RAMFUNC void psi_band_start(psi_band_t *pb, float psi_Wb)
 {
     pb->k_per_vdc = pb->cfg.unc_told_frac * pb->cfg.ve_told_per_vdc;
     pb->found_frac = pb->cfg.unc_found_frac;
@@ -63,7 +63,7 @@ void psi_band_start(psi_band_t *pb, float psi_Wb)
     pb->psi_Wb = psi_Wb;
 }
 
-void psi_band_rebase(psi_band_t *pb, float dfq_V, bool sync)
+RAMFUNC void psi_band_rebase(psi_band_t *pb, float dfq_V, bool sync)
 {
     pb->found_frac = sync ? pb->cfg.unc_found_sync_frac : pb->cfg.unc_found_frac;
     pb->P_Wb += dfq_V * pb->inv_w_s_rad;
@@ -74,7 +74,7 @@ void psi_band_rebase(psi_band_t *pb, float dfq_V, bool sync)
     pb->h_Wb = pb->anchor_Wb;
 }
 
-void psi_band_r_moved(psi_band_t *pb, float dfq_V)
+RAMFUNC void psi_band_r_moved(psi_band_t *pb, float dfq_V)
 {
     pb->P_Wb += dfq_V * pb->inv_w_s_rad;
     pb->r_unc_V = mathx_fabsf(dfq_V); /* R^'s error is of the order of its last correction */
@@ -84,17 +84,17 @@ void psi_band_r_moved(psi_band_t *pb, float dfq_V)
     }
 }
 
-void psi_band_hold(psi_band_t *pb, bool hold)
+RAMFUNC void psi_band_hold(psi_band_t *pb, bool hold)
 {
     pb->low = hold ? (uint16_t)(pb->low | PSI_BAND_LOW_HELD) : (uint16_t)(pb->low & (uint16_t)~PSI_BAND_LOW_HELD);
 }
 
-void psi_band_bound_final(psi_band_t *pb)
+RAMFUNC void psi_band_bound_final(psi_band_t *pb)
 {
     pb->final = true;
 }
 
-void psi_band_bound_unknown(psi_band_t *pb)
+RAMFUNC void psi_band_bound_unknown(psi_band_t *pb)
 {
     pb->final = true;
     pb->unknown = true;
@@ -102,14 +102,14 @@ void psi_band_bound_unknown(psi_band_t *pb)
     pb->low = (uint16_t)(pb->low | PSI_BAND_LOW_BAND);
 }
 
-void psi_band_pause(psi_band_t *pb, float omega_el_rad_s)
+RAMFUNC void psi_band_pause(psi_band_t *pb, float omega_el_rad_s)
 {
     pb->k = 0u;
     pb->low = (mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s) ? (uint16_t)(pb->low & (uint16_t)~PSI_BAND_LOW_W)
                                                                    : (uint16_t)(pb->low | PSI_BAND_LOW_W);
 }
 
-bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float vdc_V,
+RAMFUNC bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float vdc_V,
                    float ve_found_V)
 {
     if (!(mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s)) {

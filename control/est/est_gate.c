@@ -10,7 +10,7 @@
 #define EST_GATE_W_FLOOR_NONE 3.0e38f
 
 /* The two copies within cfg.settled of each other (NaN: not). */
-static bool copies_agree(const est_gate_t *g)
+RAMFUNC static bool copies_agree(const est_gate_t *g)
 {
     return (mathx_fabsf(g->L_new - g->L_old) <= g->cfg.settled * g->L_new) &&
            (mathx_fabsf(g->psi_new - g->psi_old) <= g->cfg.settled * g->psi_new);
@@ -95,7 +95,7 @@ bool est_gate_init(est_gate_t *g, const est_gate_cfg_t *cfg)
     return g->valid;
 }
 
-void est_gate_reset(est_gate_t *g, const smo_t *smo)
+RAMFUNC void est_gate_reset(est_gate_t *g, const smo_t *smo)
 {
     g->seeded = false;
     g->hold_cnt = 0u; /* step 2 starts learning at once */
@@ -112,7 +112,7 @@ void est_gate_reset(est_gate_t *g, const smo_t *smo)
 
 /* The period's transients (EST_GATE_ACCEL, _CURRENT, _TORQUE, _VOLTAGE):
  * the deviations from the low-passed values, then the filters. */
-static uint16_t transients(est_gate_t *g, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm, bool v_limited)
+RAMFUNC static uint16_t transients(est_gate_t *g, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm, bool v_limited)
 {
     const est_gate_cfg_t *c = &g->cfg;
     uint16_t why = 0u;
@@ -155,7 +155,7 @@ static uint16_t transients(est_gate_t *g, float omega_el_rad_s, dq_t i_dq_A, flo
 
 /* The holds after the transients why: the copies restored at an onset
  * (true), the hold time, the snapshots while clear. */
-static bool hold_and_snap(est_gate_t *g, smo_t *smo, uint16_t why_now, float omega_el_rad_s, dq_t i_dq_A)
+RAMFUNC static bool hold_and_snap(est_gate_t *g, smo_t *smo, uint16_t why_now, float omega_el_rad_s, dq_t i_dq_A)
 {
     uint16_t why = why_now;
     bool restored = false;
@@ -204,7 +204,7 @@ static bool hold_and_snap(est_gate_t *g, smo_t *smo, uint16_t why_now, float ome
     return restored;
 }
 
-bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
+RAMFUNC bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
                    bool v_limited)
 {
     if (!g->valid) {
@@ -214,7 +214,7 @@ bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A,
     return hold_and_snap(g, smo, transients(g, omega_el_rad_s, i_dq_A, te_ref_Nm, v_limited), omega_el_rad_s, i_dq_A);
 }
 
-void est_gate_take_L(est_gate_t *g, float L_H)
+RAMFUNC void est_gate_take_L(est_gate_t *g, float L_H)
 {
     g->L_old = L_H;
     g->L_new = L_H;

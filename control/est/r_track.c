@@ -33,7 +33,7 @@ void r_track_cfg_defaults(r_track_cfg_t *cfg)
     cfg->psi_tol = R_TRACK_PSI_TOL_DEFAULT;
 }
 
-static void clear_cycle(r_track_t *rt)
+RAMFUNC static void clear_cycle(r_track_t *rt)
 {
     rt->seg = 0u;
     rt->j = 0u;
@@ -66,7 +66,7 @@ bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg)
     return rt->valid;
 }
 
-void r_track_reset(r_track_t *rt)
+RAMFUNC void r_track_reset(r_track_t *rt)
 {
     rt->phase = R_TRACK_OFF;
     rt->i_inj_A = 0.0f;
@@ -88,7 +88,7 @@ void r_track_reset(r_track_t *rt)
     clear_cycle(rt);
 }
 
-void r_track_start(r_track_t *rt, r_track_phase_t phase)
+RAMFUNC void r_track_start(r_track_t *rt, r_track_phase_t phase)
 {
     const float Ve = rt->Ve_V; /* an identification survives the start of tracking */
     const bool sync = rt->ident_sync;
@@ -109,7 +109,7 @@ void r_track_start(r_track_t *rt, r_track_phase_t phase)
  * synchronous sum cancels the ripple whatever its phase, where a fixed
  * 70-period sum aliases it into Ve (inverter_error_design.md sec. 4). Slower: the fixed
  * segments, not synchronous. 4 float divisions, once per cycle. */
-static void cycle_length(r_track_t *rt, float omega_el_rad_s)
+RAMFUNC static void cycle_length(r_track_t *rt, float omega_el_rad_s)
 {
     const r_track_cfg_t *c = &rt->cfg;
     const float w6 = RIPPLE_HARMONIC * mathx_fabsf(omega_el_rad_s) * c->Ts_s; /* rad per period */
@@ -132,7 +132,7 @@ static void cycle_length(r_track_t *rt, float omega_el_rad_s)
     rt->ident_need = (need >= 1.0f) ? (uint16_t)need : 1u;
 }
 
-void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s)
+RAMFUNC void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s)
 {
     if ((rt->phase == R_TRACK_IDENT) && (rt->wait == 0u)) {
         clear_cycle(rt);
@@ -140,14 +140,14 @@ void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s)
     }
 }
 
-void r_track_delay(r_track_t *rt, uint16_t periods)
+RAMFUNC void r_track_delay(r_track_t *rt, uint16_t periods)
 {
     if ((rt->phase == R_TRACK_TRACK) && (rt->wait < periods)) {
         rt->wait = periods;
     }
 }
 
-void r_track_hold(r_track_t *rt)
+RAMFUNC void r_track_hold(r_track_t *rt)
 {
     if (rt->phase != R_TRACK_TRACK) {
         return;
@@ -160,12 +160,12 @@ void r_track_hold(r_track_t *rt)
 }
 
 /* Sign of the reference in segment seg: + - - +. */
-static float seg_sign(uint16_t seg)
+RAMFUNC static float seg_sign(uint16_t seg)
 {
     return ((seg == 0u) || (seg == (SEGMENTS - 1u))) ? 1.0f : -1.0f;
 }
 
-float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb)
+RAMFUNC float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb)
 {
     const float unc = rt->cfg.ve_unc_frac * mathx_fabsf(rt->Ve_V) + rt->cfg.ve_unc_abs_V;
     return (psi_f_Wb > 0.0f) ? unc / (rt->cfg.psi_tol * psi_f_Wb) : 0.0f;
@@ -173,7 +173,7 @@ float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb)
 
 /* End of a cycle: rho, or a hold. IDENT also sums the valid cycles and
  * ends after ident_cycles of them (or twice that many tried). */
-static r_track_event_t end_cycle(r_track_t *rt)
+RAMFUNC static r_track_event_t end_cycle(r_track_t *rt)
 {
     const r_track_cfg_t *c = &rt->cfg;
     const float inv_n = 1.0f / (float)rt->n;
@@ -231,7 +231,7 @@ static r_track_event_t end_cycle(r_track_t *rt)
     return ev;
 }
 
-r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
+RAMFUNC r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
                              float L_H)
 {
     r_track_event_t ev = R_TRACK_NONE;

@@ -134,7 +134,7 @@ ctrl_status_t ctrl_init(ctrl_t *c, const ctrl_cfg_t *cfg)
     return c->status;
 }
 
-void ctrl_reset(ctrl_t *c)
+FLASHFUNC void ctrl_reset(ctrl_t *c)
 {
     zoh_turn(0.0f, 0.0f, &c->turn); /* at standstill until the first period takes w(k) */
     c->osc.pred_A.d = 0.0f;
