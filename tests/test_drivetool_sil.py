@@ -411,10 +411,12 @@ class Clients(unittest.TestCase):
             t0 = time.monotonic()
             cls.second = tool(cls.port, "--timeout", "0.5", "status")
             cls.second_s = time.monotonic() - t0
-            cls.first_after = first.get("state")
         finally:
             stop.set()
-            t.join()
+            t.join()    # one thread on a Drive at a time: its requests must not interleave
+        try:
+            cls.first_after = first.get("state")
+        finally:
             first.close()
         # a silent client: told "idle" and closed after idle_timeout_s, then the next is served
         s = raw_connect(cls.port)
