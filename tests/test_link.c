@@ -250,7 +250,7 @@ static void action_level_sets_the_next_start_level(void **state)
 {
     (void)state;
     const uint16_t before = app.req_level;
-    assert_int_equal(before, LEVEL_FULL);              /* the board's default */
+    assert_int_equal(before, LEVEL_PWM);               /* the board's default: level 1 first */
     uint16_t p[2] = { LINK_ACTION_LEVEL, 2u };
     const uint32_t w0 = lk.stats.writes;
     assert_int_equal(request(LINK_ACTION, seq_next(), p, 2u), 1);

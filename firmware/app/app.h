@@ -63,8 +63,10 @@
  *            current limit lvl.i_lim_4_A
  *   level 5  the sequence above as configured
  * PWM_CHECK, ADC_CHECK, ENC_CHECK --stop--> IDLE. Undervoltage is not
- * checked at levels 1-2 (no DC bus); CALIBRATE runs at level 2 whatever
- * cfg.calibrate says (the offsets are what it reports).
+ * checked at levels 1-2 (no DC bus); a bus above lvl.vdc_max_12_V at their
+ * start, or in PWM_CHECK or ADC_CHECK, latches BUS_CHARGED (level.h);
+ * CALIBRATE runs at level 2 whatever cfg.calibrate says (the offsets are
+ * what it reports).
  */
 #ifndef APP_H
 #define APP_H

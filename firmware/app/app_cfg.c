@@ -73,6 +73,7 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->rsid.on_refusal = (app_rsid_refusal_t)BOARD_RSID_ON_REFUSAL;
 
     cfg->lvl.level = (uint16_t)BOARD_LEVEL;
+    cfg->lvl.vdc_max_12_V = BOARD_LEVEL12_VDC_MAX_V;
     cfg->lvl.pwm_duty[0] = BOARD_LEVEL1_DUTY_A;
     cfg->lvl.pwm_duty[1] = BOARD_LEVEL1_DUTY_B;
     cfg->lvl.pwm_duty[2] = BOARD_LEVEL1_DUTY_C;

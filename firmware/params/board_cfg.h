@@ -141,8 +141,20 @@
 #define COMM_SPIN_SKIP_S         0.02f        /* SPIN: fits skip this after a current change: 10 / PLL bandwidth [s] */
 #define COMM_SPIN_MAX_S          2.0f         /* SPIN: stage timeout [s] */
 
-/* Build levels of the first power-up (level.h); the app starts at BOARD_LEVEL. */
-#define BOARD_LEVEL              5U           /* 1 PWM, 2 ADC, 3 open-loop rotation, 4 torque control, 5 the drive [-] */
+/* Build levels of the first power-up (level.h); the app starts at
+ * BOARD_LEVEL, 1 as TI's motor kits ship: a first `run` only switches the
+ * gates at fixed duties (a motor file's [run] level sets another,
+ * `make board`). */
+#ifndef BOARD_LEVEL
+#define BOARD_LEVEL              1U           /* 1 PWM, 2 ADC, 3 open-loop rotation, 4 torque control, 5 the drive [-] */
+#endif
+/* Levels 1-2 run without the DC bus: above this bus they refuse to start
+ * (BUS_CHARGED). 30 V ripple-free DC: IEC 60364-4-41 (414.4.5), SELV whose
+ * live parts may be touched outside normal dry conditions (12 V AC / 30 V
+ * DC; 25 V AC / 60 V DC in dry ones): a bench with the power stage open. */
+#ifndef BOARD_LEVEL12_VDC_MAX_V
+#define BOARD_LEVEL12_VDC_MAX_V  30.0f        /* [V] */
+#endif
 #define BOARD_LEVEL1_DUTY_A      0.25f        /* level 1's duties: each leg its own on the scope [-] */
 #define BOARD_LEVEL1_DUTY_B      0.50f
 #define BOARD_LEVEL1_DUTY_C      0.75f
