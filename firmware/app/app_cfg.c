@@ -79,6 +79,7 @@ void app_cfg_default(app_cfg_t *cfg)
     cfg->lvl.pwm_duty[2] = BOARD_LEVEL1_DUTY_C;
     cfg->lvl.speed_m_rad_s = BOARD_LEVEL3_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
     cfg->lvl.ramp_s = BOARD_ALIGN_RAMP_S;
+    DRIVE_CONFIG_APP(cfg); /* a motor file's settings (make board), else nothing */
 }
 
 /* DRIVE_TO(path): cfg->path = the value; DRIVE_TO_NONE: no copy. */

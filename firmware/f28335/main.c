@@ -123,7 +123,7 @@ int main(void)
     }
     cmd_init(&g_cmd);
     cmd_comm_init(&g_comm);
-    g_lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
+    g_lim.speed_max_rpm = g_app.cfg.comm.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F; /* the rated speed */
     g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
     g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
     lc.Ts_s = g_app.cfg.ctrl.Ts_s;

@@ -1,6 +1,6 @@
 # firmware/f28335/target.mk - the TMS320F28335 image, built with TI's cl2000.
 #
-#   make firmware CG_TOOL_ROOT=<ti-cgt-c2000> C2000WARE_ROOT=<C2000Ware>
+#   make firmware CG_TOOL_ROOT=<ti-cgt-c2000> C2000WARE_ROOT=<C2000Ware> [MOTOR=FILE.ini]
 #       -> $(BUILD)/f28335/drive.out (+ drive.map)
 #   make -f firmware/f28335/target.mk flash CCXML=<target config> [UNIFLASH_ROOT=<uniflash>]
 #
@@ -25,6 +25,10 @@ OUT   := $(BUILD)/f28335
 
 CG_TOOL_ROOT   ?=
 C2000WARE_ROOT ?=
+# A motor file's configuration (make firmware MOTOR=FILE.ini: the top-level
+# Makefile writes it with drive_sil --board-config): the directory of its
+# drive_config.h, read through hal/f28335/board_hw.h; empty: the defaults.
+DRIVE_CONFIG_DIR ?=
 CL := $(CG_TOOL_ROOT)/bin/cl2000
 
 F2833X_HEADERS := $(C2000WARE_ROOT)/device_support/f2833x/headers
@@ -43,7 +47,8 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
           --include_path=hal/f28335 \
           --include_path=$(F2833X_HEADERS)/include \
           --include_path=$(F2833X_COMMON)/include \
-          --include_path=$(FASTRTS)/include
+          --include_path=$(FASTRTS)/include \
+          $(if $(DRIVE_CONFIG_DIR),--define=DRIVE_CONFIG --include_path=$(DRIVE_CONFIG_DIR))
 
 # The ISR path runs from RAM. The control core (the directories in
 # RAMFUNC_ALL) runs from RAM whole: every function of control/ is the ISR's
@@ -96,10 +101,18 @@ $(OUT)/drive.out: $(APP_OBJS) $(TI_OBJS) $(LINK_CMDS)
 	$(CL) $(CPU_FLAGS) $(LFLAGS) --output_file=$@ $(APP_OBJS) $(TI_OBJS) $(LINK_CMDS) $(LIBS)
 	@echo "built $@ (map: $(OUT)/drive.map)"
 
+# The compile options as a file that changes only with them: a build with
+# another MOTOR (or none) compiles everything again.
+CFLAGS_STAMP := $(OUT)/cflags.stamp
+$(CFLAGS_STAMP): FORCE
+	@mkdir -p $(@D)
+	@echo '$(CFLAGS)' | cmp -s - $@ || echo '$(CFLAGS)' > $@
+.PHONY: FORCE
+
 # One object rule per source, so that files with equal names in different
 # directories would collide loudly rather than silently.
 define C_RULE
-$(call obj_of,$1): $1 firmware/f28335/target.mk
+$(call obj_of,$1): $1 firmware/f28335/target.mk $(CFLAGS_STAMP)
 	@mkdir -p $$(@D)
 	$$(CL) $$(CFLAGS) $(if $(filter-out $(RAMFUNC_ALL_EXCEPT),$(filter $(addsuffix /%,$(RAMFUNC_ALL)),$1)),--ramfunc=on) \
 	    --preproc_with_compile --preproc_dependency=$$(@:.obj=.d) \

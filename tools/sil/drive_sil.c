@@ -4,6 +4,7 @@
  *             [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]
  *             [--max-csv-mb N]
  *   drive_sil --scenario FILE [--set ...] --commission OUT.ini [--out FILE.csv]
+ *   drive_sil --scenario FILE [--set ...] --board-config DIR
  *   drive_sil --help | --version
  * Runs the firmware application on the simulated board (sil.h) and writes
  * one CSV row per logged period (--out; beside it OUT.resolved.json, the run's
@@ -31,6 +32,10 @@
  * the --set overrides and the measured values in [controller], its
  * R_factor, L_factor, psif_factor kept as comments. A refusal writes no
  * OUT.ini, names the fault, the stage, the value and its limit, exits 3.
+ * --board-config DIR resolves the scenario as a run would, with the
+ * bench's defaults for the keys a simulation defaults otherwise, and
+ * writes the F28335 image's configuration (DIR/drive_config.h,
+ * DIR/drive_config.json; board_config.h), running nothing: `make board`.
  */
 #include <errno.h>
 #include <math.h>
@@ -43,6 +48,7 @@
 #include <unistd.h>
 
 #include "app_step.h"
+#include "board_config.h"
 #include "csv_writer.h"
 #include "ini_edit.h"
 #include "json_out.h"
@@ -73,6 +79,7 @@ typedef struct {
     const char *summary_path;    /* JSON, "-" for stdout, or NULL */
     const char *window;          /* "T0:T1", or NULL for the default */
     const char *commission_path; /* --commission OUT.ini, or NULL */
+    const char *board_dir;       /* --board-config DIR, or NULL */
     int check;                   /* validate only */
     int batch;                   /* one run per stdin line */
     double max_csv_mb;           /* the CSV stops growing here */
@@ -114,6 +121,7 @@ static void usage(FILE *f)
             "                 [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]\n"
             "                 [--max-csv-mb N] [--link tcp:PORT | --link pty [--baud B] [--realtime F]]\n"
             "       drive_sil --scenario FILE [--set ...] --commission OUT.ini [--out FILE.csv]\n"
+            "       drive_sil --scenario FILE [--set ...] --board-config DIR\n"
             "       drive_sil --help | --version | --list-keys [--markdown]\n"
             "Runs the drive firmware on the simulated board for one scenario (INI)\n"
             "and writes the CSV trace (--out) and/or the steady window's figures as\n"
@@ -138,6 +146,11 @@ static void usage(FILE *f)
             "encoder_offset_el_rad and speed gains in [controller] (a value with no key\n"
             "in this drive_sil as a comment), R_factor, L_factor, psif_factor commented\n"
             "out. A refusal (exit 3) writes none and names fault, stage, value, limit.\n"
+            "--board-config DIR resolves the scenario as a run does and writes the F28335\n"
+            "image's configuration, DIR/drive_config.h and DIR/drive_config.json (make board\n"
+            "MOTOR=FILE.ini; tools/sil/board_config.h); keys a simulation defaults otherwise\n"
+            "take the board's values unless set: [plant] deadtime_s, adc_full_scale_A,\n"
+            "trip_A, [run] level (1), calibrate, align. Runs nothing.\n"
             "On a terminal, a run longer than %g s of wall time shows its progress on stderr.\n"
             "Exit status:\n"
             "  0    the run ended outside FAULT (--check: the input is good; --batch: every\n"
@@ -198,6 +211,9 @@ static const char **value_slot(args_t *a, const char *s, const char **max_csv_mb
     if (strcmp(s, "--commission") == 0) {
         return &a->commission_path;
     }
+    if (strcmp(s, "--board-config") == 0) {
+        return &a->board_dir;
+    }
     if (strcmp(s, "--window") == 0) {
         return &a->window;
     }
@@ -234,8 +250,13 @@ static int args_valid(args_t *a, const char *max_csv_mb)
     } else if (a->commission_path != NULL &&
                (a->batch || a->check || a->summary_path != NULL || a->window != NULL || a->link.on)) {
         why = "--commission writes OUT.ini (and --out's trace): no --batch, --check, --summary, --window, --link";
+    } else if (a->board_dir != NULL && (a->batch || a->check || a->out_path != NULL || a->summary_path != NULL ||
+                                        a->commission_path != NULL || a->window != NULL || a->link.on)) {
+        why = "--board-config writes the image's configuration only: no --out, --summary, --commission, --batch, "
+              "--check, --window, --link";
     } else if (a->scenario_path == NULL || (!a->check && !a->batch && a->out_path == NULL &&
-                                            a->summary_path == NULL && a->commission_path == NULL)) {
+                                            a->summary_path == NULL && a->commission_path == NULL &&
+                                            a->board_dir == NULL)) {
         why = "--scenario and --out or --summary are required (see --help)";
     } else if ((a->link.baud != 0 || a->link.realtime > 0.0) && !a->link.on) {
         why = "--baud and --realtime pace the link: they need --link";
@@ -438,6 +459,64 @@ static int out_commit(out_file_t *o, const char *flag)
     free(o->tmp_path);
     o->tmp_path = NULL;
     return 0;
+}
+
+/* DIR/name into path[len]; 0, or -1 (named) when it does not fit. */
+static int dir_file(char *path, size_t len, const char *dir, const char *name)
+{
+    const int n = snprintf(path, len, "%s/%s", dir, name);
+    if (n < 0 || (size_t)n >= len) {
+        fprintf(stderr, "drive_sil: --board-config %s: the path is too long\n", dir);
+        return -1;
+    }
+    return 0;
+}
+
+#define BOARD_PATH_LEN 4096
+
+/* --board-config DIR: the scenario resolved with the bench's defaults,
+ * the image's header and JSON written (each complete or none). */
+static int board_config(const args_t *a)
+{
+    static scenario_t sc;
+    static char h_path[BOARD_PATH_LEN];
+    static char js_path[BOARD_PATH_LEN];
+    char err[SCENARIO_ERR_LEN];
+    if (load_base(a, &sc) != 0) {
+        return EXIT_BAD_INPUT;
+    }
+    if (board_config_bench(&sc, err, sizeof err) != 0 || scenario_finish(&sc, err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s\n", err);
+        return EXIT_BAD_INPUT;
+    }
+    scenario_warnings(&sc, err, sizeof err);
+    if (err[0] != '\0') {
+        fprintf(stderr, "drive_sil: warning: %s\n", err);
+    }
+    out_file_t h;
+    out_file_t js;
+    if (dir_file(h_path, sizeof h_path, a->board_dir, "drive_config.h") != 0 ||
+        dir_file(js_path, sizeof js_path, a->board_dir, "drive_config.json") != 0 ||
+        out_open(&h, h_path, "--board-config") != 0) {
+        return EXIT_BAD_INPUT;
+    }
+    if (out_open(&js, js_path, "--board-config") != 0) {
+        out_abandon(&h);
+        return EXIT_BAD_INPUT;
+    }
+    if (board_config_write(h.f, js.f, &sc, a->scenario_path, a->sets, a->n_sets, err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s: %s\n", a->scenario_path, err);
+        out_abandon(&h);
+        out_abandon(&js);
+        return EXIT_BAD_INPUT;
+    }
+    if (out_commit(&h, "--board-config") != 0 || out_commit(&js, "--board-config") != 0) {
+        out_abandon(&js);
+        return EXIT_FAILURE;
+    }
+    printf("drive_sil: %s: the board image's configuration -> %s, %s (build level %lu at power-on)\n",
+           a->scenario_path, h_path, js_path, (unsigned long)sc.run.level);
+    return EXIT_SUCCESS;
 }
 
 /* OUT.resolved.json beside the CSV (--out OUT.csv, or OUT + that suffix
@@ -858,6 +937,9 @@ int main(int argc, char **argv)
     }
     if (a.batch) {
         return run_batch(&a);
+    }
+    if (a.board_dir != NULL) {
+        return board_config(&a);
     }
     if (load_scenario(&a, &sc) != 0 || window_of(&a, &sc, &t0, &t1) != 0) {
         return EXIT_BAD_INPUT;

@@ -19,7 +19,8 @@ $(SIL_VERSION_C): FORCE
 	 line="const char sil_revision[] = \"$${rev:-unknown}\";"; \
 	 echo "$$line" | cmp -s - $@ || echo "$$line" > $@
 
-DRIVE_SIL_INPUTS := $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c tools/sil/link_sil.c $(SIL_VERSION_C)) \
+DRIVE_SIL_INPUTS := $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c tools/sil/link_sil.c \
+                    tools/sil/board_config.c $(SIL_VERSION_C)) \
                     $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
 $(DRIVE_SIL): $(DRIVE_SIL_INPUTS)
 	@mkdir -p $(@D)

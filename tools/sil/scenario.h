@@ -124,6 +124,7 @@ typedef struct {
     size_t offset;             /* of the value in the target's struct */
     sc_conv_t conv;
     double scale;              /* key unit per target unit */
+    const char *path;          /* the field's path in the target's struct ("rsid.mode"), or NULL */
 } sc_loc_t;
 
 /* One key of the table, for the runner's outputs and tests. */
@@ -149,6 +150,10 @@ void scenario_map(const scenario_t *sc, sc_target_t target, void *cfg, double Ts
 
 /* The value at loc in *cfg (the struct loc->target names), in the key's unit. */
 double scenario_loc_read(const sc_loc_t *loc, const void *cfg, double Ts_s);
+
+/* Key i's value in a scenario: a REAL's (NaN: not set, not derived), a
+ * UINT's, an ENUM's index; NaN for a profile. */
+double scenario_key_value(const scenario_t *sc, int i);
 
 /* Key i's value in a finished scenario as JSON: a number (null if NaN), an
  * enum's name, or a profile's points [[t_s, value, ramp], ...]. */

@@ -40,17 +40,24 @@ static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
 /* The scenario's controller and board values as the drive's parameter set
  * (defaults: the board's, tools/sil/scenario_keys.h), mapped by the target's
  * own drive_params_to_app_cfg(); then the start-up sequence's keys. */
-static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, app_cfg_t *ac)
+static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, drive_params_t *p, app_cfg_t *ac)
 {
-    drive_params_t p;
-    scenario_params(sc, &p);
-    p.board.Ts_s = (float)hc->inv.Ts_s;
-    p.board.u_bound_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
+    scenario_params(sc, p);
+    p->board.Ts_s = (float)hc->inv.Ts_s;
+    p->board.u_bound_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
 
     app_cfg_default(ac);   /* the board's start-up sequence, watch and ISR timing */
-    drive_params_to_app_cfg(&p, ac);
+    drive_params_to_app_cfg(p, ac);
     /* the keys whose target is the app's configuration: [run], [identify] */
     scenario_map(sc, SC_TO_APP, ac, hc->inv.Ts_s);
+}
+
+void sil_drive_config(const scenario_t *sc, drive_params_t *p, app_cfg_t *ac)
+{
+    hal_sim_cfg_t hc;
+    sil_board_from(sc, &hc);
+    app_cfg_from(sc, &hc, p, ac);
+    (void)drive_params_derive(p);
 }
 
 static ctrl_mode_t ctrl_mode_of(uint32_t mode)
@@ -226,8 +233,9 @@ static void run_begin(const scenario_t *sc, const hal_sim_cfg_t *hc, const sil_h
                       app_op_t *op)
 {
     app_cfg_t ac;
+    drive_params_t p;
     hal_sim_faults_t hf;
-    app_cfg_from(sc, hc, &ac);
+    app_cfg_from(sc, hc, &p, &ac);
     faults_from(sc, &hf);
     hal_sim_configure(hc);
     hal_sim_set_faults(&hf);

@@ -124,6 +124,11 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
  * or FAULT), or after the stages' timeouts and a second. */
 int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res);
 
+/* The drive's parameter set (its derived values derived) and the app's
+ * configuration a run of *sc (finished) starts with: drive_sil
+ * --board-config writes them as the board image's (board_config.h). */
+void sil_drive_config(const scenario_t *sc, drive_params_t *p, app_cfg_t *ac);
+
 /* Longest CSV line of a row, with its newline: every column is one of sil_row_t's doubles,
  * at most CSV_NUM_MAX characters with its separator. */
 #define SIL_CSV_LINE_MAX (sizeof(sil_row_t) / sizeof(double) * CSV_NUM_MAX)
