@@ -78,6 +78,12 @@ has "$cmd" 'RUN_START\(_RamfuncsRunStart\)' || bad "$cmd" "ramfuncs has no RUN_S
 awk '/^[[:space:]]*ramfuncs[[:space:]]*:/,/}/' "$cmd" | grep -q '\*(\.TI\.ramfunc)' ||
     bad "$cmd" "ramfuncs does not take *(.TI.ramfunc): RAMFUNC code would not be copied to RAM"
 
+# Code security: the image programs no CSM password (hal/f28335/README.md,
+# "Code security"): RAM code in L4-L5, outside the secure zone, reads flash.
+if has "$mk" '^[^#]*DSP2833x_CSMPasswords\.asm'; then
+    bad "$mk" "assembles DSP2833x_CSMPasswords.asm: a secured device reads 0 from flash in the RAM code L4-L5 holds"
+fi
+
 if [ $fail -ne 0 ]; then
     echo "target_cfg: FAILED"
     exit 1
