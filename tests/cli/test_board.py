@@ -82,15 +82,20 @@ def close(a, b, rel):
     return abs(a - b) <= rel * max(abs(a), abs(b), 1e-30)
 
 
+BUILD = None   # the build drive_sil comes from (BUILD/host/drive_sil): make board uses the same
+
+
 def make(*args):
-    env = dict(os.environ)
-    env.pop("MAKEFLAGS", None)   # not the caller's -k or jobserver: one make of our own
-    env.pop("MFLAGS", None)
-    return subprocess.run(["make", "--no-print-directory"] + list(args), capture_output=True, text=True, env=env)
+    # not the caller's flags, jobserver or variables: one make of our own, on the caller's build
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MAKELEVEL", "MFLAGS", "MAKEOVERRIDES")}
+    return subprocess.run(["make", "--no-print-directory", "BUILD=" + BUILD] + list(args), capture_output=True,
+                          text=True, env=env)
 
 
 def main():
+    global BUILD
     drive_sil = sys.argv[1]
+    BUILD = os.path.dirname(os.path.dirname(os.path.abspath(drive_sil)))
     tmp = tempfile.mkdtemp()
     try:
         motor = os.path.join(tmp, "servo48.ini")
