@@ -34,6 +34,11 @@ CL := $(CG_TOOL_ROOT)/bin/cl2000
 F2833X_HEADERS := $(C2000WARE_ROOT)/device_support/f2833x/headers
 F2833X_COMMON  := $(C2000WARE_ROOT)/device_support/f2833x/common
 FASTRTS        := $(C2000WARE_ROOT)/libraries/math/FPUfastRTS/c28
+# TI's Flash2833x API (SPRC539): the parameter store's writer
+# (hal/f28335/hal_f28335_nv.c) calls it; f28335_flash.cmd runs it from RAM
+# (Flash28_API) and names this library's file.
+FLASH_API_ROOT ?= $(C2000WARE_ROOT)/libraries/flash_api/f2833x
+FLASH_API_LIB  := Flash28335_API_V210.lib
 
 # C28x + FPU32, COFF ABI (32-bit double, matching tools/check/c28x.xml),
 # large memory model and unified memory as C2000Ware's f2833x headers expect.
@@ -48,6 +53,7 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
           --include_path=$(F2833X_HEADERS)/include \
           --include_path=$(F2833X_COMMON)/include \
           --include_path=$(FASTRTS)/include \
+          --include_path=$(FLASH_API_ROOT)/include \
           $(if $(DRIVE_CONFIG_DIR),--define=DRIVE_CONFIG --include_path=$(DRIVE_CONFIG_DIR))
 
 # The ISR path runs from RAM. The control core (the directories in
@@ -90,9 +96,9 @@ TI_OBJS  := $(foreach s,$(TI_C_SRCS) $(TI_ASM_SRCS),$(call obj_of,$s))
 LINK_CMDS := firmware/f28335/f28335_flash.cmd $(F2833X_HEADERS)/cmd/DSP2833x_Headers_nonBIOS.cmd
 LFLAGS := -z --rom_model --entry_point=code_start --stack_size=0x400 --heap_size=0 \
           --warn_sections --reread_libs --priority \
-          --search_path=$(CG_TOOL_ROOT)/lib --search_path=$(FASTRTS)/lib \
+          --search_path=$(CG_TOOL_ROOT)/lib --search_path=$(FASTRTS)/lib --search_path=$(FLASH_API_ROOT)/lib \
           --map_file=$(OUT)/drive.map
-LIBS := --library=rts2800_fpu32_fast_supplement_coff.lib --library=rts2800_fpu32.lib
+LIBS := --library=rts2800_fpu32_fast_supplement_coff.lib --library=rts2800_fpu32.lib --library=$(FLASH_API_LIB)
 
 .PHONY: all flash flash-tools clean-target
 all: $(OUT)/drive.out
