@@ -81,7 +81,7 @@ CONTROL_SRCS  := $(wildcard control/*.c)
 FIRMWARE_SRCS := $(filter-out firmware/f28335/main.c,$(wildcard firmware/*/*.c))
 SIM_SRCS      := $(wildcard hal/sim/*.c)
 SILRUN_SRCS   := tools/sil/scenario.c tools/sil/profile.c tools/sil/csv_num.c tools/sil/summary.c \
-                 tools/sil/sil_board.c tools/sil/ini_edit.c tools/sil/json_out.c
+                 tools/sil/sil_board.c tools/sil/ini_edit.c tools/sil/json_out.c tools/sil/nv_file.c
 F28335_SRCS   := $(wildcard hal/f28335/*.c) $(wildcard tests/c2000_fake/*.c)
 
 objs = $(patsubst %.c,$(OUT)/obj/%.o,$1)
@@ -103,13 +103,13 @@ LIB_f28335   := $(OUT)/lib/libf28335.a
 $(LIB_control):  $(call objs,$(CONTROL_SRCS))
 $(LIB_firmware): $(call objs,$(FIRMWARE_SRCS))
 $(LIB_sim):      $(call objs,$(SIM_SRCS))
-$(LIB_silrun):   $(call objs,$(SILRUN_SRCS))
+$(LIB_silrun):   $(call objs,$(SILRUN_SRCS)) Makefile   # its list is written here: a new member rebuilds it
 $(LIB_f28335):   $(call objs,$(F28335_SRCS))
 
 $(OUT)/lib/%.a:
 	@mkdir -p $(@D)
 	@rm -f $@
-	$(AR) rcs $@ $^
+	$(AR) rcs $@ $(filter %.o,$^)
 
 # Objects are rebuilt when OPT changes (the stamp's text changes only then).
 # -frandom-seed: the seed of the names in LTO sections from the source's path

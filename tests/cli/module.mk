@@ -1,6 +1,6 @@
 # tests/cli/module.mk - tests that run the built programs and the
 # Makefile's helpers through their command lines (part of `make test`).
-.PHONY: test-drive-sil-cli test-commission test-ensure-pkgs test-board
+.PHONY: test-drive-sil-cli test-commission test-ensure-pkgs test-board test-nv
 
 # The CLI: exit status 2 and no CSV on bad input (runs the built binary).
 EXTRA_TESTS += test-drive-sil-cli
@@ -19,6 +19,11 @@ test-commission: $(DRIVE_SIL) ## (part of make test) drive_sil --commission on t
 EXTRA_TESTS += test-board
 test-board: $(DRIVE_SIL) ## (part of make test) make board on a 48 V motor file: its JSON, drive_sil's run, the compiled image
 	@$(call suite,test-board) python3 tests/cli/test_board.py $(DRIVE_SIL)
+
+# drive_sil --nv FILE: sector images built by the test from nv_store.h's format, loaded, refused.
+EXTRA_TESTS += test-nv
+test-nv: $(DRIVE_SIL) ## (part of make test) drive_sil --nv: a saved block taken, a corrupted one refused (NV_INVALID)
+	@$(call suite,test-nv) python3 tests/cli/test_nv.py $(DRIVE_SIL)
 
 $(BOARD_OUT)/board_values: tests/board_values.c $(BOARD_OBJS)
 	@$(CC) -O2 $(CF_TEST) $(INC) -DDRIVE_CONFIG -I$(BOARD_OUT) -o $@ $< $(filter-out %/main.o,$(BOARD_OBJS)) -lm

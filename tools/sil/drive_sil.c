@@ -53,6 +53,7 @@
 #include "ini_edit.h"
 #include "json_out.h"
 #include "link_sil.h"
+#include "nv_file.h"
 #include "scenario.h"
 #include "sil.h"
 #include "sil_version.h"
@@ -80,6 +81,7 @@ typedef struct {
     const char *window;          /* "T0:T1", or NULL for the default */
     const char *commission_path; /* --commission OUT.ini, or NULL */
     const char *board_dir;       /* --board-config DIR, or NULL */
+    const char *nv_path;         /* --nv FILE: the parameter store's sector, or NULL */
     int check;                   /* validate only */
     int batch;                   /* one run per stdin line */
     double max_csv_mb;           /* the CSV stops growing here */
@@ -122,6 +124,7 @@ static void usage(FILE *f)
             "                 [--max-csv-mb N] [--link tcp:PORT | --link pty [--baud B] [--realtime F]]\n"
             "       drive_sil --scenario FILE [--set ...] --commission OUT.ini [--out FILE.csv]\n"
             "       drive_sil --scenario FILE [--set ...] --board-config DIR\n"
+            "       (a run, --link or --commission: [--nv FILE])\n"
             "       drive_sil --help | --version | --list-keys [--markdown]\n"
             "Runs the drive firmware on the simulated board for one scenario (INI)\n"
             "and writes the CSV trace (--out) and/or the steady window's figures as\n"
@@ -151,6 +154,10 @@ static void usage(FILE *f)
             "MOTOR=FILE.ini; tools/sil/board_config.h); keys a simulation defaults otherwise\n"
             "take the board's values unless set: [plant] deadtime_s, adc_full_scale_A,\n"
             "trip_A, [run] level (1), calibrate, align. Runs nothing.\n"
+            "--nv FILE keeps the drive's parameter sector (firmware/params/nv_store.h) in FILE,\n"
+            "as the board's flash keeps it: its newest block's values replace the [controller]\n"
+            "keys they name before the run (stderr says NV_EMPTY, NV_INVALID or what was\n"
+            "loaded), and every save during the run (drivetool save) writes FILE again.\n"
             "On a terminal, a run longer than %g s of wall time shows its progress on stderr.\n"
             "Exit status:\n"
             "  0    the run ended outside FAULT (--check: the input is good; --batch: every\n"
@@ -214,6 +221,9 @@ static const char **value_slot(args_t *a, const char *s, const char **max_csv_mb
     if (strcmp(s, "--board-config") == 0) {
         return &a->board_dir;
     }
+    if (strcmp(s, "--nv") == 0) {
+        return &a->nv_path;
+    }
     if (strcmp(s, "--window") == 0) {
         return &a->window;
     }
@@ -254,6 +264,8 @@ static int args_valid(args_t *a, const char *max_csv_mb)
                                         a->commission_path != NULL || a->window != NULL || a->link.on)) {
         why = "--board-config writes the image's configuration only: no --out, --summary, --commission, --batch, "
               "--check, --window, --link";
+    } else if (a->nv_path != NULL && (a->batch || a->check || a->board_dir != NULL)) {
+        why = "--nv keeps one run's parameter sector: not with --batch, --check, --board-config";
     } else if (a->scenario_path == NULL || (!a->check && !a->batch && a->out_path == NULL &&
                                             a->summary_path == NULL && a->commission_path == NULL &&
                                             a->board_dir == NULL)) {
@@ -328,6 +340,33 @@ static int load_base(const args_t *a, scenario_t *sc)
     return 0;
 }
 
+/* --nv FILE: the sector from FILE, its newest block over the scenario as
+ * the board takes it at start-up (nv_file.h), what was taken on stderr;
+ * values that do not fit the scenario as a whole (scenario_finish) are
+ * NV_INVALID too: the scenario's own. 0, or -1 (FILE unusable). */
+static int nv_start(const args_t *a, scenario_t *sc)
+{
+    static scenario_t before;
+    static scenario_t probe;
+    char err[SCENARIO_ERR_LEN];
+    char msg[SCENARIO_ERR_LEN * 2];
+    if (nv_file_open(a->nv_path, err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s\n", err);
+        return -1;
+    }
+    before = *sc;
+    if (nv_file_apply(sc, a->nv_path, msg, sizeof msg) == NV_OK) {
+        probe = *sc;
+        if (scenario_finish(&probe, err, sizeof err) != 0) {
+            *sc = before;
+            snprintf(msg, sizeof msg, "--nv %s: NV_INVALID: the saved values do not fit this scenario (%s); the "
+                     "scenario's values", a->nv_path, err);
+        }
+    }
+    fprintf(stderr, "drive_sil: %s\n", msg);
+    return 0;
+}
+
 static int load_scenario(const args_t *a, scenario_t *sc)
 {
     char err[SCENARIO_ERR_LEN];
@@ -340,6 +379,9 @@ static int load_scenario(const args_t *a, scenario_t *sc)
      * file's text). */
     if (a->commission_path != NULL && scenario_set(sc, "controller.method=conventional", err, sizeof err) != 0) {
         fprintf(stderr, "drive_sil: %s\n", err);
+        return -1;
+    }
+    if (a->nv_path != NULL && nv_start(a, sc) != 0) {
         return -1;
     }
     if (scenario_finish(sc, err, sizeof err) != 0) {
@@ -978,5 +1020,6 @@ int main(int argc, char **argv)
         return commission_finish(&a, &res, &out.comm_ini);
     }
     out_abandon(&out.comm_ini);   /* stopped by a signal: no OUT.ini */
-    return run_status(&a, &res, stopped);
+    rc = run_status(&a, &res, stopped);
+    return (a.nv_path != NULL && nv_file_failed()) ? EXIT_FAILURE : rc;
 }

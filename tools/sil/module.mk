@@ -34,6 +34,8 @@ scenario-keys: $(DRIVE_SIL) ## rewrite tools/sil/SCENARIO_KEYS.md from the key t
 
 TEST_LIBS_test_scenario := silrun firmware sim control
 TEST_LIBS_test_ini_edit := silrun
+# drive_sil --nv FILE: the simulated board's parameter sector kept in FILE (nv_file.h).
+TEST_LIBS_test_sil_nv := silrun firmware sim control
 # The CSV's number format (csv_num.c, in libsilrun) against printf.
 TEST_LIBS_test_csv_num := silrun
 # drive_sil's CSV writer thread: bytes as sil_csv_row(), write errors.

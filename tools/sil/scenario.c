@@ -617,9 +617,14 @@ int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen)
 
 int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen)
 {
-    char buf[SCENARIO_ERR_LEN];
     char where[SCENARIO_ORIGIN_LEN];
     snprintf(where, sizeof where, "--set %s", assignment);
+    return scenario_set_from(sc, assignment, where, err, errlen);
+}
+
+int scenario_set_from(scenario_t *sc, const char *assignment, const char *where, char *err, size_t errlen)
+{
+    char buf[SCENARIO_ERR_LEN];
     if (strlen(assignment) >= sizeof buf) {
         snprintf(err, errlen, "%s: too long", where);
         return -1;

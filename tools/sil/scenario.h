@@ -78,6 +78,9 @@ int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen);
 /* Apply one "section.key=value" override. Returns 0, or -1 with err filled. */
 int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen);
 
+/* The same, the value's origin (messages, the key's source) named where ("--nv FILE"). */
+int scenario_set_from(scenario_t *sc, const char *assignment, const char *where, char *err, size_t errlen);
+
 /* Cross-key checks (absolute vs factor; plausibility bounds, the controller's after its factor;
  * method = proposed needs step 1 or a trusted R: no silent fallback to the conventional method),
  * resolution of the controller's R, L, psi_f, J, B to absolute values and of the derived keys
