@@ -34,7 +34,7 @@ extern c2000_fake_adc_cal_t c2000_fake_adc_cal;
  * by c2000_fake_reset. Flash2833x_API_Library.h's fake erases and programs
  * it. */
 #define C2000_FAKE_FLASH_B_WORDS 0x8000UL
-extern Uint16 c2000_fake_flash_b[C2000_FAKE_FLASH_B_WORDS];
+extern Uint16 c2000_fake_flash_b[]; /* C2000_FAKE_FLASH_B_WORDS of them (no size here: the 16-bit-int gate) */
 
 /* What the flash API's fake saw, call by call (reset by c2000_fake_reset). */
 typedef enum { C2000_FAKE_ERASE = 1, C2000_FAKE_PROGRAM = 2, C2000_FAKE_VERIFY = 3 } c2000_fake_flash_op_t;
