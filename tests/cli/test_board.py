@@ -24,6 +24,8 @@ import subprocess
 import sys
 import tempfile
 
+from checks import Checks
+
 MOTOR = """; a 48 V five-pole-pair servo motor; [controller] as --commission measured it
 [plant]
 R_ohm = 0.125
@@ -62,18 +64,7 @@ FILE_VALUES = {("controller", "R_ohm"): 0.12, ("controller", "L_H"): 0.00035, ("
 # a float of the image against the double it was told: the float's rounding
 FLOAT_REL = 1e-6
 
-fails = []
-passes = 0
-
-
-def check(ok, what):
-    global passes
-    if ok:
-        passes += 1
-        print("ok   test_board: " + what)
-    else:
-        fails.append(what)
-        print("FAIL test_board: " + what)
+check = Checks("test_board")
 
 
 def close(a, b, rel):
@@ -185,5 +176,4 @@ def driver_exit(drive_sil, motor):
 
 if __name__ == "__main__":
     main()
-    print("test_board: %d passed, %d failed" % (passes, len(fails)))
-    sys.exit(1 if fails else 0)
+    sys.exit(check.close())

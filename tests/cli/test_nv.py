@@ -19,21 +19,12 @@ import subprocess
 import sys
 import tempfile
 
+from checks import Checks
+
 WORDS = 0x8000
 MAGIC, VERSION = 0x4E56, 1
 
-fails = []
-passes = 0
-
-
-def check(ok, what):
-    global passes
-    if ok:
-        passes += 1
-        print("ok   test_nv: " + what)
-    else:
-        fails.append(what)
-        print("FAIL test_nv: " + what)
+check = Checks("test_nv")
 
 
 def crc32_prime(octets):
@@ -136,5 +127,4 @@ def main():
 
 if __name__ == "__main__":
     main()
-    print("test_nv: %d passed, %d failed" % (passes, len(fails)))
-    sys.exit(1 if fails else 0)
+    sys.exit(check.close())
