@@ -107,9 +107,10 @@ SECTIONS
                    RUN_START(_EbssRunStart),
                    RUN_SIZE(_EbssRunSize)
    .esysmem      : > RAMM0,     PAGE = 1
-   /* Objects main.c places here (DATA_SECTION): the commissioning's state
-    * and the command blocks, in M0, which .esysmem leaves free; their init
-    * functions set every field (not zeroed: only .ebss is). */
+   /* Objects placed here (DATA_SECTION): main.c's commissioning state and
+    * command blocks, the flash API's two globals (hal_f28335_nv.c), in M0,
+    * which .esysmem leaves free; each is set whole before it is read (not
+    * zeroed: only .ebss is). */
    m0data        : > RAMM0,     PAGE = 1
 
    /* Tables already in boot ROM: referenced, never loaded. */
