@@ -73,7 +73,7 @@ def close(a, b, rel):
     return abs(a - b) <= rel * max(abs(a), abs(b), 1e-30)
 
 
-BUILD = None   # the build drive_sil comes from (BUILD/host/drive_sil): make board uses the same
+BUILD = None   # the build drive_sil comes from (BUILD/host/drive_sil, as make spells it): make board uses the same
 
 
 def make(*args):
@@ -86,7 +86,9 @@ def make(*args):
 def main():
     global BUILD
     drive_sil = sys.argv[1]
-    BUILD = os.path.dirname(os.path.dirname(os.path.abspath(drive_sil)))
+    # spelled as the caller's make spells it (relative to the repository): another spelling names
+    # other targets, and that make would link drive_sil again under the suites running it
+    BUILD = os.path.dirname(os.path.dirname(drive_sil)) or "."
     tmp = tempfile.mkdtemp()
     try:
         motor = os.path.join(tmp, "servo48.ini")
