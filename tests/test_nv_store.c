@@ -91,6 +91,25 @@ static void assert_pairs(const nv_pair_t *a, const nv_pair_t *b, uint16_t n)
     }
 }
 
+/* nv_load gives NV_OK with n_want pairs equal to want's. */
+static void assert_loads(const nv_pair_t *want, uint16_t n_want)
+{
+    nv_pair_t got[4];
+    uint16_t n = 0;
+    assert_int_equal(nv_load(&dev, got, 4, &n), NV_OK);
+    assert_int_equal(n, n_want);
+    assert_pairs(got, want, n_want);
+}
+
+/* nv_load gives NV_INVALID and no pairs. */
+static void assert_invalid(void)
+{
+    nv_pair_t got[4];
+    uint16_t n = 9;
+    assert_int_equal(nv_load(&dev, got, 4, &n), NV_INVALID);
+    assert_int_equal(n, 0);
+}
+
 /* "123456789": CRC32_PRIME 0x89A1897F (crc32.h's check value), halves XORed: 0x89A1 ^ 0x897F = 0x00DE. */
 static void key_id_is_the_crc_of_the_name_folded(void **state)
 {
@@ -146,11 +165,7 @@ static void saves_append_and_the_newest_is_read(void **state)
     assert_int_equal(nv_save(&dev, one, 1, buf), NV_OK);
     assert_int_equal(erases, 0);
     assert_int_equal(flash[14], 0x4E56u);             /* the second block right after the first's 14 words */
-    nv_pair_t got[4];
-    uint16_t n = 0;
-    assert_int_equal(nv_load(&dev, got, 4, &n), NV_OK);
-    assert_int_equal(n, 1);
-    assert_pairs(got, one, 1);
+    assert_loads(one, 1);
 }
 
 /* One flipped bit in the newest block: NV_INVALID (no pairs); the next save
@@ -162,20 +177,13 @@ static void a_flipped_bit_is_invalid_until_the_next_save(void **state)
     for (uint16_t k = 3; k < 14; k++) {   /* every pair and CRC word, one bit each */
         const uint16_t keep = flash[k];
         flash[k] ^= 0x0010u;
-        nv_pair_t got[4];
-        uint16_t n = 9;
-        assert_int_equal(nv_load(&dev, got, 4, &n), NV_INVALID);
-        assert_int_equal(n, 0);
+        assert_invalid();
         flash[k] = keep;
     }
     flash[5] ^= 0x0100u;
     assert_int_equal(nv_save(&dev, THREE, 2, buf), NV_OK);
     assert_int_equal(erases, 0);
-    nv_pair_t got[4];
-    uint16_t n = 0;
-    assert_int_equal(nv_load(&dev, got, 4, &n), NV_OK);
-    assert_int_equal(n, 2);
-    assert_pairs(got, THREE, 2);
+    assert_loads(THREE, 2);
 }
 
 /* A header that is not one (magic, version, length), or a word written
@@ -189,20 +197,15 @@ static void a_sector_out_of_form_is_invalid_and_erased_by_the_next_save(void **s
         setup(NULL);
         assert_int_equal(nv_save(&dev, THREE, 3, buf), NV_OK);
         flash[bad[i][0]] = bad[i][1];
-        nv_pair_t got[4];
-        uint16_t n = 9;
-        assert_int_equal(nv_load(&dev, got, 4, &n), NV_INVALID);
+        assert_invalid();
         assert_int_equal(nv_save(&dev, THREE, 1, buf), NV_OK);
         assert_int_equal(erases, 1);
-        assert_int_equal(nv_load(&dev, got, 4, &n), NV_OK);
-        assert_int_equal(n, 1);
+        assert_loads(THREE, 1);
     }
     setup(NULL);
     assert_int_equal(nv_save(&dev, THREE, 3, buf), NV_OK);
     flash[200] = 0x0000u;
-    nv_pair_t got[4];
-    uint16_t n = 9;
-    assert_int_equal(nv_load(&dev, got, 4, &n), NV_INVALID);
+    assert_invalid();
 }
 
 /* A save cut short by a power loss (the first 7 of 14 words programmed):
@@ -214,12 +217,9 @@ static void a_save_cut_short_is_invalid(void **state)
     for (uint16_t k = 7; k < 14; k++) {
         flash[k] = 0xFFFFu;
     }
-    nv_pair_t got[4];
-    uint16_t n = 9;
-    assert_int_equal(nv_load(&dev, got, 4, &n), NV_INVALID);
+    assert_invalid();
     assert_int_equal(nv_save(&dev, THREE, 3, buf), NV_OK);
-    assert_int_equal(nv_load(&dev, got, 4, &n), NV_OK);
-    assert_int_equal(n, 3);
+    assert_loads(THREE, 3);
 }
 
 /* A block that no longer fits erases the sector first: 30 words hold two
@@ -234,10 +234,7 @@ static void a_full_sector_is_erased_first(void **state)
     assert_int_equal(erases, 0);
     assert_int_equal(nv_save(&dev, THREE, 2, buf), NV_OK);   /* 28 + 11 > 30 */
     assert_int_equal(erases, 1);
-    nv_pair_t got[4];
-    uint16_t n = 0;
-    assert_int_equal(nv_load(&dev, got, 4, &n), NV_OK);
-    assert_int_equal(n, 2);
+    assert_loads(THREE, 2);
     assert_int_equal(flash[0], 0x4E56u);
 }
 
