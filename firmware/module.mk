@@ -17,8 +17,10 @@ $(call mock_tests,test_app test_cmd test_calib test_align test_protect test_rsid
 TEST_LIBS_test_drive_params := firmware control
 TEST_LIBS_test_link_codec := firmware control
 TEST_LIBS_test_enc_check := firmware control
-# The parameter store's blocks in a sector emulated as flash (nv_store.h).
+# The parameter store's blocks in a sector emulated as flash (nv_store.h),
+# and over the parameter set through a list of parameters (nv_params.h).
 TEST_LIBS_test_nv_store := firmware control
+TEST_LIBS_test_nv_params := firmware control
 
 # Closed-loop acceptance of the conventional DB-DTC on the simulated board,
 # and the build levels there (test_sil_levels).

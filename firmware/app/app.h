@@ -83,6 +83,7 @@
 #include "drive_params.h"
 #include "hal.h"
 #include "level.h"
+#include "nv_params.h"
 #include "protect.h"
 #include "rsid_seq.h"
 
@@ -173,6 +174,20 @@ typedef struct {
 
 /* Start-up: the board's configuration (firmware/params/board_cfg.h) into *cfg. */
 void app_cfg_default(app_cfg_t *cfg);
+
+/* Start-up: the board's configuration from the parameter set *p:
+ * drive_params_to_app_cfg(), then the start-up sequence's, the watch
+ * checks' and the levels' settings of board_cfg.h. app_cfg_default() is
+ * this for drive_params_board()'s set. */
+void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p);
+
+/* Start-up: app_cfg_from_params() of the board's set (drive_params_board)
+ * with the parameter store's saved values over it (nv_params_load of
+ * dev's newest block, the parameters of list; pairs: NV_PAIRS_MAX of
+ * scratch): NV_OK (*taken values taken), NV_EMPTY or NV_INVALID (the
+ * board's values: the caller's warning). */
+nv_status_t app_cfg_stored(app_cfg_t *cfg, const nv_dev_t *dev, const nv_param_list_t *list, nv_pair_t *pairs,
+                           uint16_t *taken);
 
 /* Start-up or host: the parameter set *p (drive_params.h; its values left
  * to derive derived) into *cfg: the controller's configuration

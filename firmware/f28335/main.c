@@ -1,8 +1,9 @@
 /*
  * main.c - F28335 target entry: bring up the board, configure the drive
- * from board_cfg.h (app_cfg_default), run the control ISR (ADC SEQ1,
- * 10 kHz) from RAM and the background loop (watchdog via app_background,
- * the operator's command block, the link on SCI-A).
+ * from board_cfg.h and the saved parameters (app_cfg_stored), run the
+ * control ISR (ADC SEQ1, 10 kHz) from RAM and the background loop
+ * (watchdog via app_background, the operator's command block, the link
+ * on SCI-A).
  *
  * Operating the board: drivetool over SCI-A (firmware/link/link_protocol.md,
  * tools/drivetool/README.md), or in CCS: add `g_cmd` to the expressions
@@ -21,7 +22,12 @@
  * image is checked against the CRCs the linker recorded
  * (f28335_flash.cmd, crc_table(_flash_crc_table)): a mismatch latches
  * FLASH_CRC (snapshot value: the failing record's index), which no reset
- * clears.
+ * clears. The configuration is the board's (board_cfg.h, a motor file's
+ * with make board) with the parameter store's saved values over it
+ * (flash sector B, firmware/params/nv_params.h): g_nv.status says what
+ * the start-up took (NV_OK, g_nv.taken values; NV_EMPTY: nothing saved;
+ * NV_INVALID: a block that fails its check, the board's values kept); the
+ * drive starts either way.
  * Not linked on the host (the Makefile filters it out); the make check
  * gates compile it.
  */
@@ -33,6 +39,7 @@
 #include "hal_f28335.h"
 #include "hal_f28335_cfg.h"
 #include "link.h"
+#include "nv_params.h"
 
 #if defined(__TMS320C28XX__)
 #include <crc_tbl.h>
@@ -50,11 +57,21 @@ static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
 /* In M0 (section m0data, f28335_flash.cmd), as .ebss in L6-L7 keeps its
  * margin only without them: objects whose init functions write every
  * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
- * proves it), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
+ * proves it; g_nv: main sets dev, app_cfg_stored status and taken, the
+ * pairs are written before they are read), since nothing zeroes M0
+ * (f28335_codestart.asm zeroes .ebss). */
+/* The parameter store at start-up: its sector, nv_params_load's scratch and what it took. */
+static struct {
+    nv_dev_t dev;            /* flash sector B through the HAL (hal_f28335_nv.c) */
+    nv_pair_t pairs[NV_PAIRS_MAX];
+    uint16_t status;         /* nv_status_t: NV_EMPTY and NV_INVALID are warnings */
+    uint16_t taken;          /* the saved values taken (NV_OK) */
+} g_nv;
 #if defined(__TMS320C28XX__)
 #pragma DATA_SECTION(g_commission, "m0data")
 #pragma DATA_SECTION(g_cmd, "m0data")
 #pragma DATA_SECTION(g_comm, "m0data")
+#pragma DATA_SECTION(g_nv, "m0data")
 #endif
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
@@ -77,6 +94,12 @@ static void link_service(void)
     }
     hal_f28335_sci_pump();
 }
+
+/* The parameters the store's blocks may hold: the link's parameter table
+ * (issue 29's link_params.h: what drivetool save saves) once it is in the
+ * image; until then none, and a block found in the sector reads
+ * NV_INVALID (the board's values kept). */
+static const nv_param_list_t NV_PARAMS = { 0u, 0, 0, 0, 0 };
 
 /* Start-up, before interrupts: the index of the first CRC record of the
  * image that fails (flash_crc.h), or -1 when all match. */
@@ -113,7 +136,10 @@ int main(void)
     hal_init();  /* ramfuncs copied: its CRC record holds at either address */
     bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    app_cfg_default(&g_app.cfg);
+    g_nv.dev.words = hal_nv_words();
+    g_nv.dev.read = hal_nv_read;
+    g_nv.dev.write = hal_nv_write;
+    g_nv.status = (uint16_t)app_cfg_stored(&g_app.cfg, &g_nv.dev, &NV_PARAMS, g_nv.pairs, &g_nv.taken);
     app_init(&g_app, &g_app.cfg);
     app_attach_comm(&g_app, &g_commission);
     if (bad_record >= 0) {
