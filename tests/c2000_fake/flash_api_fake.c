@@ -39,6 +39,15 @@ static long offset_of(const Uint16 *p, Uint32 len)
     return (d >= 0 && (Uint32)d + len <= C2000_FAKE_FLASH_B_WORDS) ? (long)d : -1;
 }
 
+/* A program's or verify's call recorded: its word offset in sector B (-1
+ * outside it) and in *fail whether a test asked it to fail. */
+static long range_call(c2000_fake_flash_op_t op, const Uint16 *p, Uint32 len, int *fail)
+{
+    const long off = offset_of(p, len);
+    *fail = record(op, 0U, (off < 0) ? 0U : (Uint32)off, len);
+    return off;
+}
+
 Uint16 Flash_Erase(Uint16 SectorMask, FLASH_ST *FEraseStat)
 {
     c2000_fake_flash_call_t *c = &c2000_fake_flash.call[c2000_fake_flash.n % C2000_FAKE_FLASH_CALLS_MAX];
@@ -67,8 +76,8 @@ Uint16 Flash_Erase(Uint16 SectorMask, FLASH_ST *FEraseStat)
 
 Uint16 Flash_Program(Uint16 *FlashAddr, Uint16 *BufAddr, Uint32 Length, FLASH_ST *FProgStatus)
 {
-    const long off = offset_of(FlashAddr, Length);
-    const int fail = record(C2000_FAKE_PROGRAM, 0U, (off < 0) ? 0U : (Uint32)off, Length);
+    int fail;
+    const long off = range_call(C2000_FAKE_PROGRAM, FlashAddr, Length, &fail);
     if (off < 0) {
         return STATUS_FAIL_ADDR_INVALID;
     }
@@ -88,8 +97,8 @@ Uint16 Flash_Program(Uint16 *FlashAddr, Uint16 *BufAddr, Uint32 Length, FLASH_ST
 
 Uint16 Flash_Verify(Uint16 *StartAddr, Uint16 *BufAddr, Uint32 Length, FLASH_ST *FVerifyStat)
 {
-    const long off = offset_of(StartAddr, Length);
-    const int fail = record(C2000_FAKE_VERIFY, 0U, (off < 0) ? 0U : (Uint32)off, Length);
+    int fail;
+    const long off = range_call(C2000_FAKE_VERIFY, StartAddr, Length, &fail);
     if (off < 0) {
         return STATUS_FAIL_ADDR_INVALID;
     }
