@@ -268,6 +268,8 @@ void ctrl_reset(ctrl_t *c)
     c->mon.speed_mech_rad_s = 0.0f;
     c->mon.id_A = 0.0f;
     c->mon.iq_A = 0.0f;
+    c->mon.i_aim_alpha_A = 0.0f;
+    c->mon.i_aim_beta_A = 0.0f;
     c->mon.ud_V = 0.0f;
     c->mon.uq_V = 0.0f;
     c->mon.te_ref_Nm = 0.0f;
@@ -579,9 +581,31 @@ static void stage_modulate(ctrl_t *c, ctrl_period_t *p, float vdc_V)
     }
 }
 
+/* The current the step aimed at, with the model in use (oplim.h: psi_q* = Te* psiq_per_Nm,
+ * psi_d* = sqrt(psi_s*^2 - psi_q*^2), i* = (psi_d* - psi_f, psi_q*) / L), in the stator frame at
+ * the step's angle; 0 in open loop (no targets). Protection's OPEN_PHASE judges a phase by it. */
+static ab_t aimed_current(const ctrl_t *c, const ctrl_period_t *p)
+{
+    const dbdtc_par_t *m = &c->db.par;
+    const float inv_L = m->Ts_over_L * c->db.inv_Ts_1_s;
+    const float psi_q = p->te_ref * m->psiq_per_Nm;
+    const float psi_d2 = p->psi_ref * p->psi_ref - psi_q * psi_q;
+    ab_t i = { 0.0f, 0.0f };
+
+    if (p->psi_ref > 0.0f) {
+        const float id = (((psi_d2 > 0.0f) ? mathx_sqrtf(psi_d2) : 0.0f) - m->psi_f_Wb) * inv_L;
+        const float iq = psi_q * inv_L;
+        i.a = id * p->co - iq * p->s;
+        i.b = id * p->s + iq * p->co;
+    }
+    return i;
+}
+
 /* Stage monitor: what the period saw and decided. */
 static void stage_monitor(ctrl_t *c, const ctrl_period_t *p)
 {
+    const ab_t aim = aimed_current(c, p);
+
     c->mon.theta_el_rad = c->enc.theta_e_rad;
     c->mon.omega_el_rad_s = p->omega;
     c->mon.speed_mech_rad_s = c->enc.omega_m_rad_s;
@@ -589,10 +613,36 @@ static void stage_monitor(ctrl_t *c, const ctrl_period_t *p)
     c->mon.iq_A = p->i_dq.q;
     c->mon.ud_V = c->u_applied_V.d;
     c->mon.uq_V = c->u_applied_V.q;
+    c->mon.i_aim_alpha_A = aim.a;
+    c->mon.i_aim_beta_A = aim.b;
     c->mon.te_ref_Nm = p->te_ref;
     c->mon.te_est_Nm = p->x.te_Nm;
     c->mon.psi_ref_Wb = p->psi_ref;
     c->mon.psi_est_Wb = mathx_sqrtf(p->x.psi_dq_Wb.d * p->x.psi_dq_Wb.d + p->x.psi_dq_Wb.q * p->x.psi_dq_Wb.q);
+}
+
+void ctrl_monitor_readings(ctrl_t *c, const ctrl_in_t *in, bool outputs_on)
+{
+    const dbdtc_par_t *m = &c->db.par;
+    float s;
+    float co;
+    mathx_sincosf(c->enc.theta_e_rad, &s, &co);
+    const dq_t i = park(clarke_2ph(in->ia_A, in->ib_A), s, co);
+    const float psi_d = m->L_H * i.d + m->psi_f_Wb;   /* Ld = Lq: the reluctance torque is 0 */
+    const float psi_q = m->L_H * i.q;
+    c->mon.theta_el_rad = c->enc.theta_e_rad;
+    c->mon.omega_el_rad_s = c->enc.omega_e_rad_s;
+    c->mon.speed_mech_rad_s = c->enc.omega_m_rad_s;
+    c->mon.id_A = i.d;
+    c->mon.iq_A = i.q;
+    c->mon.ud_V = outputs_on ? c->u_applied_V.d : 0.0f;
+    c->mon.uq_V = outputs_on ? c->u_applied_V.q : 0.0f;
+    c->mon.i_aim_alpha_A = 0.0f;
+    c->mon.i_aim_beta_A = 0.0f;
+    c->mon.te_ref_Nm = 0.0f;
+    c->mon.te_est_Nm = m->kt_Nm_per_A * i.q;         /* eq. (3) */
+    c->mon.psi_ref_Wb = 0.0f;
+    c->mon.psi_est_Wb = mathx_sqrtf(psi_d * psi_d + psi_q * psi_q);
 }
 
 /* Stage output: one finiteness check per ISR (NaN and Inf survive a sum;

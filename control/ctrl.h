@@ -152,9 +152,12 @@ typedef struct {
 
 typedef struct { float duty[3]; uint16_t flags; } ctrl_out_t;
 
-typedef struct {                /* monitor: written by every ctrl_step, for logging/telemetry */
+typedef struct {                /* monitor: written by every ctrl_step (ctrl_monitor_readings in the other
+                                 * states), for logging/telemetry */
     float theta_el_rad, omega_el_rad_s, speed_mech_rad_s;   /* as the controller sees them */
     float id_A, iq_A;                     /* measured this period */
+    float i_aim_alpha_A, i_aim_beta_A;    /* the current the step aimed at (its Te*, psi_s* through the model
+                                           * in use), stator frame; 0 in open loop and the other states */
     float ud_V, uq_V;                     /* rotor-frame voltage commanded for the next period, after the hexagon clamp */
     float te_ref_Nm, te_est_Nm;           /* torque reference and the controller's torque estimate (at k+1) */
     float psi_ref_Wb, psi_est_Wb;         /* stator-flux reference and estimate (at k+1) */
@@ -323,6 +326,14 @@ void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
  * input or no bus) - without the dead-time feedforward. ISR, 10 kHz,
  * instead of ctrl_step. */
 void ctrl_step_ab(ctrl_t *c, ab_t u_ab_V, float vdc_V, ctrl_out_t *out);
+
+/* The monitor's readings of a period without ctrl_step (the drive stopped
+ * or faulted, a start-up step, a commissioning, a build level): angle and
+ * speed of this period's ctrl_track, the measured currents in the rotor
+ * frame (in: offsets subtracted), the torque (3) and the flux the model in
+ * use gives for them, the voltage applied (ctrl_step_ab's u(k) when
+ * outputs_on, else 0), the references 0. ISR, after the state's step. */
+void ctrl_monitor_readings(ctrl_t *c, const ctrl_in_t *in, bool outputs_on);
 
 /* ---- readers: what the app, the command block and the SIL see -------
  * Any context: single words, or the monitor written once per ctrl_step. */

@@ -59,6 +59,12 @@ bool hal_trip_active(void);
 /* Clear a latched hardware trip (outputs stay disabled). Background context. */
 void hal_trip_clear(void);
 
+/* Hold the control interrupt off (a period that comes meanwhile runs at hal_isr_resume) and let
+ * it run again: background work that must not be interrupted by the ISR, short (a few periods)
+ * and only with the outputs off (app_reconfigure_now). Background context, in pairs. */
+void hal_isr_pause(void);
+void hal_isr_resume(void);
+
 /* Acknowledge the control interrupt so the next one can be taken. ISR context, last HAL call. */
 void hal_isr_ack(void);
 

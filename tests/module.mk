@@ -38,8 +38,9 @@ fuzz-short: $(FUZZ_BIN) ## (part of make test) a seeded fuzz pass of 4000 inputs
 	@$(call suite,fuzz-short) tests/fuzz/fuzz.sh short $(FUZZ_BIN) $(FUZZ_DIR)
 
 # The link's parser and dispatcher (tests/fuzz/fuzz_link.c), on the same
-# objects as fuzz_app:
-#   make fuzz-link        >= FUZZ_LINK_FRAMES framed requests (default 10^7)
+# objects as fuzz_app, then drive_sil --link's socket layer under random
+# clients (tests/fuzz/fuzz_link_socket.py):
+#   make fuzz-link        >= FUZZ_LINK_FRAMES framed requests (default 10^7), 2000 client actions
 #   make fuzz-link-short  a seeded pass of a few seconds; part of make test
 FUZZ_LINK_BIN    := $(FUZZ_DIR)/fuzz_link
 FUZZ_LINK_FRAMES ?= 10000000
@@ -50,11 +51,11 @@ $(FUZZ_LINK_BIN): tests/fuzz/fuzz_link.c tests/fuzz/fuzz_hal.c $(FUZZ_BIN)
 	$(FUZZ_CC) $(FUZZ_FLAGS) -o $@ tests/fuzz/fuzz_link.c tests/fuzz/fuzz_hal.c \
 	    $(patsubst %.c,$(FUZZ_DIR)/obj/%.o,$(notdir $(FUZZ_PORTABLE))) -lm
 
-fuzz-link: $(FUZZ_LINK_BIN) ## the link's parser and dispatcher under libFuzzer until FUZZ_LINK_FRAMES frames (10^7)
-	@tests/fuzz/fuzz_link.sh long $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link $(FUZZ_LINK_FRAMES)
+fuzz-link: $(FUZZ_LINK_BIN) $(DRIVE_SIL) ## the link's parser and dispatcher under libFuzzer until FUZZ_LINK_FRAMES frames (10^7), then drive_sil --link's sockets under 2000 random client actions
+	@DRIVE_SIL=$(DRIVE_SIL) tests/fuzz/fuzz_link.sh long $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link $(FUZZ_LINK_FRAMES)
 
-fuzz-link-short: $(FUZZ_LINK_BIN) ## (part of make test) a seeded fuzz pass of the link, 3000 inputs
-	@$(call suite,fuzz-link-short) tests/fuzz/fuzz_link.sh short $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link
+fuzz-link-short: $(FUZZ_LINK_BIN) $(DRIVE_SIL) ## (part of make test) a seeded fuzz pass of the link, 3000 inputs, and 40 client actions on drive_sil --link's sockets
+	@DRIVE_SIL=$(DRIVE_SIL) $(call suite,fuzz-link-short) tests/fuzz/fuzz_link.sh short $(FUZZ_LINK_BIN) $(FUZZ_DIR)/link
 
 # The Python tests (tests/test_*.py: drivekit on hand-computed CSVs and
 # its tables, drivetool, the check gates' parts) under the project's venv

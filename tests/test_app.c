@@ -182,10 +182,12 @@ static void isr_call_order(void **state)
     for (int j = 0; j < 3; j++) {
         assert_float_equal(mock_hal_duty[j], app.out.duty[j], 0.0);
     }
-    const float id_before = app.ctrl.mon.id_A;
     hal_sample_t bad = sample(5.0f, 0.0f, 500.0f);
     isr_fault(&bad, 0);
-    assert_float_equal(app.ctrl.mon.id_A, id_before, 0.0); /* no ctrl_step */
+    /* no ctrl_step (no write, no reference): the monitor has this sample's readings all the same */
+    assert_float_equal(app.ctrl.mon.id_A, 5.0, 1e-2); /* at the encoder's angle, about 0 */
+    assert_float_equal(app.ctrl.mon.te_ref_Nm, 0.0, 0.0);
+    assert_float_equal(app.vdc_V, 500.0, 0.0);
 }
 
 static void background_kicks_watchdog(void **state)
@@ -194,6 +196,39 @@ static void background_kicks_watchdog(void **state)
     init_app();
     expect_function_call(hal_watchdog_kick);
     app_background(&app);
+}
+
+/* A new configuration (the link's parameters): due only while stopped; taken by
+ * app_reconfigure_now, which rebuilds the controller from app->cfg (the speed PI's gain and the
+ * model's L as written), keeps the operator's request and the encoder's offset in use, and
+ * clears the request; in RUN it waits (not due), the running controller untouched. */
+static void reconfigure_while_stopped(void **state)
+{
+    (void)state;
+    init_app();
+    hal_sample_t s = sample(0.5f, -0.2f, VDC);
+    start(&s);
+    assert_int_equal(app.state, APP_STATE_RUN);
+    const float kp0 = app.ctrl.speed_pi.cfg.Kp;
+    app.cfg.ctrl.speed_kp_Nms_rad = 2.0f * kp0;
+    app.cfg.ctrl.L_H = 1.5f * app.cfg.ctrl.L_H;
+    app_request_reconfigure(&app, 0u);
+    assert_false(app_reconfigure_due(&app));
+    app_reconfigure_now(&app);                                  /* not due: nothing */
+    assert_true(app.ctrl.speed_pi.cfg.Kp == kp0);
+    isr_stop(&s);
+    assert_int_equal(app.state, APP_STATE_IDLE);
+    assert_true(app_reconfigure_due(&app));
+    const float offset = app.ctrl.enc.offset_el_rad;
+    const app_op_t op = app.op_taken;
+    app_reconfigure_now(&app);
+    assert_false(app_reconfigure_due(&app));
+    assert_int_equal(app.req_reconfigure, 0u);
+    assert_true(app.ctrl.speed_pi.cfg.Kp == 2.0f * kp0);
+    assert_true(app.ctrl.db.par.L_H == app.cfg.ctrl.L_H);
+    assert_true(app.ctrl.enc.offset_el_rad == offset);
+    assert_int_equal(app.ctrl.mode, op.mode);
+    assert_int_equal(app.state, APP_STATE_IDLE);
 }
 
 /* A refused block the conventional method needs (the encoder's PLL at
@@ -359,6 +394,7 @@ int main(void)
         cmocka_unit_test(stop_during_calibrate_and_align),
         cmocka_unit_test(isr_call_order),
         cmocka_unit_test(background_kicks_watchdog),
+        cmocka_unit_test(reconfigure_while_stopped),
         cmocka_unit_test(refused_block_faults_config_at_start),
     };
     return cmocka_run_group_tests_name("app", tests, NULL, NULL);

@@ -290,6 +290,10 @@ static void monitor_filled(void **state)
     /* MTPA with the controller's L: sqrt(psi_f^2 + (L Te/(1.5 p psi_f))^2) */
     const double psq = 1.5 * LS * 2.0 / (1.5 * PP * PSIF);
     assert_float_equal(c.mon.psi_ref_Wb, sqrt(PSIF * PSIF + psq * psq), 1e-6);
+    /* the current aimed at: MTPA's, id* = 0, iq* = Te / (1.5 p psi_f), on the q axis at theta + 90 deg */
+    const double iq_aim = 2.0 / (1.5 * PP * PSIF);
+    assert_float_equal(c.mon.i_aim_alpha_A, -iq_aim * sin(c.mon.theta_el_rad), 1e-3);
+    assert_float_equal(c.mon.i_aim_beta_A, iq_aim * cos(c.mon.theta_el_rad), 1e-3);
     /* from rest with zero voltage applied: nothing moves, psi = psi_f */
     assert_float_equal(c.mon.te_est_Nm, 0.0, 1e-6);
     assert_float_equal(c.mon.psi_est_Wb, PSIF, 1e-6);

@@ -2,7 +2,9 @@
  * the HAL mock: every request type, WRITE through cmd_apply() (a refused
  * value named and not applied, access checked), the reply cache (a repeat
  * is answered, not executed again), the stream's budget, the capture's
- * trigger, pre-trigger rows and period indices, and a lossy link (bytes
+ * trigger, pre-trigger rows and period indices, actions refused naming
+ * the state, the host timeout's ramp and stop, the parameters (written
+ * stopped, within their range), and a lossy link (bytes
  * dropped, flipped, duplicated, garbage at 10 % each way) on which every
  * write is applied exactly once. Expected values are derived in the
  * comments. */
@@ -17,7 +19,9 @@
 
 #include "app.h"
 #include "cmd.h"
+#include "drive_params.h"
 #include "link.h"
+#include "link_params.h"
 #include "mathx.h"
 #include "mock_hal.h"
 
@@ -35,7 +39,7 @@ static link_frame_t rep;
 static int setup(void **state)
 {
     app_cfg_t cfg;
-    link_cfg_t lc = { TS_S, BAUD, "test" };
+    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, { NULL, NULL, NULL } };
     (void)state;
     app_cfg_default(&cfg);
     expect_function_call(hal_pwm_disable);
@@ -243,6 +247,169 @@ static void actions_start_stop_reset(void **state)
     assert_int_equal(rep.payload[0], LINK_ST_BAD_REQUEST);
     assert_int_equal(request(0x3Fu, seq_next(), NULL, 0u), 1);
     assert_int_equal(rep.payload[0], LINK_ST_UNKNOWN_TYPE);
+}
+
+/* Actions the state makes do nothing are refused, nothing done, the reason as cmd_error: a
+ * start or commission in FAULT (CMD_ERR_FAULTED), a commission while running (NOT_STOPPED);
+ * from IDLE both are taken. */
+static void actions_refused_naming_the_state(void **state)
+{
+    (void)state;
+    uint16_t a = LINK_ACTION_START;
+    app.state = APP_STATE_FAULT;
+    assert_int_equal(request(LINK_ACTION, seq_next(), &a, 1u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_REFUSED);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_FAULTED);
+    assert_int_equal(app.req_start, 0);
+    assert_int_equal(cmd.error, CMD_ERR_FAULTED);
+    a = LINK_ACTION_COMMISSION;
+    assert_int_equal(request(LINK_ACTION, seq_next(), &a, 1u), 1);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_FAULTED);
+    assert_int_equal(app.req_commission, 0);
+    app.state = APP_STATE_RUN;
+    assert_int_equal(request(LINK_ACTION, seq_next(), &a, 1u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_REFUSED);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_NOT_STOPPED);
+    assert_int_equal(app.req_commission, 0);
+    app.state = APP_STATE_IDLE;
+    assert_int_equal(request(LINK_ACTION, seq_next(), &a, 1u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_OK);         /* taken (this app has no commissioning to run) */
+    a = LINK_ACTION_START;
+    assert_int_equal(request(LINK_ACTION, seq_next(), &a, 1u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_OK);
+    assert_int_equal(app.req_start, 1);
+}
+
+/* host_timeout_s = 0.01 s (100 periods): written within 0..600 s, refused outside (nothing
+ * changed). A speed reference of 300 r/min (31.42 rad/s) written in RUN arms it; 99 periods of
+ * silence do nothing, the 101st starts the ramp with the warning raised: after 50 more periods
+ * the reference is 31.42 - accel 50 Ts (accel the drive's ramp rate, app_cfg's
+ * rsid.accel_rad_s2); at zero, the rotor still, the drive is stopped. Any valid frame before the
+ * timeout restarts the silence; with 0 (off) nothing happens. */
+static void host_timeout_ramps_to_zero_and_stops(void **state)
+{
+    (void)state;
+    const float ref_rad_s = 300.0f * MATHX_RAD_S_PER_RPM_F;
+    const float accel = app.cfg.rsid.accel_rad_s2;
+    assert_int_equal(write_f(LV_HOST_TIMEOUT_S, -1.0f, seq_next()), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_REFUSED);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_RANGE);
+    assert_int_equal(write_f(LV_HOST_TIMEOUT_S, 601.0f, seq_next()), 1);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_RANGE);
+    assert_int_equal(write_f(LV_HOST_TIMEOUT_S, NAN, seq_next()), 1);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_RANGE);
+    assert_true(lk.host.timeout_s == 0.0f);
+    assert_int_equal(write_f(LV_HOST_TIMEOUT_S, 0.01f, seq_next()), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_OK);
+    app.state = APP_STATE_RUN;
+    app.op_taken.mode = CTRL_MODE_SPEED;
+    app.ticks = 1000u;
+    assert_int_equal(write_f(LV_SPEED_REF_RPM, 300.0f, seq_next()), 1);
+    assert_float_equal(app.op_req.ref.speed_ref_rad_s, ref_rad_s, 1e-4);
+    app.ticks += 99u;
+    link_poll(&lk);
+    assert_int_equal(app.req_warning, 0);
+    assert_float_equal(app.op_req.ref.speed_ref_rad_s, ref_rad_s, 1e-4);
+    app.ticks += 2u;
+    link_poll(&lk);
+    assert_int_equal(app.req_warning, APP_WARN_HOST_TIMEOUT);
+    app.ticks += 50u;
+    link_poll(&lk);
+    assert_float_equal(app.op_req.ref.speed_ref_rad_s, ref_rad_s - accel * 50.0f * TS_S, 1e-3);
+    assert_int_equal(app.req_stop, 0);
+    app.ticks += (uint32_t)(ref_rad_s / accel / TS_S) + 1u;
+    link_poll(&lk);                       /* the reference at zero, the rotor still: stopped */
+    assert_true(app.op_req.ref.speed_ref_rad_s == 0.0f);
+    assert_int_equal(app.req_stop, 1);
+    /* off: silence does nothing */
+    app.req_warning = 0u;
+    app.req_stop = 0u;
+    assert_int_equal(write_f(LV_HOST_TIMEOUT_S, 0.0f, seq_next()), 1);
+    assert_int_equal(write_f(LV_SPEED_REF_RPM, 300.0f, seq_next()), 1);
+    app.ticks += 100000u;
+    link_poll(&lk);
+    assert_int_equal(app.req_warning, 0);
+    assert_float_equal(app.op_req.ref.speed_ref_rad_s, ref_rad_s, 1e-4);
+}
+
+static drive_params_t params;
+static int applied_k = -1;
+
+static void on_params(void *user, uint16_t k)
+{
+    (void)user;
+    applied_k = (int)k;
+}
+
+static int setup_params(void **state)
+{
+    app_cfg_t cfg;
+    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, { &params, on_params, NULL } };
+    (void)state;
+    app_cfg_default(&cfg);
+    expect_function_call(hal_pwm_disable);
+    app_init(&app, &cfg);
+    cmd_init(&cmd);
+    drive_params_board(&params);
+    (void)drive_params_derive(&params);
+    link_init(&lk, &lc, &app, &cmd, &LIM);
+    link_rx_init(&host_rx);
+    applied_k = -1;
+    return 0;
+}
+
+static float read_f(uint16_t id)
+{
+    uint16_t q[2];
+    (void)link_put_u16(q, 0u, id);
+    assert_int_equal(request(LINK_READ, seq_next(), q, 2u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_OK);
+    return link_get_f32(rep.payload, 1u);
+}
+
+/* A parameter (R_ohm, the first): ACCESS while running, nothing changed; written while stopped
+ * into the parameter set, the glue told which; out of its range (the scenario key's:
+ * LINK_PARAM_R_OHM_HI) REFUSED with CMD_ERR_RANGE, nothing changed; read back. pole_pairs
+ * (u16) written as an integer. Without a parameter set (NULL) not writable at all. */
+static void parameters_written_stopped_within_their_range(void **state)
+{
+    (void)state;
+    const uint16_t r_id = (uint16_t)(LV_PARAM_FIRST + LINK_PARAM_R_OHM);
+    const float r0 = params.motor.R_Ohm;
+    assert_string_equal(link_var(r_id)->name, "R_ohm");
+    app.state = APP_STATE_RUN;
+    assert_int_equal(write_f(r_id, 2.5f, seq_next()), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_ACCESS);
+    assert_true(params.motor.R_Ohm == r0);
+    assert_int_equal(applied_k, -1);
+    app.state = APP_STATE_IDLE;
+    assert_int_equal(write_f(r_id, 2.5f, seq_next()), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_OK);
+    assert_true(params.motor.R_Ohm == 2.5f);
+    assert_int_equal(applied_k, LINK_PARAM_R_OHM);
+    assert_true(read_f(r_id) == 2.5f);
+    assert_int_equal(write_f(r_id, 2.0f * LINK_PARAM_R_OHM_HI, seq_next()), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_REFUSED);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_RANGE);
+    assert_true(params.motor.R_Ohm == 2.5f);
+    uint16_t p[6];
+    (void)link_put_u16(p, 0u, (uint16_t)(LV_PARAM_FIRST + LINK_PARAM_POLE_PAIRS));
+    (void)link_put_u32(p, 2u, 4u);
+    assert_int_equal(request(LINK_WRITE, seq_next(), p, 6u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_OK);
+    assert_int_equal(params.motor.pole_pairs, 4);
+    (void)link_put_u32(p, 2u, 0u);                                   /* below 1 */
+    assert_int_equal(request(LINK_WRITE, seq_next(), p, 6u), 1);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_RANGE);
+    assert_int_equal(params.motor.pole_pairs, 4);
+}
+
+static void parameters_need_a_parameter_set(void **state)
+{
+    (void)state;
+    app.state = APP_STATE_IDLE;
+    assert_int_equal(write_f((uint16_t)(LV_PARAM_FIRST + LINK_PARAM_R_OHM), 2.5f, seq_next()), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_ACCESS);
 }
 
 /* ACTION LEVEL n: the next start's build level through cmd_apply, refused outside 1..5. */
@@ -586,6 +753,10 @@ int main(void)
         cmocka_unit_test_setup(a_repeated_request_is_answered_from_the_cache, setup),
         cmocka_unit_test_setup(actions_start_stop_reset, setup),
         cmocka_unit_test_setup(action_level_sets_the_next_start_level, setup),
+        cmocka_unit_test_setup(actions_refused_naming_the_state, setup),
+        cmocka_unit_test_setup(host_timeout_ramps_to_zero_and_stops, setup),
+        cmocka_unit_test_setup(parameters_written_stopped_within_their_range, setup_params),
+        cmocka_unit_test_setup(parameters_need_a_parameter_set, setup),
         cmocka_unit_test_setup(stream_is_refused_above_the_budget_naming_it, setup),
         cmocka_unit_test_setup(stream_rows_carry_the_values_read_gives, setup),
         cmocka_unit_test_setup(capture_triggers_above_with_pre_rows_and_period_indices, setup),

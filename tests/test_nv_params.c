@@ -2,8 +2,7 @@
  * Unit tests for firmware/params/nv_params: the store's blocks over the
  * parameter set through a list of parameters (here a list of three of
  * its own, as the link's table will be one): a block's pairs replace the
- * defaults all or none, a save holds every parameter of the list; the
- * start-up's configuration (app_cfg_stored, main.c) takes them.
+ * defaults all or none, a save holds every parameter of the list.
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -13,7 +12,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "app.h"
 #include "drive_params.h"
 #include "nv_params.h"
 
@@ -187,34 +185,6 @@ static void a_list_of_none_or_too_many_is_not_saved(void **state)
     assert_load(NV_EMPTY, 0u, &defaults);
 }
 
-/* The start-up's configuration: the board's (app_cfg_default) when nothing
- * is saved or the block fails; with the saved kp, the controller's kp. */
-static void the_start_up_configuration_takes_the_saved_values(void **state)
-{
-    (void)state;
-    static app_cfg_t board, got;
-    uint16_t taken = 0xFFFFu;
-    app_cfg_default(&board);
-    assert_int_equal(app_cfg_stored(&got, &DEV, &LIST, pairs, &taken), NV_EMPTY);
-    assert_int_equal(taken, 0u);
-    assert_memory_equal(&got, &board, sizeof got);
-
-    const nv_pair_t kp[1] = { { nv_key_id("speed_kp_Nms_rad"), 0.0123f } };
-    assert_int_equal(nv_save(&DEV, kp, 1u, buf), NV_OK);
-    assert_int_equal(app_cfg_stored(&got, &DEV, &LIST, pairs, &taken), NV_OK);
-    assert_int_equal(taken, 1u);
-    assert_true(got.ctrl.speed_kp_Nms_rad == 0.0123f);
-    assert_true(board.ctrl.speed_kp_Nms_rad != 0.0123f);
-    got.ctrl.speed_kp_Nms_rad = board.ctrl.speed_kp_Nms_rad;   /* nothing else changed */
-    assert_memory_equal(&got, &board, sizeof got);
-
-    sector[5] ^= 0x8000u;   /* kp's sign bit */
-    taken = 0xFFFFu;
-    assert_int_equal(app_cfg_stored(&got, &DEV, &LIST, pairs, &taken), NV_INVALID);
-    assert_int_equal(taken, 0u);
-    assert_memory_equal(&got, &board, sizeof got);
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -224,7 +194,6 @@ int main(void)
         cmocka_unit_test_setup(a_pair_the_list_refuses_keeps_every_default, setup),
         cmocka_unit_test_setup(a_corrupted_block_keeps_every_default, setup),
         cmocka_unit_test_setup(a_list_of_none_or_too_many_is_not_saved, setup),
-        cmocka_unit_test_setup(the_start_up_configuration_takes_the_saved_values, setup),
     };
     return cmocka_run_group_tests_name("nv_params", tests, NULL, NULL);
 }

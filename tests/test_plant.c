@@ -2,7 +2,11 @@
  * the locked-rotor RL step, the analytic dq steady state under load, and
  * the energy balance over a transient (integrated here, by trapezoid);
  * the period solver against an independent fine RK4 of eqs. (1)-(3) in
- * the rotor frame, through switching periods with large accelerations. */
+ * the rotor frame, through switching periods with large accelerations;
+ * the gates off (the diode bridge, plant_design.md sec. 9): no current
+ * below the speed where the line back-EMF reaches the bus, the braking
+ * torque of the quasi-static bridge (L -> 0) in closed form above it, and
+ * the power balance (shaft = bus + copper + diodes) at the motor's L. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -441,6 +445,130 @@ static void period_solver_exact_at_held_speed_beyond_the_series(void **state)
     assert_true(wst.th_rad < 1e-12);
 }
 
+/* ---- the gates off: the diode bridge ---------------------------------- */
+
+#define BUS_V 311.0
+#define DROP_V 1.2
+#define PERIOD_S 1.0e-4
+
+/* The speed where the line back-EMF's peak sqrt(3) p w psi_f reaches the bus and both drops
+ * (sec. 9): below it no diode can conduct. [rad/s mechanical] */
+static double bus_limited_speed(const plant_cfg_t *c)
+{
+    return (BUS_V + 2.0 * DROP_V) / (sqrt(3.0) * (double)c->pole_pairs * c->psi_f_Wb);
+}
+
+/* Gates off at a held speed for `periods`, then `avg` more periods averaged: the mean torque,
+ * and (pointers may be NULL) the mean power into the bus, the copper's and the diodes'. */
+static double rectified_mean(plant_t *p, int periods, int avg, double *p_bus_W, double *p_cu_W, double *p_d_W)
+{
+    for (int k = 0; k < periods; k++) {
+        plant_step_rectified(p, BUS_V, DROP_V, 0.0, PERIOD_S);
+    }
+    double te = 0.0;
+    double bus = 0.0;
+    double cu = 0.0;
+    double dio = 0.0;
+    const int sub = (int)lround(PERIOD_S / PLANT_OFF_SUBSTEP_MAX_S);
+    for (int k = 0; k < avg * sub; k++) {
+        plant_step_rectified(p, BUS_V, DROP_V, 0.0, PLANT_OFF_SUBSTEP_MAX_S);
+        double i[3];
+        plant_iabc_A(p, i);
+        te += plant_te_Nm(p);
+        for (int x = 0; x < 3; x++) {
+            bus += BUS_V * fmax(-i[x], 0.0);   /* an upper diode carries -i_x into the bus's + rail */
+            cu += p->cfg.R_Ohm * i[x] * i[x];
+            dio += DROP_V * fabs(i[x]);
+        }
+    }
+    const double n = (double)(avg * sub);
+    if (p_bus_W != NULL) {
+        *p_bus_W = bus / n;
+        *p_cu_W = cu / n;
+        *p_d_W = dio / n;
+    }
+    return te / n;
+}
+
+/* Just below the bus-limited speed every diode blocks (no current at all); just above, the
+ * bridge conducts and the torque brakes the shaft (opposes its turning). */
+static void diodes_conduct_from_the_bus_limited_speed(void **state)
+{
+    (void)state;
+    const double margin = 0.01;
+    plant_cfg_t cfg = table1_plant();
+    cfg.speed_held = true;
+    const double w_on = bus_limited_speed(&cfg);
+    plant_t p;
+    cfg.omega0_m_rad_s = (1.0 - margin) * w_on;
+    plant_init(&p, &cfg, 0.0);
+    const double below = rectified_mean(&p, 2000, 200, NULL, NULL, NULL);
+    assert_true(!(p.x.id_A != 0.0) && !(p.x.iq_A != 0.0));
+    assert_float_equal(below, 0.0, 0.0);
+    cfg.omega0_m_rad_s = (1.0 + margin) * w_on;
+    plant_init(&p, &cfg, 0.0);
+    const double above = rectified_mean(&p, 2000, 200, NULL, NULL, NULL);
+    assert_true(above < 0.0);
+    print_message("bus-limited speed %.1f r/min: torque %.3g N m below, %.3g N m 1 %% above\n",
+                  w_on * 60.0 / TWO_PI, below, above);
+}
+
+/* L -> 0 (L/R 3.3 us against an electrical turn of 5 ms): the bridge is resistive. At
+ * E = 1.1 (vdc + 2 vd) (E the line EMF's peak) only the pair with the largest line EMF e_L =
+ * E cos(phi) conducts (a third phase joins only above E = 2/sqrt(3) of it), with current
+ * (e_L - V) / 2R: the shaft gives P = (3 / (2 pi R)) [E^2 (a + sin a cos a) - 2 E V sin a],
+ * a = acos(V / E), averaged over a sixth of the turn; the mean torque is -P / w. */
+static void braking_torque_of_the_quasi_static_bridge(void **state)
+{
+    (void)state;
+    const double over = 1.1;
+    const double tol = 0.005;
+    plant_cfg_t cfg = table1_plant();
+    cfg.L_H = 1.0e-5;
+    cfg.speed_held = true;
+    cfg.omega0_m_rad_s = over * bus_limited_speed(&cfg);
+    plant_t p;
+    plant_init(&p, &cfg, 0.0);
+    const double V = BUS_V + 2.0 * DROP_V;
+    const double E = sqrt(3.0) * (double)cfg.pole_pairs * cfg.omega0_m_rad_s * cfg.psi_f_Wb;
+    const double a = acos(V / E);
+    const double P = 3.0 / (TWO_PI * cfg.R_Ohm) * (E * E * (a + sin(a) * cos(a)) - 2.0 * E * V * sin(a));
+    /* an average over whole electrical turns: 1 / (p w) * 2 pi of them, in periods */
+    const double turn_s = TWO_PI / ((double)cfg.pole_pairs * cfg.omega0_m_rad_s);
+    const int turns = 8;
+    const double te = rectified_mean(&p, 100, (int)lround(turns * turn_s / PERIOD_S), NULL, NULL, NULL);
+    const double expect = -P / cfg.omega0_m_rad_s;
+    print_message("quasi-static bridge at %.0f r/min: torque %.5g N m, closed form %.5g N m\n",
+                  cfg.omega0_m_rad_s * 60.0 / TWO_PI, te, expect);
+    assert_true(rel_err(te, expect) < tol);
+}
+
+/* The motor's own L (L/R 3.7 ms) at 1.3 x the bus-limited speed, in steady state: the power the
+ * shaft gives, -Te w, goes into the bus, the copper and the diodes' drops (commutation overlap
+ * and all: no closed form, the balance holds whatever the diodes do). */
+static void rectified_power_balances(void **state)
+{
+    (void)state;
+    const double over = 1.3;
+    const double tol = 0.01;
+    plant_cfg_t cfg = table1_plant();
+    cfg.speed_held = true;
+    cfg.omega0_m_rad_s = over * bus_limited_speed(&cfg);
+    plant_t p;
+    plant_init(&p, &cfg, 0.0);
+    const double turn_s = TWO_PI / ((double)cfg.pole_pairs * cfg.omega0_m_rad_s);
+    const int turns = 8;
+    double bus;
+    double cu;
+    double dio;
+    const double te = rectified_mean(&p, 3000, (int)lround(turns * turn_s / PERIOD_S), &bus, &cu, &dio);
+    const double shaft = -te * cfg.omega0_m_rad_s;
+    print_message("at %.0f r/min: shaft %.4g W = bus %.4g + copper %.4g + diodes %.4g W (torque %.4g N m)\n",
+                  cfg.omega0_m_rad_s * 60.0 / TWO_PI, shaft, bus, cu, dio, te);
+    assert_true(shaft > 0.0);
+    assert_true(rel_err(bus + cu + dio, shaft) < tol);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -452,6 +580,9 @@ int main(void)
         cmocka_unit_test(angle_wraps_and_outputs_follow_state),
         cmocka_unit_test(period_solver_matches_fine_rk4),
         cmocka_unit_test(period_solver_exact_at_held_speed_beyond_the_series),
+        cmocka_unit_test(diodes_conduct_from_the_bus_limited_speed),
+        cmocka_unit_test(braking_torque_of_the_quasi_static_bridge),
+        cmocka_unit_test(rectified_power_balances),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -14,6 +14,10 @@
 #define TE_MAX      12.0f
 #define POLES       3u
 #define STUCK_MIN_N 8u      /* periods a reading must stay unchanged (below the 14 of the 15 deg case) */
+#define PSI_F       0.2f     /* the controller's PM flux [Wb] */
+/* OPEN_PHASE's voltage rule's top speed by hand: a back-EMF peak of 0.5 x 25 V at 0.2 Wb is
+ * 62.5 rad/s el, 20.83 rad/s mech, 2.083e-3 rad (3.316 counts) a period, 9.947 counts a part of 3 */
+#define OP_SLOW_COUNTS_PER_PERIOD (0.5 * 25.0 / 0.2 / 3.0 * 1e-4 * 10000.0 / (2.0 * 3.14159265358979))
 
 static protect_cfg_t prot_cfg(void)
 {
@@ -26,7 +30,7 @@ static protect_cfg_t prot_cfg(void)
 static protect_t prot_unit(void)
 {
     const protect_cfg_t cfg = prot_cfg();
-    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES };
+    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES, PSI_F };
     protect_t p;
     protect_init(&p, &cfg, &drv);
     return p;
@@ -389,94 +393,98 @@ static void fault_holds_until_reset_and_cause_gone(void **state)
 
 /* ---- the history checks (protect_watch) ---------------------------------- */
 
-static protect_watch_in_t watch_in(float ia, float ib, const float *duty, bool running, float speed, float te_ref)
+/* ... with the controller's aimed current (id_aim, iq_aim) at the rotor angle theta_el */
+static protect_watch_in_t watch_in_at(float ia, float ib, const float *duty, bool running, float theta_el,
+                                      float id_aim, float iq_aim)
 {
-    const protect_watch_in_t in = { ia, ib, ia, ib, VDC, duty, running, speed, te_ref };
+    const float al = id_aim * cosf(theta_el) - iq_aim * sinf(theta_el);
+    const float be = id_aim * sinf(theta_el) + iq_aim * cosf(theta_el);
+    const protect_watch_in_t in = { ia, ib, ia, ib, VDC, duty, running, 0.0f, 0.0f, al, be };
     return in;
 }
 
-/* Phase a given 0.1 x 311 = 31.1 V (>= 25) but carrying 0 A while ib = 2 A:
- * |i| = |i_beta| = 2 x 2 / sqrt(3) = 2.309 A, the limit 0.2 x that = 0.462 A;
- * the first whole window ends at its 12th period. The same current with
- * phase a at zero voltage (a vector across the phase, as in the alignment)
- * is healthy, and so is ia = 1 A (mean |i_a| / |i| = 1 / 2 = 0.5). The
- * window slides by a part (3 periods): after 12 healthy periods (ia = 1 A)
- * phase a opens; the window of the last 4 parts is judged after each part:
- * with 1, 2, 3 open parts mean |i_a| = 0.75, 0.5, 0.25 A against
- * 0.2 x |i| (|i| from 2 to 2.309 A: limits 0.415, 0.431, 0.446 A): the
- * third open part (9 periods) trips, value 0.25 A. */
-static void open_phase_found_at_the_window_end(void **state)
+static protect_watch_in_t watch_in(float ia, float ib, const float *duty, bool running, float speed, float te_ref)
+{
+    const protect_watch_in_t in = { ia, ib, ia, ib, VDC, duty, running, speed, te_ref, 0.0f, 0.0f };
+    return in;
+}
+
+/* The voltage rule (not field-oriented, as in the alignment: the cone rule
+ * is not judged). Phase a given 0.1 x 311 = 31.1 V (>= 25) but carrying
+ * 0 A while ib = 2 A: |i| (the three |i_x| summed over sqrt 3) = 4 /
+ * sqrt(3) = 2.309 A, exactly |i_beta|; the first whole window ends at its
+ * 12th period: value mean |i_a| / mean |i| = 0, limit 0.2. The same
+ * current with phase a at zero voltage (a vector across the phase) is
+ * healthy, and so is ia = ib = 1 A (|i| taken as 4 / sqrt(3) = 2.309 A,
+ * truly 2: mean |i_a| / |i| = 0.433). The window slides by a part (3
+ * periods): after 12 healthy periods (ia = 1 A) phase a opens; the window
+ * of the last 4 parts is judged after each part: with 1, 2, 3 open parts
+ * mean |i_a| = 0.75, 0.5, 0.25 A against 0.2 x 2.309 = 0.462 A: the third
+ * open part (9 periods) trips, value 0.25 / 2.309 = 0.1083. The rule's top
+ * speed by hand (OP_SLOW_COUNTS_PER_PERIOD): the first case turning 4
+ * counts a period (12 a part, above 9.947) is not judged, at 3 (9 a part)
+ * it is. */
+static void open_phase_voltage_rule_at_the_window_end(void **state)
 {
     (void)state;
     const float d_open[3] = { 0.6f, 0.5f, 0.4f };
     const float d_across[3] = { 0.5f, 0.6f, 0.4f };
     protect_t p = prot_unit();
+    assert_float_equal(p.op_slow_counts, OP_PART * OP_SLOW_COUNTS_PER_PERIOD, 1e-4);
     for (int k = 1; k < OP_WINDOW; k++) {
-        const protect_watch_in_t in = watch_in(0.0f, 2.0f, d_open, true, 0.0f, 0.0f);
+        const protect_watch_in_t in = watch_in(0.0f, 2.0f, d_open, false, 0.0f, 0.0f);
         assert_int_equal(protect_watch(&p, &in).status, APP_STEP_RUNNING);
     }
-    const protect_watch_in_t in = watch_in(0.0f, 2.0f, d_open, true, 0.0f, 0.0f);
+    const protect_watch_in_t in = watch_in(0.0f, 2.0f, d_open, false, 0.0f, 0.0f);
     app_step_t r = protect_watch(&p, &in);
     assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
     assert_float_equal(r.value, 0.0f, 1e-6);
-    assert_float_equal(r.limit, 0.2f * 4.0f / sqrtf(3.0f), 1e-5);
+    assert_float_equal(r.limit, 0.2f, 1e-6);
     assert_int_equal(p.op_phase, 0);
 
     p = prot_unit();
     for (int k = 0; k < 3 * OP_WINDOW; k++) {
-        const protect_watch_in_t across = watch_in(0.0f, 2.0f, d_across, true, 0.0f, 0.0f);
-        const protect_watch_in_t carries = watch_in(1.0f, 1.0f, d_open, true, 0.0f, 0.0f);
+        const protect_watch_in_t across = watch_in(0.0f, 2.0f, d_across, false, 0.0f, 0.0f);
+        const protect_watch_in_t carries = watch_in(1.0f, 1.0f, d_open, false, 0.0f, 0.0f);
         assert_int_equal(protect_watch(&p, (k < OP_WINDOW) ? &across : &carries).status, APP_STEP_RUNNING);
     }
     /* sliding: 12 healthy periods, then open: trips at the end of the third open part */
     p = prot_unit();
     for (int k = 0; k < OP_WINDOW; k++) {
-        const protect_watch_in_t carries = watch_in(1.0f, 1.0f, d_open, true, 0.0f, 0.0f);
+        const protect_watch_in_t carries = watch_in(1.0f, 1.0f, d_open, false, 0.0f, 0.0f);
         assert_int_equal(protect_watch(&p, &carries).status, APP_STEP_RUNNING);
     }
     for (int k = 1; k < 3 * OP_PART; k++) {
-        const protect_watch_in_t open = watch_in(0.0f, 2.0f, d_open, true, 0.0f, 0.0f);
+        const protect_watch_in_t open = watch_in(0.0f, 2.0f, d_open, false, 0.0f, 0.0f);
         assert_int_equal(protect_watch(&p, &open).status, APP_STEP_RUNNING);
     }
     {
-        const protect_watch_in_t open = watch_in(0.0f, 2.0f, d_open, true, 0.0f, 0.0f);
+        const protect_watch_in_t open = watch_in(0.0f, 2.0f, d_open, false, 0.0f, 0.0f);
         r = protect_watch(&p, &open);
         assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
-        assert_float_equal(r.value, 0.25f, 1e-6);
-        assert_float_equal(r.limit, 0.2f * (2.0f + 3.0f * 4.0f / sqrtf(3.0f)) / 4.0f, 1e-5);
+        assert_float_equal(r.value, 0.25f / (4.0f / sqrtf(3.0f)), 1e-5);
+        assert_float_equal(r.limit, 0.2f, 1e-6);
     }
     /* outputs off (no duties) restart the window: 11 + off + 11 periods do not end one */
     p = prot_unit();
     for (int k = 0; k < 2 * OP_WINDOW - 1; k++) {
-        const protect_watch_in_t in2 = watch_in(0.0f, 2.0f, (k == OP_WINDOW - 1) ? NULL : d_open, true, 0.0f, 0.0f);
+        const protect_watch_in_t in2 = watch_in(0.0f, 2.0f, (k == OP_WINDOW - 1) ? NULL : d_open, false, 0.0f, 0.0f);
         assert_int_equal(protect_watch(&p, &in2).status, APP_STEP_RUNNING);
     }
-}
-
-/* Phase a at 0 A while its voltage flips +-31.1 V every period (the
- * deadbeat's answer to ADC noise): each 3-period part averages to
- * 31.1 / 3 V, the window to 10.4 V < 25 V: no fault at standstill. The
- * same with the rotor turning 160 counts per period (0.3016 rad el; the
- * first window 11 steps after the seeding period, 3.32 rad >= pi, half a
- * turn): a healthy phase would have carried 0.64 |i|, fault at the first
- * whole window without the voltage. */
-static void open_phase_voltage_averaged_per_part_and_half_turn(void **state)
-{
-    (void)state;
-    const float d_pos[3] = { 0.6f, 0.5f, 0.4f };
-    const float d_neg[3] = { 0.4f, 0.5f, 0.6f };
-    for (int turning = 0; turning < 2; turning++) {
-        protect_t p = prot_unit();
-        app_step_t r = app_step_running();
+    /* the top speed: 4 counts a period is above it, 3 below */
+    for (uint32_t per_period = 3u; per_period <= 4u; per_period++) {
         uint32_t count = 0u;
         int k;
-        for (k = 0; (k < 3 * OP_WINDOW) && (r.status == APP_STEP_RUNNING); k++) {
+        p = prot_unit();
+        r = app_step_running();
+        for (k = 0; (k < 2 * OP_WINDOW) && (r.status == APP_STEP_RUNNING); k++) {
             protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
-            count += turning ? 160u : 0u;
-            const protect_watch_in_t in = watch_in(0.0f, 2.0f, (k % 2 == 0) ? d_pos : d_neg, true, 0.0f, 0.0f);
-            r = protect_watch(&p, &in);
+            count += per_period;
+            const protect_watch_in_t o = watch_in(0.0f, 2.0f, d_open, false, 0.0f, 0.0f);
+            r = protect_watch(&p, &o);
         }
-        if (turning) {
+        assert_true((double)(per_period * OP_PART) != OP_PART * OP_SLOW_COUNTS_PER_PERIOD);
+        if ((double)(per_period * OP_PART) < OP_PART * OP_SLOW_COUNTS_PER_PERIOD) {
             assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
             assert_int_equal(k, OP_WINDOW);
         } else {
@@ -485,23 +493,150 @@ static void open_phase_voltage_averaged_per_part_and_half_turn(void **state)
     }
 }
 
-/* The window's parts longer than its preparation steps (as on the board,
- * 250 periods a part): parts of 8 periods, a window of 32, the steps in
- * the parts' first periods and none left for a part's end. Random healthy
- * currents and voltages (phase a given >= 25 V, all three carrying
- * current), then phase a opens at period 133 (4 windows and 5 periods in),
- * turning at 30 counts per period (under half an electrical turn a
- * window: the voltage rule judges). Independently, in double precision
- * over the raw periods: each part end's window (its last 4 parts, |u_a|
- * per part). protect_watch must answer RUNNING in every period until the
- * first part end the reference finds open, and trip there, with the
- * reference's mean |i_a| and limit: at a part's end, within one window and
- * a part of the opening (the documented time), never a period later. */
-#define SPREAD_PART 8
-#define SPREAD_WINDOW (4 * SPREAD_PART)
-#define SPREAD_OPEN_AT (4 * SPREAD_WINDOW + 5)
-#define SPREAD_PERIODS (SPREAD_OPEN_AT + 3 * SPREAD_WINDOW)
-#define SPREAD_TURN_COUNTS 30u
+/* Phase a at 0 A while its voltage flips +-31.1 V every period (the
+ * deadbeat's answer to ADC noise): each 3-period part averages to
+ * 31.1 / 3 V, the window to 10.4 V < 25 V: no fault at standstill. */
+static void open_phase_voltage_averaged_per_part(void **state)
+{
+    (void)state;
+    const float d_pos[3] = { 0.6f, 0.5f, 0.4f };
+    const float d_neg[3] = { 0.4f, 0.5f, 0.6f };
+    protect_t p = prot_unit();
+    for (int k = 0; k < 3 * OP_WINDOW; k++) {
+        const protect_watch_in_t in = watch_in(0.0f, 2.0f, (k % 2 == 0) ? d_pos : d_neg, false, 0.0f, 0.0f);
+        assert_int_equal(protect_watch(&p, &in).status, APP_STEP_RUNNING);
+    }
+}
+
+/* The cone rule (field-oriented). The rotor at theta = 115 deg el, the
+ * controller aiming 3 A along its q axis (at 205 deg, 25 deg from phase
+ * a's negative axis): i*_alpha = -3 sin 115 = -2.719 A, i*_beta = 3 cos 115
+ * = -1.268 A; projected on the phases' axes -2.719, 0.261, 2.458 A, only
+ * a's at least cos 30 deg x 3 = 2.598 A: phase a's cone. Healthy, the
+ * current is the aim, ia = -2.719 A >= 0.2 x 3 A. Phase a open: the b-c
+ * current alone, ia = 0, ib = sqrt(3) / 2 i_beta: a carries nothing. 12
+ * healthy periods, then open: the window of the last 4 parts holds 12
+ * cone periods; with 1, 2, 3 open parts 3, 6, 9 carry nothing, more than
+ * half (6) at the third: the fault there, value the share phase a carried
+ * 3 / 12 = 0.25, limit 0.5. Not field-oriented (the alignment) and
+ * turning faster than the voltage rule's top speed: no fault. Across: the
+ * rotor at 10 deg, the aim along q at 100 deg, 80 deg from a's axis
+ * (projections -0.521, 2.819, -2.298 A: phase b's cone), turning fast
+ * (160 counts a period) with phase a given 31.1 V and carrying nothing
+ * (a healthy a carries |cos 80 deg| = 0.17 < 0.2 of |i| there: the old
+ * half-turn rule's false trip): no fault. Field weakening: the rotor at
+ * 65 deg (its q axis at 155 deg, 25 deg from a's negative axis),
+ * generating, the aim (-2.573, -1.2) A mostly on -d: (0.000, -2.839) A in
+ * the stator frame, across phase a, which carries nothing, healthy: no
+ * fault (the q axis alone would have put the period in a's cone, -1.2 A
+ * projected 1.088 A on a's axis, >= cos 30 deg x 1.2 A, carrying nothing). */
+static void open_phase_cone_rule_by_hand(void **state)
+{
+    (void)state;
+    const float d_open[3] = { 0.6f, 0.5f, 0.4f };
+    const float th = 115.0f * PI_F / 180.0f;
+    const float aim = 3.0f;
+    const float i_alpha = -3.0f * sinf(th);
+    const float i_beta = 3.0f * cosf(th);
+    const float ib_healthy = -0.5f * i_alpha + 0.5f * sqrtf(3.0f) * i_beta;
+    const float ib_open = 0.5f * sqrtf(3.0f) * i_beta;
+    protect_t p = prot_unit();
+    assert_int_equal(p.op_cone_min, 1u); /* 0.125 x 12 periods, whole */
+    app_step_t r;
+    for (int k = 0; k < OP_WINDOW + 3 * OP_PART - 1; k++) {
+        const protect_watch_in_t in = (k < OP_WINDOW) ? watch_in_at(i_alpha, ib_healthy, d_open, true, th, 0.0f, aim)
+                                                      : watch_in_at(0.0f, ib_open, d_open, true, th, 0.0f, aim);
+        assert_int_equal(protect_watch(&p, &in).status, APP_STEP_RUNNING);
+    }
+    {
+        const protect_watch_in_t in = watch_in_at(0.0f, ib_open, d_open, true, th, 0.0f, aim);
+        r = protect_watch(&p, &in);
+    }
+    assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
+    assert_int_equal(p.op_phase, 0);
+    assert_float_equal(r.value, 0.25f, 1e-6);
+    assert_float_equal(r.limit, 0.5f, 0.0f);
+    /* the same, not field-oriented (the alignment): the aim says nothing, and
+     * the rotor turning 4 counts a period keeps the voltage rule out: no fault */
+    p = prot_unit();
+    {
+        uint32_t count = 0u;
+        for (int k = 0; k < 4 * OP_WINDOW; k++) {
+            protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
+            count += 4u;
+            const protect_watch_in_t in = watch_in_at(0.0f, ib_open, d_open, false, th, 0.0f, aim);
+            assert_int_equal(protect_watch(&p, &in).status, APP_STEP_RUNNING);
+        }
+    }
+    /* across, turning fast */
+    p = prot_unit();
+    {
+        const float th2 = 10.0f * PI_F / 180.0f;
+        const float a2 = -3.0f * sinf(th2);
+        const float b2 = 3.0f * cosf(th2);
+        uint32_t count = 0u;
+        assert_true(fabsf(a2) < 0.2f * 3.0f);
+        for (int k = 0; k < 4 * OP_WINDOW; k++) {
+            protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
+            count += 160u;
+            const protect_watch_in_t in = watch_in_at(0.0f, 0.5f * sqrtf(3.0f) * b2, d_open, true, th2, 0.0f, aim);
+            assert_int_equal(protect_watch(&p, &in).status, APP_STEP_RUNNING);
+        }
+    }
+    /* field weakening, turning fast */
+    p = prot_unit();
+    {
+        const float th3 = 65.0f * PI_F / 180.0f;
+        const float id3 = -2.573f;
+        const float iq3 = -1.2f;
+        const float ia3 = id3 * cosf(th3) - iq3 * sinf(th3); /* the healthy current: the aim */
+        const float ib3 = -0.5f * ia3 + 0.5f * sqrtf(3.0f) * (id3 * sinf(th3) + iq3 * cosf(th3));
+        uint32_t count = 0u;
+        assert_float_equal(ia3, 0.0f, 1e-3);
+        assert_float_equal(ib3, 0.5f * sqrtf(3.0f) * -2.839f, 1e-3);
+        assert_true(-iq3 * sinf(th3) >= cosf(PI_F / 6.0f) * -iq3); /* the q axis in a's cone */
+        for (int k = 0; k < 4 * OP_WINDOW; k++) {
+            protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
+            count += 160u;
+            const protect_watch_in_t in = watch_in_at(ia3, ib3, d_open, true, th3, id3, iq3);
+            assert_int_equal(protect_watch(&p, &in).status, APP_STEP_RUNNING);
+        }
+    }
+}
+
+/* The cone rule against an independent count: the rotor turning 40
+ * counts a period (0.0754 rad el; 4.3 deg), the controller aiming 3 A
+ * along its q axis, the current that with +-0.05 A of noise, parts of 8
+ * periods, a window of 32; phase a opens at period 141 (ia = 0, ib =
+ * sqrt(3) / 2 i_beta). The reference, in double precision over the raw
+ * periods, counts per part end's window the periods with the aim in phase
+ * a's cone (the q axis within 30 deg of a's: |sin theta| >= cos 30 deg),
+ * and those with |i_a| < 0.2 x 3 A; the first part end with
+ * enough such periods (1/8 of the window) and more than half carrying
+ * nothing is the fault, with the share carried: within a window and a
+ * part of the opening. protect_watch must agree period by period. */
+/* protect_watch over the periods of in[] (the encoder at counts[k]): RUNNING in every period
+ * before trip, then OPEN_PHASE of phase a with the value (within tol) and the limit. */
+static void assert_open_phase_a_at(protect_t *p, const protect_watch_in_t *in, const uint32_t *counts, int trip,
+                                   double value, double tol, double limit)
+{
+    for (int k = 0; k < trip; k++) {
+        protect_track(p, counts[k], (uint32_t)k * PERIOD_CYC);
+        assert_int_equal(protect_watch(p, &in[k]).status, APP_STEP_RUNNING);
+    }
+    protect_track(p, counts[trip], (uint32_t)trip * PERIOD_CYC);
+    const app_step_t r = protect_watch(p, &in[trip]);
+    assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
+    assert_int_equal(p->op_phase, 0);
+    assert_float_equal(r.value, value, tol);
+    assert_float_equal(r.limit, limit, 1e-6);
+}
+
+#define CONE_PART 8
+#define CONE_WINDOW (4 * CONE_PART)
+#define CONE_OPEN_AT 141
+#define CONE_PERIODS (CONE_OPEN_AT + 8 * CONE_WINDOW)
+#define CONE_TURN_COUNTS 40u
 
 static uint32_t lcg_next(uint32_t *x)
 {
@@ -514,17 +649,87 @@ static double lcg_unit(uint32_t *x) /* [0, 1) */
     return (double)lcg_next(x) / 16777216.0;
 }
 
+static void open_phase_cone_rule_against_a_count(void **state)
+{
+    (void)state;
+    static float ia[CONE_PERIODS], ib[CONE_PERIODS], th[CONE_PERIODS];
+    static protect_watch_in_t ins[CONE_PERIODS];
+    static uint32_t counts[CONE_PERIODS];
+    const float duty[3] = { 0.6f, 0.5f, 0.4f };
+    protect_cfg_t cfg = prot_cfg();
+    cfg.watch.op_window_s = CONE_WINDOW * 1e-4f;
+    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES, PSI_F };
+    const double cone_cos = cos(30.0 * 3.14159265358979 / 180.0);
+    protect_t p;
+    uint32_t seed = 777u;
+    int trip_ref = -1;
+    double value_ref = 0.0;
+
+    for (int k = 0; k < CONE_PERIODS; k++) {
+        const double t = (double)((uint32_t)k * CONE_TURN_COUNTS % CPR) * 2.0 * 3.14159265358979 * POLES / CPR;
+        const double ial = -3.0 * sin(t) + 0.1 * (lcg_unit(&seed) - 0.5);
+        const double ibe = 3.0 * cos(t) + 0.1 * (lcg_unit(&seed) - 0.5);
+        th[k] = (float)t;
+        ia[k] = (k < CONE_OPEN_AT) ? (float)ial : 0.0f;
+        ib[k] = (float)(((k < CONE_OPEN_AT) ? -0.5 * ial : 0.0) + 0.5 * sqrt(3.0) * ibe);
+    }
+    for (int end = CONE_WINDOW - 1; end < CONE_PERIODS && trip_ref < 0; end += CONE_PART) {
+        int cone = 0, none = 0;
+        for (int k = end - CONE_WINDOW + 1; k <= end; k++) {
+            if (fabs(sin((double)th[k])) >= cone_cos) {
+                cone++;
+                none += (fabs((double)ia[k]) < 0.2 * 3.0) ? 1 : 0;
+            }
+        }
+        if ((cone >= CONE_WINDOW / 8) && (2 * none > cone)) {
+            trip_ref = end;
+            value_ref = 1.0 - (double)none / cone;
+        }
+    }
+    assert_true(trip_ref > CONE_OPEN_AT);
+    assert_true(trip_ref - CONE_OPEN_AT <= CONE_WINDOW + CONE_PART);
+
+    protect_init(&p, &cfg, &drv);
+    assert_int_equal(p.op_part_ticks, CONE_PART);
+    for (int k = 0; k < CONE_PERIODS; k++) {
+        ins[k] = watch_in_at(ia[k], ib[k], duty, true, th[k], 0.0f, 3.0f);
+        counts[k] = (uint32_t)k * CONE_TURN_COUNTS % CPR;
+    }
+    assert_open_phase_a_at(&p, ins, counts, trip_ref, value_ref, 1e-6, 0.5);
+}
+
+/* The window's parts longer than its preparation steps (as on the board,
+ * 250 periods a part): parts of 8 periods, a window of 32, the steps in
+ * the parts' first periods and none left for a part's end. Random healthy
+ * currents and voltages (phase a given >= 25 V, all three carrying
+ * current), then phase a opens at period 133 (4 windows and 5 periods in),
+ * turning at 3 counts per period (24 a part, under the voltage rule's top
+ * speed of 26.5; not field-oriented: the voltage rule alone judges).
+ * Independently, in double precision over the raw periods: each part
+ * end's window (its last 4 parts, |u_a| per part). protect_watch must
+ * answer RUNNING in every period until the first part end the reference
+ * finds open, and trip there, with the reference's mean |i_a| / mean |i|
+ * and limit: at a part's end, within one window and a part of the opening
+ * (the documented time), never a period later. */
+#define SPREAD_PART 8
+#define SPREAD_WINDOW (4 * SPREAD_PART)
+#define SPREAD_OPEN_AT (4 * SPREAD_WINDOW + 5)
+#define SPREAD_PERIODS (SPREAD_OPEN_AT + 3 * SPREAD_WINDOW)
+#define SPREAD_TURN_COUNTS 3u
+
 static void open_phase_spread_steps_trip_at_the_documented_part_end(void **state)
 {
     (void)state;
     static float ia[SPREAD_PERIODS], ib[SPREAD_PERIODS], duty[SPREAD_PERIODS][3];
+    static protect_watch_in_t ins[SPREAD_PERIODS];
+    static uint32_t counts[SPREAD_PERIODS];
     protect_cfg_t cfg = prot_cfg();
     cfg.watch.op_window_s = SPREAD_WINDOW * 1e-4f;
-    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES };
+    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES, PSI_F };
     protect_t p;
     uint32_t seed = 12345u;
     int trip_ref = -1;
-    double value_ref = 0.0, limit_ref = 0.0;
+    double value_ref = 0.0;
 
     for (int k = 0; k < SPREAD_PERIODS; k++) {
         const double th = 2.0 * 3.14159265358979 * lcg_unit(&seed);
@@ -544,22 +749,20 @@ static void open_phase_spread_steps_trip_at_the_documented_part_end(void **state
             double ua = 0.0;
             for (int j = 0; j < SPREAD_PART; j++) {
                 const int k = end - SPREAD_WINDOW + 1 + part * SPREAD_PART + j;
-                const double beta = ((double)ia[k] + 2.0 * (double)ib[k]) / sqrt(3.0);
                 const double dm = ((double)duty[k][0] + duty[k][1] + duty[k][2]) / 3.0;
-                i_sum += sqrt((double)ia[k] * ia[k] + beta * beta);
+                i_sum += (fabs((double)ia[k]) + fabs((double)ib[k]) + fabs((double)ia[k] + ib[k])) / sqrt(3.0);
                 ia_sum += fabs((double)ia[k]);
                 ua += ((double)duty[k][0] - dm) * VDC;
             }
             ua_parts += fabs(ua);
         }
         const double n = SPREAD_WINDOW;
-        assert_true(4.0 * SPREAD_TURN_COUNTS * SPREAD_PART * 2.0 * POLES < CPR); /* under half a turn */
-        assert_true(ua_parts / n >= 25.0 * 1.001);                                 /* phase a given voltage */
+        assert_true(SPREAD_TURN_COUNTS < OP_SLOW_COUNTS_PER_PERIOD);  /* the voltage rule judges */
+        assert_true(ua_parts / n >= 25.0 * 1.001);                    /* phase a given voltage */
         assert_true(i_sum / n >= 1.0 * 1.001);
         if (ia_sum / n < 0.2 * i_sum / n) {
             trip_ref = end;
-            value_ref = ia_sum / n;
-            limit_ref = 0.2 * i_sum / n;
+            value_ref = ia_sum / i_sum;
         } else {
             assert_true(ia_sum / n >= 0.2 * i_sum / n * 1.001); /* not a rounding's call */
         }
@@ -569,22 +772,11 @@ static void open_phase_spread_steps_trip_at_the_documented_part_end(void **state
 
     protect_init(&p, &cfg, &drv);
     assert_int_equal(p.op_part_ticks, SPREAD_PART);
-    uint32_t count = 0u;
     for (int k = 0; k < SPREAD_PERIODS; k++) {
-        protect_track(&p, count, (uint32_t)k * PERIOD_CYC);
-        count += SPREAD_TURN_COUNTS;
-        const protect_watch_in_t in = watch_in(ia[k], ib[k], duty[k], true, 0.0f, 0.0f);
-        const app_step_t r = protect_watch(&p, &in);
-        if (k < trip_ref) {
-            assert_int_equal(r.status, APP_STEP_RUNNING);
-            continue;
-        }
-        assert_int_equal(r.fault, APP_FAULT_OPEN_PHASE);
-        assert_int_equal(p.op_phase, 0);
-        assert_float_equal(r.value, value_ref, 1e-5 * limit_ref);
-        assert_float_equal(r.limit, limit_ref, 1e-5 * limit_ref);
-        break;
+        ins[k] = watch_in(ia[k], ib[k], duty[k], false, 0.0f, 0.0f);
+        counts[k] = (uint32_t)k * SPREAD_TURN_COUNTS;
     }
+    assert_open_phase_a_at(&p, ins, counts, trip_ref, value_ref, 1e-5, 0.2);
 }
 
 /* ia frozen at 1 A while the count moves 10 per period (10 x 2 pi x 3 /
@@ -632,7 +824,7 @@ static void frozen_current_reading_needs_its_periods(void **state)
     (void)state;
     protect_cfg_t cfg = prot_cfg();
     cfg.watch.stuck_min_periods = 20u;
-    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES };
+    const protect_drive_t drv = { 1e-4f, CPR, TE_MAX, POLES, PSI_F };
     protect_t p;
     protect_init(&p, &cfg, &drv);
     uint32_t count = 0u;
@@ -706,8 +898,10 @@ int main(void)
         cmocka_unit_test(overrun_run_time_latches),
         cmocka_unit_test(overrun_missed_period_latches),
         cmocka_unit_test(fault_holds_until_reset_and_cause_gone),
-        cmocka_unit_test(open_phase_found_at_the_window_end),
-        cmocka_unit_test(open_phase_voltage_averaged_per_part_and_half_turn),
+        cmocka_unit_test(open_phase_voltage_rule_at_the_window_end),
+        cmocka_unit_test(open_phase_voltage_averaged_per_part),
+        cmocka_unit_test(open_phase_cone_rule_by_hand),
+        cmocka_unit_test(open_phase_cone_rule_against_a_count),
         cmocka_unit_test(open_phase_spread_steps_trip_at_the_documented_part_end),
         cmocka_unit_test(frozen_current_reading_found_after_15_deg),
         cmocka_unit_test(frozen_current_reading_needs_its_periods),

@@ -14,6 +14,7 @@
 
 #include "drive_params.h"
 #include "hal_sim.h"
+#include "link_params.h"
 #include "scenario.h"
 
 #define TOL 1e-12
@@ -682,6 +683,40 @@ static void every_key_maps_to_its_own_field(void **state)
     }
 }
 
+/* One table of bounds: every link parameter's [controller] key is refused by scenario_set /
+ * scenario_finish exactly outside the link's range (link_params.h) and taken inside: its top
+ * and twice it (infinity for an unbounded one), its bottom (refused when open) and a step below
+ * it, an integer's fraction. */
+static void controller_keys_have_the_links_ranges(void **state)
+{
+    (void)state;
+    for (uint16_t k = 0u; k < (uint16_t)LINK_PARAM_COUNT; k++) {
+        const link_param_t *d = link_param(k);
+        const bool whole = (d->type == (uint16_t)LINK_PARAM_U16);
+        const float below = (d->lo > 0.0f) ? 0.5f * d->lo : d->lo - 1.0f;
+        const struct { float v; bool ok; } cases[] = {
+            /* an unbounded top: no value to try but a plain one inside (the cross-checks, e.g.
+             * i_limit_A below the trip, are the scenario's own) */
+            { (d->hi < 1e38f) ? d->hi : d->lo + 1.0f, true }, { (d->hi < 1e38f) ? 2.0f * d->hi : INFINITY, false },
+            { d->lo, !d->lo_open }, { below, false },
+            { whole ? d->lo + 0.5f : 0.5f * (d->lo + (d->hi < 1e38f ? d->hi : d->lo + 2.0f)), !whole },
+        };
+        for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+            scenario_t sc;
+            char err[SCENARIO_ERR_LEN];
+            char set[96];
+            scenario_defaults(&sc);
+            snprintf(set, sizeof set, "controller.%s=%.9g", d->key, (double)cases[c].v);
+            const int rc = (scenario_set(&sc, set, err, sizeof err) == 0) ? scenario_finish(&sc, err, sizeof err) : -1;
+            if ((rc == 0) != cases[c].ok) {
+                fail_msg("%s: %s, not %s (%s)", set, (rc == 0) ? "taken" : "refused", cases[c].ok ? "taken" : "refused",
+                         err);
+            }
+            assert_true(link_param_ok(k, cases[c].v) == cases[c].ok);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -701,6 +736,7 @@ int main(void)
         cmocka_unit_test(level_and_wrong_board_keys),
         cmocka_unit_test(faults_section),
         cmocka_unit_test(every_key_maps_to_its_own_field),
+        cmocka_unit_test(controller_keys_have_the_links_ranges),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -96,7 +96,8 @@ static double assert_latched(const char *what, const sil_result_t *res, app_faul
 
 /* Phase a, b or c opens: OPEN_PHASE at the end of a 25 ms part of the
  * sliding 0.1 s window, once the window is mostly faulted: within a window
- * and a part (125 ms); the phase's mean |i| below 0.2 x mean |i|. */
+ * and a part (125 ms); the share the phase carried below its limit
+ * (protect.h: 1/2 of the cone's periods, or op_ratio of mean |i|). */
 static void open_phase(void **state)
 {
     (void)state;
@@ -108,7 +109,7 @@ static void open_phase(void **state)
         const double dt = assert_latched(phases[p], &res, APP_FAULT_OPEN_PHASE);
         assert_true(dt <= 1.25 * BOARD_OPEN_PHASE_WINDOW_S);
         assert_true(res.fault_value < res.fault_limit);
-        assert_true(res.fault_limit >= BOARD_OPEN_PHASE_RATIO * REF_OPEN_PHASE_I_MIN_A);
+        assert_true((res.fault_limit == 0.5) || (res.fault_limit == (double)BOARD_OPEN_PHASE_RATIO));
     }
 }
 
@@ -280,11 +281,55 @@ static void healthy_runs_trip_nothing(void **state)
     }
 }
 
+/* No OPEN_PHASE from a speed step (issue 29): the paper's drive with
+ * B = 2e-3 N m s and no load ramped to 500 r/min, then stepped at T (the
+ * rotor's angle at the step spread over an electrical turn: 500 r/min x 3
+ * pole pairs is a turn in 40 ms, T over 90 ms) to 100 r/min: the current
+ * limit's deceleration burst, then a small current, crossing zero in the
+ * reversals. The rule before tripped in about half of these (the burst
+ * across a phase, the half turn's mean assumed); now none may, both
+ * methods, nor other step sizes (to 0, reversed, up) at three instants. */
+static void speed_steps_trip_nothing(void **state)
+{
+    (void)state;
+    static const char *const files[] = { "tools/scenarios/conv_paper.ini", "tools/scenarios/prop_paper.ini" };
+    static const int to_rpm[] = { 100, 0, -500, 1500 };
+    for (size_t m = 0; m < 2; m++) {
+        for (size_t s = 0; s < sizeof to_rpm / sizeof to_rpm[0]; s++) {
+            const int n_t = (s == 0) ? 10 : 3; /* T = 2.40 .. 2.49 s for the issue's step */
+            for (int j = 0; j < n_t; j++) {
+                const double t_step = 2.40 + ((s == 0) ? 0.01 : 0.045) * j;
+                char ref[96], dur[48];
+                scenario_t sc;
+                char err[SCENARIO_ERR_LEN];
+                sil_result_t res;
+                snprintf(ref, sizeof ref, "reference.speed_rpm=0:0, 0.1:500~, %.3f:%d", t_step, to_rpm[s]);
+                snprintf(dur, sizeof dur, "run.duration_s=%.3f", t_step + 0.4);
+                const char *sets[] = { "plant.B_Nms=0.002", "load.torque_Nm=0", ref, dur };
+                scenario_defaults(&sc);
+                assert_int_equal(scenario_load(&sc, files[m], err, sizeof err), 0);
+                for (size_t i = 0; i < sizeof sets / sizeof sets[0]; i++) {
+                    if (scenario_set(&sc, sets[i], err, sizeof err) != 0) {
+                        fail_msg("%s", err);
+                    }
+                }
+                assert_int_equal(scenario_finish(&sc, err, sizeof err), 0);
+                assert_int_equal(sil_run(&sc, NULL, NULL, &res), 0);
+                if (res.final_state != APP_STATE_RUN) {
+                    fail_msg("%s, 500 -> %d r/min at %.3f s: state %d, fault %d", files[m], to_rpm[s], t_step,
+                             res.final_state, res.final_fault);
+                }
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(no_fault_no_trip),
         cmocka_unit_test(healthy_runs_trip_nothing),
+        cmocka_unit_test(speed_steps_trip_nothing),
         cmocka_unit_test(open_phase),
         cmocka_unit_test(phase_to_phase_short),
         cmocka_unit_test(stuck_current_channel),

@@ -60,8 +60,8 @@ RAMFUNC static void stop_to_idle(app_t *app)
 }
 
 /* Levels 1-2 (level.h): the bus within their extra-low limit, else
- * BUS_CHARGED (a NaN bus refused too). */
-RAMFUNC static app_step_t level12_bus(const app_t *app, const hal_sample_t *s)
+ * BUS_CHARGED (a NaN bus refused too). Flash: a build level's check. */
+FLASHFUNC static app_step_t level12_bus(const app_t *app, const hal_sample_t *s)
 {
     if (!(s->vdc_V <= app->cfg.lvl.vdc_max_12_V)) {
         return app_step_fault(APP_FAULT_BUS_CHARGED, s->vdc_V, app->cfg.lvl.vdc_max_12_V);
@@ -317,9 +317,12 @@ RAMFUNC static void identify_state(app_t *app, const hal_sample_t *s)
     }
 }
 
+/* ---- the build levels 1-3 (level.h), from flash (FLASHFUNC): bring-up
+ * states, the motor not under the user's control ------------------------ */
+
 /* PWM_CHECK (level 1): the fixed duties, outputs on; a bus charged
  * meanwhile latches BUS_CHARGED before the duties are written. */
-RAMFUNC static void pwm_check_state(app_t *app, const hal_sample_t *s)
+FLASHFUNC static void pwm_check_state(app_t *app, const hal_sample_t *s)
 {
     const app_step_t bus = level12_bus(app, s);
     int16_t k;
@@ -337,7 +340,7 @@ RAMFUNC static void pwm_check_state(app_t *app, const hal_sample_t *s)
 
 /* ADC_CHECK (level 2): outputs off, the readings into the report; a bus
  * charged meanwhile latches BUS_CHARGED. */
-RAMFUNC static void adc_check_state(app_t *app, const hal_sample_t *s)
+FLASHFUNC static void adc_check_state(app_t *app, const hal_sample_t *s)
 {
     const app_step_t bus = level12_bus(app, s);
 
@@ -351,7 +354,7 @@ RAMFUNC static void adc_check_state(app_t *app, const hal_sample_t *s)
 
 /* ENC_CHECK (level 3): the turning vector through ctrl's output path; the
  * check's verdict ends it (IDLE) or latches its fault. */
-RAMFUNC static void enc_check_state(app_t *app, const hal_sample_t *s)
+FLASHFUNC static void enc_check_state(app_t *app, const hal_sample_t *s)
 {
     const ab_t i = clarke_2ph(s->ia_A - app->offset_ia_A, s->ib_A - app->offset_ib_A);
     ab_t u;
@@ -384,12 +387,22 @@ RAMFUNC static void run_state(app_t *app, const hal_sample_t *s)
     (void)app_output(app, r, s);
 }
 
-/* The operator's request (app_request_op), whole, at the start of a
- * period: the references every time, a mode or method when the operator
+/* The background's warnings (app_request_warning), at the start of a period. */
+RAMFUNC static void take_warnings(app_t *app)
+{
+    app->warnings |= app->req_warning;
+    app->req_warning = 0u;
+}
+
+/* The operator's request (app_request_op),
+ * whole, at the start of a period: the references every time, a mode or method when the operator
  * changed it (the app's own choice, e.g. the conventional method after a
  * refused step 1, stands until then). */
 RAMFUNC static void take_operator(app_t *app)
 {
+    if (app->req_warning != 0u) {
+        take_warnings(app);
+    }
     if (app->req_op != 0u) {
         const app_op_t op = app->op_req;
         app->req_op = 0u;
@@ -446,7 +459,16 @@ RAMFUNC static app_step_t watch(app_t *app, const hal_sample_t *s)
     in.ctrl_running = (app->state == APP_STATE_RUN) || (app->state == APP_STATE_IDENTIFY_R);
     in.speed_m_rad_s = ctrl_speed_m_rad_s(&app->ctrl);
     in.te_ref_Nm = ctrl_monitor(&app->ctrl)->te_ref_Nm;
+    in.i_aim_alpha_A = ctrl_monitor(&app->ctrl)->i_aim_alpha_A; /* where the last step aimed the current */
+    in.i_aim_beta_A = ctrl_monitor(&app->ctrl)->i_aim_beta_A;
     return protect_watch(&app->prot, &in);
+}
+
+/* The monitor's readings of a period ctrl_step did not run in. */
+RAMFUNC static void readings(app_t *app, const hal_sample_t *s)
+{
+    const ctrl_in_t in = ctrl_input(app, s);
+    ctrl_monitor_readings(&app->ctrl, &in, app->pwm_on);
 }
 
 /* FAULT: outputs stay off; a reset is taken only if no check fails now,
@@ -458,7 +480,15 @@ RAMFUNC static void fault_state(app_t *app, const hal_sample_t *s)
     app->req_stop = 0u;
     if (app->req_fault_reset != 0u) {
         app->req_fault_reset = 0u;
-        if ((app->fault != APP_FAULT_FLASH_CRC) && (protection(app, s).status != APP_STEP_FAULT)) {
+        if (app->fault == APP_FAULT_FLASH_CRC) {
+            app->fault_present = (uint16_t)APP_FAULT_FLASH_CRC; /* the image itself: no check clears it */
+            return;
+        }
+        const app_step_t now = protection(app, s);
+        if (now.status == APP_STEP_FAULT) {
+            app->fault_present = (uint16_t)now.fault; /* the cause is still there: said, not cleared */
+        } else {
+            app->fault_present = (uint16_t)APP_FAULT_NONE;
             app->state = APP_STATE_IDLE;
             app->fault = APP_FAULT_NONE;
         }
@@ -504,6 +534,7 @@ RAMFUNC void app_isr(app_t *app)
     hal_sample_read(&s); /* first HAL call of the ISR (hal.h) */
     t_entry = hal_cycles();
     app->ticks++;
+    app->vdc_V = s.vdc_V;
     protect_track(&app->prot, s.enc_count, t_entry);
     ctrl_track(&app->ctrl, s.enc_count); /* every state: the speed estimate protection checks */
     take_operator(app);
@@ -526,7 +557,9 @@ RAMFUNC void app_isr(app_t *app)
             }
         }
     }
-
+    if ((app->state != APP_STATE_RUN) && (app->state != APP_STATE_IDENTIFY_R)) {
+        readings(app, &s); /* a state ctrl_step did not run in: the monitor's readings all the same */
+    }
     f = protect_run_time(&app->prot, t_entry, hal_cycles());
     if ((app->state != APP_STATE_FAULT) && (f.status == APP_STEP_FAULT)) {
         app_latch_fault(app, &f, &s);

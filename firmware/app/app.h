@@ -40,13 +40,15 @@
  *              block of ctrl_init and app_attach_comm(). The measured
  *              offset replaces the controller's (as an alignment).
  * Why the sequence is built this way (dead points of the alignment,
- * open-loop voltage, the handover): firmware/startup_design.md.
+ * open-loop voltage, the handover): firmware/app/startup_design.md.
  *
  * Background requests (start, stop, fault reset, the operator's
  * references, mode and method) only set a flag; the ISR carries them out
  * at the start of its next call, so the controller state is only ever
  * touched from the ISR. ctrl_track() runs first in every call, in every
- * state: the controller owns the encoder. A fault turns the PWM off in the same
+ * state: the controller owns the encoder. The monitor's readings (speed,
+ * measured currents) and the bus reading are this period's in every
+ * state (ctrl_monitor_readings where ctrl_step does not run). A fault turns the PWM off in the same
  * ISR call that detected it and keeps a snapshot (protect.h).
  *
  * Protection (protect.h) in every state but FAULT, and from the state's
@@ -83,7 +85,6 @@
 #include "drive_params.h"
 #include "hal.h"
 #include "level.h"
-#include "nv_params.h"
 #include "protect.h"
 #include "rsid_seq.h"
 
@@ -91,6 +92,7 @@
  * Bits above ctrl_out_t.flags' (CTRL_FLAG_*): the SIL's CSV column
  * `flags` carries both. Cleared at the next start. */
 #define APP_WARN_STEP1_REFUSED 0x1000u /* step 1 refused R^ (rsid_refusal says why): conventional method */
+#define APP_WARN_HOST_TIMEOUT  0x2000u /* the link's host went quiet: the drive ramped to zero and stopped (link.h) */
 
 /* CONFIG's snapshot value: ctrl_init's refusals (ctrl_status_t, bits up to
  * 0x0100) | app_cfg_t.params_refused shifted this far. */
@@ -154,6 +156,9 @@ typedef struct {
     bool commissioning;            /* this start is a commissioning (CALIBRATE leads to COMMISSION) */
     bool comm_valid;               /* comm.res holds a completed commissioning's results */
     uint16_t warnings;             /* APP_WARN_* since the last start */
+    uint16_t fault_present;        /* app_fault_t: the check the last fault reset found still failing
+                                    * (its cause present, or FLASH_CRC); APP_FAULT_NONE when it cleared */
+    float vdc_V;                   /* this period's bus reading [V] (every state) */
     app_step_t rsid_refusal;       /* APP_WARN_STEP1_REFUSED: the fault step 1 would have latched */
     uint16_t level;                /* the build level of the last start (level.h) */
     level_rot_t rot;               /* ENC_CHECK: level 3's rotation and its figures (rot.out) */
@@ -169,25 +174,14 @@ typedef struct {
     volatile app_op_t op_req;
     volatile uint16_t req_op;
     volatile uint16_t req_level;   /* the build level the next start takes */
+    volatile uint16_t req_warning; /* APP_WARN_* bits the background raises (app_request_warning) */
+    uint16_t req_reconfigure;          /* APP_RECONF_* | APP_RECONF_ASKED: a new configuration asked for
+                                        * (the background's own: app_reconfigure_now takes it) */
     app_op_t op_taken;             /* the last request the ISR took */
 } app_t;
 
 /* Start-up: the board's configuration (firmware/params/board_cfg.h) into *cfg. */
 void app_cfg_default(app_cfg_t *cfg);
-
-/* Start-up: the board's configuration from the parameter set *p:
- * drive_params_to_app_cfg(), then the start-up sequence's, the watch
- * checks' and the levels' settings of board_cfg.h. app_cfg_default() is
- * this for drive_params_board()'s set. */
-void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p);
-
-/* Start-up: app_cfg_from_params() of the board's set (drive_params_board)
- * with the parameter store's saved values over it (nv_params_load of
- * dev's newest block, the parameters of list; pairs: NV_PAIRS_MAX of
- * scratch): NV_OK (*taken values taken), NV_EMPTY or NV_INVALID (the
- * board's values: the caller's warning). */
-nv_status_t app_cfg_stored(app_cfg_t *cfg, const nv_dev_t *dev, const nv_param_list_t *list, nv_pair_t *pairs,
-                           uint16_t *taken);
 
 /* Start-up or host: the parameter set *p (drive_params.h; its values left
  * to derive derived) into *cfg: the controller's configuration
@@ -196,6 +190,12 @@ nv_status_t app_cfg_stored(app_cfg_t *cfg, const nv_dev_t *dev, const nv_param_l
  * open-phase thresholds; the rest of *cfg (start-up sequence, watch) is
  * left. */
 void drive_params_to_app_cfg(const drive_params_t *p, app_cfg_t *cfg);
+
+/* Start-up or background (the drive stopped: app_request_reconfigure): the board's whole
+ * configuration from the parameter set *p: drive_params_to_app_cfg(), then the start-up
+ * sequence's, the watch checks' and the levels' settings of firmware/params/board_cfg.h
+ * (app_cfg_default() is this for drive_params_board()'s set). */
+void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p);
 
 /* Start-up: copy *cfg (or use it in place when cfg is &app->cfg), init the
  * controller, PWM off, state INIT. */
@@ -241,6 +241,16 @@ static inline const est_out_t *app_estimate(const app_t *app)
     return est_output(ctrl_est(&app->ctrl));
 }
 
+/* The torque path that ran in the last period: the proposed method only
+ * while the estimation's model drove it, else the conventional one. Any
+ * context; inline. */
+static inline ctrl_method_t app_method_ran(const app_t *app)
+{
+    return ((ctrl_method(&app->ctrl) == CTRL_METHOD_PROPOSED) && (ctrl_monitor(&app->ctrl)->model_from_observer != 0u))
+               ? CTRL_METHOD_PROPOSED
+               : CTRL_METHOD_CONVENTIONAL;
+}
+
 /* Background: the operator's references, mode and method; the ISR takes
  * them together at the start of its next call (ctrl_set_ref, _mode,
  * _method there: the background never writes the controller). */
@@ -249,6 +259,32 @@ void app_request_op(app_t *app, const app_op_t *op);
 /* Background: the build level (LEVEL_MIN .. LEVEL_MAX, level.h) the next
  * start runs; another value is ignored. */
 void app_request_level(app_t *app, uint16_t level);
+
+/* Background: raise the warnings `bits` (APP_WARN_*) at the next ISR, as the ISR's own
+ * (cleared at the next start). */
+void app_request_warning(app_t *app, uint16_t bits);
+
+/* app_request_reconfigure's flags */
+#define APP_RECONF_ASKED      0x0001u /* set by every request */
+#define APP_RECONF_ENC_OFFSET 0x0002u /* the configuration's encoder offset replaces the one in use (aligned
+                                       * or commissioned included) */
+
+/* Background, the drive stopped (INIT, IDLE, FAULT): a new configuration (the drive's parameters
+ * changed: link_params.h), taken by app_reconfigure_now from app->cfg, which the caller writes
+ * where the ISR cannot read it half-written: with the ISR held off just before
+ * app_reconfigure_now (main.c), or between periods (the SIL). flags: APP_RECONF_*; requests
+ * before it is taken add up. */
+void app_request_reconfigure(app_t *app, uint16_t flags);
+
+/* Background: a new configuration asked for and the drive stopped (INIT, IDLE, FAULT). */
+bool app_reconfigure_due(const app_t *app);
+
+/* Background, with the control ISR held off (hal_isr_pause; the SIL's background runs between
+ * periods): when due, the controller and the start-up steps from app->cfg again, as app_init (flash code, divisions, a deep stack: start-up work, not the ISR's).
+ * Kept: the operator's request, the alignment, the commissioning's results, the calibration, a
+ * latched fault and the encoder's offset; the encoder's and protection's tracking start again
+ * (the periods held off were not tracked: the next count seeds them). */
+void app_reconfigure_now(app_t *app);
 
 /* Background: CALIBRATE, ALIGN, IDENTIFY_R, RUN, COMMISSION and the levels' states -> IDLE at the next ISR, PWM off. */
 void app_request_stop(app_t *app);
@@ -262,7 +298,8 @@ void app_request_stop(app_t *app);
 void app_latch_startup_fault(app_t *app, app_fault_t fault, float value, float limit);
 
 /* Background, acts only in FAULT: clears a latched hardware trip; FAULT ->
- * IDLE at the next ISR if no protection check fails on that ISR's samples.
+ * IDLE at the next ISR if no protection check fails on that ISR's samples
+ * (else the failing check's fault in fault_present, the FAULT kept).
  * Outside FAULT it does nothing (no hal_trip_clear under a running drive,
  * no request kept for a later fault); the ISR also drops a reset request
  * it finds outside FAULT. */

@@ -6,13 +6,25 @@
 /* Duty that gives zero line-to-line voltage: the outputs' state while off. */
 #define DUTY_ZERO_VOLTAGE 0.5f
 
+/* The start-up steps and protection from app->cfg (app_init, app_reconfigure). */
+static void app_init_steps(app_t *app)
+{
+    const app_cfg_t *cfg = &app->cfg;
+    const float Ts = cfg->ctrl.Ts_s;
+    const protect_drive_t drv = { Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.te_max_Nm,
+                                  cfg->ctrl.pole_pairs, cfg->ctrl.psi_f_Wb };
+
+    protect_init(&app->prot, &cfg->prot, &drv);
+    calib_init(&app->cal, &cfg->cal, Ts);
+    align_init(&app->aln, &cfg->aln, Ts);
+    rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
+    level_rot_init(&app->rot, &cfg->lvl, &cfg->ctrl, Ts);
+}
+
 void app_init(app_t *app, const app_cfg_t *cfg)
 {
-    const float Ts = cfg->ctrl.Ts_s;
     const app_snapshot_t no_snapshot = { { 0.0f, 0.0f, 0.0f, 0u }, APP_STATE_INIT, 0.0f, 0.0f };
     const ctrl_out_t zero_voltage = { { DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE, DUTY_ZERO_VOLTAGE }, 0u };
-    const protect_drive_t drv = { Ts, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines, cfg->ctrl.te_max_Nm,
-                                  cfg->ctrl.pole_pairs };
 
     hal_pwm_disable();
     if (cfg != &app->cfg) {
@@ -31,25 +43,25 @@ void app_init(app_t *app, const app_cfg_t *cfg)
     app->offset_ib_A = 0.0f;
     app->aligned = false;
     app->pwm_on = false;
-    protect_init(&app->prot, &cfg->prot, &drv);
-    calib_init(&app->cal, &cfg->cal, Ts);
-    align_init(&app->aln, &cfg->aln, Ts);
-    rsid_seq_init(&app->rsid, &cfg->rsid, Ts);
+    app_init_steps(app);
     app->comm = NULL;
     app->commissioning = false;
     app->comm_valid = false;
     app->req_commission = 0u;
-    level_rot_init(&app->rot, &cfg->lvl, &cfg->ctrl, Ts);
     app->level = cfg->lvl.level;
     app->req_level = cfg->lvl.level;
     app->adc.ia_A = 0.0f;
     app->adc.ib_A = 0.0f;
     app->adc.vdc_V = 0.0f;
     app->warnings = 0u;
+    app->vdc_V = 0.0f;
+    app->fault_present = (uint16_t)APP_FAULT_NONE;
     app->rsid_refusal = app_step_running();
     app->req_start = 0u;
     app->req_stop = 0u;
     app->req_fault_reset = 0u;
+    app->req_warning = 0u;
+    app->req_reconfigure = 0u;
     app->op_taken.ref = *ctrl_ref(&app->ctrl);
     app->op_taken.mode = ctrl_mode(&app->ctrl);
     app->op_taken.method = ctrl_method(&app->ctrl);
@@ -140,6 +152,79 @@ void app_request_level(app_t *app, uint16_t level)
     if ((level >= LEVEL_MIN) && (level <= LEVEL_MAX)) {
         app->req_level = level;
     }
+}
+
+void app_request_warning(app_t *app, uint16_t bits)
+{
+    app->req_warning = bits; /* one store: the ISR takes it whole */
+}
+
+void app_request_reconfigure(app_t *app, uint16_t flags)
+{
+    app->req_reconfigure = (uint16_t)(app->req_reconfigure | flags | APP_RECONF_ASKED);
+}
+
+/* ---- a new configuration, the drive stopped ----------------------------- */
+
+/* The encoder's geometry and PLL in *e are those *c asks for: its tracking can go on. */
+static bool same_encoder(const encoder_t *e, const ctrl_cfg_t *c)
+{
+    const encoder_cfg_t *ec = &e->cfg;
+    return (ec->counts_per_rev == ENCODER_COUNTS_PER_LINE * c->enc_lines) && (ec->pole_pairs == c->pole_pairs) &&
+           !(ec->pll_bw_rad_s < c->enc_pll_bw_rad_s) && !(ec->pll_bw_rad_s > c->enc_pll_bw_rad_s) &&
+           !(ec->Ts_s < c->Ts_s) && !(ec->Ts_s > c->Ts_s);
+}
+
+/* The ISR held off (app_reconfigure_now): the controller and the start-up steps from app->cfg
+ * again (app_request_reconfigure's flags). */
+static void app_reconfigure(app_t *app, uint16_t flags)
+{
+    const app_cfg_t *cfg = &app->cfg;
+    const bool same = same_encoder(&app->ctrl.enc, &cfg->ctrl);
+    const float offset_in_use = app->ctrl.enc.offset_el_rad; /* aligned or told: cfg's is the told one */
+
+    /* status kept in ctrl.status (a start checks it); the encoder from cfg, its tracking from the
+     * next count (the periods held off were not tracked) */
+    (void)ctrl_init(&app->ctrl, &cfg->ctrl);
+    if (!same) {
+        app->aligned = false; /* another geometry: an aligned offset no longer holds */
+    } else if ((flags & APP_RECONF_ENC_OFFSET) == 0u) {
+        encoder_set_offset(&app->ctrl.enc, offset_in_use);
+    } else {
+        /* the configuration's offset, as ctrl_init set it */
+    }
+    if ((flags & APP_RECONF_ENC_OFFSET) != 0u) {
+        app->aligned = true; /* told as measured: no alignment at the next start */
+    }
+    ctrl_set_ref(&app->ctrl, &app->op_taken.ref);
+    ctrl_set_mode(&app->ctrl, app->op_taken.mode);
+    (void)ctrl_set_method(&app->ctrl, app->op_taken.method);
+    app_init_steps(app);
+    if (app->comm != NULL) {
+        const comm_result_t res = app->comm->res; /* the measured values stay readable */
+        comm_init(app->comm, &cfg->comm, cfg->ctrl.Ts_s, APP_ENC_COUNTS_PER_LINE * cfg->ctrl.enc_lines,
+                  cfg->ctrl.pole_pairs);
+        app->comm->res = res;
+    }
+}
+
+static bool stopped(const app_t *app)
+{
+    return (app->state == APP_STATE_INIT) || (app->state == APP_STATE_IDLE) || (app->state == APP_STATE_FAULT);
+}
+
+bool app_reconfigure_due(const app_t *app)
+{
+    return (app->req_reconfigure != 0u) && stopped(app);
+}
+
+void app_reconfigure_now(app_t *app)
+{
+    if (!app_reconfigure_due(app)) {
+        return;   /* read again with the ISR held off: a start taken meanwhile waits for the next */
+    }
+    app_reconfigure(app, app->req_reconfigure);
+    app->req_reconfigure = 0u;
 }
 
 void app_request_stop(app_t *app)

@@ -1,12 +1,11 @@
 /* app_cfg.c - the board's configuration into the app's: the parameter set
  * (drive_params.h) through its mapping (drive_params_to_app_cfg), then the
  * start-up sequence's own settings from firmware/params/board_cfg.h; see
- * app_cfg_default(), app_cfg_stored() and app_cfg_from_params() in app.h. */
+ * app_cfg_default() and app_cfg_from_params() in app.h. */
 #include "app.h"
 #include "board_cfg.h"
 #include "drive_params.h"
 #include "mathx.h"
-#include "nv_params.h"
 
 #define RAD_PER_DEG (MATHX_PI_F / 180.0f)
 
@@ -16,18 +15,6 @@ void app_cfg_default(app_cfg_t *cfg)
 
     drive_params_board(&p);
     app_cfg_from_params(cfg, &p);
-}
-
-nv_status_t app_cfg_stored(app_cfg_t *cfg, const nv_dev_t *dev, const nv_param_list_t *list, nv_pair_t *pairs,
-                           uint16_t *taken)
-{
-    drive_params_t p;
-    nv_status_t st;
-
-    drive_params_board(&p);
-    st = nv_params_load(dev, list, &p, pairs, taken);
-    app_cfg_from_params(cfg, &p);
-    return st;
 }
 
 void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p)

@@ -26,8 +26,12 @@ typedef enum {
     CMD_ERR_METHOD_NO_STEP1, /* proposed method refused: step 1 is off (BOARD_RSID_MODE 0), or refused R^
                               * at this start (APP_WARN_STEP1_REFUSED); it would run as the conventional
                               * one. Set the mode to windows, speeds or trusted; restart */
-    CMD_ERR_LEVEL        /* level is not 0 (keep) or 1 .. 5 (level.h) */
+    CMD_ERR_LEVEL,       /* level is not 0 (keep) or 1 .. 5 (level.h) */
+    CMD_ERR_FAULTED,     /* start or commission refused: a fault is latched (reset it first); nothing done */
+    CMD_ERR_NOT_STOPPED, /* commission refused: the drive is not stopped (INIT or IDLE); nothing done */
+    CMD_ERR_RANGE        /* a link setting (host_timeout_s, a parameter) not finite or outside its limits */
 } cmd_error_t;
+#define CMD_ERR_LAST CMD_ERR_RANGE   /* the highest code */
 
 /* The commissioning's request and report (cmd_comm_apply): a separate
  * object from cmd_t, which cmd_apply() copies whole on the stack. The

@@ -67,6 +67,7 @@ typedef enum {
     COMM_STAGE_WIRING = 6,      /* the first stage (numbered last: the others kept theirs) */
     COMM_STAGE_INVERTER = 7     /* after L, before ENCODER */
 } comm_stage_t;
+#define COMM_STAGE_LAST COMM_STAGE_INVERTER   /* the highest stage's value */
 
 typedef struct {
     float i_max_A;              /* every current stays within this: the rated current [A] */

@@ -1,6 +1,6 @@
 /*
  * main.c - F28335 target entry: bring up the board, configure the drive
- * from board_cfg.h and the saved parameters (app_cfg_stored), run the
+ * from board_cfg.h and the saved parameters (nv_params_load), run the
  * control ISR (ADC SEQ1, 10 kHz) from RAM and the background loop
  * (watchdog via app_background, the operator's command block, the link
  * on SCI-A).
@@ -34,6 +34,7 @@
 #include "app.h"
 #include "board_cfg.h"
 #include "cmd.h"
+#include "drive_params.h"
 #include "flash_crc.h"
 #include "hal.h"
 #include "hal_f28335.h"
@@ -52,14 +53,17 @@ static app_t g_app;          /* the whole drive state, its cfg built in place (o
 static volatile cmd_t g_cmd; /* written by the operator from CCS or through the link */
 static cmd_limits_t g_lim;   /* the command's limits: the link keeps a pointer to them */
 static link_t g_link;        /* the link on SCI-A (link.h) */
+static drive_params_t g_params; /* the drive's parameter set, its derived values derived: the link's
+                                 * parameters live in it (link_params.h), the configuration follows it */
 static volatile cmd_comm_t g_comm; /* the commissioning: g_comm.start = 1 while stopped; its report */
 static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
 /* In M0 (section m0data, f28335_flash.cmd), as .ebss in L6-L7 keeps its
  * margin only without them: objects whose init functions write every
  * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
- * proves it; g_nv: main sets dev, app_cfg_stored status and taken, the
- * pairs are written before they are read), since nothing zeroes M0
- * (f28335_codestart.asm zeroes .ebss). */
+ * proves it; g_params: drive_params_board; g_lim: its three fields set in
+ * main; g_nv: main sets dev, status and taken, the pairs are written
+ * before they are read), since nothing zeroes M0 (f28335_codestart.asm
+ * zeroes .ebss). */
 /* The parameter store at start-up: its sector, nv_params_load's scratch and what it took. */
 static struct {
     nv_dev_t dev;            /* flash sector B through the HAL (hal_f28335_nv.c) */
@@ -71,6 +75,8 @@ static struct {
 #pragma DATA_SECTION(g_commission, "m0data")
 #pragma DATA_SECTION(g_cmd, "m0data")
 #pragma DATA_SECTION(g_comm, "m0data")
+#pragma DATA_SECTION(g_params, "m0data")
+#pragma DATA_SECTION(g_lim, "m0data")
 #pragma DATA_SECTION(g_nv, "m0data")
 #endif
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
@@ -96,10 +102,32 @@ static void link_service(void)
 }
 
 /* The parameters the store's blocks may hold: the link's parameter table
- * (issue 29's link_params.h: what drivetool save saves) once it is in the
- * image; until then none, and a block found in the sector reads
- * NV_INVALID (the board's values kept). */
+ * (link_params.h: what drivetool save saves) once an adapter wires it;
+ * until then none, and a block found in the sector reads NV_INVALID (the
+ * board's values kept). */
 static const nv_param_list_t NV_PARAMS = { 0u, 0, 0, 0, 0 };
+
+/* Background, the drive stopped: parameter k of g_params was written over the link; the
+ * configuration follows (the ISR re-initialises at its next stopped period). */
+static void params_apply(void *user, uint16_t k)
+{
+    (void)user;
+    /* no copy of the configuration (RAM): the main loop builds it into g_app.cfg from g_params
+     * with the ISR held off (app_reconfigure_now) */
+    app_request_reconfigure(&g_app, (k == (uint16_t)LINK_PARAM_ENC_OFFSET) ? APP_RECONF_ENC_OFFSET : 0U);
+}
+
+/* The main loop, the control ISR held off: a new configuration from g_params into g_app.cfg
+ * (the drive stopped, read again here), the app's pieces from it, the command limits. */
+static void reconfigure(void)
+{
+    if (app_reconfigure_due(&g_app)) {
+        app_cfg_from_params(&g_app.cfg, &g_params);
+        app_reconfigure_now(&g_app);
+        g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
+        g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    }
+}
 
 /* Start-up, before interrupts: the index of the first CRC record of the
  * image that fails (flash_crc.h), or -1 when all match. */
@@ -139,7 +167,10 @@ int main(void)
     g_nv.dev.words = hal_nv_words();
     g_nv.dev.read = hal_nv_read;
     g_nv.dev.write = hal_nv_write;
-    g_nv.status = (uint16_t)app_cfg_stored(&g_app.cfg, &g_nv.dev, &NV_PARAMS, g_nv.pairs, &g_nv.taken);
+    drive_params_board(&g_params);
+    g_nv.status = (uint16_t)nv_params_load(&g_nv.dev, &NV_PARAMS, &g_params, g_nv.pairs, &g_nv.taken);
+    (void)drive_params_derive(&g_params);   /* refusals: a start faults CONFIG (params_refused) */
+    app_cfg_from_params(&g_app.cfg, &g_params);
     app_init(&g_app, &g_app.cfg);
     app_attach_comm(&g_app, &g_commission);
     if (bad_record >= 0) {
@@ -152,9 +183,12 @@ int main(void)
     g_lim.speed_max_rpm = g_app.cfg.comm.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F; /* the rated speed */
     g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
     g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
+    link_cfg_default(&lc);   /* the host timeout: BOARD_HOST_TIMEOUT_S */
     lc.Ts_s = g_app.cfg.ctrl.Ts_s;
     lc.baud = F28335_SCI_BAUD_ACTUAL;
     lc.firmware_id = FIRMWARE_ID;
+    lc.params.set = &g_params;
+    lc.params.apply = params_apply;
     link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
     g_link.stats.reset_by_watchdog = g_reset_by_watchdog ? 1U : 0U;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
@@ -163,5 +197,12 @@ int main(void)
         cmd_comm_apply(&g_comm, &g_cmd, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         link_service();
+        if (app_reconfigure_due(&g_app)) {
+            /* the drive's parameters changed (the drive stopped, PWM off): start-up work with the
+             * control ISR held off, a few periods (tools/check/ram_budget.py counts it so) */
+            hal_isr_pause();
+            reconfigure();
+            hal_isr_resume();
+        }
     }
 }

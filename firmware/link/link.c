@@ -3,6 +3,7 @@
 
 #include <stddef.h>
 
+#include "board_cfg.h"
 #include "mathx.h"
 
 #define COUNT16_MAX 0xFFFFu
@@ -28,6 +29,17 @@ static void count16(uint16_t *c)
     }
 }
 
+void link_cfg_default(link_cfg_t *cfg)
+{
+    cfg->Ts_s = 0.0f;
+    cfg->baud = 0u;
+    cfg->firmware_id = NULL;
+    cfg->host_timeout_s = BOARD_HOST_TIMEOUT_S;
+    cfg->params.set = NULL;
+    cfg->params.apply = NULL;
+    cfg->params.user = NULL;
+}
+
 void link_init(link_t *l, const link_cfg_t *cfg, app_t *app, volatile cmd_t *cmd, const cmd_limits_t *lim)
 {
     l->cfg = *cfg;
@@ -35,6 +47,12 @@ void link_init(link_t *l, const link_cfg_t *cfg, app_t *app, volatile cmd_t *cmd
     l->t.cmd = cmd;
     l->t.lim = lim;
     l->t.stats = &l->stats;
+    l->t.host = &l->host;
+    l->t.params = &l->cfg.params;
+    l->host.timeout_s = cfg->host_timeout_s;
+    l->host.phase = LINK_HOST_IDLE;
+    l->host.seen_ticks = app->ticks;
+    l->host.step_ticks = 0u;
     l->stats.writes = 0u;
     l->stats.err_crc = 0u;
     l->stats.err_framing = 0u;
@@ -175,8 +193,9 @@ static uint16_t do_list(link_t *l, const link_frame_t *q, uint16_t *p)
     uint16_t count = 0u;
     while (id < (uint16_t)LV_COUNT) {
         const link_var_t *d = link_var(id);
-        const uint16_t need = (uint16_t)(VAR_DESC_FIXED + str_len(d->name) + str_len(d->unit));
-        if ((uint16_t)(i + need) > LINK_PAYLOAD_MAX) {
+        /* the descriptor, and its capture format byte after all of them */
+        const uint16_t need = (uint16_t)(VAR_DESC_FIXED + str_len(d->name) + str_len(d->unit) + 1u);
+        if ((uint16_t)(i + need + count) > LINK_PAYLOAD_MAX) {
             break;
         }
         float lo;
@@ -193,6 +212,10 @@ static uint16_t do_list(link_t *l, const link_frame_t *q, uint16_t *p)
         count++;
     }
     p[count_at] = count;
+    for (uint16_t k = 0u; k < count; k++) {   /* after version 1's fields: a host may stop before them */
+        const uint16_t vid = (uint16_t)(id - count + k);
+        p[i++] = (uint16_t)(link_var(vid)->capture | ((vid >= (uint16_t)LV_PARAM_FIRST) ? LINK_LIST_PARAM : 0u));
+    }
     return i;
 }
 
@@ -247,6 +270,13 @@ static uint16_t do_read(link_t *l, const link_frame_t *q, uint16_t *p)
     return i;
 }
 
+/* The references a host commands the drive with (the host timeout's). */
+static bool is_reference(uint16_t id)
+{
+    return (id == (uint16_t)LV_SPEED_REF_RPM) || (id == (uint16_t)LV_TE_CMD_NM) || (id == (uint16_t)LV_UD_REF_V) ||
+           (id == (uint16_t)LV_UQ_REF_V);
+}
+
 /* WRITE id value(4 bytes: u32 for integers, f32 bits for floats): status, cmd_error. */
 static uint16_t do_write(link_t *l, const link_frame_t *q, uint16_t *p)
 {
@@ -267,6 +297,9 @@ static uint16_t do_write(link_t *l, const link_frame_t *q, uint16_t *p)
     if (!refused_access) {
         l->stats.writes++;
         l->written |= (id < LINK_WRITTEN_BITS) ? ((uint32_t)1u << id) : 0u;
+    }
+    if (!refused_access && (err == (uint16_t)CMD_OK) && is_reference(id)) {
+        l->host.phase = LINK_HOST_ARMED;  /* the host commands the drive: its silence counts from now */
     }
     p[0] = refused_access ? LINK_ST_ACCESS : ((err != (uint16_t)CMD_OK) ? LINK_ST_REFUSED : LINK_ST_OK);
     return link_put_u16(p, 1u, err);
@@ -297,15 +330,25 @@ static uint16_t do_action(link_t *l, const link_frame_t *q, uint16_t *p)
         p[0] = LINK_ST_BAD_REQUEST;
         return 1u;
     }
-    if (!link_action(&l->t, q->payload[0])) {
+    const uint16_t err = link_action(&l->t, q->payload[0]);
+    if (err == LINK_ACTION_UNKNOWN) {
         p[0] = LINK_ST_BAD_REQUEST;
         return 1u;
+    }
+    if ((err == (uint16_t)CMD_ERR_FAULTED) || (err == (uint16_t)CMD_ERR_NOT_STOPPED)) {
+        p[0] = LINK_ST_REFUSED;          /* nothing done: the state says why */
+        return link_put_u16(p, 1u, err);
     }
     l->stats.writes++;
     if (q->payload[0] == (uint16_t)LINK_ACTION_QUIT) {
         l->quit = true;
     }
-    return link_put_u16(p, 1u, l->t.cmd->error);
+    if (q->payload[0] == (uint16_t)LINK_ACTION_START) {
+        l->host.phase = LINK_HOST_ARMED;
+    } else if ((q->payload[0] == (uint16_t)LINK_ACTION_STOP) || (q->payload[0] == (uint16_t)LINK_ACTION_QUIT)) {
+        l->host.phase = LINK_HOST_IDLE;  /* stopped by the host itself: nothing to watch */
+    }
+    return link_put_u16(p, 1u, err);
 }
 
 uint32_t link_stream_need_Bps(const link_t *l, uint16_t n, uint16_t decimate)
@@ -549,6 +592,7 @@ static void on_request(link_t *l)
         count16(&l->rx.err_framing);     /* not a request: the host's own frames echoed, or noise */
         return;
     }
+    l->host.seen_ticks = l->t.app->ticks; /* a valid frame: the host is there */
     if (l->cache_valid && q->type == l->cache_type && q->seq == l->cache_seq && crc == l->cache_crc) {
         tx_put(l, l->cache, l->cache_len);
         return;
@@ -594,6 +638,99 @@ static void send_unsolicited(link_t *l)
     }
 }
 
+/* ---- the host timeout ------------------------------------------------------ */
+
+/* The app runs something a stop ends (not INIT, IDLE or FAULT). */
+static bool running(const app_t *a)
+{
+    return (a->state != APP_STATE_INIT) && (a->state != APP_STATE_IDLE) && (a->state != APP_STATE_FAULT);
+}
+
+/* x moved toward 0 by step (>= 0), not past it. */
+static float toward_zero(float x, float step)
+{
+    const float m = mathx_fabsf(x) - step;
+    if (!(m > 0.0f)) {
+        return 0.0f;
+    }
+    return (x > 0.0f) ? m : -m;
+}
+
+/* The ramp's step over dt_s from the references in force, into the command block through
+ * cmd_apply(): the speed at the drive's ramp rate, torque and voltages from their limits in the
+ * time the rated speed takes at it. True when all are zero. */
+static bool host_ramp_step(link_t *l, float dt_s)
+{
+    const app_t *a = l->t.app;
+    volatile cmd_t *c = l->t.cmd;
+    const float decel = a->cfg.rsid.accel_rad_s2;
+    const float stop_s = a->cfg.comm.speed_max_rad_s / decel;   /* the rated speed to zero */
+    const float w = toward_zero(a->op_req.ref.speed_ref_rad_s, decel * dt_s);  /* the request in force */
+    const float te = toward_zero(a->op_req.ref.te_ref_Nm, l->t.lim->te_max_Nm * dt_s / stop_s);
+    const float ud = toward_zero(a->op_req.ref.ud_ref_V, l->t.lim->u_max_V * dt_s / stop_s);
+    const float uq = toward_zero(a->op_req.ref.uq_ref_V, l->t.lim->u_max_V * dt_s / stop_s);
+    link_cmd_sync(&l->t);
+    c->speed_ref_rpm = w / MATHX_RAD_S_PER_RPM_F;
+    c->te_ref_Nm = te;
+    c->ud_ref_V = ud;
+    c->uq_ref_V = uq;
+    cmd_apply(c, l->t.lim, l->t.app);
+    /* the SIL's profile must not take them back (link_sil.c on_refs) */
+    l->written |= ((uint32_t)1u << LV_SPEED_REF_RPM) | ((uint32_t)1u << LV_TE_CMD_NM) |
+                  ((uint32_t)1u << LV_UD_REF_V) | ((uint32_t)1u << LV_UQ_REF_V);
+    return (w == 0.0f) && (te == 0.0f) && (ud == 0.0f) && (uq == 0.0f);
+}
+
+/* The host timeout (link_poll): armed and quiet too long, a running drive ramps to zero and stops
+ * at standstill (speed mode; at once in another mode once its references are zero; a drive in a
+ * start-up step stops at once); the warning raised. */
+static void host_watch(link_t *l)
+{
+    link_host_t *h = &l->host;
+    app_t *a = l->t.app;
+    const uint32_t now = a->ticks;
+    const float Ts = l->cfg.Ts_s;
+    if (h->phase == LINK_HOST_IDLE) {
+        return;
+    }
+    if (h->phase == LINK_HOST_ARMED) {
+        if (!(h->timeout_s > 0.0f) || !((float)(now - h->seen_ticks) * Ts > h->timeout_s)) {
+            return;
+        }
+        h->phase = LINK_HOST_IDLE;
+        if (!running(a)) {
+            return;                      /* stopped already: nothing to do */
+        }
+        app_request_warning(a, APP_WARN_HOST_TIMEOUT);
+        if (a->state != APP_STATE_RUN) {
+            (void)link_action(&l->t, LINK_ACTION_STOP);
+            return;
+        }
+        h->phase = LINK_HOST_RAMPING;
+        h->step_ticks = now;
+        return;
+    }
+    if (!running(a)) {
+        h->phase = LINK_HOST_IDLE;       /* stopped or faulted meanwhile */
+        return;
+    }
+    if (h->phase == LINK_HOST_RAMPING) {
+        const bool zero = host_ramp_step(l, (float)(now - h->step_ticks) * Ts);
+        h->step_ticks = now;             /* at zero: from now on, when it got there */
+        if (!zero) {
+            return;
+        }
+        h->phase = LINK_HOST_AT_ZERO;
+    }
+    const float stop_s = a->cfg.comm.speed_max_rad_s / a->cfg.rsid.accel_rad_s2;
+    const bool still = mathx_fabsf(ctrl_speed_m_rad_s(&a->ctrl)) <=
+                       LINK_STOP_STANDSTILL_PER_RATED * a->cfg.comm.speed_max_rad_s;
+    if ((a->op_taken.mode != CTRL_MODE_SPEED) || still || ((float)(now - h->step_ticks) * Ts > stop_s)) {
+        (void)link_action(&l->t, LINK_ACTION_STOP);
+        h->phase = LINK_HOST_IDLE;
+    }
+}
+
 void link_poll(link_t *l)
 {
     for (uint16_t k = 0u; k < LINK_RX_BUDGET; k++) {
@@ -611,4 +748,5 @@ void link_poll(link_t *l)
     if (l->rx_tail == l->rx_head) {
         send_unsolicited(l);             /* received bytes waiting for room come first: the queue drains */
     }
+    host_watch(l);
 }

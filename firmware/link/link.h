@@ -32,6 +32,11 @@
 #define LINK_LINE_BUDGET_PCT 80u         /* a stream may use this share of the line */
 #define LINK_BITS_PER_BYTE_ON_LINE 10u   /* 8N1: start, 8 data, stop */
 #define LINK_WRITTEN_BITS 32u            /* link_t.written's width: the writable ids sit below it */
+#define LINK_LIST_PARAM 0x02u            /* LIST_VARS' byte after the descriptors: a parameter (link_params.h);
+                                          * its bit 0 the capture format (link_cap_fmt_t) */
+/* The host timeout's stop: standstill is a speed below this share of the rated speed (or the ramp's
+ * own time again, an active load holding the shaft), then PWM off. */
+#define LINK_STOP_STANDSTILL_PER_RATED 0.01f
 
 /* Frame types (link_protocol.md). A reply is its request's type | LINK_REPLY. */
 enum {
@@ -39,8 +44,12 @@ enum {
     LINK_STREAM_SET = 0x06, LINK_CAPTURE_ARM = 0x07, LINK_CAPTURE_STATUS = 0x08, LINK_CAPTURE_READ = 0x09,
     LINK_PING = 0x0A,
     LINK_EVENT = 0x40, LINK_STREAM = 0x41,   /* unsolicited, seq 0 */
+    LINK_NOTICE = 0x42,                      /* unsolicited: the port's own news, then it closes (drive_sil) */
     LINK_REPLY = 0x80
 };
+
+/* LINK_NOTICE's first payload byte (then ASCII text to the end): why the port closes this client. */
+enum { LINK_NOTICE_HELD = 1, LINK_NOTICE_IDLE = 2 };
 
 /* A reply's first payload byte. */
 enum {
@@ -95,6 +104,9 @@ typedef struct {
     float Ts_s;                          /* control period [s] */
     uint32_t baud;                       /* the line's rate [bit/s]: the stream's budget */
     const char *firmware_id;             /* HELLO's identification text */
+    float host_timeout_s;                /* host_timeout_s at start-up (link_host_t; 0: off) [s] */
+    link_params_glue_t params;           /* the drive's parameter set on the link (link_params.h; set NULL:
+                                          * none) and the glue's hook after a write (the drive stopped) */
 } link_cfg_t;
 
 typedef struct {
@@ -115,9 +127,14 @@ typedef struct {
     bool quit;                           /* ACTION quit seen (the SIL ends its run) */
     uint32_t written;                    /* bit per variable id (< LINK_WRITTEN_BITS) written over the link
                                           * (the SIL's overrides) */
+    link_host_t host;                    /* the host timeout (link_protocol.md, "Host timeout") */
     link_capture_t cap;
     link_stream_t stream;
 } link_t;
+
+/* The board's defaults of link_cfg_t's settings (host_timeout_s: BOARD_HOST_TIMEOUT_S, board_cfg.h);
+ * Ts_s, baud and firmware_id are the glue's (0, NULL here). Start-up or host. */
+void link_cfg_default(link_cfg_t *cfg);
 
 /* Start-up: bind the link to the drive and its operator block; empty queues, capture and stream off. */
 void link_init(link_t *l, const link_cfg_t *cfg, app_t *app, volatile cmd_t *cmd, const cmd_limits_t *lim);
@@ -134,7 +151,11 @@ uint16_t link_tx_pending(const link_t *l);
 /* Handle up to LINK_RX_BUDGET received bytes (requests answered into the transmit queue, each
  * only once the queue has room for the largest reply), then, when no received byte waits,
  * queue stream and event frames as room allows (stream rows the ISR cannot queue meanwhile are
- * counted as dropped). Background. */
+ * counted as dropped); then the host timeout: once a host wrote a reference or started the
+ * drive, no valid frame for host_timeout_s ramps the references to zero (speed at the drive's
+ * ramp rate, step 1's accel_rad_s2; torque and voltage from their limits in the time the rated
+ * speed takes) through cmd_apply(), stops the drive at standstill and raises
+ * APP_WARN_HOST_TIMEOUT. Background. */
 void link_poll(link_t *l);
 
 /* Drop every byte not yet received or sent (the cable was pulled). Background. */

@@ -20,7 +20,7 @@
 #define R LINK_ACC_READ
 #define W LINK_ACC_WRITE
 #define WS LINK_ACC_WRITE_STOPPED
-static const link_var_t VARS[LV_COUNT] = {
+static const link_var_t VARS[LV_PARAM_FIRST] = {
     [LV_STATE] = { "state", "", LINK_T_U16, R, LINK_CAP_I16 },
     [LV_FAULT] = { "fault", "", LINK_T_U16, R, LINK_CAP_I16 },
     [LV_FLAGS] = { "flags", "", LINK_T_U16, R, LINK_CAP_I16 },
@@ -69,14 +69,28 @@ static const link_var_t VARS[LV_COUNT] = {
     [LV_COMM_DEADTIME_S] = { "comm_deadtime_s", "s", LINK_T_F32, R, LINK_CAP_F32 },
     [LV_COMM_DEVICE_DROP_V] = { "comm_device_drop_V", "V", LINK_T_F32, R, LINK_CAP_F32 },
     [LV_COMM_UNTOLD_DEADTIME_S] = { "comm_untold_deadtime_s", "s", LINK_T_F32, R, LINK_CAP_F32 },
+    [LV_VDC_V] = { "vdc_V", "V", LINK_T_F32, R, LINK_CAP_I16 },
+    [LV_METHOD_RAN] = { "method_ran", "", LINK_T_U16, R, LINK_CAP_I16 },
+    [LV_HOLD_REASON] = { "hold_reason", "", LINK_T_U16, R, LINK_CAP_I16 },
+    [LV_FAULT_PRESENT] = { "fault_present", "", LINK_T_U16, R, LINK_CAP_I16 },
+    [LV_HOST_TIMEOUT_S] = { "host_timeout_s", "s", LINK_T_F32, W, LINK_CAP_I16 },
 };
+/* the parameters' descriptors: written when stopped, captured as float32 (integers as they are) */
+#define LINK_PARAM_VAR(id, key, unit, type, field, lo, hi, lo_open) \
+    { key, unit, ((type) == LINK_PARAM_U16) ? (uint16_t)LINK_T_U16 : (uint16_t)LINK_T_F32, WS, \
+      ((type) == LINK_PARAM_U16) ? (uint16_t)LINK_CAP_I16 : (uint16_t)LINK_CAP_F32 },
+static const link_var_t PARAM_VARS[LINK_PARAM_COUNT] = { LINK_PARAMS(LINK_PARAM_VAR) };
+#undef LINK_PARAM_VAR
 #undef R
 #undef W
 #undef WS
 
 const link_var_t *link_var(uint16_t id)
 {
-    return &VARS[(id < (uint16_t)LV_COUNT) ? id : 0u];
+    if ((id >= (uint16_t)LV_PARAM_FIRST) && (id < (uint16_t)LV_COUNT)) {
+        return &PARAM_VARS[id - (uint16_t)LV_PARAM_FIRST];
+    }
+    return &VARS[(id < (uint16_t)LV_PARAM_FIRST) ? id : 0u];
 }
 
 static void sym(float x, float *lo, float *hi)
@@ -91,6 +105,12 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     const float speed_max_rpm = c->prot.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F;
     const float flux_max_Wb = FLUX_RANGE_PER_PSIF * c->ctrl.psi_f_Wb;
     *lo = 0.0f;
+    if ((id >= (uint16_t)LV_PARAM_FIRST) && (id < (uint16_t)LV_COUNT)) {
+        const link_param_t *d = link_param((uint16_t)(id - (uint16_t)LV_PARAM_FIRST));
+        *lo = d->lo;
+        *hi = d->hi;
+        return;
+    }
     switch (id) {
     case LV_SPEED_EST_RPM: sym(speed_max_rpm, lo, hi); break;
     case LV_SPEED_REF_RPM: sym(t->lim->speed_max_rpm, lo, hi); break;
@@ -102,11 +122,16 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     case LV_UD_REF_V: case LV_UQ_REF_V: sym(t->lim->u_max_V, lo, hi); break;
     case LV_R_EST_OHM: *hi = c->ctrl.R_max_Ohm; break;
     case LV_L_EST_H: *hi = L_RANGE_PER_L * c->ctrl.L_H; break;
-    case LV_STATE: *hi = (float)APP_STATE_FAULT; break;
-    case LV_METHOD: *hi = (float)CTRL_METHOD_PROPOSED; break;
+    case LV_STATE: *hi = (float)APP_STATE_LAST; break;
+    case LV_FAULT: case LV_FAULT_PRESENT: *hi = (float)APP_FAULT_LAST; break;
+    case LV_CMD_ERROR: *hi = (float)CMD_ERR_LAST; break;
+    case LV_EST: *hi = (float)EST_STEP2; break;
+    case LV_METHOD: case LV_METHOD_RAN: *hi = (float)CTRL_METHOD_PROPOSED; break;
+    case LV_VDC_V: *hi = c->prot.vdc_max_V; break;
+    case LV_HOST_TIMEOUT_S: *hi = LINK_HOST_TIMEOUT_MAX_S; break;
     /* the commissioning's values: what a plausible measurement can reach on this drive */
     case LV_COMM_RESULT: *hi = (float)COMM_REFUSED; break;
-    case LV_COMM_STAGE: *hi = (float)COMM_STAGE_WIRING; break;
+    case LV_COMM_STAGE: *hi = (float)COMM_STAGE_LAST; break;
     case LV_COMM_R_OHM: *hi = c->ctrl.R_max_Ohm; break;
     case LV_COMM_L_H: *hi = L_RANGE_PER_L * c->ctrl.L_H; break;
     case LV_COMM_PSIF_WB: *hi = flux_max_Wb; break;
@@ -139,6 +164,11 @@ RAMFUNC link_val_t link_var_get(const link_target_t *t, uint16_t id)
     const app_t *a = t->app;
     const ctrl_mon_t *m = app_monitor(a);
     const est_out_t *e = app_estimate(a);
+    if (id >= (uint16_t)LV_PARAM_FIRST) {              /* a parameter: from the parameter set */
+        const uint16_t k = (uint16_t)(id - (uint16_t)LV_PARAM_FIRST);
+        const float x = (t->params->set != NULL) ? link_param_get(t->params->set, k) : 0.0f;
+        return (link_param(k)->type == (uint16_t)LINK_PARAM_U16) ? of_u((uint32_t)x) : of_f(x);
+    }
     switch (id) {
     case LV_STATE: return of_u((uint32_t)a->state);
     case LV_FAULT: return of_u((uint32_t)a->fault);
@@ -189,6 +219,11 @@ RAMFUNC link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_COMM_DEADTIME_S: return of_f((a->comm != NULL) ? a->comm->res.deadtime_s : 0.0f);
     case LV_COMM_DEVICE_DROP_V: return of_f((a->comm != NULL) ? a->comm->res.device_drop_V : 0.0f);
     case LV_COMM_UNTOLD_DEADTIME_S: return of_f((a->comm != NULL) ? a->comm->res.untold_deadtime_s : 0.0f);
+    case LV_VDC_V: return of_f(a->vdc_V);
+    case LV_METHOD_RAN: return of_u((uint32_t)app_method_ran(a));
+    case LV_HOLD_REASON: return of_u((uint32_t)e->hold);
+    case LV_FAULT_PRESENT: return of_u((uint32_t)a->fault_present);
+    case LV_HOST_TIMEOUT_S: return of_f(t->host->timeout_s);
     default: return of_u(0u);
     }
 }
@@ -221,6 +256,7 @@ link_src_t link_var_source(const link_target_t *t, uint16_t id)
     case LV_UQ_CMD_V: return src_of(&m->uq_V, 1.0f);
     case LV_UD_REF_V: return src_of(&a->op_taken.ref.ud_ref_V, 1.0f);
     case LV_UQ_REF_V: return src_of(&a->op_taken.ref.uq_ref_V, 1.0f);
+    case LV_VDC_V: return src_of(&a->vdc_V, 1.0f);
     case LV_R_EST_OHM: return src_of(&e->R_Ohm, 1.0f);
     case LV_L_EST_H: return src_of(&e->L_H, 1.0f);
     case LV_PSIF_EST_WB: return src_of(&e->psi_f_Wb, 1.0f);
@@ -228,8 +264,7 @@ link_src_t link_var_source(const link_target_t *t, uint16_t id)
     }
 }
 
-/* The command block set to what the drive runs with (app.op_req), run and fault reset untouched. */
-static void cmd_sync(const link_target_t *t)
+void link_cmd_sync(const link_target_t *t)
 {
     const app_t *a = t->app;
     volatile cmd_t *c = t->cmd;
@@ -261,6 +296,37 @@ static bool stopped(const app_t *a)
     return (a->state == APP_STATE_INIT) || (a->state == APP_STATE_IDLE) || (a->state == APP_STATE_FAULT);
 }
 
+/* A link setting (not a command field): v within its limits, or CMD_ERR_RANGE (kept as it was). */
+static uint16_t link_setting_write(const link_target_t *t, uint16_t id, float v)
+{
+    float lo;
+    float hi;
+    link_var_limits(t, id, &lo, &hi);
+    if (!(mathx_isfinitef(v) && (v >= lo) && (v <= hi))) {
+        return (uint16_t)CMD_ERR_RANGE;
+    }
+    t->host->timeout_s = v;              /* LV_HOST_TIMEOUT_S: the one setting for now */
+    return (uint16_t)CMD_OK;
+}
+
+/* Parameter k (stopped): into the parameter set within its range, then the glue rebuilds the
+ * configuration; CMD_ERR_RANGE (nothing changed) outside it. No parameter set: not writable. */
+static uint16_t param_write(const link_target_t *t, uint16_t k, link_val_t v, bool *access_refused)
+{
+    const float x = (link_param(k)->type == (uint16_t)LINK_PARAM_U16) ? (float)v.u : v.f;
+    if (t->params->set == NULL) {
+        *access_refused = true;
+        return (uint16_t)CMD_OK;
+    }
+    if (!link_param_set(t->params->set, k, x)) {
+        return (uint16_t)CMD_ERR_RANGE;
+    }
+    if (t->params->apply != NULL) {
+        t->params->apply(t->params->user, k);
+    }
+    return (uint16_t)CMD_OK;
+}
+
 uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool *access_refused)
 {
     const link_var_t *d = link_var(id);
@@ -269,21 +335,46 @@ uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool 
     if (*access_refused) {
         return (uint16_t)CMD_OK;
     }
-    cmd_sync(t);
+    if (id == (uint16_t)LV_HOST_TIMEOUT_S) {
+        return link_setting_write(t, id, v.f);
+    }
+    if (id >= (uint16_t)LV_PARAM_FIRST) {
+        return param_write(t, (uint16_t)(id - (uint16_t)LV_PARAM_FIRST), v, access_refused);
+    }
+    link_cmd_sync(t);
     cmd_field_set(t->cmd, id, v);
     cmd_apply(t->cmd, t->lim, t->app);
     const uint16_t err = t->cmd->error;
     if (err != (uint16_t)CMD_OK) {
-        cmd_sync(t);                     /* the refused value out of the block: it would be refused again */
+        link_cmd_sync(t);                     /* the refused value out of the block: it would be refused again */
         cmd_apply(t->cmd, t->lim, t->app);
         t->cmd->error = err;             /* still named for the expressions window */
     }
     return err;
 }
 
-bool link_action(const link_target_t *t, uint16_t action)
+/* An action the drive's state makes do nothing: the refusal that says why, else CMD_OK. */
+static uint16_t action_refusal(const app_t *a, uint16_t action)
+{
+    const bool start = (action == (uint16_t)LINK_ACTION_START);
+    const bool commission = (action == (uint16_t)LINK_ACTION_COMMISSION);
+    if ((start || commission) && (a->state == APP_STATE_FAULT)) {
+        return (uint16_t)CMD_ERR_FAULTED;    /* the app drops a start asked for in FAULT */
+    }
+    if (commission && (a->state != APP_STATE_INIT) && (a->state != APP_STATE_IDLE)) {
+        return (uint16_t)CMD_ERR_NOT_STOPPED;
+    }
+    return (uint16_t)CMD_OK;
+}
+
+uint16_t link_action(const link_target_t *t, uint16_t action)
 {
     volatile cmd_t *c = t->cmd;
+    const uint16_t refused = action_refusal(t->app, action);
+    if (refused != (uint16_t)CMD_OK) {
+        c->error = refused;              /* named for the expressions window too */
+        return refused;
+    }
     switch (action) {
     case LINK_ACTION_START:
         c->run = 1u;
@@ -298,16 +389,16 @@ bool link_action(const link_target_t *t, uint16_t action)
         c->fault_reset = 1u;
         break;
     case LINK_ACTION_COMMISSION:
-        if (c->run == 0u) {
-            app_request_commission(t->app); /* as cmd_comm_apply: acted on only while stopped */
-        }
+        c->run = 0u;                     /* no edge (a start left run at 1): the stopped command block */
+        c->run_taken = 0u;
+        app_request_commission(t->app);
         break;
     default:
-        return false;
+        return LINK_ACTION_UNKNOWN;
     }
-    cmd_sync(t);
+    link_cmd_sync(t);
     cmd_apply(c, t->lim, t->app);
-    return true;
+    return c->error;
 }
 
 uint16_t link_level(const link_target_t *t, uint16_t level)
@@ -315,7 +406,7 @@ uint16_t link_level(const link_target_t *t, uint16_t level)
     if ((level < LEVEL_MIN) || (level > LEVEL_MAX)) {
         return (uint16_t)CMD_ERR_LEVEL;  /* 0 would mean "keep" to cmd_apply: not a level to ask for */
     }
-    cmd_sync(t);
+    link_cmd_sync(t);
     t->cmd->level = level;
     cmd_apply(t->cmd, t->lim, t->app);
     return t->cmd->error;
@@ -343,11 +434,12 @@ uint32_t link_vars_hash(const link_target_t *t)
         uint16_t b[FLOAT_BYTES * 2u];
         link_var_limits(t, i, &lo, &hi);
         (void)link_put_f32(b, link_put_f32(b, 0u, lo), hi);
-        h = fnv_str(h, VARS[i].name);
-        h = fnv_str(h, VARS[i].unit);
-        h = fnv(h, VARS[i].type);
-        h = fnv(h, VARS[i].access);
-        h = fnv(h, VARS[i].capture);
+        const link_var_t *d = link_var(i);
+        h = fnv_str(h, d->name);
+        h = fnv_str(h, d->unit);
+        h = fnv(h, d->type);
+        h = fnv(h, d->access);
+        h = fnv(h, d->capture);
         for (uint16_t k = 0u; k < FLOAT_BYTES * 2u; k++) {
             h = fnv(h, b[k]);
         }

@@ -13,6 +13,7 @@
 
 #include "app.h"
 #include "cmd.h"
+#include "link_params.h"
 
 typedef enum { LINK_T_U16 = 0, LINK_T_U32 = 1, LINK_T_F32 = 2 } link_type_t;
 typedef enum {
@@ -33,7 +34,11 @@ typedef enum {
     LV_LEVEL, LV_LEVEL_NEXT,
     /* the commissioning's inverter error (the ids above kept) */
     LV_COMM_DEADTIME_S, LV_COMM_DEVICE_DROP_V, LV_COMM_UNTOLD_DEADTIME_S,
-    LV_COUNT
+    /* readings and the fallbacks named (every state) */
+    LV_VDC_V, LV_METHOD_RAN, LV_HOLD_REASON, LV_FAULT_PRESENT,
+    LV_HOST_TIMEOUT_S,          /* the link's own setting (link_host_t) */
+    LV_PARAM_FIRST,             /* the drive's parameters (link_params.h), LINK_PARAM_COUNT of them */
+    LV_COUNT = LV_PARAM_FIRST + LINK_PARAM_COUNT
 } link_var_id_t;
 
 /* How a capture keeps a variable: int16 counts scaled by its limits (the default), or its float32
@@ -56,12 +61,41 @@ typedef struct {
     uint16_t reset_by_watchdog; /* 1: the last reset was the watchdog's (set by the glue at start-up) */
 } link_stats_t;
 
+#define LINK_HOST_TIMEOUT_MAX_S 600.0f   /* host_timeout_s's top [s]: a host quiet longer is gone */
+
+/* The link's watch of its host (link.c; link_protocol.md, "Host timeout"). Background. */
+typedef struct {
+    float timeout_s;            /* host_timeout_s: no valid frame this long, once armed, ramps the drive to
+                                 * zero and stops it; 0: off */
+    uint16_t phase;             /* LINK_HOST_*: what the watch is doing */
+    uint32_t seen_ticks;        /* the app's ticks at the last valid frame */
+    uint32_t step_ticks;        /* ... at the ramp's last step; at zero: when its references reached it */
+} link_host_t;
+
+/* link_host_t.phase */
+enum {
+    LINK_HOST_IDLE = 0,         /* no host command to watch (none yet, or stopped by the host) */
+    LINK_HOST_ARMED = 1,        /* a host wrote a reference or started the drive: its silence counts */
+    LINK_HOST_RAMPING = 2,      /* the timeout fired: the references ramp to zero */
+    LINK_HOST_AT_ZERO = 3       /* ... reached zero: waiting for standstill */
+};
+
+/* The drive's parameter set on the link (link_params.h) and the glue's hook. */
+typedef struct {
+    drive_params_t *set;        /* the set, or NULL: no parameters on the link */
+    void (*apply)(void *user, uint16_t k); /* after parameter k's write (stopped): the glue asks for
+                                 * the app's configuration from *set (app_request_reconfigure). Background */
+    void *user;
+} link_params_glue_t;
+
 /* What the table reads and writes. */
 typedef struct {
     app_t *app;
     volatile cmd_t *cmd;        /* the operator's block: writes land here, then cmd_apply() */
     const cmd_limits_t *lim;
     const link_stats_t *stats;
+    link_host_t *host;          /* the link's own setting host_timeout_s */
+    const link_params_glue_t *params; /* the parameters (link_cfg_t.params) */
 } link_target_t;
 
 /* A value: integers in u (and f as float), floats in f. */
@@ -83,7 +117,10 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi);
 /* Write v (integers in u, floats in f) through cmd_apply(): the other fields of the command
  * are first set to what the drive runs with (app.op_req), a refused value is put back. Returns
  * CMD_OK or the cmd_error_t cmd_apply() named; *access_refused true when the table's access
- * refused it before cmd_apply() (read-only, or write-when-stopped while running). Background. */
+ * refused it before cmd_apply() (read-only, or write-when-stopped while running). The link's own
+ * settings and the drive's parameters (link_params.h) are checked against their limits instead
+ * (CMD_ERR_RANGE, nothing changed); a parameter written goes into the parameter set, then
+ * params_apply. Background. */
 uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool *access_refused);
 
 /* Where the ISR finds a float variable in place: its value in its unit is *p / raw_per_unit.
@@ -111,9 +148,18 @@ typedef enum {
     LINK_ACTION_LEVEL = 6       /* the build level the next start runs (level.h), with its argument */
 } link_action_t;
 
+/* The command block set to what the drive runs with (app.op_req), run and fault reset untouched
+ * (before a field of it is set and cmd_apply() called). Background. */
+void link_cmd_sync(const link_target_t *t);
+
+/* link_action's return for an action it does not know. */
+#define LINK_ACTION_UNKNOWN 0xFFFFu
+
 /* Carry out an action through cmd_apply() (start and stop as an edge of cmd.run, so a start after a
- * fault starts again). Returns false for an unknown action. Background. */
-bool link_action(const link_target_t *t, uint16_t action);
+ * fault reset starts again). Returns CMD_OK (or the command's field error cmd_apply() named), a
+ * refusal that did nothing (CMD_ERR_FAULTED: start or commission with a fault latched;
+ * CMD_ERR_NOT_STOPPED: commission while the drive runs), or LINK_ACTION_UNKNOWN. Background. */
+uint16_t link_action(const link_target_t *t, uint16_t action);
 
 /* The build level (LEVEL_MIN .. LEVEL_MAX, level.h) the next start runs, through cmd_t.level and
  * cmd_apply() as the debugger sets it. Returns CMD_OK, or CMD_ERR_LEVEL for a level outside

@@ -48,15 +48,16 @@
 #define BOARD_ISR_BUDGET_CYCLES  12000UL      /* 80 % of the period for app_isr [cycles] */
 /* Checks on the periods' history (firmware/protect/protect.h derives each rule;
  * detection times measured in SIL: tests/test_sil_faults.c). */
-/* Open phase (protect.h): a window of 0.1 s covers half an electrical
- * turn (where a healthy phase carries 2/pi = 0.64 of |i|) from 100 r/min;
- * slower, the voltage on the phase decides: with i_x < 0.2 |i| (< 2.8 A)
- * a healthy phase gets R i_x + back-EMF (7.5 V peak at 100 r/min) + the
- * dead-time feedforward (3 V), below 25 V. The window slides by a quarter
- * (PROTECT_OP_SUBWINDOWS): SIL 65-100 ms, noise 0-0.15 A, 0-2000 r/min. */
+/* Open phase (protect.h, protect_design.md): a phase counts as carrying
+ * nothing below 0.2 of the current the controller aimed at it (a healthy
+ * one carries cos(30 deg + the current's lag) of it: 0.2 leaves 48 deg);
+ * slow, the voltage on the phase decides: with i_x < 0.2 |i| (< 2.4 A) a
+ * healthy phase gets R i_x + back-EMF (held below 12.5 V) + the dead-time
+ * feedforward (3 V), below 25 V. The window slides by a quarter
+ * (PROTECT_OP_SUBWINDOWS): SIL 25-100 ms, noise 0-0.15 A, 0-2000 r/min. */
 #define BOARD_OPEN_PHASE_WINDOW_S  0.1f       /* [s] */
-#define REF_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i| to judge by, at REF_I_RATED_A [A] */
-#define BOARD_OPEN_PHASE_RATIO     0.2f       /* mean |i_x| / mean |i| below it: no current in phase x [-] */
+#define REF_OPEN_PHASE_I_MIN_A   1.0f       /* mean |i|, and a period's aimed |i*|, to judge by, at REF_I_RATED_A [A] */
+#define BOARD_OPEN_PHASE_RATIO     0.2f       /* |i_x| / |i*| (mean |i_x| / mean |i|) below it: no current in x [-] */
 #define REF_OPEN_PHASE_U_MIN_V   25.0f      /* ... while phase x was given this mean |u_x|, at REF_VDC_V [V] */
 /* Frozen current reading: half an ADC step of the range is "unchanged"
  * (drive_params.c, from the ADC range). In a net turn
@@ -83,6 +84,15 @@
 #define BOARD_ENC_LOST_COUNTS    100.0f       /* [counts] */
 #define BOARD_ENC_STALL_S        0.3f         /* [s] */
 #define BOARD_ENC_STALL_TE_FRAC  0.9f         /* x te_max [-] */
+
+/* ---- the link (firmware/link/link.h) ---------------------------------- */
+/* Host timeout: once a host wrote a reference or started the drive, no
+ * valid frame for this long ramps the drive to zero and stops it. Off, as
+ * ODrive's watchdog (watchdog_timeout 0, enable_watchdog false): a
+ * reference set by one `drivetool set` must outlive that command's
+ * connection; a host program that feeds the link turns it on
+ * (link_protocol.md, "Host timeout": VESC's 1 s). */
+#define BOARD_HOST_TIMEOUT_S     0.0f         /* [s]; 0: off */
 
 /* ---- start-up sequence (used by the application) ---------------------- */
 /* Current-offset calibration, PWM off, at every start. */

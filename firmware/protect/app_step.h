@@ -27,6 +27,7 @@ typedef enum {
     APP_STATE_ENC_CHECK = 9,    /* level 3: open-loop rotation, the encoder and wiring checked */
     APP_STATE_COMMISSION = 10   /* measuring the motor (commission.h) */
 } app_state_t;
+#define APP_STATE_LAST APP_STATE_COMMISSION   /* the highest state's value */
 
 typedef enum {
     APP_FAULT_NONE = 0,
@@ -61,6 +62,7 @@ typedef enum {
     APP_FAULT_COMM_IMPLAUSIBLE = 28, /* a stage's measurement or the voltage it needed outside its plausible range */
     APP_FAULT_BUS_CHARGED = 29       /* levels 1-2: the bus above their extra-low limit (level.h; value: the bus, limit: it) */
 } app_fault_t;
+#define APP_FAULT_LAST APP_FAULT_BUS_CHARGED        /* the highest fault's value */
 
 typedef enum {
     APP_STEP_RUNNING = 0,       /* call again next period */

@@ -3,47 +3,16 @@
 
 #include <stddef.h>
 
-#include "clarke_park.h"
 #include "mathx.h"
 
 #define N_PHASES 3u
 #define N_READINGS 2u                /* ia, ib */
 #define ONE_THIRD (1.0f / 3.0f)
 #define OP_WHOLE_PARTS (PROTECT_OP_SUBWINDOWS - 1u) /* the window's parts before the part so far */
-
-static void op_sums_clear(protect_op_sums_t *a);
-
-RAMFUNC void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t *drv)
-{
-    p->cfg = *cfg;
-    p->drv = *drv;
-    p->enc_cpr = (drv->enc_cpr > 0u) ? drv->enc_cpr : 1u;
-    p->enc_jump_max = PROTECT_ENC_JUMP_MARGIN * cfg->speed_max_rad_s * drv->Ts_s * (float)p->enc_cpr /
-                          MATHX_TWO_PI_F +
-                      1.0f; /* + one count of quantisation */
-    /* 1.5 periods: the entry jitter is a few cycles, a missed period adds a whole one */
-    p->isr_late_cycles = cfg->isr_period_cycles + cfg->isr_period_cycles / 2u;
-    p->enc_prev = 0u;
-    p->enc_delta = 0;
-    p->seeded = false;
-    p->isr_entry = 0u;
-    p->isr_interval_cycles = 0u;
-    p->isr_run_cycles = 0u;
-    p->uv_armed = false;
-    p->op_part_ticks = app_periods_of(cfg->watch.op_window_s / (float)PROTECT_OP_SUBWINDOWS, drv->Ts_s);
-    /* a whole window is PROTECT_OP_SUBWINDOWS whole parts of op_part_ticks periods */
-    p->op_i_min_sum_A = cfg->watch.op_i_min_A * (float)(PROTECT_OP_SUBWINDOWS * p->op_part_ticks);
-    p->op_u_min_sum_V = cfg->watch.op_u_min_V * (float)(PROTECT_OP_SUBWINDOWS * p->op_part_ticks);
-    p->stall_ticks_max = app_periods_of(cfg->watch.enc_stall_s, drv->Ts_s);
-    p->el_rad_per_count = MATHX_TWO_PI_F * (float)drv->pole_pairs / (float)p->enc_cpr;
-    p->counts_per_rad = (float)p->enc_cpr / MATHX_TWO_PI_F;
-    p->op_phase = 0u;
-    /* the ring's parts are summed (op_prep_step) before the ring is full: start from zero sums */
-    for (uint32_t k = 0u; k < OP_WHOLE_PARTS; k++) {
-        op_sums_clear(&p->op_parts[k]);
-    }
-    protect_watch_reset(p);
-}
+#define SIN_120 0.866025404f                    /* the phase axes: 0, 120, 240 deg el */
+#define COS_120 (-0.5f)
+#define INV_SQRT3 0.577350269f
+#define OP_CONE_SHARE 0.5f /* the cone rule: x carried nothing in more than this share of its cone periods */
 
 /* Count change from prev to now (both < cpr), the shortest way round; no
  * 32-bit % (an RTS call from flash on the C28x). */
@@ -120,15 +89,16 @@ RAMFUNC app_step_t protect_check(const protect_t *p, const hal_sample_t *s, floa
 
 /* ---- checks on the periods' history (protect_watch) --------------------- */
 
-RAMFUNC static void op_sums_clear(protect_op_sums_t *a)
+RAMFUNC void protect_op_sums_clear(protect_op_sums_t *a)
 {
     uint32_t x;
 
     a->n = 0u;
-    a->i_A = 0.0f;
     a->turn_counts = 0;
     for (x = 0u; x < N_PHASES; x++) {
         a->ix_A[x] = 0.0f;
+        a->cone_n[x] = 0u;
+        a->none_n[x] = 0u;
         a->ux_V[x] = 0.0f;
     }
 }
@@ -136,7 +106,7 @@ RAMFUNC static void op_sums_clear(protect_op_sums_t *a)
 /* The window restarts: no whole part, the part so far empty. */
 RAMFUNC static void op_clear(protect_t *p)
 {
-    op_sums_clear(&p->op_part);
+    protect_op_sums_clear(&p->op_part);
     p->op_parts_n = 0u;
     p->op_parts_next = 0u;
 }
@@ -154,70 +124,127 @@ RAMFUNC static int32_t abs_i32(int32_t v)
     return (v < 0) ? -v : v;
 }
 
+RAMFUNC static int32_t max_i32(int32_t a, int32_t b)
+{
+    return (a > b) ? a : b;
+}
+
 /* OPEN_PHASE's preparation step k (< OP_WHOLE_PARTS), in the part's
- * (k + 1)-th period: the ring's part k added into op_prev (|u_x| and |turn|
- * per part), op_prev emptied first by step 0. The order of the parts does
- * not matter, and op_prev is used only once the ring is full. The phases
- * written out, as in open_phase_check. */
+ * (k + 1)-th period: the ring's part k added into op_prev (|u_x| per part,
+ * the parts' largest |net count change|), op_prev emptied first by step 0. The
+ * order of the parts does not matter, and op_prev is used only once the
+ * ring is full. The phases written out, as in open_phase_check. */
 RAMFUNC static void op_prep_step(protect_t *p, uint32_t k)
 {
     protect_op_sums_t *b = &p->op_prev;
     const protect_op_sums_t *q = &p->op_parts[k];
 
     if (k == 0u) {
-        op_sums_clear(b);
+        protect_op_sums_clear(b);
     }
-    b->n += q->n;
-    b->i_A += q->i_A;
-    b->turn_counts += abs_i32(q->turn_counts);
+    b->n = (uint16_t)(b->n + q->n);
+    b->turn_counts = max_i32(b->turn_counts, abs_i32(q->turn_counts));
     b->ix_A[0] += q->ix_A[0];
     b->ix_A[1] += q->ix_A[1];
     b->ix_A[2] += q->ix_A[2];
+    b->cone_n[0] = (uint16_t)(b->cone_n[0] + q->cone_n[0]);
+    b->cone_n[1] = (uint16_t)(b->cone_n[1] + q->cone_n[1]);
+    b->cone_n[2] = (uint16_t)(b->cone_n[2] + q->cone_n[2]);
+    b->none_n[0] = (uint16_t)(b->none_n[0] + q->none_n[0]);
+    b->none_n[1] = (uint16_t)(b->none_n[1] + q->none_n[1]);
+    b->none_n[2] = (uint16_t)(b->none_n[2] + q->none_n[2]);
     b->ux_V[0] += mathx_fabsf(q->ux_V[0]);
     b->ux_V[1] += mathx_fabsf(q->ux_V[1]);
     b->ux_V[2] += mathx_fabsf(q->ux_V[2]);
 }
 
-/* OPEN_PHASE, phase x of the window of op_prev and *a: open by the test of
- * protect.h, in sums over the window (limit_sum: op_ratio x the sum of
- * |i|; u_min_sum: op_u_min_V x the periods). */
-RAMFUNC static inline bool op_phase_open(const protect_op_sums_t *b, const protect_op_sums_t *a, uint32_t x, float limit_sum,
-                                 float u_min_sum, bool half_turn)
+/* OPEN_PHASE, phase x of the window of op_prev and *a, the cone rule of
+ * protect.h: enough periods in x's cone, x carrying nothing in more than
+ * half of them. */
+RAMFUNC static inline bool op_cone_open(const protect_t *p, const protect_op_sums_t *b, const protect_op_sums_t *a, uint32_t x)
 {
-    return (b->ix_A[x] + a->ix_A[x] < limit_sum) && (half_turn || (b->ux_V[x] + mathx_fabsf(a->ux_V[x]) >= u_min_sum));
+    const uint32_t cone = b->cone_n[x] + a->cone_n[x];
+    return (cone >= p->op_cone_min) && ((float)(b->none_n[x] + a->none_n[x]) > OP_CONE_SHARE * (float)cone);
+}
+
+/* ... the voltage rule, in sums over the window (ix_limit: op_ratio x the
+ * sum of |i|; op_u_min_sum_V: op_u_min_V x the periods). */
+RAMFUNC static inline bool op_slow_open(const protect_t *p, const protect_op_sums_t *b, const protect_op_sums_t *a, uint32_t x,
+                                float ix_limit)
+{
+    return (b->ix_A[x] + a->ix_A[x] < ix_limit) && (b->ux_V[x] + mathx_fabsf(a->ux_V[x]) >= p->op_u_min_sum_V);
 }
 
 /* OPEN_PHASE: the test of protect.h on the window of the whole parts before
- * (op_prev) and the part *a just ended, compared as sums over the window's
- * periods (limits derived by protect_init); the means computed for a
- * fault's value only. Half an electrical turn, pi rad el, is
- * enc_cpr / (2 pole_pairs) counts. */
+ * (op_prev) and the part *a just ended, compared as sums and counts over
+ * the window's periods (limits derived by protect_init); the shares
+ * computed for a fault's value only. */
 RAMFUNC static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *a)
 {
     const protect_op_sums_t *b = &p->op_prev;
-    const float i_sum = b->i_A + a->i_A;
-    const float limit_sum = p->cfg.watch.op_ratio * i_sum;
-    const uint32_t turn_counts = (uint32_t)(b->turn_counts + abs_i32(a->turn_counts));
-    const bool half_turn = (turn_counts * 2u * (uint32_t)p->drv.pole_pairs >= p->enc_cpr);
-    const float u_min_sum = p->op_u_min_sum_V;
+    /* sum of |i|: the phases' sums of |i_x| over sqrt(3) (exact with one phase carrying nothing,
+     * up to 2 / sqrt(3) high otherwise; no square root every period) */
+    const float i_sum = (b->ix_A[0] + a->ix_A[0] + b->ix_A[1] + a->ix_A[1] + b->ix_A[2] + a->ix_A[2]) * INV_SQRT3;
+    const bool slow = ((float)max_i32(b->turn_counts, abs_i32(a->turn_counts)) <= p->op_slow_counts);
+    const float ix_limit = p->cfg.watch.op_ratio * i_sum;
     uint32_t x;
 
     if (!(i_sum >= p->op_i_min_sum_A)) {
         return app_step_running();
     }
-    /* the phases written out: the first open one is the reason */
-    x = op_phase_open(b, a, 0u, limit_sum, u_min_sum, half_turn)
-            ? 0u
-            : (op_phase_open(b, a, 1u, limit_sum, u_min_sum, half_turn)
-                   ? 1u
-                   : (op_phase_open(b, a, 2u, limit_sum, u_min_sum, half_turn) ? 2u : N_PHASES));
-    if (x == N_PHASES) {
-        return app_step_running();
+    /* the first open phase is the reason (a loop: once a part, RAM counts more than cycles) */
+    for (x = 0u; x < N_PHASES; x++) {
+        if (op_cone_open(p, b, a, x)) {
+            /* the share of x's cone periods it carried current in, below one half */
+            const float cone = (float)(b->cone_n[x] + a->cone_n[x]);
+            p->op_phase = (uint16_t)x;
+            return app_step_fault(APP_FAULT_OPEN_PHASE, 1.0f - (float)(b->none_n[x] + a->none_n[x]) / cone,
+                                  OP_CONE_SHARE);
+        }
+        if (slow && op_slow_open(p, b, a, x, ix_limit)) {
+            /* mean |i_x| / mean |i|, below op_ratio */
+            p->op_phase = (uint16_t)x;
+            return app_step_fault(APP_FAULT_OPEN_PHASE, (b->ix_A[x] + a->ix_A[x]) / i_sum, p->cfg.watch.op_ratio);
+        }
     }
-    p->op_phase = (uint16_t)x;
-    {
-        const float n = (float)(b->n + a->n);
-        return app_step_fault(APP_FAULT_OPEN_PHASE, (b->ix_A[x] + a->ix_A[x]) / n, p->cfg.watch.op_ratio * (i_sum / n));
+    return app_step_running();
+}
+
+/* OPEN_PHASE's cone rule, this period: the aimed current i* (stator frame) at least op_i_min_A,
+ * projected on each phase's axis (0, 120, 240 deg): the largest |projection| is the phase whose
+ * cone it is in (the axes and their negatives are 60 deg apart: i* is within 30 deg of that
+ * phase's, either way), counted, and whether it carried nothing (i_x^2 < op_ratio^2 |i*|^2).
+ * Field-oriented only (RUN, IDENTIFY_R; the aim is 0 in open loop). */
+RAMFUNC static void op_cones(protect_t *p, const protect_watch_in_t *in, float ic)
+{
+    protect_op_sums_t *a = &p->op_part;
+    const float al = in->i_aim_alpha_A;
+    const float be = in->i_aim_beta_A;
+    const float n2 = al * al + be * be;
+
+    const float i_min = p->cfg.watch.op_i_min_A;
+    if (in->ctrl_running && (n2 >= i_min * i_min)) {
+        const float proj_b = COS_120 * al + SIN_120 * be;
+        const float pa = mathx_fabsf(al);
+        const float pb = mathx_fabsf(proj_b);
+        const float pc = mathx_fabsf(al + proj_b); /* -(a's + b's) */
+        uint32_t x;
+        float ix;
+        if ((pa >= pb) && (pa >= pc)) {
+            x = 0u;
+            ix = in->ia_corr_A;
+        } else if (pb >= pc) {
+            x = 1u;
+            ix = in->ib_corr_A;
+        } else {
+            x = 2u;
+            ix = ic;
+        }
+        a->cone_n[x]++;
+        const float ratio = p->cfg.watch.op_ratio;
+        if (ix * ix < ratio * ratio * n2) {
+            a->none_n[x]++;
+        }
     }
 }
 
@@ -227,7 +254,6 @@ RAMFUNC static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t
 RAMFUNC static app_step_t open_phase_check(protect_t *p, const protect_watch_in_t *in)
 {
     const float ic = -in->ia_corr_A - in->ib_corr_A;
-    const float i_beta = clarke_2ph(in->ia_corr_A, in->ib_corr_A).b;
     protect_op_sums_t *a = &p->op_part;
     app_step_t r = app_step_running();
     protect_op_sums_t *q;
@@ -239,7 +265,7 @@ RAMFUNC static app_step_t open_phase_check(protect_t *p, const protect_watch_in_
         return r;
     }
     d_mean = (in->duty[0] + in->duty[1] + in->duty[2]) * ONE_THIRD;
-    a->i_A += mathx_sqrtf(in->ia_corr_A * in->ia_corr_A + i_beta * i_beta);
+    op_cones(p, in, ic);
     /* the phases written out: the every-period part without a loop's bookkeeping */
     a->ix_A[0] += mathx_fabsf(in->ia_corr_A);
     a->ix_A[1] += mathx_fabsf(in->ib_corr_A);
@@ -266,7 +292,7 @@ RAMFUNC static app_step_t open_phase_check(protect_t *p, const protect_watch_in_
     } else {
         p->op_parts_n++;
     }
-    op_sums_clear(a);
+    protect_op_sums_clear(a);
     return r;
 }
 

@@ -19,23 +19,40 @@
  *   OPEN_PHASE        over a window of op_window_s with the outputs on
  *                     (sliding: judged at the end of each of its
  *                     PROTECT_OP_SUBWINDOWS parts, over the last whole
- *                     window): mean |i| >= op_i_min_A and, for one phase
- *                     x, mean |i_x| < op_ratio x mean |i|, and
- *                       - the rotor turned (net, per part) half an
- *                         electrical turn or more in the window: a healthy
- *                         phase carries 2/pi = 0.64 of |i| over a half
- *                         turn; or, slower,
- *                       - the voltage phase x was given, averaged (signed)
- *                         over each part, then |.| over the window, is
- *                         >= op_u_min_V (u_x: the phase voltage of the
- *                         duties, zero sequence removed). At standstill a
- *                         healthy i_x follows u_x / R, so a small i_x
- *                         comes with a small u_x (a current vector across
- *                         the phase, as in the alignment's first step);
- *                         averaging over a part first keeps the deadbeat's
- *                         answer to ADC noise (L / Ts x noise, 16 V for
- *                         0.15 A) out of it.
- *                     Not observable with no current asked for.
+ *                     window), mean |i| >= op_i_min_A (|i| as the sum of
+ *                     the three |i_x| / sqrt(3): exact with one phase
+ *                     carrying nothing, up to 15 % high otherwise), for
+ *                     one phase x
+ *                     (firmware/protect/protect_design.md):
+ *                       - the cone rule (RUN and IDENTIFY_R, field-
+ *                         oriented): of the periods the controller's
+ *                         step aimed the current i* (|i*| >=
+ *                         op_i_min_A) nearest x's axis (within 30 deg of
+ *                         it, either way: the axes and their negatives
+ *                         are 60 deg apart), at least PROTECT_OP_CONE_MIN
+ *                         of the window's, x carried nothing (|i_x| <
+ *                         op_ratio |i*|) in more than half. A healthy
+ *                         phase there carries cos(30 deg + the current's
+ *                         lag behind its aim), above op_ratio for a lag
+ *                         under 48 deg: whatever else the window holds (a
+ *                         speed step's burst across the phase, a
+ *                         current-limited deceleration, the zero
+ *                         crossings, field weakening) it does not trip;
+ *                         or, slow (the parts' net turns kept the
+ *                         back-EMF's peak below PROTECT_OP_EMF_SHARE x
+ *                         op_u_min_V),
+ *                       - mean |i_x| < op_ratio x mean |i| while the voltage
+ *                         phase x was given, averaged (signed) over each
+ *                         part, then |.| over the window, is >= op_u_min_V
+ *                         (u_x: the phase voltage of the duties, zero
+ *                         sequence removed). Slow, a healthy i_x follows
+ *                         u_x / R, so a small i_x comes with a small u_x
+ *                         (a current vector across the phase, as in the
+ *                         alignment's first step); averaging over a part
+ *                         first keeps the deadbeat's answer to ADC noise
+ *                         (L / Ts x noise, 16 V for 0.15 A) out of it.
+ *                     Not observable with no current asked for, nor at
+ *                     speed with the aim kept away from x's axis.
  *   CURRENT_SENSOR    in RUN and IDENTIFY_R: one current reading unchanged
  *                     (by less than stuck_delta_A, half an ADC step) and
  *                     beyond +- stuck_zero_A while the rotor turned (net)
@@ -74,12 +91,20 @@
 #define PROTECT_ENC_JUMP_MARGIN 1.5f
 #define APP_ENC_JUMP_MARGIN PROTECT_ENC_JUMP_MARGIN /* old name */
 
+/* OPEN_PHASE's voltage rule holds while the back-EMF's peak w_el psi_f stays below this share
+ * of op_u_min_V (25 V given leaves 25 - 12.5 - 3 V of dead-time residue across R: 3.2 A at the
+ * reference's 3 ohm, above op_ratio x its 12 A limit; protect_design.md). */
+#define PROTECT_OP_EMF_SHARE 0.5f
+/* OPEN_PHASE's cone rule judges a phase from this share of the window's periods in its cone on
+ * (each phase has 1/3 with the aim turning, all at standstill; protect_design.md). */
+#define PROTECT_OP_CONE_MIN 0.125f
+
 /* Thresholds of the checks on the periods' history (protect_watch). */
 typedef struct {
     float op_window_s;          /* OPEN_PHASE window [s] */
-    float op_i_min_A;           /* mean |i| in the window at least [A] */
-    float op_ratio;             /* a phase's mean |i_x| below this x mean |i| [-] ... */
-    float op_u_min_V;           /* ... while its mean |u_x| (per part) is at least this, below half a turn [V] */
+    float op_i_min_A;           /* mean |i| in the window at least; a period's |i| in a cone [A] */
+    float op_ratio;             /* a phase's |i_x| below this x |i| carries nothing [-] ... */
+    float op_u_min_V;           /* ... while its mean |u_x| (per part) is at least this, slow [V] */
     float stuck_delta_A;        /* a reading changing by less is unchanged [A] */
     float stuck_angle_el_rad;   /* net rotor turn with one reading unchanged [rad el] ... */
     float stuck_span_A;         /* ... while the other one moved over this [A] */
@@ -99,6 +124,7 @@ typedef struct {
     bool ctrl_running;          /* RUN or IDENTIFY_R: the current is field-oriented */
     float speed_m_rad_s;        /* speed estimate (encoder PLL), mechanical [rad/s] */
     float te_ref_Nm;            /* the controller's torque reference [N m] (NaN: none) */
+    float i_aim_alpha_A, i_aim_beta_A; /* the current the controller's last step aimed at, stator frame [A] */
 } protect_watch_in_t;
 
 typedef struct {
@@ -118,6 +144,7 @@ typedef struct {
     uint32_t enc_cpr;           /* encoder counts per revolution [counts] */
     float te_max_Nm;            /* the controller's torque limit [N m] */
     uint16_t pole_pairs;        /* [-] */
+    float psi_f_Wb;             /* the controller's PM flux: the back-EMF of OPEN_PHASE's voltage rule [Wb] */
 } protect_drive_t;
 
 /* What was known in the period a fault was detected. */
@@ -138,12 +165,13 @@ typedef struct {
 #define PROTECT_OP_SUBWINDOWS 4u
 
 /* OPEN_PHASE's sums over a part of the window. */
-typedef struct {
-    uint32_t n;                 /* periods [-] */
-    float i_A;                  /* sum of |i| [A] */
+typedef struct {               /* the counts 16-bit (RAM): a window of at most 65535 periods */
+    uint16_t n;                 /* periods [-] */
+    uint16_t cone_n[3];         /* periods with the aim in phase x's cone and |i*| >= op_i_min_A [-] */
+    uint16_t none_n[3];         /* ... of them, x carrying nothing (|i_x| < op_ratio |i*|) [-] */
     float ix_A[3];              /* sums of |i_a|, |i_b|, |i_c| [A] */
     float ux_V[3];              /* sums of u_a, u_b, u_c (signed) [V] */
-    int32_t turn_counts;        /* net count change [counts] */
+    int32_t turn_counts;        /* net count change [counts]; op_prev: the parts' largest |net change| */
 } protect_op_sums_t;
 
 typedef struct {
@@ -165,6 +193,7 @@ typedef struct {
     uint32_t op_part_ticks;        /* OPEN_PHASE window part [periods] */
     float op_i_min_sum_A;          /* op_i_min_A x a whole window's periods [A] */
     float op_u_min_sum_V;          /* op_u_min_V x a whole window's periods [V] */
+    float op_slow_counts;          /* the voltage rule's top speed: net count change per part [counts] */
     uint32_t stall_ticks_max;      /* enc_stall_s [periods] */
     float el_rad_per_count;        /* electrical angle of one count [rad] */
     float counts_per_rad;          /* counts per mechanical radian [counts/rad] */
@@ -174,8 +203,9 @@ typedef struct {
     uint32_t op_parts_n;           /* whole parts in the ring (at most PROTECT_OP_SUBWINDOWS - 1) */
     uint32_t op_parts_next;        /* ring index the next whole part goes to */
     protect_op_sums_t op_prev;     /* the ring's sums, built during the part: ux_V the sum of each part's
-                                    * |sum of u_x|, turn_counts of each part's |net change| */
+                                    * |sum of u_x|, turn_counts the parts' largest |net change| */
     uint16_t op_phase;             /* the phase found open (0 a, 1 b, 2 c), for the operator */
+    uint16_t op_cone_min;          /* PROTECT_OP_CONE_MIN of a whole window's periods [-] */
     /* protect_watch: CURRENT_SENSOR, per reading (0 ia, 1 ib) since it last changed */
     float st_last_A[2];
     float st_angle_el_rad[2];      /* net turn, signed [rad el] */
@@ -219,9 +249,14 @@ static inline app_step_t protect_run_time(protect_t *p, uint32_t t_entry_cycles,
     return app_step_running();
 }
 
+/* OPEN_PHASE: a part's sums emptied (protect_init.c and protect.c). Any context. */
+void protect_op_sums_clear(protect_op_sums_t *a);
+
 /* ISR, after protect_check passed: the checks on the periods' history
  * (see above); RUNNING, or FAULT with the quantity and its limit:
- * OPEN_PHASE mean |i_x| and op_ratio x mean |i| [A], CURRENT_SENSOR the
+ * OPEN_PHASE the share phase x carried and its limit [-] (the cone rule:
+ * of its cone periods, those it carried current in, and 1/2; the voltage
+ * rule: mean |i_x| / mean |i| and op_ratio), CURRENT_SENSOR the
  * turn [rad el] and stuck_angle_el_rad, ENCODER_LOST the missed counts and
  * enc_lost_counts, or the time without a count [s] and enc_stall_s. */
 app_step_t protect_watch(protect_t *p, const protect_watch_in_t *in);

@@ -41,6 +41,18 @@ void hal_isr_attach(hal_isr_fn isr)
     ERTM;
 }
 
+/* INT1 (SEQ1INT, the control ISR) masked in the CPU's IER: one AND, atomic; a sequence that ends
+ * meanwhile leaves its flags set and runs at resume (SPRU430, "Interrupts"). */
+void hal_isr_pause(void)
+{
+    IER &= ~M_INT1;
+}
+
+void hal_isr_resume(void)
+{
+    IER |= M_INT1;
+}
+
 RAMFUNC void hal_isr_ack(void)
 {
     /* RST_SEQ1 is in hal_sample_read: here, after an overrun, it would abort

@@ -43,6 +43,11 @@ F28335_STATIC_ASSERT(baud_error_within_2_percent, F28335_SCI_ERROR_PER_10K <= F2
 #define COUNT_MAX           0xFFFFU
 
 static uint16_t s_ring[SCI_RING_LEN];   /* one character per word (char is 16 bits on the C28x) */
+/* In M0 (m0data, as firmware/f28335/main.c's objects there): a slot is read only between s_tail and
+ * s_head, after it was written, so nothing needs it zeroed. */
+#if defined(__TMS320C28XX__)
+#pragma DATA_SECTION(s_ring, "m0data")
+#endif
 static volatile uint16_t s_head;  /* next slot to fill: producer only */
 static volatile uint16_t s_tail;  /* next slot to send: pump only (the interrupt when s_tx_irq) */
 static bool s_tx_irq;             /* the transmit FIFO is fed by its interrupt */

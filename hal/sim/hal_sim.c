@@ -94,7 +94,9 @@ void hal_sim_configure(const hal_sim_cfg_t *cfg)
     hal_sim_truth_t *tr = &g_sim.truth;
     memset(&g_sim, 0, sizeof g_sim);
     g_sim.cfg = *cfg;
-    plant_init(&g_sim.plant, &cfg->plant, cfg->enc_offset_el_rad);
+    plant_cfg_t shaft = cfg->plant;
+    shaft.B_Nms += cfg->load_B_Nms;   /* the load's viscous friction acts as the shaft's own */
+    plant_init(&g_sim.plant, &shaft, cfg->enc_offset_el_rad);
     g_sim.probe = g_sim.plant;
     sensors_init(&g_sim.sens, &cfg->sens);
     prng_seed(&g_sim.prng, cfg->sens.seed);
@@ -356,6 +358,32 @@ static void truth_derive(hal_sim_truth_t *tr)
     tr->iq_mean_A = acc->iq_As / acc->time_s;
 }
 
+/* The load's Coulomb friction on a shaft turning at w [N m, against the motion]; at rest none
+ * here: coulomb_stop() holds the shaft up to it. */
+static double coulomb_Nm(double w_m_rad_s)
+{
+    const double fc = g_sim.cfg.load_coulomb_Nm;
+    return (w_m_rad_s > 0.0) ? fc : ((w_m_rad_s < 0.0) ? -fc : 0.0);
+}
+
+/* After a period that began at w0: a turning shaft the friction stopped within the period stays at
+ * rest (the speed would cross zero); a shaft at rest moves only by what the torque left beyond the
+ * friction's impulse fc Ts / J (hal/sim/plant_design.md sec. 10). */
+static void coulomb_stop(double w0)
+{
+    const double fc = g_sim.cfg.load_coulomb_Nm;
+    const double w1 = g_sim.plant.x.omega_m_rad_s;
+    if (!(fc > 0.0) || g_sim.cfg.plant.speed_held) {
+        return;
+    }
+    if ((w0 > 0.0 && !(w1 > 0.0)) || (w0 < 0.0 && !(w1 < 0.0))) {
+        plant_set_speed(&g_sim.plant, 0.0);
+    } else if (!(w0 > 0.0) && !(w0 < 0.0)) {
+        const double dw = fc * g_sim.cfg.inv.Ts_s / g_sim.cfg.plant.J_kgm2;
+        plant_set_speed(&g_sim.plant, (fabs(w1) <= dw) ? 0.0 : w1 - copysign(dw, w1));
+    }
+}
+
 void hal_sim_period(void)
 {
     const hal_sim_cfg_t *c = &g_sim.cfg;
@@ -375,11 +403,14 @@ void hal_sim_period(void)
 
     plant_acc_clear(&g_sim.plant);
     bool gates_on = g_sim.pwm_enabled && !g_sim.trip;
+    const double w0 = g_sim.plant.x.omega_m_rad_s;
+    const double TL = g_sim.load_Nm + coulomb_Nm(w0);
     if (gates_on) {
-        inv_period(&c->inv, g_sim.duty_active, g_sim.load_Nm, &g_sim.plant);
+        inv_period(&c->inv, g_sim.duty_active, TL, &g_sim.plant);
     } else {
-        plant_step_open(&g_sim.plant, g_sim.load_Nm, c->inv.Ts_s);
+        plant_step_rectified(&g_sim.plant, c->inv.vdc_V, c->inv.device_drop_V, TL, c->inv.Ts_s);
     }
+    coulomb_stop(w0);
     faults_after_period(gates_on);
     tr->load_Nm = g_sim.load_Nm;
     memcpy(tr->duty, g_sim.duty_active, sizeof tr->duty);
@@ -426,6 +457,15 @@ void hal_isr_attach(hal_isr_fn isr)
 {
     g_sim.isr = isr;
     g_sim.isr_stalled = false;
+}
+
+/* The SIL's background runs between periods: nothing interrupts it. */
+void hal_isr_pause(void)
+{
+}
+
+void hal_isr_resume(void)
+{
 }
 
 void hal_sample_read(hal_sample_t *out)

@@ -34,6 +34,9 @@ typedef struct {
     double trip_current_A;       /* hardware overcurrent comparator on |ia|, |ib|, |ic| */
     bool enc_reversed;           /* a wrong board: the count runs down as the rotor turns forward */
     bool phases_acb;             /* a wrong board: legs b and c swapped before the current sensors and the motor */
+    /* the load's passive part, beside the active torque (hal_sim_set_load): opposing the motion */
+    double load_coulomb_Nm;      /* Coulomb friction: holds a shaft at rest up to it, brakes one turning by it */
+    double load_B_Nms;           /* viscous friction, added to the shaft's own B */
 } hal_sim_cfg_t;
 
 /* Fault injection (the scenario's [faults] section, hal/sim/README.md):

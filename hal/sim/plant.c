@@ -797,29 +797,175 @@ void plant_step(plant_t *p, double u_alpha_V, double u_beta_V, double TL_Nm, dou
     plant_period_end(p);
 }
 
-void plant_step_open(plant_t *p, double TL_Nm, double h_s)
+/* ---- the gates off: the legs' freewheeling diodes into the bus (plant_design.md sec. 9) ---- */
+
+/* The shaft alone over h_s with no current: J dw/dt = -TL - B w (RK4: linear in w); the terminals
+ * at the back-EMF (the diodes block), so the period's mean voltage is the EMF's. */
+static void shaft_open(plant_t *p, double TL_Nm, double h_s)
 {
-    p->shaft_prev_valid = false;   /* the speed's predictor starts again with the next period */
-    p->x.id_A = 0.0;
-    p->x.iq_A = 0.0;
     const plant_cfg_t *c = &p->cfg;
-    double w0 = p->x.omega_m_rad_s;
+    const double w0 = p->x.omega_m_rad_s;
     double a1 = 0.0;
     double a2 = 0.0;
     double a3 = 0.0;
     double a4 = 0.0;
     if (!c->speed_held) {
-        /* Linear in w: RK4 stages of J dw/dt = -TL - B w. */
         a1 = (-TL_Nm - c->B_Nms * w0) * p->inv_J_per_kgm2;
         a2 = (-TL_Nm - c->B_Nms * (w0 + 0.5 * h_s * a1)) * p->inv_J_per_kgm2;
         a3 = (-TL_Nm - c->B_Nms * (w0 + 0.5 * h_s * a2)) * p->inv_J_per_kgm2;
         a4 = (-TL_Nm - c->B_Nms * (w0 + h_s * a3)) * p->inv_J_per_kgm2;
     }
+    p->x.id_A = 0.0;
+    p->x.iq_A = 0.0;
     p->x.omega_m_rad_s += h_s * rk4_sum(a1, a2, a3, a4);
-    p->x.theta_m_rad += h_s * rk4_sum(w0, w0 + 0.5 * h_s * a1, w0 + 0.5 * h_s * a2, w0 + h_s * a3);
+    const double dtheta = h_s * rk4_sum(w0, w0 + 0.5 * h_s * a1, w0 + 0.5 * h_s * a2, w0 + h_s * a3);
+    p->x.theta_m_rad += dtheta;
+    p->acc.uq_Vs += (double)c->pole_pairs * dtheta * c->psi_f_Wb;   /* u_q = w_el psi_f, integrated */
     p->acc.time_s += h_s;
     wrap_theta(p);
     phasor_update(p);
+}
+
+/* A leg's diodes: the lower one conducts (i > 0, into the motor: the leg at -drop), the upper
+ * one (i < 0: at the bus + drop), or neither (i = 0, the terminal floats between). */
+enum { LEG_OPEN = 0, LEG_LOW_DIODE = 1, LEG_HIGH_DIODE = -1 };
+
+/* The three legs' states to try, one per row (sec. 9: no current, two conducting, three). */
+static const signed char LEG_PATTERNS[][3] = {
+    { 0, 0, 0 },
+    { 1, -1, 0 }, { -1, 1, 0 }, { 1, 0, -1 }, { -1, 0, 1 }, { 0, 1, -1 }, { 0, -1, 1 },
+    { 1, 1, -1 }, { 1, -1, 1 }, { -1, 1, 1 }, { -1, -1, 1 }, { -1, 1, -1 }, { 1, -1, -1 },
+};
+#define N_LEG_PATTERNS ((int)(sizeof LEG_PATTERNS / sizeof LEG_PATTERNS[0]))
+
+/* One backward-Euler step of the phase currents with the diodes (sec. 9): each phase x obeys
+ * w_x = G i_x + c_x (w_x its terminal voltage over the star, G = L/h + R, c_x = e_x - L i0_x / h);
+ * pattern by pattern the terminals' voltages follow (v_x = -vd or vdc + vd where a diode
+ * conducts, the star's v_n from the currents' sum of zero), and the one whose currents have the
+ * diodes' signs and whose open terminals lie between the rails is the step's: the end currents
+ * into i[], the terminal voltages over the star into w[]. The system is monotone (G > 0): one
+ * pattern holds; a rounding at a boundary takes the one that misses least. */
+static void diode_step(double G, const double c[3], double vdc_V, double vd_V, double i[3], double w[3])
+{
+    const double lo = -vd_V;
+    const double hi = vdc_V + vd_V;
+    double best = INFINITY;
+    for (int k = 0; k < N_LEG_PATTERNS; k++) {
+        const signed char *pat = LEG_PATTERNS[k];
+        double v[3];
+        double vn = 0.0;
+        int n = 0;
+        for (int x = 0; x < 3; x++) {
+            if (pat[x] != LEG_OPEN) {
+                v[x] = (pat[x] == LEG_LOW_DIODE) ? lo : hi;
+                vn += v[x] - c[x];
+                n++;
+            }
+        }
+        if (n == 0) {   /* all blocking: a star voltage exists keeping every terminal between the rails */
+            const double spread = fmax(c[0], fmax(c[1], c[2])) - fmin(c[0], fmin(c[1], c[2]));
+            const double miss = fmax(0.0, spread - (hi - lo));
+            if (miss < best) {
+                best = miss;
+                for (int x = 0; x < 3; x++) {
+                    i[x] = 0.0;
+                    w[x] = c[x];
+                }
+            }
+            continue;
+        }
+        vn /= (double)n;
+        double miss = 0.0;
+        double ik[3];
+        for (int x = 0; x < 3; x++) {
+            if (pat[x] == LEG_OPEN) {
+                ik[x] = 0.0;
+                const double vx = vn + c[x];
+                miss += fmax(0.0, lo - vx) + fmax(0.0, vx - hi);
+            } else {
+                ik[x] = (v[x] - vn - c[x]) / G;
+                miss += fmax(0.0, -(double)pat[x] * ik[x]) * G;   /* a diode's current against it, as a voltage */
+            }
+        }
+        if (miss < best) {
+            best = miss;
+            for (int x = 0; x < 3; x++) {
+                i[x] = ik[x];
+                w[x] = G * ik[x] + c[x];
+            }
+        }
+        if (!(best > 0.0)) {
+            return;
+        }
+    }
+}
+
+/* The line back-EMF's peak below the bus with the diodes' drops: no diode can conduct while the
+ * currents are zero (sec. 9: sqrt(3) w_el psi_f < vdc + 2 vd). */
+static bool diodes_block(const plant_t *p, double omega_m_rad_s, double vdc_V, double vd_V)
+{
+    const double line_peak = SQRT3 * fabs((double)p->cfg.pole_pairs * omega_m_rad_s) * p->cfg.psi_f_Wb;
+    return line_peak < vdc_V + 2.0 * vd_V;
+}
+
+void plant_step_rectified(plant_t *p, double vdc_V, double vd_V, double TL_Nm, double h_s)
+{
+    const plant_cfg_t *c = &p->cfg;
+    const double inv_J = c->speed_held ? 0.0 : p->inv_J_per_kgm2;
+    const int n_sub = (int)ceil(h_s / PLANT_OFF_SUBSTEP_MAX_S);
+    const double h = h_s / (double)n_sub;
+    const double pp = (double)c->pole_pairs;
+    const double G = c->L_H / h + c->R_Ohm;
+    p->shaft_prev_valid = false;   /* the speed's predictor starts again with the next gates-on period */
+    for (int m = 0; m < n_sub; m++) {
+        const double w0 = p->x.omega_m_rad_s;
+        const bool no_current = !(p->x.id_A != 0.0) && !(p->x.iq_A != 0.0);
+        const double w_end = w0 + (double)(n_sub - m) * h * (-TL_Nm - c->B_Nms * w0) * inv_J;
+        if (no_current && diodes_block(p, w0, vdc_V, vd_V) && diodes_block(p, w_end, vdc_V, vd_V)) {
+            shaft_open(p, TL_Nm, (double)(n_sub - m) * h);   /* the rest of the period: the shaft alone */
+            return;
+        }
+        double i0[3];
+        double e[3];
+        double zs;
+        double zc;
+        plant_iabc_A(p, i0);
+        /* the back-EMF j w_el psi_f z at the step's middle, by phase */
+        sincos_el(p, pp * (p->x.theta_m_rad + 0.5 * h * w0) + p->enc_offset_el_rad, &zs, &zc);
+        const double emf = pp * w0 * c->psi_f_Wb;
+        ab_to_abc(-emf * zs, emf * zc, e);
+        double cx[3];
+        for (int x = 0; x < 3; x++) {
+            cx[x] = e[x] - c->L_H / h * i0[x];
+        }
+        double i1[3] = { 0.0, 0.0, 0.0 };
+        double wx[3] = { cx[0], cx[1], cx[2] };
+        diode_step(G, cx, vdc_V, vd_V, i1, wx);
+        /* the shaft over the step with the end current's torque; then the angle, the currents in it */
+        const double ia = i1[0];
+        const double ib = (i1[1] - i1[2]) / SQRT3;
+        const double ua = wx[0];
+        const double ub = (wx[1] - wx[2]) / SQRT3;
+        const double iq_mid = zc * ib - zs * ia;
+        const double w1 = w0 + h * (TORQUE_FACTOR * pp * c->psi_f_Wb * iq_mid - TL_Nm - c->B_Nms * w0) * inv_J;
+        p->x.omega_m_rad_s = w1;
+        p->x.theta_m_rad += 0.5 * h * (w0 + w1);
+        wrap_theta(p);
+        phasor_update(p);
+        p->x.id_A = p->z_cos * ia + p->z_sin * ib;
+        p->x.iq_A = p->z_cos * ib - p->z_sin * ia;
+        p->acc.time_s += h;
+        p->acc.id_As += h * p->x.id_A;
+        p->acc.iq_As += h * p->x.iq_A;
+        p->acc.ud_Vs += h * (zc * ua + zs * ub);
+        p->acc.uq_Vs += h * (zc * ub - zs * ua);
+    }
+}
+
+void plant_set_speed(plant_t *p, double omega_m_rad_s)
+{
+    p->x.omega_m_rad_s = omega_m_rad_s;
+    p->shaft_prev_valid = false;   /* a step of the speed: the predictor starts again */
 }
 
 void plant_set_R_Ohm(plant_t *p, double R_Ohm)

@@ -134,9 +134,20 @@ void plant_walk_iabc_A(const plant_t *p, double i_abc_A[3]);
 /* The walker applies (u_alpha_V, u_beta_V) from its instant to t_s (from the period's start). */
 void plant_walk_advance(plant_t *p, double u_alpha_V, double u_beta_V, double t_s);
 
-/* One RK4 step of h_s with the stator open (outputs off): currents forced to zero, only the shaft moves.
- * Valid while the back-EMF stays below the bus, so no freewheeling diode conducts. */
-void plant_step_open(plant_t *p, double TL_Nm, double h_s);
+/* Longest step of the gates-off solver (plant_step_rectified): 20 a 10 kHz period. */
+#define PLANT_OFF_SUBSTEP_MAX_S 5.0e-6
+
+/* h_s with the gates off: each leg's two freewheeling diodes between the motor's terminal and a
+ * stiff bus of vdc_V, each dropping vd_V when it conducts (hal/sim/plant_design.md sec. 9). While
+ * the line back-EMF's peak stays below vdc_V + 2 vd_V and no current flows, the diodes block and
+ * only the shaft moves (TL_Nm, B); above it they conduct into the bus and brake: the currents by
+ * backward-Euler steps of at most PLANT_OFF_SUBSTEP_MAX_S, the diodes' states of each step from
+ * the complementarity of their currents and voltages. Adds to acc (the terminal voltage over the
+ * star: the back-EMF while all block). */
+void plant_step_rectified(plant_t *p, double vdc_V, double vd_V, double TL_Nm, double h_s);
+
+/* The shaft's speed from now on [rad/s mechanical] (a friction that stopped it). */
+void plant_set_speed(plant_t *p, double omega_m_rad_s);
 
 /* Stator resistance from now on [ohm] (a winding warming up); > 0 and finite, else ignored. Any context. */
 void plant_set_R_Ohm(plant_t *p, double R_Ohm);

@@ -1,14 +1,21 @@
 #!/usr/bin/env bash
-# fuzz_link.sh short|long BIN DIR [FRAMES] - run the link's fuzz harness (tests/fuzz/fuzz_link.c).
-#   short  a seeded pass from the seed corpus (a few seconds): make test's
+# fuzz_link.sh short|long BIN DIR [FRAMES] - run the link's fuzz harness (tests/fuzz/fuzz_link.c),
+# then, with DRIVE_SIL set, drive_sil --link's socket layer under random clients
+# (tests/fuzz/fuzz_link_socket.py: connect, close mid-frame, half-close, a second client, ...).
+#   short  a seeded pass from the seed corpus (a few seconds), and SOCKET_SHORT_ACTIONS
+#          seeded client actions: make test's
 #   long   chunks of libFuzzer runs on the corpus DIR/corpus until the
-#          harness has framed FRAMES requests (default 10^7)
-# Prints "fuzz-link: N frames, N inputs, S s, N findings"; a finding leaves
-# DIR/crash-* and exits 1.
+#          harness has framed FRAMES requests (default 10^7), then
+#          SOCKET_LONG_ACTIONS (default 2000) client actions of a new seed
+# Prints "fuzz-link: N frames, N inputs, S s, N findings" and the socket
+# part's "fuzz-link-socket: N actions, S s, N findings"; a finding leaves
+# DIR/crash-* (the socket part: its seed and action) and exits 1.
 set -uo pipefail
 mode=$1 bin=$2 dir=$3 target=${4:-10000000}
 SHORT_RUNS=3000
 SHORT_SEED=1
+SOCKET_SHORT_ACTIONS=40
+SOCKET_LONG_ACTIONS=${SOCKET_LONG_ACTIONS:-2000}
 CHUNK_RUNS=100000
 MAX_LEN=2048
 opts=(-max_len=$MAX_LEN -timeout=20 -rss_limit_mb=2048 -artifact_prefix="$dir/" -print_final_stats=0)
@@ -41,4 +48,17 @@ on_finding() {
 . "$(dirname "$0")/fuzz_lib.sh"
 fuzz_run "$mode"
 echo "fuzz-link: $count frames, $inputs inputs, $(( $(date +%s) - start )) s, 0 findings"
+if [ -n "${DRIVE_SIL:-}" ]; then
+    if [ "$mode" = short ]; then
+        actions=$SOCKET_SHORT_ACTIONS seed=$SHORT_SEED
+    else
+        actions=$SOCKET_LONG_ACTIONS seed=$(date +%s)
+    fi
+    if ! python3 "$(dirname "$0")/fuzz_link_socket.py" "$DRIVE_SIL" "$actions" "$seed"; then
+        on_finding
+        exit 1
+    fi
+else
+    echo "fuzz-link: the socket layer not fuzzed (DRIVE_SIL unset)"
+fi
 echo "fuzz-link: 1 passed, 0 failed"

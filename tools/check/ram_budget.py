@@ -70,7 +70,9 @@ target's, from the first source available:
    (its margin there is the range's); what is judged is the need against
    that reserve: the larger of main's start-up chain (before
    hal_isr_attach: no interrupt yet) and main's frame + the deepest call
-   of its loop + the deepest chain of ctrl_isr on top of it, from gcc's
+   of its loop + the deepest chain of ctrl_isr on top of it (a call of the
+   loop between hal_isr_pause() and hal_isr_resume() runs with the ISR held
+   off: counted as start-up is), from gcc's
    -fcallgraph-info=su frame sizes at one word per byte (twice what the
    same frame holds in C28x words: room for the extra spills of the C28x's
    fewer registers, an estimate, not a bound), plus ISR_CONTEXT_WORDS: the CPU's automatic context
@@ -363,14 +365,19 @@ def callgraph(objdir):
 
 def stack_need(objdir, main_c='firmware/f28335/main.c'):
     """The deepest stack in bytes: main's start-up chains (no interrupt
-    yet), or main's frame + the deepest call of its loop (the calls after
-    hal_isr_attach in main.c) + ctrl_isr's chain on top."""
+    yet, or held off: hal_isr_pause), or main's frame + the deepest call of
+    its loop (the calls after hal_isr_attach in main.c, outside a
+    hal_isr_pause ... hal_isr_resume pair) + ctrl_isr's chain on top."""
     deepest, root, size = callgraph(objdir)
     text = read(main_c)
     at = text.find('hal_isr_attach(')
     if at < 0:
         die("%s: no hal_isr_attach( call: cannot tell the loop from start-up" % main_c)
-    loop = set(re.findall(r'\b([a-z_][a-z0-9_]*)\s*\(', text[at + len('hal_isr_attach('):])) - {'for', 'if', 'while'}
+    loop_text = text[at + len('hal_isr_attach('):]
+    # calls between hal_isr_pause() and hal_isr_resume(): the ISR held off, so no ISR chain on
+    # top (start-up's rule; main's start-up chain above covers them: deepest(main))
+    loop_text = re.sub(r'hal_isr_pause\(\);.*?hal_isr_resume\(\);', ' ', loop_text, flags=re.S)
+    loop = set(re.findall(r'\b([a-z_][a-z0-9_]*)\s*\(', loop_text)) - {'for', 'if', 'while'}
     start = deepest(root('main'))
     frame = size[root('main')]
     known = [c for c in sorted(loop) if any(n == c or n.endswith(':' + c) for n in size)]

@@ -565,7 +565,7 @@ static int board_config(const args_t *a)
  * for another name; not OUT.json, a --summary's usual name): the resolved
  * truth and controller values of the run (sil_write_resolved), for the
  * report instead of the INI. None beside a CSV written in place (/dev/null). */
-static int resolved_write(const args_t *a, const scenario_t *sc, int csv_in_place)
+static int resolved_write(const args_t *a, const scenario_t *sc, const sil_result_t *res, int csv_in_place)
 {
     if (a->out_path == NULL || csv_in_place) {
         return 0;
@@ -583,7 +583,8 @@ static int resolved_write(const args_t *a, const scenario_t *sc, int csv_in_plac
     int rc = out_open(&o, path, "--out");
     if (rc == 0) {
         const sil_origin_t origin = { a->scenario_path, a->sets, a->n_sets, a->commission_path != NULL };
-        sil_write_resolved(o.f, sc, &origin);
+        char wbuf[SUMMARY_WARNING_LEN];
+        sil_write_resolved(o.f, sc, &origin, summary_warning_text(res, wbuf, sizeof wbuf));
         rc = out_commit(&o, "--out");
     }
     free(path);
@@ -894,7 +895,7 @@ static int run(const args_t *a, const scenario_t *sc, sink_t *sink, sil_result_t
     prog.duration_s = sc->run.duration_s;
     prog.shown = 0;
     sil_hooks_t hooks;
-    if (a->link.on && link_sil_open(&a->link, &hooks) != 0) {
+    if (a->link.on && link_sil_open(&a->link, sc, &hooks) != 0) {
         return EXIT_BAD_INPUT;
     }
     const int show = isatty(STDERR_FILENO) && sc->run.duration_s > 0.0;
@@ -929,7 +930,7 @@ static int outputs_finish(const args_t *a, const scenario_t *sc, outputs_t *o, c
         summary_write_json(o->js.f, sink->summary, sc, res, a->scenario_path, NULL);
     }
     const int csv_in_place = (o->csv.f != NULL && o->csv.tmp_path == NULL);
-    if (out_commit(&o->csv, "--out") != 0 || resolved_write(a, sc, csv_in_place) != 0 ||
+    if (out_commit(&o->csv, "--out") != 0 || resolved_write(a, sc, res, csv_in_place) != 0 ||
         out_commit(&o->js, "--summary") != 0) {
         outputs_abandon(o);
         return EXIT_FAILURE;
@@ -948,7 +949,7 @@ static int run_status(const args_t *a, const sil_result_t *res, int stopped)
     if (a->out_path != NULL && !summary_on_stdout(a)) {
         char sbuf[NAME_LEN];
         char fbuf[NAME_LEN];
-        char wbuf[NAME_LEN];
+        char wbuf[SUMMARY_WARNING_LEN];
         const char *warn = summary_warning_text(res, wbuf, sizeof wbuf);
         printf("drive_sil: %s: %u periods, %u rows, final state %d (%s), fault %d (%s), max |i| %.2f A%s%s -> %s\n",
                a->scenario_path, res->periods, res->rows, res->final_state,

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,12 +31,31 @@
 #define CLOSE_WAIT_MS 2000           /* pty: at most this long for the host to read the last reply */
 #define CLOSE_POLL_NS 1000000L      /* 1 ms */
 #define CLOSE_SETTLE_POLLS 20
+#define LISTEN_BACKLOG 8            /* connections waiting for accept: a second client is told at once */
+#define CLOSING_MAX 4               /* clients being closed at once (refused, dropped); more: closed at once */
+#define CLOSING_LINGER_S 2.0        /* a closing client's bytes read and dropped this long at most (wall) */
+#define HALF_CLOSE_DRAIN_S 2.0      /* a half-closed client gets the drive's bytes this long at most (wall) */
+#define NOTICE_HELD_TEXT "the link is held by another client"
+#define NOTICE_IDLE_TEXT "the link dropped this client: silent for [link] idle_timeout_s"
+
+/* A client the link is closing: its notice sent and its sending side shut, what it still sends
+ * is read and dropped until it closes or CLOSING_LINGER_S passed (no reset that could eat the notice). */
+typedef struct {
+    int fd;                         /* -1: free */
+    double since_s;                 /* wall time it began closing */
+} closing_t;
 
 typedef struct {
     link_sil_opts_t o;
+    const scenario_t *sc;           /* its [link] keys, and the app's configuration for new parameters */
+    drive_params_t params;          /* the drive's parameter set: the link's parameters (link_params.h) */
     int listen_fd;
     int fd;                         /* the client or the pty master; -1: none */
     int slave_fd;                   /* pty: kept open so the master never reads EOF */
+    double last_rx_s;               /* wall time of the client's last byte (or its connection) */
+    bool rx_eof;                    /* the client shut its sending side: its replies go out, then it is closed */
+    double eof_s;                   /* wall time of that */
+    closing_t closing[CLOSING_MAX];
     link_t link;
     cmd_t cmd;
     cmd_limits_t lim;
@@ -49,6 +69,14 @@ typedef struct {
 } link_sil_t;
 
 static link_sil_t g;
+
+/* Wall-clock seconds (monotonic). */
+static double wall_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec / NS_PER_S;
+}
 
 int link_sil_arg(link_sil_opts_t *o, int argc, char **argv, int *i)
 {
@@ -117,7 +145,7 @@ static int open_tcp(int port)
     a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     a.sin_port = htons((uint16_t)port);
     socklen_t len = sizeof a;
-    if (bind(fd, (struct sockaddr *)&a, sizeof a) != 0 || listen(fd, 1) != 0 || set_nonblock(fd) != 0 ||
+    if (bind(fd, (struct sockaddr *)&a, sizeof a) != 0 || listen(fd, LISTEN_BACKLOG) != 0 || set_nonblock(fd) != 0 ||
         getsockname(fd, (struct sockaddr *)&a, &len) != 0) {
         fprintf(stderr, "drive_sil: --link tcp:%d: cannot listen on 127.0.0.1:%d: %s\n", port, port, strerror(errno));
         close(fd);
@@ -154,6 +182,13 @@ static int open_pty(void)
     return 0;
 }
 
+/* Bytes to the port, never a signal (MSG_NOSIGNAL: a closed peer is EPIPE, not SIGPIPE); a pty
+ * takes write(). As send(2): the count, or -1 with errno. */
+static ssize_t port_send(int fd, const void *b, size_t n)
+{
+    return g.o.pty ? write(fd, b, n) : send(fd, b, n, MSG_NOSIGNAL);
+}
+
 /* The client went away: what was on the wire is lost. */
 static void disconnect(void)
 {
@@ -161,7 +196,93 @@ static void disconnect(void)
     g.fd = -1;
     g.in_n = 0;
     g.in_off = 0;
+    g.rx_eof = false;
     link_drop(&g.link);
+}
+
+/* A LINK_NOTICE frame (link.h) to fd: the code, then the text. One try: the socket is fresh or
+ * idle, the frame fits its buffer; a failure changes nothing (the client is closed either way). */
+static void notice(int fd, uint16_t code, const char *text)
+{
+    link_frame_t f;
+    uint16_t w[LINK_ENCODED_MAX];
+    unsigned char b[LINK_ENCODED_MAX];
+    f.type = LINK_NOTICE;
+    f.seq = 0u;
+    f.payload[0] = code;
+    f.len = 1u;
+    for (size_t k = 0; text[k] != '\0' && f.len < LINK_PAYLOAD_MAX; k++) {
+        f.payload[f.len++] = (uint16_t)(unsigned char)text[k];
+    }
+    const uint16_t n = link_frame_encode(&f, w);
+    for (uint16_t k = 0u; k < n; k++) {
+        b[k] = (unsigned char)w[k];
+    }
+    (void)port_send(fd, b, n);
+}
+
+/* Close fd gently: the notice, its sending side shut, then into the closing list (the oldest
+ * closed at once when the list is full). */
+static void close_gently(int fd, uint16_t code, const char *text)
+{
+    notice(fd, code, text);
+    (void)shutdown(fd, SHUT_WR);
+    int slot = 0;
+    for (int k = 0; k < CLOSING_MAX; k++) {
+        if (g.closing[k].fd < 0) {
+            slot = k;
+            break;
+        }
+        if (g.closing[k].since_s < g.closing[slot].since_s) {
+            slot = k;
+        }
+    }
+    if (g.closing[slot].fd >= 0) {
+        close(g.closing[slot].fd);
+    }
+    g.closing[slot].fd = fd;
+    g.closing[slot].since_s = wall_s();
+}
+
+/* The closing clients: what they send read and dropped; closed at their end of file, an error,
+ * or after CLOSING_LINGER_S. */
+static void poll_closing(void)
+{
+    unsigned char scratch[IN_MAX];
+    const double now = wall_s();
+    for (int k = 0; k < CLOSING_MAX; k++) {
+        closing_t *c = &g.closing[k];
+        if (c->fd < 0) {
+            continue;
+        }
+        ssize_t r;
+        do {
+            r = recv(c->fd, scratch, sizeof scratch, 0);
+        } while (r > 0);
+        const bool gone = (r == 0) || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR);
+        if (gone || now - c->since_s > CLOSING_LINGER_S) {
+            close(c->fd);
+            c->fd = -1;
+        }
+    }
+}
+
+/* The command's limits from the app's configuration. */
+static void limits_from(const app_cfg_t *c)
+{
+    g.lim.speed_max_rpm = c->prot.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F;
+    g.lim.te_max_Nm = c->ctrl.te_max_Nm;
+    g.lim.u_max_V = c->ctrl.u_max_V;
+}
+
+/* Parameter k was written (the drive stopped): the app's configuration from the changed set, as
+ * sil_run builds it, and the ISR's re-initialisation asked for. */
+static void on_params(void *user, uint16_t k)
+{
+    (void)user;
+    sil_app_cfg(g.sc, &g.params, &g.app->cfg);   /* between periods: the ISR is not running */
+    limits_from(&g.app->cfg);
+    app_request_reconfigure(g.app, (k == (uint16_t)LINK_PARAM_ENC_OFFSET) ? APP_RECONF_ENC_OFFSET : 0u);
 }
 
 static void on_start(void *user, app_t *app)
@@ -172,15 +293,18 @@ static void on_start(void *user, app_t *app)
     g.app = app;
     g.Ts_s = (double)c->ctrl.Ts_s;
     g.bytes_per_period = (double)g.o.baud / BITS_PER_BYTE_8N1 * g.Ts_s;
-    g.lim.speed_max_rpm = c->prot.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F;
-    g.lim.te_max_Nm = c->ctrl.te_max_Nm;
-    g.lim.u_max_V = c->ctrl.u_max_V;
+    limits_from(c);
+    sil_drive_params(g.sc, &g.params);
     cmd_init(&g.cmd);
     g.cmd.run = 1u;        /* sil_run starts the drive itself */
     g.cmd.run_taken = 1u;
+    link_cfg_default(&lc);
+    scenario_map(g.sc, SC_TO_LINK, &lc, g.Ts_s);   /* [link] host_timeout_s */
     lc.Ts_s = c->ctrl.Ts_s;
     lc.baud = (uint32_t)g.o.baud;
     lc.firmware_id = FIRMWARE_ID;
+    lc.params.set = &g.params;
+    lc.params.apply = on_params;
     link_init(&g.link, &lc, app, &g.cmd, &g.lim);
     clock_gettime(CLOCK_MONOTONIC, &g.t0);
     g.k = 0u;
@@ -218,35 +342,75 @@ static void on_refs(void *user, app_op_t *op)
     }
 }
 
-static void accept_client(void)
+/* Every connection waiting: the first while none is served becomes the client, any other is
+ * told the link is held and closed. */
+static void accept_clients(void)
 {
-    if (g.fd >= 0 || g.listen_fd < 0) {
+    if (g.listen_fd < 0) {
         return;
     }
-    int c = accept(g.listen_fd, NULL, NULL);
-    if (c < 0) {
-        return;
+    for (;;) {
+        int c = accept(g.listen_fd, NULL, NULL);
+        if (c < 0) {
+            return;
+        }
+        int one = 1;
+        (void)setsockopt(c, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+        if (set_nonblock(c) != 0) {
+            close(c);
+            continue;
+        }
+        if (g.fd >= 0) {
+            close_gently(c, LINK_NOTICE_HELD, NOTICE_HELD_TEXT);
+            continue;
+        }
+        g.fd = c;
+        g.rx_eof = false;
+        g.last_rx_s = wall_s();
+        link_drop(&g.link);    /* a new cable: nothing of the last client's */
     }
-    int one = 1;
-    (void)setsockopt(c, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-    if (set_nonblock(c) != 0) {
-        close(c);
-        return;
-    }
-    g.fd = c;
-    link_drop(&g.link);    /* a new cable: nothing of the last client's */
 }
 
-/* Host -> drive: read what the host sent, deliver it at the line's rate. */
+/* The client's end: silent longer than [link] idle_timeout_s (told, then closed); half-closed
+ * and its replies sent, or HALF_CLOSE_DRAIN_S after (closed). */
+static void client_timeouts(void)
+{
+    if (g.fd < 0 || g.o.pty) {
+        return;
+    }
+    const double now = wall_s();
+    if (g.rx_eof) {
+        if ((link_tx_pending(&g.link) == 0u && g.in_off == g.in_n) || now - g.eof_s > HALF_CLOSE_DRAIN_S) {
+            disconnect();
+        }
+        return;
+    }
+    if (g.sc->link.idle_timeout_s > 0.0 && now - g.last_rx_s > g.sc->link.idle_timeout_s) {
+        fprintf(stderr, "drive_sil: link: the client was silent for %g s ([link] idle_timeout_s): dropped\n",
+                g.sc->link.idle_timeout_s);
+        close_gently(g.fd, LINK_NOTICE_IDLE, NOTICE_IDLE_TEXT);
+        g.fd = -1;
+        g.in_n = 0;
+        g.in_off = 0;
+        link_drop(&g.link);
+    }
+}
+
+/* Host -> drive: read what the host sent, deliver it at the line's rate. A closed or reset
+ * connection drops the client; a half-closed one (end of file) still gets its replies. */
 static void receive(void)
 {
-    if (g.fd >= 0 && g.in_off == g.in_n) {
+    if (g.fd >= 0 && !g.rx_eof && g.in_off == g.in_n) {
         g.in_off = 0;
         g.in_n = 0;
         ssize_t r = read(g.fd, g.in, sizeof g.in);
         if (r > 0) {
             g.in_n = (size_t)r;
-        } else if (!g.o.pty && (r == 0 || (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR))) {
+            g.last_rx_s = wall_s();
+        } else if (!g.o.pty && r == 0) {
+            g.rx_eof = true;
+            g.eof_s = wall_s();
+        } else if (!g.o.pty && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
             disconnect();
             return;
         }
@@ -277,16 +441,16 @@ static void transmit(void)
     }
     size_t off = 0;
     while (g.fd >= 0 && off < n) {
-        ssize_t w = write(g.fd, out + off, n - off);
+        ssize_t w = port_send(g.fd, out + off, n - off);
         if (w > 0) {
             off += (size_t)w;
-        } else if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) {
-            if (g.o.pty) {
-                break;       /* nobody reads the pty: the bytes are lost */
-            }
+        } else if (w < 0 && errno == EINTR) {
+            continue;
+        } else if (w < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+            break;           /* a host that does not read loses the bytes, as a UART's would */
         } else {
             if (!g.o.pty) {
-                disconnect();
+                disconnect();    /* EPIPE, ECONNRESET: the client went away */
             }
             break;
         }
@@ -313,24 +477,33 @@ static void pace(void)
 static int on_period_end(void *user)
 {
     (void)user;
-    accept_client();
+    accept_clients();
     receive();
     link_poll(&g.link);
     transmit();
+    client_timeouts();
+    poll_closing();
     pace();
     return (g.link.quit && link_tx_pending(&g.link) == 0u) ? 1 : 0;
 }
 
-int link_sil_open(const link_sil_opts_t *o, sil_hooks_t *hooks)
+int link_sil_open(const link_sil_opts_t *o, const scenario_t *sc, sil_hooks_t *hooks)
 {
     memset(&g, 0, sizeof g);
     g.o = *o;
+    g.sc = sc;
     if (g.o.baud == 0) {
         g.o.baud = LINK_SIL_BAUD_DEFAULT;
     }
     g.listen_fd = -1;
     g.fd = -1;
     g.slave_fd = -1;
+    for (int k = 0; k < CLOSING_MAX; k++) {
+        g.closing[k].fd = -1;
+    }
+    /* a peer that closes while bytes are on their way must never end the run: every send is
+     * MSG_NOSIGNAL and its error handled, and SIGPIPE is ignored besides (a pty, a library) */
+    (void)signal(SIGPIPE, SIG_IGN);
     if ((o->pty ? open_pty() : open_tcp(o->port)) != 0) {
         return -1;
     }
@@ -365,6 +538,12 @@ void link_sil_close(void)
     }
     if (g.listen_fd >= 0) {
         close(g.listen_fd);
+    }
+    for (int k = 0; k < CLOSING_MAX; k++) {
+        if (g.closing[k].fd >= 0) {
+            close(g.closing[k].fd);
+            g.closing[k].fd = -1;
+        }
     }
     g.fd = g.slave_fd = g.listen_fd = -1;
 }

@@ -4,7 +4,13 @@
  *                     first period; prints "listening on 127.0.0.1:PORT" on
  *                     stderr. One client at a time; when it disconnects the
  *                     bytes not yet delivered are dropped (a pulled cable)
- *                     and the next connection is accepted.
+ *                     and the next connection is accepted. Another client
+ *                     meanwhile gets a LINK_NOTICE "held" frame at once and
+ *                     is closed; a client silent for [link] idle_timeout_s
+ *                     (wall time) gets an "idle" notice and is closed; one
+ *                     that shuts its sending side gets its replies, then is
+ *                     closed. No client can end the run: SIGPIPE is ignored
+ *                     and every send's error handled.
  *   --link pty        a pseudo-terminal; prints "link on /dev/pts/N" on stderr
  *   --baud B          the line's rate in simulated time (default 115200, 8N1:
  *                     B/10 bytes per second each way), so overruns behave
@@ -37,8 +43,9 @@ typedef struct {
 int link_sil_arg(link_sil_opts_t *o, int argc, char **argv, int *i);
 
 /* Open the port (listening socket or pty) and announce it on stderr; fills *hooks for
- * sil_ctl_t.hooks. 0, or -1 with a message. */
-int link_sil_open(const link_sil_opts_t *o, sil_hooks_t *hooks);
+ * sil_ctl_t.hooks. The scenario's [link] keys configure it and the firmware's link (kept: *sc
+ * must outlive the run). 0, or -1 with a message. */
+int link_sil_open(const link_sil_opts_t *o, const scenario_t *sc, sil_hooks_t *hooks);
 
 /* Close the port. */
 void link_sil_close(void);

@@ -54,10 +54,12 @@ TEST_LIBS_test_app_init_pattern := silrun firmware sim control
 #   test_sil_limits      current and torque limits, estimation through
 #                        transients, flux weakening (prop_lim_*, prop_fw_*)
 #   test_sil_faults      fault injection ([faults]) against the protection
+#   test_sil_gates_off   the gates off: the diode bridge, the passive load,
+#                        the readings in every state
 #   test_sil_identify    step 1 on a real ADC: noise, offsets, inertia, the R^
 #                        band, the refusal policy; both methods
 #   test_sil_motors      three motors told only their data (*_motor_*.ini)
 #   test_sil_inverter    the proposed method on a real inverter: its error, a
 #                        warming winding
 $(call sil_tests,test_sil test_sil_commission test_sil_startup test_sil_proposed test_sil_limits \
-    test_sil_faults test_sil_identify test_sil_motors test_sil_inverter)
+    test_sil_faults test_sil_gates_off test_sil_identify test_sil_motors test_sil_inverter)

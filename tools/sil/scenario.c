@@ -13,6 +13,7 @@
 
 #include "drive_params.h"
 #include "hal_sim.h"
+#include "link_params.h"
 
 /* K_RPROFILE: a positive profile starting at t = 0 (a bare number is a
  * constant); its value at t = 0 also goes to the double at offset_t0. */
@@ -86,6 +87,7 @@ static const char DERIVED[] = "(derived)";
 #define SC_A(f, conv, scale) SC_LOC(SC_TO_APP, app_cfg_t, f, conv, scale)
 #define SC_S(f, conv, scale) SC_LOC(SC_TO_SIM, hal_sim_cfg_t, f, conv, scale)
 #define SC_F(f, conv, scale) SC_LOC(SC_TO_FAULTS, hal_sim_faults_t, f, conv, scale)
+#define SC_L(f, conv, scale) SC_LOC(SC_TO_LINK, link_cfg_t, f, conv, scale)
 #define SC_NO { SC_TO_NONE, 0, SC_CONV_NONE, 1.0, NULL }
 #define SC_SAME { SC_TO_SAME, 0, SC_CONV_NONE, 1.0, NULL }
 #define SC_KEY(sec, key, KIND, range, def, from, to, help) \
@@ -132,12 +134,16 @@ int scenario_key_known(const char *section, const char *name)
  * Bounds that refuse the absurd (a unit slip: mH written as H, a typo), not
  * the merely beyond-limit: a value past the drive's ratings or trips runs and
  * may fault (a speed reference above overspeed_rpm trips OVERSPEED). Each
- * bound holds for the plant's value and for the controller's after its
- * factor, on every point of a profile; scenario_finish() checks them, drive_sil
- * --help prints them (scenario_print_bounds). This table is their one home. */
-#define R_PLAUSIBLE_OHM 1e-3, 1e3
-#define L_PLAUSIBLE_H 1e-6, 10.0
-#define PSIF_PLAUSIBLE_WB 1e-4, 10.0
+ * bound holds for the plant's value on every point of a profile;
+ * scenario_finish() checks them, drive_sil --help prints them
+ * (scenario_print_bounds). The controller's values that are the drive's
+ * parameters on the link are checked against the link's table
+ * (firmware/link/link_params.h: one range for the key and the link's WRITE),
+ * after the factors and the derived keys are resolved (check_params). */
+#define R_PLAUSIBLE_OHM (double)LINK_PARAM_R_OHM_LO, (double)LINK_PARAM_R_OHM_HI     /* the link's (link_params.h) */
+#define L_PLAUSIBLE_H (double)LINK_PARAM_L_H_LO, (double)LINK_PARAM_L_H_HI
+#define PSIF_PLAUSIBLE_WB (double)LINK_PARAM_PSIF_WB_LO, (double)LINK_PARAM_PSIF_WB_HI
+#define J_PLAUSIBLE_KGM2 (double)LINK_PARAM_J_KGM2_LO, (double)LINK_PARAM_J_KGM2_HI
 #define SPEED_PLAUSIBLE_RPM -1e5, 1e5
 
 #define F(field) offsetof(scenario_t, field)
@@ -157,12 +163,9 @@ static const sc_bound_t BOUNDS[] = {
     { "plant", "L_H", B_REAL, F(plant.L_H), L_PLAUSIBLE_H, "H", NULL },
     { "plant", "psif_Wb", B_REAL, F(plant.psif_Wb), PSIF_PLAUSIBLE_WB, "Wb", NULL },
     { "plant", "pole_pairs", B_UINT, F(plant.pole_pairs), 1.0, 64.0, "", NULL },
-    { "plant", "J_kgm2", B_REAL, F(plant.J_kgm2), 1e-8, 100.0, "kg m^2", NULL },
+    { "plant", "J_kgm2", B_REAL, F(plant.J_kgm2), J_PLAUSIBLE_KGM2, "kg m^2", NULL },
     { "plant", "vdc_V", B_REAL, F(plant.vdc_V), 5.0, 1500.0, "V", NULL },
     { "plant", "speed0_rpm", B_REAL, F(plant.speed0_rpm), SPEED_PLAUSIBLE_RPM, "r/min", NULL },
-    { "controller", "R_ohm", B_REAL, F(controller.R_ohm), R_PLAUSIBLE_OHM, "ohm", "R_factor" },
-    { "controller", "L_H", B_REAL, F(controller.L_H), L_PLAUSIBLE_H, "H", "L_factor" },
-    { "controller", "psif_Wb", B_REAL, F(controller.psif_Wb), PSIF_PLAUSIBLE_WB, "Wb", "psif_factor" },
     { "identify", "speed_1_rpm", B_REAL, F(identify.speed_1_rpm), SPEED_PLAUSIBLE_RPM, "r/min", NULL },
     { "identify", "speed_2_rpm", B_REAL, F(identify.speed_2_rpm), SPEED_PLAUSIBLE_RPM, "r/min", NULL },
     { "reference", "speed_rpm", B_PROFILE, F(reference.speed_rpm), SPEED_PLAUSIBLE_RPM, "r/min", NULL },
@@ -387,13 +390,16 @@ static const char *params_default(const sc_key_t *k, char *buf, size_t len)
     static drive_params_t p;
     static app_cfg_t ac; /* large: not on the stack */
     static hal_sim_cfg_t hs;
+    static link_cfg_t lc;
     drive_params_board(&p);
     app_cfg_default(&ac);
     hal_sim_default_cfg(&hs);
+    link_cfg_default(&lc);
     buf[0] = '\0';
     const sc_loc_t *q = &k->from;
     const void *src = (q->target == SC_TO_PARAMS) ? (const void *)&p
                       : (q->target == SC_TO_APP)  ? (const void *)&ac
+                      : (q->target == SC_TO_LINK) ? (const void *)&lc
                                                   : (const void *)&hs;
     const double v = loc_read(q, src, (double)ac.ctrl.Ts_s);
     if (k->kind != K_ENUM) {
@@ -888,6 +894,52 @@ static bool bound_broken(const scenario_t *sc, const sc_bound_t *b, double *v, d
     return !isnan(*v) && !(*v >= b->lo && *v <= b->hi);
 }
 
+/* The [controller] factor key of a told value, or NULL. */
+static const char *factor_of(const char *key)
+{
+    static const char *const ABS[] = { "R_ohm", "L_H", "psif_Wb" };
+    static const char *const FAC[] = { "R_factor", "L_factor", "psif_factor" };
+    for (size_t i = 0; i < sizeof ABS / sizeof ABS[0]; i++) {
+        if (strcmp(ABS[i], key) == 0) {
+            return FAC[i];
+        }
+    }
+    return NULL;
+}
+
+/* The controller's values that are the drive's parameters (firmware/link/link_params.h) within the
+ * link's ranges, after the factors and the derived keys; else err names key, value and range.
+ * A value left to the plant's (NaN: encoder offset, dead time) is the plant's own key's. */
+static int check_params(const scenario_t *sc, char *err, size_t errlen)
+{
+    for (uint16_t k = 0u; k < (uint16_t)LINK_PARAM_COUNT; k++) {
+        const link_param_t *d = link_param(k);
+        int known = 0;
+        const int i = find_key("controller", d->key, &known);
+        const double v = (KEYS[i].kind == K_UINT) ? (double)*(const uint32_t *)(const void *)((const char *)sc + KEYS[i].offset)
+                                                  : real_value(sc, KEYS[i].offset);
+        if (isnan(v) || link_param_ok(k, (float)v)) {
+            continue;
+        }
+        char how[SCENARIO_ORIGIN_LEN] = "";
+        const char *where = (sc->origin[i][0] != '\0') ? sc->origin[i] : "the defaults";
+        const char *fac = factor_of(d->key);
+        const int f = (fac != NULL) ? find_key("controller", fac, &known) : -1;
+        if (sc->origin[i][0] == '\0' && f >= 0) {
+            const double x = real_value(sc, KEYS[f].offset);
+            snprintf(how, sizeof how, " (%s %g x [plant] %s)", fac, isnan(x) ? 1.0 : x, d->key);
+            where = (sc->origin[f][0] != '\0') ? sc->origin[f] : where;
+        }
+        const char *sp = (d->unit[0] != '\0') ? " " : "";
+        err_mark_cut(snprintf(err, errlen, "%s: [controller] %s: %g%s%s%s is not plausible: the bound is %s%g .. %g%s%s",
+                              where, d->key, v, sp, d->unit, how, d->lo_open ? "> " : "", (double)d->lo,
+                              (double)d->hi, sp, d->unit),
+                     err, errlen);
+        return -1;
+    }
+    return 0;
+}
+
 /* Every BOUNDS value within its bound; else err names key, value and bound. */
 static int check_bounds(const scenario_t *sc, char *err, size_t errlen)
 {
@@ -931,7 +983,8 @@ int scenario_finish(scenario_t *sc, char *err, size_t errlen)
     if (isnan(sc->controller.B_Nms)) {
         sc->controller.B_Nms = sc->plant.B_Nms;
     }
-    if (check_bounds(sc, err, errlen) != 0 || derive_keys(sc, err, errlen) != 0) {
+    if (check_bounds(sc, err, errlen) != 0 || derive_keys(sc, err, errlen) != 0 ||
+        check_params(sc, err, errlen) != 0) {
         return -1;
     }
     /* level 4's limit from the current limit, derived or set */
@@ -971,6 +1024,13 @@ void scenario_print_bounds(FILE *f)
         char key[SCENARIO_ORIGIN_LEN];
         snprintf(key, sizeof key, "[%s] %s", b->section, b->name);
         fprintf(f, "    %-26s %g .. %g%s%s\n", key, b->lo, b->hi, (b->unit[0] != '\0') ? " " : "", b->unit);
+    }
+    for (uint16_t k = 0u; k < (uint16_t)LINK_PARAM_COUNT; k++) {   /* the link's parameters' ranges */
+        const link_param_t *d = link_param(k);
+        char key[SCENARIO_ORIGIN_LEN];
+        snprintf(key, sizeof key, "[controller] %s", d->key);
+        fprintf(f, "    %-26s %s%g .. %g%s%s\n", key, d->lo_open ? "> " : "", (double)d->lo, (double)d->hi,
+                (d->unit[0] != '\0') ? " " : "", d->unit);
     }
 }
 

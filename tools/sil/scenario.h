@@ -20,6 +20,7 @@
 
 #include "app.h"
 #include "drive_params.h"
+#include "link.h"
 #include "profile.h"
 #include "scenario_keys.h"
 
@@ -59,6 +60,7 @@ typedef struct {
         bool endless_ok;           /* set by the caller after scenario_defaults: duration_s = 0 accepted (drive_sil --link) */
     } run;
     struct { SC_KEYS_faults(SC_FIELD) } faults;         /* injected on the simulated board (hal_sim_faults_t) */
+    struct { SC_KEYS_link(SC_FIELD) } link;             /* drive_sil --link */
     uint32_t derive_status;        /* drive_derive_t of scenario_finish (warnings) */
     /* where each key was last set ("" = default), for messages */
     char origin[SCENARIO_MAX_KEYS][SCENARIO_ORIGIN_LEN];
@@ -108,7 +110,7 @@ void scenario_print_keys(FILE *f);
 void scenario_print_bounds(FILE *f);
 
 /* Where a key's value goes (scenario_keys.h, TO) and how it is converted. */
-typedef enum { SC_TO_NONE, SC_TO_SAME, SC_TO_PARAMS, SC_TO_APP, SC_TO_SIM, SC_TO_FAULTS } sc_target_t;
+typedef enum { SC_TO_NONE, SC_TO_SAME, SC_TO_PARAMS, SC_TO_APP, SC_TO_SIM, SC_TO_FAULTS, SC_TO_LINK } sc_target_t;
 typedef enum {
     SC_CONV_NONE,
     SC_CONV_F32,      /* float, value / scale */
@@ -147,7 +149,7 @@ void scenario_key_info(int i, scenario_key_info_t *out);
 
 /* The values of the keys whose target is `target` into *cfg: a
  * drive_params_t (SC_TO_PARAMS), app_cfg_t (SC_TO_APP), hal_sim_cfg_t
- * (SC_TO_SIM) or hal_sim_faults_t (SC_TO_FAULTS), on top of what it holds;
+ * (SC_TO_SIM), hal_sim_faults_t (SC_TO_FAULTS) or link_cfg_t (SC_TO_LINK), on top of what it holds;
  * a NaN value leaves its field. Ts_s: the period of a SC_CONV_PERIODS key. */
 void scenario_map(const scenario_t *sc, sc_target_t target, void *cfg, double Ts_s);
 

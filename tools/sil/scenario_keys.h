@@ -20,10 +20,12 @@
  *         (NaN: resolved by scenario_finish, or never for a fault's time)
  * FROM    where a SC_PARAMS default is read: SC_P (drive_params_t, from
  *         drive_params_board()), SC_A (app_cfg_t, app_cfg_default()),
- *         SC_S (hal_sim_cfg_t, hal_sim_default_cfg()); SC_NO otherwise
+ *         SC_S (hal_sim_cfg_t, hal_sim_default_cfg()), SC_L (link_cfg_t,
+ *         link_cfg_default()); SC_NO otherwise
  * TO      where the value goes: SC_P (scenario_params), SC_A (the SIL's app
  *         configuration, after drive_params_to_app_cfg), SC_S (the simulated
- *         board, sil_board_from), SC_F (hal_sim_faults_t); SC_SAME: where
+ *         board, sil_board_from), SC_F (hal_sim_faults_t), SC_L (the link's
+ *         configuration, drive_sil --link); SC_SAME: where
  *         FROM reads; SC_NO: scenario.c or sil.c reads it by name (method,
  *         references, the controller's factors). A NaN value leaves the
  *         target as it is. Each location: (field, conversion, key unit per
@@ -181,7 +183,12 @@
     X(reference, uq_V, PROF, SC_NONE, SC_TEXT(""), SC_NO, SC_NO, "q voltage [V] (open_loop mode)")
 
 #define SC_KEYS_load(X) \
-    X(load, torque_Nm, PROF, SC_NONE, SC_TEXT(""), SC_NO, SC_NO, "load torque [N m], opposing positive speed")
+    X(load, torque_Nm, PROF, SC_NONE, SC_TEXT(""), SC_NO, SC_NO, \
+      "active load torque [N m], opposing positive speed (it drives a shaft at rest: a hanging mass, a dyno)") \
+    X(load, friction_Nm, REAL, SC_GE0, SC_PARAMS, SC_S(load_coulomb_Nm, F64, 1.0), SC_SAME, \
+      "passive load: Coulomb friction [N m], opposing the motion (holds a shaft at rest up to it)") \
+    X(load, viscous_Nms, REAL, SC_GE0, SC_PARAMS, SC_S(load_B_Nms, F64, 1.0), SC_SAME, \
+      "passive load: viscous friction [N m s/rad], opposing the motion, beside [plant] B_Nms")
 
 #define SC_KEYS_run(X) \
     X(run, duration_s, REAL, SC_GT0, SC_TEXT("1.2"), SC_NO, SC_NO, "simulated time [s]") \
@@ -235,10 +242,19 @@
     X(faults, isr_overrun_run_s, REAL, SC_GT0, SC_TEXT("1.2e-4"), SC_NO, SC_F(isr_overrun_run_s, F64, 1.0), \
       "run time of that ISR call [s]")
 
+/* [link]: drive_sil --link (tools/sil/link_sil.h) */
+#define SC_KEYS_link(X) \
+    X(link, idle_timeout_s, REAL, SC_GE0, SC_TEXT("10"), SC_NO, SC_NO, \
+      "--link: a client that sends nothing this long (wall time) is told so and closed [s]; 0: never") \
+    X(link, host_timeout_s, REAL, SC_IN(0.0, LINK_HOST_TIMEOUT_MAX_S), SC_PARAMS, SC_L(host_timeout_s, F32, 1.0), \
+      SC_SAME, "the link's host timeout (the variable host_timeout_s): once a host wrote a reference or " \
+      "started the drive, no valid frame this long (the drive's time) ramps it to zero and stops it, warning " \
+      "HOST_TIMEOUT [s]; 0: off")
+
 /* Every key, in the order of --help, --list-keys and the resolved JSON. */
 #define SC_KEYS(X) \
     SC_KEYS_plant(X) SC_KEYS_motor(X) SC_KEYS_controller(X) SC_KEYS_identify(X) SC_KEYS_reference(X) \
-    SC_KEYS_load(X) SC_KEYS_run(X) SC_KEYS_faults(X)
+    SC_KEYS_load(X) SC_KEYS_run(X) SC_KEYS_faults(X) SC_KEYS_link(X)
 
 /* scenario_t's field of a key (scenario.h) */
 #define SC_FIELD(sec, key, KIND, ...) SC_FIELD_##KIND(key)

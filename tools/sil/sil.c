@@ -40,23 +40,34 @@ static void faults_from(const scenario_t *sc, hal_sim_faults_t *f)
 /* The scenario's controller and board values as the drive's parameter set
  * (defaults: the board's, tools/sil/scenario_keys.h), mapped by the target's
  * own drive_params_to_app_cfg(); then the start-up sequence's keys. */
-static void app_cfg_from(const scenario_t *sc, const hal_sim_cfg_t *hc, drive_params_t *p, app_cfg_t *ac)
+void sil_drive_params(const scenario_t *sc, drive_params_t *p)
 {
+    hal_sim_cfg_t hc;
+    sil_board_from(sc, &hc);
     scenario_params(sc, p);
-    p->board.Ts_s = (float)hc->inv.Ts_s;
+    p->board.Ts_s = (float)hc.inv.Ts_s;
     p->board.u_bound_V = (float)(MODEL_U_BOUND_PER_VDC * sc->plant.vdc_V);
+}
 
+void sil_app_cfg(const scenario_t *sc, const drive_params_t *p, app_cfg_t *ac)
+{
     app_cfg_default(ac);   /* the board's start-up sequence, watch and ISR timing */
     drive_params_to_app_cfg(p, ac);
     /* the keys whose target is the app's configuration: [run], [identify] */
-    scenario_map(sc, SC_TO_APP, ac, hc->inv.Ts_s);
+    scenario_map(sc, SC_TO_APP, ac, (double)p->board.Ts_s);
+}
+
+static void app_cfg_from(const scenario_t *sc, app_cfg_t *ac)
+{
+    drive_params_t p;
+    sil_drive_params(sc, &p);
+    sil_app_cfg(sc, &p, ac);
 }
 
 void sil_drive_config(const scenario_t *sc, drive_params_t *p, app_cfg_t *ac)
 {
-    hal_sim_cfg_t hc;
-    sil_board_from(sc, &hc);
-    app_cfg_from(sc, &hc, p, ac);
+    sil_drive_params(sc, p);
+    sil_app_cfg(sc, p, ac);
     (void)drive_params_derive(p);
 }
 
@@ -68,17 +79,20 @@ static ctrl_mode_t ctrl_mode_of(uint32_t mode)
     return (mode == SC_MODE_TORQUE) ? CTRL_MODE_TORQUE : CTRL_MODE_SPEED;
 }
 
-static void fill_row(const scenario_t *sc, double speed_ref_rpm, sil_row_t *r)
+/* One row: the truth, the monitor, and the references of the firmware's command block (the
+ * operator's request the ISR took this period: the scenario's profile or a link's write). */
+static void fill_row(sil_row_t *r)
 {
     hal_sim_truth_t tr;
     hal_sim_truth(&tr);
     const ctrl_mon_t *m = ctrl_monitor(&g_app.ctrl);
-    const bool closed = (sc->controller.mode != SC_MODE_OPEN_LOOP);
+    const app_op_t *op = &g_app.op_taken;
+    const bool closed = (op->mode != CTRL_MODE_OPEN_LOOP);
     r->t_s = tr.t_s;
     r->state = (double)g_app.state;
     r->fault = (double)g_app.fault;
     r->flags = (double)(g_app.out.flags | g_app.warnings); /* app.h: APP_WARN_* above CTRL_FLAG_* */
-    r->speed_ref_rpm = (sc->controller.mode == SC_MODE_SPEED) ? speed_ref_rpm : NAN;
+    r->speed_ref_rpm = (op->mode == CTRL_MODE_SPEED) ? (double)op->ref.speed_ref_rad_s * SIM_RPM_PER_RAD_S : NAN;
     r->speed_rpm = tr.speed_m_rad_s * SIM_RPM_PER_RAD_S;
     r->speed_est_rpm = (double)m->speed_mech_rad_s * SIM_RPM_PER_RAD_S;
     r->te_ref_Nm = closed ? (double)m->te_ref_Nm : NAN;
@@ -127,7 +141,6 @@ typedef struct {
     profile_cursor_t speed_rpm, te_Nm, ud_V, uq_V, load_Nm, R_Ohm;
     bool R_varies;           /* the plant's R has a profile: set every change */
     double until_s;          /* every value read last holds for t < until_s */
-    double speed_ref_rpm;    /* the speed reference read last */
 } sil_refs_t;
 
 static void refs_init(sil_refs_t *r, const scenario_t *sc)
@@ -140,7 +153,6 @@ static void refs_init(sil_refs_t *r, const scenario_t *sc)
     profile_cursor_init(&r->R_Ohm, &sc->plant.R_ohm_profile);
     r->R_varies = (sc->plant.R_ohm_profile.n > 1u);
     r->until_s = -INFINITY;
-    r->speed_ref_rpm = 0.0;
 }
 
 static double min_until(double until_s, const profile_cursor_t *c)
@@ -157,8 +169,7 @@ static bool refs_at(sil_refs_t *r, double t_s, app_op_t *op)
     if (t_s < r->until_s) {
         return false;   /* op, load and R hold what they were set to */
     }
-    r->speed_ref_rpm = profile_cursor_eval(&r->speed_rpm, t_s);
-    op->ref.speed_ref_rad_s = (float)(r->speed_ref_rpm / SIM_RPM_PER_RAD_S);
+    op->ref.speed_ref_rad_s = (float)(profile_cursor_eval(&r->speed_rpm, t_s) / SIM_RPM_PER_RAD_S);
     op->ref.te_ref_Nm = (float)profile_cursor_eval(&r->te_Nm, t_s);
     op->ref.ud_ref_V = (float)profile_cursor_eval(&r->ud_V, t_s);
     op->ref.uq_ref_V = (float)profile_cursor_eval(&r->uq_V, t_s);
@@ -233,9 +244,8 @@ static void run_begin(const scenario_t *sc, const hal_sim_cfg_t *hc, const sil_h
                       app_op_t *op)
 {
     app_cfg_t ac;
-    drive_params_t p;
     hal_sim_faults_t hf;
-    app_cfg_from(sc, hc, &p, &ac);
+    app_cfg_from(sc, &ac);
     faults_from(sc, &hf);
     hal_sim_configure(hc);
     hal_sim_set_faults(&hf);
@@ -279,7 +289,7 @@ static void take_refs(sil_refs_t *refs, double t_s, const sil_hooks_t *hooks, ap
 }
 
 /* Period k's figures into the result: faults, the time RUN began, the peak
- * current and speed, the periods with the gates on. */
+ * current and speed, the periods with the gates on, the warnings raised. */
 static void account_period(const hal_sim_truth_t *tr, bool was_faulted, uint32_t k, sil_result_t *res)
 {
     track_faults(tr, was_faulted, res);
@@ -290,6 +300,7 @@ static void account_period(const hal_sim_truth_t *tr, bool was_faulted, uint32_t
     res->max_abs_i_A = max_or_nonnan(res->max_abs_i_A, i_max);
     res->max_abs_speed_rpm = max_or_nonnan(res->max_abs_speed_rpm, fabs(tr->speed_m_rad_s) * SIM_RPM_PER_RAD_S);
     res->pwm_periods += tr->pwm_enabled ? 1u : 0u;
+    res->warnings |= g_app.warnings;   /* every warning of the run, a later start's clearing aside */
     res->periods = k + 1u;
 }
 
@@ -299,7 +310,7 @@ static void result_finish(sil_result_t *res)
 {
     res->final_state = (int)g_app.state;
     res->final_fault = (int)g_app.fault;
-    res->warnings = g_app.warnings;
+    res->warnings |= g_app.warnings;
     res->rsid_refusal = (int)g_app.rsid_refusal.fault;
     res->enc_offset_el_rad = (double)ctrl_enc_offset_el_rad(&g_app.ctrl);
     res->i_offset_a_A = (double)g_app.offset_ia_A;
@@ -337,6 +348,10 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     const sil_hooks_t *hooks = (ctl != NULL) ? ctl->hooks : NULL;
     const bool commission = (ctl != NULL) && (ctl->commission != 0);
     sil_board_from(sc, &hc);
+    if (commission) {
+        hc.load_coulomb_Nm = 0.0;   /* a commissioning's free shaft: [load] plays no part */
+        hc.load_B_Nms = 0.0;
+    }
     result_begin(res);
     run_begin(sc, &hc, hooks, commission, &op);
 
@@ -363,12 +378,13 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
         const bool was_faulted = (g_app.state == APP_STATE_FAULT);
         hal_sim_period();
         app_background(&g_app);
+        app_reconfigure_now(&g_app);   /* a new configuration (the link's parameters): between periods */
         account_period(tr, was_faulted, k, res);
         if (periods_to_row == 0u) {
             periods_to_row = sc->run.log_every;
             if (on_row != NULL) {
                 sil_row_t row;
-                fill_row(sc, refs.speed_ref_rpm, &row);
+                fill_row(&row);
                 rc = on_row(&row, user);
                 res->rows++;
             }
@@ -450,7 +466,7 @@ static void json_derived(FILE *f, const char *key, double v, int set, const char
 /* The values derived from the motor's data (firmware/params/params_design.md):
  * the derived keys' (scenario_keys.h, set or derived) and the settings
  * without a key (always derived), as the run used them. */
-static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
+static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac, const char *run_warnings)
 {
     const ctrl_cfg_t *c = &ac->ctrl;
     drive_params_t p;
@@ -494,6 +510,10 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
     if (w[0] != '\0') {
         json_string(f, w);
     }
+    if (run_warnings[0] != '\0') {   /* the run's (HOST_TIMEOUT, STEP1_REFUSED) */
+        fputs((w[0] != '\0') ? ", " : "", f);
+        json_string(f, run_warnings);
+    }
     /* every key as resolved, and whether it was set, left at its default or derived */
     fputs("],\n \"keys\": {\n", f);
     const int n = scenario_key_count();
@@ -509,7 +529,7 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
     fputs(" }}\n", f);
 }
 
-void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origin)
+void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origin, const char *run_warnings)
 {
     const app_cfg_t *ac = &g_app.cfg;
     const ctrl_cfg_t *c = &ac->ctrl;
@@ -552,5 +572,5 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origi
     json_flt(f, "i_limit_A", c->i_lim_A, ", ");
     json_flt(f, "overspeed_rpm", (float)((double)ac->prot.speed_max_rad_s * SIM_RPM_PER_RAD_S), ", ");
     json_num(f, "config_status", (double)ctrl_status(&g_app.ctrl), "},\n");
-    resolved_derived(f, sc, ac);
+    resolved_derived(f, sc, ac, run_warnings);
 }

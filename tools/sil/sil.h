@@ -51,7 +51,7 @@ typedef struct {
     uint32_t rows;             /* passed to the callback */
     int final_state;           /* app_state_t at the end */
     int final_fault;           /* app_fault_t at the end */
-    unsigned warnings;         /* app.h APP_WARN_* at the end */
+    unsigned warnings;         /* app.h APP_WARN_* raised during the run (a later start clears the app's, not these) */
     int rsid_refusal;          /* APP_WARN_STEP1_REFUSED: the RSID_* fault step 1 would have latched */
     double max_abs_i_A;        /* largest true phase current seen at a sample */
     double max_abs_speed_rpm;  /* largest true |speed| at a sample, mechanical [r/min] */
@@ -124,6 +124,16 @@ int sil_run(const scenario_t *sc, sil_row_fn on_row, void *user, sil_result_t *r
  * or FAULT), or after the stages' timeouts and a second. */
 int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res);
 
+/* The drive's parameter set a run of finished scenario *sc configures the app from: the
+ * scenario's values on the board's (scenario_params), the simulated board's period and the
+ * model's voltage bound. */
+void sil_drive_params(const scenario_t *sc, drive_params_t *p);
+
+/* The app's configuration of a run from parameter set *p (sil_drive_params, or one the link
+ * changed): the board's start-up sequence, drive_params_to_app_cfg(), then the scenario's keys
+ * whose target is the app's configuration. */
+void sil_app_cfg(const scenario_t *sc, const drive_params_t *p, app_cfg_t *ac);
+
 /* The drive's parameter set (its derived values derived) and the app's
  * configuration a run of *sc (finished) starts with: drive_sil
  * --board-config writes them as the board image's (board_config.h). */
@@ -157,7 +167,8 @@ typedef struct {
  * what was asked for (scenario, overrides, commission), the plant's
  * parameters (R at t = 0) from the scenario, and the values the controller
  * was configured with (the app's configuration after the parameter set's
- * mapping). Keys as the scenario's. */
-void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origin);
+ * mapping); "warnings": the scenario's, then run_warnings (the run's by
+ * name, summary_warning_text; "" without). Keys as the scenario's. */
+void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origin, const char *run_warnings);
 
 #endif /* SIL_H */

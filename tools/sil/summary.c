@@ -62,9 +62,14 @@ const char *summary_fault_name(int fault, char *buf, size_t len)
 const char *summary_warning_text(const sil_result_t *res, char *buf, size_t len)
 {
     char fbuf[32];
+    int n = 0;
     buf[0] = '\0';
     if ((res->warnings & APP_WARN_STEP1_REFUSED) != 0u) {
-        snprintf(buf, len, "STEP1_REFUSED (%s)", summary_fault_name(res->rsid_refusal, fbuf, sizeof fbuf));
+        n = snprintf(buf, len, "STEP1_REFUSED (%s)", summary_fault_name(res->rsid_refusal, fbuf, sizeof fbuf));
+    }
+    if ((res->warnings & APP_WARN_HOST_TIMEOUT) != 0u && n >= 0 && (size_t)n < len) {
+        (void)snprintf(buf + n, len - (size_t)n, "%sHOST_TIMEOUT (the link's host went quiet: ramped to zero, stopped)",
+                       (n > 0) ? ", " : "");
     }
     return buf;
 }
@@ -176,7 +181,8 @@ void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const
     json_num(f, "final_fault", (double)res->final_fault, ", ");
     put_str(f, "fault_name", summary_fault_name(res->final_fault, buf, sizeof buf));
     json_num(f, "warnings", (double)res->warnings, ", ");
-    put_str(f, "warning", summary_warning_text(res, buf, sizeof buf));
+    char wbuf[SUMMARY_WARNING_LEN];
+    put_str(f, "warning", summary_warning_text(res, wbuf, sizeof wbuf));
     json_num(f, "t_run_s", res->t_run_s, ", ");
     json_num(f, "max_abs_i_A", res->max_abs_i_A, ", ");
     json_num(f, "te_err_Nm", mean(&s->te_abs), ", ");

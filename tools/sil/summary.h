@@ -56,7 +56,11 @@ void summary_add(summary_t *s, const sil_row_t *row);
 void summary_write_json(FILE *f, const summary_t *s, const scenario_t *sc, const sil_result_t *res,
                         const char *scenario_path, const char *id);
 
-/* "STEP1_REFUSED (RSID_...)" for the run's warnings (app.h APP_WARN_*), "" without. */
+/* Room for summary_warning_text's every warning at once, with their reasons. */
+#define SUMMARY_WARNING_LEN 160
+
+/* The run's warnings by name (app.h APP_WARN_*: "STEP1_REFUSED (RSID_...)", "HOST_TIMEOUT (...)",
+ * joined by ", "), "" without; len: SUMMARY_WARNING_LEN for all of them. */
 const char *summary_warning_text(const sil_result_t *res, char *buf, size_t len);
 
 /* Names of app_state_t / app_fault_t values ("FAULT_<n>" for one this table does not know). */

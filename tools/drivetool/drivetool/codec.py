@@ -4,11 +4,14 @@ and ended by 0x00, and a receiver that resyncs at every 0x00."""
 import struct
 
 PAYLOAD_MAX = 240
+FRAME_OVERHEAD = 8          # a frame's bytes on the wire beyond its payload: type, seq, CRC, COBS codes, 0x00
 
 # frame types
 HELLO, LIST_VARS, READ, WRITE, ACTION = 0x01, 0x02, 0x03, 0x04, 0x05
 STREAM_SET, CAPTURE_ARM, CAPTURE_STATUS, CAPTURE_READ, PING = 0x06, 0x07, 0x08, 0x09, 0x0A
-EVENT, STREAM, REPLY = 0x40, 0x41, 0x80
+EVENT, STREAM, NOTICE, REPLY = 0x40, 0x41, 0x42, 0x80
+# NOTICE's code (then text): why the port closes this client
+NOTICE_HELD, NOTICE_IDLE = 1, 2
 
 # reply status (first payload byte)
 ST_OK, ST_REFUSED, ST_BAD_REQUEST, ST_UNKNOWN_ID, ST_ACCESS, ST_UNKNOWN_TYPE, ST_BUSY = range(7)
