@@ -18,9 +18,11 @@ TEST_LIBS_test_drive_params := firmware control
 TEST_LIBS_test_link_codec := firmware control
 TEST_LIBS_test_enc_check := firmware control
 # The parameter store's blocks in a sector emulated as flash (nv_store.h),
-# and over the parameter set through a list of parameters (nv_params.h).
+# over the parameter set through a list of parameters (nv_params.h), and
+# the link's table as that list (link_nv.h).
 TEST_LIBS_test_nv_store := firmware control
 TEST_LIBS_test_nv_params := firmware control
+TEST_LIBS_test_link_nv := firmware control
 
 # Closed-loop acceptance of the conventional DB-DTC on the simulated board,
 # and the build levels there (test_sil_levels).

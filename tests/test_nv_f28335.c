@@ -17,6 +17,7 @@
 #include "c2000_fake.h"
 #include "hal.h"
 #include "hal_f28335_cfg.h"
+#include "nv_pairs.h"
 #include "nv_store.h"
 
 static int setup(void **state)
@@ -124,18 +125,19 @@ static void the_store_saves_and_loads_through_the_hal(void **state)
     const nv_dev_t dev = { hal_nv_words(), hal_nv_read, hal_nv_write };
     static uint16_t buf[NV_BLOCK_WORDS_MAX];
     const nv_pair_t pairs[2] = { { nv_key_id("speed_kp_Nms_rad"), 0.75f }, { nv_key_id("R_ohm"), 2.5f } };
-    nv_pair_t got[4];
+    const uint16_t table = 0x1357u;
+    nv_pair_t got[NV_PAIRS_MAX];
     uint16_t n = 9;
-    assert_int_equal(nv_load(&dev, got, 4, &n), NV_EMPTY);
-    assert_int_equal(nv_save(&dev, pairs, 2, buf), NV_OK);
+    assert_int_equal(nv_load_pairs(&dev, table, got, &n), NV_EMPTY);
+    assert_int_equal(nv_save_pairs(&dev, table, pairs, 2, buf), NV_OK);
     assert_int_equal(c2000_fake_flash.call[0].op, C2000_FAKE_PROGRAM);   /* an erased sector: no erase */
-    assert_int_equal(nv_load(&dev, got, 4, &n), NV_OK);
+    assert_int_equal(nv_load_pairs(&dev, table, got, &n), NV_OK);
     assert_int_equal(n, 2);
     assert_int_equal(got[0].id, pairs[0].id);
     assert_true(got[0].value == 0.75f);
     assert_true(got[1].value == 2.5f);
-    c2000_fake_flash_b[4] ^= 0x0001u;   /* one bit of the first value */
-    assert_int_equal(nv_load(&dev, got, 4, &n), NV_INVALID);
+    c2000_fake_flash_b[5] ^= 0x0001u;   /* one bit of the first value */
+    assert_int_equal(nv_load_pairs(&dev, table, got, &n), NV_INVALID);
 }
 
 int main(void)

@@ -18,7 +18,9 @@
 
 #include "hal.h"
 #include "hal_sim.h"
+#include "link_nv.h"
 #include "nv_file.h"
+#include "nv_pairs.h"
 #include "nv_store.h"
 #include "scenario.h"
 
@@ -91,7 +93,7 @@ static void a_save_is_in_the_file_and_the_next_start_takes_it(void **state)
     assert_non_null(strstr(msg, "NV_EMPTY"));
 
     const nv_pair_t pairs[2] = { { nv_key_id("speed_kp_Nms_rad"), 0.625f }, { nv_key_id("pole_pairs"), 4.0f } };
-    assert_int_equal(nv_save(&DEV, pairs, 2, buf), NV_OK);
+    assert_int_equal(nv_save_pairs(&DEV, nv_params_table_id(&LINK_NV_PARAMS), pairs, 2, buf), NV_OK);
     FILE *f = fopen(path, "rb");
     unsigned char head[2];
     assert_non_null(f);
@@ -120,10 +122,10 @@ static void a_corrupted_file_is_invalid(void **state)
     static scenario_t sc;
     const nv_pair_t pairs[1] = { { nv_key_id("J_kgm2"), 0.002f } };
     assert_int_equal(nv_file_open(path, err, sizeof err), 0);
-    assert_int_equal(nv_save(&DEV, pairs, 1, buf), NV_OK);
+    assert_int_equal(nv_save_pairs(&DEV, nv_params_table_id(&LINK_NV_PARAMS), pairs, 1, buf), NV_OK);
     FILE *f = fopen(path, "r+b");
     assert_non_null(f);
-    fseek(f, 9, SEEK_SET);   /* the value's low word, high octet */
+    fseek(f, 11, SEEK_SET);   /* the value's low word, high octet */
     fputc(0x55, f);
     fclose(f);
     hal_sim_nv_erase();

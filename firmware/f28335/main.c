@@ -24,10 +24,10 @@
  * FLASH_CRC (snapshot value: the failing record's index), which no reset
  * clears. The configuration is the board's (board_cfg.h, a motor file's
  * with make board) with the parameter store's saved values over it
- * (flash sector B, firmware/params/nv_params.h): g_nv.status says what
- * the start-up took (NV_OK, g_nv.taken values; NV_EMPTY: nothing saved;
- * NV_INVALID: a block that fails its check, the board's values kept); the
- * drive starts either way.
+ * (flash sector B, firmware/link/link_nv.h: the link's parameters):
+ * g_nv.status, the link's nv_status, says what the start-up took (VALID,
+ * g_nv.taken values; EMPTY: nothing saved; INVALID: a block that fails its
+ * check, the board's values kept); the drive starts either way.
  * Not linked on the host (the Makefile filters it out); the make check
  * gates compile it.
  */
@@ -40,7 +40,7 @@
 #include "hal_f28335.h"
 #include "hal_f28335_cfg.h"
 #include "link.h"
-#include "nv_params.h"
+#include "link_nv.h"
 
 #if defined(__TMS320C28XX__)
 #include <crc_tbl.h>
@@ -61,16 +61,9 @@ static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
  * margin only without them: objects whose init functions write every
  * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
  * proves it; g_params: drive_params_board; g_lim: its three fields set in
- * main; g_nv: main sets dev, status and taken, the pairs are written
- * before they are read), since nothing zeroes M0 (f28335_codestart.asm
- * zeroes .ebss). */
-/* The parameter store at start-up: its sector, nv_params_load's scratch and what it took. */
-static struct {
-    nv_dev_t dev;            /* flash sector B through the HAL (hal_f28335_nv.c) */
-    nv_pair_t pairs[NV_PAIRS_MAX];
-    uint16_t status;         /* nv_status_t: NV_EMPTY and NV_INVALID are warnings */
-    uint16_t taken;          /* the saved values taken (NV_OK) */
-} g_nv;
+ * main; g_nv: link_nv_init, its block buffer written before it is read),
+ * since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
+static link_nv_t g_nv;       /* the parameter store: flash sector B through the HAL (hal_f28335_nv.c) */
 #if defined(__TMS320C28XX__)
 #pragma DATA_SECTION(g_commission, "m0data")
 #pragma DATA_SECTION(g_cmd, "m0data")
@@ -100,12 +93,6 @@ static void link_service(void)
     }
     hal_f28335_sci_pump();
 }
-
-/* The parameters the store's blocks may hold: the link's parameter table
- * (link_params.h: what drivetool save saves) once an adapter wires it;
- * until then none, and a block found in the sector reads NV_INVALID (the
- * board's values kept). */
-static const nv_param_list_t NV_PARAMS = { 0u, 0, 0, 0, 0 };
 
 /* Background, the drive stopped: parameter k of g_params was written over the link; the
  * configuration follows (the ISR re-initialises at its next stopped period). */
@@ -159,16 +146,18 @@ RAMFUNC static HAL_INTERRUPT void ctrl_isr(void)
 int main(void)
 {
     link_cfg_t lc;
+    nv_dev_t nv;
     int16_t bad_record;
 
     hal_init();  /* ramfuncs copied: its CRC record holds at either address */
     bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
-    g_nv.dev.words = hal_nv_words();
-    g_nv.dev.read = hal_nv_read;
-    g_nv.dev.write = hal_nv_write;
+    nv.words = hal_nv_words();
+    nv.read = hal_nv_read;
+    nv.write = hal_nv_write;
+    link_nv_init(&g_nv, &nv);
     drive_params_board(&g_params);
-    g_nv.status = (uint16_t)nv_params_load(&g_nv.dev, &NV_PARAMS, &g_params, g_nv.pairs, &g_nv.taken);
+    (void)link_nv_load(&g_nv, &g_params);   /* g_nv.status: the link's nv_status */
     (void)drive_params_derive(&g_params);   /* refusals: a start faults CONFIG (params_refused) */
     app_cfg_from_params(&g_app.cfg, &g_params);
     app_init(&g_app, &g_app.cfg);

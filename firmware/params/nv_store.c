@@ -14,6 +14,11 @@
 
 typedef char nv_float_is_32_bits[(sizeof(float) == sizeof(uint32_t)) ? 1 : -1];
 
+uint16_t nv_crc_fold(uint32_t crc)
+{
+    return (uint16_t)((crc >> WORD_BITS) ^ (crc & WORD_MASK));
+}
+
 uint16_t nv_key_id(const char *name)
 {
     uint32_t crc = 0UL;
@@ -22,7 +27,7 @@ uint16_t nv_key_id(const char *name)
     for (k = 0u; (k < NAME_MAX_CHARS) && (name[k] != '\0'); k++) {
         crc = crc32_prime_octet(crc, (uint16_t)name[k]);
     }
-    return (uint16_t)((crc >> WORD_BITS) ^ (crc & WORD_MASK));
+    return nv_crc_fold(crc);
 }
 
 static uint32_t float_bits(float v)
@@ -39,7 +44,7 @@ static float bits_float(uint32_t u)
     return v;
 }
 
-/* A header's length word, when it is one: 5 + 3 n words, 1 <= n <= NV_PAIRS_MAX. */
+/* A header's length word, when it is one: 6 + 3 n words, 1 <= n <= NV_PAIRS_MAX. */
 static bool length_ok(uint16_t len)
 {
     return (len >= BLOCK_WORDS(1u)) && (len <= NV_BLOCK_WORDS_MAX) &&
@@ -81,60 +86,64 @@ static nv_status_t scan(const nv_dev_t *dev, uint32_t *newest, uint32_t *next)
     return any ? NV_OK : NV_EMPTY;
 }
 
-nv_status_t nv_load(const nv_dev_t *dev, nv_pair_t *pairs, uint16_t max, uint16_t *n)
+/* The block's CRC32_PRIME over its header and pairs (len - NV_CRC_WORDS words). */
+static uint32_t block_crc(const uint16_t *buf, uint16_t len)
 {
-    uint16_t w[NV_HEADER_WORDS];
+    return crc32_prime_words(0UL, buf, (uint32_t)len - NV_CRC_WORDS);
+}
+
+nv_status_t nv_load(const nv_dev_t *dev, uint16_t table, uint16_t *buf, uint16_t *n)
+{
     uint32_t newest = 0UL;
     uint32_t next = 0UL;
-    uint32_t crc = 0UL;
-    uint16_t count;
-    uint16_t k;
+    uint16_t len;
     nv_status_t st = scan(dev, &newest, &next);
 
     *n = 0u;
     if (st != NV_OK) {
         return st;
     }
-    (void)dev->read(newest, w, NV_HEADER_WORDS); /* read by the scan already */
-    count = (uint16_t)((w[2] - NV_HEADER_WORDS - NV_CRC_WORDS) / NV_PAIR_WORDS);
-    if (count > max) {
+    (void)dev->read(newest + 2UL, &len, 1u);   /* its length: checked by the scan */
+    if (!dev->read(newest, buf, len) ||
+        ((((uint32_t)buf[len - 1u] << WORD_BITS) | buf[len - 2u]) != block_crc(buf, len)) ||
+        (buf[3] != table)) {
         return NV_INVALID;
     }
-    crc = crc32_prime_words(crc, w, NV_HEADER_WORDS);
-    for (k = 0u; k < count; k++) {
-        if (!dev->read(newest + NV_HEADER_WORDS + NV_PAIR_WORDS * (uint32_t)k, w, NV_PAIR_WORDS)) {
-            return NV_INVALID;
-        }
-        crc = crc32_prime_words(crc, w, NV_PAIR_WORDS);
-        pairs[k].id = w[0];
-        pairs[k].value = bits_float((uint32_t)w[1] | ((uint32_t)w[2] << WORD_BITS));
-    }
-    if (!dev->read(newest + NV_HEADER_WORDS + NV_PAIR_WORDS * (uint32_t)count, w, NV_CRC_WORDS) ||
-        (((uint32_t)w[0] | ((uint32_t)w[1] << WORD_BITS)) != crc)) {
-        return NV_INVALID;
-    }
-    *n = count;
+    *n = (uint16_t)((len - NV_HEADER_WORDS - NV_CRC_WORDS) / NV_PAIR_WORDS);
     return NV_OK;
 }
 
-/* The block of n pairs into buf; its length in words. */
-static uint16_t pack(const nv_pair_t *pairs, uint16_t n, uint16_t *buf)
+nv_pair_t nv_block_get(const uint16_t *buf, uint16_t k)
+{
+    const uint16_t *p = &buf[NV_HEADER_WORDS + NV_PAIR_WORDS * k];
+    nv_pair_t pair;
+
+    pair.id = p[0];
+    pair.value = bits_float((uint32_t)p[1] | ((uint32_t)p[2] << WORD_BITS));
+    return pair;
+}
+
+void nv_block_put(uint16_t *buf, uint16_t k, nv_pair_t pair)
+{
+    const uint32_t u = float_bits(pair.value);
+    uint16_t *p = &buf[NV_HEADER_WORDS + NV_PAIR_WORDS * k];
+
+    p[0] = pair.id;
+    p[1] = (uint16_t)(u & WORD_MASK);
+    p[2] = (uint16_t)(u >> WORD_BITS);
+}
+
+/* The header and CRC around the n pairs in buf; the block's length in words. */
+static uint16_t seal(uint16_t table, uint16_t n, uint16_t *buf)
 {
     const uint16_t len = (uint16_t)BLOCK_WORDS(n);
     uint32_t crc;
-    uint16_t k;
 
     buf[0] = NV_MAGIC;
     buf[1] = NV_VERSION;
     buf[2] = len;
-    for (k = 0u; k < n; k++) {
-        const uint32_t u = float_bits(pairs[k].value);
-        uint16_t *p = &buf[NV_HEADER_WORDS + NV_PAIR_WORDS * k];
-        p[0] = pairs[k].id;
-        p[1] = (uint16_t)(u & WORD_MASK);
-        p[2] = (uint16_t)(u >> WORD_BITS);
-    }
-    crc = crc32_prime_words(0UL, buf, (uint32_t)len - NV_CRC_WORDS);
+    buf[3] = table;
+    crc = block_crc(buf, len);
     buf[len - 2u] = (uint16_t)(crc & WORD_MASK);
     buf[len - 1u] = (uint16_t)(crc >> WORD_BITS);
     return len;
@@ -162,7 +171,7 @@ static bool reads_back(const nv_dev_t *dev, uint32_t off, const uint16_t *buf, u
     return true;
 }
 
-nv_status_t nv_save(const nv_dev_t *dev, const nv_pair_t *pairs, uint16_t n, uint16_t *buf)
+nv_status_t nv_save(const nv_dev_t *dev, uint16_t table, uint16_t n, uint16_t *buf)
 {
     uint32_t newest = 0UL;
     uint32_t next = 0UL;
@@ -172,7 +181,7 @@ nv_status_t nv_save(const nv_dev_t *dev, const nv_pair_t *pairs, uint16_t n, uin
     if ((n == 0u) || (n > NV_PAIRS_MAX)) {
         return NV_INVALID;
     }
-    len = pack(pairs, n, buf);
+    len = seal(table, n, buf);
     /* appended after the newest block while the sector is in form and has room; else from an erased sector */
     erase = (scan(dev, &newest, &next) == NV_INVALID) || (next + len > dev->words);
     if (erase) {

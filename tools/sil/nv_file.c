@@ -8,6 +8,7 @@
 
 #include "hal.h"
 #include "hal_sim.h"
+#include "link_nv.h"
 
 #define NV_FILE_BYTES (2u * HAL_SIM_NV_WORDS)
 #define OCTET 8u
@@ -78,58 +79,52 @@ int nv_file_open(const char *path, char *err, size_t errlen)
     return 0;
 }
 
-/* The [controller] key whose name id names, or -1. */
-static int key_of(uint16_t id)
-{
-    for (int i = 0; i < scenario_key_count(); i++) {
-        scenario_key_info_t k;
-        scenario_key_info(i, &k);
-        if (strcmp(k.section, "controller") == 0 && (k.type == SC_KEY_REAL || k.type == SC_KEY_UINT) &&
-            nv_key_id(k.name) == id) {
-            return i;
-        }
-    }
-    return -1;
-}
-
 nv_status_t nv_file_apply(scenario_t *sc, const char *path, char *msg, size_t len)
 {
     static scenario_t copy;
     static const nv_dev_t DEV = { HAL_SIM_NV_WORDS, hal_nv_read, hal_nv_write };
-    nv_pair_t pairs[NV_PAIRS_MAX];
+    static uint16_t buf[NV_BLOCK_WORDS_MAX];
     uint16_t n = 0;
     char where[SCENARIO_ORIGIN_LEN];
     char err[SCENARIO_ERR_LEN];
-    const nv_status_t st = nv_load(&DEV, pairs, NV_PAIRS_MAX, &n);
+    const nv_status_t st = nv_load(&DEV, nv_params_table_id(&LINK_NV_PARAMS), buf, &n);
     if (st == NV_EMPTY) {
         snprintf(msg, len, "--nv %s: NV_EMPTY: nothing saved; the scenario's values", path);
         return st;
     }
     if (st != NV_OK) {
-        snprintf(msg, len, "--nv %s: NV_INVALID: the sector holds no valid block (a header, its CRC or the "
-                 "words after it: firmware/params/nv_store.h); the scenario's values", path);
+        snprintf(msg, len, "--nv %s: NV_INVALID: the sector holds no valid block of this drive's parameter table "
+                 "(a header, its CRC, the table it was saved with, or the words after it: "
+                 "firmware/params/nv_store.h); the scenario's values", path);
+        return NV_INVALID;
+    }
+    const uint16_t bad = nv_params_refused(&LINK_NV_PARAMS, buf, n);
+    if (bad < n) {   /* as nv_params_read refuses it, named */
+        const nv_pair_t pair = nv_block_get(buf, bad);
+        const uint16_t k = nv_params_of(&LINK_NV_PARAMS, buf, bad);
+        if (k == NV_PARAMS_NOT_LISTED) {
+            snprintf(msg, len, "--nv %s: NV_INVALID: the saved block names parameter 0x%04X, which is no parameter "
+                     "of the link's table; the scenario's values", path, (unsigned)pair.id);
+        } else {
+            snprintf(msg, len, "--nv %s: NV_INVALID: the saved %s = %.9g is outside its bounds; the scenario's "
+                     "values", path, LINK_NV_PARAMS.key(k), (double)pair.value);
+        }
         return NV_INVALID;
     }
     copy = *sc;
     snprintf(where, sizeof where, "--nv %s", path);
     int used = snprintf(msg, len, "--nv %s: loaded %u parameters:", path, (unsigned)n);
     for (uint16_t j = 0; j < n; j++) {
-        const int i = key_of(pairs[j].id);
+        const char *key = LINK_NV_PARAMS.key(nv_params_of(&LINK_NV_PARAMS, buf, j));
+        const float v = nv_block_get(buf, j).value;
         char set[SCENARIO_ORIGIN_LEN];
-        scenario_key_info_t k;
-        if (i < 0) {
-            snprintf(msg, len, "--nv %s: NV_INVALID: the saved block names parameter 0x%04X, which is no "
-                     "[controller] key of this drive_sil; the scenario's values", path, (unsigned)pairs[j].id);
-            return NV_INVALID;
-        }
-        scenario_key_info(i, &k);
-        snprintf(set, sizeof set, "controller.%s=%.9g", k.name, (double)pairs[j].value);
+        snprintf(set, sizeof set, "controller.%s=%.9g", key, (double)v);
         if (scenario_set_from(&copy, set, where, err, sizeof err) != 0) {
             snprintf(msg, len, "NV_INVALID: %s; the scenario's values", err);
             return NV_INVALID;
         }
         if (used > 0 && (size_t)used < len) {
-            used += snprintf(msg + used, len - (size_t)used, " %s=%.9g", k.name, (double)pairs[j].value);
+            used += snprintf(msg + used, len - (size_t)used, " %s=%.9g", key, (double)v);
         }
     }
     *sc = copy;

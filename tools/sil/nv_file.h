@@ -6,7 +6,8 @@
  * (an erased word: 0xFF 0xFF); no FILE is an erased sector, written as
  * one at the start. Before the run the sector's newest block
  * (firmware/params/nv_store.h) is applied as the board applies it at
- * start-up: its values replace the [controller] keys their ids name (set,
+ * start-up, a block of the link's parameter table (firmware/link/link_nv.h)
+ * only: its values replace the [controller] keys of the same names (set,
  * origin "--nv FILE"), all or none; the run then starts from them. Every
  * write of the sector during the run (the link's save) writes FILE again,
  * whole, under a temporary name renamed over it. Host only.
@@ -26,9 +27,9 @@ int nv_file_open(const char *path, char *err, size_t errlen);
 
 /* The sector's newest block applied to *sc (after the file and the
  * overrides, before scenario_finish): NV_OK with every pair taken, *sc
- * changed; NV_EMPTY, or NV_INVALID (the block, or a pair that names no
- * [controller] key or that its key refuses), *sc untouched. msg: what was
- * taken, in words, for stderr. */
+ * changed; NV_EMPTY, or NV_INVALID (the block, a block of another table, a
+ * value its parameter's bounds or its scenario key refuse), *sc untouched.
+ * msg: what was taken, in words, for stderr. */
 nv_status_t nv_file_apply(scenario_t *sc, const char *path, char *msg, size_t len);
 
 /* True when a write of FILE during the run failed (named on stderr then). */
