@@ -60,8 +60,9 @@ bool hal_trip_active(void);
 void hal_trip_clear(void);
 
 /* Hold the control interrupt off (a period that comes meanwhile runs at hal_isr_resume) and let
- * it run again: background work that must not be interrupted by the ISR, short (a few periods)
- * and only with the outputs off (app_reconfigure_now). Background context, in pairs. */
+ * it run again: background work that must not be interrupted by the ISR, short (a few periods;
+ * a parameter save's erase, about a second) and only with the outputs off (app_reconfigure_now,
+ * link_nv_save). Background context, in pairs. */
 void hal_isr_pause(void);
 void hal_isr_resume(void);
 

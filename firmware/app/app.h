@@ -276,6 +276,10 @@ void app_request_warning(app_t *app, uint16_t bits);
  * before it is taken add up. */
 void app_request_reconfigure(app_t *app, uint16_t flags);
 
+/* The drive stopped: INIT, IDLE or FAULT (PWM off, no start step running). Background, or with the
+ * ISR held off to act on it. */
+bool app_stopped(const app_t *app);
+
 /* Background: a new configuration asked for and the drive stopped (INIT, IDLE, FAULT). */
 bool app_reconfigure_due(const app_t *app);
 

@@ -27,7 +27,10 @@
  * (flash sector B, firmware/link/link_nv.h: the link's parameters):
  * g_nv.status, the link's nv_status, says what the start-up took (VALID,
  * g_nv.taken values; EMPTY: nothing saved; INVALID: a block that fails its
- * check, the board's values kept); the drive starts either way.
+ * check, the board's values kept); the drive starts either way. drivetool
+ * save (the link's action save, the drive stopped) writes the link's
+ * parameters as they are (g_params) from the main loop, the control ISR
+ * held off for the erase and program (about a second).
  * Not linked on the host (the Makefile filters it out); the make check
  * gates compile it.
  */
@@ -116,6 +119,18 @@ static void reconfigure(void)
     }
 }
 
+/* The main loop, the control ISR held off: the save the link asked for (link_nv_due), the drive
+ * still stopped (read here, where no start can be taken meanwhile); the erase and program run with
+ * every interrupt masked (hal_nv_write), the periods missed meanwhile are not tracked: the
+ * configuration is taken again (reconfigure, next), as after a parameter's write. */
+static void params_save(void)
+{
+    if (link_nv_due(&g_nv)) {
+        (void)link_nv_save(&g_nv, &g_params, app_stopped(&g_app));
+        app_request_reconfigure(&g_app, 0U);
+    }
+}
+
 /* Start-up, before interrupts: the index of the first CRC record of the
  * image that fails (flash_crc.h), or -1 when all match. */
 static int16_t flash_image_bad_record(void)
@@ -178,6 +193,7 @@ int main(void)
     lc.firmware_id = FIRMWARE_ID;
     lc.params.set = &g_params;
     lc.params.apply = params_apply;
+    lc.params.store = &g_nv;
     link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
     g_link.stats.reset_by_watchdog = g_reset_by_watchdog ? 1U : 0U;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
@@ -186,10 +202,12 @@ int main(void)
         cmd_comm_apply(&g_comm, &g_cmd, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         link_service();
-        if (app_reconfigure_due(&g_app)) {
-            /* the drive's parameters changed (the drive stopped, PWM off): start-up work with the
-             * control ISR held off, a few periods (tools/check/ram_budget.py counts it so) */
+        if (app_reconfigure_due(&g_app) || link_nv_due(&g_nv)) {
+            /* the drive's parameters changed or are to be saved (the drive stopped, PWM off):
+             * start-up work with the control ISR held off, a few periods, a save's erase about a
+             * second (tools/check/ram_budget.py counts it so) */
             hal_isr_pause();
+            params_save();
             reconfigure();
             hal_isr_resume();
         }
