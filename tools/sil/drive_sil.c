@@ -157,7 +157,7 @@ static void usage(FILE *f)
             "--nv FILE keeps the drive's parameter sector (firmware/params/nv_store.h) in FILE,\n"
             "as the board's flash keeps it: its newest block's values replace the [controller]\n"
             "keys they name before the run (stderr says NV_EMPTY, NV_INVALID or what was\n"
-            "loaded), and every save during the run (drivetool save) writes FILE again.\n"
+            "loaded), and every save during the run (--link: drivetool save) writes FILE again.\n"
             "On a terminal, a run longer than %g s of wall time shows its progress on stderr.\n"
             "Exit status:\n"
             "  0    the run ended outside FAULT (--check: the input is good; --batch: every\n"
@@ -344,7 +344,7 @@ static int load_base(const args_t *a, scenario_t *sc)
  * the board takes it at start-up (nv_file.h), what was taken on stderr;
  * values that do not fit the scenario as a whole (scenario_finish) are
  * NV_INVALID too: the scenario's own. 0, or -1 (FILE unusable). */
-static int nv_start(const args_t *a, scenario_t *sc)
+static int nv_start(args_t *a, scenario_t *sc)
 {
     static scenario_t before;
     static scenario_t probe;
@@ -355,10 +355,13 @@ static int nv_start(const args_t *a, scenario_t *sc)
         return -1;
     }
     before = *sc;
-    if (nv_file_apply(sc, a->nv_path, msg, sizeof msg) == NV_OK) {
+    a->link.nv = 1;
+    a->link.nv_loaded = (int)nv_file_apply(sc, a->nv_path, msg, sizeof msg);
+    if (a->link.nv_loaded == (int)NV_OK) {
         probe = *sc;
         if (scenario_finish(&probe, err, sizeof err) != 0) {
             *sc = before;
+            a->link.nv_loaded = (int)NV_INVALID;
             snprintf(msg, sizeof msg, "--nv %s: NV_INVALID: the saved values do not fit this scenario (%s); the "
                      "scenario's values", a->nv_path, err);
         }
@@ -367,7 +370,7 @@ static int nv_start(const args_t *a, scenario_t *sc)
     return 0;
 }
 
-static int load_scenario(const args_t *a, scenario_t *sc)
+static int load_scenario(args_t *a, scenario_t *sc)
 {
     char err[SCENARIO_ERR_LEN];
     if (load_base(a, sc) != 0) {
