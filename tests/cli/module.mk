@@ -20,10 +20,11 @@ EXTRA_TESTS += test-board
 test-board: $(DRIVE_SIL) ## (part of make test) make board on a 48 V motor file: its JSON, drive_sil's run, the compiled image
 	@$(call suite,test-board) python3 tests/cli/test_board.py $(DRIVE_SIL)
 
-# drive_sil --nv FILE: sector images built by the test from nv_store.h's format, loaded, refused.
+# drive_sil --nv FILE: the link's save round trip through drivetool (stop, set, save, quit, a new
+# run reads it back), and sector images built by the test from nv_store.h's format, loaded, refused.
 EXTRA_TESTS += test-nv
-test-nv: $(DRIVE_SIL) ## (part of make test) drive_sil --nv: a saved block taken, a corrupted one refused (NV_INVALID)
-	@$(call suite,test-nv) python3 tests/cli/test_nv.py $(DRIVE_SIL)
+test-nv: $(DRIVE_SIL) $(DRIVETOOL) ## (part of make test) drive_sil --nv with drivetool save: saved, read back at the next run; a corrupted block refused (NV_INVALID)
+	@$(call suite,test-nv) python3 tests/cli/test_nv.py $(DRIVE_SIL) $(DRIVETOOL)
 
 $(BOARD_OUT)/board_values: tests/board_values.c $(BOARD_OBJS)
 	@$(CC) -O2 $(CF_TEST) $(INC) -DDRIVE_CONFIG -I$(BOARD_OUT) -o $@ $< $(filter-out %/main.o,$(BOARD_OBJS)) -lm
