@@ -120,14 +120,18 @@ static void reconfigure(void)
 }
 
 /* The main loop, the control ISR held off: the save the link asked for (link_nv_due), the drive
- * still stopped (read here, where no start can be taken meanwhile); the erase and program run with
- * every interrupt masked (hal_nv_write), the periods missed meanwhile are not tracked: the
- * configuration is taken again (reconfigure, next), as after a parameter's write. */
+ * still stopped (read here, where no start can be taken meanwhile; started since: nothing written,
+ * SAVE_FAILED); the erase and program run with every interrupt masked (hal_nv_write), the periods
+ * missed meanwhile are not tracked: the configuration is taken again (reconfigure, next), as after
+ * a parameter's write. */
 static void params_save(void)
 {
     if (link_nv_due(&g_nv)) {
-        (void)link_nv_save(&g_nv, &g_params, app_stopped(&g_app));
-        app_request_reconfigure(&g_app, 0U);
+        const bool stopped = app_stopped(&g_app);
+        (void)link_nv_save(&g_nv, &g_params, stopped);
+        if (stopped) {
+            app_request_reconfigure(&g_app, 0U);
+        }
     }
 }
 
