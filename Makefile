@@ -82,10 +82,18 @@ CONTROL_SRCS  := $(foreach d,$(CONTROL_ROOMS),$(wildcard $d/*.c))
 FIRMWARE_SRCS := $(filter-out firmware/f28335/main.c,$(wildcard firmware/*/*.c))
 SIM_SRCS      := $(wildcard hal/sim/*.c)
 SILRUN_SRCS   := tools/sil/scenario.c tools/sil/profile.c tools/sil/csv_num.c tools/sil/summary.c \
-                 tools/sil/sil_board.c tools/sil/ini_edit.c tools/sil/json_out.c
+                 tools/sil/sil_board.c tools/sil/ini_edit.c tools/sil/json_out.c tools/sil/nv_file.c
 F28335_SRCS   := $(wildcard hal/f28335/*.c) $(wildcard tests/c2000_fake/*.c)
 
 objs = $(patsubst %.c,$(OUT)/obj/%.o,$1)
+
+# make board's image (below): the target's sources against a motor file's configuration.
+BOARD_OUT    ?= $(BUILD)/board
+MOTOR        ?=
+BOARD_CONFIG := $(BOARD_OUT)/drive_config.h
+BOARD_SRCS   := $(CONTROL_SRCS) $(wildcard firmware/*/*.c) $(wildcard hal/f28335/*.c) $(wildcard tests/c2000_fake/*.c)
+BOARD_OBJS   := $(patsubst %.c,$(BOARD_OUT)/obj/%.o,$(BOARD_SRCS))
+BOARD_IMAGE  := $(BOARD_OUT)/drive_board
 
 LIB_control  := $(OUT)/lib/libcontrol.a
 LIB_firmware := $(OUT)/lib/libfirmware.a
@@ -96,13 +104,13 @@ LIB_f28335   := $(OUT)/lib/libf28335.a
 $(LIB_control):  $(call objs,$(CONTROL_SRCS))
 $(LIB_firmware): $(call objs,$(FIRMWARE_SRCS))
 $(LIB_sim):      $(call objs,$(SIM_SRCS))
-$(LIB_silrun):   $(call objs,$(SILRUN_SRCS))
+$(LIB_silrun):   $(call objs,$(SILRUN_SRCS)) Makefile   # its list is written here: a new member rebuilds it
 $(LIB_f28335):   $(call objs,$(F28335_SRCS))
 
 $(OUT)/lib/%.a:
 	@mkdir -p $(@D)
 	@rm -f $@
-	$(AR) rcs $@ $^
+	$(AR) rcs $@ $(filter %.o,$^)
 
 # Objects are rebuilt when OPT changes (the stamp's text changes only then).
 # -frandom-seed: the seed of the names in LTO sections from the source's path
@@ -148,7 +156,7 @@ endef
 
 $(foreach t,$(TEST_NAMES),$(eval $(call TEST_RULE,$t)))
 
-.PHONY: all test test-host test-san run-tests check firmware flash host-deps test-deps check-deps help clean distclean FORCE
+.PHONY: all test test-host test-san run-tests check board firmware flash host-deps test-deps check-deps help clean distclean FORCE
 
 all: $(TEST_BINS) $(HOST_PROGRAMS) ## the host build: every test runner, drive_sil and sil_bench
 
@@ -222,13 +230,45 @@ distclean: ## remove build/ entirely, the venv included
 	@test -n "$(BUILD)" && test "$(BUILD)" != / || { echo "make distclean: BUILD='$(BUILD)' refused" >&2; exit 2; }
 	rm -rf "$(BUILD)"
 
-# ---- target build --------------------------------------------------------
-firmware: ## the F28335 image with TI's tools (needs CG_TOOL_ROOT and C2000WARE_ROOT)
-	@tools/check/ti_tools.sh
-	@$(MAKE) --no-print-directory -f firmware/f28335/target.mk BUILD=$(BUILD)
+# ---- the board image from a motor file -------------------------------------
+# make board MOTOR=FILE.ini: drive_sil resolves FILE as a run does (the
+# bench's defaults for the keys a simulation defaults otherwise) and writes
+# the image's configuration, $(BOARD_OUT)/drive_config.h and .json
+# (tools/sil/board_config.h); the target's sources (control/, firmware/,
+# hal/f28335/) are compiled against it on the host with the register fake
+# and linked, main.c included. Without MOTOR: the board's own defaults.
+# make firmware MOTOR=FILE.ini builds the same configuration with TI's tools.
+# (The variables are set with the source groups above, for the fragments' rules.)
+# Rewritten only when drive_sil's answer changes: an unchanged motor file compiles nothing again.
+$(BOARD_CONFIG): $(DRIVE_SIL) FORCE
+	@mkdir -p $(BOARD_OUT)/new
+	@$(DRIVE_SIL) --scenario $(or $(MOTOR),/dev/null) --board-config $(BOARD_OUT)/new
+	@for f in drive_config.h drive_config.json; do \
+	    cmp -s $(BOARD_OUT)/new/$$f $(BOARD_OUT)/$$f || cp $(BOARD_OUT)/new/$$f $(BOARD_OUT)/$$f; done
 
-flash: ## program the image with TI UniFlash (dslite.sh)
+$(BOARD_OUT)/obj/%.o: %.c $(BOARD_CONFIG) | host-deps
+	@mkdir -p $(@D)
+	@$(CC) -O2 $(call cflags_for,$<) $(call inc_for,$<) -DDRIVE_CONFIG -I$(BOARD_OUT) -MMD -MP -c $< -o $@
+
+$(BOARD_IMAGE): $(BOARD_OBJS)
+	@$(CC) -o $@ $^ -lm
+
+board: $(BOARD_IMAGE) ## MOTOR=FILE.ini: the image's configuration (build/board/drive_config.h, .json), the target compiled against it on the host
+	@echo "make board: $(BOARD_OUT)/drive_config.h and drive_config.json from $(or $(MOTOR),the board's defaults);" \
+	    "$(words $(BOARD_OBJS)) target sources compiled against them and linked with the register fake ($(BOARD_IMAGE))"
+
+# ---- target build --------------------------------------------------------
+firmware: ## the F28335 image with TI's tools (needs CG_TOOL_ROOT and C2000WARE_ROOT; MOTOR=FILE.ini as make board)
 	@tools/check/ti_tools.sh
-	@$(MAKE) --no-print-directory -f firmware/f28335/target.mk flash BUILD=$(BUILD)
+	@$(if $(MOTOR),$(MAKE) --no-print-directory $(BOARD_CONFIG) MOTOR=$(MOTOR) &&) \
+	    $(MAKE) --no-print-directory -f firmware/f28335/target.mk BUILD=$(BUILD) \
+	    $(if $(MOTOR),DRIVE_CONFIG_DIR=$(BOARD_OUT))
+
+flash: ## program the image with TI UniFlash (dslite.sh; MOTOR=FILE.ini: that image)
+	@tools/check/ti_tools.sh
+	@$(if $(MOTOR),$(MAKE) --no-print-directory $(BOARD_CONFIG) MOTOR=$(MOTOR) &&) \
+	    $(MAKE) --no-print-directory -f firmware/f28335/target.mk flash BUILD=$(BUILD) \
+	    $(if $(MOTOR),DRIVE_CONFIG_DIR=$(BOARD_OUT))
 
 -include $(shell find $(OUT)/obj -name '*.d' 2>/dev/null)
+-include $(shell find $(BOARD_OUT)/obj -name '*.d' 2>/dev/null)

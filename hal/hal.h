@@ -60,8 +60,9 @@ bool hal_trip_active(void);
 void hal_trip_clear(void);
 
 /* Hold the control interrupt off (a period that comes meanwhile runs at hal_isr_resume) and let
- * it run again: background work that must not be interrupted by the ISR, short (a few periods)
- * and only with the outputs off (app_reconfigure_now). Background context, in pairs. */
+ * it run again: background work that must not be interrupted by the ISR, short (a few periods;
+ * a parameter save's erase, about a second) and only with the outputs off (app_reconfigure_now,
+ * link_nv_save). Background context, in pairs. */
 void hal_isr_pause(void);
 void hal_isr_resume(void);
 
@@ -73,5 +74,29 @@ uint32_t hal_cycles(void);
 
 /* Service the watchdog. Background loop only. */
 void hal_watchdog_kick(void);
+
+/* ---- the parameter store's sector (firmware/params/nv_store.h) --------------
+ * One flash sector reserved for the saved parameters (the F28335's sector
+ * B, 32K words: hal/f28335/hal_f28335_nv.c; the SIL's: drive_sil --nv
+ * FILE), read and programmed in 16-bit words; an erased word reads
+ * 0xFFFF, a program only clears bits. */
+
+/* The sector's size [words]. Any context. */
+uint32_t hal_nv_words(void);
+
+/* n words from word off of the sector into dst; false when they do not all
+ * lie in it. Start-up or background context. */
+bool hal_nv_read(uint32_t off, uint16_t *dst, uint16_t n);
+
+/* One block: n words from src (in RAM) programmed at word off, the sector
+ * erased first when erase_first; false when the flash refused (an erase,
+ * a program or the verify failed, or a range outside the sector).
+ * Background context, the drive stopped: the outputs are forced off and
+ * every interrupt held off while the flash is erased or programmed (the
+ * F28335: an erase takes about a second, the watchdog serviced
+ * meanwhile); on return interrupts are enabled and a control period that
+ * came meanwhile runs at once, late: the caller keeps the drive's
+ * tracking from counting the gap (the encoder, the ISR's interval). */
+bool hal_nv_write(uint32_t off, const uint16_t *src, uint16_t n, bool erase_first);
 
 #endif /* HAL_H */

@@ -48,6 +48,7 @@ static inline app_cfg_t make_cfg(bool calibrate, bool align)
 {
     app_cfg_t cfg;
     app_cfg_default(&cfg);
+    cfg.lvl.level = LEVEL_FULL; /* the drive's sequence (the board starts at level 1: test_app) */
     cfg.ctrl = (ctrl_cfg_t){
         .Ts_s = 1e-4f, .R_Ohm = 3.0f, .L_H = 0.011f, .psi_f_Wb = 0.24f, .pole_pairs = 3u,
         .enc_lines = 2500u, .enc_offset_el_rad = 0.0f, .enc_pll_bw_rad_s = 500.0f,

@@ -309,6 +309,75 @@ static void level4_own_limit_and_mode_then_restored(void **state)
     assert_int_equal(ctrl_mode(&app.ctrl), CTRL_MODE_SPEED);
 }
 
+/* The board's image starts at build level 1, as TI's motor kits ship, and
+ * levels 1-2 refuse a bus above 30 V (board_cfg.h: IEC 60364-4-41's SELV
+ * limit for touchable parts outside dry conditions). */
+static void board_starts_at_level_1_with_an_extra_low_bus_limit(void **state)
+{
+    (void)state;
+    app_cfg_t cfg;
+    app_cfg_default(&cfg);
+    assert_int_equal(cfg.lvl.level, LEVEL_PWM);
+    assert_float_equal(cfg.lvl.vdc_max_12_V, 30.0, 0.0);
+    expect_function_call(hal_pwm_disable);
+    app_init(&app, &cfg);
+    assert_int_equal(app.req_level, LEVEL_PWM);
+}
+
+#define BUS_12_MAX_V 30.0f   /* app_cfg_default's, kept by make_cfg */
+
+/* Levels 1 and 2 started on a charged bus: BUS_CHARGED in the start's own
+ * ISR call, before any gate switches (no duty written, no enable), with
+ * the bus and the limit in the snapshot; at the limit itself they start. */
+static void levels_1_and_2_refuse_to_start_on_a_charged_bus(void **state)
+{
+    (void)state;
+    for (uint16_t lvl = LEVEL_PWM; lvl <= LEVEL_ADC; lvl++) {
+        init_app();
+        const hal_sample_t s = sample(0.0f, 0.0f, VDC);
+        app_request_level(&app, lvl);
+        app_request_start(&app);
+        isr_fault(&s, 0);
+        assert_int_equal(app.fault, APP_FAULT_BUS_CHARGED);
+        assert_float_equal(app.snapshot.value, VDC, 0.0);
+        assert_float_equal(app.snapshot.limit, BUS_12_MAX_V, 0.0);
+        assert_snapshot(&s, APP_STATE_INIT);
+    }
+    init_app();
+    const hal_sample_t at = sample(0.0f, 0.0f, BUS_12_MAX_V);
+    app_request_level(&app, LEVEL_PWM);
+    app_request_start(&app);
+    isr_first_write(&at);
+    assert_int_equal(app.state, APP_STATE_PWM_CHECK);
+}
+
+/* A bus charged while level 1 switches (12 V, then 30.5 V) or level 2
+ * reports: BUS_CHARGED in that period, level 1's duties not written. */
+static void levels_1_and_2_stop_when_the_bus_charges(void **state)
+{
+    (void)state;
+    const hal_sample_t low = sample(0.0f, 0.0f, 12.0f);
+    const hal_sample_t high = sample(0.0f, 0.0f, BUS_12_MAX_V + 0.5f);
+    init_app();
+    app_request_level(&app, LEVEL_PWM);
+    app_request_start(&app);
+    isr_first_write(&low);
+    isr_run(&low);
+    isr_fault(&high, 0);
+    assert_int_equal(app.fault, APP_FAULT_BUS_CHARGED);
+    assert_snapshot(&high, APP_STATE_PWM_CHECK);
+
+    init_with(true, false);
+    app_request_level(&app, LEVEL_ADC);
+    run_calibration(CAL_IA, CAL_IB, 12.0f);
+    assert_int_equal(app.state, APP_STATE_ADC_CHECK);
+    isr_quiet(&low);
+    assert_float_equal(app.adc.vdc_V, 12.0, 0.0);
+    isr_fault(&high, 0);
+    assert_int_equal(app.fault, APP_FAULT_BUS_CHARGED);
+    assert_snapshot(&high, APP_STATE_ADC_CHECK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -318,6 +387,9 @@ int main(void)
         cmocka_unit_test(init_with_its_own_cfg_in_place),
         cmocka_unit_test(start_runs_and_stop_idles),
         cmocka_unit_test(level4_own_limit_and_mode_then_restored),
+        cmocka_unit_test(board_starts_at_level_1_with_an_extra_low_bus_limit),
+        cmocka_unit_test(levels_1_and_2_refuse_to_start_on_a_charged_bus),
+        cmocka_unit_test(levels_1_and_2_stop_when_the_bus_charges),
         cmocka_unit_test(sequence_calibrates_aligns_runs),
         cmocka_unit_test(stop_during_calibrate_and_align),
         cmocka_unit_test(isr_call_order),

@@ -49,6 +49,7 @@ static int setup(void **state)
     SysCtrlRegs.PLLSTS.bit.PLLLOCKS = 1U;
     hal_init();
     app_cfg_default(&cfg);
+    cfg.lvl.level = LEVEL_FULL; /* the drive itself (the board starts at level 1) */
     cfg.calibrate = false;
     cfg.align = false;
     cfg.rsid.mode = APP_RSID_OFF;

@@ -78,6 +78,7 @@ static uint32_t run(uint8_t fill, trace_t *out, uint32_t n, uint16_t *max_state,
     memset((void *)&cmd_comm, fill, sizeof cmd_comm);
     app_cfg_default(&cfg);
     cfg.rsid.mode = APP_RSID_SPEEDS;
+    cfg.lvl.level = LEVEL_FULL; /* the whole start to RUN (the board's own start is level 1's, no bus) */
     app_init(&app, &cfg);
     app_attach_comm(&app, &comm);
     cmd_init(&cmd);

@@ -260,10 +260,30 @@ static void every_pie_vector_is_set_and_forces_the_outputs_off(void **state)
     }
 }
 
-/* D11: PIEACK = 0xFFFF at start-up (TI's InitPieCtrl leaves no group blocked). */
-static void init_acknowledges_every_pie_group(void **state)
+/* D11: PIEACK = 0xFFFF at start-up, no group left blocked, and in TI's
+ * order (C2000Ware's EnableInterrupts): the PIE enabled first, then the
+ * acknowledge. Checked after every EDIS of hal_init (the fake's memory
+ * cannot see a write, a hook can see its result): no acknowledge found
+ * while the PIE is still off. */
+static int ack_before_enpie;
+static void ack_only_with_the_pie_on(void)
+{
+    if ((PieCtrlRegs.PIEACK.all != 0U) && (PieCtrlRegs.PIECTRL.bit.ENPIE == 0U)) {
+        ack_before_enpie++;
+    }
+}
+
+static void init_enables_the_pie_then_acknowledges_every_group(void **state)
 {
     (void)state;
+    c2000_fake_reset();
+    SysCtrlRegs.PLLSTS.bit.PLLLOCKS = 1U;
+    ack_before_enpie = 0;
+    c2000_fake_set_edis_hook(ack_only_with_the_pie_on);
+    hal_init();
+    c2000_fake_set_edis_hook(NULL);
+    assert_int_equal(ack_before_enpie, 0);
+    assert_int_equal(PieCtrlRegs.PIECTRL.bit.ENPIE, 1);
     assert_int_equal(PieCtrlRegs.PIEACK.all, 0xFFFF);
 }
 
@@ -765,7 +785,7 @@ int main(void)
         T(init_sets_sci_and_timer),
         T(init_enables_only_the_trip_interrupt),
         T(every_pie_vector_is_set_and_forces_the_outputs_off),
-        T(init_acknowledges_every_pie_group),
+        T(init_enables_the_pie_then_acknowledges_every_group),
         T(isr_attach_drops_the_stale_adc_interrupt),
         T(sample_read_rewinds_the_sequencer_after_reading),
         T(watchdog_reset_is_reported_and_its_flag_cleared),

@@ -21,9 +21,11 @@
 #include "cmd.h"
 #include "drive_params.h"
 #include "link.h"
+#include "link_nv.h"
 #include "link_params.h"
 #include "mathx.h"
 #include "mock_hal.h"
+#include "nv_ram_sector.h"
 
 #define TS_S 1.0e-4f
 #define BAUD 115200u
@@ -39,7 +41,7 @@ static link_frame_t rep;
 static int setup(void **state)
 {
     app_cfg_t cfg;
-    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, { NULL, NULL, NULL } };
+    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, { NULL, NULL, NULL, NULL } };
     (void)state;
     app_cfg_default(&cfg);
     expect_function_call(hal_pwm_disable);
@@ -344,7 +346,7 @@ static void on_params(void *user, uint16_t k)
 static int setup_params(void **state)
 {
     app_cfg_t cfg;
-    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, { &params, on_params, NULL } };
+    link_cfg_t lc = { TS_S, BAUD, "test", 0.0f, { &params, on_params, NULL, NULL } };
     (void)state;
     app_cfg_default(&cfg);
     expect_function_call(hal_pwm_disable);
@@ -358,13 +360,25 @@ static int setup_params(void **state)
     return 0;
 }
 
-static float read_f(uint16_t id)
+/* READ of one variable, answered OK: its value at rep.payload[1]. */
+static void read_one(uint16_t id)
 {
     uint16_t q[2];
     (void)link_put_u16(q, 0u, id);
     assert_int_equal(request(LINK_READ, seq_next(), q, 2u), 1);
     assert_int_equal(rep.payload[0], LINK_ST_OK);
+}
+
+static float read_f(uint16_t id)
+{
+    read_one(id);
     return link_get_f32(rep.payload, 1u);
+}
+
+static uint16_t read_u16(uint16_t id)
+{
+    read_one(id);
+    return link_get_u16(rep.payload, 1u);
 }
 
 /* A parameter (R_ohm, the first): ACCESS while running, nothing changed; written while stopped
@@ -412,12 +426,52 @@ static void parameters_need_a_parameter_set(void **state)
     assert_int_equal(rep.payload[0], LINK_ST_ACCESS);
 }
 
+static link_nv_t store;
+
+static int setup_store(void **state)
+{
+    (void)setup_params(state);
+    nv_ram_erase();
+    link_nv_init(&store, &NV_RAM_DEV);
+    lk.cfg.params.store = &store;   /* link_init's copy: what the table reads */
+    return 0;
+}
+
+/* ACTION save: refused with CMD_ERR_NOT_STOPPED while the drive runs (nothing asked, nv_status
+ * as it was); while stopped (IDLE, FAULT) taken: the store asked, nv_status SAVING, the command
+ * block untouched; the glue's save then shows SAVED. Without a store: an unknown action, and
+ * nv_status NONE. */
+static void action_save_asks_the_store_only_when_stopped(void **state)
+{
+    (void)state;
+    uint16_t a = LINK_ACTION_SAVE;
+    assert_int_equal(read_u16(LV_NV_STATUS), LINK_NV_EMPTY);
+    app.state = APP_STATE_RUN;
+    assert_int_equal(request(LINK_ACTION, seq_next(), &a, 1u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_REFUSED);
+    assert_int_equal(link_get_u16(rep.payload, 1u), CMD_ERR_NOT_STOPPED);
+    assert_false(link_nv_due(&store));
+    assert_int_equal(read_u16(LV_NV_STATUS), LINK_NV_EMPTY);
+    app.state = APP_STATE_FAULT;
+    assert_int_equal(request(LINK_ACTION, seq_next(), &a, 1u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_OK);
+    assert_true(link_nv_due(&store));
+    assert_int_equal(read_u16(LV_NV_STATUS), LINK_NV_SAVING);
+    assert_int_equal(app.req_start + app.req_stop + app.req_fault_reset, 0);
+    assert_int_equal(link_nv_save(&store, &params, app_stopped(&app)), NV_OK);
+    assert_int_equal(read_u16(LV_NV_STATUS), LINK_NV_SAVED);
+    lk.cfg.params.store = NULL;
+    assert_int_equal(request(LINK_ACTION, seq_next(), &a, 1u), 1);
+    assert_int_equal(rep.payload[0], LINK_ST_BAD_REQUEST);
+    assert_int_equal(read_u16(LV_NV_STATUS), LINK_NV_NONE);
+}
+
 /* ACTION LEVEL n: the next start's build level through cmd_apply, refused outside 1..5. */
 static void action_level_sets_the_next_start_level(void **state)
 {
     (void)state;
     const uint16_t before = app.req_level;
-    assert_int_equal(before, LEVEL_FULL);              /* the board's default */
+    assert_int_equal(before, LEVEL_PWM);               /* the board's default: level 1 first */
     uint16_t p[2] = { LINK_ACTION_LEVEL, 2u };
     const uint32_t w0 = lk.stats.writes;
     assert_int_equal(request(LINK_ACTION, seq_next(), p, 2u), 1);
@@ -757,6 +811,7 @@ int main(void)
         cmocka_unit_test_setup(host_timeout_ramps_to_zero_and_stops, setup),
         cmocka_unit_test_setup(parameters_written_stopped_within_their_range, setup_params),
         cmocka_unit_test_setup(parameters_need_a_parameter_set, setup),
+        cmocka_unit_test_setup(action_save_asks_the_store_only_when_stopped, setup_store),
         cmocka_unit_test_setup(stream_is_refused_above_the_budget_naming_it, setup),
         cmocka_unit_test_setup(stream_rows_carry_the_values_read_gives, setup),
         cmocka_unit_test_setup(capture_triggers_above_with_pre_rows_and_period_indices, setup),

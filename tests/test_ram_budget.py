@@ -91,6 +91,27 @@ class CmdFile(unittest.TestCase):
         finally:
             os.unlink(f.name)
 
+    def test_a_union_holds_ramfuncs_and_the_flash_api(self):
+        cmd = CMD.replace("""   ramfuncs : { *(ramfuncs) }
+              LOAD = FLASH,
+              RUN = RAMA,
+              PAGE = 0""", """   UNION run = RAMA, PAGE = 0
+   {
+      ramfuncs : { *(ramfuncs) *(nvfuncs) } LOAD = FLASH, PAGE = 0
+      Flash28_API : { Flash28335_API_V210.lib(.text) } LOAD = FLASH, PAGE = 0
+   }""")
+        _ranges, place = ram_budget.parse_cmd(cmd)
+        self.assertEqual(place["ramfuncs"], "RAMA")
+        self.assertEqual(place["Flash28_API"], "RAMA")
+        # the overlay: the API must end before nvfuncs, the code that runs while it is there
+        est = {"code_words": 4000, "nv_words": 100}
+        line, failed = ram_budget.api_overlay_line(est, place)
+        self.assertFalse(failed)
+        est = {"code_words": ram_budget.FLASH_API_WORDS - ram_budget.FASTRTS_WORDS + 99, "nv_words": 100}
+        line, failed = ram_budget.api_overlay_line(est, place)
+        self.assertTrue(failed, line)
+        self.assertIsNone(ram_budget.api_overlay_line(est, {"ramfuncs": "RAMA"}))
+
     def test_a_section_in_an_undefined_range_is_an_error(self):
         with self.assertRaises(SystemExit) as e:
             ram_budget.parse_cmd(CMD.replace("RUN = RAMA", "RUN = RAMQ"))

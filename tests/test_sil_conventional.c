@@ -57,6 +57,7 @@ static void setup(inv_model_t model, double vdc_V, bool speed_held, mismatch_t m
     cfg.prot.vdc_min_V = (float)vdc_V * (BOARD_VDC_MIN_V / BOARD_VDC_NOMINAL_V);
     cfg.calibrate = false;
     cfg.align = false;
+    cfg.lvl.level = LEVEL_FULL; /* the drive itself (the board starts at level 1) */
     app_init(&app, &cfg);
     hal_init();
     hal_isr_attach(sil_isr);

@@ -4,6 +4,9 @@
  *     the board's limits stay the 311 V bus's): the legs at 0.25, 0.5,
  *     0.75 from the start request on, no undervoltage trip (level 5 on the
  *     same bus trips UNDERVOLTAGE at once), no other fault.
+ *   1, 2 on the charged 311 V bus: BUS_CHARGED at the start, PWM never on;
+ *     level 1 on a 12 V bus switches; a 28 V bus surging to 34 V while it
+ *     does trips BUS_CHARGED within that period.
  *   2 ADC_CHECK: PWM never on; the offsets measured and the readings
  *     reported against the plant's ADC offsets (within one LSB, 30 A /
  *     4096) and the 1 V bus (within one LSB, 600 V / 4096).
@@ -94,6 +97,38 @@ static void level1_pwm_pattern_without_bus(void **state)
     run(full, 4, &res);
     assert_int_equal(res.final_fault, APP_FAULT_UNDERVOLTAGE);
     assert_int_equal(res.pwm_periods, 0u);
+}
+
+static void levels_1_and_2_refuse_a_charged_bus(void **state)
+{
+    (void)state;
+    static const char *const l1[] = { "run.level=1", "run.duration_s=0.05" };
+    static const char *const l2[] = { "run.level=2", "run.duration_s=0.05" };
+    sil_result_t res;
+    run(l1, 2, &res);
+    assert_int_equal(res.final_fault, APP_FAULT_BUS_CHARGED);
+    assert_int_equal(res.pwm_periods, 0u);
+    assert_float_equal(res.fault_value, 311.0, VDC_LSB_V);
+    assert_float_equal(res.fault_limit, 30.0, 0.0);
+    run(l2, 2, &res);
+    assert_int_equal(res.final_fault, APP_FAULT_BUS_CHARGED);
+    assert_int_equal(res.pwm_periods, 0u);
+    /* an extra-low bus: level 1 switches */
+    static const char *const low[] = { "run.level=1", "plant.vdc_V=12", "run.duration_s=0.05" };
+    run(low, 3, &res);
+    assert_int_equal(res.final_state, APP_STATE_PWM_CHECK);
+    assert_int_equal(res.final_fault, APP_FAULT_NONE);
+    assert_int_equal(res.pwm_periods, res.periods);
+    /* charged while it switches: the fault in the surge's period, PWM off from there (a 28 V
+     * bus: its overvoltage trip, 400 V x 28 / 311 = 36 V, above the 34 V) */
+    static const char *const surge[] = { "run.level=1", "plant.vdc_V=28", "faults.vdc_surge_s=0.02",
+                                         "faults.vdc_surge_V=34", "run.duration_s=0.05" };
+    run(surge, 5, &res);
+    assert_int_equal(res.final_fault, APP_FAULT_BUS_CHARGED);
+    assert_int_equal(res.fault_state, APP_STATE_PWM_CHECK);
+    assert_float_equal(res.t_fault_s, 0.02, 1.5e-4);
+    assert_float_equal(res.fault_value, 34.0, VDC_LSB_V);
+    assert_int_equal(res.gates_on_in_fault, 0u);
 }
 
 static void level2_adc_offsets_and_readings(void **state)
@@ -244,6 +279,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(level1_pwm_pattern_without_bus),
+        cmocka_unit_test(levels_1_and_2_refuse_a_charged_bus),
         cmocka_unit_test(level2_adc_offsets_and_readings),
         cmocka_unit_test(level3_right_board_passes),
         cmocka_unit_test(level3_reversed_encoder),

@@ -59,6 +59,16 @@ RAMFUNC static void stop_to_idle(app_t *app)
     app->state = APP_STATE_IDLE;
 }
 
+/* Levels 1-2 (level.h): the bus within their extra-low limit, else
+ * BUS_CHARGED (a NaN bus refused too). Flash: a build level's check. */
+FLASHFUNC static app_step_t level12_bus(const app_t *app, const hal_sample_t *s)
+{
+    if (!(s->vdc_V <= app->cfg.lvl.vdc_max_12_V)) {
+        return app_step_fault(APP_FAULT_BUS_CHARGED, s->vdc_V, app->cfg.lvl.vdc_max_12_V);
+    }
+    return app_step_running();
+}
+
 /* ---- the start sequence, from flash (FLASHFUNC): the transitions a start
  * or a commissioning takes, once per start, and the CALIBRATE and ALIGN
  * steps, before the drive takes the user's reference ------------------- */
@@ -186,7 +196,12 @@ FLASHFUNC static void start_sequence(app_t *app, const hal_sample_t *s, bool com
     app->rsid_refusal = app_step_running();
     level_control(app, was);
     if (app->level <= LEVEL_ADC) {
+        const app_step_t bus = level12_bus(app, s);
         protect_disarm_uv(&app->prot);
+        if (bus.status == APP_STEP_FAULT) {
+            app_latch_fault(app, &bus, s); /* before any gate switches */
+            return;
+        }
     }
     if (app->level == LEVEL_PWM) {
         app->state = APP_STATE_PWM_CHECK;
@@ -304,11 +319,20 @@ RAMFUNC static void identify_state(app_t *app, const hal_sample_t *s)
     }
 }
 
-/* PWM_CHECK (level 1): the fixed duties, outputs on. */
-RAMFUNC static void pwm_check_state(app_t *app, const hal_sample_t *s)
+/* ---- the build levels 1-3 (level.h), from flash (FLASHFUNC): bring-up
+ * states, the motor not under the user's control ------------------------ */
+
+/* PWM_CHECK (level 1): the fixed duties, outputs on; a bus charged
+ * meanwhile latches BUS_CHARGED before the duties are written. */
+FLASHFUNC static void pwm_check_state(app_t *app, const hal_sample_t *s)
 {
+    const app_step_t bus = level12_bus(app, s);
     int16_t k;
 
+    if (bus.status == APP_STEP_FAULT) {
+        app_latch_fault(app, &bus, s);
+        return;
+    }
     for (k = 0; k < 3; k++) {
         app->out.duty[k] = app->cfg.lvl.pwm_duty[k];
     }
@@ -316,17 +340,23 @@ RAMFUNC static void pwm_check_state(app_t *app, const hal_sample_t *s)
     (void)app_output(app, app_step_running(), s);
 }
 
-/* ADC_CHECK (level 2): outputs off, the readings into the report. */
-RAMFUNC static void adc_check_state(app_t *app, const hal_sample_t *s)
+/* ADC_CHECK (level 2): outputs off, the readings into the report; a bus
+ * charged meanwhile latches BUS_CHARGED. */
+FLASHFUNC static void adc_check_state(app_t *app, const hal_sample_t *s)
 {
+    const app_step_t bus = level12_bus(app, s);
+
     app->adc.ia_A = s->ia_A;
     app->adc.ib_A = s->ib_A;
     app->adc.vdc_V = s->vdc_V;
+    if (bus.status == APP_STEP_FAULT) {
+        app_latch_fault(app, &bus, s);
+    }
 }
 
 /* ENC_CHECK (level 3): the turning vector through ctrl's output path; the
  * check's verdict ends it (IDLE) or latches its fault. */
-RAMFUNC static void enc_check_state(app_t *app, const hal_sample_t *s)
+FLASHFUNC static void enc_check_state(app_t *app, const hal_sample_t *s)
 {
     const ab_t i = clarke_2ph(s->ia_A - app->offset_ia_A, s->ib_A - app->offset_ib_A);
     ab_t u;

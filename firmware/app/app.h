@@ -67,8 +67,10 @@
  *            current limit lvl.i_lim_4_A
  *   level 5  the sequence above as configured
  * PWM_CHECK, ADC_CHECK, ENC_CHECK --stop--> IDLE. Undervoltage is not
- * checked at levels 1-2 (no DC bus); CALIBRATE runs at level 2 whatever
- * cfg.calibrate says (the offsets are what it reports).
+ * checked at levels 1-2 (no DC bus); a bus above lvl.vdc_max_12_V at their
+ * start, or in PWM_CHECK or ADC_CHECK, latches BUS_CHARGED (level.h);
+ * CALIBRATE runs at level 2 whatever cfg.calibrate says (the offsets are
+ * what it reports).
  */
 #ifndef APP_H
 #define APP_H
@@ -277,6 +279,10 @@ void app_request_warning(app_t *app, uint16_t bits);
  * app_reconfigure_now (main.c), or between periods (the SIL). flags: APP_RECONF_*; requests
  * before it is taken add up. */
 void app_request_reconfigure(app_t *app, uint16_t flags);
+
+/* The drive stopped: INIT, IDLE or FAULT (PWM off, no start step running). Background, or with the
+ * ISR held off to act on it. */
+bool app_stopped(const app_t *app);
 
 /* Background: a new configuration asked for and the drive stopped (INIT, IDLE, FAULT). */
 bool app_reconfigure_due(const app_t *app);

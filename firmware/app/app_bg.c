@@ -208,14 +208,14 @@ static void app_reconfigure(app_t *app, uint16_t flags)
     }
 }
 
-static bool stopped(const app_t *app)
+bool app_stopped(const app_t *app)
 {
     return (app->state == APP_STATE_INIT) || (app->state == APP_STATE_IDLE) || (app->state == APP_STATE_FAULT);
 }
 
 bool app_reconfigure_due(const app_t *app)
 {
-    return (app->req_reconfigure != 0u) && stopped(app);
+    return (app->req_reconfigure != 0u) && app_stopped(app);
 }
 
 void app_reconfigure_now(app_t *app)

@@ -79,11 +79,13 @@ void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p)
     cfg->rsid.on_refusal = (app_rsid_refusal_t)BOARD_RSID_ON_REFUSAL;
 
     cfg->lvl.level = (uint16_t)BOARD_LEVEL;
+    cfg->lvl.vdc_max_12_V = BOARD_LEVEL12_VDC_MAX_V;
     cfg->lvl.pwm_duty[0] = BOARD_LEVEL1_DUTY_A;
     cfg->lvl.pwm_duty[1] = BOARD_LEVEL1_DUTY_B;
     cfg->lvl.pwm_duty[2] = BOARD_LEVEL1_DUTY_C;
     cfg->lvl.speed_m_rad_s = BOARD_LEVEL3_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
     cfg->lvl.ramp_s = BOARD_ALIGN_RAMP_S;
+    DRIVE_CONFIG_APP(cfg); /* a motor file's settings (make board), else nothing */
 }
 
 /* DRIVE_TO(path): cfg->path = the value; DRIVE_TO_NONE: no copy. */

@@ -18,6 +18,13 @@
  * Levels 1-3 ignore the operator's mode and method; level 4 holds its own
  * until a start at another level.
  *
+ * Levels 1-2 are meant for a board without its DC bus: with the bus above
+ * vdc_max_12_V (a safe extra-low voltage) a start at either latches the
+ * fault BUS_CHARGED before any gate switches, and so does a bus that rises
+ * above it while PWM_CHECK or ADC_CHECK runs (PWM off). Level 1's fixed
+ * duties on a charged bus and a connected motor put about half the bus
+ * across two windings, limited only by the overcurrent trip.
+ *
  * Level 3's rotation: the vector's amplitude ramps up at angle 0 over
  * ramp_s, then the vector turns at w = p speed_m_rad_s (p the controller's
  * pole pairs); one electrical turn lets the rotor fall in, then the check
@@ -47,6 +54,7 @@
 
 typedef struct {
     uint16_t level;             /* at power-on (LEVEL_MIN .. LEVEL_MAX) */
+    float vdc_max_12_V;         /* levels 1-2: BUS_CHARGED above this bus [V] */
     float pwm_duty[3];          /* level 1's duties of legs a, b, c [0..1] */
     float i_lim_4_A;            /* level 4's current limit [A] */
     float speed_m_rad_s;        /* level 3's commanded speed [rad/s mech] */

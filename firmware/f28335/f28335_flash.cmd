@@ -18,7 +18,11 @@ PAGE 0 :
     * check` (tools/check/ram_budget.py, from drive.map once there is one),
     * which fails under 10 % free; it reads the lengths below. */
    RAML0L5    : origin = 0x008000, length = 0x006000   /* L0-L5 SARAM (24K words): run address of ramfuncs */
-   FLASHHB    : origin = 0x300000, length = 0x038000   /* flash sectors H..B, 32K words each */
+   FLASHHC    : origin = 0x300000, length = 0x030000   /* flash sectors H..C, 32K words each: the image */
+   /* Flash sector B, the parameter store's (hal/f28335/hal_f28335_nv.c,
+    * hal_f28335_cfg.h F28335_NV_SECTOR_*): nothing is placed here, so no
+    * CRC record covers it and an image leaves it alone. */
+   FLASHB_NV  : origin = 0x330000, length = 0x008000
    FLASHA     : origin = 0x338000, length = 0x007F80   /* flash sector A, up to the CSM reserved words */
    CSM_RSVD   : origin = 0x33FF80, length = 0x000076   /* must be 0x0000 when the CSM is used */
    BEGIN      : origin = 0x33FFF6, length = 0x000002   /* boot ROM "jump to flash" entry */
@@ -44,34 +48,54 @@ SECTIONS
     * (CRC32_PRIME, firmware/f28335/flash_crc.h) in the table flash_crc_table,
     * which main.c checks at start-up; the table itself in .TI.crctab.
     * .cinit and .pinit (built by the linker) are not covered. */
-   .text         : > FLASHHB,   PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
+   .text         : > FLASHHC,   PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
    .cinit        : > FLASHA,    PAGE = 0
    .pinit        : > FLASHA,    PAGE = 0
-   .econst       : > FLASHHB,   PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
+   .econst       : > FLASHHC,   PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
    .switch       : > FLASHA,    PAGE = 0, crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
    .TI.crctab    : > FLASHA,    PAGE = 0
 
    /* Code that runs from RAM: the control ISR path (RAMFUNC functions and
     * control/, --ramfunc=on: .TI.ramfunc; FPUfastRTS members) and the flash
-    * wait-state set-up.
-    * Stored in flash, copied to L0-L5 by hal_init() (hal_f28335_sysctrl.c).
-    * The members are named in the COFF library that holds the objects
-    * (firmware/f28335/target.mk links the same library). */
-   ramfuncs      : {
-                      *(ramfuncs)
-                      *(.TI.ramfunc)
-                      rts2800_fpu32_fast_supplement_coff.lib<sincos_f32.obj>(.text)
-                      rts2800_fpu32_fast_supplement_coff.lib<atan2_f32.obj>(.text)
-                      rts2800_fpu32_fast_supplement_coff.lib<sqrt_f32.obj>(.text)
-                      rts2800_fpu32_fast_supplement_coff.lib<div_f32.obj>(.text)
-                   }
-                   LOAD = FLASHHB,
-                   RUN = RAML0L5,
-                   LOAD_START(_RamfuncsLoadStart),
-                   LOAD_SIZE(_RamfuncsLoadSize),
-                   RUN_START(_RamfuncsRunStart),
-                   PAGE = 0,
-                   crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
+    * wait-state set-up; last, the parameter store's writer (nvfuncs:
+    * hal_f28335_nv.c's hal_nv_write and its callback). Stored in flash,
+    * copied to L0-L5 by hal_init() (hal_f28335_sysctrl.c). The members are
+    * named in the COFF library that holds the objects (firmware/f28335/
+    * target.mk links the same library).
+    * TI's flash API (Flash28_API: the Flash2833x API library's code and
+    * constants) must run from RAM too, but only while the writer runs, with
+    * every interrupt held off: it runs over the start of ramfuncs (a UNION:
+    * the same run address), copied there by hal_nv_write and ramfuncs' start
+    * copied back after it. Its 1.5K words end far before nvfuncs, which the
+    * API must not overwrite (tools/check/ram_budget.py checks it), and lie
+    * in L0, inside the code security module's secure zone, where the API
+    * runs on a secured device. */
+   UNION run = RAML0L5, PAGE = 0
+   {
+      ramfuncs    : {
+                       *(ramfuncs)
+                       *(.TI.ramfunc)
+                       rts2800_fpu32_fast_supplement_coff.lib<sincos_f32.obj>(.text)
+                       rts2800_fpu32_fast_supplement_coff.lib<atan2_f32.obj>(.text)
+                       rts2800_fpu32_fast_supplement_coff.lib<sqrt_f32.obj>(.text)
+                       rts2800_fpu32_fast_supplement_coff.lib<div_f32.obj>(.text)
+                       *(nvfuncs)
+                    }
+                    LOAD = FLASHHC, PAGE = 0,
+                    LOAD_START(_RamfuncsLoadStart),
+                    LOAD_SIZE(_RamfuncsLoadSize),
+                    RUN_START(_RamfuncsRunStart),
+                    crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
+      Flash28_API : {
+                       Flash28335_API_V210.lib(.econst)
+                       Flash28335_API_V210.lib(.text)
+                    }
+                    LOAD = FLASHHC, PAGE = 0,
+                    LOAD_START(_Flash28_API_LoadStart),
+                    LOAD_END(_Flash28_API_LoadEnd),
+                    RUN_START(_Flash28_API_RunStart),
+                    crc_table(_flash_crc_table, algorithm = CRC32_PRIME)
+   }
 
    csmpasswds    : > CSM_PWL,   PAGE = 0
    csm_rsvd      : > CSM_RSVD,  PAGE = 0
@@ -83,9 +107,10 @@ SECTIONS
                    RUN_START(_EbssRunStart),
                    RUN_SIZE(_EbssRunSize)
    .esysmem      : > RAMM0,     PAGE = 1
-   /* Objects main.c places here (DATA_SECTION): the commissioning's state
-    * and the command blocks, in M0, which .esysmem leaves free; their init
-    * functions set every field (not zeroed: only .ebss is). */
+   /* Objects placed here (DATA_SECTION): main.c's commissioning state and
+    * command blocks, the flash API's two globals (hal_f28335_nv.c), in M0,
+    * which .esysmem leaves free; each is set whole before it is read (not
+    * zeroed: only .ebss is). */
    m0data        : > RAMM0,     PAGE = 1
 
    /* Tables already in boot ROM: referenced, never loaded. */

@@ -1,8 +1,9 @@
 /*
  * main.c - F28335 target entry: bring up the board, configure the drive
- * from board_cfg.h (app_cfg_default), run the control ISR (ADC SEQ1,
- * 10 kHz) from RAM and the background loop (watchdog via app_background,
- * the operator's command block, the link on SCI-A).
+ * from board_cfg.h and the saved parameters (nv_params_load), run the
+ * control ISR (ADC SEQ1, 10 kHz) from RAM and the background loop
+ * (watchdog via app_background, the operator's command block, the link
+ * on SCI-A).
  *
  * Operating the board: drivetool over SCI-A (firmware/link/link_protocol.md,
  * tools/drivetool/README.md), or in CCS: add `g_cmd` to the expressions
@@ -21,7 +22,15 @@
  * image is checked against the CRCs the linker recorded
  * (f28335_flash.cmd, crc_table(_flash_crc_table)): a mismatch latches
  * FLASH_CRC (snapshot value: the failing record's index), which no reset
- * clears.
+ * clears. The configuration is the board's (board_cfg.h, a motor file's
+ * with make board) with the parameter store's saved values over it
+ * (flash sector B, firmware/link/link_nv.h: the link's parameters):
+ * g_nv.status, the link's nv_status, says what the start-up took (VALID,
+ * g_nv.taken values; EMPTY: nothing saved; INVALID: a block that fails its
+ * check, the board's values kept); the drive starts either way. drivetool
+ * save (the link's action save, the drive stopped) writes the link's
+ * parameters as they are (g_params) from the main loop, the control ISR
+ * held off for the erase and program (about a second).
  * Not linked on the host (the Makefile filters it out); the make check
  * gates compile it.
  */
@@ -34,6 +43,7 @@
 #include "hal_f28335.h"
 #include "hal_f28335_cfg.h"
 #include "link.h"
+#include "link_nv.h"
 
 #if defined(__TMS320C28XX__)
 #include <crc_tbl.h>
@@ -53,13 +63,17 @@ static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
 /* In M0 (section m0data, f28335_flash.cmd), as .ebss in L6-L7 keeps its
  * margin only without them: objects whose init functions write every
  * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
- * proves it; g_params: drive_params_board; g_lim: its three fields set in main), since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
+ * proves it; g_params: drive_params_board; g_lim: its three fields set in
+ * main; g_nv: link_nv_init, its block buffer written before it is read),
+ * since nothing zeroes M0 (f28335_codestart.asm zeroes .ebss). */
+static link_nv_t g_nv;       /* the parameter store: flash sector B through the HAL (hal_f28335_nv.c) */
 #if defined(__TMS320C28XX__)
 #pragma DATA_SECTION(g_commission, "m0data")
 #pragma DATA_SECTION(g_cmd, "m0data")
 #pragma DATA_SECTION(g_comm, "m0data")
 #pragma DATA_SECTION(g_params, "m0data")
 #pragma DATA_SECTION(g_lim, "m0data")
+#pragma DATA_SECTION(g_nv, "m0data")
 #endif
 static volatile bool g_reset_by_watchdog; /* WDCR.WDFLAG at start-up (hal_f28335_watchdog_reset) */
 static const char FIRMWARE_ID[] = "f28335 db-dtc";
@@ -105,6 +119,22 @@ static void reconfigure(void)
     }
 }
 
+/* The main loop, the control ISR held off: the save the link asked for (link_nv_due), the drive
+ * still stopped (read here, where no start can be taken meanwhile; started since: nothing written,
+ * SAVE_FAILED); the erase and program run with every interrupt masked (hal_nv_write), the periods
+ * missed meanwhile are not tracked: the configuration is taken again (reconfigure, next), as after
+ * a parameter's write. */
+static void params_save(void)
+{
+    if (link_nv_due(&g_nv)) {
+        const bool stopped = app_stopped(&g_app);
+        (void)link_nv_save(&g_nv, &g_params, stopped);
+        if (stopped) {
+            app_request_reconfigure(&g_app, 0U);
+        }
+    }
+}
+
 /* Start-up, before interrupts: the index of the first CRC record of the
  * image that fails (flash_crc.h), or -1 when all match. */
 static int16_t flash_image_bad_record(void)
@@ -135,12 +165,18 @@ RAMFUNC static HAL_INTERRUPT void ctrl_isr(void)
 int main(void)
 {
     link_cfg_t lc;
+    nv_dev_t nv;
     int16_t bad_record;
 
     hal_init();  /* ramfuncs copied: its CRC record holds at either address */
     bad_record = flash_image_bad_record();
     g_reset_by_watchdog = hal_f28335_watchdog_reset();
+    nv.words = hal_nv_words();
+    nv.read = hal_nv_read;
+    nv.write = hal_nv_write;
+    link_nv_init(&g_nv, &nv);
     drive_params_board(&g_params);
+    (void)link_nv_load(&g_nv, &g_params);   /* g_nv.status: the link's nv_status */
     (void)drive_params_derive(&g_params);   /* refusals: a start faults CONFIG (params_refused) */
     app_cfg_from_params(&g_app.cfg, &g_params);
     app_init(&g_app, &g_app.cfg);
@@ -152,7 +188,7 @@ int main(void)
     }
     cmd_init(&g_cmd);
     cmd_comm_init(&g_comm);
-    g_lim.speed_max_rpm = MOTOR_RATED_SPEED_RPM;
+    g_lim.speed_max_rpm = g_app.cfg.comm.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F; /* the rated speed */
     g_lim.te_max_Nm = g_app.cfg.ctrl.te_max_Nm;
     g_lim.u_max_V = g_app.cfg.ctrl.u_max_V;
     link_cfg_default(&lc);   /* the host timeout: BOARD_HOST_TIMEOUT_S */
@@ -161,6 +197,7 @@ int main(void)
     lc.firmware_id = FIRMWARE_ID;
     lc.params.set = &g_params;
     lc.params.apply = params_apply;
+    lc.params.store = &g_nv;
     link_init(&g_link, &lc, &g_app, &g_cmd, &g_lim);
     g_link.stats.reset_by_watchdog = g_reset_by_watchdog ? 1U : 0U;
     hal_isr_attach(ctrl_isr);  /* interrupts and watchdog on from here */
@@ -169,10 +206,12 @@ int main(void)
         cmd_comm_apply(&g_comm, &g_cmd, &g_app);
         app_background(&g_app);  /* kicks the watchdog (hal_watchdog_kick) */
         link_service();
-        if (app_reconfigure_due(&g_app)) {
-            /* the drive's parameters changed (the drive stopped, PWM off): start-up work with the
-             * control ISR held off, a few periods (tools/check/ram_budget.py counts it so) */
+        if (app_reconfigure_due(&g_app) || link_nv_due(&g_nv)) {
+            /* the drive's parameters changed or are to be saved (the drive stopped, PWM off):
+             * start-up work with the control ISR held off, a few periods, a save's erase about a
+             * second (tools/check/ram_budget.py counts it so) */
             hal_isr_pause();
+            params_save();
             reconfigure();
             hal_isr_resume();
         }

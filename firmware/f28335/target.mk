@@ -1,6 +1,6 @@
 # firmware/f28335/target.mk - the TMS320F28335 image, built with TI's cl2000.
 #
-#   make firmware CG_TOOL_ROOT=<ti-cgt-c2000> C2000WARE_ROOT=<C2000Ware>
+#   make firmware CG_TOOL_ROOT=<ti-cgt-c2000> C2000WARE_ROOT=<C2000Ware> [MOTOR=FILE.ini]
 #       -> $(BUILD)/f28335/drive.out (+ drive.map)
 #   make -f firmware/f28335/target.mk flash CCXML=<target config> [UNIFLASH_ROOT=<uniflash>]
 #
@@ -26,11 +26,20 @@ OUT   := $(BUILD)/f28335
 
 CG_TOOL_ROOT   ?=
 C2000WARE_ROOT ?=
+# A motor file's configuration (make firmware MOTOR=FILE.ini: the top-level
+# Makefile writes it with drive_sil --board-config): the directory of its
+# drive_config.h, read through hal/f28335/board_hw.h; empty: the defaults.
+DRIVE_CONFIG_DIR ?=
 CL := $(CG_TOOL_ROOT)/bin/cl2000
 
 F2833X_HEADERS := $(C2000WARE_ROOT)/device_support/f2833x/headers
 F2833X_COMMON  := $(C2000WARE_ROOT)/device_support/f2833x/common
 FASTRTS        := $(C2000WARE_ROOT)/libraries/math/FPUfastRTS/c28
+# TI's Flash2833x API (SPRC539): the parameter store's writer
+# (hal/f28335/hal_f28335_nv.c) calls it; f28335_flash.cmd runs it from RAM
+# (Flash28_API) and names this library's file.
+FLASH_API_ROOT ?= $(C2000WARE_ROOT)/libraries/flash_api/f2833x
+FLASH_API_LIB  := Flash28335_API_V210.lib
 
 # C28x + FPU32, COFF ABI (32-bit double, matching tools/check/c28x.xml),
 # large memory model and unified memory as C2000Ware's f2833x headers expect.
@@ -44,7 +53,9 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
           --include_path=hal/f28335 \
           --include_path=$(F2833X_HEADERS)/include \
           --include_path=$(F2833X_COMMON)/include \
-          --include_path=$(FASTRTS)/include
+          --include_path=$(FASTRTS)/include \
+          --include_path=$(FLASH_API_ROOT)/include \
+          $(if $(DRIVE_CONFIG_DIR),--define=DRIVE_CONFIG --include_path=$(DRIVE_CONFIG_DIR))
 
 # The ISR path runs from RAM. The control core (the directories in
 # RAMFUNC_ALL) runs from RAM whole: every function of control/ is the ISR's
@@ -92,9 +103,9 @@ TI_OBJS  := $(foreach s,$(TI_C_SRCS) $(TI_ASM_SRCS),$(call obj_of,$s))
 LINK_CMDS := firmware/f28335/f28335_flash.cmd $(F2833X_HEADERS)/cmd/DSP2833x_Headers_nonBIOS.cmd
 LFLAGS := -z --rom_model --entry_point=code_start --stack_size=0x400 --heap_size=0 \
           --warn_sections --reread_libs --priority \
-          --search_path=$(CG_TOOL_ROOT)/lib --search_path=$(FASTRTS)/lib \
+          --search_path=$(CG_TOOL_ROOT)/lib --search_path=$(FASTRTS)/lib --search_path=$(FLASH_API_ROOT)/lib \
           --map_file=$(OUT)/drive.map
-LIBS := --library=rts2800_fpu32_fast_supplement_coff.lib --library=rts2800_fpu32.lib
+LIBS := --library=rts2800_fpu32_fast_supplement_coff.lib --library=rts2800_fpu32.lib --library=$(FLASH_API_LIB)
 
 .PHONY: all flash flash-tools clean-target
 all: $(OUT)/drive.out
@@ -103,10 +114,18 @@ $(OUT)/drive.out: $(APP_OBJS) $(TI_OBJS) $(LINK_CMDS)
 	$(CL) $(CPU_FLAGS) $(LFLAGS) --output_file=$@ $(APP_OBJS) $(TI_OBJS) $(LINK_CMDS) $(LIBS)
 	@echo "built $@ (map: $(OUT)/drive.map)"
 
+# The compile options as a file that changes only with them: a build with
+# another MOTOR (or none) compiles everything again.
+CFLAGS_STAMP := $(OUT)/cflags.stamp
+$(CFLAGS_STAMP): FORCE
+	@mkdir -p $(@D)
+	@echo '$(CFLAGS)' | cmp -s - $@ || echo '$(CFLAGS)' > $@
+.PHONY: FORCE
+
 # One object rule per source, so that files with equal names in different
 # directories would collide loudly rather than silently.
 define C_RULE
-$(call obj_of,$1): $1 firmware/f28335/target.mk
+$(call obj_of,$1): $1 firmware/f28335/target.mk $(CFLAGS_STAMP)
 	@mkdir -p $$(@D)
 	$$(CL) $$(CFLAGS) $(if $(filter-out $(RAMFUNC_ALL_EXCEPT),$(filter $(addsuffix /%,$(RAMFUNC_ALL)),$1)),--ramfunc=on) \
 	    --preproc_with_compile --preproc_dependency=$$(@:.obj=.d) \

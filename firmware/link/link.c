@@ -38,6 +38,7 @@ void link_cfg_default(link_cfg_t *cfg)
     cfg->params.set = NULL;
     cfg->params.apply = NULL;
     cfg->params.user = NULL;
+    cfg->params.store = NULL;
 }
 
 void link_init(link_t *l, const link_cfg_t *cfg, app_t *app, volatile cmd_t *cmd, const cmd_limits_t *lim)

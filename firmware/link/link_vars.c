@@ -74,6 +74,7 @@ static const link_var_t VARS[LV_PARAM_FIRST] = {
     [LV_HOLD_REASON] = { "hold_reason", "", LINK_T_U16, R, LINK_CAP_I16 },
     [LV_FAULT_PRESENT] = { "fault_present", "", LINK_T_U16, R, LINK_CAP_I16 },
     [LV_HOST_TIMEOUT_S] = { "host_timeout_s", "s", LINK_T_F32, W, LINK_CAP_I16 },
+    [LV_NV_STATUS] = { "nv_status", "", LINK_T_U16, R, LINK_CAP_I16 },
 };
 /* the parameters' descriptors: written when stopped, captured as float32 (integers as they are) */
 #define LINK_PARAM_VAR(id, key, unit, type, field, lo, hi, lo_open) \
@@ -129,6 +130,7 @@ void link_var_limits(const link_target_t *t, uint16_t id, float *lo, float *hi)
     case LV_METHOD: case LV_METHOD_RAN: *hi = (float)CTRL_METHOD_PROPOSED; break;
     case LV_VDC_V: *hi = c->prot.vdc_max_V; break;
     case LV_HOST_TIMEOUT_S: *hi = LINK_HOST_TIMEOUT_MAX_S; break;
+    case LV_NV_STATUS: *hi = (float)LINK_NV_STATUS_LAST; break;
     /* the commissioning's values: what a plausible measurement can reach on this drive */
     case LV_COMM_RESULT: *hi = (float)COMM_REFUSED; break;
     case LV_COMM_STAGE: *hi = (float)COMM_STAGE_LAST; break;
@@ -224,6 +226,7 @@ RAMFUNC link_val_t link_var_get(const link_target_t *t, uint16_t id)
     case LV_HOLD_REASON: return of_u((uint32_t)e->hold);
     case LV_FAULT_PRESENT: return of_u((uint32_t)a->fault_present);
     case LV_HOST_TIMEOUT_S: return of_f(t->host->timeout_s);
+    case LV_NV_STATUS: return of_u((t->params->store != NULL) ? (uint32_t)t->params->store->status : 0u);
     default: return of_u(0u);
     }
 }
@@ -291,11 +294,6 @@ static void cmd_field_set(volatile cmd_t *c, uint16_t id, link_val_t v)
     }
 }
 
-static bool stopped(const app_t *a)
-{
-    return (a->state == APP_STATE_INIT) || (a->state == APP_STATE_IDLE) || (a->state == APP_STATE_FAULT);
-}
-
 /* A link setting (not a command field): v within its limits, or CMD_ERR_RANGE (kept as it was). */
 static uint16_t link_setting_write(const link_target_t *t, uint16_t id, float v)
 {
@@ -331,7 +329,7 @@ uint16_t link_var_write(const link_target_t *t, uint16_t id, link_val_t v, bool 
 {
     const link_var_t *d = link_var(id);
     *access_refused = (id >= (uint16_t)LV_COUNT) || (d->access == (uint16_t)LINK_ACC_READ) ||
-                      ((d->access == (uint16_t)LINK_ACC_WRITE_STOPPED) && !stopped(t->app));
+                      ((d->access == (uint16_t)LINK_ACC_WRITE_STOPPED) && !app_stopped(t->app));
     if (*access_refused) {
         return (uint16_t)CMD_OK;
     }
@@ -364,12 +362,18 @@ static uint16_t action_refusal(const app_t *a, uint16_t action)
     if (commission && (a->state != APP_STATE_INIT) && (a->state != APP_STATE_IDLE)) {
         return (uint16_t)CMD_ERR_NOT_STOPPED;
     }
+    if ((action == (uint16_t)LINK_ACTION_SAVE) && !app_stopped(a)) {
+        return (uint16_t)CMD_ERR_NOT_STOPPED;    /* a flash erase holds the CPU: never while running */
+    }
     return (uint16_t)CMD_OK;
 }
 
 uint16_t link_action(const link_target_t *t, uint16_t action)
 {
     volatile cmd_t *c = t->cmd;
+    if ((action == (uint16_t)LINK_ACTION_SAVE) && (t->params->store == NULL)) {
+        return LINK_ACTION_UNKNOWN;              /* no store on this drive */
+    }
     const uint16_t refused = action_refusal(t->app, action);
     if (refused != (uint16_t)CMD_OK) {
         c->error = refused;              /* named for the expressions window too */
@@ -393,6 +397,9 @@ uint16_t link_action(const link_target_t *t, uint16_t action)
         c->run_taken = 0u;
         app_request_commission(t->app);
         break;
+    case LINK_ACTION_SAVE:
+        link_nv_ask(t->params->store);   /* the command block untouched */
+        return (uint16_t)CMD_OK;
     default:
         return LINK_ACTION_UNKNOWN;
     }

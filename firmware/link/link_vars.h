@@ -13,6 +13,7 @@
 
 #include "app.h"
 #include "cmd.h"
+#include "link_nv.h"
 #include "link_params.h"
 
 typedef enum { LINK_T_U16 = 0, LINK_T_U32 = 1, LINK_T_F32 = 2 } link_type_t;
@@ -37,6 +38,7 @@ typedef enum {
     /* readings and the fallbacks named (every state) */
     LV_VDC_V, LV_METHOD_RAN, LV_HOLD_REASON, LV_FAULT_PRESENT,
     LV_HOST_TIMEOUT_S,          /* the link's own setting (link_host_t) */
+    LV_NV_STATUS,               /* the parameter store's state (link_nv_status_t, link_nv.h) */
     LV_PARAM_FIRST,             /* the drive's parameters (link_params.h), LINK_PARAM_COUNT of them */
     LV_COUNT = LV_PARAM_FIRST + LINK_PARAM_COUNT
 } link_var_id_t;
@@ -80,12 +82,14 @@ enum {
     LINK_HOST_AT_ZERO = 3       /* ... reached zero: waiting for standstill */
 };
 
-/* The drive's parameter set on the link (link_params.h) and the glue's hook. */
+/* The drive's parameter set on the link (link_params.h), the glue's hook and the store. */
 typedef struct {
     drive_params_t *set;        /* the set, or NULL: no parameters on the link */
     void (*apply)(void *user, uint16_t k); /* after parameter k's write (stopped): the glue asks for
                                  * the app's configuration from *set (app_request_reconfigure). Background */
     void *user;
+    link_nv_t *store;           /* the parameter store the action save asks (link_nv.h; the glue saves
+                                 * *set when link_nv_due), or NULL: none, nv_status NONE */
 } link_params_glue_t;
 
 /* What the table reads and writes. */
@@ -145,7 +149,8 @@ typedef enum {
     LINK_ACTION_FAULT_RESET = 3,/* clear a latched fault */
     LINK_ACTION_QUIT = 4,       /* the SIL: stop, then end the run (the firmware only stops) */
     LINK_ACTION_COMMISSION = 5, /* measure the motor (commission.h): acted on while stopped (INIT, IDLE) */
-    LINK_ACTION_LEVEL = 6       /* the build level the next start runs (level.h), with its argument */
+    LINK_ACTION_LEVEL = 6,      /* the build level the next start runs (level.h), with its argument */
+    LINK_ACTION_SAVE = 7        /* the parameters saved in the store (link_nv.h): acted on while stopped */
 } link_action_t;
 
 /* The command block set to what the drive runs with (app.op_req), run and fault reset untouched
@@ -156,9 +161,11 @@ void link_cmd_sync(const link_target_t *t);
 #define LINK_ACTION_UNKNOWN 0xFFFFu
 
 /* Carry out an action through cmd_apply() (start and stop as an edge of cmd.run, so a start after a
- * fault reset starts again). Returns CMD_OK (or the command's field error cmd_apply() named), a
+ * fault reset starts again); save asks the store (link_nv_ask: the glue writes the flash after,
+ * nv_status says how it went). Returns CMD_OK (or the command's field error cmd_apply() named), a
  * refusal that did nothing (CMD_ERR_FAULTED: start or commission with a fault latched;
- * CMD_ERR_NOT_STOPPED: commission while the drive runs), or LINK_ACTION_UNKNOWN. Background. */
+ * CMD_ERR_NOT_STOPPED: commission while the drive runs, save while it is not stopped: INIT, IDLE or
+ * FAULT), or LINK_ACTION_UNKNOWN (save without a store included). Background. */
 uint16_t link_action(const link_target_t *t, uint16_t action);
 
 /* The build level (LEVEL_MIN .. LEVEL_MAX, level.h) the next start runs, through cmd_t.level and

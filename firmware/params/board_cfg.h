@@ -20,8 +20,6 @@
 
 /* ---- protection limits (used by the application) ---------------------- */
 #define BOARD_VDC_NOMINAL_V      311.0f       /* rectified 220 V AC [V] (assumed; paper gives none) */
-/* The current ADC's range, +-: 10 A/V around 1.5 V of a 0..3 V input. */
-#define BOARD_I_FULL_SCALE_A     (0.5f * BOARD_I_GAIN_A_PER_V * BOARD_ADC_FULL_SCALE_V) /* 15 A */
 /* ---- the reference design: the paper motor on this board -------------
  * Values that scale with one quantity of the motor or the board are
  * given here at the reference and scaled in proportion by
@@ -157,8 +155,16 @@
 #define COMM_SPIN_SKIP_S         0.02f        /* SPIN: fits skip this after a current change: 10 / PLL bandwidth [s] */
 #define COMM_SPIN_MAX_S          2.0f         /* SPIN: stage timeout [s] */
 
-/* Build levels of the first power-up (level.h); the app starts at BOARD_LEVEL. */
-#define BOARD_LEVEL              5U           /* 1 PWM, 2 ADC, 3 open-loop rotation, 4 torque control, 5 the drive [-] */
+/* Build levels of the first power-up (level.h); the app starts at
+ * BOARD_LEVEL, 1 as TI's motor kits ship: a first `run` only switches the
+ * gates at fixed duties (a motor file's [run] level sets another,
+ * `make board`). */
+#define BOARD_LEVEL              1U           /* 1 PWM, 2 ADC, 3 open-loop rotation, 4 torque control, 5 the drive [-] */
+/* Levels 1-2 run without the DC bus: above this bus they refuse to start
+ * (BUS_CHARGED). 30 V ripple-free DC: IEC 60364-4-41 (414.4.5), SELV whose
+ * live parts may be touched outside normal dry conditions (12 V AC / 30 V
+ * DC; 25 V AC / 60 V DC in dry ones): a bench with the power stage open. */
+#define BOARD_LEVEL12_VDC_MAX_V  30.0f        /* [V] */
 #define BOARD_LEVEL1_DUTY_A      0.25f        /* level 1's duties: each leg its own on the scope [-] */
 #define BOARD_LEVEL1_DUTY_B      0.50f
 #define BOARD_LEVEL1_DUTY_C      0.75f
@@ -237,5 +243,18 @@
 #define MOTOR_I_PEAK_A           (2.0f * MOTOR_I_RATED_A)  /* [A]: 12 N m */
 #define MOTOR_T_PEAK_S           1.0f         /* [s] */
 #define MOTOR_MAX_SPEED_RPM      MOTOR_RATED_SPEED_RPM     /* [r/min] */
+
+/* ---- a motor file's configuration (`make board MOTOR=FILE.ini`) ----------
+ * With DRIVE_CONFIG, the generated drive_config.h (through board_hw.h)
+ * sets every field of the parameter set at the end of drive_params_board()
+ * and the app's settings the scenario keys name at the end of
+ * app_cfg_default() (tools/sil/board_config.h); without it, the values
+ * above. */
+#ifndef DRIVE_CONFIG_PARAMS
+#define DRIVE_CONFIG_PARAMS(p) ((void)(p))
+#endif
+#ifndef DRIVE_CONFIG_APP
+#define DRIVE_CONFIG_APP(cfg) ((void)(cfg))
+#endif
 
 #endif /* BOARD_CFG_H */

@@ -20,6 +20,7 @@ void drive_params_board(drive_params_t *p)
 {
     DRIVE_PARAMS(DRIVE_PARAM_DEFAULT)
     p->derived = 0u;
+    DRIVE_CONFIG_PARAMS(p); /* a motor file's (make board), else nothing */
 }
 
 float drive_rated_torque_Nm(const drive_params_t *p)

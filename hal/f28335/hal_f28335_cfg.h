@@ -99,4 +99,16 @@
  * so the line does not idle; each interrupt then moves 8 or more words. */
 #define F28335_SCI_TX_FIFO_LEVEL 8U
 
+/* ---- the parameter store's sector (hal.h hal_nv_*, hal_f28335_nv.c) ------- */
+/* Flash sector B (SPRS439 "Memory Maps": 0x330000-0x337FFF), reserved in
+ * firmware/f28335/f28335_flash.cmd (FLASHB_NV: no section placed, no CRC
+ * record; tools/check/target_cfg.sh checks the two agree). */
+#define F28335_NV_SECTOR_ADDR    0x330000UL
+#define F28335_NV_SECTOR_WORDS   0x8000UL     /* 32K words */
+/* The Flash2833x API's timing, TI's SCALE_FACTOR (Flash2833x_API_Config.h:
+ * 1048576 x 200 / CPU_RATE, CPU_RATE the SYSCLKOUT period in ns): for
+ * SYSCLKOUT in MHz, 1048576 x 200 x f / 1000 = 1048576 x f / 5; 31457280
+ * at 150 MHz. */
+#define F28335_FLASH_API_SCALE   (1048576UL * (BOARD_SYSCLK_HZ / 1000000UL) / 5UL)
+
 #endif /* HAL_F28335_CFG_H */

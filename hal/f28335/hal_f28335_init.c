@@ -17,7 +17,7 @@ void hal_init(void)
     f28335_qep_init();
     f28335_timer_init();
     f28335_sci_init();
-    PieCtrlRegs.PIECTRL.bit.ENPIE = 1U;
+    f28335_pie_enable();
 }
 
 void hal_isr_attach(hal_isr_fn isr)

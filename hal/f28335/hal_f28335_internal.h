@@ -19,10 +19,13 @@ void f28335_sysctrl_init(void);
  * read while its wait states change. Start-up, after the PLL. */
 void f28335_flash_init(void);
 
-/* PIE off and cleared, every group acknowledged, every vector pointing at
- * f28335_unexpected_isr, CPU interrupts masked. Start-up, before any vector
- * is set. */
+/* PIE off and cleared, every vector pointing at f28335_unexpected_isr,
+ * CPU interrupts masked. Start-up, before any vector is set. */
 void f28335_pie_init(void);
+
+/* PIE on (PIECTRL.ENPIE), then every group acknowledged (PIEACK), in TI's
+ * order. Start-up, last step of hal_init(). */
+void f28335_pie_enable(void);
 
 /* Any interrupt or trap nobody installed (ILLEGAL, NMI, USER1..12, an
  * unexpected PIE interrupt): all six gate outputs off, then halt (ESTOP0 for

@@ -164,10 +164,18 @@ void f28335_pie_init(void)
     PieCtrlRegs.PIEIER10.all = 0U; PieCtrlRegs.PIEIFR10.all = 0U;
     PieCtrlRegs.PIEIER11.all = 0U; PieCtrlRegs.PIEIFR11.all = 0U;
     PieCtrlRegs.PIEIER12.all = 0U; PieCtrlRegs.PIEIFR12.all = 0U;
-    PieCtrlRegs.PIEACK.all = F28335_PIEACK_ALL;  /* no group left blocked by a stale ACK bit */
     IER = 0x0000U;
     IFR = 0x0000U;
     pie_vectors_init();
+}
+
+/* TI's order (C2000Ware DSP2833x_PieCtrl.c, EnableInterrupts): the PIE
+ * enabled first, then every group acknowledged, so that none is left
+ * blocked by a stale ACK bit and the acknowledge reaches an enabled PIE. */
+void f28335_pie_enable(void)
+{
+    PieCtrlRegs.PIECTRL.bit.ENPIE = 1U;
+    PieCtrlRegs.PIEACK.all = F28335_PIEACK_ALL;
 }
 
 void f28335_watchdog_enable(void)

@@ -5,3 +5,5 @@ TEST_LIBS_test_hal_f28335 := f28335 control
 TEST_LIBS_test_c2000_fake := f28335
 # The application on this HAL over the register fake (firmware -> hal/f28335).
 TEST_LIBS_test_app_f28335 := firmware f28335 control
+# The parameter store's sector through TI's flash API (its fake), and nv_store over it.
+TEST_LIBS_test_nv_f28335 := firmware f28335 control

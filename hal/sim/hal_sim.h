@@ -138,4 +138,23 @@ void hal_sim_force_trip(void);
 /* Number of hal_watchdog_kick() calls since hal_sim_configure(). */
 uint32_t hal_sim_watchdog_kicks(void);
 
+/* ---- the parameter store's sector (hal.h hal_nv_*, hal_sim_nv.c) ----------
+ * As the board's flash sector B: HAL_SIM_NV_WORDS words, erased at the
+ * first use, kept across runs of one process (hal_sim_configure leaves it:
+ * a board's flash outlives a power cycle); an erase sets every word to
+ * 0xFFFF, a program only clears bits (one asked to set a bit fails, as
+ * TI's API does without an erase). drive_sil --nv FILE loads it from FILE
+ * before a run and writes FILE after every write. */
+#define HAL_SIM_NV_WORDS 0x8000u
+
+/* The sector's words, HAL_SIM_NV_WORDS of them: read or filled by the caller between runs. */
+uint16_t *hal_sim_nv_image(void);
+
+/* Every word erased (0xFFFF). */
+void hal_sim_nv_erase(void);
+
+/* hook(user) after every hal_nv_write, the image changed (NULL: none). */
+typedef void (*hal_sim_nv_hook_t)(void *user);
+void hal_sim_nv_on_write(hal_sim_nv_hook_t hook, void *user);
+
 #endif /* HAL_SIM_H */

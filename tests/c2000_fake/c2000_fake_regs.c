@@ -54,6 +54,11 @@ void c2000_fake_reset(void)
     s_edis_hook = NULL;
     c2000_fake_adc_cal.calls = 0U;
     c2000_fake_adc_cal.adc_clock_on = 1U;
+    for (Uint32 k = 0U; k < C2000_FAKE_FLASH_B_WORDS; k++) {
+        c2000_fake_flash_b[k] = 0xFFFFU;
+    }
+    memset(&c2000_fake_flash, 0, sizeof c2000_fake_flash);
+    c2000_fake_flash.callbacks_per_erase = 3U;
 }
 
 void c2000_fake_set_edis_hook(void (*hook)(void))

@@ -332,6 +332,25 @@ else
     failed "drive_sil CLI one key table: $(cat "$dir/keys.err")"
 fi
 
+# build levels 1-2 on the charged 311 V bus: exit 3, BUS_CHARGED named in the summary; on 12 V level 1 runs
+for lvl in 1 2; do
+    "$bin" --scenario "$good" --set run.level=$lvl --set run.duration_s=0.02 --summary "$dir/bus.json" > /dev/null 2>&1
+    rc=$?
+    if [ $rc -eq 3 ] && grep -q '"fault_name": "BUS_CHARGED"' "$dir/bus.json"; then
+        pass "drive_sil CLI level $lvl on 311 V: exit 3, BUS_CHARGED in --summary"
+    else
+        failed "drive_sil CLI level $lvl on 311 V: exit $rc, $(grep -o '"fault_name": "[A-Z_]*"' "$dir/bus.json")"
+    fi
+done
+"$bin" --scenario "$good" --set run.level=1 --set plant.vdc_V=12 --set run.duration_s=0.02 --summary "$dir/bus.json" \
+    > /dev/null 2>&1
+rc=$?
+if [ $rc -eq 0 ] && grep -q '"final_state_name": "PWM_CHECK", "final_fault": 0' "$dir/bus.json"; then
+    pass "drive_sil CLI level 1 on 12 V: exit 0, PWM_CHECK"
+else
+    failed "drive_sil CLI level 1 on 12 V: exit $rc, $(grep -o '"final_state_name": "[A-Z_]*"' "$dir/bus.json")"
+fi
+
 [ $fail -eq 0 ] && echo "drive_sil CLI: all passed"
 echo "drive_sil CLI: $npass passed, $nfail failed"
 exit $fail

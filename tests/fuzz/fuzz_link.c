@@ -125,7 +125,7 @@ static void setup(void)
         app_cfg_default(&cfg);
         done = true;
     }
-    const link_cfg_t lc = { cfg.ctrl.Ts_s, 115200u, "fuzz", 0.0f, { NULL, NULL, NULL } };
+    const link_cfg_t lc = { cfg.ctrl.Ts_s, 115200u, "fuzz", 0.0f, { NULL, NULL, NULL, NULL } };
     fuzz_hal_reset();
     app_init(&g_app, &cfg);
     app_attach_comm(&g_app, &g_comm_state);

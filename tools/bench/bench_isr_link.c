@@ -42,7 +42,7 @@ static void arm(void)
 static void on_start(void *user, app_t *app)
 {
     (void)user;
-    const link_cfg_t lc = { app->cfg.ctrl.Ts_s, BENCH_BAUD, "bench", 0.0f, { NULL, NULL, NULL } };
+    const link_cfg_t lc = { app->cfg.ctrl.Ts_s, BENCH_BAUD, "bench", 0.0f, { NULL, NULL, NULL, NULL } };
     lim.speed_max_rpm = app->cfg.prot.speed_max_rad_s / MATHX_RAD_S_PER_RPM_F;
     lim.te_max_Nm = app->cfg.ctrl.te_max_Nm;
     lim.u_max_V = app->cfg.ctrl.u_max_V;

@@ -29,7 +29,7 @@ int main(int argc, char **argv)
 {
     const long n = (argc > 1) ? atol(argv[1]) : 10000;
     const char *mode = (argc > 2) ? argv[2] : "capture";
-    const link_cfg_t lc = { 1e-4f, 937500u, "bench", 0.0f, { NULL, NULL, NULL } };
+    const link_cfg_t lc = { 1e-4f, 937500u, "bench", 0.0f, { NULL, NULL, NULL, NULL } };
     app_cfg_default(&app.cfg);
     app.state = APP_STATE_RUN;
     app.ctrl.mon.speed_mech_rad_s = 52.0f;

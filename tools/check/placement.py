@@ -31,6 +31,11 @@ import sys
 import csrc
 
 MARKERS = ('RAMFUNC', 'FLASHFUNC')
+# Code placed in RAM by a section of its own rather than a marker: the
+# parameter store's writer, which runs while TI's flash API is over the
+# start of ramfuncs (hal/f28335/hal_f28335_nv.c, f28335_flash.cmd).
+RAM_SECTIONS = ('nvfuncs',)
+CODE_SECTION = re.compile(r'#pragma\s+CODE_SECTION\s*\(\s*(\w+)\s*,\s*"(\w+)"\s*\)')
 
 
 def functions(path):
@@ -50,9 +55,14 @@ def in_ram_whole(src, mk):
             src not in make_var(mk, 'RAMFUNC_ALL_EXCEPT'))
 
 
+def section_functions(src, sections=RAM_SECTIONS):
+    """The functions src places in one of sections by a CODE_SECTION pragma."""
+    return {fn for fn, sec in CODE_SECTION.findall(csrc.read(src)) if sec in sections}
+
+
 def ram_functions(src):
-    """The functions src places in RAM (RAMFUNC)."""
-    return {n for n, (mark, _s, _c) in functions(src).items() if mark == 'RAMFUNC'}
+    """The functions src places in RAM (RAMFUNC, or a CODE_SECTION of RAM_SECTIONS)."""
+    return {n for n, (mark, _s, _c) in functions(src).items() if mark == 'RAMFUNC'} | section_functions(src)
 
 
 def image_sources():

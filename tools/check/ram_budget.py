@@ -7,7 +7,7 @@ Usage: ram_budget.py --cmd F28335_CMD --objdir DIR [--map DRIVE_MAP] [--mk TARGE
 
 The RAM ranges and what goes in them are read from the linker command
 file (MEMORY: name, origin, length in 16-bit words; SECTIONS: `ramfuncs`
-RUN = range, `.ebss`, `.stack`, `.esysmem` > range, and every section a
+RUN = range, or `UNION run = range` holding it, `.ebss`, `.stack`, `.esysmem` > range, and every section a
 source names in `#pragma DATA_SECTION(object, "section")` > range: that
 object counted there, not in .ebss). The figures are the
 target's, from the first source available:
@@ -20,7 +20,8 @@ target's, from the first source available:
 
    code (ramfuncs): every instruction of the functions placed in RAM
    (all of the directories in target.mk's RAMFUNC_ALL but its
-   RAMFUNC_ALL_EXCEPT files, elsewhere the ones marked RAMFUNC:
+   RAMFUNC_ALL_EXCEPT files, elsewhere the ones marked RAMFUNC or placed
+   by a CODE_SECTION pragma in nvfuncs, the end of ramfuncs:
    tools/check/placement.py) is mapped to the C28x
    instruction(s) doing the same, sized from the opcode tables of the
    C28x CPU (SPRU430, 16- and 32-bit opcodes) and of its FPU (SPRUEO2, all
@@ -45,7 +46,15 @@ target's, from the first source available:
    fast-RTS members linked into ramfuncs (sin/cos, atan2, sqrt, division):
    C2000Ware's libraries/math/FPUfastRTS/c28/source/fpu32/*_f32.asm hold
    49 + 16 + 43 + 21 = 129 instructions (counted there), at most 2 words
-   each (no C28x instruction is longer): FASTRTS_WORDS.
+   each (no C28x instruction is longer): FASTRTS_WORDS. A UNION that
+   holds ramfuncs and TI's flash API (Flash28_API: f28335_flash.cmd, run
+   over ramfuncs' start while the parameter store writes) takes the larger
+   of the two, and the API must end before nvfuncs, which runs while it
+   is there: the RAM code before nvfuncs at least FLASH_API_WORDS, else
+   the gate fails. FLASH_API_WORDS bounds the API: Flash28335_API_V210's
+   .text 0x5A9 + .econst 0x48 = 1521 words, from a public listing of the
+   library linked to run in RAM, rounded up to 0x600; the first drive.map
+   gives the linker's own.
    data (.ebss): the .bss/.data/COMMON bytes of the image's objects
    built again with bool as a 16-bit type, at one word per two bytes. An
    upper bound: the portable sources have no 8-bit type (c28x_portable.h
@@ -89,6 +98,7 @@ import placement
 
 MARGIN_MIN = 0.10
 FASTRTS_WORDS = 2 * (49 + 16 + 43 + 21)
+FLASH_API_WORDS = 0x600
 RTS_EBSS_WORDS = 64
 ISR_CONTEXT_WORDS = 14 + 2 * 19
 C28X_INDIRECT_OFFSET_MAX_BYTES = 7 * 4  # *+XARn[3-bit] word offset of a 32-bit access, in ARM bytes
@@ -130,9 +140,15 @@ def parse_cmd(text, data_sections=()):
             ranges[m.group(1)] = (page, int(m.group(2), 16), int(m.group(3), 16))
     place = {}
     body = sec.group(1)
-    m = re.search(r'\bramfuncs\s*:.*?\bRUN\s*=\s*(\w+)', body, re.S)
-    if m:
-        place['ramfuncs'] = m.group(1)
+    union = union_block(body)
+    if union is not None and re.search(r'\bramfuncs\s*:', union[1]):
+        place['ramfuncs'] = union[0]
+        if re.search(r'\bFlash28_API\s*:', union[1]):
+            place['Flash28_API'] = union[0]
+    else:
+        m = re.search(r'\bramfuncs\s*:.*?\bRUN\s*=\s*(\w+)', body, re.S)
+        if m:
+            place['ramfuncs'] = m.group(1)
     for name in ('.ebss', '.stack', '.esysmem') + tuple(data_sections):
         m = re.search(r'(?m)^\s*' + re.escape(name) + r'\s*:\s*>\s*(\w+)', body)
         if m:
@@ -146,6 +162,18 @@ def parse_cmd(text, data_sections=()):
         if name not in place:
             die("the linker command file does not place %s" % name)
     return ranges, place
+
+
+def union_block(body):
+    """(run range, text) of the first `UNION run = RANGE ... { ... }` in SECTIONS, or None."""
+    m = re.search(r'\bUNION\s+run\s*=\s*(\w+)[^{]*\{', body, re.I)
+    if not m:
+        return None
+    depth, at = 1, m.end()
+    while depth and at < len(body):
+        depth += {'{': 1, '}': -1}.get(body[at], 0)
+        at += 1
+    return m.group(1), body[m.end():at - 1]
 
 
 def parse_map(path):
@@ -364,7 +392,7 @@ def estimate(objdir, mk):
     objs = sorted(glob.glob(os.path.join(objdir, '*.o')))
     if not objs:
         die("no objects in %s (run tools/check/isr_path.sh first)" % objdir)
-    code_b = code_w = 0
+    code_b = code_w = nv_w = 0
     data_b = data_w = 0
     tmpdir = tempfile.mkdtemp()
     for o in objs:
@@ -375,9 +403,11 @@ def estimate(objdir, mk):
         data_w += data_words(src, o, tmpdir)
         funcs = disassemble(o)
         keep = set(funcs) if placement.in_ram_whole(src, mk) else placement.ram_functions(src)
+        nv = placement.section_functions(src)
         for fn in keep & set(funcs):
             code_b += funcs[fn][0]
             code_w += funcs[fn][1]
+            nv_w += funcs[fn][1] if fn in nv else 0
     stack = stack_need(objdir)
     # objects placed in sections of their own leave .ebss
     sections = {}
@@ -388,8 +418,8 @@ def estimate(objdir, mk):
             data_w -= w
             sections.setdefault(sec, []).append((sym, w))
     shutil.rmtree(tmpdir, ignore_errors=True)
-    return {'code_bytes': code_b, 'code_words': code_w, 'data_bytes': data_b, 'data_words': data_w, 'stack': stack,
-            'sections': sections}
+    return {'code_bytes': code_b, 'code_words': code_w, 'nv_words': nv_w, 'data_bytes': data_b, 'data_words': data_w,
+            'stack': stack, 'sections': sections}
 
 
 def stack_size_words(mk):
@@ -422,10 +452,17 @@ def estimated_use(est, secs):
     factor = est['code_words'] / (est['code_bytes'] / 2.0) if est['code_bytes'] else 0.0
     used, parts = 0, []
     for sec in secs:
+        if sec == 'Flash28_API':
+            continue   # in ramfuncs' UNION: counted with it
         if sec == 'ramfuncs':
             w = est['code_words'] + FASTRTS_WORDS
             parts.append("ramfuncs %d words (RAM code: %d B Thumb-2 -> %d words, factor %.2f; "
-                         "+ fast-RTS <= %d)" % (w, est['code_bytes'], est['code_words'], factor, FASTRTS_WORDS))
+                         "+ fast-RTS <= %d; nvfuncs %d of them, last)"
+                         % (w, est['code_bytes'], est['code_words'], factor, FASTRTS_WORDS, est['nv_words']))
+            if 'Flash28_API' in secs:
+                w = max(w, FLASH_API_WORDS)
+                parts.append("TI's flash API <= %d words over its start (UNION: while the parameter store writes)"
+                             % FLASH_API_WORDS)
         elif sec == '.ebss':
             w = est['data_words'] + RTS_EBSS_WORDS
             parts.append(".ebss <= %d words (%d B Thumb-2 with bool widened, at 1 word per 2 B; "
@@ -439,6 +476,18 @@ def estimated_use(est, secs):
             parts.append("%s 0 words (--heap_size=0)" % sec)
         used += w
     return used, ' + '.join(parts)
+
+
+def api_overlay_line(est, place):
+    """(line, failed) of the flash API's overlay of ramfuncs: it must end before
+    nvfuncs, which runs while it is there; None when there is no such UNION."""
+    if 'Flash28_API' not in place:
+        return None
+    before = est['code_words'] + FASTRTS_WORDS - est['nv_words']
+    ok = before >= FLASH_API_WORDS
+    return ("ram_budget: %s flash API overlay: ramfuncs holds %d words before nvfuncs, the API <= %d: %s"
+            % ("ok  " if ok else "FAIL", before, FLASH_API_WORDS,
+               "nvfuncs out of its reach" if ok else "it would overwrite the code that runs it"), not ok)
 
 
 def range_lines(est, ranges, place, mapped, reserve):
@@ -488,6 +537,10 @@ def main():
     lines = ["ram_budget: %s; a range fails under %d %% free" % (src, round(MARGIN_MIN * 100))]
     body, fail = range_lines(est, ranges, place, mapped, stack_size_words(a.mk))
     lines += body
+    api = api_overlay_line(est, place)
+    if api is not None:
+        lines.append(api[0])
+        fail = fail or api[1]
     lines.append("ram_budget: %s" % ("FAILED: a RAM range has under %d %% margin" % round(MARGIN_MIN * 100) if fail
                                      else "every RAM range keeps its margin"))
     text = '\n'.join(lines) + '\n'

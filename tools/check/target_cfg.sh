@@ -78,6 +78,39 @@ has "$cmd" 'RUN_START\(_RamfuncsRunStart\)' || bad "$cmd" "ramfuncs has no RUN_S
 awk '/^[[:space:]]*ramfuncs[[:space:]]*:/,/}/' "$cmd" | grep -q '\*(\.TI\.ramfunc)' ||
     bad "$cmd" "ramfuncs does not take *(.TI.ramfunc): RAMFUNC code would not be copied to RAM"
 
+# The parameter store (hal/f28335/hal_f28335_nv.c): sector B reserved in
+# the memory map where the HAL reads it, nothing placed in it (no CRC
+# record covers it); TI's flash API run from RAM over ramfuncs' start (a
+# UNION), the writer in nvfuncs at ramfuncs' end, beyond the API's reach.
+cfg=$hal/hal_f28335_cfg.h
+nv_addr=$(grep -Eo 'F28335_NV_SECTOR_ADDR[[:space:]]+0x[0-9A-Fa-f]+' "$cfg" | awk '{print $2}')
+nv_len=$(grep -Eo 'F28335_NV_SECTOR_WORDS[[:space:]]+0x[0-9A-Fa-f]+' "$cfg" | awk '{print $2}')
+if [ -z "$nv_addr" ] || [ -z "$nv_len" ] ||
+        ! grep -Eiq "^[[:space:]]*FLASHB_NV[[:space:]]*:[[:space:]]*origin[[:space:]]*=[[:space:]]*${nv_addr%UL}UL?,[[:space:]]*length[[:space:]]*=[[:space:]]*0*${nv_len#0x}" "$cmd" &&
+        ! grep -Eiq "^[[:space:]]*FLASHB_NV[[:space:]]*:[[:space:]]*origin[[:space:]]*=[[:space:]]*${nv_addr},[[:space:]]*length[[:space:]]*=[[:space:]]*0x0*${nv_len#0x}" "$cmd"; then
+    bad "$cmd" "no FLASHB_NV range at F28335_NV_SECTOR_ADDR ($nv_addr), F28335_NV_SECTOR_WORDS ($nv_len) long: the parameter sector is not reserved where the HAL reads it"
+fi
+if grep -Eq '(>|LOAD[[:space:]]*=|RUN[[:space:]]*=)[[:space:]]*FLASHB_NV' "$cmd"; then
+    bad "$cmd" "a section is placed in FLASHB_NV, the parameter store's sector: a save would erase it"
+fi
+PYTHONPATH=$root/tools/check python3 -c 'import ram_budget as r, re, sys
+u = r.union_block(re.sub(r"/\*.*?\*/", "", open(sys.argv[1]).read(), flags=re.S))
+sys.exit(0 if u and re.search(r"\bramfuncs\s*:", u[1]) and re.search(r"\bFlash28_API\s*:", u[1]) else 1)' "$cmd" ||
+    bad "$cmd" "TI's flash API (Flash28_API) does not run over ramfuncs in a UNION"
+for s in _Flash28_API_LoadStart _Flash28_API_LoadEnd _Flash28_API_RunStart; do
+    has "$cmd" "$s" || bad "$cmd" "Flash28_API has no $s: hal_f28335_nv.c copies the API with it"
+done
+awk '/^[[:space:]]*ramfuncs[[:space:]]*:/,/}/' "$cmd" | grep -v '^[[:space:]]*}' | tail -n 1 | grep -q '\*(nvfuncs)' ||
+    bad "$cmd" "ramfuncs does not end with *(nvfuncs): the flash API could overwrite the code that runs it"
+grep -q 'CODE_SECTION(hal_nv_write, "nvfuncs")' "$hal/hal_f28335_nv.c" ||
+    bad "$hal/hal_f28335_nv.c" "hal_nv_write is not in section nvfuncs"
+
+# Code security: the image programs no CSM password (hal/f28335/README.md,
+# "Code security"): RAM code in L4-L5, outside the secure zone, reads flash.
+if has "$mk" '^[^#]*DSP2833x_CSMPasswords\.asm'; then
+    bad "$mk" "assembles DSP2833x_CSMPasswords.asm: a secured device reads 0 from flash in the RAM code L4-L5 holds"
+fi
+
 if [ $fail -ne 0 ]; then
     echo "target_cfg: FAILED"
     exit 1

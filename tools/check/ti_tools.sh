@@ -3,6 +3,17 @@
 ok=1
 if [ -z "${CG_TOOL_ROOT:-}" ] || [ ! -x "${CG_TOOL_ROOT}/bin/cl2000" ]; then ok=0; fi
 if [ -z "${C2000WARE_ROOT:-}" ] || [ ! -d "${C2000WARE_ROOT}/device_support/f2833x" ]; then ok=0; fi
+api=${FLASH_API_ROOT:-${C2000WARE_ROOT:-}/libraries/flash_api/f2833x}
+if [ $ok -eq 1 ] && [ ! -f "$api/lib/Flash28335_API_V210.lib" ]; then
+    cat >&2 <<MSG
+error: TI's Flash2833x API (the parameter store's flash writer) is not found:
+  FLASH_API_ROOT  = '$api'  (must contain lib/Flash28335_API_V210.lib and
+                    include/Flash2833x_API_Library.h)
+  It ships with C2000Ware (libraries/flash_api/f2833x) and as TI's SPRC539;
+  pass FLASH_API_ROOT=<its folder> if yours lies elsewhere.
+MSG
+    exit 2
+fi
 if [ $ok -eq 0 ]; then
     cat >&2 <<MSG
 error: the F28335 build needs TI's C2000 tools, which are not found.

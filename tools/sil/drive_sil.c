@@ -4,6 +4,7 @@
  *             [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]
  *             [--max-csv-mb N]
  *   drive_sil --scenario FILE [--set ...] --commission OUT.ini [--out FILE.csv]
+ *   drive_sil --scenario FILE [--set ...] --board-config DIR
  *   drive_sil --help | --version
  * Runs the firmware application on the simulated board (sil.h) and writes
  * one CSV row per logged period (--out; beside it OUT.resolved.json, the run's
@@ -31,6 +32,10 @@
  * the --set overrides and the measured values in [controller], its
  * R_factor, L_factor, psif_factor kept as comments. A refusal writes no
  * OUT.ini, names the fault, the stage, the value and its limit, exits 3.
+ * --board-config DIR resolves the scenario as a run would, with the
+ * bench's defaults for the keys a simulation defaults otherwise, and
+ * writes the F28335 image's configuration (DIR/drive_config.h,
+ * DIR/drive_config.json; board_config.h), running nothing: `make board`.
  */
 #include <errno.h>
 #include <math.h>
@@ -43,10 +48,12 @@
 #include <unistd.h>
 
 #include "app_step.h"
+#include "board_config.h"
 #include "csv_writer.h"
 #include "ini_edit.h"
 #include "json_out.h"
 #include "link_sil.h"
+#include "nv_file.h"
 #include "scenario.h"
 #include "sil.h"
 #include "sil_version.h"
@@ -73,6 +80,8 @@ typedef struct {
     const char *summary_path;    /* JSON, "-" for stdout, or NULL */
     const char *window;          /* "T0:T1", or NULL for the default */
     const char *commission_path; /* --commission OUT.ini, or NULL */
+    const char *board_dir;       /* --board-config DIR, or NULL */
+    const char *nv_path;         /* --nv FILE: the parameter store's sector, or NULL */
     int check;                   /* validate only */
     int batch;                   /* one run per stdin line */
     double max_csv_mb;           /* the CSV stops growing here */
@@ -114,6 +123,8 @@ static void usage(FILE *f)
             "                 [--out FILE.csv] [--summary FILE.json|-] [--window T0:T1] [--check | --batch]\n"
             "                 [--max-csv-mb N] [--link tcp:PORT | --link pty [--baud B] [--realtime F]]\n"
             "       drive_sil --scenario FILE [--set ...] --commission OUT.ini [--out FILE.csv]\n"
+            "       drive_sil --scenario FILE [--set ...] --board-config DIR\n"
+            "       (a run, --link or --commission: [--nv FILE])\n"
             "       drive_sil --help | --version | --list-keys [--markdown]\n"
             "Runs the drive firmware on the simulated board for one scenario (INI)\n"
             "and writes the CSV trace (--out) and/or the steady window's figures as\n"
@@ -138,6 +149,15 @@ static void usage(FILE *f)
             "encoder_offset_el_rad and speed gains in [controller] (a value with no key\n"
             "in this drive_sil as a comment), R_factor, L_factor, psif_factor commented\n"
             "out. A refusal (exit 3) writes none and names fault, stage, value, limit.\n"
+            "--board-config DIR resolves the scenario as a run does and writes the F28335\n"
+            "image's configuration, DIR/drive_config.h and DIR/drive_config.json (make board\n"
+            "MOTOR=FILE.ini; tools/sil/board_config.h); keys a simulation defaults otherwise\n"
+            "take the board's values unless set: [plant] deadtime_s, adc_full_scale_A,\n"
+            "trip_A, [run] level (1), calibrate, align. Runs nothing.\n"
+            "--nv FILE keeps the drive's parameter sector (firmware/params/nv_store.h) in FILE,\n"
+            "as the board's flash keeps it: its newest block's values replace the [controller]\n"
+            "keys they name before the run (stderr says NV_EMPTY, NV_INVALID or what was\n"
+            "loaded), and every save during the run (--link: drivetool save) writes FILE again.\n"
             "On a terminal, a run longer than %g s of wall time shows its progress on stderr.\n"
             "Exit status:\n"
             "  0    the run ended outside FAULT (--check: the input is good; --batch: every\n"
@@ -198,6 +218,12 @@ static const char **value_slot(args_t *a, const char *s, const char **max_csv_mb
     if (strcmp(s, "--commission") == 0) {
         return &a->commission_path;
     }
+    if (strcmp(s, "--board-config") == 0) {
+        return &a->board_dir;
+    }
+    if (strcmp(s, "--nv") == 0) {
+        return &a->nv_path;
+    }
     if (strcmp(s, "--window") == 0) {
         return &a->window;
     }
@@ -234,8 +260,15 @@ static int args_valid(args_t *a, const char *max_csv_mb)
     } else if (a->commission_path != NULL &&
                (a->batch || a->check || a->summary_path != NULL || a->window != NULL || a->link.on)) {
         why = "--commission writes OUT.ini (and --out's trace): no --batch, --check, --summary, --window, --link";
+    } else if (a->board_dir != NULL && (a->batch || a->check || a->out_path != NULL || a->summary_path != NULL ||
+                                        a->commission_path != NULL || a->window != NULL || a->link.on)) {
+        why = "--board-config writes the image's configuration only: no --out, --summary, --commission, --batch, "
+              "--check, --window, --link";
+    } else if (a->nv_path != NULL && (a->batch || a->check || a->board_dir != NULL)) {
+        why = "--nv keeps one run's parameter sector: not with --batch, --check, --board-config";
     } else if (a->scenario_path == NULL || (!a->check && !a->batch && a->out_path == NULL &&
-                                            a->summary_path == NULL && a->commission_path == NULL)) {
+                                            a->summary_path == NULL && a->commission_path == NULL &&
+                                            a->board_dir == NULL)) {
         why = "--scenario and --out or --summary are required (see --help)";
     } else if ((a->link.baud != 0 || a->link.realtime > 0.0) && !a->link.on) {
         why = "--baud and --realtime pace the link: they need --link";
@@ -307,7 +340,37 @@ static int load_base(const args_t *a, scenario_t *sc)
     return 0;
 }
 
-static int load_scenario(const args_t *a, scenario_t *sc)
+/* --nv FILE: the sector from FILE, its newest block over the scenario as
+ * the board takes it at start-up (nv_file.h), what was taken on stderr;
+ * values that do not fit the scenario as a whole (scenario_finish) are
+ * NV_INVALID too: the scenario's own. 0, or -1 (FILE unusable). */
+static int nv_start(args_t *a, scenario_t *sc)
+{
+    static scenario_t before;
+    static scenario_t probe;
+    char err[SCENARIO_ERR_LEN];
+    char msg[SCENARIO_ERR_LEN * 2];
+    if (nv_file_open(a->nv_path, err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s\n", err);
+        return -1;
+    }
+    before = *sc;
+    a->link.nv = 1;
+    a->link.nv_loaded = (int)nv_file_apply(sc, a->nv_path, msg, sizeof msg);
+    if (a->link.nv_loaded == (int)NV_OK) {
+        probe = *sc;
+        if (scenario_finish(&probe, err, sizeof err) != 0) {
+            *sc = before;
+            a->link.nv_loaded = (int)NV_INVALID;
+            snprintf(msg, sizeof msg, "--nv %s: NV_INVALID: the saved values do not fit this scenario (%s); the "
+                     "scenario's values", a->nv_path, err);
+        }
+    }
+    fprintf(stderr, "drive_sil: %s\n", msg);
+    return 0;
+}
+
+static int load_scenario(args_t *a, scenario_t *sc)
 {
     char err[SCENARIO_ERR_LEN];
     if (load_base(a, sc) != 0) {
@@ -319,6 +382,9 @@ static int load_scenario(const args_t *a, scenario_t *sc)
      * file's text). */
     if (a->commission_path != NULL && scenario_set(sc, "controller.method=conventional", err, sizeof err) != 0) {
         fprintf(stderr, "drive_sil: %s\n", err);
+        return -1;
+    }
+    if (a->nv_path != NULL && nv_start(a, sc) != 0) {
         return -1;
     }
     if (scenario_finish(sc, err, sizeof err) != 0) {
@@ -438,6 +504,64 @@ static int out_commit(out_file_t *o, const char *flag)
     free(o->tmp_path);
     o->tmp_path = NULL;
     return 0;
+}
+
+/* DIR/name into path[len]; 0, or -1 (named) when it does not fit. */
+static int dir_file(char *path, size_t len, const char *dir, const char *name)
+{
+    const int n = snprintf(path, len, "%s/%s", dir, name);
+    if (n < 0 || (size_t)n >= len) {
+        fprintf(stderr, "drive_sil: --board-config %s: the path is too long\n", dir);
+        return -1;
+    }
+    return 0;
+}
+
+#define BOARD_PATH_LEN 4096
+
+/* --board-config DIR: the scenario resolved with the bench's defaults,
+ * the image's header and JSON written (each complete or none). */
+static int board_config(const args_t *a)
+{
+    static scenario_t sc;
+    static char h_path[BOARD_PATH_LEN];
+    static char js_path[BOARD_PATH_LEN];
+    char err[SCENARIO_ERR_LEN];
+    if (load_base(a, &sc) != 0) {
+        return EXIT_BAD_INPUT;
+    }
+    if (board_config_bench(&sc, err, sizeof err) != 0 || scenario_finish(&sc, err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s\n", err);
+        return EXIT_BAD_INPUT;
+    }
+    scenario_warnings(&sc, err, sizeof err);
+    if (err[0] != '\0') {
+        fprintf(stderr, "drive_sil: warning: %s\n", err);
+    }
+    out_file_t h;
+    out_file_t js;
+    if (dir_file(h_path, sizeof h_path, a->board_dir, "drive_config.h") != 0 ||
+        dir_file(js_path, sizeof js_path, a->board_dir, "drive_config.json") != 0 ||
+        out_open(&h, h_path, "--board-config") != 0) {
+        return EXIT_BAD_INPUT;
+    }
+    if (out_open(&js, js_path, "--board-config") != 0) {
+        out_abandon(&h);
+        return EXIT_BAD_INPUT;
+    }
+    if (board_config_write(h.f, js.f, &sc, a->scenario_path, a->sets, a->n_sets, err, sizeof err) != 0) {
+        fprintf(stderr, "drive_sil: %s: %s\n", a->scenario_path, err);
+        out_abandon(&h);
+        out_abandon(&js);
+        return EXIT_BAD_INPUT;
+    }
+    if (out_commit(&h, "--board-config") != 0 || out_commit(&js, "--board-config") != 0) {
+        out_abandon(&js);
+        return EXIT_FAILURE;
+    }
+    printf("drive_sil: %s: the board image's configuration -> %s, %s (build level %lu at power-on)\n",
+           a->scenario_path, h_path, js_path, (unsigned long)sc.run.level);
+    return EXIT_SUCCESS;
 }
 
 /* OUT.resolved.json beside the CSV (--out OUT.csv, or OUT + that suffix
@@ -860,6 +984,9 @@ int main(int argc, char **argv)
     if (a.batch) {
         return run_batch(&a);
     }
+    if (a.board_dir != NULL) {
+        return board_config(&a);
+    }
     if (load_scenario(&a, &sc) != 0 || window_of(&a, &sc, &t0, &t1) != 0) {
         return EXIT_BAD_INPUT;
     }
@@ -897,5 +1024,6 @@ int main(int argc, char **argv)
         return commission_finish(&a, &res, &out.comm_ini);
     }
     out_abandon(&out.comm_ini);   /* stopped by a signal: no OUT.ini */
-    return run_status(&a, &res, stopped);
+    rc = run_status(&a, &res, stopped);
+    return (a.nv_path != NULL && nv_file_failed()) ? EXIT_FAILURE : rc;
 }

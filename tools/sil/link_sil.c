@@ -18,7 +18,10 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "hal.h"
+#include "hal_sim.h"
 #include "link.h"
+#include "link_nv.h"
 #include "mathx.h"
 
 #define IN_MAX 4096                 /* bytes from the host waiting for the line */
@@ -49,6 +52,7 @@ typedef struct {
     link_sil_opts_t o;
     const scenario_t *sc;           /* its [link] keys, and the app's configuration for new parameters */
     drive_params_t params;          /* the drive's parameter set: the link's parameters (link_params.h) */
+    link_nv_t store;                /* the parameter store (--nv: link_nv.h), on the simulated board's sector */
     int listen_fd;
     int fd;                         /* the client or the pty master; -1: none */
     int slave_fd;                   /* pty: kept open so the master never reads EOF */
@@ -306,6 +310,12 @@ static void on_start(void *user, app_t *app)
     lc.firmware_id = FIRMWARE_ID;
     lc.params.set = &g.params;
     lc.params.apply = on_params;
+    if (g.o.nv) {
+        const nv_dev_t dev = { HAL_SIM_NV_WORDS, hal_nv_read, hal_nv_write };
+        link_nv_init(&g.store, &dev);
+        g.store.status = link_nv_status_of((nv_status_t)g.o.nv_loaded);
+        lc.params.store = &g.store;
+    }
     link_init(&g.link, &lc, app, &g.cmd, &g.lim);
     clock_gettime(CLOCK_MONOTONIC, &g.t0);
     g.k = 0u;
@@ -475,12 +485,30 @@ static void pace(void)
     }
 }
 
+/* The save the link asked for, between periods (the ISR not running, as the board holds it off):
+ * the link's parameters as the sector's newest block, which nv_file.h writes to FILE. */
+static void save_asked(void)
+{
+    if (!link_nv_due(&g.store)) {
+        return;
+    }
+    const nv_status_t st = link_nv_save(&g.store, &g.params, app_stopped(g.app));
+    if (st == NV_OK) {
+        fprintf(stderr, "drive_sil: link: save: the link's %u parameters saved (--nv FILE)\n",
+                (unsigned)LINK_NV_PARAMS.count);
+    } else {
+        fprintf(stderr, "drive_sil: link: save: nothing saved: %s\n",
+                app_stopped(g.app) ? "the sector refused the block" : "the drive was started first");
+    }
+}
+
 static int on_period_end(void *user)
 {
     (void)user;
     accept_clients();
     receive();
     link_poll(&g.link);
+    save_asked();
     transmit();
     client_timeouts();
     poll_closing();

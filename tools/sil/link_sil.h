@@ -21,7 +21,12 @@
  * after every ISR call, link_poll() in the background after each period.
  * A value written over the link overrides the scenario's profile for that
  * variable from then on. ACTION quit stops the drive and ends the run once
- * its reply is sent (the CSV is kept, complete).
+ * its reply is sent (the CSV is kept, complete). With drive_sil --nv FILE
+ * the drive has its parameter store (firmware/link/link_nv.h): ACTION save
+ * (drivetool save, the drive stopped) writes the link's parameters as the
+ * sector's newest block at the end of that period (nv_file.h then writes
+ * FILE), said on stderr; without --nv there is no store (nv_status NONE,
+ * save an unknown action).
  */
 #ifndef LINK_SIL_H
 #define LINK_SIL_H
@@ -36,6 +41,8 @@ typedef struct {
     int port;
     long baud;
     double realtime;
+    int nv;                 /* --nv FILE given: the drive has its parameter store */
+    int nv_loaded;          /* ... and its start-up load's nv_status_t (nv_file_apply's, drive_sil) */
 } link_sil_opts_t;
 
 /* Parse argv[*i] if it is one of the options above (advancing *i past its value): 1 taken,

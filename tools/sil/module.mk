@@ -19,7 +19,8 @@ $(SIL_VERSION_C): FORCE
 	 line="const char sil_revision[] = \"$${rev:-unknown}\";"; \
 	 echo "$$line" | cmp -s - $@ || echo "$$line" > $@
 
-DRIVE_SIL_INPUTS := $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c tools/sil/link_sil.c $(SIL_VERSION_C)) \
+DRIVE_SIL_INPUTS := $(call objs,tools/sil/drive_sil.c tools/sil/csv_writer.c tools/sil/sil.c tools/sil/link_sil.c \
+                    tools/sil/board_config.c $(SIL_VERSION_C)) \
                     $(LIB_silrun) $(LIB_firmware) $(LIB_sim) $(LIB_control)
 $(DRIVE_SIL): $(DRIVE_SIL_INPUTS)
 	@mkdir -p $(@D)
@@ -33,6 +34,8 @@ scenario-keys: $(DRIVE_SIL) ## rewrite tools/sil/SCENARIO_KEYS.md from the key t
 
 TEST_LIBS_test_scenario := silrun firmware sim control
 TEST_LIBS_test_ini_edit := silrun
+# drive_sil --nv FILE: the simulated board's parameter sector kept in FILE (nv_file.h).
+TEST_LIBS_test_sil_nv := silrun firmware sim control
 # The CSV's number format (csv_num.c, in libsilrun) against printf.
 TEST_LIBS_test_csv_num := silrun
 # drive_sil's CSV writer thread: bytes as sil_csv_row(), write errors.

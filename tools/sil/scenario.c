@@ -82,14 +82,14 @@ static const char DERIVED[] = "(derived)";
 #define SC_PARAMS PARAMS, NULL
 #define SC_DERIVED(from) DERIVED, from
 #define SC_UNSET NULL, NULL
-#define SC_LOC(tgt, type, f, conv, scale) { tgt, offsetof(type, f), SC_CONV_##conv, scale }
+#define SC_LOC(tgt, type, f, conv, scale) { tgt, offsetof(type, f), SC_CONV_##conv, scale, #f }
 #define SC_P(f, conv, scale) SC_LOC(SC_TO_PARAMS, drive_params_t, f, conv, scale)
 #define SC_A(f, conv, scale) SC_LOC(SC_TO_APP, app_cfg_t, f, conv, scale)
 #define SC_S(f, conv, scale) SC_LOC(SC_TO_SIM, hal_sim_cfg_t, f, conv, scale)
 #define SC_F(f, conv, scale) SC_LOC(SC_TO_FAULTS, hal_sim_faults_t, f, conv, scale)
 #define SC_L(f, conv, scale) SC_LOC(SC_TO_LINK, link_cfg_t, f, conv, scale)
-#define SC_NO { SC_TO_NONE, 0, SC_CONV_NONE, 1.0 }
-#define SC_SAME { SC_TO_SAME, 0, SC_CONV_NONE, 1.0 }
+#define SC_NO { SC_TO_NONE, 0, SC_CONV_NONE, 1.0, NULL }
+#define SC_SAME { SC_TO_SAME, 0, SC_CONV_NONE, 1.0, NULL }
 #define SC_KEY(sec, key, KIND, range, def, from, to, help) \
     { #sec, #key, SC_KIND_##KIND, SC_OFFSET_##KIND(sec, key), range, def, from, to, help },
 
@@ -623,9 +623,14 @@ int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen)
 
 int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen)
 {
-    char buf[SCENARIO_ERR_LEN];
     char where[SCENARIO_ORIGIN_LEN];
     snprintf(where, sizeof where, "--set %s", assignment);
+    return scenario_set_from(sc, assignment, where, err, errlen);
+}
+
+int scenario_set_from(scenario_t *sc, const char *assignment, const char *where, char *err, size_t errlen)
+{
+    char buf[SCENARIO_ERR_LEN];
     if (strlen(assignment) >= sizeof buf) {
         snprintf(err, errlen, "%s: too long", where);
         return -1;
@@ -1124,6 +1129,18 @@ void scenario_key_info(int i, scenario_key_info_t *out)
                 : (k->kind == K_UINT) ? SC_KEY_UINT
                 : (k->kind == K_ENUM) ? SC_KEY_ENUM
                                       : SC_KEY_PROFILE;
+}
+
+double scenario_key_value(const scenario_t *sc, int i)
+{
+    const sc_key_t *k = &KEYS[i];
+    if (k->kind == K_REAL) {
+        return real_value(sc, k->offset);
+    }
+    if (k->kind == K_UINT || k->kind == K_ENUM) {
+        return (double)*(const uint32_t *)(const void *)((const char *)sc + k->offset);
+    }
+    return NAN;
 }
 
 void scenario_key_json(FILE *f, const scenario_t *sc, int i)

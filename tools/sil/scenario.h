@@ -80,6 +80,9 @@ int scenario_load(scenario_t *sc, const char *path, char *err, size_t errlen);
 /* Apply one "section.key=value" override. Returns 0, or -1 with err filled. */
 int scenario_set(scenario_t *sc, const char *assignment, char *err, size_t errlen);
 
+/* The same, the value's origin (messages, the key's source) named where ("--nv FILE"). */
+int scenario_set_from(scenario_t *sc, const char *assignment, const char *where, char *err, size_t errlen);
+
 /* Cross-key checks (absolute vs factor; plausibility bounds, the controller's after its factor;
  * method = proposed needs step 1 or a trusted R: no silent fallback to the conventional method),
  * resolution of the controller's R, L, psi_f, J, B to absolute values and of the derived keys
@@ -126,6 +129,7 @@ typedef struct {
     size_t offset;             /* of the value in the target's struct */
     sc_conv_t conv;
     double scale;              /* key unit per target unit */
+    const char *path;          /* the field's path in the target's struct ("rsid.mode"), or NULL */
 } sc_loc_t;
 
 /* One key of the table, for the runner's outputs and tests. */
@@ -151,6 +155,10 @@ void scenario_map(const scenario_t *sc, sc_target_t target, void *cfg, double Ts
 
 /* The value at loc in *cfg (the struct loc->target names), in the key's unit. */
 double scenario_loc_read(const sc_loc_t *loc, const void *cfg, double Ts_s);
+
+/* Key i's value in a scenario: a REAL's (NaN: not set, not derived), a
+ * UINT's, an ENUM's index; NaN for a profile. */
+double scenario_key_value(const scenario_t *sc, int i);
 
 /* Key i's value in a finished scenario as JSON: a number (null if NaN), an
  * enum's name, or a profile's points [[t_s, value, ramp], ...]. */

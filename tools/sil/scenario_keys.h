@@ -203,7 +203,10 @@
       "build level (app.h): 1 PWM pattern, 2 ADC readings, 3 open-loop rotation and encoder check, " \
       "4 torque control at level4_i_limit_A, 5 the full drive") \
     X(run, level4_i_limit_A, REAL, SC_GT0, SC_UNSET, SC_NO, SC_A(lvl.i_lim_4_A, F32, 1.0), \
-      "level 4's current limit [A] (default 0.3 x [controller] i_limit_A)")
+      "level 4's current limit [A] (default 0.3 x [controller] i_limit_A)") \
+    X(run, level12_vdc_max_V, REAL, SC_GT0, SC_PARAMS, SC_A(lvl.vdc_max_12_V, F32, 1.0), SC_SAME, \
+      "levels 1-2 run without the DC bus: above this bus a start, or a running level 1 or 2, latches " \
+      "BUS_CHARGED (PWM off) [V]: a safe extra-low voltage")
 
 /* [faults]: fault injection on the simulated board (hal_sim.h); each from its time on */
 #define SC_KEYS_faults(X) \

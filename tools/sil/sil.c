@@ -64,6 +64,13 @@ static void app_cfg_from(const scenario_t *sc, app_cfg_t *ac)
     sil_app_cfg(sc, &p, ac);
 }
 
+void sil_drive_config(const scenario_t *sc, drive_params_t *p, app_cfg_t *ac)
+{
+    sil_drive_params(sc, p);
+    sil_app_cfg(sc, p, ac);
+    (void)drive_params_derive(p);
+}
+
 static ctrl_mode_t ctrl_mode_of(uint32_t mode)
 {
     if (mode == SC_MODE_OPEN_LOOP) {

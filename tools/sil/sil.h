@@ -135,6 +135,11 @@ void sil_drive_params(const scenario_t *sc, drive_params_t *p);
  * whose target is the app's configuration. */
 void sil_app_cfg(const scenario_t *sc, const drive_params_t *p, app_cfg_t *ac);
 
+/* The drive's parameter set (its derived values derived) and the app's
+ * configuration a run of *sc (finished) starts with: drive_sil
+ * --board-config writes them as the board image's (board_config.h). */
+void sil_drive_config(const scenario_t *sc, drive_params_t *p, app_cfg_t *ac);
+
 /* Longest CSV line of a row, with its newline: every column is one of sil_row_t's doubles,
  * at most CSV_NUM_MAX characters with its separator. */
 #define SIL_CSV_LINE_MAX (sizeof(sil_row_t) / sizeof(double) * CSV_NUM_MAX)

@@ -4,6 +4,8 @@
 
 #include <stdint.h>
 
+#include "DSP2833x_Device.h"
+
 /* Zero every fake register and the fake CPU state (power-on state for the
  * tests); forgets the EDIS hook and the ADC_cal record. */
 void c2000_fake_reset(void);
@@ -26,5 +28,32 @@ typedef struct {
 } c2000_fake_adc_cal_t;
 
 extern c2000_fake_adc_cal_t c2000_fake_adc_cal;
+
+/* The F28335's flash sector B (0x330000, 32K words: hal_f28335_cfg.h's
+ * F28335_NV_SECTOR_*), the parameter store's, on the host; erased (0xFFFF)
+ * by c2000_fake_reset. Flash2833x_API_Library.h's fake erases and programs
+ * it. */
+#define C2000_FAKE_FLASH_B_WORDS 0x8000UL
+extern Uint16 c2000_fake_flash_b[]; /* C2000_FAKE_FLASH_B_WORDS of them (no size here: the 16-bit-int gate) */
+
+/* What the flash API's fake saw, call by call (reset by c2000_fake_reset). */
+typedef enum { C2000_FAKE_ERASE = 1, C2000_FAKE_PROGRAM = 2, C2000_FAKE_VERIFY = 3 } c2000_fake_flash_op_t;
+#define C2000_FAKE_FLASH_CALLS_MAX 8
+typedef struct {
+    c2000_fake_flash_op_t op;
+    Uint16 sector_mask;         /* ERASE */
+    Uint32 offset, length;      /* PROGRAM, VERIFY: in sector B [words] */
+    Uint16 ints_masked;         /* INTM set during the call */
+    Uint16 pwm_forced_off;      /* TZFRC.OST set on ePWM1-3 */
+    Uint32 scale_factor;        /* Flash_CPUScaleFactor */
+    Uint16 callback_kicks;      /* ERASE: callbacks whose watchdog key sequence ended in 0xAA */
+} c2000_fake_flash_call_t;
+typedef struct {
+    Uint16 n;
+    c2000_fake_flash_call_t call[C2000_FAKE_FLASH_CALLS_MAX];
+    Uint16 fail_next;           /* set by a test: the next call of that op fails (0: none) */
+    Uint16 callbacks_per_erase; /* how often an erase calls Flash_CallbackPtr (3 after reset) */
+} c2000_fake_flash_t;
+extern c2000_fake_flash_t c2000_fake_flash;
 
 #endif /* C2000_FAKE_H */

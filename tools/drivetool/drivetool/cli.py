@@ -15,14 +15,14 @@ import sys
 import time
 
 from . import codec
-from .drive import (CMD_ERR_FAULTED, CMD_ERR_NOT_STOPPED, COMM_STAGES, FAULTS, RETRIES, WARNING_BITS, Drive,
-                    LinkError, NoAnswer, Refused, UsageError, bits_names, enum_name, show)
+from .drive import (CMD_ERR_FAULTED, CMD_ERR_NOT_STOPPED, COMM_STAGES, FAULTS, RETRIES, SAVE_WAIT_S, WARNING_BITS,
+                    Drive, LinkError, NoAnswer, Refused, UsageError, bits_names, enum_name, show)
 
 PORT_ENV = "DRIVETOOL_PORT"
 EXIT_INTERRUPTED = 130          # 128 + SIGINT, as a shell reports it
 STATUS_VARS = ["state", "fault", "flags", "speed_est_rpm", "speed_ref_rpm", "te_ref_Nm", "te_est_Nm",
                "id_meas_A", "iq_meas_A", "vdc_V", "method", "method_ran", "hold_reason", "mode", "cmd_error",
-               "ticks", "host_timeout_s", "link_err_crc", "link_err_framing", "link_err_overrun",
+               "ticks", "host_timeout_s", "nv_status", "link_err_crc", "link_err_framing", "link_err_overrun",
                "link_stream_dropped"]
 CAPTURE_POLL_S = 0.05
 # the commissioning (firmware/commission/commission.h): comm_result codes, and the measured values as
@@ -99,6 +99,9 @@ def cmd_status(d, args):
     if "host_timeout_s" in v:
         lines.append("host timeout " + (f"{v['host_timeout_s']:g} s" if v["host_timeout_s"] > 0 else "off")
                      + ("; warnings " + " ".join(v["warnings"]) if v["warnings"] else ""))
+    if "nv_status" in v:
+        v["nv_status_name"] = enum_name("nv_status", v["nv_status"])
+        lines.append(f"parameter store {v['nv_status_name']}")
     lines.append(f"link errors: crc {v['link_err_crc']}, framing {v['link_err_framing']}, "
                  f"overrun {v['link_err_overrun']}, stream dropped {v['link_stream_dropped']}  "
                  f"(firmware {d.info['firmware']}, {d.info['baud']} baud)")
@@ -232,6 +235,16 @@ def cmd_commission(d, args):
             # R is measured: no step 1, R tracked in service (drive_sil's OUT.ini says the same)
             f.write("\n[identify]\nmode = trusted\n")
     _emit(args, res, " ".join(f"{k}={_fmt(x)}" for k, x in res.items()) + (f" -> {args.ini}" if args.ini else ""))
+
+
+def cmd_save(d, args):
+    """The drive's parameters into its store (flash sector B; drive_sil --nv FILE), the drive stopped."""
+    try:
+        d.save(args.wait)
+    except Refused as e:
+        raise Refused(_refusal_text(d, e, "save") if e.err is not None else str(e)) from None
+    n = sum(1 for v in d.vars if v.param)
+    _emit(args, {"ok": True, "saved": n}, f"{n} parameters saved: the next start takes them (nv_status VALID)")
 
 
 LEVEL_NAMES = {1: "PWM check", 2: "ADC check", 3: "encoder check", 4: "torque control", 5: "the full drive"}
@@ -547,6 +560,9 @@ def build_parser():
              "(refused naming the state or the fault otherwise)", js)
     s.add_argument("--ini", help="write the values as a [controller] section (drive_sil's OUT.ini keys)")
     s.add_argument("--wait", type=float, default=120.0, help="seconds to wait for the end")
+    s = _sub(sub, "save", cmd_save, "save the drive's parameters (backup's) in its store, read at every start "
+             "(the drive stopped: refused naming the state otherwise)", js)
+    s.add_argument("--wait", type=float, default=SAVE_WAIT_S, help="seconds to wait for the flash")
     s = _sub(sub, "level", cmd_level, "the build level the next start runs (without N: show it)", js)
     s.add_argument("n", nargs="?", type=int, choices=range(1, 6), metavar="N",
                    help="1 PWM, 2 ADC, 3 encoder check, 4 torque control, 5 the drive")

@@ -25,6 +25,7 @@ T_U16, T_U32, T_F32 = 0, 1, 2
 ACC_READ, ACC_WRITE, ACC_WRITE_STOPPED = 0, 1, 2
 # actions
 ACT_START, ACT_STOP, ACT_FAULT_RESET, ACT_QUIT, ACT_COMMISSION, ACT_LEVEL = 1, 2, 3, 4, 5, 6   # LEVEL carries the level
+ACT_SAVE = 7                # the parameters into the drive's store (link_nv.h)
 # capture triggers and states
 TRIG_FORCED, TRIG_ABOVE, TRIG_BELOW, TRIG_FAULT, TRIG_STATE = range(5)
 CAP_IDLE, CAP_PRE, CAP_POST, CAP_DONE = range(4)

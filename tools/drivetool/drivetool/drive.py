@@ -11,6 +11,7 @@ is retried with the same sequence number when its reply does not come: the
 drive answers a repeat from its reply cache, so a write or an action is
 applied once. The variable table is cached by HELLO's hash."""
 import json
+import math
 import os
 import socket
 import struct
@@ -41,7 +42,8 @@ FAULTS = ["NONE", "HW_TRIP", "OVERCURRENT", "NONFINITE_OUTPUT", "NONFINITE_SAMPL
           "UNDERVOLTAGE", "OVERSPEED", "ENCODER", "OVERRUN", "CURRENT_OFFSET", "CONFIG", "RSID_TOO_FEW",
           "RSID_NOT_STEADY", "RSID_DEGENERATE", "RSID_NON_FINITE", "RSID_OUT_OF_BAND", "OPEN_PHASE",
           "CURRENT_SENSOR", "ENCODER_LOST", "WATCHDOG_RESET", "FLASH_CRC", "ENCODER_DIRECTION", "POLE_PAIRS",
-          "PHASE_ORDER", "RSID_D_AXIS", "COMM_TIMEOUT", "COMM_NO_ROTATION", "COMM_IMPLAUSIBLE"]
+          "PHASE_ORDER", "RSID_D_AXIS", "COMM_TIMEOUT", "COMM_NO_ROTATION", "COMM_IMPLAUSIBLE",
+          "BUS_CHARGED"]
 MODES = ["open_loop", "torque", "speed"]             # ctrl_mode_t (drive_sil's [controller] mode names)
 METHODS = ["conventional", "proposed"]              # ctrl_method_t (drive_sil's [controller] method names)
 EST_PHASES = ["off", "step1", "step2"]
@@ -50,6 +52,9 @@ COMM_STAGES = ["NONE", "R", "L", "ENCODER", "SPIN", "DONE", "WIRING", "INVERTER"
 LEVELS = ["-", "pwm", "adc", "encoder_check", "torque", "drive"]
 CMD_ERROR_NAMES = ["OK", "METHOD", "METHOD_CFG", "MODE", "SPEED", "TORQUE", "VOLTAGE", "METHOD_NO_STEP1", "LEVEL",
                    "FAULTED", "NOT_STOPPED", "RANGE"]
+# nv_status: the parameter store's state (link_nv_status_t, firmware/link/link_nv.h)
+NV_STATUSES = ["NONE", "EMPTY", "VALID", "INVALID", "SAVING", "SAVED", "SAVE_FAILED"]
+NV_NONE, NV_SAVING, NV_SAVED, NV_SAVE_FAILED = 0, 4, 5, 6
 # the bits of `flags` (CTRL_FLAG_*, then the app's warnings APP_WARN_*) and of `est_hold` / `hold_reason`
 FLAG_BITS = {0x0001: "VOLTAGE_LIMIT", 0x0002: "FLUX_UNREACHABLE", 0x0004: "NONFINITE", 0x0100: "INV_UNIDENTIFIED",
              0x0200: "R_HELD", 0x0400: "PSI_HELD", 0x0800: "ANGLE_SUSPECT", 0x1000: "STEP1_REFUSED",
@@ -61,7 +66,7 @@ WARNING_BITS = 0x7000           # the app's warnings among the flags
 # variable -> the names of its values (shown by name, numbers with --json; accepted by name in set)
 ENUMS = {"state": STATES, "fault": FAULTS, "fault_present": FAULTS, "mode": MODES, "method": METHODS,
          "method_ran": METHODS, "est": EST_PHASES, "comm_result": COMM_RESULTS, "comm_stage": COMM_STAGES,
-         "level": LEVELS, "level_next": LEVELS, "cmd_error": CMD_ERROR_NAMES}
+         "level": LEVELS, "level_next": LEVELS, "cmd_error": CMD_ERROR_NAMES, "nv_status": NV_STATUSES}
 BITS = {"flags": FLAG_BITS, "est_hold": HOLD_BITS, "hold_reason": HOLD_BITS}
 ACCESS = {codec.ACC_READ: "r", codec.ACC_WRITE: "rw", codec.ACC_WRITE_STOPPED: "rw-stopped"}
 TYPES = {codec.T_U16: "u16", codec.T_U32: "u32", codec.T_F32: "f32"}
@@ -133,6 +138,11 @@ REPLY_MARGIN_S = 0.15       # a reply's time beyond its bytes: the drive's backg
 PAGE_MARGIN_S = 0.05
 BITS_PER_BYTE = 10          # 8N1
 HELD_RETRY_S = 0.1          # a held port is tried again this often until the open's timeout
+# save: the board erases and programs its flash sector with the control ISR and the link held off (an
+# erase takes about a second, SPRS439's flash timing; the API's worst case is longer): the save's
+# requests keep being retried, unanswered, for this long, polling nv_status this often
+SAVE_WAIT_S = 30.0
+SAVE_POLL_S = 0.1
 # while only listening (a stream), a PING this often: the drive's host timeout and drive_sil's idle
 # timeout see a host that is there (a fifth of the shortest timeout, 1 s)
 KEEPALIVE_S = 0.2
@@ -430,6 +440,34 @@ class Drive:
             raise Refused(f"level {n} refused: {CMD_ERRORS.get(struct.unpack_from('<H', p, 0)[0], '?')}")
         if st != codec.ST_OK:
             raise Refused(f"ACTION level: {codec.STATUS_TEXT.get(st, st)}")
+
+    def save(self, wait=SAVE_WAIT_S):
+        """The drive's parameters into its store (the drive stopped): ACTION save, then nv_status until
+        SAVED (returned) or SAVE_FAILED (Refused); a drive silent while it writes its flash is asked
+        again for up to `wait` s. Refused with CMD_ERR_NOT_STOPPED (in .err) while the drive is not
+        stopped, and without a store (an image or drive_sil run without one: nv_status NONE)."""
+        if "nv_status" not in self.by_name or self.get("nv_status")["nv_status"] == NV_NONE:
+            raise Refused("save: this drive has no parameter store (drive_sil: --nv FILE)")
+        deadline = time.monotonic() + wait
+        retries = self.retries
+        self.retries = max(retries, math.ceil(wait / self.reply_timeout))   # the repeat answered after the write
+        try:
+            self.action(codec.ACT_SAVE)
+        finally:
+            self.retries = retries
+        while True:
+            try:
+                st = self.get("nv_status")["nv_status"]
+            except NoAnswer:
+                st = NV_SAVING      # writing its flash: no answer meanwhile
+            if st == NV_SAVED:
+                return st
+            if st == NV_SAVE_FAILED:
+                raise Refused("save failed: the flash refused the block or it did not read back, or the drive was "
+                              "started before it was written (nv_status SAVE_FAILED)")
+            if time.monotonic() > deadline:
+                raise NoAnswer(f"save: nv_status still {enum_name('nv_status', st)} after {wait:g} s")
+            time.sleep(SAVE_POLL_S)
 
     def ping(self):
         p = self._ok(codec.PING, what="PING")
