@@ -210,13 +210,14 @@ check-deps: ## (internal) the cross compilers and cppcheck of `make check`
 COMMIT_BASELINE    := 73c655a
 COMMIT_SUBJECT_MAX := 72
 
-check: check-deps ## portability, layer, target-build, ISR-path, estimation-owner, RAM-budget, commit-subject and make-help gates
+check: check-deps ## portability, layer, target-build, ISR-path, estimation-owner, tests' surface, RAM-budget, commit-subject and make-help gates
 	@tools/check/commit_subjects.sh $(COMMIT_BASELINE) $(COMMIT_SUBJECT_MAX)
 	@tools/make/make_help.sh --check $(MAKEFILE_LIST)
 	@tools/check/portability.sh $(BUILD)/check
 	@tools/check/target_cfg.sh
 	@tools/check/isr_path.sh $(BUILD)/check
 	@tools/check/est_owner.sh
+	@tools/check/app_reach.sh
 	@tools/check/ram_budget.sh $(BUILD)/check
 
 # ---- cleaning --------------------------------------------------------------

@@ -2,8 +2,9 @@
  * test_align, test_protect, test_rsid_seq): the test configuration, the
  * ISR call patterns against the cmocka mock of the HAL (tests/mock_hal.c),
  * hand values of the calibration and the alignment, and the dyno that
- * answers the duties with obs_plant's currents in IDENTIFY_R. Include it
- * once, in a test runner. */
+ * answers the duties with obs_plant's currents in IDENTIFY_R; the
+ * controller through app.h's and ctrl.h's readers, or tests/app_probe.h
+ * where they give nothing. Include it once, in a test runner. */
 #ifndef APP_HARNESS_H
 #define APP_HARNESS_H
 
@@ -15,6 +16,7 @@
 #include <math.h>
 
 #include "app.h"
+#include "app_probe.h"
 #include "est_defaults.h"
 #include "board_cfg.h"
 #include "mock_hal.h"
@@ -332,9 +334,9 @@ static inline void dyno_isr(float te_Nm, bool faults)
     const double ial = dyno.id * cos(th) - dyno.iq * sin(th);
     const double ibe = dyno.id * sin(th) + dyno.iq * cos(th);
     dyno_last = sample((float)ial, (float)(-0.5 * ial + 0.5 * sqrt(3.0) * ibe), VDC);
-    ctrl_ref_t r = app.ctrl.ref;
+    ctrl_ref_t r = *ctrl_ref(app_ctrl(&app));
     r.te_ref_Nm = te_Nm;
-    ctrl_set_ref(&app.ctrl, &r);
+    ctrl_set_ref(probe_ctrl_rw(&app), &r);
     expect_read_poll(&dyno_last, 0);
     expect_function_call(hal_pwm_write);
     if (faults) {
@@ -382,7 +384,7 @@ static inline void identify_periods(int from, int to, te_plan_t plan)
         assert_int_equal(app.state, APP_STATE_IDENTIFY_R);
         const rs_ident_window_t w = (k >= RSID_WIN1 && k < RSID_WIN1 + RSID_WIN) ? RS_IDENT_WINDOW_1
                                   : ((k >= RSID_WIN2) ? RS_IDENT_WINDOW_2 : RS_IDENT_WINDOW_NONE);
-        assert_int_equal(app.ctrl.est.win, w);
+        assert_int_equal(probe_rsid_window(&app), w);
     }
 }
 
@@ -390,8 +392,8 @@ static inline void identify_periods(int from, int to, te_plan_t plan)
 static inline void identify_until_last(te_plan_t plan)
 {
     identify_periods(0, RSID_LAST, plan);
-    assert_int_equal(app.ctrl.est.ri.win[0].h.n, RSID_WIN);
-    assert_int_equal(app.ctrl.est.ri.win[1].h.n, RSID_LAST - RSID_WIN2);
+    assert_int_equal(probe_rsid_samples(&app, 0), RSID_WIN);
+    assert_int_equal(probe_rsid_samples(&app, 1), RSID_LAST - RSID_WIN2);
 }
 
 #endif /* APP_HARNESS_H */

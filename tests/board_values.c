@@ -24,12 +24,12 @@ static void num(const char *key, double v, const char *sep)
 
 int main(void)
 {
-    static app_cfg_t c;
+    static app_cfg_t cfg;
     drive_params_t p;
-    app_cfg_default(&c);
+    app_cfg_default(&cfg);
     drive_params_board(&p);
     (void)drive_params_derive(&p);
-    const ctrl_cfg_t *k = &c.ctrl;
+    const ctrl_cfg_t *k = &cfg.ctrl;
 
     printf("{\"controller\": {");
     num("R_ohm", (double)k->R_Ohm, ", ");
@@ -43,8 +43,8 @@ int main(void)
     num("speed_ki_Nm_rad", (double)k->speed_ki_Nm_rad, ", ");
     num("te_max_Nm", (double)k->te_max_Nm, ", ");
     num("i_limit_A", (double)k->i_lim_A, ", ");
-    num("i_max_A", (double)c.prot.i_max_A, ", ");
-    num("overspeed_rpm", (double)c.prot.speed_max_rad_s * RPM_PER_RAD_S, ", ");
+    num("i_max_A", (double)cfg.prot.i_max_A, ", ");
+    num("overspeed_rpm", (double)cfg.prot.speed_max_rad_s * RPM_PER_RAD_S, ", ");
     num("deadtime_s", (double)k->deadtime_s, "},\n");
     printf(" \"motor\": {");
     num("i_rated_A", (double)p.rating.i_rated_A, ", ");
@@ -52,10 +52,10 @@ int main(void)
     num("t_peak_s", (double)p.rating.t_peak_s, ", ");
     num("n_rated_rpm", (double)p.rating.n_rated_rad_s * RPM_PER_RAD_S, "},\n");
     printf(" \"run\": {");
-    num("level", (double)c.lvl.level, ", ");
-    num("level4_i_limit_A", (double)c.lvl.i_lim_4_A, ", ");
-    num("level12_vdc_max_V", (double)c.lvl.vdc_max_12_V, ", ");
-    printf("\"calibrate\": \"%s\", \"align\": \"%s\"},\n", c.calibrate ? "on" : "off", c.align ? "on" : "off");
+    num("level", (double)cfg.lvl.level, ", ");
+    num("level4_i_limit_A", (double)cfg.lvl.i_lim_4_A, ", ");
+    num("level12_vdc_max_V", (double)cfg.lvl.vdc_max_12_V, ", ");
+    printf("\"calibrate\": \"%s\", \"align\": \"%s\"},\n", cfg.calibrate ? "on" : "off", cfg.align ? "on" : "off");
     printf(" \"board\": {");
     num("vdc_V", (double)p.board.vdc_nominal_V, ", ");
     num("adc_full_scale_A", (double)F28335_I_A_PER_COUNT * ADC_HALF_RANGE_COUNTS, ", ");

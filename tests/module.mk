@@ -12,7 +12,8 @@ FUZZ_DIR   := $(BUILD)/fuzz
 FUZZ_BIN   := $(FUZZ_DIR)/fuzz_app
 FUZZ_HARNESS := tests/fuzz/fuzz_app.c tests/fuzz/fuzz_hal.c
 FUZZ_PORTABLE := $(CONTROL_SRCS) $(FIRMWARE_SRCS)
-FUZZ_HDRS  := $(wildcard $(addsuffix /*.h,$(CONTROL_ROOMS)) firmware/*/*.h hal/hal.h hal/f28335/board_hw.h tests/fuzz/*.h)
+FUZZ_HDRS  := $(wildcard $(addsuffix /*.h,$(CONTROL_ROOMS)) firmware/*/*.h hal/hal.h hal/f28335/board_hw.h tests/fuzz/*.h) \
+              tests/app_probe.h
 FUZZ_CC    ?= clang
 FUZZ_FLAGS := -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
               -fno-omit-frame-pointer $(INC_CONTROL) -Ihal -Ihal/f28335 $(INC_FW_ALL) -Itests/fuzz

@@ -61,8 +61,8 @@ static void init_with_its_own_cfg_in_place(void **state)
     expect_function_call(hal_pwm_disable);
     app_init(&in_place, &in_place.cfg);
     assert_memory_equal(&in_place.cfg, &app.cfg, sizeof cfg);
-    assert_memory_equal(&in_place.ctrl.cfg, &app.ctrl.cfg, sizeof app.ctrl.cfg);
-    assert_int_equal(in_place.ctrl.status, app.ctrl.status);
+    assert_memory_equal(probe_ctrl_kept(&in_place), probe_ctrl_kept(&app), sizeof *probe_ctrl_kept(&app));
+    assert_int_equal(ctrl_status(app_ctrl(&in_place)), ctrl_status(app_ctrl(&app)));
     assert_int_equal(in_place.state, APP_STATE_INIT);
 }
 
@@ -127,14 +127,14 @@ static void sequence_calibrates_aligns_runs(void **state)
     assert_true(app.aligned);
     /* offset = -(electrical angle of COUNT0) = -((1234 * 3 mod 10000) + 1.5) * 2 pi / 10000:
      * 3702 electrical counts plus the centre of the count's interval (p/2) */
-    assert_true(wrap_dist(app.ctrl.enc.offset_el_rad, -3703.5f * 2.0f * PI_F / CPR) < 1e-5f);
+    assert_true(wrap_dist(ctrl_enc_offset_el_rad(app_ctrl(&app)), -3703.5f * 2.0f * PI_F / CPR) < 1e-5f);
 
     /* RUN: the aligned count reads 0 rad; the controller gets ia - 0.11, ib + 0.04 */
     hal_sample_t r = sample(0.61f, -0.34f, VDC);
     isr_run(&r);
     assert_int_equal(app.state, APP_STATE_RUN);
-    assert_true(wrap_dist(app.ctrl.mon.theta_el_rad, 0.0f) < 1e-5f);
-    assert_float_equal(app.ctrl.mon.id_A, 0.5, 1e-4); /* Park at 0 rad: id = ia */
+    assert_true(wrap_dist(app_monitor(&app)->theta_el_rad, 0.0f) < 1e-5f);
+    assert_float_equal(app_monitor(&app)->id_A, 0.5, 1e-4); /* Park at 0 rad: id = ia */
 }
 
 /* A stop in CALIBRATE or ALIGN ends in IDLE with the outputs off. */
@@ -178,15 +178,15 @@ static void isr_call_order(void **state)
     expect_function_call(hal_pwm_write);
     expect_function_call(hal_isr_ack);
     app_isr(&app);
-    assert_float_equal(app.ctrl.mon.id_A, 2.0, 1e-3); /* ctrl_step saw this call's sample */
+    assert_float_equal(app_monitor(&app)->id_A, 2.0, 1e-3); /* ctrl_step saw this call's sample */
     for (int j = 0; j < 3; j++) {
         assert_float_equal(mock_hal_duty[j], app.out.duty[j], 0.0);
     }
     hal_sample_t bad = sample(5.0f, 0.0f, 500.0f);
     isr_fault(&bad, 0);
     /* no ctrl_step (no write, no reference): the monitor has this sample's readings all the same */
-    assert_float_equal(app.ctrl.mon.id_A, 5.0, 1e-2); /* at the encoder's angle, about 0 */
-    assert_float_equal(app.ctrl.mon.te_ref_Nm, 0.0, 0.0);
+    assert_float_equal(app_monitor(&app)->id_A, 5.0, 1e-2); /* at the encoder's angle, about 0 */
+    assert_float_equal(app_monitor(&app)->te_ref_Nm, 0.0, 0.0);
     assert_float_equal(app.vdc_V, 500.0, 0.0);
 }
 
@@ -209,25 +209,25 @@ static void reconfigure_while_stopped(void **state)
     hal_sample_t s = sample(0.5f, -0.2f, VDC);
     start(&s);
     assert_int_equal(app.state, APP_STATE_RUN);
-    const float kp0 = app.ctrl.speed_pi.cfg.Kp;
+    const float kp0 = probe_speed_pi_cfg(&app)->Kp;
     app.cfg.ctrl.speed_kp_Nms_rad = 2.0f * kp0;
     app.cfg.ctrl.L_H = 1.5f * app.cfg.ctrl.L_H;
     app_request_reconfigure(&app, 0u);
     assert_false(app_reconfigure_due(&app));
     app_reconfigure_now(&app);                                  /* not due: nothing */
-    assert_true(app.ctrl.speed_pi.cfg.Kp == kp0);
+    assert_true(probe_speed_pi_cfg(&app)->Kp == kp0);
     isr_stop(&s);
     assert_int_equal(app.state, APP_STATE_IDLE);
     assert_true(app_reconfigure_due(&app));
-    const float offset = app.ctrl.enc.offset_el_rad;
+    const float offset = ctrl_enc_offset_el_rad(app_ctrl(&app));
     const app_op_t op = app.op_taken;
     app_reconfigure_now(&app);
     assert_false(app_reconfigure_due(&app));
     assert_int_equal(app.req_reconfigure, 0u);
-    assert_true(app.ctrl.speed_pi.cfg.Kp == 2.0f * kp0);
-    assert_true(app.ctrl.db.par.L_H == app.cfg.ctrl.L_H);
-    assert_true(app.ctrl.enc.offset_el_rad == offset);
-    assert_int_equal(app.ctrl.mode, op.mode);
+    assert_true(probe_speed_pi_cfg(&app)->Kp == 2.0f * kp0);
+    assert_true(probe_model(&app)->L_H == app.cfg.ctrl.L_H);
+    assert_true(ctrl_enc_offset_el_rad(app_ctrl(&app)) == offset);
+    assert_int_equal(ctrl_mode(app_ctrl(&app)), op.mode);
     assert_int_equal(app.state, APP_STATE_IDLE);
 }
 
@@ -242,7 +242,7 @@ static void refused_block_faults_config_at_start(void **state)
         app_cfg_t cfg = make_cfg(align != 0, align != 0);
         cfg.ctrl.enc_pll_bw_rad_s = 6000.0f;
         init_cfg(&cfg);
-        assert_int_equal(app.ctrl.status & CTRL_CFG_ENCODER, CTRL_CFG_ENCODER);
+        assert_int_equal(ctrl_status(app_ctrl(&app)) & CTRL_CFG_ENCODER, CTRL_CFG_ENCODER);
         hal_sample_t s = sample(0.0f, 0.0f, VDC);
         app_request_start(&app);
         for (int k = 0; align != 0 && k < CAL_SETTLE + CAL_N - 1; k++) {
@@ -250,7 +250,7 @@ static void refused_block_faults_config_at_start(void **state)
         }
         isr_fault(&s, 0);
         assert_int_equal(app.fault, APP_FAULT_CONFIG);
-        assert_float_equal(app.snapshot.value, (float)app.ctrl.status, 0.0);
+        assert_float_equal(app.snapshot.value, (float)ctrl_status(app_ctrl(&app)), 0.0);
         assert_false(app.pwm_on);
     }
 }
@@ -273,8 +273,8 @@ static void refused_ratings_fault_config_at_start(void **state)
     app_request_start(&app);
     isr_fault(&s, 0);
     assert_int_equal(app.fault, APP_FAULT_CONFIG);
-    assert_float_equal(app.snapshot.value, (float)(app.ctrl.status | (DRIVE_DERIVE_ADC_RANGE << APP_PARAMS_REFUSED_SHIFT)),
-                       0.0);
+    assert_float_equal(app.snapshot.value,
+                       (float)(ctrl_status(app_ctrl(&app)) | (DRIVE_DERIVE_ADC_RANGE << APP_PARAMS_REFUSED_SHIFT)), 0.0);
     assert_false(app.pwm_on);
 }
 
@@ -299,14 +299,14 @@ static void level4_own_limit_and_mode_then_restored(void **state)
     drive_params_t p;
     drive_params_board(&p);
     (void)drive_params_derive(&p);
-    assert_float_equal(app.ctrl.i_lim_A, BOARD_LEVEL4_I_LIMIT_PER_LIMIT * p.limits.i_limit_A, 1e-6);
-    assert_int_equal(ctrl_mode(&app.ctrl), CTRL_MODE_TORQUE);
-    assert_int_equal(ctrl_method(&app.ctrl), CTRL_METHOD_CONVENTIONAL);
+    assert_float_equal(ctrl_i_lim_A(app_ctrl(&app)), BOARD_LEVEL4_I_LIMIT_PER_LIMIT * p.limits.i_limit_A, 1e-6);
+    assert_int_equal(ctrl_mode(app_ctrl(&app)), CTRL_MODE_TORQUE);
+    assert_int_equal(ctrl_method(app_ctrl(&app)), CTRL_METHOD_CONVENTIONAL);
     isr_stop(&s);
     app_request_level(&app, LEVEL_FULL);
     start(&s);
-    assert_float_equal(app.ctrl.i_lim_A, app.cfg.ctrl.i_max_A, 0.0);
-    assert_int_equal(ctrl_mode(&app.ctrl), CTRL_MODE_SPEED);
+    assert_float_equal(ctrl_i_lim_A(app_ctrl(&app)), app.cfg.ctrl.i_max_A, 0.0);
+    assert_int_equal(ctrl_mode(app_ctrl(&app)), CTRL_MODE_SPEED);
 }
 
 /* The board's image starts at build level 1, as TI's motor kits ship, and

@@ -12,6 +12,7 @@
 #include <math.h>
 
 #include "app.h"
+#include "app_probe.h"
 #include "cmd.h"
 #include "mock_hal.h"
 
@@ -67,6 +68,7 @@ static void apply(void)
 
 static void references_reach_the_controller_in_si_units(void **state)
 {
+    const ctrl_ref_t *ref = ctrl_ref(app_ctrl(&app));
     (void)state;
     cmd.speed_ref_rpm = 500.0f;
     cmd.te_ref_Nm = -4.0f;
@@ -74,20 +76,21 @@ static void references_reach_the_controller_in_si_units(void **state)
     cmd.uq_ref_V = -60.0f;
     cmd.mode = (uint16_t)CTRL_MODE_TORQUE;
     cmd_apply(&cmd, &LIM, &app);
-    assert_float_equal(app.ctrl.ref.te_ref_Nm, 0.0, 0.0); /* nothing before the ISR */
+    assert_float_equal(ref->te_ref_Nm, 0.0, 0.0); /* nothing before the ISR */
     assert_int_equal(app.req_op, 1u);
     apply();
     assert_int_equal(app.req_op, 0u);
-    assert_float_equal(app.ctrl.ref.speed_ref_rad_s, RPM_500_RAD_S, TOL);
-    assert_float_equal(app.ctrl.ref.te_ref_Nm, -4.0, TOL);
-    assert_float_equal(app.ctrl.ref.ud_ref_V, 12.5, TOL);
-    assert_float_equal(app.ctrl.ref.uq_ref_V, -60.0, TOL);
-    assert_int_equal(app.ctrl.mode_req, CTRL_MODE_TORQUE);
+    assert_float_equal(ref->speed_ref_rad_s, RPM_500_RAD_S, TOL);
+    assert_float_equal(ref->te_ref_Nm, -4.0, TOL);
+    assert_float_equal(ref->ud_ref_V, 12.5, TOL);
+    assert_float_equal(ref->uq_ref_V, -60.0, TOL);
+    assert_int_equal(ctrl_mode(app_ctrl(&app)), CTRL_MODE_TORQUE);
     assert_int_equal(cmd.error, CMD_OK);
 }
 
 static void refused_reference_keeps_the_old_value_and_is_named(void **state)
 {
+    const ctrl_ref_t *ref = ctrl_ref(app_ctrl(&app));
     (void)state;
     cmd.speed_ref_rpm = 500.0f;
     cmd.te_ref_Nm = 4.0f;
@@ -96,24 +99,24 @@ static void refused_reference_keeps_the_old_value_and_is_named(void **state)
     cmd.speed_ref_rpm = NAN;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_SPEED);
-    assert_float_equal(app.ctrl.ref.speed_ref_rad_s, RPM_500_RAD_S, TOL);
+    assert_float_equal(ref->speed_ref_rad_s, RPM_500_RAD_S, TOL);
 
     cmd.speed_ref_rpm = 2000.5f; /* just beyond the limit */
     apply();
     assert_int_equal(cmd.error, CMD_ERR_SPEED);
-    assert_float_equal(app.ctrl.ref.speed_ref_rad_s, RPM_500_RAD_S, TOL);
+    assert_float_equal(ref->speed_ref_rad_s, RPM_500_RAD_S, TOL);
 
     cmd.speed_ref_rpm = 500.0f;
     cmd.te_ref_Nm = 12.01f;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_TORQUE);
-    assert_float_equal(app.ctrl.ref.te_ref_Nm, 4.0, TOL);
+    assert_float_equal(ref->te_ref_Nm, 4.0, TOL);
 
     cmd.te_ref_Nm = 4.0f;
     cmd.uq_ref_V = INFINITY;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_VOLTAGE);
-    assert_float_equal(app.ctrl.ref.uq_ref_V, 0.0, TOL);
+    assert_float_equal(ref->uq_ref_V, 0.0, TOL);
 
     cmd.uq_ref_V = 0.0f; /* all valid again: the error clears */
     apply();
@@ -126,13 +129,13 @@ static void unknown_method_or_mode_is_refused(void **state)
     cmd.method = 7u;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD);
-    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+    assert_int_equal(ctrl_method(app_ctrl(&app)), CTRL_METHOD_CONVENTIONAL);
 
     cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
     cmd.mode = 3u;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_MODE);
-    assert_int_equal(app.ctrl.mode_req, CTRL_MODE_SPEED);
+    assert_int_equal(ctrl_mode(app_ctrl(&app)), CTRL_MODE_SPEED);
 }
 
 /* Step 1 off (the board's default BOARD_RSID_MODE 0): the proposed method
@@ -144,12 +147,12 @@ static void proposed_method_without_step1_is_refused(void **state)
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
-    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+    assert_int_equal(ctrl_method(app_ctrl(&app)), CTRL_METHOD_CONVENTIONAL);
     /* trusted R is an explicit choice: taken */
     app.cfg.rsid.mode = APP_RSID_TRUSTED;
     apply();
     assert_int_equal(cmd.error, CMD_OK);
-    assert_int_equal(app.ctrl.method, CTRL_METHOD_PROPOSED);
+    assert_int_equal(ctrl_method(app_ctrl(&app)), CTRL_METHOD_PROPOSED);
     /* and refused again once step 1 is off */
     cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
     apply();
@@ -157,14 +160,14 @@ static void proposed_method_without_step1_is_refused(void **state)
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
-    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+    assert_int_equal(ctrl_method(app_ctrl(&app)), CTRL_METHOD_CONVENTIONAL);
     /* step 1 configured but refused at this start (on_refusal = conventional): refused too */
     app.cfg.rsid.mode = APP_RSID_WINDOWS;
     app.cfg.rsid.on_refusal = APP_RSID_REFUSAL_CONVENTIONAL;
     app.warnings = APP_WARN_STEP1_REFUSED;
     cmd_apply(&cmd, &LIM, &app);
     assert_int_equal(cmd.error, CMD_ERR_METHOD_NO_STEP1);
-    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+    assert_int_equal(ctrl_method(app_ctrl(&app)), CTRL_METHOD_CONVENTIONAL);
     /* ... with on_refusal = told step 2 runs from the told R: taken */
     app.cfg.rsid.on_refusal = APP_RSID_REFUSAL_TOLD;
     cmd_apply(&cmd, &LIM, &app);
@@ -177,17 +180,17 @@ static void proposed_method_is_taken_or_refused_by_its_configuration(void **stat
     app.cfg.rsid.mode = APP_RSID_WINDOWS; /* step 1 configured */
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     apply();
-    assert_int_equal(app.ctrl.status, CTRL_CFG_OK); /* board defaults pass (36) and the stability bound */
+    assert_int_equal(ctrl_status(app_ctrl(&app)), CTRL_CFG_OK); /* board defaults pass (36) and the stability bound */
     assert_int_equal(cmd.error, CMD_OK);
-    assert_int_equal(app.ctrl.method, CTRL_METHOD_PROPOSED);
+    assert_int_equal(ctrl_method(app_ctrl(&app)), CTRL_METHOD_PROPOSED);
 
     cmd.method = (uint16_t)CTRL_METHOD_CONVENTIONAL;
     apply();
-    app.ctrl.status = EST_CFG_OBSERVER; /* as if smo_init had refused the gains */
+    probe_set_status(&app, EST_CFG_OBSERVER); /* as if smo_init had refused the gains */
     cmd.method = (uint16_t)CTRL_METHOD_PROPOSED;
     apply();
     assert_int_equal(cmd.error, CMD_ERR_METHOD_CFG);
-    assert_int_equal(app.ctrl.method, CTRL_METHOD_CONVENTIONAL);
+    assert_int_equal(ctrl_method(app_ctrl(&app)), CTRL_METHOD_CONVENTIONAL);
 }
 
 static void fault_reset_is_passed_once_and_cleared(void **state)

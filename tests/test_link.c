@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "app_probe.h"
 #include "cmd.h"
 #include "drive_params.h"
 #include "link.h"
@@ -161,7 +162,7 @@ static void list_vars_pages_through_the_table_with_csv_names(void **state)
 static void read_returns_values_in_their_types(void **state)
 {
     (void)state;
-    app.ctrl.mon.iq_A = 1.25f;
+    probe_monitor_rw(&app)->iq_A = 1.25f;
     app.ticks = 70000u;
     uint16_t p[6];
     (void)link_put_u16(p, 0u, LV_IQ_MEAS_A);
@@ -515,7 +516,7 @@ static void stream_is_refused_above_the_budget_naming_it(void **state)
     assert_int_equal(request(LINK_STREAM_SET, seq_next(), p, i), 1);
     assert_int_equal(rep.payload[0], LINK_ST_OK);
     assert_int_equal(link_get_u32(rep.payload, 1u), 5200u);
-    app.ctrl.mon.iq_A = 0.5f;
+    probe_monitor_rw(&app)->iq_A = 0.5f;
     for (int k = 0; k < 100; k++) {
         app.ticks++;
         link_isr(&lk);
@@ -551,11 +552,12 @@ static void stream_rows_carry_the_values_read_gives(void **state)
         for (int k = 0; k < 200; k++) {
             static link_frame_t f;
             uint16_t b;
+            ctrl_mon_t *m = probe_monitor_rw(&app);
             app.ticks++;
-            app.ctrl.mon.te_est_Nm = 0.5f * (float)k;
-            app.ctrl.mon.iq_A = -0.25f * (float)k;
-            app.ctrl.mon.id_A = 0.125f + (float)k;
-            app.ctrl.mon.speed_mech_rad_s = 3.0f * (float)k;
+            m->te_est_Nm = 0.5f * (float)k;
+            m->iq_A = -0.25f * (float)k;
+            m->id_A = 0.125f + (float)k;
+            m->speed_mech_rad_s = 3.0f * (float)k;
             app.state = (k % 2 == 0) ? APP_STATE_IDLE : APP_STATE_RUN;
             link_isr(&lk);
             link_poll(&lk);
@@ -604,9 +606,10 @@ static void arm(uint16_t trig, float level, float hyst, uint16_t pre, uint16_t s
 /* One ISR period with the given speed [r/min] and iq [A]. */
 static void period(float speed_rpm, float iq_A)
 {
+    ctrl_mon_t *m = probe_monitor_rw(&app);
     app.ticks++;
-    app.ctrl.mon.speed_mech_rad_s = speed_rpm * MATHX_RAD_S_PER_RPM_F;
-    app.ctrl.mon.iq_A = iq_A;
+    m->speed_mech_rad_s = speed_rpm * MATHX_RAD_S_PER_RPM_F;
+    m->iq_A = iq_A;
     link_isr(&lk);
 }
 

@@ -150,7 +150,7 @@ static void non_finite_controller_output_latches(void **state)
     hal_sample_t s = sample(1.0f, 1.0f, VDC);
     start(&s);
     ctrl_ref_t r = { 0.0f, NAN, 0.0f, 0.0f };
-    ctrl_set_ref(&app.ctrl, &r);
+    ctrl_set_ref(probe_ctrl_rw(&app), &r);
     isr_fault(&s, 0);
     assert_int_equal(app.fault, APP_FAULT_NONFINITE_OUTPUT);
     assert_snapshot(&s, APP_STATE_RUN);
@@ -295,8 +295,7 @@ static void overspeed_in_run(void **state)
     init_app();
     hal_sample_t s = sample(0.0f, 0.0f, VDC);
     start(&s);
-    app.ctrl.enc.vel = -300.0f / app.ctrl.enc.rad_per_count;
-    app.ctrl.enc.pos = (float)COUNT0 - app.ctrl.enc.cfg.Ts_s * app.ctrl.enc.vel;
+    probe_put_pll(&app, -300.0f, COUNT0);
     isr_fault(&s, 0);
     assert_int_equal(app.fault, APP_FAULT_OVERSPEED);
     assert_snapshot(&s, APP_STATE_RUN);

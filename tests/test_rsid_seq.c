@@ -38,27 +38,27 @@ static void identify_windows_aligns_identifies_runs(void **state)
     (void)state;
     app_cfg_t cfg = rsid_cfg(APP_RSID_WINDOWS, true);
     init_cfg(&cfg);
-    assert_int_equal(app.ctrl.status, CTRL_CFG_OK);
+    assert_int_equal(ctrl_status(app_ctrl(&app)), CTRL_CFG_OK);
     assert_int_equal(app.rsid.win1_tick, RSID_WIN1);
     assert_int_equal(app.rsid.win2_tick, RSID_WIN2);
     assert_int_equal(app.rsid.end_tick, RSID_END);
     start_and_align();
     assert_int_equal(app.state, APP_STATE_IDENTIFY_R); /* in the aligning call */
-    assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_STEP1);
+    assert_int_equal(app_estimate(&app)->phase, EST_STEP1);
     dyno_start(R_TRUE);
     identify_until_last(TE_TWO_LOADS);
     dyno_isr(te_plan(TE_TWO_LOADS, RSID_LAST), false);
     assert_int_equal(app.state, APP_STATE_RUN);
     assert_int_equal(app.fault, APP_FAULT_NONE);
     assert_int_equal(app.rsid.result, RS_IDENT_OK);
-    assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_STEP2);
+    assert_int_equal(app_estimate(&app)->phase, EST_STEP2);
     /* the dyno's R within rs_ident's 1 % acceptance, and it is the observer's */
-    assert_float_equal(est_rsid_out(ctrl_est(&app.ctrl))->R_est_Ohm, R_TRUE, 0.01 * R_TRUE);
-    assert_float_equal(app.ctrl.est.smo.R_Ohm, est_rsid_out(ctrl_est(&app.ctrl))->R_est_Ohm, 0.0);
+    assert_float_equal(est_rsid_out(ctrl_est(app_ctrl(&app)))->R_est_Ohm, R_TRUE, 0.01 * R_TRUE);
+    assert_float_equal(probe_obs_R_Ohm(&app), est_rsid_out(ctrl_est(app_ctrl(&app)))->R_est_Ohm, 0.0);
     assert_false(app.rsid.handover); /* WINDOWS: the outside's reference throughout */
     dyno_isr(4.0f, false);
     assert_int_equal(app.state, APP_STATE_RUN);
-    assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_STEP2);
+    assert_int_equal(app_estimate(&app)->phase, EST_STEP2);
 }
 
 /* Each refusal of step 1 with on_refusal = fault: its fault in the last
@@ -68,12 +68,12 @@ static void identify_fault_case(app_cfg_t *cfg, double R_true, te_plan_t plan, b
 {
     cfg->rsid.on_refusal = APP_RSID_REFUSAL_FAULT;
     init_cfg(cfg);
-    assert_int_equal(app.ctrl.status, CTRL_CFG_OK);
+    assert_int_equal(ctrl_status(app_ctrl(&app)), CTRL_CFG_OK);
     start_and_align();
     dyno_start(R_true);
     identify_periods(0, RSID_END - 1, plan);
     if (nan_window) {
-        app.ctrl.est.ri.win[1].h.s1[RS_CH_FQ] = NAN; /* what no finite sample can give: a corrupted sum */
+        probe_rsid_sums_rw(&app, 1)->s1[RS_CH_FQ] = NAN; /* what no finite sample can give: a corrupted sum */
     }
     identify_periods(RSID_END - 1, RSID_LAST, plan); /* the check's copy of the sample sums taken in the first */
     dyno_isr(te_plan(plan, RSID_LAST), true);
@@ -81,7 +81,7 @@ static void identify_fault_case(app_cfg_t *cfg, double R_true, te_plan_t plan, b
     assert_int_equal(app.fault, fault);
     assert_false(app.pwm_on);
     assert_snapshot(&dyno_last, APP_STATE_IDENTIFY_R);
-    assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_OFF); /* observer stopped */
+    assert_int_equal(app_estimate(&app)->phase, EST_OFF); /* observer stopped */
 }
 
 static void identify_too_few_faults(void **state)
@@ -106,7 +106,7 @@ static void identify_not_steady_faults(void **state)
     cfg.ctrl.est_cfg.rsid.R_se_max_rel = (float)NOT_STEADY_SE_REL;
     identify_fault_case(&cfg, R_TRUE, TE_UNSTEADY_WIN2, false, APP_FAULT_RSID_NOT_STEADY);
     print_message("not steady: se(R^) %.3g Ohm, limit %.3g Ohm\n", app.snapshot.value, app.snapshot.limit);
-    assert_float_equal(app.snapshot.value, est_rsid_out(ctrl_est(&app.ctrl))->R_se_Ohm, 0.0);
+    assert_float_equal(app.snapshot.value, est_rsid_out(ctrl_est(app_ctrl(&app)))->R_se_Ohm, 0.0);
     assert_float_equal(app.snapshot.limit, NOT_STEADY_SE_REL * fabs(R_TRUE), 1e-3 * NOT_STEADY_SE_REL * R_TRUE);
     assert_true(app.snapshot.value > app.snapshot.limit);
 }
@@ -146,21 +146,21 @@ static void identify_trusted_and_off_skip_step_1(void **state)
     init_cfg(&cfg);
     start_and_align();
     assert_int_equal(app.state, APP_STATE_RUN);
-    assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_STEP2);
-    assert_float_equal(app.ctrl.est.smo.R_Ohm, 3.0, 0.0);
+    assert_int_equal(app_estimate(&app)->phase, EST_STEP2);
+    assert_float_equal(probe_obs_R_Ohm(&app), 3.0, 0.0);
     dyno_start(3.0);
     dyno_isr(2.0f, false);
     assert_int_equal(app.state, APP_STATE_RUN);
-    assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_STEP2);
+    assert_int_equal(app_estimate(&app)->phase, EST_STEP2);
 
     cfg = rsid_cfg(APP_RSID_OFF, true);
     init_cfg(&cfg);
     start_and_align();
     assert_int_equal(app.state, APP_STATE_RUN);
-    assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_OFF);
+    assert_int_equal(app_estimate(&app)->phase, EST_OFF);
     dyno_start(3.0);
     dyno_isr(2.0f, false);
-    assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_OFF);
+    assert_int_equal(app_estimate(&app)->phase, EST_OFF);
 }
 
 /* Observer settings ctrl_init refused (an R^ band that leaves out the
@@ -177,7 +177,7 @@ static void identify_refused_config_faults_at_start(void **state)
         app_op_t op = { { 0.0f, 0.0f, 0.0f, 0.0f }, CTRL_MODE_TORQUE, CTRL_METHOD_PROPOSED };
         test_est_defaults(&cfg.ctrl, R_BAND_MIN, 0.5f * cfg.ctrl.R_Ohm);
         init_cfg(&cfg);
-        assert_int_not_equal(app.ctrl.status, CTRL_CFG_OK);
+        assert_int_not_equal(ctrl_status(app_ctrl(&app)), CTRL_CFG_OK);
         hal_sample_t s = sample(0.0f, 0.0f, VDC);
         app_request_op(&app, &op);
         app_request_start(&app);
@@ -191,8 +191,8 @@ static void identify_refused_config_faults_at_start(void **state)
     start_and_align();
     assert_int_equal(app.state, APP_STATE_RUN);
     assert_int_equal(app.fault, APP_FAULT_NONE);
-    assert_int_equal(est_output(ctrl_est(&app.ctrl))->phase, EST_OFF);
-    assert_int_equal(ctrl_method(&app.ctrl), CTRL_METHOD_CONVENTIONAL);
+    assert_int_equal(app_estimate(&app)->phase, EST_OFF);
+    assert_int_equal(ctrl_method(app_ctrl(&app)), CTRL_METHOD_CONVENTIONAL);
 }
 
 /* A stop in IDENTIFY_R: IDLE in the next call, PWM off, zero-voltage duties. */

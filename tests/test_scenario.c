@@ -107,28 +107,28 @@ static void defaults_come_from_the_parameter_set(void **state)
     assert_true(isnan(sc.identify.settle_1_s));
     char err[SCENARIO_ERR_LEN];
     assert_int_equal(scenario_finish(&sc, err, sizeof err), 0);
-    static app_cfg_t ac;
-    app_cfg_default(&ac);
-    assert_float_equal(sc.controller.i_max_A, ac.prot.i_max_A, 0.0);
-    assert_float_equal(sc.controller.te_max_Nm, ac.ctrl.te_max_Nm, 0.0);
+    static app_cfg_t app_cfg;
+    app_cfg_default(&app_cfg);
+    assert_float_equal(sc.controller.i_max_A, app_cfg.prot.i_max_A, 0.0);
+    assert_float_equal(sc.controller.te_max_Nm, app_cfg.ctrl.te_max_Nm, 0.0);
     assert_float_equal(sc.controller.speed_kp_Nms_rad, 0.5, 0.0);
     assert_float_equal(sc.controller.speed_ki_Nm_rad, 20.0, 0.0);
     /* 1.2 x 2000 r/min, from rad/s back to the key's unit */
     assert_float_equal(sc.controller.overspeed_rpm, 2400.0, 1e-3);
     /* step 1's timing: derived as the app's start-up settings (app_cfg_default) */
-    assert_float_equal(sc.identify.settle_1_s, ac.rsid.settle_1_s, 0.0);
+    assert_float_equal(sc.identify.settle_1_s, app_cfg.rsid.settle_1_s, 0.0);
     assert_float_equal(sc.identify.settle_1_s, 0.28, 1e-7);
-    assert_float_equal(sc.identify.window_s, ac.rsid.window_s, 1e-9);
+    assert_float_equal(sc.identify.window_s, app_cfg.rsid.window_s, 1e-9);
     assert_float_equal(sc.identify.speed_2_rpm, 1000.0, 0.0);
-    assert_int_equal(sc.identify.repeats_max, ac.rsid.repeats_max);
+    assert_int_equal(sc.identify.repeats_max, app_cfg.rsid.repeats_max);
     /* step 1's checks and policies: the app's too (board_cfg.h, rs_ident.h) */
     assert_true(sc.identify.R_se_max_rel == 0.015);
-    assert_float_equal(sc.identify.R_se_max_rel, ac.ctrl.est_cfg.rsid.R_se_max_rel, 1e-9);
+    assert_float_equal(sc.identify.R_se_max_rel, app_cfg.ctrl.est_cfg.rsid.R_se_max_rel, 1e-9);
     assert_true(sc.identify.batch_s == 0.005);  /* 50 periods of 0.1 ms */
-    assert_int_equal(llround(sc.identify.batch_s / ac.ctrl.Ts_s), ac.ctrl.est_cfg.rsid.n_batch);
-    assert_int_equal(sc.identify.mode, ac.rsid.mode);
-    assert_int_equal(sc.identify.on_refusal, ac.rsid.on_refusal);
-    assert_int_equal(sc.identify.track_R, ac.ctrl.est_cfg.track_R);
+    assert_int_equal(llround(sc.identify.batch_s / app_cfg.ctrl.Ts_s), app_cfg.ctrl.est_cfg.rsid.n_batch);
+    assert_int_equal(sc.identify.mode, app_cfg.rsid.mode);
+    assert_int_equal(sc.identify.on_refusal, app_cfg.rsid.on_refusal);
+    assert_int_equal(sc.identify.track_R, app_cfg.ctrl.est_cfg.track_R);
     assert_float_equal(sc.plant.encoder_offset_el_rad, p.board.enc_offset_el_rad, 0.0);
     /* the simulated board's own settings: hal_sim_default_cfg()'s (hal_sim.h) */
     assert_true(sc.plant.substep_s == 1e-4);

@@ -12,6 +12,7 @@
 #include <stdio.h>
 
 #include "app.h"
+#include "app_probe.h"
 #include "board_cfg.h"
 #include "hal_sim.h"
 #include "table1.h"
@@ -61,7 +62,7 @@ static void setup(inv_model_t model, double vdc_V, bool speed_held, mismatch_t m
     app_init(&app, &cfg);
     hal_init();
     hal_isr_attach(sil_isr);
-    ctrl_set_mode(&app.ctrl, mode);
+    ctrl_set_mode(probe_ctrl_rw(&app), mode);
     app_request_start(&app);
 }
 
@@ -78,12 +79,12 @@ static void torque_step(inv_model_t model)
 
     /* 540 V: the 2 N m step needs ~250 V on q at 500 r/min, inside the hexagon */
     setup(model, 540.0, true, exact, CTRL_MODE_TORQUE);
-    ctrl_set_ref(&app.ctrl, &ref);
+    ctrl_set_ref(probe_ctrl_rw(&app), &ref);
     for (long k = 0; k < k0; k++) {
         hal_sim_period();
     }
     ref.te_ref_Nm = 4.0f;
-    ctrl_set_ref(&app.ctrl, &ref);
+    ctrl_set_ref(probe_ctrl_rw(&app), &ref);
     bool limited = false;
     for (int j = 0; j < 40; j++) {
         hal_sim_period();  /* period k0 + j: truth at its start, t_{k0+j} */
@@ -137,16 +138,16 @@ static speed_fig_t speed_run(inv_model_t model, mismatch_t mm)
     double last_out = 0.0;
 
     setup(model, 311.0, false, mm, CTRL_MODE_SPEED);
-    ctrl_set_ref(&app.ctrl, &ref);
+    ctrl_set_ref(probe_ctrl_rw(&app), &ref);
     for (long k = 0; k < 12000; k++) {
         const double tk = (double)k * TS;
         hal_sim_set_load((tk >= 0.95 && tk < 1.05) ? 6.0 : 4.0);
         ref.speed_ref_rad_s = (float)(SPEED_RPM * RPM * fmin(tk / SPEED_RAMP_S, 1.0));
-        ctrl_set_ref(&app.ctrl, &ref);
+        ctrl_set_ref(probe_ctrl_rw(&app), &ref);
         hal_sim_period();
         hal_sim_truth(&t);
         const double err = t.speed_m_rad_s / RPM - SPEED_RPM;
-        const ctrl_mon_t *m = &app.ctrl.mon;
+        const ctrl_mon_t *m = app_monitor(&app);
         if (tk >= 0.8 && tk < 0.95) {
             /* the monitor's references of step k act on the truth at k+2;
              * in steady state they barely move over two periods */

@@ -334,6 +334,13 @@ static inline ctrl_mode_t ctrl_mode(const ctrl_t *c)
     return c->mode_req;
 }
 
+/* The current limit the targets respect now [A] (ctrl_set_i_lim,
+ * ctrl_set_i_limit). */
+static inline float ctrl_i_lim_A(const ctrl_t *c)
+{
+    return c->i_lim_A;
+}
+
 /* The references in use [rad/s mech, N m, V]. */
 static inline const ctrl_ref_t *ctrl_ref(const ctrl_t *c)
 {

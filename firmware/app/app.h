@@ -232,6 +232,13 @@ void app_request_commission(app_t *app);
  * app_attach_comm()). Any context. */
 uint16_t app_comm_result(const app_t *app);
 
+/* The controller, read-only, for ctrl.h's readers (ctrl_status,
+ * ctrl_method, ctrl_mode, ctrl_ref, ...). Any context; inline. */
+static inline const ctrl_t *app_ctrl(const app_t *app)
+{
+    return &app->ctrl;
+}
+
 /* What the link and the logs read of the controller: the monitor of its
  * last period (ctrl.h) and the estimation's model and status (est.h).
  * Any context; inline, as cheap as the field itself. */

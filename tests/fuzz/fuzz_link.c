@@ -30,6 +30,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "../app_probe.h"
 #include "cmd.h"
 #include "fuzz_hal.h"
 #include "link.h"
@@ -171,8 +172,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             g_app.state = (app_state_t)(r[2] % N_STATES);
             g_app.fault = (g_app.state == APP_STATE_FAULT) ? APP_FAULT_OVERCURRENT : APP_FAULT_NONE;
             if (i + 7u <= size) {
-                g_app.ctrl.mon.speed_mech_rad_s = (float)(int16_t)(r[3] | (r[4] << 8)) * VALUE_SCALE;
-                g_app.ctrl.mon.iq_A = (float)(int16_t)(r[5] | (r[6] << 8)) * VALUE_SCALE;
+                ctrl_mon_t *m = probe_monitor_rw(&g_app);
+                m->speed_mech_rad_s = (float)(int16_t)(r[3] | (r[4] << 8)) * VALUE_SCALE;
+                m->iq_A = (float)(int16_t)(r[5] | (r[6] << 8)) * VALUE_SCALE;
             }
             for (uint16_t k = 0; k < periods; k++) {
                 g_app.ticks++;
