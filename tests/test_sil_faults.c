@@ -281,7 +281,7 @@ static void healthy_runs_trip_nothing(void **state)
     }
 }
 
-/* No OPEN_PHASE from a speed step (issue 29): the paper's drive with
+/* No OPEN_PHASE from a speed step: the paper's drive with
  * B = 2e-3 N m s and no load ramped to 500 r/min, then stepped at T (the
  * rotor's angle at the step spread over an electrical turn: 500 r/min x 3
  * pole pairs is a turn in 40 ms, T over 90 ms) to 100 r/min: the current

@@ -4,7 +4,7 @@ the parameter sector kept in FILE, read before the run as the board reads
 its flash at start-up (firmware/params/nv_store.h), written by the link's
 save (firmware/link/link_nv.h, drivetool save).
 
-The round trip of issue 30's "Done when", through drivetool: a run with
+The parameter store's round trip, through drivetool: a run with
 --nv FILE and --link (FILE absent: NV_EMPTY on stderr) is stopped,
 speed_kp_Nms_rad set, saved, quit; a new run with --nv FILE says what it
 loaded and reads the value back over the link (nv_status VALID); one
