@@ -13,6 +13,7 @@
  */
 #include "ctrl.h"
 
+#include "inverr.h"
 #include "mathx.h"
 #include "oplim.h"
 #include "svpwm.h"
@@ -141,21 +142,24 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
 }
 
 /* Mean stator-frame voltage error [V] the dead time and the device drop add
- * over the period whose middle is at the angle (sin_a, cos_a): each leg
- * loses or gains vdc*td/Ts + drop against the sign of its current (diode
- * conduction in the dead band, the conducting device's drop), the currents
- * taken as i_dq at that angle. Hard sign: near a zero
- * crossing the real error is smaller (left in f^ for those periods). */
-static ab_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
+ * over the period whose middle is at the angle (sin_a, cos_a), for the
+ * voltage u_V the duties will realise: each leg loses or gains vdc*td/Ts
+ * + drop against the sign of its current (the currents taken as i_dq at
+ * that angle) where the current's ripple at its edges does not take it
+ * through zero (inverr.h, inverter_error_design.md sec. 8); the ripple's
+ * largest into c->ripple_A for the estimation. 1 division. */
+static ab_t deadtime_error(ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V, ab_t u_V)
 {
     const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
     /* below the speed floor the conventional path: the told dead time and drop only */
-    const float dv_sum = c->deadtime_frac * vdc_V + c->device_drop_V + est_output(&c->est)->inv_dv_V;
-    const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
-    const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
-    const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);
-    const float vc = (i.c > 0.0f) ? -dv : ((i.c < 0.0f) ? dv : 0.0f);
-    return clarke_3ph(va, vb, vc);
+    const float dv_dead = c->deadtime_frac * vdc_V;
+    const float dv_drop = c->device_drop_V + est_output(&c->est)->inv_dv_V;
+    /* an identified over-compensation at most cancels the told one */
+    const bool some = (dv_dead + dv_drop) > 0.0f;
+    /* a bus below SVPWM's floor is refused there: no ripple (mid duties) here */
+    const float inv_vdc = (vdc_V >= SVPWM_VDC_MIN_V) ? (1.0f / vdc_V) : 0.0f;
+    return inverr_error_V(i, u_V, inv_vdc, inverr_k_A_V(c->cfg.Ts_s, c->db.par.inv_L_1_H), some ? dv_dead : 0.0f,
+                          some ? dv_drop : 0.0f, &c->ripple_A);
 }
 
 /* sin/cos of the angle the voltage computed now acts at, the middle of
@@ -262,6 +266,7 @@ static void stage_estimate(ctrl_t *c, const ctrl_period_t *p, float vdc_V)
     e->te_ref_Nm = c->te_ref_last_Nm;
     e->voltage_limited = (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u;
     e->dpsi_weak_Wb = c->lim.dpsi_Wb;
+    e->ripple_A = c->ripple_A;
     est_step(&c->est, e);
 }
 
@@ -318,8 +323,8 @@ static void stage_modulate(ctrl_t *c, ctrl_period_t *p, float vdc_V)
 
     advance_sincos(p->s, p->co, &c->turn, &sa, &ca);
     p->flags |= map_dbdtc_flags(dbdtc_limit(&p->u, sa, ca, vdc_V));
-    const ab_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V);
     ab_t u_cmd = park_inv(p->u, sa, ca);
+    const ab_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V, u_cmd);
     u_cmd.a -= u_dt.a; /* fed forward: the inverter adds u_dt back */
     u_cmd.b -= u_dt.b;
     if ((svpwm_duty(u_cmd, vdc_V, &p->duty, &u_real) & SVPWM_SATURATED) != 0u) {

@@ -194,6 +194,7 @@ typedef struct {
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
     float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
     float device_drop_V;        /* the drop from cfg (0: none or refused) [V] */
+    float ripple_A;             /* the largest current ripple at a leg's edge in the last period (inverr.h) [A] */
     zoh_turn_t turn;            /* the rotor's turn over a period, taken at w within turn_tol of w(k) (zoh.h) */
     float turn_tol_rad_s;       /* ZOH_THETA_TOL_RAD / Ts [rad/s el] */
     float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */

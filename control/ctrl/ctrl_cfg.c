@@ -153,6 +153,7 @@ FLASHFUNC void ctrl_reset(ctrl_t *c)
     c->mode = c->mode_req;
     c->u_applied_V.d = 0.0f;
     c->u_applied_V.q = 0.0f;
+    c->ripple_A = 0.0f;
     c->mon.theta_el_rad = 0.0f;
     c->mon.omega_el_rad_s = 0.0f;
     c->mon.speed_mech_rad_s = 0.0f;

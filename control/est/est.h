@@ -154,6 +154,7 @@ typedef struct {                /* one period's inputs */
     float te_ref_Nm;            /* the last period's torque reference [N m] */
     bool voltage_limited;       /* the last period's voltage was clamped */
     float dpsi_weak_Wb;         /* the flux reference's weakening (oplim's dpsi; > 0: weakened) [Wb] */
+    float ripple_A;             /* the largest current ripple at a leg's edge over [k, k+1] (inverr.h) [A] */
 } est_in_t;
 
 typedef struct {                /* the output: written by est_step and the phase changes */
