@@ -1061,7 +1061,7 @@ class DailyUse(unittest.TestCase):
         self.assertEqual(rc, 0, err)
         table = {v["name"]: v for v in json.loads(out)}
         self.assertEqual((table["state"]["min"], table["state"]["max"]), (0, 10))
-        self.assertEqual((table["fault"]["min"], table["fault"]["max"]), (0, 28))
+        self.assertEqual((table["fault"]["min"], table["fault"]["max"]), (0, 29))
         self.assertEqual((table["comm_stage"]["min"], table["comm_stage"]["max"]), (0, 7))   # INVERTER the last
         rc, out, err = self.cap
         self.assertEqual(rc, 0, err)

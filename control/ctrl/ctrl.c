@@ -54,6 +54,18 @@ void ctrl_take_te_limit(ctrl_t *c)
 }
 
 
+rs_ident_result_t ctrl_rsid_finish(ctrl_t *c, rs_ident_result_t r_solved)
+{
+    const rs_ident_result_t r = est_rsid_finish_with(&c->est, r_solved);
+    const float d = est_angle_error_el_rad(&c->est);
+    if ((r == RS_IDENT_OK) && ((d > 0.0f) || (d < 0.0f))) {
+        /* the angle read lags the rotor's by d: the offset takes it up */
+        encoder_set_offset(&c->enc, c->enc.offset_el_rad + d);
+        est_angle_corrected(&c->est);
+    }
+    return r;
+}
+
 void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
 {
     encoder_align(&c->enc, enc_count);

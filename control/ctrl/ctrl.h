@@ -277,6 +277,12 @@ static inline void ctrl_track(ctrl_t *c, uint32_t enc_count)
  * el (the app's alignment). ISR. */
 void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count);
 
+/* Step 1 ends on a staged solve's result r_solved (est_rsid_finish_with);
+ * where its windows found an encoder angle error (est.h
+ * est_angle_error_el_rad), the encoder's offset corrected by it and step 2
+ * started again on the corrected angle (holds_design.md sec. 8). ISR once. */
+rs_ident_result_t ctrl_rsid_finish(ctrl_t *c, rs_ident_result_t r_solved);
+
 /* One control period from the samples *in; duties and flags to *out. ISR, 10 kHz. */
 void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);
 
