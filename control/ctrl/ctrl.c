@@ -436,12 +436,17 @@ static void stage_output(ctrl_t *c, const ctrl_period_t *p, const ctrl_in_t *in,
 
 /* The oscillation watch (ctrl.h CTRL_OSC_*) on the model the estimation
  * gave: at lambda = L^/L >= CTRL_OSC_LAMBDA_HOLD, L^ cut to L^/lambda.
- * Otherwise only the state x at k+1 the model starts from this period,
- * the next prediction. */
+ * The last period at the voltage limit ends the pair under way: the
+ * deadbeat did not apply (L^/Ts)(i* - i^), the premise of the regression
+ * (discrete_model_design.md sec. 7). Otherwise only the state x at k+1
+ * the model starts from this period, the next prediction. */
 static void stage_watch(ctrl_t *c, const ctrl_period_t *p)
 {
     ctrl_osc_t *o = &c->osc;
-    if ((c->model_src == MODEL_EST) && (c->osc_den_min_A2 > 0.0f)) {
+    if ((c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u) {
+        o->pred_A = p->x.i_dq_A;
+        o->phase = 0u; /* the next period starts a pair */
+    } else if ((c->model_src == MODEL_EST) && (c->osc_den_min_A2 > 0.0f)) {
         const float lambda = ctrl_osc_step(o, p->i_dq, p->x.i_dq_A, c->osc_den_min_A2);
         if (lambda > 0.0f) {
             est_hold_oscillation(&c->est, 1.0f / lambda, p->omega, p->i_dq.q); /* one division, once */

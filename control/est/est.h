@@ -339,7 +339,8 @@ static inline void est_step2(est_t *e, const est_in_t *in)
         o->inv_dv_V = e->inv_dv_V;
         /* f^ carries a current transient: eq. (10) with the held estimates (step2_design.md sec. 7) */
         o->src = est_gate_f_usable(&e->gate) ? EST_SRC_OBSERVER : EST_SRC_HELD;
-        o->hold = e->gate.reasons; /* (an angle hold keeps pb.low set: the branches below) */
+        /* the gate's reasons and the oscillation's cut L^ (an angle hold keeps pb.low set: the branches below) */
+        o->hold = (uint16_t)(e->gate.reasons | e->hold_fixed);
         e->trusted = e->pb.trust; /* taken above the floor as decided under the final bound */
     } else if (e->trusted) {
         /* below the floor: the last trusted model (as it is in *o), eq. (10) */
