@@ -317,7 +317,9 @@ static void stage_deadbeat(ctrl_t *c, ctrl_period_t *p, float vdc_V)
         p->u.q = mathx_clampf(c->ref.uq_ref_V, -c->cfg.u_max_V, c->cfg.u_max_V);
     } else {
         p->flags = map_dbdtc_flags(dbdtc_solve(&c->db, &p->x, p->te_ref, p->psi_ref, &p->u));
-        oplim_fw_update(&c->lim, p->u, c->u_lim_per_vdc * vdc_V);
+        if (!est_identifying(&c->est)) {
+            oplim_fw_update(&c->lim, p->u, c->u_lim_per_vdc * vdc_V);
+        }
     }
 }
 

@@ -373,7 +373,8 @@ static inline void est_step(est_t *e, const est_in_t *in)
     (void)smo_step_turn(&e->smo, in->i_dq_A, in->u_V, in->omega_el_rad_s, in->turn); /* i^(k+1): (51b), (55) */
     if (e->rt.phase != R_TRACK_OFF) {
         const bool edge = r_track_at_edge(&e->rt);
-        if ((!edge && ((in->dpsi_weak_Wb > 0.0f) || ((e->gate.reasons & EST_GATE_VOLTAGE) != 0u))) ||
+        const bool weak = (in->dpsi_weak_Wb > 0.0f) && (e->rt.phase == R_TRACK_TRACK);
+        if ((!edge && (weak || ((e->gate.reasons & EST_GATE_VOLTAGE) != 0u))) ||
             ((e->gate.reasons & EST_GATE_ACCEL) != 0u)) {
             /* tracking only: the injection would read the weakening loop, the clamp (the gate's
              * voltage reason) or the speed estimate's lag in a ramp (its acceleration reason),
@@ -403,6 +404,15 @@ static inline void est_step(est_t *e, const est_in_t *in)
     } else {
         est_step2(e, in);
     }
+}
+
+/* True while the inverter error's identification sums a cycle at a
+ * steady speed: the controller then holds the field weakening's flux, so
+ * the cycle reads the inverter, not the weakening loop
+ * (inverter_error_design.md sec. 9). ISR. */
+static inline bool est_identifying(const est_t *e)
+{
+    return (e->rt.phase == R_TRACK_IDENT) && (e->rt.wait == 0u) && ((e->gate.reasons & EST_GATE_ACCEL) == 0u);
 }
 
 /* The flux reference psi_ref_Wb [Wb] with the injection's L id* added
