@@ -373,6 +373,7 @@ static inline void est_step(est_t *e, const est_in_t *in)
     (void)smo_step_turn(&e->smo, in->i_dq_A, in->u_V, in->omega_el_rad_s, in->turn); /* i^(k+1): (51b), (55) */
     if (e->rt.phase != R_TRACK_OFF) {
         const bool edge = r_track_at_edge(&e->rt);
+        /* identifying, the controller holds the weakening instead (est_identifying) */
         const bool weak = (in->dpsi_weak_Wb > 0.0f) && (e->rt.phase == R_TRACK_TRACK);
         if ((!edge && (weak || ((e->gate.reasons & EST_GATE_VOLTAGE) != 0u))) ||
             ((e->gate.reasons & EST_GATE_ACCEL) != 0u)) {
