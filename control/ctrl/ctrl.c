@@ -3,8 +3,8 @@
  *
  * Cost per ctrl_step(): `make bench-ctrl` measures it (instructions,
  * divisions, square roots and sin/cos per step, both methods, track_R on
- * and off). Where the divisions are: MTPA's q flux and svpwm_duty's 1/Vdc
- * (both methods); the transfer law whose turn it is and the observer's
+ * and off). Where the divisions are: MTPA's q flux, svpwm_duty's 1/Vdc
+ * and the inverter error's 1/Vdc (both methods); the transfer law whose turn it is and the observer's
  * gain on L^'s turns (proposed); dbdtc_set_params only when the model
  * moved by more than CTRL_MODEL_UPDATE_REL; 3 more only in the periods
  * the hexagon limit acts. One sin/cos (the advanced angle is a rotation

@@ -63,9 +63,11 @@ typedef enum {
 
 /* est_out_t.flags: bits of the controller's output flags. */
 #define EST_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
-#define EST_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
+#define EST_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band, or the
+                                            * inverter's compensation leaves R unresolved) */
 #define EST_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f did not move this period */
-#define EST_FLAG_ANGLE_SUSPECT    0x0800u /* step 1's windows suggest an encoder angle error: L^ held (a warning) */
+#define EST_FLAG_ANGLE_SUSPECT    0x0800u /* step 1's windows found an encoder angle error: the offset corrected,
+                                            * or L^ held where the inverter could fake it (a warning) */
 
 /* A per-leg square wave of amplitude dv (dead time, device drop) has the
  * rotor-frame fundamental (4/pi) dv against the current (inverter_error_design.md sec. 2). */
