@@ -1065,11 +1065,12 @@ class DailyUse(unittest.TestCase):
         self.assertEqual(rc, 0, err)
         table = {v["name"]: v for v in json.loads(out)}
         self.assertEqual((table["state"]["min"], table["state"]["max"]), (0, 10))
-        # the highest fault is BUS_CHARGED (29), the last name drivetool has for one
+        # the highest fault is RSID_INVERTER (30), the last name drivetool has for one
         from drivetool import drive
-        self.assertEqual((table["fault"]["min"], table["fault"]["max"]), (0, 29))
+        self.assertEqual((table["fault"]["min"], table["fault"]["max"]), (0, 30))
         self.assertEqual(drive.FAULTS[29], "BUS_CHARGED")
-        self.assertEqual(len(drive.FAULTS), 30)
+        self.assertEqual(drive.FAULTS[30], "RSID_INVERTER")
+        self.assertEqual(len(drive.FAULTS), 31)
         self.assertEqual((table["comm_stage"]["min"], table["comm_stage"]["max"]), (0, 7))   # INVERTER the last
         rc, out, err = self.cap
         self.assertEqual(rc, 0, err)

@@ -114,6 +114,27 @@ static void floor_before_any_trusted_model_is_the_told_one(void **state)
     assert_int_equal(est_output(&e)->hold, EST_HOLD_NO_STEP2);
 }
 
+/* The oscillation watch's cut L^ (est_hold_oscillation) above the speed
+ * floor: L^ at L_scale of its value, taken at once, held, and said in
+ * est_hold (EST_HOLD_OSCILLATION: the app's warning reads it) while the
+ * model is the observer's. */
+static void oscillation_cut_is_said_above_the_floor(void **state)
+{
+    (void)state;
+    init();
+    assert_true(est_start_trusted(&e, RS));
+    run(200, 2.0f, 157.0f);
+    assert_int_equal(est_output(&e)->hold & EST_HOLD_SPEED_FLOOR, 0u);
+    est_hold_oscillation(&e, 0.5f, 157.0f, 2.0f);
+    run(1, 2.0f, 157.0f);
+    const est_out_t *o = est_output(&e);
+    assert_int_equal(o->hold & EST_HOLD_OSCILLATION, EST_HOLD_OSCILLATION);
+    assert_true(o->src != EST_SRC_TOLD);
+    assert_float_equal(o->L_H, 0.5 * LS, 0.05 * LS);
+    run(200, 2.0f, 157.0f);
+    assert_int_equal(est_output(&e)->hold & EST_HOLD_OSCILLATION, EST_HOLD_OSCILLATION);
+}
+
 /* Every est_hold bit has a name, and the reason of a set of bits is its
  * most telling one: a refused step 1 over step 2 not running, an
  * unmeasured inverter over the speed floor, any told-model reason over
@@ -152,6 +173,7 @@ int main(void)
         cmocka_unit_test(off_is_the_told_model),
         cmocka_unit_test(trusted_start_above_and_below_the_floor),
         cmocka_unit_test(floor_before_any_trusted_model_is_the_told_one),
+        cmocka_unit_test(oscillation_cut_is_said_above_the_floor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

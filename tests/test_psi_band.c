@@ -168,11 +168,28 @@ static void test_speed_floor(void **state)
     setup();
     run(20, PSI0, 0.0f, 31.4f, 0.0f, 0.0f);
     assert_int_equal(pb.low, 0u);
-    /* R trusted without step 1: the coarse bound made final */
+    /* R and the inverter measured (trusted without step 1): the fine bound and the
+     * prior, final: Vb = 0.05 x 3.56 + (4/pi) 0.15 us 311 V / 100 us + 0.05 = 0.822 V;
+     * at 31.4 rad/s 0.026 Wb > 0.012: below; at 100 rad/s 0.0082 Wb: above (the
+     * coarse bound as final would give (0.5 x 3.56 + 0.05) / 100 = 0.018 Wb: below) */
     setup();
-    psi_band_bound_final(&pb);
-    run(20, PSI0, 0.0f, 31.4f, VDC, 0.0f);       /* (0.5 x 3.56 + 0.05) / 31.4 = 0.058 Wb */
+    psi_band_bound_measured(&pb);
+    run(20, PSI0, 0.0f, 31.4f, VDC, 0.0f);
     assert_int_equal(pb.low, PSI_BAND_LOW_BAND);
+    run(20, PSI0, 0.0f, 100.0f, VDC, 0.0f);
+    assert_int_equal(pb.low, 0u);
+    assert_true(pb.trust);
+    /* a told drop joins the told fundamental: 0.05 x (4/pi) 10 V = 0.64 V more,
+     * (0.822 + 0.637) / 100 = 0.0146 Wb > 0.012: below at 100 rad/s */
+    {
+        psi_band_cfg_t c = pb.cfg;
+        c.ve_told_drop_V = 1.27323954f * 10.0f;
+        assert_true(psi_band_init(&pb, &c));
+        psi_band_start(&pb, PSI0);
+        psi_band_bound_measured(&pb);
+        run(20, PSI0, 0.0f, 100.0f, VDC, 0.0f);
+        assert_int_equal(pb.low, PSI_BAND_LOW_BAND);
+    }
     /* refused identification: no bound, below the floor at once and at any speed
      * (at 314 rad/s the coarse bound would give 0.0058 Wb < 0.012: above) */
     setup();

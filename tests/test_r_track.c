@@ -285,6 +285,12 @@ static void init_refuses_bad_settings(void **state)
     c = cfg_default();
     c.ident_cycles = 0u;
     assert_false(r_track_init(&rt, &c));
+    c = cfg_default();
+    c.R_res_max = 0.0f;
+    assert_false(r_track_init(&rt, &c));
+    c = cfg_default();
+    c.ripple_unc = -0.1f;
+    assert_false(r_track_init(&rt, &c));
     /* refused: start does nothing, no injection */
     r_track_start(&rt, R_TRACK_TRACK);
     assert_int_equal(rt.phase, R_TRACK_OFF);
@@ -363,6 +369,54 @@ static void restart_cycle_drops_the_sums(void **state)
     assert_int_equal(rt.seg, 1u);
 }
 
+/* The resolution check by hand (defaults: inv_unc_frac 0.02, ripple_unc
+ * 0.2, R_res_max 0.05): the 600 V servo at 2.6 A with 9.55 V compensated
+ * and 0.5 A of ripple may read (0.02 + 0.2 x 0.5/2.6) 9.55/2.6 = 0.215
+ * ohm, above 0.05 x 0.61 = 0.0305: not resolved; the paper's motor at
+ * 3.7 A, 5.09 V, 0.08 A: (0.02 + 0.2 x 0.08/3.7) 5.09/3.7 = 0.0334 ohm,
+ * below 0.05 x 3 = 0.15: resolved; none at no current. */
+static void resolution_of_R_against_the_inverter(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    r_track_t rt;
+    assert_true(r_track_init(&rt, &c));
+    assert_false(r_track_resolves(&rt, 9.55f, 0.5f, 2.6f, 0.61f));
+    assert_true(r_track_resolves(&rt, 5.09f, 0.08f, 3.7f, 3.0f));
+    /* at the border: (0.02 + 0.2 x 1/2) 1.0 / 2 = 0.06 ohm against 0.05 x R */
+    assert_true(r_track_resolves(&rt, 1.0f, 1.0f, 2.0f, 1.21f));
+    assert_false(r_track_resolves(&rt, 1.0f, 1.0f, 2.0f, 1.19f));
+    assert_false(r_track_resolves(&rt, 1.0f, 0.0f, 0.0f, 3.0f));
+    /* no compensation: nothing to read */
+    assert_true(r_track_resolves(&rt, 0.0f, 5.0f, 0.5f, 3.0f));
+}
+
+/* A discarded cycle: the rate as before it, no R^ step, and no injection
+ * for unresolved_wait_periods; the next cycle measures again. */
+static void discarded_cycle_leaves_the_rate_and_waits(void **state)
+{
+    (void)state;
+    r_track_cfg_t c = cfg_default();
+    c.unresolved_wait_periods = 50u;
+    r_track_t rt;
+    synth_t s = { 0.12, 0.0, 0.0, 3.0, 0.0, 0.0, 0.0, 0.0, { 0.0, 0.0, 0.0 }, 0 };
+    assert_true(r_track_init(&rt, &c));
+    r_track_start(&rt, R_TRACK_TRACK);
+    for (int k = 0; k < CYCLE; k++) {
+        (void)synth_step(&rt, &s);
+    }
+    assert_float_equal(rt.rho_Ohm, 0.12f, TOL);
+    assert_float_equal(rt.rate_Ohm, -c.k_I * 0.12f, TOL);
+    r_track_discard(&rt);
+    assert_float_equal(rt.rate_Ohm, 0.0f, TOL);
+    assert_float_equal(rt.dR_step_Ohm, 0.0f, 0.0f);
+    for (int k = 0; k < 50; k++) {
+        assert_float_equal(r_track_id_ref(&rt), 0.0f, 0.0f);
+        assert_int_equal(synth_step(&rt, &s), R_TRACK_NONE);
+    }
+    assert_float_equal(r_track_id_ref(&rt), c.i_track_A, 0.0f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -377,6 +431,8 @@ int main(void)
         cmocka_unit_test(identification_refused),
         cmocka_unit_test(flux_reference_carries_the_injection),
         cmocka_unit_test(init_refuses_bad_settings),
+        cmocka_unit_test(resolution_of_R_against_the_inverter),
+        cmocka_unit_test(discarded_cycle_leaves_the_rate_and_waits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

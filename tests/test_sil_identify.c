@@ -46,6 +46,7 @@ typedef struct {
     long rows_after_warn_without;   /* rows after t_warn without it */
     double te_abs;          /* sum of |Te - Te*| over the window */
     long n;
+    double R_plant_first;   /* the plant's R in that row */
 } fig_t;
 
 static int on_row(const sil_row_t *r, void *user)
@@ -56,6 +57,7 @@ static int on_row(const sil_row_t *r, void *user)
     f->fault = r->fault;
     if (isnan(f->R_first) && (int)r->est == EST_STEP2) {
         f->R_first = r->R_est_ohm;
+        f->R_plant_first = r->R_ohm;
         f->t2 = r->t_s;
     }
     if (isnan(f->t_fault) && (int)r->state == APP_STATE_FAULT) {
@@ -80,6 +82,7 @@ static sil_result_t last_res;
 /* the angle case's step-2 rows: the warning, est_hold's bit, L^ */
 static long angle_rows;
 static long angle_warned;
+static long angle_held;
 static double angle_L_dev;
 
 static int on_row_angle(const sil_row_t *r, void *user)
@@ -88,8 +91,11 @@ static int on_row_angle(const sil_row_t *r, void *user)
         const unsigned flags = (unsigned)r->flags;
         const unsigned hold = (unsigned)r->est_hold;
         angle_rows++;
-        if (((flags & EST_FLAG_ANGLE_SUSPECT) != 0u) && ((hold & EST_HOLD_ANGLE) != 0u)) {
+        if ((flags & EST_FLAG_ANGLE_SUSPECT) != 0u) {
             angle_warned++;
+        }
+        if ((hold & EST_HOLD_ANGLE) != 0u) {
+            angle_held++;
         }
         angle_L_dev = fmax(angle_L_dev, fabs(r->L_est_H / 0.011 - 1.0));
     }
@@ -100,7 +106,7 @@ static fig_t run_with(const char *name, const char *const *sets, sil_row_fn fn)
 {
     scenario_t sc;
     static const char *const log_every_1[] = { "run.log_every=1", NULL };
-    fig_t f = { 0.0, 0.0, NAN, NAN, NAN, NAN, 0, 0.0, 0 };
+    fig_t f = { 0.0, 0.0, NAN, NAN, NAN, NAN, 0, 0.0, 0, NAN };
 
     sil_scenario_open(&sc, name);
     sil_scenario_set(&sc, log_every_1);
@@ -114,7 +120,7 @@ static fig_t run(const char *name, const char *const *sets)
 {
     scenario_t sc;
     static const char *const log_every_1[] = { "run.log_every=1", NULL };
-    fig_t f = { 0.0, 0.0, NAN, NAN, NAN, NAN, 0, 0.0, 0 };
+    fig_t f = { 0.0, 0.0, NAN, NAN, NAN, NAN, 0, 0.0, 0, NAN };
 
     sil_scenario_open(&sc, name);
     sil_scenario_set(&sc, log_every_1);
@@ -336,29 +342,84 @@ static void field_weakened_step1_refused(void **state)
     assert_false(isnan(q.R_first)); /* step 2 ran */
 }
 
+/* A low-inductance motor (the zoo's D5065: L/R 4 periods, 24 V, the
+ * dead time told 0.9 of 1 us, an untold 0.093 V drop, R 1.3x L 1.4x
+ * psi_f 0.85x told): the current's ripple at the legs' edges is most of
+ * the current at step 1's loads, so what the compensation leaves differs
+ * between the windows by more than 5 % of R^ allows (step1_design.md sec.
+ * 9; on the hard sign step 1 took R^ 1.8x): refused with RSID_INVERTER,
+ * step 2 from the told R, no fault. The paper's motor on the realistic
+ * board keeps its step 1 (real_prop_paper: R^ within 5 % of the warming
+ * winding's R, the warm-up during the windows included). */
+static void inverter_unresolved_step1_refused(void **state)
+{
+    (void)state;
+    const fig_t p = run("../../tests/campaign/zoo/c_odrive_d5065_050_prop", NULL);
+    print_message("D5065 step 1: state %d, fault %d, refusal %d (RSID_INVERTER %d)\n", (int)p.state, (int)p.fault,
+                  last_res.rsid_refusal, (int)APP_FAULT_RSID_INVERTER);
+    assert_int_equal((int)p.state, APP_STATE_RUN);
+    assert_int_equal((int)p.fault, APP_FAULT_NONE);
+    assert_int_equal(last_res.rsid_refusal, APP_FAULT_RSID_INVERTER);
+    assert_int_equal(last_res.warnings & APP_WARN_STEP1_REFUSED, APP_WARN_STEP1_REFUSED);
+    assert_false(isnan(p.R_first)); /* step 2 ran, from the told R */
+    const fig_t q = run("real_prop_paper", NULL);
+    print_message("paper, realistic board: refusal %d, R^ %.4f ohm, the plant's %.4f ohm\n", last_res.rsid_refusal,
+                  q.R_first, q.R_plant_first);
+    assert_int_equal(last_res.rsid_refusal, APP_FAULT_NONE);
+    assert_true(fabs(q.R_first / q.R_plant_first - 1.0) < 0.05);
+}
+
 /* An encoder count jump of 46 (4.97 el. deg) at 0.1 s, 1500 r/min, 4 N m:
  * step 1's windows (2 and 4 N m) read the angle error from their dL_j
- * (holds_design.md sec. 8): flag 0x0800 and est_hold 0x0080 in step
- * 2, L^ held at the told (exact) value instead of -51 %, no fault. */
-static void angle_error_holds_L(void **state)
+ * (holds_design.md sec. 8), 4.98 deg, its voltage w psi_f d = 9.8 V far
+ * above what the inverter may leave (0.64 V): the encoder's offset takes
+ * it and step 2 starts again on the corrected angle: flag 0x0800 (the
+ * warning) in every step-2 row, est_hold 0x0080 in none after the first,
+ * L^ within 5 % (instead of -51 %), the torque closer than the
+ * conventional method's (0.0014 against 0.0022 N m over 0.8-0.95 s; the
+ * advantage pair b6_enc_n500: 0.0016 against 0.0168). With 1 us of dead time untold at 100 r/min the
+ * windows read -3.6 deg whose 0.47 V the inverter may explain: L^ held,
+ * est_hold 0x0080, the told model. */
+static void angle_error_corrected_or_held(void **state)
 {
     const char *const sets[] = { "plant.model=switching", "reference.speed_rpm=0:0, 0.2:1500~",
                                  "faults.encoder_jump_s=0.1", "faults.encoder_jump_counts=46",
                                  "run.duration_s=1.2", NULL };
+    const char *const conv[] = { "plant.model=switching", "reference.speed_rpm=0:0, 0.2:1500~",
+                                 "faults.encoder_jump_s=0.1", "faults.encoder_jump_counts=46",
+                                 "run.duration_s=1.2", "controller.method=conventional", NULL };
+    const char *const untold[] = { "plant.model=switching", "plant.deadtime_s=1e-6", "controller.deadtime_s=0",
+                                   "reference.speed_rpm=0:0, 0.2:100~", "run.duration_s=1.2", NULL };
     (void)state;
     angle_rows = 0;
     angle_warned = 0;
+    angle_held = 0;
     angle_L_dev = 0.0;
     const fig_t p = run_with("prop_paper", sets, on_row_angle);
-    print_message("encoder 5 el. deg off: step 2 rows %ld, warned %ld, max |L^/L - 1| %.3f %%\n", angle_rows,
-                  angle_warned, 100.0 * angle_L_dev);
+    const fig_t c = run("prop_paper", conv);
+    const double te_p = p.te_abs / (double)p.n;
+    const double te_c = c.te_abs / (double)c.n;
+    print_message("encoder 5 el. deg off: step 2 rows %ld, warned %ld, held %ld, max |L^/L - 1| %.3f %%, "
+                  "proposed %.4f N m, conventional %.4f N m\n", angle_rows, angle_warned, angle_held,
+                  100.0 * angle_L_dev, te_p, te_c);
     assert_int_equal((int)p.state, APP_STATE_RUN);
     assert_int_equal((int)p.fault, APP_FAULT_NONE);
     assert_true(angle_rows > 0);
     /* every step-2 row but the first: its flags are those of the period
      * whose end started step 2 */
     assert_true(angle_warned >= angle_rows - 1);
+    assert_true(angle_held <= 1);
     assert_true(angle_L_dev <= 0.05);
+    assert_true(te_p < te_c);
+    angle_rows = 0;
+    angle_warned = 0;
+    angle_held = 0;
+    const fig_t q = run_with("prop_paper", untold, on_row_angle);
+    print_message("1 us untold at 100 r/min: step 2 rows %ld, warned %ld, held %ld\n", angle_rows, angle_warned,
+                  angle_held);
+    assert_int_equal((int)q.fault, APP_FAULT_NONE);
+    assert_true(angle_rows > 0);
+    assert_true(angle_held >= angle_rows - 1);
 }
 
 int main(void)
@@ -373,7 +434,8 @@ int main(void)
         cmocka_unit_test(speeds_mode_repeats_both_windows),
         cmocka_unit_test(refusal_runs_conventional_with_the_warning),
         cmocka_unit_test(field_weakened_step1_refused),
-        cmocka_unit_test(angle_error_holds_L),
+        cmocka_unit_test(inverter_unresolved_step1_refused),
+        cmocka_unit_test(angle_error_corrected_or_held),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -3,8 +3,8 @@
  *
  * Cost per ctrl_step(): `make bench-ctrl` measures it (instructions,
  * divisions, square roots and sin/cos per step, both methods, track_R on
- * and off). Where the divisions are: MTPA's q flux and svpwm_duty's 1/Vdc
- * (both methods); the transfer law whose turn it is and the observer's
+ * and off). Where the divisions are: MTPA's q flux, svpwm_duty's 1/Vdc
+ * and the inverter error's 1/Vdc (both methods); the transfer law whose turn it is and the observer's
  * gain on L^'s turns (proposed); dbdtc_set_params only when the model
  * moved by more than CTRL_MODEL_UPDATE_REL; 3 more only in the periods
  * the hexagon limit acts. One sin/cos (the advanced angle is a rotation
@@ -13,6 +13,7 @@
  */
 #include "ctrl.h"
 
+#include "inverr.h"
 #include "mathx.h"
 #include "oplim.h"
 #include "svpwm.h"
@@ -52,6 +53,18 @@ void ctrl_take_te_limit(ctrl_t *c)
     }
 }
 
+
+rs_ident_result_t ctrl_rsid_finish(ctrl_t *c, rs_ident_result_t r_solved)
+{
+    const rs_ident_result_t r = est_rsid_finish_with(&c->est, r_solved);
+    const float d = est_angle_error_el_rad(&c->est);
+    if ((r == RS_IDENT_OK) && ((d > 0.0f) || (d < 0.0f))) {
+        /* the angle read lags the rotor's by d: the offset takes it up */
+        encoder_set_offset(&c->enc, c->enc.offset_el_rad + d);
+        est_angle_corrected(&c->est);
+    }
+    return r;
+}
 
 void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
 {
@@ -141,21 +154,24 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
 }
 
 /* Mean stator-frame voltage error [V] the dead time and the device drop add
- * over the period whose middle is at the angle (sin_a, cos_a): each leg
- * loses or gains vdc*td/Ts + drop against the sign of its current (diode
- * conduction in the dead band, the conducting device's drop), the currents
- * taken as i_dq at that angle. Hard sign: near a zero
- * crossing the real error is smaller (left in f^ for those periods). */
-static ab_t deadtime_error(const ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V)
+ * over the period whose middle is at the angle (sin_a, cos_a), for the
+ * voltage u_V the duties will realise: each leg loses or gains vdc*td/Ts
+ * + drop against the sign of its current (the currents taken as i_dq at
+ * that angle) where the current's ripple at its edges does not take it
+ * through zero (inverr.h, inverter_error_design.md sec. 8); the ripple's
+ * largest into c->ripple_A for the estimation. 1 division. */
+static ab_t deadtime_error(ctrl_t *c, dq_t i_dq_A, float sin_a, float cos_a, float vdc_V, ab_t u_V)
 {
     const abc_t i = clarke_inv(park_inv(i_dq_A, sin_a, cos_a));
     /* below the speed floor the conventional path: the told dead time and drop only */
-    const float dv_sum = c->deadtime_frac * vdc_V + c->device_drop_V + est_output(&c->est)->inv_dv_V;
-    const float dv = (dv_sum > 0.0f) ? dv_sum : 0.0f; /* an identified over-compensation at most cancels it */
-    const float va = (i.a > 0.0f) ? -dv : ((i.a < 0.0f) ? dv : 0.0f);
-    const float vb = (i.b > 0.0f) ? -dv : ((i.b < 0.0f) ? dv : 0.0f);
-    const float vc = (i.c > 0.0f) ? -dv : ((i.c < 0.0f) ? dv : 0.0f);
-    return clarke_3ph(va, vb, vc);
+    const float dv_dead = c->deadtime_frac * vdc_V;
+    const float dv_drop = c->device_drop_V + est_output(&c->est)->inv_dv_V;
+    /* an identified over-compensation at most cancels the told one */
+    const bool some = (dv_dead + dv_drop) > 0.0f;
+    /* a bus below SVPWM's floor is refused there: no ripple (mid duties) here */
+    const float inv_vdc = (vdc_V >= SVPWM_VDC_MIN_V) ? (1.0f / vdc_V) : 0.0f;
+    return inverr_error_V(i, u_V, inv_vdc, inverr_k_A_V(c->cfg.Ts_s, c->db.par.inv_L_1_H), some ? dv_dead : 0.0f,
+                          some ? dv_drop : 0.0f, &c->ripple_A);
 }
 
 /* sin/cos of the angle the voltage computed now acts at, the middle of
@@ -262,6 +278,7 @@ static void stage_estimate(ctrl_t *c, const ctrl_period_t *p, float vdc_V)
     e->te_ref_Nm = c->te_ref_last_Nm;
     e->voltage_limited = (c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u;
     e->dpsi_weak_Wb = c->lim.dpsi_Wb;
+    e->ripple_A = c->ripple_A;
     est_step(&c->est, e);
 }
 
@@ -300,7 +317,9 @@ static void stage_deadbeat(ctrl_t *c, ctrl_period_t *p, float vdc_V)
         p->u.q = mathx_clampf(c->ref.uq_ref_V, -c->cfg.u_max_V, c->cfg.u_max_V);
     } else {
         p->flags = map_dbdtc_flags(dbdtc_solve(&c->db, &p->x, p->te_ref, p->psi_ref, &p->u));
-        oplim_fw_update(&c->lim, p->u, c->u_lim_per_vdc * vdc_V);
+        if (!est_identifying(&c->est)) {
+            oplim_fw_update(&c->lim, p->u, c->u_lim_per_vdc * vdc_V);
+        }
     }
 }
 
@@ -318,8 +337,8 @@ static void stage_modulate(ctrl_t *c, ctrl_period_t *p, float vdc_V)
 
     advance_sincos(p->s, p->co, &c->turn, &sa, &ca);
     p->flags |= map_dbdtc_flags(dbdtc_limit(&p->u, sa, ca, vdc_V));
-    const ab_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V);
     ab_t u_cmd = park_inv(p->u, sa, ca);
+    const ab_t u_dt = deadtime_error(c, p->i_dq, sa, ca, vdc_V, u_cmd);
     u_cmd.a -= u_dt.a; /* fed forward: the inverter adds u_dt back */
     u_cmd.b -= u_dt.b;
     if ((svpwm_duty(u_cmd, vdc_V, &p->duty, &u_real) & SVPWM_SATURATED) != 0u) {
@@ -419,12 +438,17 @@ static void stage_output(ctrl_t *c, const ctrl_period_t *p, const ctrl_in_t *in,
 
 /* The oscillation watch (ctrl.h CTRL_OSC_*) on the model the estimation
  * gave: at lambda = L^/L >= CTRL_OSC_LAMBDA_HOLD, L^ cut to L^/lambda.
- * Otherwise only the state x at k+1 the model starts from this period,
- * the next prediction. */
+ * The last period at the voltage limit ends the pair under way: the
+ * deadbeat did not apply (L^/Ts)(i* - i^), the premise of the regression
+ * (discrete_model_design.md sec. 7). Otherwise only the state x at k+1
+ * the model starts from this period, the next prediction. */
 static void stage_watch(ctrl_t *c, const ctrl_period_t *p)
 {
     ctrl_osc_t *o = &c->osc;
-    if ((c->model_src == MODEL_EST) && (c->osc_den_min_A2 > 0.0f)) {
+    if ((c->flags_last & CTRL_FLAG_VOLTAGE_LIMIT) != 0u) {
+        o->pred_A = p->x.i_dq_A;
+        o->phase = 0u; /* the next period starts a pair */
+    } else if ((c->model_src == MODEL_EST) && (c->osc_den_min_A2 > 0.0f)) {
         const float lambda = ctrl_osc_step(o, p->i_dq, p->x.i_dq_A, c->osc_den_min_A2);
         if (lambda > 0.0f) {
             est_hold_oscillation(&c->est, 1.0f / lambda, p->omega, p->i_dq.q); /* one division, once */

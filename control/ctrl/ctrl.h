@@ -194,6 +194,7 @@ typedef struct {
     dq_t u_applied_V;           /* realised rotor-frame voltage being applied this period, u(k) */
     float deadtime_frac;        /* td/Ts from cfg (0: no compensation) */
     float device_drop_V;        /* the drop from cfg (0: none or refused) [V] */
+    float ripple_A;             /* the largest current ripple at a leg's edge in the last period (inverr.h) [A] */
     zoh_turn_t turn;            /* the rotor's turn over a period, taken at w within turn_tol of w(k) (zoh.h) */
     float turn_tol_rad_s;       /* ZOH_THETA_TOL_RAD / Ts [rad/s el] */
     float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
@@ -275,6 +276,12 @@ static inline void ctrl_track(ctrl_t *c, uint32_t enc_count)
 /* The rotor's d axis is on phase a: the count enc_count now reads 0 rad
  * el (the app's alignment). ISR. */
 void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count);
+
+/* Step 1 ends on a staged solve's result r_solved (est_rsid_finish_with);
+ * where its windows found an encoder angle error (est.h
+ * est_angle_error_el_rad), the encoder's offset corrected by it and step 2
+ * started again on the corrected angle (holds_design.md sec. 8). ISR once. */
+rs_ident_result_t ctrl_rsid_finish(ctrl_t *c, rs_ident_result_t r_solved);
 
 /* One control period from the samples *in; duties and flags to *out. ISR, 10 kHz. */
 void ctrl_step(ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out);

@@ -27,6 +27,7 @@ void ctrl_cfg_told(const ctrl_cfg_t *cfg, est_told_t *told)
     told->u_max_V = cfg->u_max_V;
     told->omega_max_el_rad_s = cfg->omega_max_el_rad_s;
     told->deadtime_s = cfg->deadtime_s;
+    told->device_drop_V = cfg->device_drop_V;
     told->enc_counts_per_rev = ENCODER_COUNTS_PER_LINE * cfg->enc_lines;
     told->enc_pll_bw_rad_s = cfg->enc_pll_bw_rad_s;
 }
@@ -37,6 +38,7 @@ static ctrl_status_t init_est(ctrl_t *c, const ctrl_cfg_t *cfg)
     est_told_t told;
     ctrl_cfg_told(cfg, &told);
     told.deadtime_s = c->deadtime_frac * cfg->Ts_s; /* as taken (0 when refused) */
+    told.device_drop_V = c->device_drop_V;
     return (ctrl_status_t)est_init(&c->est, &cfg->est_cfg, &told);
 }
 
@@ -153,6 +155,7 @@ FLASHFUNC void ctrl_reset(ctrl_t *c)
     c->mode = c->mode_req;
     c->u_applied_V.d = 0.0f;
     c->u_applied_V.q = 0.0f;
+    c->ripple_A = 0.0f;
     c->mon.theta_el_rad = 0.0f;
     c->mon.omega_el_rad_s = 0.0f;
     c->mon.speed_mech_rad_s = 0.0f;

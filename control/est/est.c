@@ -48,6 +48,9 @@ void est_reset(est_t *e)
     e->refused = false;
     e->trusted = false;
     e->w_psi_min_rad_s = e->cfg.w_min_rad_s;
+    e->step1_ripple_A = 0.0f;
+    e->angle_fix_el_rad = 0.0f;
+    e->step1_vdc_V = 0.0f;
     est_gate_reset(&e->gate, &e->smo);
     out_told(e);
 }
@@ -68,6 +71,9 @@ bool est_rsid_begin(est_t *e)
     e->rt_flags = 0u;
     e->hold_fixed = 0u;
     e->refused = false;
+    e->step1_ripple_A = 0.0f;
+    e->angle_fix_el_rad = 0.0f;
+    e->step1_vdc_V = 0.0f;
     out_told(e);
     return true;
 }
@@ -125,8 +131,17 @@ static void add_inverter_error(est_t *e, float dv_V, dq_t i_dq_A)
     e->out.inv_err_V = EST_FUNDAMENTAL_OF_SQUARE * e->inv_dv_V;
 }
 
-void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
+/* The told compensation's fundamental with the identified error on top
+ * [V] at the bus vdc_V [V] (inverter_error_design.md sec. 2). */
+static float compensated_fundamental_V(const est_t *e, float vdc_V)
 {
+    return EST_FUNDAMENTAL_OF_SQUARE *
+           (e->cfg.deadtime_frac * mathx_fabsf(vdc_V) + e->cfg.device_drop_V + mathx_fabsf(e->inv_dv_V));
+}
+
+void est_r_track_event(est_t *e, r_track_event_t ev, const est_in_t *in)
+{
+    const dq_t i_dq_A = in->i_dq_A;
     if (ev == R_TRACK_IDENT_DONE) {
         add_inverter_error(e, QUARTER_PI * e->rt.Ve_V, i_dq_A); /* per leg: (pi/4) Ve */
         e->rt_flags &= EST_FLAG_ANGLE_SUSPECT;
@@ -140,9 +155,14 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
         e->force = EST_MOVED_ALL;
         start_tracking(e);
     } else if (ev == R_TRACK_CYCLE) {
-        /* rho = dR with the inverter error compensated: R^ += -k_R rho + rate, within the band */
+        /* rho = dR with the inverter error compensated: R^ += -k_R rho + rate, within the band,
+         * where the compensation's uncertainty leaves R resolvable (r_tracking_design.md sec. 6) */
         const float fq_V = e->smo.fq_V;
-        if (smo_set_R(&e->smo, e->smo.R_Ohm + e->rt.dR_step_Ohm)) {
+        const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
+        if (!r_track_resolves(&e->rt, compensated_fundamental_V(e, in->vdc_V), in->ripple_A, i_abs, e->smo.R_Ohm)) {
+            r_track_discard(&e->rt);
+            e->rt_flags |= EST_FLAG_R_HELD;
+        } else if (smo_set_R(&e->smo, e->smo.R_Ohm + e->rt.dR_step_Ohm)) {
             psi_band_r_moved(&e->pb, e->smo.fq_V - fq_V); /* holds_design.md sec. 4 */
             e->rt_flags &= (uint16_t)~EST_FLAG_R_HELD;
             e->force = EST_MOVED_ALL;
@@ -154,6 +174,33 @@ void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A)
     } else {
         /* cycle under way */
     }
+}
+
+/* The inverter check of step 1's result (step1_design.md sec. 9): each
+ * window's q disturbance may carry what the compensation leaves,
+ * delta_j = (e0 + c r/|i_j|) Ve (Ve the compensated error's fundamental
+ * with the untold prior on top, r the largest ripple step 1 saw; e0, c
+ * r_track's inv_unc_frac, ripple_unc), which moves R^ by
+ * (delta_1 w2 - delta_2 w1)/den: at most |e0 Ve (w2 - w1)| +
+ * c r Ve (|w2|/|i1| + |w1|/|i2|) over |den|. True when that is within
+ * R_res_max R^ (into o->R_inverter_Ohm, o->R_inverter_max_Ohm). */
+static bool rsid_inverter_ok(const est_t *e, rs_ident_out_t *o, float den)
+{
+    const r_track_cfg_t *rc = &e->rt.cfg;
+    const float vdc = mathx_fabsf(e->step1_vdc_V);
+    const float ve = EST_FUNDAMENTAL_OF_SQUARE *
+                     ((e->cfg.deadtime_frac + e->cfg.untold_frac) * vdc + e->cfg.device_drop_V);
+    const float w1 = mathx_fabsf(o->mean_w_rad_s[0]);
+    const float w2 = mathx_fabsf(o->mean_w_rad_s[1]);
+    const float i1 = mathx_sqrtf(o->mean_id_A[0] * o->mean_id_A[0] + o->mean_iq_A[0] * o->mean_iq_A[0]);
+    const float i2 = mathx_sqrtf(o->mean_id_A[1] * o->mean_id_A[1] + o->mean_iq_A[1] * o->mean_iq_A[1]);
+    /* times |i1| |i2|: no division by a current */
+    const float num_x_i12 = rc->inv_unc_frac * ve * mathx_fabsf(w2 - w1) * i1 * i2 +
+                            rc->ripple_unc * e->step1_ripple_A * ve * (w2 * i2 + w1 * i1);
+    const float lim = rc->R_res_max * mathx_fabsf(o->R_raw_Ohm);
+    o->R_inverter_max_Ohm = lim;
+    o->R_inverter_Ohm = ((i1 > 0.0f) && (i2 > 0.0f)) ? (num_x_i12 / (mathx_fabsf(den) * i1 * i2)) : 0.0f;
+    return num_x_i12 <= lim * mathx_fabsf(den) * i1 * i2;
 }
 
 /* Step 1's result with the d-axis check (step1_design.md sec. 6): an
@@ -168,6 +215,8 @@ static rs_ident_result_t rsid_checks(const est_t *e, rs_ident_result_t r_solved,
     rs_ident_result_t r = r_solved;
     o->R_d_axis_Ohm = 0.0f;
     o->angle_el_rad = 0.0f;
+    o->R_inverter_Ohm = 0.0f;
+    o->R_inverter_max_Ohm = 0.0f;
     if (r == RS_IDENT_OK) {
         const float w1 = o->mean_w_rad_s[0];
         const float w2 = o->mean_w_rad_s[1];
@@ -196,6 +245,9 @@ static rs_ident_result_t rsid_checks(const est_t *e, rs_ident_result_t r_solved,
         if (!(o->R_d_axis_Ohm <= o->R_se_max_Ohm)) {
             o->R_est_Ohm = e->cfg.R_Ohm; /* refused: R_nom, as rs_ident's refusals */
             r = RS_IDENT_D_AXIS;
+        } else if (!rsid_inverter_ok(e, o, den)) {
+            o->R_est_Ohm = e->cfg.R_Ohm;
+            r = RS_IDENT_INVERTER;
         }
     }
     return r;
@@ -228,6 +280,24 @@ bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s)
     return true;
 }
 
+/* The angle d step 1's windows suggest where its d-axis voltage w psi_f d
+ * at the windows' lower speed exceeds the bound on what the inverter may
+ * leave before its identification (the coarse bound on the told error
+ * and the prior of an untold one, psi_band.h): else 0 (holds_design.md
+ * sec. 8: 1 us untold read 0.4-0.5 V of angle at 50-100 r/min). */
+static float correctable_angle_el_rad(const est_t *e)
+{
+    const psi_band_cfg_t *bc = &e->pb.cfg;
+    const rs_ident_out_t *o = &e->rsid_out;
+    const float vdc = mathx_fabsf(e->step1_vdc_V);
+    const float vb = bc->unc_told_frac * (bc->ve_told_per_vdc * vdc + bc->ve_told_drop_V) +
+                     bc->ve_prior_per_vdc * vdc + bc->unc_abs_V;
+    const float w1 = mathx_fabsf(o->mean_w_rad_s[0]);
+    const float w2 = mathx_fabsf(o->mean_w_rad_s[1]);
+    const float v_angle = ((w1 < w2) ? w1 : w2) * e->cfg.psi_f_Wb * mathx_fabsf(o->angle_el_rad);
+    return (v_angle > vb) ? o->angle_el_rad : 0.0f;
+}
+
 rs_ident_result_t est_rsid_finish(est_t *e)
 {
     return est_rsid_finish_with(e, rsid_solve(e, &e->rsid_out));
@@ -251,6 +321,7 @@ rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
         param_est_hold_L(&e->pe, suspect);
         psi_band_hold(&e->pb, suspect); /* the told model, the conventional path */
         e->hold_fixed = suspect ? EST_HOLD_ANGLE : 0u;
+        e->angle_fix_el_rad = suspect ? correctable_angle_el_rad(e) : 0.0f;
         e->rt_flags = suspect ? EST_FLAG_ANGLE_SUSPECT : 0u;
         e->out.hold = e->hold_fixed;
         e->out.flags = e->rt_flags;
@@ -267,6 +338,27 @@ rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
     return r;
 }
 
+float est_angle_error_el_rad(const est_t *e)
+{
+    return ((e->hold_fixed & EST_HOLD_ANGLE) != 0u) ? e->angle_fix_el_rad : 0.0f;
+}
+
+void est_angle_corrected(est_t *e)
+{
+    if ((e->phase != EST_STEP2) || ((e->hold_fixed & EST_HOLD_ANGLE) == 0u)) {
+        return;
+    }
+    const float R_Ohm = e->smo.R_Ohm;
+    smo_reset(&e->smo); /* the frame turned: i^, f^ seeded again at the next step */
+    (void)smo_set_R(&e->smo, R_Ohm);
+    start_step2(e);
+    param_est_hold_L(&e->pe, false);
+    psi_band_hold(&e->pb, false);
+    e->hold_fixed = (uint16_t)(e->hold_fixed & (uint16_t)~EST_HOLD_ANGLE);
+    e->out.hold = e->hold_fixed;
+    r_track_start(&e->rt, R_TRACK_IDENT); /* as after an unsuspected step 1 */
+}
+
 bool est_start_trusted(est_t *e, float R_Ohm)
 {
     /* ! (in band): NaN fails too */
@@ -279,8 +371,8 @@ bool est_start_trusted(est_t *e, float R_Ohm)
     (void)smo_set_R(&e->smo, R_Ohm); /* in band: accepted */
     rs_ident_reset(&e->ri);
     e->win = RS_IDENT_WINDOW_NONE;
-    start_step2(e); /* no inverter-error identification: R is trusted, not measured */
-    psi_band_bound_final(&e->pb);
+    start_step2(e); /* no inverter-error identification: R and the inverter were measured */
+    psi_band_bound_measured(&e->pb);
     return true;
 }
 

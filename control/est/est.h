@@ -63,9 +63,11 @@ typedef enum {
 
 /* est_out_t.flags: bits of the controller's output flags. */
 #define EST_FLAG_INV_UNIDENTIFIED 0x0100u /* the inverter error could not be identified: not compensated */
-#define EST_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band) */
+#define EST_FLAG_R_HELD           0x0200u /* track_R: the last cycle was held (no current, transient, band, or the
+                                            * inverter's compensation leaves R unresolved) */
 #define EST_FLAG_PSI_HELD         0x0400u /* step 2: the model's psi_f did not move this period */
-#define EST_FLAG_ANGLE_SUSPECT    0x0800u /* step 1's windows suggest an encoder angle error: L^ held (a warning) */
+#define EST_FLAG_ANGLE_SUSPECT    0x0800u /* step 1's windows found an encoder angle error: the offset corrected,
+                                            * or L^ held where the inverter could fake it (a warning) */
 
 /* A per-leg square wave of amplitude dv (dead time, device drop) has the
  * rotor-frame fundamental (4/pi) dv against the current (inverter_error_design.md sec. 2). */
@@ -113,6 +115,7 @@ typedef struct {
     float u_max_V;              /* [V] */
     float omega_max_el_rad_s;   /* [rad/s el] */
     float deadtime_s;           /* the told dead time as compensated (its fundamental bounds psi_band's Vb) [s] */
+    float device_drop_V;        /* the told device drop as compensated [V] */
     uint32_t enc_counts_per_rev; /* encoder counts a turn (the gate's acceleration floor) [-] */
     float enc_pll_bw_rad_s;     /* the speed estimate's bandwidth [rad/s] */
 } est_told_t;
@@ -142,6 +145,9 @@ typedef struct {                /* what est_t keeps of its configuration (the bl
     float wiq_min_A_rad_s;      /* pe.wiq_min_A_rad_s: the L^ law's |w iq| floor [A rad/s] */
     uint16_t track_R;           /* EST_TRACK_R_* */
     uint16_t auto_delay_periods; /* rtrack.auto_delay_periods */
+    float deadtime_frac;        /* the told dead time over Ts, as compensated [1] */
+    float device_drop_V;        /* the told device drop, as compensated [V] */
+    float untold_frac;          /* untold_deadtime_s over Ts: the prior of what nobody told [1] */
 } est_kept_t;
 
 typedef struct {                /* one period's inputs */
@@ -154,6 +160,7 @@ typedef struct {                /* one period's inputs */
     float te_ref_Nm;            /* the last period's torque reference [N m] */
     bool voltage_limited;       /* the last period's voltage was clamped */
     float dpsi_weak_Wb;         /* the flux reference's weakening (oplim's dpsi; > 0: weakened) [Wb] */
+    float ripple_A;             /* the largest current ripple at a leg's edge over [k, k+1] (inverr.h) [A] */
 } est_in_t;
 
 typedef struct {                /* the output: written by est_step and the phase changes */
@@ -181,6 +188,9 @@ typedef struct {
     est_gate_t gate;
     float inv_dv_V;             /* per-leg error identified on top of the told dead time [V] */
     float w_psi_min_rad_s;      /* the transfer laws' speed floor for psi^ (param_est_step's input) */
+    float step1_ripple_A;       /* step 1: the largest current ripple at a leg's edge seen [A] */
+    float step1_vdc_V;          /* step 1: the bus of its last period [V] */
+    float angle_fix_el_rad;     /* the encoder angle error step 1 found where it may be corrected, else 0 [rad el] */
     uint16_t rt_flags;          /* EST_FLAG_INV_UNIDENTIFIED, EST_FLAG_R_HELD while they last */
     uint16_t force;             /* EST_MOVED_ALL due at the next output */
     uint16_t hold_fixed;        /* EST_HOLD_ANGLE while an angle error is suspected, EST_HOLD_OSCILLATION
@@ -249,6 +259,21 @@ bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s);
  * without solving again. ISR once. */
 rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved);
 
+/* The encoder angle error step 1's windows found [rad el] (the rotor's
+ * angle minus the angle read: the SIL against the plant decided the
+ * sign, holds_design.md sec. 8), 0 unless it exceeded EST_ANGLE_SUSPECT_RAD,
+ * L^ is held for it (EST_HOLD_ANGLE) and its voltage w psi_f d exceeds
+ * what the inverter may leave unexplained (an untold dead time at low
+ * speed reads as an angle too). Any context. */
+float est_angle_error_el_rad(const est_t *e);
+
+/* The caller corrected the encoder's angle by est_angle_error_el_rad():
+ * step 2 again from the observer's told state at R^ on the corrected
+ * angle, L^ learning, the inverter error identified first;
+ * EST_FLAG_ANGLE_SUSPECT stays (the warning: the offset was wrong).
+ * Nothing unless the angle hold is set. ISR once. */
+void est_angle_corrected(est_t *e);
+
 /* Step 2 without step 1 for a trusted R_Ohm in the band: false otherwise
  * or when init refused. ISR or background. */
 bool est_start_trusted(est_t *e, float R_Ohm);
@@ -262,7 +287,7 @@ bool est_start_told(est_t *e);
 /* An injection event of the period (r_track_step's; est_step calls it,
  * nothing else): the inverter error into the compensation, R^ tracked,
  * the holds. ISR. */
-void est_r_track_event(est_t *e, r_track_event_t ev, dq_t i_dq_A);
+void est_r_track_event(est_t *e, r_track_event_t ev, const est_in_t *in);
 
 /* The controller saw the current oscillate on step 2's model (ctrl.h's
  * watch, which measured L^ at 1/L_scale of the motor's L): L^ times
@@ -316,7 +341,8 @@ static inline void est_step2(est_t *e, const est_in_t *in)
         o->inv_dv_V = e->inv_dv_V;
         /* f^ carries a current transient: eq. (10) with the held estimates (step2_design.md sec. 7) */
         o->src = est_gate_f_usable(&e->gate) ? EST_SRC_OBSERVER : EST_SRC_HELD;
-        o->hold = e->gate.reasons; /* (an angle hold keeps pb.low set: the branches below) */
+        /* the gate's reasons and the oscillation's cut L^ (an angle hold keeps pb.low set: the branches below) */
+        o->hold = (uint16_t)(e->gate.reasons | e->hold_fixed);
         e->trusted = e->pb.trust; /* taken above the floor as decided under the final bound */
     } else if (e->trusted) {
         /* below the floor: the last trusted model (as it is in *o), eq. (10) */
@@ -349,7 +375,9 @@ static inline void est_step(est_t *e, const est_in_t *in)
     (void)smo_step_turn(&e->smo, in->i_dq_A, in->u_V, in->omega_el_rad_s, in->turn); /* i^(k+1): (51b), (55) */
     if (e->rt.phase != R_TRACK_OFF) {
         const bool edge = r_track_at_edge(&e->rt);
-        if ((!edge && ((in->dpsi_weak_Wb > 0.0f) || ((e->gate.reasons & EST_GATE_VOLTAGE) != 0u))) ||
+        /* identifying, the controller holds the weakening instead (est_identifying) */
+        const bool weak = (in->dpsi_weak_Wb > 0.0f) && (e->rt.phase == R_TRACK_TRACK);
+        if ((!edge && (weak || ((e->gate.reasons & EST_GATE_VOLTAGE) != 0u))) ||
             ((e->gate.reasons & EST_GATE_ACCEL) != 0u)) {
             /* tracking only: the injection would read the weakening loop, the clamp (the gate's
              * voltage reason) or the speed estimate's lag in a ramp (its acceleration reason),
@@ -366,16 +394,28 @@ static inline void est_step(est_t *e, const est_in_t *in)
         const float z = e->smo.fd_V - in->omega_el_rad_s * e->smo.L_H * in->i_dq_A.q;
         const r_track_event_t ev = r_track_step(&e->rt, z, in->i_dq_A.d, in->i_dq_A.q, in->omega_el_rad_s, e->smo.L_H);
         if (ev != R_TRACK_NONE) {
-            est_r_track_event(e, ev, in->i_dq_A);
+            est_r_track_event(e, ev, in);
         }
     }
     if (e->phase == EST_STEP1) {
+        /* what the inverter's compensation may put into R^ (est.c rsid_checks) */
+        e->step1_ripple_A = (in->ripple_A > e->step1_ripple_A) ? in->ripple_A : e->step1_ripple_A;
+        e->step1_vdc_V = in->vdc_V;
         /* the angle for the fit of the electrical-frequency ripple (step1_design.md sec. 4) */
         rs_ident_step_el(&e->ri, e->win, e->smo.fd_V, e->smo.fq_V, in->i_dq_A.d, in->i_dq_A.q, in->omega_el_rad_s,
                          in->cos_el, in->sin_el);
     } else {
         est_step2(e, in);
     }
+}
+
+/* True while the inverter error's identification sums a cycle at a
+ * steady speed: the controller then holds the field weakening's flux, so
+ * the cycle reads the inverter, not the weakening loop
+ * (inverter_error_design.md sec. 9). ISR. */
+static inline bool est_identifying(const est_t *e)
+{
+    return (e->rt.phase == R_TRACK_IDENT) && (e->rt.wait == 0u) && ((e->gate.reasons & EST_GATE_ACCEL) == 0u);
 }
 
 /* The flux reference psi_ref_Wb [Wb] with the injection's L id* added

@@ -78,6 +78,7 @@ static bool init_laws(est_t *e, const est_cfg_t *c, const est_told_t *t)
      * above it the band decides (the psi^ law's floor stays pe's) */
     bc.w_min_rad_s = bc.unc_abs_V / (bc.unexplained_max * c->pe.psi_max_Wb);
     bc.ve_told_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * t->deadtime_s / t->Ts_s) : 0.0f;
+    bc.ve_told_drop_V = EST_FUNDAMENTAL_OF_SQUARE * t->device_drop_V;
     bc.ve_prior_per_vdc = (t->Ts_s > 0.0f) ? (EST_FUNDAMENTAL_OF_SQUARE * c->untold_deadtime_s / t->Ts_s) : 0.0f;
     return psi_band_init(&e->pb, &bc) && pe_ok;
 }
@@ -98,6 +99,9 @@ est_status_t est_init(est_t *e, const est_cfg_t *cfg, const est_told_t *told)
     e->cfg.wiq_min_A_rad_s = c->pe.wiq_min_A_rad_s;
     e->cfg.track_R = c->track_R;
     e->cfg.auto_delay_periods = c->rtrack.auto_delay_periods;
+    e->cfg.deadtime_frac = (t->Ts_s > 0.0f) ? (t->deadtime_s / t->Ts_s) : 0.0f;
+    e->cfg.device_drop_V = t->device_drop_V;
+    e->cfg.untold_frac = (t->Ts_s > 0.0f) ? (c->untold_deadtime_s / t->Ts_s) : 0.0f;
     /* each block's settings with the told values and bounds written in, one
      * block at a time (the start-up stack holds one block's settings) */
     est_status_t gate;

@@ -16,6 +16,7 @@ void psi_band_cfg_defaults(psi_band_cfg_t *cfg, float Ts_s, float w_min_rad_s, f
     cfg->unc_found_sync_frac = PSI_BAND_UNC_FOUND_SYNC_FRAC_DEFAULT;
     cfg->unc_abs_V = PSI_BAND_UNC_ABS_DEFAULT_V;
     cfg->ve_told_per_vdc = 0.0f;
+    cfg->ve_told_drop_V = 0.0f;
     cfg->ve_prior_per_vdc = 0.0f;
     cfg->settle_s = PSI_BAND_SETTLE_DEFAULT_S;
     cfg->settle_frac = PSI_BAND_SETTLE_FRAC_DEFAULT;
@@ -26,12 +27,12 @@ bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg)
 {
     const float sum = cfg->Ts_s + cfg->tau_s + cfg->w_min_rad_s + cfg->psi_min_Wb + cfg->psi_max_Wb +
                       cfg->unc_told_frac + cfg->unc_ident_frac + cfg->unc_found_frac + cfg->unc_found_sync_frac + cfg->unc_abs_V +
-                      cfg->ve_told_per_vdc + cfg->ve_prior_per_vdc + cfg->settle_s + cfg->settle_frac + cfg->unexplained_max;
+                      cfg->ve_told_per_vdc + cfg->ve_told_drop_V + cfg->ve_prior_per_vdc + cfg->settle_s + cfg->settle_frac + cfg->unexplained_max;
     const bool ok = mathx_isfinitef(sum) && (cfg->Ts_s > 0.0f) && (cfg->tau_s > cfg->Ts_s) &&
                     (cfg->w_min_rad_s > 0.0f) && (cfg->psi_min_Wb > 0.0f) && (cfg->psi_min_Wb <= cfg->psi_max_Wb) &&
                     (cfg->unc_told_frac >= 0.0f) && (cfg->unc_ident_frac >= 0.0f) &&
                     (cfg->unc_found_frac >= 0.0f) && (cfg->unc_found_sync_frac >= 0.0f) && (cfg->unc_abs_V >= 0.0f) &&
-                    (cfg->ve_told_per_vdc >= 0.0f) && (cfg->ve_prior_per_vdc >= 0.0f) &&
+                    (cfg->ve_told_per_vdc >= 0.0f) && (cfg->ve_told_drop_V >= 0.0f) && (cfg->ve_prior_per_vdc >= 0.0f) &&
                     (cfg->settle_s >= cfg->Ts_s * (float)PSI_BAND_DECIDE_PERIODS) &&
                     (cfg->settle_s <= 1.0f) && (cfg->settle_frac >= 0.0f) && (cfg->unexplained_max > 0.0f);
 
@@ -45,6 +46,7 @@ bool psi_band_init(psi_band_t *pb, const psi_band_cfg_t *cfg)
 RAMFUNC void psi_band_start(psi_band_t *pb, float psi_Wb)
 {
     pb->k_per_vdc = pb->cfg.unc_told_frac * pb->cfg.ve_told_per_vdc;
+    pb->k_V = pb->cfg.unc_told_frac * pb->cfg.ve_told_drop_V;
     pb->found_frac = pb->cfg.unc_found_frac;
     pb->r_unc_V = 0.0f;
     pb->track = false;
@@ -68,6 +70,7 @@ RAMFUNC void psi_band_rebase(psi_band_t *pb, float dfq_V, bool sync)
     pb->found_frac = sync ? pb->cfg.unc_found_sync_frac : pb->cfg.unc_found_frac;
     pb->P_Wb += dfq_V * pb->inv_w_s_rad;
     pb->k_per_vdc = pb->cfg.unc_ident_frac * pb->cfg.ve_told_per_vdc;
+    pb->k_V = pb->cfg.unc_ident_frac * pb->cfg.ve_told_drop_V;
     pb->track = false;
     pb->taken = false;
     pb->final = true;
@@ -89,8 +92,10 @@ RAMFUNC void psi_band_hold(psi_band_t *pb, bool hold)
     pb->low = hold ? (uint16_t)(pb->low | PSI_BAND_LOW_HELD) : (uint16_t)(pb->low & (uint16_t)~PSI_BAND_LOW_HELD);
 }
 
-RAMFUNC void psi_band_bound_final(psi_band_t *pb)
+RAMFUNC void psi_band_bound_measured(psi_band_t *pb)
 {
+    pb->k_per_vdc = pb->cfg.unc_ident_frac * pb->cfg.ve_told_per_vdc + pb->cfg.ve_prior_per_vdc;
+    pb->k_V = pb->cfg.unc_ident_frac * pb->cfg.ve_told_drop_V;
     pb->final = true;
 }
 
@@ -131,7 +136,7 @@ RAMFUNC bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float o
     /* Vb/|w|: the flux the voltage nobody can explain may fake at this speed */
     const float abs_inv_w = mathx_fabsf(inv_w);
     const float vdc = mathx_fabsf(vdc_V);
-    const float band = (pb->k_per_vdc * vdc + pb->found_frac * mathx_fabsf(ve_found_V) +
+    const float band = (pb->k_per_vdc * vdc + pb->k_V + pb->found_frac * mathx_fabsf(ve_found_V) +
                         pb->r_unc_V + pb->cfg.unc_abs_V) * abs_inv_w;
     /* the floor: the final bound, or before it the prior on what nobody told (holds_design.md sec. 6) */
     const float floor_band = pb->final ? band : ((pb->cfg.ve_prior_per_vdc * vdc + pb->cfg.unc_abs_V) * abs_inv_w);

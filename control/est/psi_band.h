@@ -21,17 +21,19 @@
  * was, so never worse than the nominal value it starts from; where it
  * cannot tell (low speed, little evidence) it holds what it knows.
  * Vb = frac x Ve_told + found_frac x |Ve_found| + |dfq_R| + abs_V (the fundamentals
- * of the dead-time error the controller is told, Ve_told = ve_told_per_vdc
- * x Vdc, and of the error r_track identified on top; dfq_R the q voltage
- * of R^'s last tracking move) takes the coarse frac
+ * of the inverter error the controller is told, Ve_told = ve_told_per_vdc
+ * x Vdc + ve_told_drop_V, and of the error r_track identified on top;
+ * dfq_R the q voltage of R^'s last tracking move) takes the coarse frac
  * until the inverter error is identified, the fine one after
- * (psi_band_rebase).
+ * (psi_band_rebase); with the inverter measured by commissioning (R
+ * trusted) the fine one and the prior of what the measurement leaves
+ * (psi_band_bound_measured, holds_design.md sec. 6).
  *
  * Speed floor: where Vb/|w| exceeds unexplained_max x |P| (the estimate),
  * or |w| <= w_min, the voltage the drive cannot explain may fake more of
  * psi_f than the model may carry: `low` says so, decided at every decision
  * (hysteresis PSI_BAND_LOW_HYST), and at once when |w| <= w_min. Until
- * the bound is final (psi_band_rebase, psi_band_bound_final) the floor's
+ * the bound is final (psi_band_rebase, psi_band_bound_measured) the floor's
  * Vb is the prior ve_prior_per_vdc x Vdc + abs_V: the least inverter error
  * nobody told, which the coarse guess from the told dead time does not
  * cover when the told dead time is 0. The caller then keeps the told model and the
@@ -76,6 +78,7 @@ typedef struct {
     float unc_found_sync_frac; /* ... when it was identified in ripple-synchronous segments [1] */
     float unc_abs_V;       /* Vb's absolute part [V] */
     float ve_told_per_vdc; /* the told dead time's fundamental per bus volt, (4/pi) td/Ts [1] */
+    float ve_told_drop_V;  /* the told device drop's fundamental, (4/pi) drop [V] */
     float ve_prior_per_vdc; /* before identification, the speed floor's Vb: an untold error's
                              * fundamental per bus volt, (4/pi) td_untold/Ts [1] */
     float settle_s;        /* P settled: moved by less than settle_frac Vb/|w| in this time [s] */
@@ -96,6 +99,7 @@ typedef struct {
     bool unknown;          /* the identification was refused: no bound, below the floor at every speed */
     bool trust;            /* the last decision was under the final bound and above the floor */
     float k_per_vdc;       /* Vb's part per bus volt in use (coarse or fine x the told fundamental) [1] */
+    float k_V;             /* Vb's part of the told drop in use (coarse or fine x its fundamental) [V] */
     float found_frac;      /* Vb's share of the identified fundamental in use [1] */
     float r_unc_V;         /* Vb's part for R^ tracking: its last move's q voltage |dR iq| [V] */
     float anchor_Wb;       /* the model's psi_f when step 2 started */
@@ -107,8 +111,8 @@ typedef struct {
 } psi_band_t;
 
 /* Design defaults into cfg for Ts_s [s], the freeze speed w_min [rad/s]
- * and the clamps [Wb]; ve_told_per_vdc and ve_prior_per_vdc 0 (the
- * caller's, from its dead times). Background. */
+ * and the clamps [Wb]; ve_told_per_vdc, ve_told_drop_V and ve_prior_per_vdc
+ * 0 (the caller's, from its dead times and drop). Background. */
 void psi_band_cfg_defaults(psi_band_cfg_t *cfg, float Ts_s, float w_min_rad_s, float psi_min_Wb, float psi_max_Wb);
 
 /* Copies cfg; false (and a = 0: nothing moves) unless 0 < Ts < tau,
@@ -136,9 +140,12 @@ void psi_band_rebase(psi_band_t *pb, float dfq_V, bool sync);
  * on tracking; a model holding the anchor is left alone. ISR (an R-tracking cycle's end). */
 void psi_band_r_moved(psi_band_t *pb, float dfq_V);
 
-/* R is trusted without step 1 (no identification due): the coarse bound
- * stays, and is final (the speed floor decides from now on). ISR. */
-void psi_band_bound_final(psi_band_t *pb);
+/* R is trusted without step 1 (commissioning measured it and the
+ * inverter, no identification due): the fine bound on the told
+ * fundamental and the prior of what nobody told on top (what the
+ * measurement leaves, ve_prior_per_vdc x Vdc), final: the speed floor
+ * decides from now on (holds_design.md sec. 6). ISR. */
+void psi_band_bound_measured(psi_band_t *pb);
 
 /* The inverter error's identification was refused: no bound on what the
  * drive cannot explain, so every speed is below the floor (`low` keeps

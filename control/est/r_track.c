@@ -31,6 +31,10 @@ void r_track_cfg_defaults(r_track_cfg_t *cfg)
     cfg->ve_unc_frac = R_TRACK_VE_UNC_FRAC_DEFAULT;
     cfg->ve_unc_abs_V = R_TRACK_VE_UNC_ABS_DEFAULT_V;
     cfg->psi_tol = R_TRACK_PSI_TOL_DEFAULT;
+    cfg->inv_unc_frac = R_TRACK_INV_UNC_FRAC_DEFAULT;
+    cfg->ripple_unc = R_TRACK_RIPPLE_UNC_DEFAULT;
+    cfg->R_res_max = R_TRACK_R_RES_MAX_DEFAULT;
+    cfg->unresolved_wait_periods = R_TRACK_UNRESOLVED_WAIT_DEFAULT;
 }
 
 RAMFUNC static void clear_cycle(r_track_t *rt)
@@ -52,7 +56,8 @@ RAMFUNC static void clear_cycle(r_track_t *rt)
 bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg)
 {
     const float sum = cfg->Ts_s + cfg->i_ident_A + cfg->i_track_A + cfg->iq_min_A + cfg->iq_step_max_A + cfg->k_R + cfg->k_I +
-                      cfg->ve_max_V + cfg->ve_unc_frac + cfg->ve_unc_abs_V + cfg->psi_tol;
+                      cfg->ve_max_V + cfg->ve_unc_frac + cfg->ve_unc_abs_V + cfg->psi_tol + cfg->inv_unc_frac +
+                      cfg->ripple_unc + cfg->R_res_max;
     rt->cfg = *cfg;
     rt->valid = mathx_isfinitef(sum) && (cfg->Ts_s >= 0.0f) && (cfg->i_ident_A > 0.0f) && (cfg->i_track_A > 0.0f) &&
                 (cfg->blank_periods > 0u) && (cfg->blank_periods < cfg->seg_periods) &&
@@ -61,7 +66,8 @@ bool r_track_init(r_track_t *rt, const r_track_cfg_t *cfg)
                 (cfg->ident_cycles >= 1u) &&
                 (cfg->iq_min_A > 0.0f) && (cfg->iq_step_max_A > 0.0f) && (cfg->k_R > 0.0f) &&
                 (cfg->k_R <= 1.0f) && (cfg->k_I >= 0.0f) && (cfg->k_I < cfg->k_R) && (cfg->ve_max_V > 0.0f) && (cfg->ve_unc_frac >= 0.0f) &&
-                (cfg->ve_unc_abs_V >= 0.0f) && (cfg->psi_tol > 0.0f);
+                (cfg->ve_unc_abs_V >= 0.0f) && (cfg->psi_tol > 0.0f) && (cfg->inv_unc_frac >= 0.0f) &&
+                (cfg->ripple_unc >= 0.0f) && (cfg->R_res_max > 0.0f);
     r_track_reset(rt);
     return rt->valid;
 }
@@ -169,6 +175,20 @@ RAMFUNC float r_track_w_psi_min(const r_track_t *rt, float psi_f_Wb)
 {
     const float unc = rt->cfg.ve_unc_frac * mathx_fabsf(rt->Ve_V) + rt->cfg.ve_unc_abs_V;
     return (psi_f_Wb > 0.0f) ? unc / (rt->cfg.psi_tol * psi_f_Wb) : 0.0f;
+}
+
+RAMFUNC bool r_track_resolves(const r_track_t *rt, float ve_comp_V, float ripple_A, float i_abs_A, float R_Ohm)
+{
+    /* (inv_unc_frac + ripple_unc r/|i|) Ve_comp/|i| <= R_res_max R, times |i|^2 (no division) */
+    const float unc_x_i2 = (rt->cfg.inv_unc_frac * i_abs_A + rt->cfg.ripple_unc * ripple_A) * ve_comp_V;
+    return (i_abs_A > 0.0f) && (unc_x_i2 <= rt->cfg.R_res_max * R_Ohm * i_abs_A * i_abs_A);
+}
+
+RAMFUNC void r_track_discard(r_track_t *rt)
+{
+    rt->rate_Ohm += rt->cfg.k_I * rt->rho_Ohm; /* end_cycle's integration undone */
+    rt->dR_step_Ohm = 0.0f;
+    r_track_delay(rt, rt->cfg.unresolved_wait_periods);
 }
 
 /* End of a cycle: rho, or a hold. IDENT also sums the valid cycles and

@@ -68,6 +68,19 @@
 #define R_TRACK_VE_UNC_FRAC_DEFAULT  0.05f
 #define R_TRACK_VE_UNC_ABS_DEFAULT_V 0.05f
 #define R_TRACK_PSI_TOL_DEFAULT      0.01f
+/* What a tracking cycle may read from the inverter's compensation as R
+ * (r_tracking_design.md sec. 6): (inv_unc_frac + ripple_unc r/|i|)
+ * Ve_comp/|i|, Ve_comp the compensated error's fundamental, r the current's
+ * ripple at the legs' edges (inverr.h); R^ moves only where that is at
+ * most R_res_max R^. The two shares twice the worst measured on the zoo's
+ * motors (observer_log.md, 2026-12-02, the current's ripple). */
+#define R_TRACK_INV_UNC_FRAC_DEFAULT 0.02f
+#define R_TRACK_RIPPLE_UNC_DEFAULT   0.2f
+#define R_TRACK_R_RES_MAX_DEFAULT    0.05f
+/* After a cycle discarded for that, no injection for this long: the
+ * operating point keeps it unresolvable for a while, and each cycle's
+ * edges only disturb step 2 (its gate's holds) [periods] */
+#define R_TRACK_UNRESOLVED_WAIT_DEFAULT 10000u
 
 /* Periods from a d-current reference to the sampled current (deadbeat: the
  * voltage computed at k acts over [k+1, k+2]). */
@@ -106,6 +119,10 @@ typedef struct {
     float ve_unc_frac;        /* bound on what identification leaves: frac |Ve| + abs [1, V] */
     float ve_unc_abs_V;
     float psi_tol;            /* psi^ error that bound may cause where psi^ learns [1] */
+    float inv_unc_frac;       /* TRACK: share of the compensated inverter error a cycle may read as R [1] */
+    float ripple_unc;         /* ... and its growth with the ripple's share of the current [1] */
+    float R_res_max;          /* TRACK: R^ moves only where that R error is at most this x R^ [1] */
+    uint16_t unresolved_wait_periods; /* TRACK: no injection this long after a discarded cycle */
 } r_track_cfg_t;
 
 typedef struct {
@@ -173,6 +190,19 @@ void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s);
  * observer's omega_el_rad_s [rad/s] and L_H = L^ [H]. ISR. */
 r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
                              float L_H);
+
+/* TRACK: true when the R error the inverter's compensation may put into
+ * a cycle's rho, (inv_unc_frac + ripple_unc r/|i|) Ve_comp/|i|, is at most
+ * R_res_max R_Ohm (r_tracking_design.md sec. 6): the current |i| i_abs_A
+ * [A], the compensated error's fundamental ve_comp_V [V], the ripple at
+ * the legs' edges ripple_A [A], R^ R_Ohm [Ohm]; false at no current. ISR
+ * (once a cycle). */
+bool r_track_resolves(const r_track_t *rt, float ve_comp_V, float ripple_A, float i_abs_A, float R_Ohm);
+
+/* TRACK: the last cycle's rho discarded (the R^ error it may carry
+ * exceeds what R^ may take): the rate as before it, no R^ step, no
+ * injection for unresolved_wait_periods. ISR. */
+void r_track_discard(r_track_t *rt);
 
 /* d-current reference for the voltage computed this period [A] (0 when
  * OFF). ISR (inline: every period while the injection runs). */

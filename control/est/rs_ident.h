@@ -73,8 +73,10 @@ typedef enum {
     RS_IDENT_DEGENERATE = 4,    /* operating points too alike: denominator of (41) too small */
     RS_IDENT_NON_FINITE = 5,    /* NaN/Inf in the data or the result */
     RS_IDENT_OUT_OF_BAND = 6,   /* R^ outside [R_min, R_max] */
-    RS_IDENT_D_AXIS = 7         /* R^ hangs on the d-axis term dL w id (field weakening, voltage limit) more
+    RS_IDENT_D_AXIS = 7,        /* R^ hangs on the d-axis term dL w id (field weakening, voltage limit) more
                                  * than se(R^)'s limit allows (est.c, step1_design.md sec. 6) */
+    RS_IDENT_INVERTER = 8       /* what the inverter's compensation may leave could move R^ by more than
+                                 * a share of it (est.c, step1_design.md sec. 9) */
 } rs_ident_result_t;
 
 typedef struct {
@@ -138,6 +140,8 @@ typedef struct {
                                * [rad el] (est.c; 0 unless both |w iq| and the iq differ enough) */
     float R_d_axis_Ohm;       /* R^'s d-axis uncertainty |w1 w2 (id2 - id1) (dL1 - dL2) / den| where the d-axis
                                * correction exceeds se(R^)'s limit (est.c; else 0) */
+    float R_inverter_Ohm;     /* the R^ error the inverter's compensation may cause (est.c; 0 until checked) */
+    float R_inverter_max_Ohm; /*   and the limit it was held to */
     float r_se_V[2];          /* standard error of the residual's mean per window */
     bool ripple_fit[2];       /* the means are the ripple fit's intercepts (step1_design.md sec. 4) */
     bool ripple6_fit[2];      /*   and the fit has the 6th harmonic (an untold inverter error) too */

@@ -294,7 +294,8 @@ RAMFUNC uint16_t app_comm_result(const app_t *app)
 RAMFUNC static bool is_rsid_refusal(app_fault_t f)
 {
     return (f == APP_FAULT_RSID_TOO_FEW) || (f == APP_FAULT_RSID_NOT_STEADY) || (f == APP_FAULT_RSID_DEGENERATE) ||
-           (f == APP_FAULT_RSID_NON_FINITE) || (f == APP_FAULT_RSID_OUT_OF_BAND) || (f == APP_FAULT_RSID_D_AXIS);
+           (f == APP_FAULT_RSID_NON_FINITE) || (f == APP_FAULT_RSID_OUT_OF_BAND) || (f == APP_FAULT_RSID_D_AXIS) ||
+           (f == APP_FAULT_RSID_INVERTER);
 }
 
 RAMFUNC static void identify_state(app_t *app, const hal_sample_t *s)

@@ -77,6 +77,8 @@ RAMFUNC static app_step_t refusal(const ctrl_t *c, rs_ident_result_t r)
     }
     case RS_IDENT_D_AXIS:
         return app_step_fault(APP_FAULT_RSID_D_AXIS, o->R_d_axis_Ohm, o->R_se_max_Ohm); /* R^'s d-axis share, the limit */
+    case RS_IDENT_INVERTER:
+        return app_step_fault(APP_FAULT_RSID_INVERTER, o->R_inverter_Ohm, o->R_inverter_max_Ohm);
     case RS_IDENT_INVALID_CFG:
         return app_step_fault(APP_FAULT_CONFIG, o->R_est_Ohm, 0.0f);
     case RS_IDENT_TOO_FEW:
@@ -183,7 +185,7 @@ RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, 
     if (next != AFTER_FINISH) {
         return app_step_running();
     }
-    q->result = est_rsid_finish_with(ctrl_est_rw(c), q->solver.result);
+    q->result = ctrl_rsid_finish(c, q->solver.result);
     if (q->result != RS_IDENT_OK) {
         return refusal(c, q->result);
     }

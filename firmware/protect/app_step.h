@@ -60,9 +60,11 @@ typedef enum {
     APP_FAULT_COMM_TIMEOUT = 26,     /* a stage outlasted its timeout (value: its time [s], limit: the timeout) */
     APP_FAULT_COMM_NO_ROTATION = 27, /* the swept vector moved the count by less than half an electrical turn at the most pole pairs */
     APP_FAULT_COMM_IMPLAUSIBLE = 28, /* a stage's measurement or the voltage it needed outside its plausible range */
-    APP_FAULT_BUS_CHARGED = 29       /* levels 1-2: the bus above their extra-low limit (level.h; value: the bus, limit: it) */
+    APP_FAULT_BUS_CHARGED = 29,      /* levels 1-2: the bus above their extra-low limit (level.h; value: the bus, limit: it) */
+    APP_FAULT_RSID_INVERTER = 30     /* R^ could hang on what the inverter's compensation leaves (snapshot: that
+                                      * uncertainty of R^, the limit) */
 } app_fault_t;
-#define APP_FAULT_LAST APP_FAULT_BUS_CHARGED        /* the highest fault's value */
+#define APP_FAULT_LAST APP_FAULT_RSID_INVERTER   /* the highest fault's value */
 
 typedef enum {
     APP_STEP_RUNNING = 0,       /* call again next period */

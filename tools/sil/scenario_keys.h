@@ -136,8 +136,9 @@
       "both methods [V] (default 0: none; --commission writes what it measured)") \
     X(controller, untold_deadtime_s, REAL, SC_IN(0.0, 1e-5), SC_UNSET, SC_NO, SC_A(ctrl.est_cfg.untold_deadtime_s, F32, 1.0), \
       "proposed: until the inverter error is identified, the least error nobody told, as a dead time [s] " \
-      "(the speed floor's prior; default 0.15e-6: EST_UNTOLD_DEADTIME_DEFAULT_S, >= 0; --commission writes " \
-      "what its measurement of the inverter leaves uncertain)") \
+      "(the speed floor's prior, and with identify.mode = trusted what the measurement leaves in the final " \
+      "bound; step 1's inverter check; default 0.15e-6: EST_UNTOLD_DEADTIME_DEFAULT_S, >= 0; --commission " \
+      "writes what its measurement of the inverter leaves uncertain)") \
     X(controller, encoder_offset_el_rad, REAL, SC_ANY, SC_UNSET, SC_NO, SC_NO, \
       "encoder offset the controller is told [rad, electrical], sign as plant.encoder_offset_el_rad " \
       "(default the plant's; run.align = on: the alignment's measurement replaces it)") \

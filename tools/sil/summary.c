@@ -38,6 +38,7 @@ static const char *const FAULT_NAMES[] = {
     [APP_FAULT_COMM_TIMEOUT] = "COMM_TIMEOUT", [APP_FAULT_COMM_NO_ROTATION] = "COMM_NO_ROTATION",
     [APP_FAULT_COMM_IMPLAUSIBLE] = "COMM_IMPLAUSIBLE",
     [APP_FAULT_BUS_CHARGED] = "BUS_CHARGED",
+    [APP_FAULT_RSID_INVERTER] = "RSID_INVERTER",
 };
 
 static const char *name_of(const char *const *names, size_t n, int v, const char *prefix, char *buf, size_t len)

@@ -43,7 +43,7 @@ FAULTS = ["NONE", "HW_TRIP", "OVERCURRENT", "NONFINITE_OUTPUT", "NONFINITE_SAMPL
           "RSID_NOT_STEADY", "RSID_DEGENERATE", "RSID_NON_FINITE", "RSID_OUT_OF_BAND", "OPEN_PHASE",
           "CURRENT_SENSOR", "ENCODER_LOST", "WATCHDOG_RESET", "FLASH_CRC", "ENCODER_DIRECTION", "POLE_PAIRS",
           "PHASE_ORDER", "RSID_D_AXIS", "COMM_TIMEOUT", "COMM_NO_ROTATION", "COMM_IMPLAUSIBLE",
-          "BUS_CHARGED"]
+          "BUS_CHARGED", "RSID_INVERTER"]
 MODES = ["open_loop", "torque", "speed"]             # ctrl_mode_t (drive_sil's [controller] mode names)
 METHODS = ["conventional", "proposed"]              # ctrl_method_t (drive_sil's [controller] method names)
 EST_PHASES = ["off", "step1", "step2"]
