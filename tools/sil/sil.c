@@ -502,16 +502,13 @@ static void json_derived(FILE *f, const char *key, double v, int set, const char
     fprintf(f, "\"source\": \"%s\", \"from\": \"%s\"}%s", set ? "set" : "derived", from, sep);
 }
 
-/* The values derived from the motor's data (firmware/params/params_design.md):
- * the derived keys' (scenario_keys.h, set or derived) and the settings
- * without a key (always derived), as the run used them. */
-static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac, const char *run_warnings)
+/* The derived keys' values (scenario_keys.h), each set or derived, from
+ * the finished scenario's parameter set; resolved_derived's first part. */
+static void derived_keys(FILE *f, const scenario_t *sc)
 {
-    const ctrl_cfg_t *c = &ac->ctrl;
     drive_params_t p;
     char name[64];
     scenario_params(sc, &p);   /* finished: the derived keys' values */
-    fputs(" \"derived\": {\n", f);
     for (int i = 0; i < scenario_key_count(); i++) {
         scenario_key_info_t k;
         scenario_key_info(i, &k);
@@ -521,6 +518,13 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac,
                          k.from_keys, ",\n");
         }
     }
+}
+
+/* The settings without a key (always derived, R_max_ohm aside: a key), as
+ * the run's configuration *ac holds them; resolved_derived's second part. */
+static void derived_settings(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
+{
+    const ctrl_cfg_t *c = &ac->ctrl;
     static const char I[] = "motor.i_rated_A";
     static const char V[] = "plant.vdc_V";
     json_derived(f, "observer.Ks_V", (double)c->est_cfg.smo.Ks_V, 0, "plant.vdc_V (2 ef_max)", ",\n");
@@ -545,18 +549,41 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac,
     json_derived(f, "align.u_V", (double)ac->aln.u_V, 0, "motor.i_rated_A controller.R_ohm", ",\n");
     json_derived(f, "open_phase.u_min_V", (double)ac->prot.watch.op_u_min_V, 0, V, ",\n");
     json_derived(f, "open_phase.i_min_A", (double)ac->prot.watch.op_i_min_A, 0, I, "\n");
+}
+
+/* OUT.json's "derived": the values derived from the motor's data
+ * (firmware/params/params_design.md), the derived keys' and the settings
+ * without a key, as the run used them. */
+static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
+{
+    fputs(" \"derived\": {\n", f);
+    derived_keys(f, sc);
+    derived_settings(f, sc, ac);
+    fputs(" },\n", f);
+}
+
+/* OUT.json's "warnings": the scenario's, then the run's (HOST_TIMEOUT,
+ * STEP1_REFUSED), each one string. */
+static void resolved_warnings(FILE *f, const scenario_t *sc, const char *run_warnings)
+{
     char w[SCENARIO_ERR_LEN];
     scenario_warnings(sc, w, sizeof w);
-    fputs(" },\n \"warnings\": [", f);
+    fputs(" \"warnings\": [", f);
     if (w[0] != '\0') {
         json_string(f, w);
     }
-    if (run_warnings[0] != '\0') {   /* the run's (HOST_TIMEOUT, STEP1_REFUSED) */
+    if (run_warnings[0] != '\0') {
         fputs((w[0] != '\0') ? ", " : "", f);
         json_string(f, run_warnings);
     }
-    /* every key as resolved, and whether it was set, left at its default or derived */
-    fputs("],\n \"keys\": {\n", f);
+    fputs("],\n", f);
+}
+
+/* OUT.json's "keys", the last: every key as resolved, and whether it was
+ * set, left at its default or derived. */
+static void resolved_keys(FILE *f, const scenario_t *sc)
+{
+    fputs(" \"keys\": {\n", f);
     const int n = scenario_key_count();
     for (int i = 0; i < n; i++) {
         scenario_key_info_t k;
@@ -613,5 +640,7 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origi
     json_flt(f, "i_limit_A", c->i_lim_A, ", ");
     json_flt(f, "overspeed_rpm", (float)((double)ac->prot.speed_max_rad_s * SIM_RPM_PER_RAD_S), ", ");
     json_num(f, "config_status", (double)ctrl_status(&g_app.ctrl), "},\n");
-    resolved_derived(f, sc, ac, run_warnings);
+    resolved_derived(f, sc, ac);
+    resolved_warnings(f, sc, run_warnings);
+    resolved_keys(f, sc);
 }
