@@ -17,22 +17,23 @@ void app_cfg_default(app_cfg_t *cfg)
     app_cfg_from_params(cfg, &p);
 }
 
-void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p)
+/* The watch checks' board settings: open phase, stuck current, encoder. */
+static void watch_from_board(protect_watch_cfg_t *w)
 {
-    static const app_cfg_t zero; /* a field added later reads 0, not garbage */
+    w->op_window_s = BOARD_OPEN_PHASE_WINDOW_S;
+    w->op_ratio = BOARD_OPEN_PHASE_RATIO;
+    w->stuck_angle_el_rad = BOARD_I_STUCK_ANGLE_EL_DEG * RAD_PER_DEG;
+    w->stuck_span_A = BOARD_I_STUCK_SPAN_A;
+    w->stuck_zero_A = BOARD_I_STUCK_ZERO_A;
+    w->stuck_min_periods = (uint32_t)BOARD_I_STUCK_MIN_PERIODS;
+    w->enc_lost_counts = BOARD_ENC_LOST_COUNTS;
+    w->enc_stall_s = BOARD_ENC_STALL_S;
+    w->enc_stall_te_frac = BOARD_ENC_STALL_TE_FRAC;
+}
 
-    *cfg = zero;
-    drive_params_to_app_cfg(p, cfg);
-    cfg->prot.watch.op_window_s = BOARD_OPEN_PHASE_WINDOW_S;
-    cfg->prot.watch.op_ratio = BOARD_OPEN_PHASE_RATIO;
-    cfg->prot.watch.stuck_angle_el_rad = BOARD_I_STUCK_ANGLE_EL_DEG * RAD_PER_DEG;
-    cfg->prot.watch.stuck_span_A = BOARD_I_STUCK_SPAN_A;
-    cfg->prot.watch.stuck_zero_A = BOARD_I_STUCK_ZERO_A;
-    cfg->prot.watch.stuck_min_periods = (uint32_t)BOARD_I_STUCK_MIN_PERIODS;
-    cfg->prot.watch.enc_lost_counts = BOARD_ENC_LOST_COUNTS;
-    cfg->prot.watch.enc_stall_s = BOARD_ENC_STALL_S;
-    cfg->prot.watch.enc_stall_te_frac = BOARD_ENC_STALL_TE_FRAC;
-
+/* The start's first steps from the board: calibration and alignment. */
+static void start_from_board(app_cfg_t *cfg)
+{
     cfg->calibrate = true;
     cfg->cal.settle_s = BOARD_CAL_SETTLE_S;
     cfg->cal.samples = (uint32_t)BOARD_CAL_SAMPLES;
@@ -42,49 +43,76 @@ void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p)
     cfg->aln.ramp_s = BOARD_ALIGN_RAMP_S;
     cfg->aln.prepos_s = BOARD_ALIGN_PREPOS_S;
     cfg->aln.settle_s = BOARD_ALIGN_SETTLE_S;
+}
 
+/* The commissioning's stages (R, L, encoder, spin) as board_cfg.h sets them. */
+static void comm_from_board(comm_cfg_t *cm)
+{
+    cm->pole_pairs_max = (uint16_t)COMM_POLE_PAIRS_MAX;
+    cm->u_frac = COMM_U_FRAC;
+    cm->r_i1_frac = COMM_R_I1_FRAC;
+    cm->r_i2_frac = COMM_R_I2_FRAC;
+    cm->r_prepos_el_rad = COMM_R_PREPOS_EL_DEG * RAD_PER_DEG;
+    cm->r_ramp_s = COMM_R_RAMP_S;
+    cm->r_kp_frac = COMM_R_KP_FRAC;
+    cm->r_seek_s = COMM_R_SEEK_S;
+    cm->r_bw_rad_s = COMM_R_BW_RAD_S;
+    cm->r_settle_s = COMM_R_SETTLE_S;
+    cm->r_still_rad = COMM_R_STILL_MECH_DEG * RAD_PER_DEG;
+    cm->r_window_s = COMM_R_WINDOW_S;
+    cm->r_max_s = COMM_R_MAX_S;
+    cm->l_step_frac = COMM_L_STEP_FRAC;
+    cm->l_rise_frac = COMM_L_RISE_FRAC;
+    cm->l_cycles = (uint16_t)COMM_L_CYCLES;
+    cm->l_max_s = COMM_L_MAX_S;
+    cm->i_bw_rad_s = COMM_I_BW_RAD_S;
+    cm->enc_frac = COMM_ENC_FRAC;
+    cm->enc_speed_el_rad_s = COMM_ENC_SPEED_EL_DEG_S * RAD_PER_DEG;
+    cm->enc_hold_s = COMM_ENC_HOLD_S;
+    cm->enc_max_s = COMM_ENC_MAX_S;
+    cm->wiring_el_hz = COMM_WIRING_EL_HZ;
+    cm->spin_frac = COMM_SPIN_FRAC;
+    cm->spin_top_frac = COMM_SPIN_TOP_FRAC;
+    cm->spin_lo_frac = COMM_SPIN_LO_FRAC;
+    cm->spin_skip_s = COMM_SPIN_SKIP_S;
+    cm->spin_max_s = COMM_SPIN_MAX_S;
+}
+
+/* Step 1's sequence (IDENTIFY_R) and its refusal policy from the board. */
+static void rsid_from_board(rsid_seq_cfg_t *r)
+{
+    r->mode = (app_rsid_mode_t)BOARD_RSID_MODE;
+    r->window_s = BOARD_RSID_WINDOW_S;
+    r->window_max_s = BOARD_RSID_WINDOW_MAX_S;
+    r->repeats_max = (uint16_t)BOARD_RSID_REPEATS_MAX;
+    r->on_refusal = (app_rsid_refusal_t)BOARD_RSID_ON_REFUSAL;
+}
+
+/* The build levels from the board: the level, level 1's duties, level 2's
+ * bus limit, level 3's speed and ramp. */
+static void levels_from_board(level_cfg_t *lv)
+{
+    lv->level = (uint16_t)BOARD_LEVEL;
+    lv->vdc_max_12_V = BOARD_LEVEL12_VDC_MAX_V;
+    lv->pwm_duty[0] = BOARD_LEVEL1_DUTY_A;
+    lv->pwm_duty[1] = BOARD_LEVEL1_DUTY_B;
+    lv->pwm_duty[2] = BOARD_LEVEL1_DUTY_C;
+    lv->speed_m_rad_s = BOARD_LEVEL3_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
+    lv->ramp_s = BOARD_ALIGN_RAMP_S;
+}
+
+void app_cfg_from_params(app_cfg_t *cfg, const drive_params_t *p)
+{
+    static const app_cfg_t zero; /* a field added later reads 0, not garbage */
+
+    *cfg = zero;
+    drive_params_to_app_cfg(p, cfg);
+    watch_from_board(&cfg->prot.watch);
+    start_from_board(cfg);
     cfg->ctrl.est_cfg.track_R = BOARD_TRACK_R;
-    cfg->comm.pole_pairs_max = (uint16_t)COMM_POLE_PAIRS_MAX;
-    cfg->comm.u_frac = COMM_U_FRAC;
-    cfg->comm.r_i1_frac = COMM_R_I1_FRAC;
-    cfg->comm.r_i2_frac = COMM_R_I2_FRAC;
-    cfg->comm.r_prepos_el_rad = COMM_R_PREPOS_EL_DEG * RAD_PER_DEG;
-    cfg->comm.r_ramp_s = COMM_R_RAMP_S;
-    cfg->comm.r_kp_frac = COMM_R_KP_FRAC;
-    cfg->comm.r_seek_s = COMM_R_SEEK_S;
-    cfg->comm.r_bw_rad_s = COMM_R_BW_RAD_S;
-    cfg->comm.r_settle_s = COMM_R_SETTLE_S;
-    cfg->comm.r_still_rad = COMM_R_STILL_MECH_DEG * RAD_PER_DEG;
-    cfg->comm.r_window_s = COMM_R_WINDOW_S;
-    cfg->comm.r_max_s = COMM_R_MAX_S;
-    cfg->comm.l_step_frac = COMM_L_STEP_FRAC;
-    cfg->comm.l_rise_frac = COMM_L_RISE_FRAC;
-    cfg->comm.l_cycles = (uint16_t)COMM_L_CYCLES;
-    cfg->comm.l_max_s = COMM_L_MAX_S;
-    cfg->comm.i_bw_rad_s = COMM_I_BW_RAD_S;
-    cfg->comm.enc_frac = COMM_ENC_FRAC;
-    cfg->comm.enc_speed_el_rad_s = COMM_ENC_SPEED_EL_DEG_S * RAD_PER_DEG;
-    cfg->comm.enc_hold_s = COMM_ENC_HOLD_S;
-    cfg->comm.enc_max_s = COMM_ENC_MAX_S;
-    cfg->comm.wiring_el_hz = COMM_WIRING_EL_HZ;
-    cfg->comm.spin_frac = COMM_SPIN_FRAC;
-    cfg->comm.spin_top_frac = COMM_SPIN_TOP_FRAC;
-    cfg->comm.spin_lo_frac = COMM_SPIN_LO_FRAC;
-    cfg->comm.spin_skip_s = COMM_SPIN_SKIP_S;
-    cfg->comm.spin_max_s = COMM_SPIN_MAX_S;
-    cfg->rsid.mode = (app_rsid_mode_t)BOARD_RSID_MODE;
-    cfg->rsid.window_s = BOARD_RSID_WINDOW_S;
-    cfg->rsid.window_max_s = BOARD_RSID_WINDOW_MAX_S;
-    cfg->rsid.repeats_max = (uint16_t)BOARD_RSID_REPEATS_MAX;
-    cfg->rsid.on_refusal = (app_rsid_refusal_t)BOARD_RSID_ON_REFUSAL;
-
-    cfg->lvl.level = (uint16_t)BOARD_LEVEL;
-    cfg->lvl.vdc_max_12_V = BOARD_LEVEL12_VDC_MAX_V;
-    cfg->lvl.pwm_duty[0] = BOARD_LEVEL1_DUTY_A;
-    cfg->lvl.pwm_duty[1] = BOARD_LEVEL1_DUTY_B;
-    cfg->lvl.pwm_duty[2] = BOARD_LEVEL1_DUTY_C;
-    cfg->lvl.speed_m_rad_s = BOARD_LEVEL3_SPEED_RPM * MATHX_RAD_S_PER_RPM_F;
-    cfg->lvl.ramp_s = BOARD_ALIGN_RAMP_S;
+    comm_from_board(&cfg->comm);
+    rsid_from_board(&cfg->rsid);
+    levels_from_board(&cfg->lvl);
     DRIVE_CONFIG_APP(cfg); /* a motor file's settings (make board), else nothing */
 }
 

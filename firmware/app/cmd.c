@@ -110,6 +110,69 @@ static bool within(float x, float lim)
     return mathx_isfinitef(x) && (mathx_fabsf(x) <= lim);
 }
 
+/* Request c's method into *op when the drive can run it; else *err says
+ * why not (no silent fallback) and op keeps its method. */
+static void take_method(const cmd_t *c, const app_t *app, app_op_t *op, cmd_error_t *err)
+{
+    if (c->method > (uint16_t)CTRL_METHOD_PROPOSED) {
+        *err = CMD_ERR_METHOD;
+    } else if ((c->method == (uint16_t)CTRL_METHOD_PROPOSED) &&
+               ((app->cfg.rsid.mode == APP_RSID_OFF) || (((app->warnings & APP_WARN_STEP1_REFUSED) != 0u) &&
+                                                         (app->cfg.rsid.on_refusal != APP_RSID_REFUSAL_TOLD)))) {
+        *err = CMD_ERR_METHOD_NO_STEP1; /* no silent fallback to the conventional method (told: step 2 runs) */
+    } else if ((c->method == (uint16_t)CTRL_METHOD_PROPOSED) &&
+               ((ctrl_status(&app->ctrl) & CTRL_CFG_NEEDED_PROPOSED) != 0u)) {
+        *err = CMD_ERR_METHOD_CFG;
+    } else {
+        op->method = (ctrl_method_t)c->method;
+    }
+}
+
+/* Request c's mode and references into *op, each taken only when valid; a
+ * refused one keeps its old value and sets *err (the last refusal wins). */
+static void take_mode_and_refs(const cmd_t *c, const cmd_limits_t *lim, app_op_t *op, cmd_error_t *err)
+{
+    if (c->mode > (uint16_t)CTRL_MODE_SPEED) {
+        *err = CMD_ERR_MODE;
+    } else {
+        op->mode = (ctrl_mode_t)c->mode;
+    }
+    if (within(c->speed_ref_rpm, lim->speed_max_rpm)) {
+        op->ref.speed_ref_rad_s = c->speed_ref_rpm * MATHX_RAD_S_PER_RPM_F;
+    } else {
+        *err = CMD_ERR_SPEED;
+    }
+    if (within(c->te_ref_Nm, lim->te_max_Nm)) {
+        op->ref.te_ref_Nm = c->te_ref_Nm;
+    } else {
+        *err = CMD_ERR_TORQUE;
+    }
+    if (within(c->ud_ref_V, lim->u_max_V) && within(c->uq_ref_V, lim->u_max_V)) {
+        op->ref.ud_ref_V = c->ud_ref_V;
+        op->ref.uq_ref_V = c->uq_ref_V;
+    } else {
+        *err = CMD_ERR_VOLTAGE;
+    }
+}
+
+/* Request c's fault reset and run edge (start, stop) to the app, each
+ * acknowledged in *cmd: fault_reset back to 0, run_taken = run. */
+static void take_actions(volatile cmd_t *cmd, const cmd_t *c, app_t *app)
+{
+    if (c->fault_reset != 0u) {
+        app_fault_reset(app);
+        cmd->fault_reset = 0u;
+    }
+    if (c->run != c->run_taken) {
+        if (c->run != 0u) {
+            app_request_start(app);
+        } else {
+            app_request_stop(app);
+        }
+        cmd->run_taken = c->run;
+    }
+}
+
 void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
 {
     /* One snapshot: the debugger may write while this runs. */
@@ -118,42 +181,8 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
     /* the last request (the background's own): a refused field keeps its value */
     app_op_t op = app->op_req;
 
-    if (c.method > (uint16_t)CTRL_METHOD_PROPOSED) {
-        err = CMD_ERR_METHOD;
-    } else if ((c.method == (uint16_t)CTRL_METHOD_PROPOSED) &&
-               ((app->cfg.rsid.mode == APP_RSID_OFF) || (((app->warnings & APP_WARN_STEP1_REFUSED) != 0u) &&
-                                                         (app->cfg.rsid.on_refusal != APP_RSID_REFUSAL_TOLD)))) {
-        err = CMD_ERR_METHOD_NO_STEP1; /* no silent fallback to the conventional method (told: step 2 runs) */
-    } else if ((c.method == (uint16_t)CTRL_METHOD_PROPOSED) &&
-               ((ctrl_status(&app->ctrl) & CTRL_CFG_NEEDED_PROPOSED) != 0u)) {
-        err = CMD_ERR_METHOD_CFG;
-    } else {
-        op.method = (ctrl_method_t)c.method;
-    }
-
-    if (c.mode > (uint16_t)CTRL_MODE_SPEED) {
-        err = CMD_ERR_MODE;
-    } else {
-        op.mode = (ctrl_mode_t)c.mode;
-    }
-
-    /* Each reference is taken only when valid; a refused one keeps its old value. */
-    if (within(c.speed_ref_rpm, lim->speed_max_rpm)) {
-        op.ref.speed_ref_rad_s = c.speed_ref_rpm * MATHX_RAD_S_PER_RPM_F;
-    } else {
-        err = CMD_ERR_SPEED;
-    }
-    if (within(c.te_ref_Nm, lim->te_max_Nm)) {
-        op.ref.te_ref_Nm = c.te_ref_Nm;
-    } else {
-        err = CMD_ERR_TORQUE;
-    }
-    if (within(c.ud_ref_V, lim->u_max_V) && within(c.uq_ref_V, lim->u_max_V)) {
-        op.ref.ud_ref_V = c.ud_ref_V;
-        op.ref.uq_ref_V = c.uq_ref_V;
-    } else {
-        err = CMD_ERR_VOLTAGE;
-    }
+    take_method(&c, app, &op, &err);
+    take_mode_and_refs(&c, lim, &op, &err);
     app_request_op(app, &op); /* the ISR takes it at the start of its next period */
 
     if (c.level > LEVEL_MAX) {
@@ -161,19 +190,7 @@ void cmd_apply(volatile cmd_t *cmd, const cmd_limits_t *lim, app_t *app)
     } else if (c.level != 0u) {
         app_request_level(app, c.level); /* taken at the next start */
     }
-
-    if (c.fault_reset != 0u) {
-        app_fault_reset(app);
-        cmd->fault_reset = 0u;
-    }
-    if (c.run != c.run_taken) {
-        if (c.run != 0u) {
-            app_request_start(app);
-        } else {
-            app_request_stop(app);
-        }
-        cmd->run_taken = c.run;
-    }
+    take_actions(cmd, &c, app);
     cmd->error = (uint16_t)err;
     report(cmd, app);
 }

@@ -126,25 +126,30 @@ RAMFUNC static void check_begin(rsid_seq_t *q, ctrl_t *c)
     q->check = RSID_CHECK_SOLVING;
 }
 
-RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+/* The window period k fills: window 1 over its ticks, window 2 from its
+ * start while the sequence does not finish in this period (next). */
+RAMFUNC static rs_ident_window_t window_at(const rsid_seq_t *q, uint32_t k, after_t next)
 {
-    const uint32_t k = q->ticks;
-    rs_ident_window_t win = RS_IDENT_WINDOW_NONE;
-    bool moving = false;
-    /* a solved check is acted on in this period: known before the sample */
-    const after_t next = (q->check == RSID_CHECK_SOLVED) ? after_check(q, q->solver.result, est_rsid_out(ctrl_est(c)))
-                                                         : AFTER_GO_ON;
-
     if ((k >= q->win1_tick) && (k < q->win1_tick + q->window_ticks)) {
-        win = RS_IDENT_WINDOW_1;
-    } else if ((k >= q->win2_tick) && (next != AFTER_FINISH)) {
+        return RS_IDENT_WINDOW_1;
+    }
+    if ((k >= q->win2_tick) && (next != AFTER_FINISH)) {
         /* up to end_tick, and on while lengthened or checked; not in the
          * period that finishes (the windows are emptied in it) */
-        win = RS_IDENT_WINDOW_2;
+        return RS_IDENT_WINDOW_2;
     }
-    est_rsid_window(ctrl_est_rw(c), win);
+    return RS_IDENT_WINDOW_NONE;
+}
+
+/* Period k's ctrl_step: SPEEDS at the sequence's speed (point 1 until
+ * window 1 ends, then point 2) in place of the outside reference, else at
+ * the outside one; true while SPEEDS ramps outside a window (the period
+ * is not counted). */
+RAMFUNC static bool step_ctrl(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out, uint32_t k,
+                              rs_ident_window_t win)
+{
+    bool moving = false;
     if (q->cfg.mode == APP_RSID_SPEEDS) {
-        /* point 1 until window 1 ends, then point 2, in place of the outside reference */
         const float target = (k < q->win1_tick + q->window_ticks) ? q->cfg.speed_1_rad_s : q->cfg.speed_2_rad_s;
         /* the settle times count from the end of the ramp: a window in a
          * ramp sees the speed estimate's lag as back-EMF in fq (biases R^) */
@@ -153,28 +158,14 @@ RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, 
     } else {
         ctrl_step(c, in, out);
     }
-    if ((out->flags & CTRL_FLAG_NONFINITE) != 0u) {
-        return app_step_fault(APP_FAULT_NONFINITE_OUTPUT, 0.0f, 0.0f);
-    }
-    if (moving) {
-        return app_step_running();
-    }
-    q->ticks++;
-    if (q->ticks < q->end_tick) {
-        return app_step_running();
-    }
-    if (q->check == RSID_CHECK_NONE) {
-        check_begin(q, c);
-        return app_step_running();
-    }
-    if (q->check == RSID_CHECK_SOLVING) {
-        /* the sequence acts on the result from the next period: the last
-         * stage and the start of step 2 do not share one */
-        if (est_rsid_stage_step(ctrl_est_rw(c), &q->solver)) {
-            q->check = RSID_CHECK_SOLVED;
-        }
-        return app_step_running();
-    }
+    return moving;
+}
+
+/* A solved check's result acted on (next): go on filling window 2, both
+ * windows once more, or finish: done (SPEEDS: the handover next), or
+ * refused with the fault naming why. */
+RAMFUNC static app_step_t act_on_check(rsid_seq_t *q, ctrl_t *c, after_t next)
+{
     q->check = RSID_CHECK_NONE;
     if (next == AFTER_REPEAT) {
         /* back to point 1 (the target follows ticks), settle_2 after the
@@ -191,6 +182,48 @@ RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, 
     }
     q->handover = (q->cfg.mode == APP_RSID_SPEEDS);
     return app_step_done();
+}
+
+/* From the windows' nominal end on, a period: a check begun (at a batch
+ * boundary), its solve staged one period at a time, then acted on. */
+RAMFUNC static app_step_t after_windows(rsid_seq_t *q, ctrl_t *c, after_t next)
+{
+    if (q->check == RSID_CHECK_NONE) {
+        check_begin(q, c);
+        return app_step_running();
+    }
+    if (q->check == RSID_CHECK_SOLVING) {
+        /* the sequence acts on the result from the next period: the last
+         * stage and the start of step 2 do not share one */
+        if (est_rsid_stage_step(ctrl_est_rw(c), &q->solver)) {
+            q->check = RSID_CHECK_SOLVED;
+        }
+        return app_step_running();
+    }
+    return act_on_check(q, c, next);
+}
+
+RAMFUNC app_step_t rsid_seq_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
+{
+    const uint32_t k = q->ticks;
+    /* a solved check is acted on in this period: known before the sample */
+    const after_t next = (q->check == RSID_CHECK_SOLVED) ? after_check(q, q->solver.result, est_rsid_out(ctrl_est(c)))
+                                                         : AFTER_GO_ON;
+    const rs_ident_window_t win = window_at(q, k, next);
+
+    est_rsid_window(ctrl_est_rw(c), win);
+    const bool moving = step_ctrl(q, c, in, out, k, win);
+    if ((out->flags & CTRL_FLAG_NONFINITE) != 0u) {
+        return app_step_fault(APP_FAULT_NONFINITE_OUTPUT, 0.0f, 0.0f);
+    }
+    if (moving) {
+        return app_step_running();
+    }
+    q->ticks++;
+    if (q->ticks < q->end_tick) {
+        return app_step_running();
+    }
+    return after_windows(q, c, next);
 }
 
 RAMFUNC void rsid_seq_handover_step(rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)

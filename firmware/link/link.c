@@ -412,52 +412,75 @@ static uint16_t do_stream_set(link_t *l, const link_frame_t *q, uint16_t *p)
     return i;
 }
 
-/* CAPTURE_ARM decimate pre samples trig trig_id level hyst nch id...: status. */
-static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
+/* CAPTURE_ARM's fields before the channel ids (link_protocol.md). */
+typedef struct {
+    uint16_t dec, pre, samples, trig, trig_id, nch;
+    float level, hyst;
+} cap_arm_t;
+
+/* CAPTURE_ARM's fields of q into *r; false when the frame's length or a
+ * field is out of range (BAD_REQUEST). */
+static bool cap_arm_read(const link_frame_t *q, cap_arm_t *r)
 {
-    link_capture_t *c = &l->cap;
-    p[0] = LINK_ST_BAD_REQUEST;
     if (q->len < CAP_ARM_FIXED) {
-        return 1u;
+        return false;
     }
-    const uint16_t dec = link_get_u16(q->payload, 0u);
-    const uint16_t pre = link_get_u16(q->payload, 2u);
-    const uint16_t samples = link_get_u16(q->payload, 4u);
-    const uint16_t trig = q->payload[6];
-    const uint16_t trig_id = link_get_u16(q->payload, 7u);
-    const float level = link_get_f32(q->payload, 9u);
-    const float hyst = link_get_f32(q->payload, 13u);
-    const uint16_t nch = q->payload[17];
-    if (nch == 0u || nch > LINK_CAP_CHANNELS || q->len != (uint16_t)(CAP_ARM_FIXED + 2u * nch) || dec == 0u ||
-        samples == 0u || samples > LINK_CAP_ROWS || pre >= samples || trig > (uint16_t)LINK_TRIG_STATE ||
-        !mathx_isfinitef(level) || !mathx_isfinitef(hyst) || hyst < 0.0f) {
-        return 1u;
+    r->dec = link_get_u16(q->payload, 0u);
+    r->pre = link_get_u16(q->payload, 2u);
+    r->samples = link_get_u16(q->payload, 4u);
+    r->trig = q->payload[6];
+    r->trig_id = link_get_u16(q->payload, 7u);
+    r->level = link_get_f32(q->payload, 9u);
+    r->hyst = link_get_f32(q->payload, 13u);
+    r->nch = q->payload[17];
+    return !(r->nch == 0u || r->nch > LINK_CAP_CHANNELS || q->len != (uint16_t)(CAP_ARM_FIXED + 2u * r->nch) ||
+             r->dec == 0u || r->samples == 0u || r->samples > LINK_CAP_ROWS || r->pre >= r->samples ||
+             r->trig > (uint16_t)LINK_TRIG_STATE || !mathx_isfinitef(r->level) || !mathx_isfinitef(r->hyst) ||
+             r->hyst < 0.0f);
+}
+
+/* Channel k's variable id in CAPTURE_ARM q. */
+static uint16_t cap_arm_id(const link_frame_t *q, uint16_t k)
+{
+    return link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
+}
+
+/* True when the trigger's id and every channel's name a variable; else
+ * false with the first that does not (the trigger's first) in *unknown. */
+static bool cap_arm_ids_known(const link_frame_t *q, const cap_arm_t *r, uint16_t *unknown)
+{
+    if (r->trig_id >= (uint16_t)LV_COUNT) {
+        *unknown = r->trig_id;
+        return false;
     }
-    if (trig_id >= (uint16_t)LV_COUNT) {
-        p[0] = LINK_ST_UNKNOWN_ID;
-        return link_put_u16(p, 1u, trig_id);
-    }
-    for (uint16_t k = 0u; k < nch; k++) {
-        const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
+    for (uint16_t k = 0u; k < r->nch; k++) {
+        const uint16_t id = cap_arm_id(q, k);
         if (id >= (uint16_t)LV_COUNT) {
-            p[0] = LINK_ST_UNKNOWN_ID;
-            return link_put_u16(p, 1u, id);
+            *unknown = id;
+            return false;
         }
     }
-    uint16_t stride = nch;               /* one slot a channel, a float32 one more */
+    return true;
+}
+
+/* A row's slots for q's nch channels: one a channel, a float32 one more. */
+static uint16_t cap_arm_stride(const link_frame_t *q, uint16_t nch)
+{
+    uint16_t stride = nch;
     for (uint16_t k = 0u; k < nch; k++) {
-        const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
+        const uint16_t id = cap_arm_id(q, k);
         stride = (uint16_t)(stride + ((link_var(id)->capture == (uint16_t)LINK_CAP_F32) ? LINK_CAP_F32_SLOTS - 1u : 0u));
     }
-    const uint16_t rows_fit = (uint16_t)(LINK_CAP_SLOTS / ((stride > 0u) ? stride : 1u));
-    if (samples > rows_fit) {
-        return link_put_u16(p, 1u, rows_fit);   /* BAD_REQUEST naming the rows that fit */
-    }
-    c->state = LINK_CAP_IDLE;            /* the ISR leaves it alone from here */
-    c->nch = nch;
-    c->stride = stride;
-    for (uint16_t k = 0u; k < nch; k++) {
-        const uint16_t id = link_get_u16(q->payload, (uint16_t)(CAP_ARM_FIXED + 2u * k));
+    return stride;
+}
+
+/* The capture's channels from q (the capture IDLE): ids, sources, formats
+ * and scales, and whether every one is an int16 copied in place. */
+static void cap_arm_channels(link_t *l, const link_frame_t *q)
+{
+    link_capture_t *c = &l->cap;
+    for (uint16_t k = 0u; k < c->nch; k++) {
+        const uint16_t id = cap_arm_id(q, k);
         const bool f32 = link_var(id)->capture == (uint16_t)LINK_CAP_F32;
         c->ids[k] = id;
         const link_src_t src = link_var_source(&l->t, id);
@@ -467,17 +490,24 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
         c->per_raw[k] = c->per_lsb[k] / src.raw_per_unit;
     }
     c->i16_in_place = true;
-    for (uint16_t k = 0u; k < nch; k++) {
+    for (uint16_t k = 0u; k < c->nch; k++) {
         c->i16_in_place = c->i16_in_place && (c->fp[k] != NULL) && (c->fmt[k] == (uint16_t)LINK_CAP_I16);
     }
-    c->trig_src = link_var_source(&l->t, trig_id);
-    c->samples = samples;
-    c->pre = pre;
-    c->decimate = dec;
-    c->trig = trig;
-    c->trig_id = trig_id;
-    c->level = level;
-    c->hyst = hyst;
+}
+
+/* The capture's trigger, depth and decimation from r, its counters from
+ * the start (the capture IDLE). */
+static void cap_arm_run(link_t *l, const cap_arm_t *r)
+{
+    link_capture_t *c = &l->cap;
+    c->trig_src = link_var_source(&l->t, r->trig_id);
+    c->samples = r->samples;
+    c->pre = r->pre;
+    c->decimate = r->dec;
+    c->trig = r->trig;
+    c->trig_id = r->trig_id;
+    c->level = r->level;
+    c->hyst = r->hyst;
     c->dec_left = 0u;
     c->head = 0u;
     c->filled = 0u;
@@ -486,6 +516,32 @@ static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
     c->last_app_state = (uint16_t)l->t.app->state;
     c->trig_index = 0u;
     c->first_index = 0u;
+}
+
+/* CAPTURE_ARM decimate pre samples trig trig_id level hyst nch id...: status. */
+static uint16_t do_capture_arm(link_t *l, const link_frame_t *q, uint16_t *p)
+{
+    link_capture_t *c = &l->cap;
+    cap_arm_t r;
+    uint16_t unknown;
+    p[0] = LINK_ST_BAD_REQUEST;
+    if (!cap_arm_read(q, &r)) {
+        return 1u;
+    }
+    if (!cap_arm_ids_known(q, &r, &unknown)) {
+        p[0] = LINK_ST_UNKNOWN_ID;
+        return link_put_u16(p, 1u, unknown);
+    }
+    const uint16_t stride = cap_arm_stride(q, r.nch);
+    const uint16_t rows_fit = (uint16_t)(LINK_CAP_SLOTS / ((stride > 0u) ? stride : 1u));
+    if (r.samples > rows_fit) {
+        return link_put_u16(p, 1u, rows_fit);   /* BAD_REQUEST naming the rows that fit */
+    }
+    c->state = LINK_CAP_IDLE;            /* the ISR leaves it alone from here */
+    c->nch = r.nch;
+    c->stride = stride;
+    cap_arm_channels(l, q);
+    cap_arm_run(l, &r);
     c->state = LINK_CAP_PRE;             /* last: the ISR starts sampling */
     p[0] = LINK_ST_OK;
     return 1u;

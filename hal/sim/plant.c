@@ -525,82 +525,133 @@ static void pulse_integrals(const plant_period_t *q, double w, cpx_t *W_out, cpx
     *Wq_out = Wq;
 }
 
-static void period_pass(const plant_t *p, double w, pass_t *o)
+/* What the parts of one pass share at the held speed w: the turn over half
+ * the period ew and the held phasor at the middle zc, c tau = (a + j w) tau
+ * with K = 2 tau shc(c tau), the pulses' integrals turned into zc's frame
+ * (W, Ws, Wq of pulse_integrals: U, Us, UQ), the rotor-frame start ir0
+ * and 1/(R + j w L), the rotor-frame equation's divisor. */
+typedef struct {
+    double w, a, ke;            /* ke = (psi_f/L) E */
+    cpx_t ew, ewc, zc, zcc;
+    cpx_t ct, K;
+    cpx_t U, Us, UQ;
+    cpx_t ir0, inv_rc;
+} pass_terms_t;
+
+/* The shared terms of period_pass at the held speed w. */
+static void pass_terms(const plant_t *p, double w, pass_terms_t *t)
 {
     const plant_period_t *q = &p->per;
-    const plant_cfg_t *c = &p->cfg;
-    const double L = c->L_H;
-    const double R = c->R_Ohm;
-    const double a = R * p->inv_L_per_H;
+    const double L = p->cfg.L_H;
+    const double R = p->cfg.R_Ohm;
     const double tau = q->tau_s;
-    const double T = q->T_s;
-    const double E = q->E;
-    const double kp = c->psi_f_Wb * p->inv_L_per_H;
-    const cpx_t ew = ser_cis(w * tau);
-    const cpx_t ewc = cj(ew);
+    const double kp = p->cfg.psi_f_Wb * p->inv_L_per_H;
+    t->w = w;
+    t->a = R * p->inv_L_per_H;
+    t->ke = kp * q->E;
+    t->ew = ser_cis(w * tau);
+    t->ewc = cj(t->ew);
     const cpx_t z0 = { p->z_cos, p->z_sin };
-    const cpx_t zc = cmul(z0, ew);
-    const cpx_t zcc = cj(zc);
-    o->zc = zc;
-
+    t->zc = cmul(z0, t->ew);
+    t->zcc = cj(t->zc);
+    t->ct = (cpx_t){ t->a * tau, w * tau };
+    const cpx_t sh = ser_cshc(t->ct);
+    t->K = (cpx_t){ 2.0 * tau * sh.re, 2.0 * tau * sh.im };
     cpx_t W;
     cpx_t Ws;
     cpx_t Wq;
     pulse_integrals(q, w, &W, &Ws, &Wq);
-
-    /* In the frame of the held phasor at the middle (stator quantities times
-     * conj(zc)): ih = E [E ir0 conj(ew) + conj(zc) S/L] - j w (psi_f/L) E K,
-     * K = 2 tau shc(c tau); the stator current is zc ih. */
-    const cpx_t ct = { a * tau, w * tau };
-    const cpx_t sh = ser_cshc(ct);
-    const cpx_t K = { 2.0 * tau * sh.re, 2.0 * tau * sh.im };
-    const double ke = kp * E;
-    const cpx_t ir0 = { p->x.id_A, p->x.iq_A };
-    const cpx_t i0c = cmul(ir0, ewc);
-    const cpx_t Sc = cmul(zcc, (cpx_t){ q->S_a, q->S_b });
-    o->ih.re = E * (E * i0c.re + Sc.re * p->inv_L_per_H) + ke * w * K.im;
-    o->ih.im = E * (E * i0c.im + Sc.im * p->inv_L_per_H) - ke * w * K.re;
-    /* the acceleration's end current: j (psi_f/L) a D E, D = -(2/3) alpha tau^3 */
-    const double kd = ke * a * (-(2.0 / 3.0)) * tau * tau * tau;
-    o->d1.re = 0.0;
-    o->d1.im = kd;
-
-    /* Rotor-frame integrals (sec. 2): L (ir1 - ir0) = U - (R + j w L) I - j w psi_f T;
-     * the first moment from the same times s. */
-    const cpx_t ir1 = cmul(o->ih, ewc);
-    o->U = cmul(zcc, W);
-    const cpx_t Us = cmul(zcc, Ws);
+    t->U = cmul(t->zcc, W);
+    t->Us = cmul(t->zcc, Ws);
+    t->UQ = cmul(t->zcc, Wq);
+    t->ir0 = (cpx_t){ p->x.id_A, p->x.iq_A };
     const double inv_rc2 = 1.0 / (R * R + w * w * L * L);
-    const cpx_t inv_rc = { R * inv_rc2, -w * L * inv_rc2 };
-    const double emf = w * c->psi_f_Wb * T;
+    t->inv_rc = (cpx_t){ R * inv_rc2, -w * L * inv_rc2 };
+}
+
+/* The end current in the frame of the held phasor at the middle (stator
+ * quantities times conj(zc)): ih = E [E ir0 conj(ew) + conj(zc) S/L]
+ * - j w (psi_f/L) E K, K = 2 tau shc(c tau), the stator current zc ih;
+ * the acceleration's end current d1 = j (psi_f/L) a D E, D = -(2/3) alpha tau^3. */
+static void pass_end_current(const plant_t *p, const pass_terms_t *t, pass_t *o)
+{
+    const plant_period_t *q = &p->per;
+    const double E = q->E;
+    const double tau = q->tau_s;
+    const cpx_t i0c = cmul(t->ir0, t->ewc);
+    const cpx_t Sc = cmul(t->zcc, (cpx_t){ q->S_a, q->S_b });
+    o->ih.re = E * (E * i0c.re + Sc.re * p->inv_L_per_H) + t->ke * t->w * t->K.im;
+    o->ih.im = E * (E * i0c.im + Sc.im * p->inv_L_per_H) - t->ke * t->w * t->K.re;
+    o->d1.re = 0.0;
+    o->d1.im = t->ke * t->a * (-(2.0 / 3.0)) * tau * tau * tau;
+}
+
+/* The held rotor-frame integrals (sec. 2): L (ir1 - ir0) = U - (R + j w L) I
+ * - j w psi_f T for I = int ir; the first moment Is from the same times s. */
+static void pass_held_integrals(const plant_t *p, const pass_terms_t *t, pass_t *o)
+{
+    const double L = p->cfg.L_H;
+    const double tau = p->per.tau_s;
+    const cpx_t ir0 = t->ir0;
+    const cpx_t ir1 = cmul(o->ih, t->ewc);
+    const double emf = t->w * p->cfg.psi_f_Wb * p->per.T_s;
+    o->U = t->U;
     const cpx_t n1 = { o->U.re - L * (ir1.re - ir0.re), o->U.im - emf - L * (ir1.im - ir0.im) };
-    o->Ih = cmul(n1, inv_rc);
-    const cpx_t n2 = { Us.re - L * tau * (ir1.re + ir0.re) + L * o->Ih.re,
-                       Us.im - L * tau * (ir1.im + ir0.im) + L * o->Ih.im };
-    o->Is = cmul(n2, inv_rc);
-    /* per unit of acceleration (sec. 4): the voltage turned by dtheta, the end
-     * current's d1, the equation's - j L alpha Is */
-    const cpx_t UQ = cmul(zcc, Wq);
-    o->u1.re = 0.5 * UQ.im;   /* -(j/2) UQ */
-    o->u1.im = -0.5 * UQ.re;
-    const cpx_t d1r = { kd * ew.im, kd * ew.re };   /* d1 conj(ew) */
+    o->Ih = cmul(n1, t->inv_rc);
+    const cpx_t n2 = { t->Us.re - L * tau * (ir1.re + ir0.re) + L * o->Ih.re,
+                       t->Us.im - L * tau * (ir1.im + ir0.im) + L * o->Ih.im };
+    o->Is = cmul(n2, t->inv_rc);
+}
+
+/* Per unit of acceleration (sec. 4): the voltage turned by dtheta, the end
+ * current's d1, the equation's - j L alpha Is. */
+static void pass_accel_part(const plant_t *p, const pass_terms_t *t, pass_t *o)
+{
+    const double L = p->cfg.L_H;
+    const double kd = o->d1.im;
+    o->u1.re = 0.5 * t->UQ.im;   /* -(j/2) UQ */
+    o->u1.im = -0.5 * t->UQ.re;
+    const cpx_t d1r = { kd * t->ew.im, kd * t->ew.re };   /* d1 conj(ew) */
     const cpx_t n3 = { o->u1.re - L * d1r.re + L * o->Is.im, o->u1.im - L * d1r.im - L * o->Is.re };
-    o->i1 = cmul(n3, inv_rc);
-    /* per unit of speed (sec. 4): dW/dw = -j Ws, dzc/dw = j tau zc,
-     * dK/dw = j int s e^(c s) ds = j (2/3) tau^3 c (1 + (c tau)^2/10) */
-    o->dU.re = tau * o->U.im + Us.im;   /* -j (tau U + Us) */
-    o->dU.im = -tau * o->U.re - Us.re;
-    const cpx_t c2 = cmul(ct, ct);
-    const cpx_t cq = cmul(ct, (cpx_t){ 1.0 + 0.1 * c2.re, 0.1 * c2.im });
+    o->i1 = cmul(n3, t->inv_rc);
+}
+
+/* Per unit of speed (sec. 4): dW/dw = -j Ws, dzc/dw = j tau zc,
+ * dK/dw = j int s e^(c s) ds = j (2/3) tau^3 c (1 + (c tau)^2/10);
+ * d(ir1)/dw = dih conj(ew) - 2j tau ir1,
+ * dI/dw = (dU - j psi_f T - L d(ir1)/dw - j L I)/(R + j w L). */
+static void pass_speed_part(const plant_t *p, const pass_terms_t *t, pass_t *o)
+{
+    const double L = p->cfg.L_H;
+    const double tau = p->per.tau_s;
+    const double w = t->w;
+    const cpx_t K = t->K;
+    o->dU.re = tau * o->U.im + t->Us.im;   /* -j (tau U + Us) */
+    o->dU.im = -tau * o->U.re - t->Us.re;
+    const cpx_t c2 = cmul(t->ct, t->ct);
+    const cpx_t cq = cmul(t->ct, (cpx_t){ 1.0 + 0.1 * c2.re, 0.1 * c2.im });
     const double k3 = (2.0 / 3.0) * tau * tau;   /* dK/dw = j k3 cq */
     const cpx_t br = { K.re - w * tau * K.im - w * k3 * cq.im, K.im + w * tau * K.re + w * k3 * cq.re };
-    o->dih.re = ke * br.im;   /* -j (psi_f/L) E br */
-    o->dih.im = -ke * br.re;
-    const cpx_t dir1 = cmul(o->dih, ewc);
-    /* d(ir1)/dw = dih conj(ew) - 2j tau ir1; dI/dw = (dU - j psi_f T - L d(ir1)/dw - j L I)/(R + j w L) */
+    o->dih.re = t->ke * br.im;   /* -j (psi_f/L) E br */
+    o->dih.im = -t->ke * br.re;
+    const cpx_t ir1 = cmul(o->ih, t->ewc);
+    const cpx_t dir1 = cmul(o->dih, t->ewc);
     const cpx_t n4 = { o->dU.re - L * (dir1.re + 2.0 * tau * ir1.im) + L * o->Ih.im,
-                       o->dU.im - c->psi_f_Wb * T - L * (dir1.im - 2.0 * tau * ir1.re) - L * o->Ih.re };
-    o->dIh = cmul(n4, inv_rc);
+                       o->dU.im - p->cfg.psi_f_Wb * p->per.T_s - L * (dir1.im - 2.0 * tau * ir1.re) - L * o->Ih.re };
+    o->dIh = cmul(n4, t->inv_rc);
+}
+
+/* One pass (pass_t) at the held speed w from the state at the period's
+ * start: plant_period_end's, once or twice a period. */
+static void period_pass(const plant_t *p, double w, pass_t *o)
+{
+    pass_terms_t t;
+    pass_terms(p, w, &t);
+    o->zc = t.zc;
+    pass_end_current(p, &t, o);
+    pass_held_integrals(p, &t, o);
+    pass_accel_part(p, &t, o);
+    pass_speed_part(p, &t, o);
 }
 
 /* The shaft over the period from the torque's integral Iq [A s] and first

@@ -341,6 +341,66 @@ static void result_finish(sil_result_t *res)
     res->comm_pole_pairs = cr->pole_pairs;
 }
 
+/* The board of a run: the scenario's, with a commissioning's free shaft. */
+static void run_board(const scenario_t *sc, bool commission, hal_sim_cfg_t *hc)
+{
+    sil_board_from(sc, hc);
+    if (commission) {
+        hc->load_coulomb_Nm = 0.0;   /* a commissioning's free shaft: [load] plays no part */
+        hc->load_B_Nms = 0.0;
+    }
+}
+
+/* The periods a run simulates (after run_begin): run.duration_s, or a
+ * commissioning's stages' timeouts and a margin, or no end (UINT32_MAX)
+ * for duration_s <= 0 when a period_end hook ends the run. */
+static uint32_t run_periods(const scenario_t *sc, const sil_hooks_t *hooks, bool commission, double Ts_s)
+{
+    const double comm_s = (double)comm_max_s(&g_comm) + COMM_RUN_MARGIN_S;
+    const bool endless = !commission && (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
+    return endless ? UINT32_MAX : (uint32_t)llround((commission ? comm_s : sc->run.duration_s) / Ts_s);
+}
+
+/* Period k of a run: the board's period (its ISR runs the app's), the
+ * background, a new configuration between periods, the period's figures. */
+static void run_period(const hal_sim_truth_t *tr, uint32_t k, sil_result_t *res)
+{
+    const bool was_faulted = (g_app.state == APP_STATE_FAULT);
+    hal_sim_period();
+    app_background(&g_app);
+    app_reconfigure_now(&g_app);   /* a new configuration (the link's parameters): between periods */
+    account_period(tr, was_faulted, k, res);
+}
+
+/* After each period: a row when one is due (every log_every periods from
+ * k = 0; *to_row counts down to it) to on_row, counted in res; on_row's
+ * return (0 without a row). */
+static int row_if_due(uint32_t *to_row, uint32_t log_every, sil_row_fn on_row, void *user, sil_result_t *res)
+{
+    int rc = 0;
+    if (*to_row == 0u) {
+        *to_row = log_every;
+        if (on_row != NULL) {
+            sil_row_t row;
+            fill_row(&row);
+            rc = on_row(&row, user);
+            res->rows++;
+        }
+    }
+    (*to_row)--;
+    return rc;
+}
+
+/* After a whole period (every row so far complete): SIL_STOPPED when
+ * *stop is set, else the period_end hook's return; 0 goes on. */
+static int run_goes_on(const volatile sig_atomic_t *stop, const sil_hooks_t *hooks)
+{
+    if (stop != NULL && *stop != 0) {
+        return SIL_STOPPED;
+    }
+    return (hooks != NULL && hooks->period_end != NULL) ? hooks->period_end(hooks->user) : 0;
+}
+
 int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_ctl_t *ctl, sil_result_t *res)
 {
     hal_sim_cfg_t hc;
@@ -348,18 +408,12 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
     sil_refs_t refs;
     const sil_hooks_t *hooks = (ctl != NULL) ? ctl->hooks : NULL;
     const bool commission = (ctl != NULL) && (ctl->commission != 0);
-    sil_board_from(sc, &hc);
-    if (commission) {
-        hc.load_coulomb_Nm = 0.0;   /* a commissioning's free shaft: [load] plays no part */
-        hc.load_B_Nms = 0.0;
-    }
+    run_board(sc, commission, &hc);
     result_begin(res);
     run_begin(sc, &hc, hooks, commission, &op);
 
     const double Ts = hc.inv.Ts_s;
-    const double comm_s = (double)comm_max_s(&g_comm) + COMM_RUN_MARGIN_S;
-    const bool endless = !commission && (sc->run.duration_s <= 0.0) && hooks != NULL && hooks->period_end != NULL;
-    const uint32_t n = endless ? UINT32_MAX : (uint32_t)llround((commission ? comm_s : sc->run.duration_s) / Ts);
+    const uint32_t n = run_periods(sc, hooks, commission, Ts);
     refs_init(&refs, sc);
     const hal_sim_truth_t *tr = hal_sim_truth_view();   /* what is checked every period */
     uint32_t periods_to_row = 0u;                       /* a row every log_every periods, from k = 0 */
@@ -376,30 +430,14 @@ int sil_run_ctl(const scenario_t *sc, sil_row_fn on_row, void *user, const sil_c
         } else {
             take_refs(&refs, (double)k * Ts, hooks, &op);
         }
-        const bool was_faulted = (g_app.state == APP_STATE_FAULT);
-        hal_sim_period();
-        app_background(&g_app);
-        app_reconfigure_now(&g_app);   /* a new configuration (the link's parameters): between periods */
-        account_period(tr, was_faulted, k, res);
-        if (periods_to_row == 0u) {
-            periods_to_row = sc->run.log_every;
-            if (on_row != NULL) {
-                sil_row_t row;
-                fill_row(&row);
-                rc = on_row(&row, user);
-                res->rows++;
-            }
-        }
-        periods_to_row--;
+        run_period(tr, k, res);
+        rc = row_if_due(&periods_to_row, sc->run.log_every, on_row, user, res);
         if (on_tick != NULL && --periods_to_tick == 0u) {
             periods_to_tick = ctl->tick_periods;
             on_tick(tr->t_s, ctl->tick_user);
         }
-        if (rc == 0 && stop != NULL && *stop != 0) {
-            rc = SIL_STOPPED;   /* after a whole period: every row so far is complete */
-        }
-        if (rc == 0 && hooks != NULL && hooks->period_end != NULL) {
-            rc = hooks->period_end(hooks->user);
+        if (rc == 0) {
+            rc = run_goes_on(stop, hooks);
         }
     }
     g_hooks = NULL;
@@ -464,16 +502,13 @@ static void json_derived(FILE *f, const char *key, double v, int set, const char
     fprintf(f, "\"source\": \"%s\", \"from\": \"%s\"}%s", set ? "set" : "derived", from, sep);
 }
 
-/* The values derived from the motor's data (firmware/params/params_design.md):
- * the derived keys' (scenario_keys.h, set or derived) and the settings
- * without a key (always derived), as the run used them. */
-static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac, const char *run_warnings)
+/* The derived keys' values (scenario_keys.h), each set or derived, from
+ * the finished scenario's parameter set; resolved_derived's first part. */
+static void derived_keys(FILE *f, const scenario_t *sc)
 {
-    const ctrl_cfg_t *c = &ac->ctrl;
     drive_params_t p;
     char name[64];
     scenario_params(sc, &p);   /* finished: the derived keys' values */
-    fputs(" \"derived\": {\n", f);
     for (int i = 0; i < scenario_key_count(); i++) {
         scenario_key_info_t k;
         scenario_key_info(i, &k);
@@ -483,6 +518,13 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac,
                          k.from_keys, ",\n");
         }
     }
+}
+
+/* The settings without a key (always derived, R_max_ohm aside: a key), as
+ * the run's configuration *ac holds them; resolved_derived's second part. */
+static void derived_settings(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
+{
+    const ctrl_cfg_t *c = &ac->ctrl;
     static const char I[] = "motor.i_rated_A";
     static const char V[] = "plant.vdc_V";
     json_derived(f, "observer.Ks_V", (double)c->est_cfg.smo.Ks_V, 0, "plant.vdc_V (2 ef_max)", ",\n");
@@ -507,18 +549,41 @@ static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac,
     json_derived(f, "align.u_V", (double)ac->aln.u_V, 0, "motor.i_rated_A controller.R_ohm", ",\n");
     json_derived(f, "open_phase.u_min_V", (double)ac->prot.watch.op_u_min_V, 0, V, ",\n");
     json_derived(f, "open_phase.i_min_A", (double)ac->prot.watch.op_i_min_A, 0, I, "\n");
+}
+
+/* OUT.json's "derived": the values derived from the motor's data
+ * (firmware/params/params_design.md), the derived keys' and the settings
+ * without a key, as the run used them. */
+static void resolved_derived(FILE *f, const scenario_t *sc, const app_cfg_t *ac)
+{
+    fputs(" \"derived\": {\n", f);
+    derived_keys(f, sc);
+    derived_settings(f, sc, ac);
+    fputs(" },\n", f);
+}
+
+/* OUT.json's "warnings": the scenario's, then the run's (HOST_TIMEOUT,
+ * STEP1_REFUSED), each one string. */
+static void resolved_warnings(FILE *f, const scenario_t *sc, const char *run_warnings)
+{
     char w[SCENARIO_ERR_LEN];
     scenario_warnings(sc, w, sizeof w);
-    fputs(" },\n \"warnings\": [", f);
+    fputs(" \"warnings\": [", f);
     if (w[0] != '\0') {
         json_string(f, w);
     }
-    if (run_warnings[0] != '\0') {   /* the run's (HOST_TIMEOUT, STEP1_REFUSED) */
+    if (run_warnings[0] != '\0') {
         fputs((w[0] != '\0') ? ", " : "", f);
         json_string(f, run_warnings);
     }
-    /* every key as resolved, and whether it was set, left at its default or derived */
-    fputs("],\n \"keys\": {\n", f);
+    fputs("],\n", f);
+}
+
+/* OUT.json's "keys", the last: every key as resolved, and whether it was
+ * set, left at its default or derived. */
+static void resolved_keys(FILE *f, const scenario_t *sc)
+{
+    fputs(" \"keys\": {\n", f);
     const int n = scenario_key_count();
     for (int i = 0; i < n; i++) {
         scenario_key_info_t k;
@@ -575,5 +640,7 @@ void sil_write_resolved(FILE *f, const scenario_t *sc, const sil_origin_t *origi
     json_flt(f, "i_limit_A", c->i_lim_A, ", ");
     json_flt(f, "overspeed_rpm", (float)((double)ac->prot.speed_max_rad_s * SIM_RPM_PER_RAD_S), ", ");
     json_num(f, "config_status", (double)ctrl_status(&g_app.ctrl), "},\n");
-    resolved_derived(f, sc, ac, run_warnings);
+    resolved_derived(f, sc, ac);
+    resolved_warnings(f, sc, run_warnings);
+    resolved_keys(f, sc);
 }

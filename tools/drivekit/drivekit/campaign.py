@@ -482,8 +482,10 @@ def campaign(a):
             runner.close()
 
 
-def run_campaign(a, plan, runner):
-    out, n = a.out, plan["draws"]
+def open_out(a, plan):
+    """run_campaign's first step: a.out made (--fresh: our files in it removed), the campaign's
+    identity and motor file written, the parts an interrupt caught half-written removed."""
+    out = a.out
     os.makedirs(out, exist_ok=True)
     if a.fresh:
         clear_ours(out)
@@ -492,6 +494,40 @@ def run_campaign(a, plan, runner):
     for f in os.listdir(os.path.join(out, PARTS)) if os.path.isdir(os.path.join(out, PARTS)) else []:
         if f.endswith(".tmp"):          # a part an interrupt caught half-written
             os.remove(os.path.join(out, PARTS, f))
+
+
+def print_speed(ran, dt, cpu, plan, runner, scheduler):
+    """The closing figures of the draws run now: draws per second (per core when local)."""
+    per_core = f"; {cpu:.1f} CPU-s: {ran / cpu:.1f} draws/s per core" if runner is None else ""
+    how = f"{plan['jobs']} local {'job' if plan['jobs'] == 1 else 'jobs'}" if runner is None else scheduler
+    print(f"campaign: ran {ran} draws in {dt:.1f} s ({how}): {ran / dt:.1f} draws/s{per_core}")
+
+
+def finish(a, plan, ran):
+    """run_campaign's last step: the parts compacted, the first plan["draws"] draws into results.parquet,
+    the report (campaign_report.write) and the closing line; the exit status (1: a draw refused)."""
+    out, n = a.out, plan["draws"]
+    table, paths = read_parts(out)
+    compact(out, table, paths)
+    import pyarrow.compute as pc
+    import pyarrow.parquet as pq
+    results = table.filter(pc.less(table.column("draw"), n))
+    write_table_atomic(pq, results, os.path.join(out, RESULTS))
+    from . import campaign_report
+    summary = campaign_report.write(out, results, plan, a)
+    errors = summary["errors"]
+    print(f"campaign: {n} draws ({ran} run now, {n - ran} found), rule held in "
+          f"{summary['held']} ({summary['held_pct']:.1f} %), proposed worse in {summary['worse']}, tripped "
+          f"alone in {summary['trips']}, advantage median {summary['adv_median_text']}"
+          f"{f', {errors} refused by drive_sil' if errors else ''} -> {os.path.join(out, 'report.md')}")
+    return 1 if errors else 0
+
+
+def run_campaign(a, plan, runner):
+    """The campaign of plan into a.out: the draws not found there run (locally, or on runner), each
+    chunk's rows kept as it finishes, then finish(); the exit status (130: interrupted)."""
+    out, n = a.out, plan["draws"]
+    open_out(a, plan)
     table, _ = read_parts(out)
     found = set(table.column("draw").to_pylist())
     todo = [d for d in range(n) if d not in found]
@@ -526,25 +562,8 @@ def run_campaign(a, plan, runner):
         return 1
     bar.close()
     if state["ran"]:
-        dt, cpu = time.monotonic() - t_start, cpu_seconds() - cpu_start
-        per_core = f"; {cpu:.1f} CPU-s: {state['ran'] / cpu:.1f} draws/s per core" if runner is None else ""
-        how = f"{plan['jobs']} local {'job' if plan['jobs'] == 1 else 'jobs'}" if runner is None else a.scheduler
-        print(f"campaign: ran {state['ran']} draws in {dt:.1f} s ({how}): {state['ran'] / dt:.1f} draws/s{per_core}")
-    table, paths = read_parts(out)
-    compact(out, table, paths)
-    import pyarrow.compute as pc
-    import pyarrow.parquet as pq
-    results = table.filter(pc.less(table.column("draw"), n))
-    write_table_atomic(pq, results, os.path.join(out, RESULTS))
-    from . import campaign_report
-    summary = campaign_report.write(out, results, plan, a)
-    errors = summary["errors"]
-    print(f"campaign: {n} draws ({state['ran']} run now, {n - state['ran']} found), rule held in "
-          f"{summary['held']} ({summary['held_pct']:.1f} %), proposed worse in {summary['worse']}, tripped "
-          f"alone in {summary['trips']}, advantage median {summary['adv_median_text']}"
-          f"{f', {errors} refused by drive_sil' if errors else ''} -> {os.path.join(out, 'report.md')}")
-    return 1 if errors else 0
-
+        print_speed(state["ran"], time.monotonic() - t_start, cpu_seconds() - cpu_start, plan, runner, a.scheduler)
+    return finish(a, plan, state["ran"])
 
 def cpu_seconds():
     """CPU time of this process and its finished children (the drive_sil runs of the local pool)."""

@@ -361,15 +361,18 @@ def draw_table(r, idx, stems):
     return head
 
 
-def report_md(r, t, sens, stems, plan, a, k):
-    spec, ident = plan["spec"], plan["ident"]
-    n = r.n
-    L = [f"# Campaign: {os.path.basename(ident['motor'])}, {n} draws", "",
-         f"Motor file `{ident['motor']}`, seed {ident['seed']}, {ident['drive_sil_version']}. Each draw runs "
-         "both methods on the same inputs; the rule: the proposed method's mean |Te - Te*| in the judged "
-         f"window ({spec.window} s) at most the conventional one's + {cs.RULE_MARGIN_NM} N m, and no trip where "
-         "the conventional method does not trip.", "",
-         "## The rule", "",
+def _md_intro(n, spec, ident):
+    """report.md's title and what a draw runs and the rule judges; each _md_ part ends in a blank line."""
+    return [f"# Campaign: {os.path.basename(ident['motor'])}, {n} draws", "",
+            f"Motor file `{ident['motor']}`, seed {ident['seed']}, {ident['drive_sil_version']}. Each draw runs "
+            "both methods on the same inputs; the rule: the proposed method's mean |Te - Te*| in the judged "
+            f"window ({spec.window} s) at most the conventional one's + {cs.RULE_MARGIN_NM} N m, and no trip where "
+            "the conventional method does not trip.", ""]
+
+
+def _md_rule(r, t, stems, k):
+    """## The rule: the tally's outcomes, then the k draws breaking it worst (when any does)."""
+    L = ["## The rule", "",
          f"**Held in {t['held']} of {t['judged']} judged draws ({_f(t['held_pct'], '.1f')} %, 95 % interval "
          f"{_f(t['lo_pct'], '.1f')}-{_f(t['hi_pct'], '.1f')} %).**", "",
          "| outcome | draws |", "| --- | --- |",
@@ -382,43 +385,62 @@ def report_md(r, t, sens, stems, plan, a, k):
     if br:
         L += [f"The draws breaking the rule worst ({len(br)} of {t['worse'] + t['trips']}):", ""]
         L += draw_table(r, br, stems) + [""]
-    L += ["## Advantage", "", "![campaign](campaign.png)", "",
-          "Left: each draw's mean |Te - Te*| of the proposed method over the conventional one's (log "
-          "axes; below the red dashed line the rule holds, below the green dotted one the proposed method "
-          "halves the conventional error). Right: the advantage conventional / proposed of the draws where "
-          "neither method tripped."]
+    return L
+
+
+def _md_advantage(t):
+    """## Advantage: the figure, how to read it, the advantage's quartiles (when a draw has one)."""
+    L = ["## Advantage", "", "![campaign](campaign.png)", "",
+         "Left: each draw's mean |Te - Te*| of the proposed method over the conventional one's (log "
+         "axes; below the red dashed line the rule holds, below the green dotted one the proposed method "
+         "halves the conventional error). Right: the advantage conventional / proposed of the draws where "
+         "neither method tripped."]
     if "adv_median" in t:
         L += ["", f"Median advantage {t['adv_median']:.2f} (quartiles {t['adv_q1']:.2f}-{t['adv_q3']:.2f}); "
               f"the proposed method at most half the conventional error in {t['adv_earns_pct']:.1f} % of the "
               f"draws, above it (advantage < 1) in {t['adv_below1_pct']:.1f} %."]
-    L += ["", "## Worst draws", ""]
+    return L + [""]
+
+
+def _md_worst(r, stems, k):
+    """## Worst draws: each method's k worst, and how to run their files under worst/."""
+    L = ["## Worst draws", ""]
     for m in cs.METHODS:
         L += [f"The {cs.METHOD_NAMES[m]} method's {k} worst (tripped first):", ""]
         L += draw_table(r, worst(r, m, k), stems) + [""]
-    L += ["Each file under `worst/` is a scenario drive_sil runs as it is: `build/host/drive_sil --scenario "
-          "FILE --summary - --window T0:T1` (its `; win steady`) gives its `; te_err_Nm`; "
-          "`rule-check worst` (build/venv/bin) judges the pairs.", "",
-          "## What goes with failures", "", "![sensitivity](sensitivity.png)", "",
-          "Each input's rank correlation with the proposed method's excess over the conventional one "
-          "(proposed - conventional mean |Te - Te*|, draws where neither tripped) and with the log "
-          "advantage; where draws break the rule, the AUC: the chance that a failing draw's input is "
-          "larger than a passing one's (0.5: no relation; from "
-          f"{t['worse'] + t['trips']} failing draws, so read it with their number in mind). Signed inputs by "
-          "their magnitude.", "",
-          "| input | rho (excess) | rho (log advantage) | AUC (failures) | median, failing | median, all |",
-          "| --- | --- | --- | --- | --- | --- |"]
+    return L + ["Each file under `worst/` is a scenario drive_sil runs as it is: `build/host/drive_sil --scenario "
+                "FILE --summary - --window T0:T1` (its `; win steady`) gives its `; te_err_Nm`; "
+                "`rule-check worst` (build/venv/bin) judges the pairs.", ""]
+
+
+def _md_failures(r, t, sens):
+    """## What goes with failures: the inputs' correlations and AUC (sens), then the rule by transient."""
+    L = ["## What goes with failures", "", "![sensitivity](sensitivity.png)", "",
+         "Each input's rank correlation with the proposed method's excess over the conventional one "
+         "(proposed - conventional mean |Te - Te*|, draws where neither tripped) and with the log "
+         "advantage; where draws break the rule, the AUC: the chance that a failing draw's input is "
+         "larger than a passing one's (0.5: no relation; from "
+         f"{t['worse'] + t['trips']} failing draws, so read it with their number in mind). Signed inputs by "
+         "their magnitude.", "",
+         "| input | rho (excess) | rho (log advantage) | AUC (failures) | median, failing | median, all |",
+         "| --- | --- | --- | --- | --- | --- |"]
     for s in sens:
         L.append(f"| {s[0]} | {_f(s[1], '+.2f')} | {_f(s[2], '+.2f')} | {_f(s[3], '.2f')} | {_f(s[4], '.4g')} "
                  f"| {_f(s[5], '.4g')} |")
     L += ["", "| transient | draws | rule held | median excess [N m] |", "| --- | --- | --- | --- |"]
     for name, cnt, held, judged, med in by_transient(r):
         L.append(f"| {name} | {cnt} | {held} of {judged} | {_f(med, '+.4f')} |")
+    return L + [""]
+
+
+def _md_campaign(r, spec, ident):
+    """## The campaign: the build, files, seed and timeline, the keys in use and the motor's data."""
     absent = [f for f in ("method_ran", "held_share")
               if all(v is None for m in cs.METHODS for v in r.col(f"{f}_{m}"))]
-    L += ["", "## The campaign", "",
-          f"drive_sil `{ident['drive_sil_version']}` (sha256 {ident['drive_sil_sha256'][:16]}), motor file "
-          f"sha256 {ident['motor_sha256'][:16]}, seed {ident['seed']}, {n} draws; the timeline "
-          f"`{spec.timeline}`, judged window {spec.window} s."]
+    L = ["## The campaign", "",
+         f"drive_sil `{ident['drive_sil_version']}` (sha256 {ident['drive_sil_sha256'][:16]}), motor file "
+         f"sha256 {ident['motor_sha256'][:16]}, seed {ident['seed']}, {r.n} draws; the timeline "
+         f"`{spec.timeline}`, judged window {spec.window} s."]
     if spec.timeline == "drawn":
         L.append(f"The file's start-up until {spec.start_s:g} s, the drawn point reached by "
                  f"{spec.start_s + spec.ramp_s:g} s, the event at {spec.event_s:g} s, the run ends at "
@@ -430,13 +452,19 @@ def report_md(r, t, sens, stems, plan, a, k):
     for key in spec.keys_in_use():
         L.append(f"| {key.name} | {spec.text[key.name]} | {spec.source[key.name]} |")
     m = spec.motor
-    L += ["", f"The motor's data used: R {m['R_ohm']:g} ohm, L {m['L_H']:g} H, psi_f {m['psif_Wb']:g} Wb, "
-          f"{m['pole_pairs']} pole pairs, J {m['J_kgm2']:g} kg m^2, bus {m['vdc_V']:g} V, i_rated "
-          f"{m['i_rated_A']:g} A, n_rated {m['n_rated_rpm']:g} r/min, T_rated {m['T_rated_Nm']:.4g} N m, ADC "
-          f"+-{m['adc_full_scale_A']:g} A, PWM period {1e6 * m['Ts_s']:.4g} us. Keys: "
-          "`tools/drivekit/CAMPAIGN_KEYS.md`.", ""]
-    return "\n".join(L)
+    return L + ["", f"The motor's data used: R {m['R_ohm']:g} ohm, L {m['L_H']:g} H, psi_f {m['psif_Wb']:g} Wb, "
+                f"{m['pole_pairs']} pole pairs, J {m['J_kgm2']:g} kg m^2, bus {m['vdc_V']:g} V, i_rated "
+                f"{m['i_rated_A']:g} A, n_rated {m['n_rated_rpm']:g} r/min, T_rated {m['T_rated_Nm']:.4g} N m, ADC "
+                f"+-{m['adc_full_scale_A']:g} A, PWM period {1e6 * m['Ts_s']:.4g} us. Keys: "
+                "`tools/drivekit/CAMPAIGN_KEYS.md`.", ""]
 
+
+def report_md(r, t, sens, stems, plan, a, k):
+    """report.md's text from the results r, their tally t and sensitivity sens, the reproducers' stems
+    and the k worst per method (write()'s last step)."""
+    spec, ident = plan["spec"], plan["ident"]
+    return "\n".join(_md_intro(r.n, spec, ident) + _md_rule(r, t, stems, k) + _md_advantage(t) +
+                     _md_worst(r, stems, k) + _md_failures(r, t, sens) + _md_campaign(r, spec, ident))
 
 def write(out, table, plan, a):
     """Figures, reproducers and report.md of the results table; the tally for the closing line."""

@@ -523,10 +523,8 @@ def _sub(sub, name, fn, text, json_parent):
     return s
 
 
-def build_parser():
-    p = Parser(prog="drivetool", formatter_class=Help,
-               description="Talk to the drive over its link (firmware/link/link_protocol.md). Exit status: 0 ok, "
-                           "1 refused by the firmware, 2 usage or unknown name, 3 no answer, 130 interrupted.")
+def _add_link_options(p):
+    """The options before COMMAND: the port, the line and the output; build_parser's first part."""
     p.add_argument("--port", default=os.environ.get(PORT_ENV),
                    help=f"serial device, socket://127.0.0.1:PORT (drive_sil --link) or loop:// "
                         f"(default: ${PORT_ENV})")
@@ -538,10 +536,19 @@ def build_parser():
                         "reply times with no reply at all")
     p.add_argument("--json", action="store_true", help="print the result as JSON (numbers, not names)")
     p.add_argument("--no-cache", action="store_true", help="list the variable table again")
+
+
+def _json_parent():
+    """--json after COMMAND too: a parent of every command's parser, which leaves the global one alone
+    unless given."""
     js = Parser(add_help=False)
     js.add_argument("--json", action="store_true", default=argparse.SUPPRESS,
                     help="print the result as JSON (numbers, not names)")
-    sub = p.add_subparsers(dest="cmd", required=True, parser_class=Parser, metavar="COMMAND")
+    return js
+
+
+def _add_reading_commands(sub, js):
+    """status, list, get and set (in the help in this order, before the actions)."""
     _sub(sub, "status", cmd_status, "state, fault, speed, torque, currents, bus, the method that ran and why "
          "(hold_reason), the host timeout, warnings, the link's error counts", js)
     _sub(sub, "list", cmd_list, "the variable table: name, type, access (r, rw, rw-stopped; param: a parameter "
@@ -551,6 +558,10 @@ def build_parser():
     s = _sub(sub, "set", cmd_set, "write values through the firmware's checks (an enumeration by name or number; "
              "an integer refuses a fraction); a refused value names the reason and is not applied", js)
     s.add_argument("assignments", nargs="+", metavar="NAME=VALUE")
+
+
+def _add_action_commands(sub, js):
+    """start, stop, reset-fault, quit, commission, save and level (in the help in this order)."""
     _sub(sub, "start", cmd_start, "start the drive (refused naming the fault when one is latched)", js)
     _sub(sub, "stop", _action(codec.ACT_STOP), "stop the drive (PWM off)", js)
     _sub(sub, "reset-fault", cmd_reset_fault, "reset a latched fault; refused naming it while its cause is "
@@ -566,11 +577,10 @@ def build_parser():
     s = _sub(sub, "level", cmd_level, "the build level the next start runs (without N: show it)", js)
     s.add_argument("n", nargs="?", type=int, choices=range(1, 6), metavar="N",
                    help="1 PWM, 2 ADC, 3 encoder check, 4 torque control, 5 the drive")
-    s = _sub(sub, "stream", cmd_stream, "stream variables for a while (Ctrl-C stops it: exit 130)", js)
-    s.add_argument("names", nargs="+", metavar="NAME")
-    s.add_argument("--rate", type=float, default=100.0, help="rows per second asked for [Hz]")
-    s.add_argument("--duration", type=float, default=1.0, help="seconds")
-    s.add_argument("--csv", help="write the rows (t_s, then the names)")
+
+
+def _add_capture_command(sub, js):
+    """capture: its names, modes (--arm, --fetch), trigger, depth and outputs."""
     s = _sub(sub, "capture", cmd_capture, "a triggered capture sampled in the control ISR: arm, wait, upload "
              "(--arm: only arm and return; --fetch: wait for the armed one and upload it)", js)
     s.add_argument("names", nargs="*", metavar="NAME", help="1 to 4 variables (none with --fetch)")
@@ -584,6 +594,16 @@ def build_parser():
     s.add_argument("--wait", type=float, default=60.0, help="seconds to wait for the trigger")
     s.add_argument("--csv", help="write the rows (t_s, then the names)")
     s.add_argument("--png", help="draw the channels")
+
+
+def _add_recording_commands(sub, js):
+    """stream, capture and plot (in the help in this order)."""
+    s = _sub(sub, "stream", cmd_stream, "stream variables for a while (Ctrl-C stops it: exit 130)", js)
+    s.add_argument("names", nargs="+", metavar="NAME")
+    s.add_argument("--rate", type=float, default=100.0, help="rows per second asked for [Hz]")
+    s.add_argument("--duration", type=float, default=1.0, help="seconds")
+    s.add_argument("--csv", help="write the rows (t_s, then the names)")
+    _add_capture_command(sub, js)
     s = _sub(sub, "plot", cmd_plot, "a live plot of a stream (matplotlib)", js)
     s.add_argument("names", nargs="+", metavar="NAME")
     s.add_argument("--rate", type=float, default=50.0, help="rows per second asked for [Hz]")
@@ -591,14 +611,31 @@ def build_parser():
     s.add_argument("--duration", type=float, default=0.0, help="stop after this many seconds (0: until closed)")
     s.add_argument("--frames", type=int, default=0, help="stop after this many redraws (0: until closed)")
     s.add_argument("--png", help="save the last frame (with MPLBACKEND=Agg: a headless plot)")
+
+
+def _add_backup_commands(sub, js):
+    """backup and restore (the last in the help)."""
     s = _sub(sub, "backup", cmd_backup, "every parameter of the drive as an INI [controller] section drive_sil "
              "accepts (FILE.json: the writable variables as JSON)", js)
     s.add_argument("file", metavar="FILE")
     s = _sub(sub, "restore", cmd_restore, "write a backup back (an INI [controller] section, or drivetool's JSON), "
              "all or nothing: checked first, only what differs (as float32) written", js)
     s.add_argument("file", metavar="FILE")
-    return p
 
+
+def build_parser():
+    """drivetool's command line: the link's options, then one command (main's first step)."""
+    p = Parser(prog="drivetool", formatter_class=Help,
+               description="Talk to the drive over its link (firmware/link/link_protocol.md). Exit status: 0 ok, "
+                           "1 refused by the firmware, 2 usage or unknown name, 3 no answer, 130 interrupted.")
+    _add_link_options(p)
+    js = _json_parent()
+    sub = p.add_subparsers(dest="cmd", required=True, parser_class=Parser, metavar="COMMAND")
+    _add_reading_commands(sub, js)
+    _add_action_commands(sub, js)
+    _add_recording_commands(sub, js)
+    _add_backup_commands(sub, js)
+    return p
 
 def main(argv=None):
     try:

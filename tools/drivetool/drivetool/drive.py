@@ -195,6 +195,60 @@ class Var:
         return struct.unpack_from("<f", b, i)[0], i + 4
 
 
+class _CapturePage:
+    """capture_read's page [rows]: halved by a lost request (at least a row), grown by
+    1/PAGE_GROW_DIV (at least a row, at most the reply's room) after PAGE_GROW_AFTER replies."""
+
+    def __init__(self, rows_max):
+        self.rows = rows_max
+        self.rows_max = rows_max
+        self.good_run = 0
+
+    def lost(self):
+        self.rows = max(1, self.rows // 2)
+        self.good_run = 0
+
+    def answered(self):
+        self.good_run += 1
+        if self.good_run >= PAGE_GROW_AFTER and self.rows < self.rows_max:
+            self.rows = min(self.rows_max, self.rows + max(1, self.rows // PAGE_GROW_DIV))
+            self.good_run = 0
+
+
+def _capture_row_format(status):
+    """A capture row's struct format from capture_status: a float32 or int16 per channel (int16 all
+    when the firmware names no formats)."""
+    row_fmt = "<" + "".join("f" if f == codec.CAP_F32 else "h" for f in status.get("formats", []))
+    return row_fmt if len(row_fmt) > 1 else "<" + "h" * len(status["channels"])
+
+
+def _capture_rows_into(got, rpay, row_fmt, row_bytes):
+    """A CAPTURE_READ reply's rows into got, by the rows the reply names whatever asked; how many of
+    them were missing. Refused: the drive's status; NoAnswer: rows outside the capture."""
+    if not rpay or rpay[0] != codec.ST_OK:
+        raise Refused(f"CAPTURE_READ: {codec.STATUS_TEXT.get(rpay[0] if rpay else -1, '?')}")
+    f, rows = struct.unpack_from("<HH", rpay, 1)
+    if f + rows > len(got) or len(rpay) < CAP_READ_HEADER + rows * row_bytes:
+        raise NoAnswer("CAPTURE_READ answered rows outside the capture")
+    filled = 0
+    for r in range(rows):
+        filled += got[f + r] is None
+        got[f + r] = struct.unpack_from(row_fmt, rpay, CAP_READ_HEADER + row_bytes * r)
+    return filled
+
+
+def _capture_answered(inflight, rseq, page):
+    """A reply to request rseq: it leaves inflight, and, the drive answering in order, every request
+    sent before it is lost (page.lost()); a reply to none in flight changes nothing."""
+    if rseq in inflight:
+        for q in list(inflight):
+            if q == rseq:
+                break
+            del inflight[q]
+            page.lost()
+        del inflight[rseq]
+
+
 CACHE_ROW = 9                   # a cached descriptor's fields (an older cache's 8: listed again)
 
 
@@ -528,63 +582,46 @@ class Drive:
         least one row); each reply grows it again by a quarter. The upload gives
         up (NoAnswer) after `retries` request reply times (reply_timeout) with no reply at all."""
         n = status["samples"]
-        row_fmt = "<" + "".join("f" if f == codec.CAP_F32 else "h" for f in status.get("formats", []))
-        row_fmt = row_fmt if len(row_fmt) > 1 else "<" + "h" * len(status["channels"])
+        row_fmt = _capture_row_format(status)
         row_bytes = struct.calcsize(row_fmt)
-        page_max = max(1, (codec.PAYLOAD_MAX - CAP_READ_HEADER) // row_bytes)
-        page = page_max
+        page = _CapturePage(max(1, (codec.PAYLOAD_MAX - CAP_READ_HEADER) // row_bytes))
         got = [None] * n                            # row -> counts
         missing = n
         inflight = {}                               # seq -> (first, rows, deadline), in the order sent
         silent_s = self.retries * self.reply_timeout
         last_reply = time.monotonic()
-        good_run = 0
         while missing:
             now = time.monotonic()
             for seq in [q for q, (_f, _r, dl) in inflight.items() if dl < now]:
                 del inflight[seq]                   # lost: its rows are asked again, a smaller page
-                page = max(1, page // 2)
-                good_run = 0
+                page.lost()
             if now - last_reply > silent_s:
                 raise NoAnswer(f"no answer from {self.url} to CAPTURE_READ for {silent_s:.2g} s "
                                f"({missing} of {n} rows missing)")
-            while len(inflight) < depth:
-                first, rows = self._next_missing(got, inflight, page)
-                if first is None:
-                    break
-                self.seq = (self.seq % 255) + 1
-                self._write(codec.frame_encode(codec.CAPTURE_READ, self.seq, struct.pack("<HH", first, rows)))
-                inflight[self.seq] = (first, rows, time.monotonic() + self._page_time(rows * row_bytes))
+            self._capture_requests(got, inflight, page.rows, depth, row_bytes)
             for rtype, rseq, rpay in self.rx.feed(self._read()):
                 if rtype != (codec.CAPTURE_READ | codec.REPLY):
                     self._take_unsolicited(rtype, rpay)
                     continue
-                if not rpay or rpay[0] != codec.ST_OK:
-                    raise Refused(f"CAPTURE_READ: {codec.STATUS_TEXT.get(rpay[0] if rpay else -1, '?')}")
-                f, rows = struct.unpack_from("<HH", rpay, 1)
-                if f + rows > n or len(rpay) < CAP_READ_HEADER + rows * row_bytes:
-                    raise NoAnswer("CAPTURE_READ answered rows outside the capture")
-                for r in range(rows):               # kept by the rows the reply names, whatever asked
-                    missing -= got[f + r] is None
-                    got[f + r] = struct.unpack_from(row_fmt, rpay, CAP_READ_HEADER + row_bytes * r)
-                if rseq in inflight:
-                    # the drive answers in order: every request sent before this one is lost
-                    for q in list(inflight):
-                        if q == rseq:
-                            break
-                        del inflight[q]
-                        page = max(1, page // 2)
-                        good_run = 0
-                    del inflight[rseq]
+                missing -= _capture_rows_into(got, rpay, row_fmt, row_bytes)
+                _capture_answered(inflight, rseq, page)
                 last_reply = time.monotonic()
-                good_run += 1
-                if good_run >= PAGE_GROW_AFTER and page < page_max:
-                    page = min(page_max, page + max(1, page // PAGE_GROW_DIV))
-                    good_run = 0
+                page.answered()
         ts = self.info["Ts_s"]
         t = [(status["first_index"] + r * status["decimate"]) * ts for r in range(n)]
         rows = [[c * lsb for c, (_vid, lsb) in zip(row, status["channels"])] for row in got]
         return t, rows
+
+    def _capture_requests(self, got, inflight, page_rows, depth, row_bytes):
+        """capture_read's requests: CAPTURE_READ of the first missing rows no request in flight
+        covers (at most page_rows), sent until `depth` are in flight, each with its deadline."""
+        while len(inflight) < depth:
+            first, rows = self._next_missing(got, inflight, page_rows)
+            if first is None:
+                break
+            self.seq = (self.seq % 255) + 1
+            self._write(codec.frame_encode(codec.CAPTURE_READ, self.seq, struct.pack("<HH", first, rows)))
+            inflight[self.seq] = (first, rows, time.monotonic() + self._page_time(rows * row_bytes))
 
     def _page_time(self, reply_payload):
         """How long a CAPTURE_READ's reply of this payload may take: the request and the reply at
