@@ -14,12 +14,6 @@
  * constraint does not depend on u_d (avoids dividing by ~0). */
 #define SIDE_PARALLEL_EPS 1.0e-6f
 
-/* Inside this share of the hexagon's inscribed circle (radius
- * Vdc/sqrt(3), squared here) no side can bind, whatever the angle: the
- * normal period's one test instead of three projections. Below 1 by far
- * more than the projections' rounding and |(sin, cos)| - 1 (1e-6). */
-#define INSCRIBED_SAFE_SQ 0.998f
-
 /* dbdtc_init: dbdtc_cfg.c (start-up, from flash). */
 
 void dbdtc_reset(dbdtc_t *db)
@@ -63,140 +57,6 @@ void dbdtc_set_params_zm(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb, co
     p->psiq_per_Nm = p->L_H / p->kt_Nm_per_A;                           /* division 4 */
     p->inv_psi_f_1_Wb = spmsm_kt_Nm_A(cfg->pole_pairs, 1.0f) * p->psiq_per_Nm * inv_L; /* 1.5 p / kt */
     db->st.taken = DBDTC_TAKEN_NONE; /* the period is taken again */
-}
-
-void dbdtc_take_period(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V, uint32_t g_rev, uint16_t taken)
-{
-    const dbdtc_par_t *p = &db->par;
-    dbdtc_step_t *st = &db->st;
-    dq_t g_c = g_c_A_V;
-
-    if (taken == DBDTC_TAKEN_OWN) {
-        zoh_step_t z;
-        zoh_step(&p->zm, t, &z); /* 1 division */
-        g_c = z.g_c;
-    }
-    st->taken = taken;
-    st->turn = t->seq;
-    st->g_rev = g_rev;
-    if (!(p->zm.R_Ohm > 0.0f) || !(p->zm.tau_s > 0.0f)) {
-        /* refused parameters: the identity, no voltage (a refused model is never run) */
-        st->Phi.d = 1.0f;
-        st->Phi.q = 0.0f;
-        st->D_Wb.d = 0.0f;
-        st->D_Wb.q = 0.0f;
-        st->gu_Wb_V.d = 0.0f;
-        st->gu_Wb_V.q = 0.0f;
-        st->ku_V_Wb.d = 0.0f;
-        st->ku_V_Wb.q = 0.0f;
-        return;
-    }
-    st->Phi.d = p->zm.rho * t->c1;         /* rho e^(-j theta) */
-    st->Phi.q = -p->zm.rho * t->s1;
-    st->D_Wb.d = p->psiR_Wb_Ohm * g_c.d;
-    st->D_Wb.q = p->psiR_Wb_Ohm * g_c.q;
-    st->gu_Wb_V.d = p->L_gamma_Wb_V * t->ch;  /* L gamma e^(-j theta/2) */
-    st->gu_Wb_V.q = -p->L_gamma_Wb_V * t->sh;
-    st->ku_V_Wb.d = p->zm.kappa_1_s * t->ch;  /* kappa e^(+j theta/2) */
-    st->ku_V_Wb.q = p->zm.kappa_1_s * t->sh;
-}
-
-dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A)
-{
-    const dbdtc_par_t *p = &db->par;
-    const float i_max = db->cfg.i_max_A;
-    dbdtc_state_t x;
-
-    x.i_dq_A.d = mathx_clampf(i_dq_A.d, -i_max, i_max);
-    x.i_dq_A.q = mathx_clampf(i_dq_A.q, -i_max, i_max);
-    x.psi_dq_Wb.d = p->L_H * x.i_dq_A.d + p->psi_f_Wb;   /* eq. (11) */
-    x.psi_dq_Wb.q = p->L_H * x.i_dq_A.q;                 /* eq. (11) */
-    x.te_Nm = p->kt_Nm_per_A * x.i_dq_A.q;                /* eq. (12) */
-    return x;
-}
-
-/* The free flux one period on: Phi psi + psi_f R g_c (no voltage). */
-static dq_t free_flux(const dbdtc_step_t *st, dq_t psi)
-{
-    dq_t f = zoh_mul(st->Phi, psi);
-    f.d += st->D_Wb.d;
-    f.q += st->D_Wb.q;
-    return f;
-}
-
-dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V)
-{
-    const dbdtc_cfg_t *cfg = &db->cfg;
-    const dbdtc_par_t *p = &db->par;
-    dq_t u;
-    dq_t psi;
-    dq_t i1;
-
-    u.d = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
-    u.q = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
-    psi.d = p->L_H * mathx_clampf(i_dq_A.d, -cfg->i_max_A, cfg->i_max_A) + p->psi_f_Wb;
-    psi.q = p->L_H * mathx_clampf(i_dq_A.q, -cfg->i_max_A, cfg->i_max_A);
-    /* eq. (10) exact: psi(k+1) = Phi psi + psi_f R g_c + L g_u u */
-    const dq_t f = free_flux(&db->st, psi);
-    const dq_t v = zoh_mul(db->st.gu_Wb_V, u);
-    i1.d = (f.d + v.d - p->psi_f_Wb) * p->inv_L_1_H;
-    i1.q = (f.q + v.q) * p->inv_L_1_H;
-    return dbdtc_state_from_currents(db, i1);
-}
-
-/* The state's flux, bounded as dbdtc_state_from_currents() makes it. */
-static dq_t bounded_flux(const dbdtc_t *db, const dbdtc_state_t *x)
-{
-    const float psi_bound = db->par.L_H * db->cfg.i_max_A + db->par.psi_f_Wb;
-    dq_t psi;
-    psi.d = mathx_clampf(x->psi_dq_Wb.d, -psi_bound, psi_bound);
-    psi.q = mathx_clampf(x->psi_dq_Wb.q, -psi_bound, psi_bound);
-    return psi;
-}
-
-float dbdtc_torque_after(const dbdtc_t *db, dq_t u_dq_V)
-{
-    const dbdtc_cfg_t *cfg = &db->cfg;
-    const dbdtc_step_t *st = &db->st;
-    const float ud = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
-    const float uq = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
-
-    /* eq. (5) on psi_q(k+2) */
-    return db->par.te_per_Wb * (st->free_Wb.q + st->gu_Wb_V.d * uq + st->gu_Wb_V.q * ud);
-}
-
-uint16_t dbdtc_solve(dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm, float psi_ref_Wb, dq_t *u_dq_V)
-{
-    const dbdtc_cfg_t *cfg = &db->cfg;
-    const dbdtc_par_t *p = &db->par;
-    const float te_ref = mathx_clampf(te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
-    const float psi_ref = mathx_clampf(psi_ref_Wb, 0.0f, cfg->psi_max_Wb);
-    uint16_t flags = 0u;
-
-    /* the free flux at k+2 (the voltage's part aside) */
-    const dq_t f = free_flux(&db->st, bounded_flux(db, x));
-    db->st.free_Wb = f;
-
-    /* eq. (5): the q flux that makes Te(k+2) = Te* */
-    const float psiq_tgt = p->psiq_per_Nm * te_ref;
-
-    /* eq. (17): X1'^2 - X2' = psi_s*^2 - psi_q*^2 */
-    const float disc = psi_ref * psi_ref - psiq_tgt * psiq_tgt;
-    float psid_tgt = 0.0f; /* vertex when the flux target is out of reach */
-    if (disc >= 0.0f) {
-        psid_tgt = mathx_sqrtf(disc);
-    } else {
-        flags |= DBDTC_FLAG_FLUX_UNREACHABLE;
-    }
-
-    /* u = (psi* - free) / (L g_u) */
-    dq_t dpsi;
-    dpsi.d = psid_tgt - f.d;
-    dpsi.q = psiq_tgt - f.q;
-    const dq_t u = zoh_mul(db->st.ku_V_Wb, dpsi);
-    u_dq_V->d = mathx_clampf(u.d, -cfg->u_max_V, cfg->u_max_V);
-    u_dq_V->q = mathx_clampf(u.q, -cfg->u_max_V, cfg->u_max_V);
-    return flags;
 }
 
 /* The interval [lo, hi] of t where a line a_j t + b_j fixed meets the
@@ -245,8 +105,7 @@ static inline bool hex_chord(float a0, float a1, float a2, float b0, float b1, f
     return ch->hit && (ch->lo <= ch->hi);
 }
 
-/* dbdtc_limit outside the inscribed circle: vdc >= 0 [V], r = vdc/sqrt(3). */
-static uint16_t limit_to_hexagon(dq_t *u_dq_V, float sin_in, float cos_in, float vdc, float r)
+uint16_t dbdtc_limit_hexagon(dq_t *u_dq_V, float sin_in, float cos_in, float vdc, float r)
 {
     const float sin_th = mathx_clampf(sin_in, -1.0f, 1.0f);
     const float cos_th = mathx_clampf(cos_in, -1.0f, 1.0f);
@@ -329,15 +188,4 @@ static uint16_t limit_to_hexagon(dq_t *u_dq_V, float sin_in, float cos_in, float
         u_dq_V->q = vmag * vq;
     }
     return DBDTC_FLAG_VOLTAGE_LIMIT;
-}
-
-uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_in, float cos_in, float vdc_V)
-{
-    const float vdc = (vdc_V > 0.0f) ? vdc_V : 0.0f; /* NaN too */
-    const float r = vdc * MATHX_INV_SQRT3_F;
-
-    if ((u_dq_V->d * u_dq_V->d + u_dq_V->q * u_dq_V->q) <= INSCRIBED_SAFE_SQ * r * r) {
-        return 0u;
-    }
-    return limit_to_hexagon(u_dq_V, sin_in, cos_in, vdc, r);
 }

@@ -54,12 +54,19 @@
 #include <stdint.h>
 
 #include "clarke_park.h"
+#include "mathx.h"
 #include "zoh.h"
 
 /* Parameters handed to dbdtc_set_params() are kept within these factors of
  * the configured ones, so an estimator gone astray cannot divide by ~0. */
 #define DBDTC_PARAM_FACTOR_MIN 0.1f
 #define DBDTC_PARAM_FACTOR_MAX 10.0f
+
+/* Inside this share of the hexagon's inscribed circle (radius
+ * Vdc/sqrt(3), squared here) no side can bind, whatever the angle: the
+ * normal period's one test instead of three projections. Below 1 by far
+ * more than the projections' rounding and |(sin, cos)| - 1 (1e-6). */
+#define DBDTC_INSCRIBED_SAFE_SQ 0.998f
 
 /* Flags returned by dbdtc_solve() and dbdtc_limit(), a bit set. */
 #define DBDTC_FLAG_VOLTAGE_LIMIT    0x0001u /* moved onto the inverter hexagon */
@@ -140,8 +147,43 @@ void dbdtc_set_params_zm(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb, co
 
 /* Takes the period's Phi, D, gu, ku (dbdtc_period, dbdtc_period_from):
  * the model's own g_c (taken = DBDTC_TAKEN_OWN: 1 division) or g_c_A_V of
- * number g_rev (DBDTC_TAKEN_FROM). ISR. */
-void dbdtc_take_period(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V, uint32_t g_rev, uint16_t taken);
+ * number g_rev (DBDTC_TAKEN_FROM). ISR (inline: in the periods whose turn
+ * or model moved, the ISR's busiest). */
+static inline void dbdtc_take_period(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_A_V, uint32_t g_rev, uint16_t taken)
+{
+    const dbdtc_par_t *p = &db->par;
+    dbdtc_step_t *st = &db->st;
+    dq_t g_c = g_c_A_V;
+
+    if (taken == DBDTC_TAKEN_OWN) {
+        zoh_step_t z;
+        zoh_step(&p->zm, t, &z); /* 1 division */
+        g_c = z.g_c;
+    }
+    st->taken = taken;
+    st->turn = t->seq;
+    st->g_rev = g_rev;
+    if (!(p->zm.R_Ohm > 0.0f) || !(p->zm.tau_s > 0.0f)) {
+        /* refused parameters: the identity, no voltage (a refused model is never run) */
+        st->Phi.d = 1.0f;
+        st->Phi.q = 0.0f;
+        st->D_Wb.d = 0.0f;
+        st->D_Wb.q = 0.0f;
+        st->gu_Wb_V.d = 0.0f;
+        st->gu_Wb_V.q = 0.0f;
+        st->ku_V_Wb.d = 0.0f;
+        st->ku_V_Wb.q = 0.0f;
+        return;
+    }
+    st->Phi.d = p->zm.rho * t->c1;         /* rho e^(-j theta) */
+    st->Phi.q = -p->zm.rho * t->s1;
+    st->D_Wb.d = p->psiR_Wb_Ohm * g_c.d;
+    st->D_Wb.q = p->psiR_Wb_Ohm * g_c.q;
+    st->gu_Wb_V.d = p->L_gamma_Wb_V * t->ch;  /* L gamma e^(-j theta/2) */
+    st->gu_Wb_V.q = -p->L_gamma_Wb_V * t->sh;
+    st->ku_V_Wb.d = p->zm.kappa_1_s * t->ch;  /* kappa e^(+j theta/2) */
+    st->ku_V_Wb.q = p->zm.kappa_1_s * t->sh;
+}
 
 /* This period's model from the rotor's turn *t (w within +-omega_max;
  * zoh_turn): once a period, after any dbdtc_set_params of it, before
@@ -171,11 +213,34 @@ static inline void dbdtc_period_from(dbdtc_t *db, const zoh_turn_t *t, dq_t g_c_
 /* Torque Te(k+2) [N m] the model expects from the state dbdtc_solve was
  * given this period when u_dq_V [V] is applied over [k+1, k+2] (eq. 5 on
  * the discrete model): what a voltage-limited step really asks of the
- * motor, for the speed loop's anti-windup. After dbdtc_solve. ISR. */
-float dbdtc_torque_after(const dbdtc_t *db, dq_t u_dq_V);
+ * motor, for the speed loop's anti-windup. After dbdtc_solve. ISR
+ * (inline: once a period). */
+static inline float dbdtc_torque_after(const dbdtc_t *db, dq_t u_dq_V)
+{
+    const dbdtc_cfg_t *cfg = &db->cfg;
+    const dbdtc_step_t *st = &db->st;
+    const float ud = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
+    const float uq = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
 
-/* Flux and torque (eq. 11, 12) from the currents i_dq_A [A]. ISR context. */
-dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A);
+    /* eq. (5) on psi_q(k+2) */
+    return db->par.te_per_Wb * (st->free_Wb.q + st->gu_Wb_V.d * uq + st->gu_Wb_V.q * ud);
+}
+
+/* Flux and torque (eq. 11, 12) from the currents i_dq_A [A] (bounded to
+ * +-i_max_A). ISR context (inline). */
+static inline dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_dq_A)
+{
+    const dbdtc_par_t *p = &db->par;
+    const float i_max = db->cfg.i_max_A;
+    dbdtc_state_t x;
+
+    x.i_dq_A.d = mathx_clampf(i_dq_A.d, -i_max, i_max);
+    x.i_dq_A.q = mathx_clampf(i_dq_A.q, -i_max, i_max);
+    x.psi_dq_Wb.d = p->L_H * x.i_dq_A.d + p->psi_f_Wb;   /* eq. (11) */
+    x.psi_dq_Wb.q = p->L_H * x.i_dq_A.q;                 /* eq. (11) */
+    x.te_Nm = p->kt_Nm_per_A * x.i_dq_A.q;                /* eq. (12) */
+    return x;
+}
 
 /* As dbdtc_state_from_currents for currents already within +-i_max_A
  * (the observer's prediction, bounded by the same i_max): no clamp. ISR
@@ -191,23 +256,104 @@ static inline dbdtc_state_t dbdtc_state_from_bounded(const dbdtc_t *db, dq_t i_d
     return x;
 }
 
+
+/* The free flux one period on: Phi psi + psi_f R g_c (no voltage) [Wb]. ISR. */
+static inline dq_t dbdtc_free_flux(const dbdtc_step_t *st, dq_t psi)
+{
+    dq_t f = zoh_mul(st->Phi, psi);
+    f.d += st->D_Wb.d;
+    f.q += st->D_Wb.q;
+    return f;
+}
+
 /* Delay compensation: state at k+1 from the sampled i_dq_A(k) [A] and the
  * voltage u_dq_V(k) [V] being applied now (eq. 10-12 on the exact
- * discrete model). ISR. */
-dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V);
+ * discrete model). ISR (inline: once a period on the told model). */
+static inline dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u_dq_V)
+{
+    const dbdtc_cfg_t *cfg = &db->cfg;
+    const dbdtc_par_t *p = &db->par;
+    dq_t u;
+    dq_t psi;
+    dq_t i1;
+
+    u.d = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
+    u.q = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
+    psi.d = p->L_H * mathx_clampf(i_dq_A.d, -cfg->i_max_A, cfg->i_max_A) + p->psi_f_Wb;
+    psi.q = p->L_H * mathx_clampf(i_dq_A.q, -cfg->i_max_A, cfg->i_max_A);
+    /* eq. (10) exact: psi(k+1) = Phi psi + psi_f R g_c + L g_u u */
+    const dq_t f = dbdtc_free_flux(&db->st, psi);
+    const dq_t v = zoh_mul(db->st.gu_Wb_V, u);
+    i1.d = (f.d + v.d - p->psi_f_Wb) * p->inv_L_1_H;
+    i1.q = (f.q + v.q) * p->inv_L_1_H;
+    return dbdtc_state_from_currents(db, i1);
+}
 
 /* Deadbeat voltage u(k+1) [V] (eq. 17) that gives Te(k+2) = te_ref_Nm and
  * |psi_s(k+2)| = psi_ref_Wb from the predicted state *x; bounded to
  * +-u_max_V; returns DBDTC_FLAG_*. Keeps the free flux at k+2 for
- * dbdtc_torque_after. 0 divisions, 1 square root. ISR context. */
-uint16_t dbdtc_solve(dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm, float psi_ref_Wb, dq_t *u_dq_V);
+ * dbdtc_torque_after. 0 divisions, 1 square root. ISR context (inline:
+ * once a period, its output kept in the caller's registers). */
+static inline uint16_t dbdtc_solve(dbdtc_t *db, const dbdtc_state_t *x, float te_ref_Nm, float psi_ref_Wb,
+                                   dq_t *u_dq_V)
+{
+    const dbdtc_cfg_t *cfg = &db->cfg;
+    const dbdtc_par_t *p = &db->par;
+    const float te_ref = mathx_clampf(te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
+    const float psi_ref = mathx_clampf(psi_ref_Wb, 0.0f, cfg->psi_max_Wb);
+    uint16_t flags = 0u;
+
+    /* the state's flux, bounded as dbdtc_state_from_currents() makes it */
+    const float psi_bound = p->L_H * cfg->i_max_A + p->psi_f_Wb;
+    dq_t psi;
+    psi.d = mathx_clampf(x->psi_dq_Wb.d, -psi_bound, psi_bound);
+    psi.q = mathx_clampf(x->psi_dq_Wb.q, -psi_bound, psi_bound);
+
+    /* the free flux at k+2 (the voltage's part aside) */
+    const dq_t f = dbdtc_free_flux(&db->st, psi);
+    db->st.free_Wb = f;
+
+    /* eq. (5): the q flux that makes Te(k+2) = Te* */
+    const float psiq_tgt = p->psiq_per_Nm * te_ref;
+
+    /* eq. (17): X1'^2 - X2' = psi_s*^2 - psi_q*^2 */
+    const float disc = psi_ref * psi_ref - psiq_tgt * psiq_tgt;
+    float psid_tgt = 0.0f; /* vertex when the flux target is out of reach */
+    if (disc >= 0.0f) {
+        psid_tgt = mathx_sqrtf(disc);
+    } else {
+        flags |= DBDTC_FLAG_FLUX_UNREACHABLE;
+    }
+
+    /* u = (psi* - free) / (L g_u) */
+    dq_t dpsi;
+    dpsi.d = psid_tgt - f.d;
+    dpsi.q = psiq_tgt - f.q;
+    const dq_t u = zoh_mul(db->st.ku_V_Wb, dpsi);
+    u_dq_V->d = mathx_clampf(u.d, -cfg->u_max_V, cfg->u_max_V);
+    u_dq_V->q = mathx_clampf(u.q, -cfg->u_max_V, cfg->u_max_V);
+    return flags;
+}
+
+/* dbdtc_limit for a request outside the inscribed circle: vdc >= 0 [V],
+ * r = vdc/sqrt(3) [V]. ISR context. */
+uint16_t dbdtc_limit_hexagon(dq_t *u_dq_V, float sin_th, float cos_th, float vdc, float r);
 
 /* Torque-first limit of *u_dq_V [V] (in/out) to the inverter hexagon at
  * vdc_V [V], for a rotor frame at the angle whose sin/cos are given;
  * returns DBDTC_FLAG_VOLTAGE_LIMIT when it moved the vector. One test
- * inside the inscribed circle (the normal period), no division when
+ * inside the inscribed circle (the normal period: inline), no division when
  * inside; when limiting, 3 for each hexagon chord it needs: none for a
  * vertex, 3 or 6 otherwise. ISR context. */
-uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_th, float cos_th, float vdc_V);
+static inline uint16_t dbdtc_limit(dq_t *u_dq_V, float sin_th, float cos_th, float vdc_V)
+{
+    const float vdc = (vdc_V > 0.0f) ? vdc_V : 0.0f; /* NaN too */
+    const float r = vdc * MATHX_INV_SQRT3_F;
+
+    if ((u_dq_V->d * u_dq_V->d + u_dq_V->q * u_dq_V->q) <= DBDTC_INSCRIBED_SAFE_SQ * r * r) {
+        return 0u;
+    }
+    return dbdtc_limit_hexagon(u_dq_V, sin_th, cos_th, vdc, r);
+}
 
 #endif /* DBDTC_H */

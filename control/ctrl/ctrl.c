@@ -114,6 +114,8 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
 static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
 {
     const est_out_t *e = est_output(&c->est);
+    bool from = false;     /* the period's model with the observer's g_c */
+    bool observed = false; /* the state at k+1 the observer's i^(k+1) */
     if ((c->method == CTRL_METHOD_PROPOSED) && (e->src != EST_SRC_TOLD)) {
         const dbdtc_par_t *p = &c->db.par;
         if ((c->model_src != MODEL_EST) || ((e->moved & EST_MOVED_ALL) != 0u) ||
@@ -126,31 +128,31 @@ static dbdtc_state_t ctrl_model(ctrl_t *c, dq_t i_dq_A, const zoh_turn_t *turn)
             c->model_src = MODEL_EST;
             c->mon.model_from_observer = 1u; /* the monitor's, written when it changes */
         }
-        if (e->src == EST_SRC_OBSERVER) {
-            /* the observer's R^, L^: its period's model (one division for both) */
-            dbdtc_period_from(&c->db, turn, est_zoh_g_c(&c->est), est_zoh_rev(&c->est));
-            /* replaces eq. (10); i^ within the observer's i_max, the model's (init_est) */
-            return dbdtc_state_from_bounded(&c->db, est_i_hat_A(&c->est));
-        }
-        /* held estimates, eq. (10): the observer's g_c when it was taken in this turn for this
-         * R and L (within the observer's own SMO_MODEL_UPDATE_REL), else the model's own */
+        /* the observer's R^, L^: its period's model (one division for both); held estimates,
+         * eq. (10): the observer's g_c when it was taken in this turn for this R and L (within the
+         * observer's own SMO_MODEL_UPDATE_REL), else the model's own */
         const zoh_model_t *zo = est_zoh_model(&c->est);
-        if (est_zoh_taken_in(&c->est, turn) && (zo->R_Ohm == p->zm.R_Ohm) &&
-            (mathx_fabsf(zo->L_H - p->L_H) <= SMO_MODEL_UPDATE_REL * p->L_H)) {
-            dbdtc_period_from(&c->db, turn, est_zoh_g_c(&c->est), est_zoh_rev(&c->est));
-        } else {
-            dbdtc_period(&c->db, turn);
-        }
-        return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V);
-    }
-    if (c->model_src != MODEL_NOMINAL) {
+        observed = (e->src == EST_SRC_OBSERVER);
+        from = observed || (est_zoh_taken_in(&c->est, turn) && (zo->R_Ohm == p->zm.R_Ohm) &&
+                            (mathx_fabsf(zo->L_H - p->L_H) <= SMO_MODEL_UPDATE_REL * p->L_H));
+    } else if (c->model_src != MODEL_NOMINAL) {
         dbdtc_reset(&c->db); /* back to the told model: 4 divisions once */
         ctrl_take_te_limit(c);
         c->model_src = MODEL_NOMINAL;
         c->mon.model_from_observer = 0u;
+    } else {
+        /* the told model, taken */
     }
-    dbdtc_period(&c->db, turn);
-    return dbdtc_predict(&c->db, i_dq_A, c->u_applied_V); /* eq. (10)-(12) */
+    /* one place each below: each is inline (ctrl_step_design.md sec. 3) */
+    if (from) {
+        dbdtc_period_from(&c->db, turn, est_zoh_g_c(&c->est), est_zoh_rev(&c->est));
+    } else {
+        dbdtc_period(&c->db, turn);
+    }
+    /* the observer's i^(k+1) replaces eq. (10) (within the observer's i_max, the model's:
+     * init_est); else eq. (10)-(12) */
+    return observed ? dbdtc_state_from_bounded(&c->db, est_i_hat_A(&c->est))
+                    : dbdtc_predict(&c->db, i_dq_A, c->u_applied_V);
 }
 
 /* Mean stator-frame voltage error [V] the dead time and the device drop add
