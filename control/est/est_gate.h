@@ -34,6 +34,7 @@
 #include <stdint.h>
 
 #include "clarke_park.h"
+#include "mathx.h"
 #include "smo.h"
 
 /* Design defaults (step2_design.md sec. 4). */
@@ -118,13 +119,124 @@ bool est_gate_init(est_gate_t *g, const est_gate_cfg_t *cfg);
  * Background or ISR (when step 2 starts). */
 void est_gate_reset(est_gate_t *g, const smo_t *smo);
 
+/* The two copies within cfg.settled of each other (NaN: not). */
+static inline bool est_gate_copies_agree(const est_gate_t *g)
+{
+    return (mathx_fabsf(g->L_new - g->L_old) <= g->cfg.settled * g->L_new) &&
+           (mathx_fabsf(g->psi_new - g->psi_old) <= g->cfg.settled * g->psi_new);
+}
+
+/* The period's transients (EST_GATE_ACCEL, _CURRENT, _TORQUE, _VOLTAGE):
+ * the deviations from the low-passed values, then the filters. */
+static inline uint16_t est_gate_transients(est_gate_t *g, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
+                                           bool v_limited)
+{
+    const est_gate_cfg_t *c = &g->cfg;
+    uint16_t why = 0u;
+    if (!g->seeded) {
+        g->w_prev = omega_el_rad_s;
+        g->i_lp = i_dq_A;
+        g->te_lp = te_ref_Nm;
+        g->seeded = true;
+    }
+    /* deviations from the low-passed values, then the filters; the
+     * acceleration as the low-passed change of the speed per period. The
+     * states are bounded by their inputs (a NaN input is caught by
+     * ctrl_step's finiteness check, which stops the drive). */
+    const float dw = omega_el_rad_s - g->w_prev;
+    const float dev_d = i_dq_A.d - g->i_lp.d;
+    const float dev_q = i_dq_A.q - g->i_lp.q;
+    const float dev_te = te_ref_Nm - g->te_lp;
+    const float w_abs = mathx_fabsf(omega_el_rad_s);
+    g->w_prev = omega_el_rad_s;
+    g->dw_lp += g->k_acc * (dw - g->dw_lp);
+    g->i_lp.d += g->k_lp * dev_d;
+    g->i_lp.q += g->k_lp * dev_q;
+    g->te_lp += g->k_lp * dev_te;
+
+    const float dw_max = (w_abs > g->w_floor) ? (g->k_dw * w_abs) : g->dw_floor;
+    if (!(mathx_fabsf(g->dw_lp) <= dw_max)) {
+        why = EST_GATE_ACCEL;
+    }
+    if (!(mathx_fabsf(dev_d) + mathx_fabsf(dev_q) <= c->di_max_A)) {
+        why |= EST_GATE_CURRENT;
+    }
+    if (!(mathx_fabsf(dev_te) <= c->dte_max_Nm)) {
+        why |= EST_GATE_TORQUE;
+    }
+    if (v_limited) {
+        why |= EST_GATE_VOLTAGE;
+    }
+    return why;
+}
+
+/* The holds after the transients why: the copies restored at an onset
+ * (true), the hold time, the snapshots while clear. */
+static inline bool est_gate_hold_and_snap(est_gate_t *g, smo_t *smo, uint16_t why_now, float omega_el_rad_s,
+                                          dq_t i_dq_A)
+{
+    uint16_t why = why_now;
+    bool restored = false;
+
+    if ((why & (EST_GATE_CURRENT | EST_GATE_TORQUE)) != 0u) {
+        g->di_cnt = g->f_hold_n;
+    } else if (g->di_cnt > 0u) {
+        g->di_cnt--;
+    }
+    if (!g->settled) {
+        why = 0u; /* still converging: learn on (header) */
+        g->di_cnt = 0u;
+    }
+
+    if (why != 0u) {
+        if (g->hold_cnt == 0u) {
+            /* onset: back to the delayed copy, which the transient's first
+             * periods have not touched */
+            (void)smo_set_L_deferred(smo, g->L_old, omega_el_rad_s, i_dq_A.q);
+            (void)smo_set_psi(smo, g->psi_old, omega_el_rad_s);
+            g->L_new = g->L_old;
+            g->psi_new = g->psi_old;
+            g->settled = true;
+            restored = true;
+        }
+        g->hold_cnt = g->hold_n;
+        g->snap_cnt = 0u;
+    } else if (g->hold_cnt > 0u) {
+        g->hold_cnt--;
+        why = EST_GATE_HOLD;
+    } else {
+        g->snap_cnt++;
+        if (g->snap_cnt >= g->snap_n) {
+            g->snap_cnt = 0u;
+            g->L_old = g->L_new;
+            g->psi_old = g->psi_new;
+            g->L_new = smo->L_H;
+            g->psi_new = smo->psi_f_Wb;
+            /* settled once, settled until the next reset: on a real board L^'s
+             * noise moves it by up to 10 % in 5 ms, which must not switch the
+             * gate off (step2_design.md sec. 6) */
+            g->settled = g->settled || est_gate_copies_agree(g);
+        }
+    }
+    g->reasons = why;
+    return restored;
+}
+
 /* One period, before param_est_step(): omega_el_rad_s and i_dq_A of this
  * sample, te_ref_Nm and v_limited of the last step. On a new pause sets
  * L^, psi^ of *smo back to the delayed copy (bumpless setters) and
  * returns true when it did (the model's parameters moved); the laws may
- * run when g->reasons == 0. ISR, no division. */
-bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
-                   bool v_limited);
+ * run when g->reasons == 0. ISR, no division (inline: once a period). */
+static inline bool est_gate_step(est_gate_t *g, smo_t *smo, float omega_el_rad_s, dq_t i_dq_A, float te_ref_Nm,
+                                 bool v_limited)
+{
+    if (!g->valid) {
+        g->reasons = EST_GATE_HOLD;
+        return false;
+    }
+    const uint16_t why = est_gate_transients(g, omega_el_rad_s, i_dq_A, te_ref_Nm, v_limited);
+    return est_gate_hold_and_snap(g, smo, why, omega_el_rad_s, i_dq_A);
+}
 
 /* L_H [H] set from outside the laws (est_hold_oscillation): both copies
  * take it, so a transient's restore keeps it. ISR. */
