@@ -106,7 +106,8 @@ RAMFUNC uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_
     if (!pe->running || (smo->status != SMO_CFG_OK)) {
         return 0u;
     }
-    /* the observer's own input bounds, so the invariant smo_set_L/psi keep is this one */
+    /* the observer's own input bounds, so the invariant smo_take_L/psi keep is this one (and
+     * running: the clamps inside the observer's ranges, param_est_init) */
     const float w = mathx_clampf(omega_el_rad_s, -smo->cfg.omega_max_rad_s, smo->cfg.omega_max_rad_s);
     const float iq = mathx_clampf(iq_A, -smo->cfg.i_max_A, smo->cfg.i_max_A);
     const float wiq = w * iq;
@@ -124,7 +125,7 @@ RAMFUNC uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_
         const float delta_V = pe->gamma_L_Tu * smo->fd_V;
         const float L_tgt = smo->L_H - mathx_clampf(delta_V / wiq, -pe->dL_max_H, pe->dL_max_H);
         const float L_new = mathx_clampf(L_tgt, c->L_min_H, c->L_max_H);
-        (void)smo_set_L(smo, L_new, w, iq); /* fd^ -= delta (less when clamped) */
+        smo_take_L(smo, L_new, w, iq); /* fd^ -= delta (less when clamped) */
         flags |= PARAM_EST_L_MOVED;
         if (pe->L_fast_left != 0u) {
             pe->L_fast_left--;
@@ -142,7 +143,7 @@ RAMFUNC uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_
         const float delta_V = pe->kpsi * smo->fq_V;
         const float psi_tgt = smo->psi_f_Wb + mathx_clampf(delta_V / w, -pe->dpsi_max_Wb, pe->dpsi_max_Wb);
         const float psi_new = mathx_clampf(psi_tgt, c->psi_min_Wb, c->psi_max_Wb);
-        (void)smo_set_psi(smo, psi_new, w); /* fq^ -= delta (less when clamped) */
+        smo_take_psi(smo, psi_new, w); /* fq^ -= delta (less when clamped) */
         flags |= PARAM_EST_PSI_MOVED;
         if (!((psi_tgt >= c->psi_min_Wb) && (psi_tgt <= c->psi_max_Wb))) {
             flags |= PARAM_EST_PSI_CLAMPED;

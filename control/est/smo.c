@@ -8,8 +8,8 @@ static bool in_range(float x, float lo, float hi)
     return (x >= lo) && (x <= hi);
 }
 
-/* The decay at R^, L^ (zoh.h): 2 divisions; Phi, g_u, g_c follow at the next step. */
-static void update_model(smo_t *smo)
+/* Phi, g_u, g_c follow at the next step. */
+void smo_update_model(smo_t *smo)
 {
     smo->zm_stale = false;
     smo->z_turn = 0u; /* no turn's number: taken again at the next step */
@@ -33,7 +33,7 @@ void smo_reset(smo_t *smo)
     smo->R_Ohm = smo->cfg.R_Ohm;
     smo->L_H = smo->cfg.L_H;
     smo->psi_f_Wb = smo->cfg.psi_f_Wb;
-    update_model(smo);
+    smo_update_model(smo);
     zoh_turn(0.0f, 0.0f, &still); /* at standstill until the first step's turn */
     zoh_step(&smo->zm, &still, &smo->z);
     smo->z_rc = 0.0f;
@@ -54,7 +54,7 @@ void smo_reset(smo_t *smo)
 static void take_period(smo_t *smo, const zoh_turn_t *turn)
 {
     if (smo->zm_stale) {
-        update_model(smo); /* L^ moved since: 2 divisions */
+        smo_update_model(smo); /* L^ moved since: 2 divisions */
     }
     if (turn->seq != smo->z_turn) {
         const float rho = smo->zm.rho;
@@ -152,7 +152,7 @@ bool smo_set_R(smo_t *smo, float R_Ohm)
     smo->fd_V = mathx_clampf(smo->fd_V + dR * smo->i_hat_A.d, -c->f_max_V, c->f_max_V);
     smo->fq_V = mathx_clampf(smo->fq_V + dR * smo->i_hat_A.q, -c->f_max_V, c->f_max_V);
     smo->R_Ohm = R_Ohm;
-    update_model(smo);
+    smo_update_model(smo);
     return true;
 }
 
@@ -160,7 +160,7 @@ float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
 {
     const float L_new = smo_set_L_deferred(smo, L_H, omega_el_rad_s, iq_A);
     if (smo->zm_stale) {
-        update_model(smo); /* the decay at the L^ in use; 2 divisions */
+        smo_update_model(smo); /* the decay at the L^ in use; 2 divisions */
     }
     return L_new;
 }
@@ -176,12 +176,7 @@ float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A
     /* NaN maps to L_min: never a division by ~0 below */
     const float L_new = mathx_clampf(L_H, c->L_min_H, c->L_max_H);
 
-    /* step2_design.md sec. 1: w L^ iq - fd^ unchanged */
-    smo->fd_V = mathx_clampf(smo->fd_V + (L_new - smo->L_H) * w * iq, -c->f_max_V, c->f_max_V);
-    smo->L_H = L_new;
-    if (mathx_fabsf(L_new - smo->zm.L_H) > SMO_MODEL_UPDATE_REL * smo->zm.L_H) {
-        smo->zm_stale = true; /* the decay at the L^ in use at the next step (2 divisions there) */
-    }
+    smo_take_L_deferred(smo, L_new, w, iq);
     return L_new;
 }
 
@@ -194,8 +189,6 @@ float smo_set_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s)
     const float w = mathx_clampf(omega_el_rad_s, -c->omega_max_rad_s, c->omega_max_rad_s);
     const float psi_new = mathx_clampf(psi_f_Wb, c->psi_min_Wb, c->psi_max_Wb);
 
-    /* step2_design.md sec. 2: w psi^ + fq^ unchanged */
-    smo->fq_V = mathx_clampf(smo->fq_V - (psi_new - smo->psi_f_Wb) * w, -c->f_max_V, c->f_max_V);
-    smo->psi_f_Wb = psi_new;
+    smo_take_psi(smo, psi_new, w);
     return psi_new;
 }

@@ -43,6 +43,7 @@
 #include <stdint.h>
 
 #include "clarke_park.h"
+#include "mathx.h"
 #include "zoh.h"
 
 /* Design (discrete_model_design.md sec. 5), used by smo_gains_design(). */
@@ -200,6 +201,46 @@ float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A
 /* Sets psi^ [Wb], limited to [psi_min, psi_max], keeping w psi^ + fq^ at
  * the given omega_el_rad_s; returns the psi^ now in use. ISR. */
 float smo_set_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s);
+
+/* The decay at R^, L^ (zoh.h; 2 divisions): what smo_set_L does when L^
+ * moved by more than SMO_MODEL_UPDATE_REL. ISR or background. */
+void smo_update_model(smo_t *smo);
+
+/* smo_set_L_deferred's move for a caller that keeps its checks: the
+ * observer accepted (status OK), omega_el_rad_s within +-omega_max, iq_A
+ * within +-i_max, L_H within [L_min, L_max] (param_est's clamps are
+ * inside them: param_est_init). The same floats, without the checks.
+ * ISR (inline: the L law's every second period). */
+static inline void smo_take_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
+{
+    /* step2_design.md sec. 1: w L^ iq - fd^ unchanged */
+    smo->fd_V = mathx_clampf(smo->fd_V + (L_H - smo->L_H) * omega_el_rad_s * iq_A, -smo->cfg.f_max_V,
+                             smo->cfg.f_max_V);
+    smo->L_H = L_H;
+    if (mathx_fabsf(L_H - smo->zm.L_H) > SMO_MODEL_UPDATE_REL * smo->zm.L_H) {
+        smo->zm_stale = true; /* the decay at the L^ in use at the next step (2 divisions there) */
+    }
+}
+
+/* As smo_set_L under smo_take_L_deferred's conditions. ISR (inline). */
+static inline void smo_take_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
+{
+    smo_take_L_deferred(smo, L_H, omega_el_rad_s, iq_A);
+    if (smo->zm_stale) {
+        smo_update_model(smo); /* the decay at the L^ in use; 2 divisions */
+    }
+}
+
+/* smo_set_psi's move for a caller that keeps its checks: the observer
+ * accepted, omega_el_rad_s within +-omega_max, psi_f_Wb within [psi_min,
+ * psi_max] (param_est_init). The same floats. ISR (inline). */
+static inline void smo_take_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s)
+{
+    /* step2_design.md sec. 2: w psi^ + fq^ unchanged */
+    smo->fq_V = mathx_clampf(smo->fq_V - (psi_f_Wb - smo->psi_f_Wb) * omega_el_rad_s, -smo->cfg.f_max_V,
+                             smo->cfg.f_max_V);
+    smo->psi_f_Wb = psi_f_Wb;
+}
 
 /* A voltage the model now compensates: f^ gives up (dfd_V, dfq_V) [V] it
  * no longer has to explain (the inverter error identified,
