@@ -60,9 +60,7 @@ bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *sm
     return pe->valid;
 }
 
-/* The L law's gain per update for the held flag and the phase: zero
- * holds L^ without a test in the ISR's path. */
-RAMFUNC static void set_gain_L(param_est_t *pe)
+RAMFUNC void param_est_set_gain_L(param_est_t *pe)
 {
     const float gamma = (pe->L_fast_left != 0u) ? pe->cfg.gamma_L_1_s : pe->cfg.gamma_L_slow_1_s;
     pe->gamma_L_Tu = (pe->valid && !pe->L_held) ? gamma * (PARAM_EST_LAW_PERIODS * pe->cfg.Ts_s) : 0.0f;
@@ -72,7 +70,7 @@ RAMFUNC static void set_gain_L(param_est_t *pe)
 RAMFUNC static void restart_fast_L(param_est_t *pe)
 {
     pe->L_fast_left = pe->valid ? (uint32_t)(pe->cfg.L_fast_s / (PARAM_EST_LAW_PERIODS * pe->cfg.Ts_s)) : 0u;
-    set_gain_L(pe);
+    param_est_set_gain_L(pe);
 }
 
 RAMFUNC void param_est_reset(param_est_t *pe)
@@ -87,7 +85,7 @@ RAMFUNC void param_est_reset(param_est_t *pe)
 RAMFUNC void param_est_hold_L(param_est_t *pe, bool hold)
 {
     pe->L_held = hold;
-    set_gain_L(pe);
+    param_est_set_gain_L(pe);
 }
 
 RAMFUNC void param_est_run(param_est_t *pe, bool run)
@@ -96,59 +94,4 @@ RAMFUNC void param_est_run(param_est_t *pe, bool run)
     if (pe->running) {
         restart_fast_L(pe); /* L^ starts again from the observer's value: converge first */
     }
-}
-
-RAMFUNC uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_el_rad_s, float iq_A, float w_min_rad_s)
-{
-    const param_est_cfg_t *c = &pe->cfg;
-    uint16_t flags = 0u;
-
-    if (!pe->running || (smo->status != SMO_CFG_OK)) {
-        return 0u;
-    }
-    /* the observer's own input bounds, so the invariant smo_take_L/psi keep is this one (and
-     * running: the clamps inside the observer's ranges, param_est_init) */
-    const float w = mathx_clampf(omega_el_rad_s, -smo->cfg.omega_max_rad_s, smo->cfg.omega_max_rad_s);
-    const float iq = mathx_clampf(iq_A, -smo->cfg.i_max_A, smo->cfg.i_max_A);
-    const float wiq = w * iq;
-
-    /* The laws take turns, each every second period at twice the gain
-     * (PARAM_EST_LAW_PERIODS): the same slow rates at half the cost. The
-     * clamp bits of the law that rests keep their last value. */
-    pe->phase_psi = !pe->phase_psi;
-    flags = pe->flags_last & (pe->phase_psi ? PARAM_EST_L_CLAMPED : PARAM_EST_PSI_CLAMPED);
-
-    /* Replaces (53)-(55): corrected steady state fd = dL w iq
-     * (corrected_model_design.md sec. 2, step2_design.md sec. 1),
-     * applied as a slow transfer of fd^ into L^ instead of L + fd/(w iq). */
-    if (!pe->phase_psi && (mathx_fabsf(wiq) > c->wiq_min_A_rad_s)) {
-        const float delta_V = pe->gamma_L_Tu * smo->fd_V;
-        const float L_tgt = smo->L_H - mathx_clampf(delta_V / wiq, -pe->dL_max_H, pe->dL_max_H);
-        const float L_new = mathx_clampf(L_tgt, c->L_min_H, c->L_max_H);
-        smo_take_L(smo, L_new, w, iq); /* fd^ -= delta (less when clamped) */
-        flags |= PARAM_EST_L_MOVED;
-        if (pe->L_fast_left != 0u) {
-            pe->L_fast_left--;
-            if (pe->L_fast_left == 0u) {
-                set_gain_L(pe); /* converged: the averaging rate from here */
-            }
-        }
-        if (!((L_tgt >= c->L_min_H) && (L_tgt <= c->L_max_H))) {
-            flags |= PARAM_EST_L_CLAMPED;
-        }
-    }
-    /* Replaces (43)-(50): fq = -dpsi w at equilibrium (step2_design.md sec. 2); psi^
-     * takes fq^ at the speed-independent rate gamma_psi. */
-    if (pe->phase_psi && (mathx_fabsf(w) > w_min_rad_s)) {
-        const float delta_V = pe->kpsi * smo->fq_V;
-        const float psi_tgt = smo->psi_f_Wb + mathx_clampf(delta_V / w, -pe->dpsi_max_Wb, pe->dpsi_max_Wb);
-        const float psi_new = mathx_clampf(psi_tgt, c->psi_min_Wb, c->psi_max_Wb);
-        smo_take_psi(smo, psi_new, w); /* fq^ -= delta (less when clamped) */
-        flags |= PARAM_EST_PSI_MOVED;
-        if (!((psi_tgt >= c->psi_min_Wb) && (psi_tgt <= c->psi_max_Wb))) {
-            flags |= PARAM_EST_PSI_CLAMPED;
-        }
-    }
-    pe->flags_last = flags;
-    return flags;
 }
