@@ -48,10 +48,7 @@ void smo_reset(smo_t *smo)
     smo->U_V.q = 0.0f;
 }
 
-/* The period's Phi, g_u, g_c (and Phi - rho) in the turn *turn: taken
- * again when the turn or the decay changed (the decay first when L^
- * moved: smo_set_L_deferred). */
-static void take_period(smo_t *smo, const zoh_turn_t *turn)
+void smo_take_period(smo_t *smo, const zoh_turn_t *turn)
 {
     if (smo->zm_stale) {
         smo_update_model(smo); /* L^ moved since: 2 divisions */
@@ -65,73 +62,6 @@ static void take_period(smo_t *smo, const zoh_turn_t *turn)
         smo->z_turn = turn->seq;
         smo->z_rev++;
     }
-}
-
-/* Boundary-layer switching term Ks sat(e/phi) [V] (replaces sign() of (32)). */
-static float switching(const smo_t *smo, float e_A)
-{
-    return smo->cfg.Ks_V * mathx_clampf(e_A * smo->inv_phi_1_A, -1.0f, 1.0f);
-}
-
-dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const zoh_turn_t *turn)
-{
-    const smo_cfg_t *c = &smo->cfg;
-    dq_t i;
-    dq_t u;
-    dq_t v;
-    dq_t next;
-
-    i.d = mathx_clampf(i_A.d, -c->i_max_A, c->i_max_A);
-    i.q = mathx_clampf(i_A.q, -c->i_max_A, c->i_max_A);
-    /* u as applied: the inverter bounds it (a non-finite u is the caller's
-     * NONFINITE fault; smo_reset at the next start clears what it left) */
-    u = u_V;
-    if (smo->status != SMO_CFG_OK) {
-        smo->i_hat_A = i;
-        return smo->i_hat_A;
-    }
-    if (!smo->seeded) {
-        /* i^(k) = i(k) at enable: no error, no switching kick. */
-        smo->i_hat_A = i;
-        smo->seeded = true;
-    }
-
-    /* (30): e = i^ - i, with i^(k) the previous prediction */
-    const float Ud = switching(smo, smo->i_hat_A.d - i.d);
-    const float Uq = switching(smo, smo->i_hat_A.q - i.q);
-    take_period(smo, turn);
-    const float rho = smo->zm.rho;
-    const zoh_step_t *z = &smo->z;
-
-    /* (51b), (55) exact: the rotor's turn on the measured current (the
-     * paper's cross terms w Ts i(k)), rho on the observer's own; U with +
-     * sign from the error dynamics; -w psi^ with the psi^ in use */
-    v.d = -smo->fd_V - Ud;
-    v.q = -omega_el_rad_s * smo->psi_f_Wb - smo->fq_V - Uq; /* w(k) itself: a kept turn's w is up to
-                                                               * ZOH_THETA_TOL_RAD/Ts off, w psi by that x psi */
-    const dq_t gu = zoh_mul(z->g_u, u);
-    const dq_t gv = zoh_mul(z->g_c, v);
-    const float rc = smo->z_rc;
-    const float rs = smo->z_rs;
-    next.d = rho * smo->i_hat_A.d + rc * i.d + rs * i.q + gu.d + gv.d;
-    next.q = rho * smo->i_hat_A.q + rc * i.q - rs * i.d + gu.q + gv.q;
-    /* (51b), (55): f^ += mu Ts U, the sign that makes (37) converge */
-    smo->fd_V = mathx_clampf(smo->fd_V + smo->mu_d_Ts * Ud, -c->f_max_V, c->f_max_V);
-    smo->fq_V = mathx_clampf(smo->fq_V + smo->mu_q_Ts * Uq, -c->f_max_V, c->f_max_V);
-
-    smo->i_hat_A.d = mathx_clampf(next.d, -c->i_max_A, c->i_max_A);
-    smo->i_hat_A.q = mathx_clampf(next.q, -c->i_max_A, c->i_max_A);
-    smo->U_V.d = Ud;
-    smo->U_V.q = Uq;
-    return smo->i_hat_A;
-}
-
-dq_t smo_step(smo_t *smo, dq_t i_A, float omega_el_rad_s, dq_t u_V)
-{
-    const float w = mathx_clampf(omega_el_rad_s, -smo->cfg.omega_max_rad_s, smo->cfg.omega_max_rad_s);
-    zoh_turn_t t;
-    zoh_turn(w * smo->cfg.Ts_s, w, &t);
-    return smo_step_turn(smo, i_A, u_V, w, &t);
 }
 
 void smo_shift_f(smo_t *smo, float dfd_V, float dfq_V)

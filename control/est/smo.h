@@ -169,16 +169,81 @@ smo_status_t smo_init(smo_t *smo, const smo_cfg_t *cfg);
  * Background, or ISR before the observer is enabled. */
 void smo_reset(smo_t *smo);
 
+/* The period's Phi, g_u, g_c (and Phi - rho) in the turn *turn: taken
+ * again when the turn or the decay changed (the decay first when L^
+ * moved: smo_set_L_deferred). ISR (the periods whose turn or decay moved). */
+void smo_take_period(smo_t *smo, const zoh_turn_t *turn);
+
+/* Boundary-layer switching term Ks sat(e/phi) [V] (replaces sign() of (32)). */
+static inline float smo_switching(const smo_t *smo, float e_A)
+{
+    return smo->cfg.Ks_V * mathx_clampf(e_A * smo->inv_phi_1_A, -1.0f, 1.0f);
+}
+
 /* One period: i_A = measured i(k) [A], u_V = the voltage applied over
  * [k, k+1] after the hexagon clamp [V], omega_el_rad_s = w(k) within
  * +-omega_max [rad/s el] (the back-EMF's), *turn the rotor's turn over it
  * (zoh_turn at w(k), or within ZOH_THETA_TOL_RAD of it). Returns and stores i^(k+1) [A]
  * (eq. 51b, 55 as corrected in this header). 1 division when the turn or
- * the decay changed since the last step, else none. ISR. */
-dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const zoh_turn_t *turn);
+ * the decay changed since the last step, else none. ISR (inline: once a
+ * period; the period's model a call when it moved). */
+static inline dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const zoh_turn_t *turn)
+{
+    const smo_cfg_t *c = &smo->cfg;
+    dq_t i;
+    dq_t u;
+    dq_t v;
+    dq_t next;
+
+    i.d = mathx_clampf(i_A.d, -c->i_max_A, c->i_max_A);
+    i.q = mathx_clampf(i_A.q, -c->i_max_A, c->i_max_A);
+    /* u as applied: the inverter bounds it (a non-finite u is the caller's
+     * NONFINITE fault; smo_reset at the next start clears what it left) */
+    u = u_V;
+    if (smo->status != SMO_CFG_OK) {
+        smo->i_hat_A = i;
+        return smo->i_hat_A;
+    }
+    if (!smo->seeded) {
+        /* i^(k) = i(k) at enable: no error, no switching kick. */
+        smo->i_hat_A = i;
+        smo->seeded = true;
+    }
+
+    /* (30): e = i^ - i, with i^(k) the previous prediction */
+    const float Ud = smo_switching(smo, smo->i_hat_A.d - i.d);
+    const float Uq = smo_switching(smo, smo->i_hat_A.q - i.q);
+    if (smo->zm_stale || (turn->seq != smo->z_turn)) {
+        smo_take_period(smo, turn); /* the turn or the decay moved: 1 division (3 with the decay) */
+    }
+    const float rho = smo->zm.rho;
+    const zoh_step_t *z = &smo->z;
+
+    /* (51b), (55) exact: the rotor's turn on the measured current (the
+     * paper's cross terms w Ts i(k)), rho on the observer's own; U with +
+     * sign from the error dynamics; -w psi^ with the psi^ in use */
+    v.d = -smo->fd_V - Ud;
+    v.q = -omega_el_rad_s * smo->psi_f_Wb - smo->fq_V - Uq; /* w(k) itself: a kept turn's w is up to
+                                                               * ZOH_THETA_TOL_RAD/Ts off, w psi by that x psi */
+    const dq_t gu = zoh_mul(z->g_u, u);
+    const dq_t gv = zoh_mul(z->g_c, v);
+    const float rc = smo->z_rc;
+    const float rs = smo->z_rs;
+    next.d = rho * smo->i_hat_A.d + rc * i.d + rs * i.q + gu.d + gv.d;
+    next.q = rho * smo->i_hat_A.q + rc * i.q - rs * i.d + gu.q + gv.q;
+    /* (51b), (55): f^ += mu Ts U, the sign that makes (37) converge */
+    smo->fd_V = mathx_clampf(smo->fd_V + smo->mu_d_Ts * Ud, -c->f_max_V, c->f_max_V);
+    smo->fq_V = mathx_clampf(smo->fq_V + smo->mu_q_Ts * Uq, -c->f_max_V, c->f_max_V);
+
+    smo->i_hat_A.d = mathx_clampf(next.d, -c->i_max_A, c->i_max_A);
+    smo->i_hat_A.q = mathx_clampf(next.q, -c->i_max_A, c->i_max_A);
+    smo->U_V.d = Ud;
+    smo->U_V.q = Uq;
+    return smo->i_hat_A;
+}
 
 /* As smo_step_turn at omega_el_rad_s = w(k) [rad/s el] (the turn taken
- * here). ISR. */
+ * here). Background: off the ISR's path (smo_cfg.c, flash on the target). */
 dq_t smo_step(smo_t *smo, dq_t i_A, float omega_el_rad_s, dq_t u_V);
 
 /* Sets R^ [Ohm] bumplessly: f^ += (R^old - R^new) i^ keeps -R^ i^ - f^;

@@ -154,3 +154,10 @@ smo_status_t smo_init(smo_t *smo, const smo_cfg_t *cfg)
     return smo->status;
 }
 
+dq_t smo_step(smo_t *smo, dq_t i_A, float omega_el_rad_s, dq_t u_V)
+{
+    const float w = mathx_clampf(omega_el_rad_s, -smo->cfg.omega_max_rad_s, smo->cfg.omega_max_rad_s);
+    zoh_turn_t t;
+    zoh_turn(w * smo->cfg.Ts_s, w, &t);
+    return smo_step_turn(smo, i_A, u_V, w, &t);
+}
