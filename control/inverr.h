@@ -66,25 +66,37 @@ static inline float inverr_leg_V(float i_A, float r_A, float dv_dead_V, float dv
  * all >= 0 (hi >= 0 >= lo; with mid < 0, hi >= -2 mid makes (hi - mid)/3
  * >= |mid|) (inverter_error_design.md sec. 8). Returns the largest [A]
  * (the mid leg's near the hexagon). Any context. */
+/* u0, u1, u2 at the leg index i (0, 1, 2): a select, not an index, so
+ * the caller's arrays stay in registers. */
+static inline float inverr_at(uint16_t i, float u0, float u1, float u2)
+{
+    return (i == 0u) ? u0 : ((i == 1u) ? u1 : u2);
+}
+
 static inline float inverr_ripples_A(const float u_V[3], float inv_vdc_1_V, float k_A_V, float r_A[3])
 {
-    static const uint16_t NEXT[3] = { 1u, 2u, 0u };
-    const uint16_t ih = (u_V[0] >= u_V[1]) ? ((u_V[0] >= u_V[2]) ? 0u : 2u) : ((u_V[1] >= u_V[2]) ? 1u : 2u);
-    const uint16_t j = NEXT[ih];
-    const uint16_t k = NEXT[j];
-    const uint16_t il = (u_V[j] <= u_V[k]) ? j : k;
+    const float u0 = u_V[0];
+    const float u1 = u_V[1];
+    const float u2 = u_V[2];
+    const uint16_t ih = (u0 >= u1) ? ((u0 >= u2) ? 0u : 2u) : ((u1 >= u2) ? 1u : 2u);
+    const uint16_t j = (ih == 2u) ? 0u : (uint16_t)(ih + 1u); /* the next legs round */
+    const uint16_t k = (j == 2u) ? 0u : (uint16_t)(j + 1u);
+    const uint16_t il = (inverr_at(j, u0, u1, u2) <= inverr_at(k, u0, u1, u2)) ? j : k;
     const uint16_t im = (il == j) ? k : j;
-    const float hi = u_V[ih];
-    const float lo = u_V[il];
-    const float mid = u_V[im];
+    const float hi = inverr_at(ih, u0, u1, u2);
+    const float lo = inverr_at(il, u0, u1, u2);
+    const float mid = inverr_at(im, u0, u1, u2);
     const float d_edge = mathx_clampf(INVERR_DUTY_MID * (1.0f - (hi - lo) * inv_vdc_1_V), 0.0f, 1.0f);
     const float d_mid = mathx_clampf(INVERR_DUTY_MID - INVERR_MID_PER_VDC * mid * inv_vdc_1_V, 0.0f, 1.0f);
     const float k_edge = k_A_V * d_edge;
-    r_A[ih] = k_edge * hi;
-    r_A[il] = -k_edge * lo;
-    r_A[im] = k_A_V * ((hi - mid) * INVERR_ONE_THIRD + mid * d_mid);
+    const float r_hi = k_edge * hi;
+    const float r_lo = -k_edge * lo;
+    const float r_mid = k_A_V * ((hi - mid) * INVERR_ONE_THIRD + mid * d_mid);
+    r_A[0] = (ih == 0u) ? r_hi : ((il == 0u) ? r_lo : r_mid);
+    r_A[1] = (ih == 1u) ? r_hi : ((il == 1u) ? r_lo : r_mid);
+    r_A[2] = (ih == 2u) ? r_hi : ((il == 2u) ? r_lo : r_mid);
     const float r_edge = k_edge * ((hi > -lo) ? hi : -lo);
-    return (r_edge > r_A[im]) ? r_edge : r_A[im];
+    return (r_edge > r_mid) ? r_edge : r_mid;
 }
 
 /* The stator-frame mean voltage error [V] of the period for the phase
