@@ -114,24 +114,9 @@ RAMFUNC void psi_band_pause(psi_band_t *pb, float omega_el_rad_s)
                                                                    : (uint16_t)(pb->low | PSI_BAND_LOW_W);
 }
 
-RAMFUNC bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float vdc_V,
-                   float ve_found_V)
+RAMFUNC bool psi_band_decide(psi_band_t *pb, float vdc_V, float ve_found_V)
 {
-    if (!(mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s)) {
-        pb->k = 0u;
-        pb->inv_w_s_rad = 0.0f;
-        pb->low = (uint16_t)(pb->low | PSI_BAND_LOW_W);
-        return false; /* psi_eq ill-conditioned: hold */
-    }
-    if (pb->k == 0u) {
-        pb->inv_w_s_rad = 1.0f / omega_el_rad_s;
-    }
     const float inv_w = pb->inv_w_s_rad;
-    pb->P_Wb += pb->a * (psi_obs_Wb + fq_V * inv_w - pb->P_Wb);
-    pb->k++;
-    if (pb->k < PSI_BAND_DECIDE_PERIODS) {
-        return false;
-    }
     pb->k = 0u;
     /* Vb/|w|: the flux the voltage nobody can explain may fake at this speed */
     const float abs_inv_w = mathx_fabsf(inv_w);

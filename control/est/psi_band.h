@@ -48,6 +48,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "mathx.h"
+
 /* Design defaults (holds_design.md sec. 2, 3, 5). */
 #define PSI_BAND_TAU_DEFAULT_S         0.02f /* low-pass of psi_eq: 0.14 V rms of fq^ noise -> 0.006 V */
 #define PSI_BAND_UNC_TOLD_FRAC_DEFAULT 0.5f  /* before identification: of the told dead time's fundamental (an untold device drop too) */
@@ -160,13 +162,37 @@ void psi_band_hold(psi_band_t *pb, bool hold);
  * psi_band_step takes 1/w afresh; PSI_BAND_LOW_W follows w. ISR. */
 void psi_band_pause(psi_band_t *pb, float omega_el_rad_s);
 
+/* psi_band_step's decision, every PSI_BAND_DECIDE_PERIODS learning
+ * periods (psi_band_step's vdc_V, ve_found_V): the count restarted, the
+ * band at the 1/w taken, `low`, the tracking and the model's psi_f. True
+ * when it moved. ISR. */
+bool psi_band_decide(psi_band_t *pb, float vdc_V, float ve_found_V);
+
 /* One learning period (not during the step-2 gate's pauses): the
  * observer's psi^ [Wb] and fq^ [V], w [rad/s electrical], the bus vdc_V
  * [V] (the told and prior fundamentals are per bus volt) and the
  * fundamental [V] of the error identified on top of the told dead time
  * (ve_found_V). True when the model's psi_f moved. 1 division every
- * PSI_BAND_DECIDE_PERIODS. ISR. */
-bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float vdc_V,
-                   float ve_found_V);
+ * PSI_BAND_DECIDE_PERIODS. ISR (inline: the filter every period, the
+ * decision a call). */
+static inline bool psi_band_step(psi_band_t *pb, float psi_obs_Wb, float fq_V, float omega_el_rad_s, float vdc_V,
+                                 float ve_found_V)
+{
+    if (!(mathx_fabsf(omega_el_rad_s) > pb->cfg.w_min_rad_s)) {
+        pb->k = 0u;
+        pb->inv_w_s_rad = 0.0f;
+        pb->low = (uint16_t)(pb->low | PSI_BAND_LOW_W);
+        return false; /* psi_eq ill-conditioned: hold */
+    }
+    if (pb->k == 0u) {
+        pb->inv_w_s_rad = 1.0f / omega_el_rad_s;
+    }
+    pb->P_Wb += pb->a * (psi_obs_Wb + fq_V * pb->inv_w_s_rad - pb->P_Wb);
+    pb->k++;
+    if (pb->k < PSI_BAND_DECIDE_PERIODS) {
+        return false;
+    }
+    return psi_band_decide(pb, vdc_V, ve_found_V);
+}
 
 #endif /* PSI_BAND_H */
