@@ -251,47 +251,24 @@ RAMFUNC static r_track_event_t end_cycle(r_track_t *rt)
     return ev;
 }
 
-RAMFUNC r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
-                             float L_H)
+RAMFUNC void r_track_wait_over(r_track_t *rt, float omega_el_rad_s)
+{
+    if (rt->phase == R_TRACK_IDENT) {
+        cycle_length(rt, omega_el_rad_s); /* the first cycle */
+    }
+}
+
+RAMFUNC r_track_event_t r_track_segment_end(r_track_t *rt, float omega_el_rad_s)
 {
     r_track_event_t ev = R_TRACK_NONE;
-    if (rt->phase == R_TRACK_OFF) {
-        return R_TRACK_NONE;
-    }
-    if (rt->wait > 0u) {
-        rt->wait--;
-        if ((rt->wait == 0u) && (rt->phase == R_TRACK_IDENT)) {
-            cycle_length(rt, omega_el_rad_s); /* the first cycle */
+    rt->j = 0u;
+    rt->seg++;
+    if (rt->seg >= SEGMENTS) {
+        ev = end_cycle(rt); /* back to segment 0 */
+        if (rt->phase == R_TRACK_IDENT) {
+            cycle_length(rt, omega_el_rad_s); /* the next cycle */
         }
-        return R_TRACK_NONE;
     }
-    /* the reference two periods back is in this sample (delay line, no modulo) */
-    rt->id_expect_A = rt->ref_q[0];
-    rt->ref_q[0] = rt->ref_q[1];
-    if (rt->j >= rt->blank_len) {
-        if (rt->n == 0u) {
-            /* constant over the cycle: the L^ law's invariant stays one; IDENT only (inverter_error_design.md sec. 6) */
-            rt->L_c_H = (rt->phase == R_TRACK_IDENT) ? L_H : 0.0f;
-        }
-        /* inverter_error_design.md sec. 6: -w L0 iq out of z, so iq(+) != iq(-) does not leak */
-        rt->s_zs += rt->s_now * (z_V + rt->L_c_H * omega_el_rad_s * iq_A);
-        rt->s_is += rt->s_now * id_A;
-        rt->s_iq += iq_A;
-        rt->s_iqs += rt->s_now * iq_A;
-        rt->n++;
-    }
-    rt->j++;
-    if (rt->j >= rt->seg_len) {
-        rt->j = 0u;
-        rt->seg++;
-        if (rt->seg >= SEGMENTS) {
-            ev = end_cycle(rt); /* back to segment 0 */
-            if (rt->phase == R_TRACK_IDENT) {
-                cycle_length(rt, omega_el_rad_s); /* the next cycle */
-            }
-        }
-        rt->s_now = seg_sign(rt->seg);
-    }
-    rt->ref_q[1] = r_track_id_ref(rt); /* for the voltage computed this period */
+    rt->s_now = seg_sign(rt->seg);
     return ev;
 }

@@ -186,10 +186,6 @@ void r_track_hold(r_track_t *rt);
  * nothing in other phases or during the delay. ISR. */
 void r_track_restart_cycle(r_track_t *rt, float omega_el_rad_s);
 
-/* One period: z_V = fd^ - w L^ iq [V], measured id_A, iq_A [A], the
- * observer's omega_el_rad_s [rad/s] and L_H = L^ [H]. ISR. */
-r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
-                             float L_H);
 
 /* TRACK: true when the R error the inverter's compensation may put into
  * a cycle's rho, (inv_unc_frac + ripple_unc r/|i|) Ve_comp/|i|, is at most
@@ -209,6 +205,54 @@ void r_track_discard(r_track_t *rt);
 static inline float r_track_id_ref(const r_track_t *rt)
 {
     return ((rt->phase == R_TRACK_OFF) || (rt->wait > 0u)) ? 0.0f : rt->s_now * rt->i_inj_A;
+}
+
+/* The wait ended this period (r_track_step): IDENT takes its first
+ * cycle's length for omega_el_rad_s [rad/s el]. ISR. */
+void r_track_wait_over(r_track_t *rt, float omega_el_rad_s);
+
+/* A segment ended this period (r_track_step): the next one, and at the
+ * cycle's end its result (the event) and IDENT's next length. ISR. */
+r_track_event_t r_track_segment_end(r_track_t *rt, float omega_el_rad_s);
+
+/* One period: z_V = fd^ - w L^ iq [V], measured id_A, iq_A [A], the
+ * observer's omega_el_rad_s [rad/s] and L_H = L^ [H]. ISR (inline: the
+ * sums every period; the segment's and the wait's ends a call). */
+static inline r_track_event_t r_track_step(r_track_t *rt, float z_V, float id_A, float iq_A, float omega_el_rad_s,
+                                           float L_H)
+{
+    r_track_event_t ev = R_TRACK_NONE;
+    if (rt->phase == R_TRACK_OFF) {
+        return R_TRACK_NONE;
+    }
+    if (rt->wait > 0u) {
+        rt->wait--;
+        if (rt->wait == 0u) {
+            r_track_wait_over(rt, omega_el_rad_s);
+        }
+        return R_TRACK_NONE;
+    }
+    /* the reference two periods back is in this sample (delay line, no modulo) */
+    rt->id_expect_A = rt->ref_q[0];
+    rt->ref_q[0] = rt->ref_q[1];
+    if (rt->j >= rt->blank_len) {
+        if (rt->n == 0u) {
+            /* constant over the cycle: the L^ law's invariant stays one; IDENT only (inverter_error_design.md sec. 6) */
+            rt->L_c_H = (rt->phase == R_TRACK_IDENT) ? L_H : 0.0f;
+        }
+        /* inverter_error_design.md sec. 6: -w L0 iq out of z, so iq(+) != iq(-) does not leak */
+        rt->s_zs += rt->s_now * (z_V + rt->L_c_H * omega_el_rad_s * iq_A);
+        rt->s_is += rt->s_now * id_A;
+        rt->s_iq += iq_A;
+        rt->s_iqs += rt->s_now * iq_A;
+        rt->n++;
+    }
+    rt->j++;
+    if (rt->j >= rt->seg_len) {
+        ev = r_track_segment_end(rt, omega_el_rad_s);
+    }
+    rt->ref_q[1] = r_track_id_ref(rt); /* for the voltage computed this period */
+    return ev;
 }
 
 /* True in a segment's blanked periods (its edge: not summed), where the
