@@ -26,21 +26,29 @@ bool zoh_model(float R_Ohm, float L_H, float Ts_s, zoh_model_t *m)
     if (!(mathx_isfinitef(R_Ohm + L_H + Ts_s) && (R_Ohm > 0.0f) && (L_H > 0.0f) && (Ts_s > 0.0f))) {
         return false;
     }
+    zoh_model_of(R_Ohm, L_H, Ts_s, m);
+    return true;
+}
+
+void zoh_model_of(float R_Ohm, float L_H, float Ts_s, zoh_model_t *m)
+{
     const float inv_R = 1.0f / R_Ohm;
     const float x = Ts_s * R_Ohm / L_H;
+    /* beyond the series' range x halved n times, e^-x squared back n times */
+    float y = x;
+    uint16_t n = 0u;
+    while ((y > ZOH_SERIES_MAX) && (n < ZOH_HALVINGS_MAX)) {
+        y *= 0.5f;
+        n++;
+    }
+    const float p = y * one_m_exp_over_x(y); /* the series once: 1 - e^-y */
     float one_m_rho;
     float rho;
-    if (x <= ZOH_SERIES_MAX) {
-        one_m_rho = x * one_m_exp_over_x(x);
+    if (n == 0u) {
+        one_m_rho = p;
         rho = 1.0f - one_m_rho;
     } else {
-        float y = x;
-        uint16_t n = 0u;
-        while ((y > ZOH_SERIES_MAX) && (n < ZOH_HALVINGS_MAX)) {
-            y *= 0.5f;
-            n++;
-        }
-        rho = 1.0f - y * one_m_exp_over_x(y);
+        rho = 1.0f - p;
         for (uint16_t k = 0u; k < n; k++) {
             rho *= rho;
         }
@@ -53,5 +61,4 @@ bool zoh_model(float R_Ohm, float L_H, float Ts_s, zoh_model_t *m)
     m->one_m_rho = one_m_rho;
     m->gamma_A_V = one_m_rho * inv_R;
     m->kappa_1_s = 1.0f / (L_H * m->gamma_A_V);
-    return true;
 }

@@ -104,6 +104,11 @@ static inline void zoh_turn(float theta_rad, float w_rad_s, zoh_turn_t *t)
  * (1 - e^-x)/x with range reduction: 1 division (2 past the series' range). */
 bool zoh_model(float R_Ohm, float L_H, float Ts_s, zoh_model_t *m);
 
+/* As zoh_model for values the caller keeps valid (R_Ohm, L_H, Ts_s and
+ * their sum finite and positive: an observer within the ranges its init
+ * checked), without the check. ISR. */
+void zoh_model_of(float R_Ohm, float L_H, float Ts_s, zoh_model_t *m);
+
 /* Phi, g_u, g_c of the model *m in the turn *t: 1 division. ISR. */
 static inline void zoh_step(const zoh_model_t *m, const zoh_turn_t *t, zoh_step_t *s)
 {

@@ -25,6 +25,13 @@ void smo_update_model(smo_t *smo)
     }
 }
 
+void smo_take_model(smo_t *smo)
+{
+    smo->zm_stale = false;
+    smo->z_turn = 0u; /* no turn's number: taken again at the next step */
+    zoh_model_of(smo->R_Ohm, smo->L_H, smo->cfg.Ts_s, &smo->zm);
+}
+
 void smo_reset(smo_t *smo)
 {
     zoh_turn_t still;

@@ -287,12 +287,17 @@ static inline void smo_take_L_deferred(smo_t *smo, float L_H, float omega_el_rad
     }
 }
 
+/* smo_update_model for an accepted observer whose R^, L^ are within the
+ * ranges smo_init checked (smo_take_L_deferred's conditions): the decay
+ * without zoh_model's check, which cannot fail there. ISR. */
+void smo_take_model(smo_t *smo);
+
 /* As smo_set_L under smo_take_L_deferred's conditions. ISR (inline). */
 static inline void smo_take_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
 {
     smo_take_L_deferred(smo, L_H, omega_el_rad_s, iq_A);
     if (smo->zm_stale) {
-        smo_update_model(smo); /* the decay at the L^ in use; 2 divisions */
+        smo_take_model(smo); /* the decay at the L^ in use; 2 divisions */
     }
 }
 
