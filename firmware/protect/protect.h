@@ -159,9 +159,10 @@ typedef struct {
  * op_window_s / PROTECT_OP_SUBWINDOWS (25 ms with the board's 0.1 s), at
  * the end of each part, in that part's last period. So that this period
  * costs about what any other does, the window's whole parts before it are
- * summed during the part, one per period in its first periods (a part
- * shorter than that sums the rest at its end): the end adds its own part,
- * judges, and moves it into the ring (figures: protect_log.md). */
+ * summed during the part, a third of a part per period in its first
+ * periods (a part shorter than that sums the rest at its end): the end
+ * adds its own part, judges (the usual verdict, nothing open, from one
+ * sum of counts), and moves it into the ring (figures: protect_log.md). */
 #define PROTECT_OP_SUBWINDOWS 4u
 
 /* OPEN_PHASE's sums over a part of the window. */
