@@ -27,7 +27,7 @@ RAMFUNC static void app_latch_fault(app_t *app, const app_step_t *f, const hal_s
 /* A step's period written out: the duties unless the output is not
  * finite (the outputs go on after the first ones are written), then the
  * step's fault if it has one. */
-RAMFUNC static app_step_t app_output(app_t *app, app_step_t r, const hal_sample_t *s)
+RAMFUNC static inline app_step_t app_output(app_t *app, app_step_t r, const hal_sample_t *s)
 {
     if ((app->out.flags & CTRL_FLAG_NONFINITE) == 0u) {
         hal_pwm_write(app->out.duty);
