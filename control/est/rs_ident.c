@@ -139,27 +139,33 @@ static int16_t pair_index(int16_t a, int16_t b)
     return idx[a][b];
 }
 
-/* A batch is complete: its mean (relative to x0) into the batch sums. */
+/* Channel a's batch mean m (relative to x0) into its sums, its batch sum emptied. */
+static inline void close_channel(rs_ident_win_t *w, int16_t a, float m, float C, float S, float C6, float S6)
+{
+    w->m1[a] += m;
+    w->mcs[a][0] += m * C;
+    w->mcs[a][1] += m * S;
+    w->mcs6[a][0] += m * C6;
+    w->mcs6[a][1] += m * S6;
+    w->bsum[a] = 0.0f;
+}
+
+/* A batch is complete: its mean (relative to x0) into the batch sums. The
+ * channels and pairs written out: a period that closes a batch is one of
+ * the ISR's longest (loops and pair_index's table cost more than the sums). */
 static void close_batch(rs_ident_win_t *w, float inv_n_batch)
 {
-    float m[RS_ST_COUNT];
-    int16_t a;
-    int16_t b;
-
     const float C = w->bcs[0] * inv_n_batch;
     const float S = w->bcs[1] * inv_n_batch;
     const float C6 = w->bcs6[0] * inv_n_batch;
     const float S6 = w->bcs6[1] * inv_n_batch;
+    const float mf = w->bsum[RS_ST_FQ] * inv_n_batch;
+    const float mi = w->bsum[RS_ST_IQ] * inv_n_batch;
+    const float mw = w->bsum[RS_ST_W] * inv_n_batch;
 
-    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
-        m[a] = w->bsum[a] * inv_n_batch;
-        w->m1[a] += m[a];
-        w->mcs[a][0] += m[a] * C;
-        w->mcs[a][1] += m[a] * S;
-        w->mcs6[a][0] += m[a] * C6;
-        w->mcs6[a][1] += m[a] * S6;
-        w->bsum[a] = 0.0f;
-    }
+    close_channel(w, RS_ST_FQ, mf, C, S, C6, S6);
+    close_channel(w, RS_ST_IQ, mi, C, S, C6, S6);
+    close_channel(w, RS_ST_W, mw, C, S, C6, S6);
     w->g6[G6_C] += C6;
     w->g6[G6_S] += S6;
     w->g6[G6_CC] += C6 * C6;
@@ -171,7 +177,7 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
     w->g6[G6_S_S] += S * S6;
     w->bcs6[0] = 0.0f;
     w->bcs6[1] = 0.0f;
-    w->km_iq += (float)w->nb * m[RS_ST_IQ];
+    w->km_iq += (float)w->nb * mi;
     w->g[G_C] += C;
     w->g[G_S] += S;
     w->g[G_CC] += C * C;
@@ -179,11 +185,13 @@ static void close_batch(rs_ident_win_t *w, float inv_n_batch)
     w->g[G_SS] += S * S;
     w->bcs[0] = 0.0f;
     w->bcs[1] = 0.0f;
-    for (a = 0; a < (int16_t)RS_ST_COUNT; a++) {
-        for (b = a; b < (int16_t)RS_ST_COUNT; b++) {
-            w->m2[pair_index(a, b)] += m[a] * m[b];
-        }
-    }
+    /* m2's pairs in its order: ff, fi, fw, ii, iw, ww (pair_index) */
+    w->m2[0] += mf * mf;
+    w->m2[1] += mf * mi;
+    w->m2[2] += mf * mw;
+    w->m2[3] += mi * mi;
+    w->m2[4] += mi * mw;
+    w->m2[5] += mw * mw;
     w->bn = 0u;
     w->nb++;
 }

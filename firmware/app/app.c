@@ -27,7 +27,7 @@ RAMFUNC static void app_latch_fault(app_t *app, const app_step_t *f, const hal_s
 /* A step's period written out: the duties unless the output is not
  * finite (the outputs go on after the first ones are written), then the
  * step's fault if it has one. */
-RAMFUNC static app_step_t app_output(app_t *app, app_step_t r, const hal_sample_t *s)
+RAMFUNC static inline app_step_t app_output(app_t *app, app_step_t r, const hal_sample_t *s)
 {
     if ((app->out.flags & CTRL_FLAG_NONFINITE) == 0u) {
         hal_pwm_write(app->out.duty);
@@ -477,8 +477,26 @@ RAMFUNC static void readings(app_t *app, const hal_sample_t *s)
     ctrl_monitor_readings(&app->ctrl, &in, app->pwm_on);
 }
 
-/* FAULT: outputs stay off; a reset is taken only if no check fails now,
- * and never from FLASH_CRC (the image itself is bad). */
+/* A fault reset asked for: taken only if no check fails now, and never
+ * from FLASH_CRC (the image itself is bad). Flash: once per reset, and its
+ * copy of the inline checks stays out of RAM. */
+FLASHFUNC static void fault_reset(app_t *app, const hal_sample_t *s)
+{
+    if (app->fault == APP_FAULT_FLASH_CRC) {
+        app->fault_present = (uint16_t)APP_FAULT_FLASH_CRC; /* the image itself: no check clears it */
+        return;
+    }
+    const app_step_t now = protection(app, s);
+    if (now.status == APP_STEP_FAULT) {
+        app->fault_present = (uint16_t)now.fault; /* the cause is still there: said, not cleared */
+    } else {
+        app->fault_present = (uint16_t)APP_FAULT_NONE;
+        app->state = APP_STATE_IDLE;
+        app->fault = APP_FAULT_NONE;
+    }
+}
+
+/* FAULT: outputs stay off; a reset asked for is tried (fault_reset). */
 RAMFUNC static void fault_state(app_t *app, const hal_sample_t *s)
 {
     app->req_start = 0u; /* a start asked for while faulted is not kept */
@@ -486,18 +504,7 @@ RAMFUNC static void fault_state(app_t *app, const hal_sample_t *s)
     app->req_stop = 0u;
     if (app->req_fault_reset != 0u) {
         app->req_fault_reset = 0u;
-        if (app->fault == APP_FAULT_FLASH_CRC) {
-            app->fault_present = (uint16_t)APP_FAULT_FLASH_CRC; /* the image itself: no check clears it */
-            return;
-        }
-        const app_step_t now = protection(app, s);
-        if (now.status == APP_STEP_FAULT) {
-            app->fault_present = (uint16_t)now.fault; /* the cause is still there: said, not cleared */
-        } else {
-            app->fault_present = (uint16_t)APP_FAULT_NONE;
-            app->state = APP_STATE_IDLE;
-            app->fault = APP_FAULT_NONE;
-        }
+        fault_reset(app, s);
     }
 }
 

@@ -44,16 +44,18 @@ RAMFUNC static bool ramp_speed(rsid_seq_t *q, float target)
 }
 
 /* ctrl_step at the sequence's speed reference; ctrl.ref, the outside's,
- * is put back after it. */
+ * is put back after it (one copy and the outside speed: the ISR's deepest
+ * stack runs through here). */
 RAMFUNC static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
-    const ctrl_ref_t outside = *ctrl_ref(c);
-    ctrl_ref_t ref = outside;
+    ctrl_ref_t ref = *ctrl_ref(c);
+    const float outside_speed_rad_s = ref.speed_ref_rad_s;
 
     ref.speed_ref_rad_s = q->speed_ref_rad_s;
     ctrl_set_ref(c, &ref);
     ctrl_step(c, in, out);
-    ctrl_set_ref(c, &outside);
+    ref.speed_ref_rad_s = outside_speed_rad_s;
+    ctrl_set_ref(c, &ref);
 }
 
 /* The fault naming why step 1 refused R^, with the quantity and its limit. */

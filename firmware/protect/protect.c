@@ -12,28 +12,9 @@
 #define SIN_120 0.866025404f                    /* the phase axes: 0, 120, 240 deg el */
 #define COS_120 (-0.5f)
 #define INV_SQRT3 0.577350269f
-#define OP_CONE_SHARE 0.5f /* the cone rule: x carried nothing in more than this share of its cone periods */
-
-/* Count change from prev to now (both < cpr), the shortest way round; no
- * 32-bit % (an RTS call from flash on the C28x). */
-RAMFUNC static int32_t count_delta(uint32_t now, uint32_t prev, uint32_t cpr)
-{
-    const uint32_t d = (now >= prev) ? (now - prev) : (now + cpr - prev);
-    return (d > (cpr / 2u)) ? ((int32_t)d - (int32_t)cpr) : (int32_t)d;
-}
-
-RAMFUNC void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles)
-{
-    const uint32_t count = mathx_umod_u32(enc_count, p->enc_cpr);
-
-    if (p->seeded) {
-        p->enc_delta = count_delta(count, p->enc_prev, p->enc_cpr);
-        p->isr_interval_cycles = t_entry_cycles - p->isr_entry; /* modulo 2^32, wrap-safe */
-    }
-    p->enc_prev = count;
-    p->isr_entry = t_entry_cycles;
-    p->seeded = true;
-}
+/* the cone rule: x carried nothing in more than this share, 1/OP_CONE_SHARE_INV, of its cone periods */
+#define OP_CONE_SHARE_INV 2u
+#define OP_CONE_SHARE (1.0f / (float)OP_CONE_SHARE_INV)
 
 RAMFUNC void protect_arm_uv(protect_t *p)
 {
@@ -43,48 +24,6 @@ RAMFUNC void protect_arm_uv(protect_t *p)
 RAMFUNC void protect_disarm_uv(protect_t *p)
 {
     p->uv_armed = false;
-}
-
-RAMFUNC app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset_ia_A, float offset_ib_A,
-                         float speed_m_rad_s)
-{
-    const protect_cfg_t *cfg = &p->cfg;
-    const float ia = s->ia_A - offset_ia_A;
-    const float ib = s->ib_A - offset_ib_A;
-    const float ic = -ia - ib;
-    float i_peak;
-
-    if (hal_trip_active()) {
-        return app_step_fault(APP_FAULT_HW_TRIP, 0.0f, 0.0f);
-    }
-    if (!mathx_isfinitef(s->ia_A) || !mathx_isfinitef(s->ib_A) || !mathx_isfinitef(s->vdc_V)) {
-        return app_step_fault(APP_FAULT_NONFINITE_SAMPLE, 0.0f, 0.0f);
-    }
-    i_peak = mathx_fabsf(ia);
-    i_peak = (mathx_fabsf(ib) > i_peak) ? mathx_fabsf(ib) : i_peak;
-    i_peak = (mathx_fabsf(ic) > i_peak) ? mathx_fabsf(ic) : i_peak;
-    if (!(i_peak <= cfg->i_max_A)) { /* !(x <= max): a NaN limit trips too */
-        return app_step_fault(APP_FAULT_OVERCURRENT, i_peak, cfg->i_max_A);
-    }
-    if (!(s->vdc_V <= cfg->vdc_max_V)) {
-        return app_step_fault(APP_FAULT_OVERVOLTAGE, s->vdc_V, cfg->vdc_max_V);
-    }
-    if (p->uv_armed && (s->vdc_V < cfg->vdc_min_V)) {
-        return app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, cfg->vdc_min_V);
-    }
-    if (mathx_fabsf((float)p->enc_delta) > p->enc_jump_max) {
-        return app_step_fault(APP_FAULT_ENCODER, mathx_fabsf((float)p->enc_delta), p->enc_jump_max);
-    }
-    if (!(mathx_fabsf(speed_m_rad_s) <= cfg->speed_max_rad_s)) {
-        return app_step_fault(APP_FAULT_OVERSPEED, mathx_fabsf(speed_m_rad_s), cfg->speed_max_rad_s);
-    }
-    if (p->isr_interval_cycles > p->isr_late_cycles) {
-        return app_step_fault(APP_FAULT_OVERRUN, (float)p->isr_interval_cycles, (float)p->isr_late_cycles);
-    }
-    if (p->isr_run_cycles > cfg->isr_budget_cycles) { /* the last call's: for a fault reset's check */
-        return app_step_fault(APP_FAULT_OVERRUN, (float)p->isr_run_cycles, (float)cfg->isr_budget_cycles);
-    }
-    return app_step_running();
 }
 
 /* ---- checks on the periods' history (protect_watch) --------------------- */
@@ -129,42 +68,60 @@ RAMFUNC static int32_t max_i32(int32_t a, int32_t b)
     return (a > b) ? a : b;
 }
 
-/* OPEN_PHASE's preparation step k (< OP_WHOLE_PARTS), in the part's
- * (k + 1)-th period: the ring's part k added into op_prev (|u_x| per part,
- * the parts' largest |net count change|), op_prev emptied first by step 0. The
- * order of the parts does not matter, and op_prev is used only once the
- * ring is full. The phases written out, as in open_phase_check. */
-RAMFUNC static void op_prep_step(protect_t *p, uint32_t k)
+/* OPEN_PHASE's preparation: the ring's parts added into op_prev (|u_x|
+ * per part, the parts' largest |net count change|), a piece of a part per
+ * period in the part's first OP_PREP_STEPS periods: step s adds piece
+ * s mod OP_PREP_PIECES of part s / OP_PREP_PIECES (the parts in the ring's
+ * order, each sum's rounding as one step a part gave it), op_prev emptied
+ * first by step 0; op_prev is used only once the ring is full. */
+#define OP_PREP_PIECES 3u
+#define OP_PREP_STEPS (OP_PREP_PIECES * OP_WHOLE_PARTS)
+
+/* Step s (< OP_PREP_STEPS), in the part's (s + 1)-th period. The phases
+ * written out, as in open_phase_check. */
+RAMFUNC static void op_prep_step(protect_t *p, uint32_t s)
 {
     protect_op_sums_t *b = &p->op_prev;
-    const protect_op_sums_t *q = &p->op_parts[k];
+    uint32_t k = 0u;
+    uint32_t piece = s;
 
-    if (k == 0u) {
+    while (piece >= OP_PREP_PIECES) { /* no division: at most OP_WHOLE_PARTS - 1 turns */
+        piece -= OP_PREP_PIECES;
+        k++;
+    }
+    const protect_op_sums_t *q = &p->op_parts[k];
+    if (s == 0u) {
         protect_op_sums_clear(b);
     }
-    b->n = (uint16_t)(b->n + q->n);
-    b->turn_counts = max_i32(b->turn_counts, abs_i32(q->turn_counts));
-    b->ix_A[0] += q->ix_A[0];
-    b->ix_A[1] += q->ix_A[1];
-    b->ix_A[2] += q->ix_A[2];
-    b->cone_n[0] = (uint16_t)(b->cone_n[0] + q->cone_n[0]);
-    b->cone_n[1] = (uint16_t)(b->cone_n[1] + q->cone_n[1]);
-    b->cone_n[2] = (uint16_t)(b->cone_n[2] + q->cone_n[2]);
-    b->none_n[0] = (uint16_t)(b->none_n[0] + q->none_n[0]);
-    b->none_n[1] = (uint16_t)(b->none_n[1] + q->none_n[1]);
-    b->none_n[2] = (uint16_t)(b->none_n[2] + q->none_n[2]);
-    b->ux_V[0] += mathx_fabsf(q->ux_V[0]);
-    b->ux_V[1] += mathx_fabsf(q->ux_V[1]);
-    b->ux_V[2] += mathx_fabsf(q->ux_V[2]);
+    if (piece == 0u) {
+        b->n = (uint16_t)(b->n + q->n);
+        b->turn_counts = max_i32(b->turn_counts, abs_i32(q->turn_counts));
+        b->cone_n[0] = (uint16_t)(b->cone_n[0] + q->cone_n[0]);
+        b->cone_n[1] = (uint16_t)(b->cone_n[1] + q->cone_n[1]);
+        b->cone_n[2] = (uint16_t)(b->cone_n[2] + q->cone_n[2]);
+    } else if (piece == 1u) {
+        b->none_n[0] = (uint16_t)(b->none_n[0] + q->none_n[0]);
+        b->none_n[1] = (uint16_t)(b->none_n[1] + q->none_n[1]);
+        b->none_n[2] = (uint16_t)(b->none_n[2] + q->none_n[2]);
+        b->ix_A[0] += q->ix_A[0];
+        b->ix_A[1] += q->ix_A[1];
+        b->ix_A[2] += q->ix_A[2];
+    } else {
+        b->ux_V[0] += mathx_fabsf(q->ux_V[0]);
+        b->ux_V[1] += mathx_fabsf(q->ux_V[1]);
+        b->ux_V[2] += mathx_fabsf(q->ux_V[2]);
+    }
 }
 
 /* OPEN_PHASE, phase x of the window of op_prev and *a, the cone rule of
  * protect.h: enough periods in x's cone, x carrying nothing in more than
- * half of them. */
+ * half of them; on the counts (none > cone / 2 as 2 none > cone: exact,
+ * no conversion to float in the part's last period). */
 RAMFUNC static inline bool op_cone_open(const protect_t *p, const protect_op_sums_t *b, const protect_op_sums_t *a, uint32_t x)
 {
-    const uint32_t cone = b->cone_n[x] + a->cone_n[x];
-    return (cone >= p->op_cone_min) && ((float)(b->none_n[x] + a->none_n[x]) > OP_CONE_SHARE * (float)cone);
+    const uint32_t cone = (uint32_t)b->cone_n[x] + a->cone_n[x];
+    const uint32_t none = (uint32_t)b->none_n[x] + a->none_n[x];
+    return (cone >= p->op_cone_min) && ((OP_CONE_SHARE_INV * none) > cone);
 }
 
 /* ... the voltage rule, in sums over the window (ix_limit: op_ratio x the
@@ -182,12 +139,22 @@ RAMFUNC static inline bool op_slow_open(const protect_t *p, const protect_op_sum
 RAMFUNC static app_step_t open_phase_judge(protect_t *p, const protect_op_sums_t *a)
 {
     const protect_op_sums_t *b = &p->op_prev;
+    const bool slow = ((float)max_i32(b->turn_counts, abs_i32(a->turn_counts)) <= p->op_slow_counts);
+    uint32_t x;
+
+    /* the usual verdict, nothing open, at a glance when the voltage rule does not judge: a
+     * phase the cone rule opens has 2 none > cone >= op_cone_min, so with 2 x the phases'
+     * none together at most op_cone_min none is open (no cone tested, no sum of |i| taken, in
+     * the part's last period); the tests below judge otherwise */
+    const uint32_t none_all = (uint32_t)b->none_n[0] + b->none_n[1] + b->none_n[2] + a->none_n[0] + a->none_n[1] +
+                              a->none_n[2];
+    if (!slow && ((OP_CONE_SHARE_INV * none_all) <= p->op_cone_min)) {
+        return app_step_running();
+    }
     /* sum of |i|: the phases' sums of |i_x| over sqrt(3) (exact with one phase carrying nothing,
      * up to 2 / sqrt(3) high otherwise; no square root every period) */
     const float i_sum = (b->ix_A[0] + a->ix_A[0] + b->ix_A[1] + a->ix_A[1] + b->ix_A[2] + a->ix_A[2]) * INV_SQRT3;
-    const bool slow = ((float)max_i32(b->turn_counts, abs_i32(a->turn_counts)) <= p->op_slow_counts);
     const float ix_limit = p->cfg.watch.op_ratio * i_sum;
-    uint32_t x;
 
     if (!(i_sum >= p->op_i_min_sum_A)) {
         return app_step_running();
@@ -276,12 +243,12 @@ RAMFUNC static app_step_t open_phase_check(protect_t *p, const protect_watch_in_
     a->turn_counts += p->enc_delta;
     a->n++;
     if (a->n < p->op_part_ticks) {
-        if (a->n <= OP_WHOLE_PARTS) {
-            op_prep_step(p, a->n - 1u);  /* the part's k-th period: step k - 1 */
+        if (a->n <= OP_PREP_STEPS) {
+            op_prep_step(p, a->n - 1u);  /* the part's n-th period: step n - 1 */
         }
         return r;
     }
-    for (k = a->n - 1u; k < OP_WHOLE_PARTS; k++) { /* a part shorter than the steps: the rest */
+    for (k = a->n - 1u; k < OP_PREP_STEPS; k++) { /* a part shorter than the steps: the rest */
         op_prep_step(p, k);
     }
     q = &p->op_parts[p->op_parts_next];   /* the part into the ring (over the oldest), judged there */

@@ -84,6 +84,7 @@
 
 #include "app_step.h"
 #include "hal.h"
+#include "mathx.h"
 
 /* Count change per period beyond the overspeed limit's that still counts
  * as motion: the PLL-based overspeed check trips long before a real shaft
@@ -159,9 +160,10 @@ typedef struct {
  * op_window_s / PROTECT_OP_SUBWINDOWS (25 ms with the board's 0.1 s), at
  * the end of each part, in that part's last period. So that this period
  * costs about what any other does, the window's whole parts before it are
- * summed during the part, one per period in its first periods (a part
- * shorter than that sums the rest at its end): the end adds its own part,
- * judges, and moves it into the ring (figures: protect_log.md). */
+ * summed during the part, a third of a part per period in its first
+ * periods (a part shorter than that sums the rest at its end): the end
+ * adds its own part, judges (the usual verdict, nothing open, from one
+ * sum of counts), and moves it into the ring (figures: protect_log.md). */
 #define PROTECT_OP_SUBWINDOWS 4u
 
 /* OPEN_PHASE's sums over a part of the window. */
@@ -221,8 +223,28 @@ typedef struct {
  * undervoltage off. */
 void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t *drv);
 
-/* ISR, every call first: the count change and the entry-to-entry time. */
-void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles);
+/* Count change from prev to now (both < cpr), the shortest way round; no
+ * 32-bit % (an RTS call from flash on the C28x). Any context. */
+static inline int32_t protect_count_delta(uint32_t now, uint32_t prev, uint32_t cpr)
+{
+    const uint32_t d = (now >= prev) ? (now - prev) : (now + cpr - prev);
+    return (d > (cpr / 2u)) ? ((int32_t)d - (int32_t)cpr) : (int32_t)d;
+}
+
+/* ISR, every call first: the count change and the entry-to-entry time.
+ * Inline: one call less in every period. */
+static inline void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles)
+{
+    const uint32_t count = mathx_umod_u32(enc_count, p->enc_cpr);
+
+    if (p->seeded) {
+        p->enc_delta = protect_count_delta(count, p->enc_prev, p->enc_cpr);
+        p->isr_interval_cycles = t_entry_cycles - p->isr_entry; /* modulo 2^32, wrap-safe */
+    }
+    p->enc_prev = count;
+    p->isr_entry = t_entry_cycles;
+    p->seeded = true;
+}
 
 /* ISR: from now on an undervoltage is a fault (kept armed). */
 void protect_arm_uv(protect_t *p);
@@ -233,9 +255,49 @@ void protect_disarm_uv(protect_t *p);
 
 /* ISR: the checks above on this call's samples *s, the current offsets
  * [A] and the speed estimate [rad/s, mechanical]: RUNNING when all pass,
- * else FAULT with the first failing check, its quantity and limit. */
-app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset_ia_A, float offset_ib_A,
-                         float speed_m_rad_s);
+ * else FAULT with the first failing check, its quantity and limit.
+ * Inline: its result stays in registers in every period. */
+static inline app_step_t protect_check(const protect_t *p, const hal_sample_t *s, float offset_ia_A,
+                                       float offset_ib_A, float speed_m_rad_s)
+{
+    const protect_cfg_t *cfg = &p->cfg;
+    const float ia = s->ia_A - offset_ia_A;
+    const float ib = s->ib_A - offset_ib_A;
+    const float ic = -ia - ib;
+    float i_peak;
+
+    if (hal_trip_active()) {
+        return app_step_fault(APP_FAULT_HW_TRIP, 0.0f, 0.0f);
+    }
+    if (!mathx_isfinitef(s->ia_A) || !mathx_isfinitef(s->ib_A) || !mathx_isfinitef(s->vdc_V)) {
+        return app_step_fault(APP_FAULT_NONFINITE_SAMPLE, 0.0f, 0.0f);
+    }
+    i_peak = mathx_fabsf(ia);
+    i_peak = (mathx_fabsf(ib) > i_peak) ? mathx_fabsf(ib) : i_peak;
+    i_peak = (mathx_fabsf(ic) > i_peak) ? mathx_fabsf(ic) : i_peak;
+    if (!(i_peak <= cfg->i_max_A)) { /* !(x <= max): a NaN limit trips too */
+        return app_step_fault(APP_FAULT_OVERCURRENT, i_peak, cfg->i_max_A);
+    }
+    if (!(s->vdc_V <= cfg->vdc_max_V)) {
+        return app_step_fault(APP_FAULT_OVERVOLTAGE, s->vdc_V, cfg->vdc_max_V);
+    }
+    if (p->uv_armed && (s->vdc_V < cfg->vdc_min_V)) {
+        return app_step_fault(APP_FAULT_UNDERVOLTAGE, s->vdc_V, cfg->vdc_min_V);
+    }
+    if (mathx_fabsf((float)p->enc_delta) > p->enc_jump_max) {
+        return app_step_fault(APP_FAULT_ENCODER, mathx_fabsf((float)p->enc_delta), p->enc_jump_max);
+    }
+    if (!(mathx_fabsf(speed_m_rad_s) <= cfg->speed_max_rad_s)) {
+        return app_step_fault(APP_FAULT_OVERSPEED, mathx_fabsf(speed_m_rad_s), cfg->speed_max_rad_s);
+    }
+    if (p->isr_interval_cycles > p->isr_late_cycles) {
+        return app_step_fault(APP_FAULT_OVERRUN, (float)p->isr_interval_cycles, (float)p->isr_late_cycles);
+    }
+    if (p->isr_run_cycles > cfg->isr_budget_cycles) { /* the last call's: for a fault reset's check */
+        return app_step_fault(APP_FAULT_OVERRUN, (float)p->isr_run_cycles, (float)cfg->isr_budget_cycles);
+    }
+    return app_step_running();
+}
 
 /* ISR, at the exit: the run time from t_entry_cycles to now_cycles;
  * FAULT (OVERRUN) when over the budget. Inline: one call less in every
