@@ -16,13 +16,13 @@ void oplim_init(oplim_t *o, float Ts_s, float rate_Wb_s, float hyst)
     oplim_reset(o);
 }
 
-void oplim_reset(oplim_t *o)
+RAMFUNC void oplim_reset(oplim_t *o)
 {
     o->dpsi_Wb = 0.0f;
     o->dpsi_max_Wb = 0.0f;
 }
 
-oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, float i_lim_A, float te_req_Nm)
+RAMFUNC oplim_out_t oplim_targets(oplim_t *o, const dbdtc_par_t *p, float i_lim_A, float te_req_Nm)
 {
     oplim_out_t out;
     /* current limit at id = 0 (MTPA): |Te*| <= kt i_lim */

@@ -3,13 +3,13 @@
 
 #include "mathx.h"
 
-static bool in_range(float x, float lo, float hi)
+RAMFUNC static bool in_range(float x, float lo, float hi)
 {
     return (x >= lo) && (x <= hi);
 }
 
 /* The decay at R^, L^ (zoh.h): 2 divisions; Phi, g_u, g_c follow at the next step. */
-static void update_model(smo_t *smo)
+RAMFUNC static void update_model(smo_t *smo)
 {
     smo->zm_stale = false;
     smo->z_turn = 0u; /* no turn's number: taken again at the next step */
@@ -25,7 +25,7 @@ static void update_model(smo_t *smo)
     }
 }
 
-void smo_reset(smo_t *smo)
+RAMFUNC void smo_reset(smo_t *smo)
 {
     zoh_turn_t still;
 
@@ -51,7 +51,7 @@ void smo_reset(smo_t *smo)
 /* The period's Phi, g_u, g_c (and Phi - rho) in the turn *turn: taken
  * again when the turn or the decay changed (the decay first when L^
  * moved: smo_set_L_deferred). */
-static void take_period(smo_t *smo, const zoh_turn_t *turn)
+RAMFUNC static void take_period(smo_t *smo, const zoh_turn_t *turn)
 {
     if (smo->zm_stale) {
         update_model(smo); /* L^ moved since: 2 divisions */
@@ -68,12 +68,12 @@ static void take_period(smo_t *smo, const zoh_turn_t *turn)
 }
 
 /* Boundary-layer switching term Ks sat(e/phi) [V] (replaces sign() of (32)). */
-static float switching(const smo_t *smo, float e_A)
+RAMFUNC static float switching(const smo_t *smo, float e_A)
 {
     return smo->cfg.Ks_V * mathx_clampf(e_A * smo->inv_phi_1_A, -1.0f, 1.0f);
 }
 
-dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const zoh_turn_t *turn)
+RAMFUNC dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const zoh_turn_t *turn)
 {
     const smo_cfg_t *c = &smo->cfg;
     dq_t i;
@@ -134,13 +134,13 @@ dq_t smo_step(smo_t *smo, dq_t i_A, float omega_el_rad_s, dq_t u_V)
     return smo_step_turn(smo, i_A, u_V, w, &t);
 }
 
-void smo_shift_f(smo_t *smo, float dfd_V, float dfq_V)
+RAMFUNC void smo_shift_f(smo_t *smo, float dfd_V, float dfq_V)
 {
     smo->fd_V += dfd_V;
     smo->fq_V += dfq_V;
 }
 
-bool smo_set_R(smo_t *smo, float R_Ohm)
+RAMFUNC bool smo_set_R(smo_t *smo, float R_Ohm)
 {
     const smo_cfg_t *c = &smo->cfg;
     if ((smo->status != SMO_CFG_OK) || !mathx_isfinitef(R_Ohm) ||
@@ -156,7 +156,7 @@ bool smo_set_R(smo_t *smo, float R_Ohm)
     return true;
 }
 
-float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
+RAMFUNC float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
 {
     const float L_new = smo_set_L_deferred(smo, L_H, omega_el_rad_s, iq_A);
     if (smo->zm_stale) {
@@ -165,7 +165,7 @@ float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
     return L_new;
 }
 
-float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
+RAMFUNC float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
 {
     const smo_cfg_t *c = &smo->cfg;
     if (smo->status != SMO_CFG_OK) {
@@ -185,7 +185,7 @@ float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A
     return L_new;
 }
 
-float smo_set_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s)
+RAMFUNC float smo_set_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s)
 {
     const smo_cfg_t *c = &smo->cfg;
     if (smo->status != SMO_CFG_OK) {

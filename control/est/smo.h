@@ -177,7 +177,8 @@ void smo_reset(smo_t *smo);
 dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_rad_s, const zoh_turn_t *turn);
 
 /* As smo_step_turn at omega_el_rad_s = w(k) [rad/s el] (the turn taken
- * here). ISR. */
+ * here). Host (the target's ISR calls smo_step_turn; this one runs from
+ * flash there). */
 dq_t smo_step(smo_t *smo, dq_t i_A, float omega_el_rad_s, dq_t u_V);
 
 /* Sets R^ [Ohm] bumplessly: f^ += (R^old - R^new) i^ keeps -R^ i^ - f^;
