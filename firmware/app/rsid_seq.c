@@ -3,7 +3,7 @@
 
 #include "mathx.h"
 
-RAMFUNC void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
+void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
 {
     q->cfg = *cfg;
     q->window_ticks = app_periods_of(cfg->window_s, Ts_s);
@@ -23,7 +23,7 @@ RAMFUNC void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
     q->check_tick = 0u;
 }
 
-RAMFUNC void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
+FLASHFUNC void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
 {
     q->ticks = 0u;
     q->repeats = 0u;

@@ -35,12 +35,12 @@ RAMFUNC void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cy
     p->seeded = true;
 }
 
-RAMFUNC void protect_arm_uv(protect_t *p)
+FLASHFUNC void protect_arm_uv(protect_t *p)
 {
     p->uv_armed = true;
 }
 
-RAMFUNC void protect_disarm_uv(protect_t *p)
+FLASHFUNC void protect_disarm_uv(protect_t *p)
 {
     p->uv_armed = false;
 }

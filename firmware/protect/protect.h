@@ -224,11 +224,12 @@ void protect_init(protect_t *p, const protect_cfg_t *cfg, const protect_drive_t 
 /* ISR, every call first: the count change and the entry-to-entry time. */
 void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_entry_cycles);
 
-/* ISR: from now on an undervoltage is a fault (kept armed). */
+/* ISR (the start sequence's transitions; from flash): from now on an
+ * undervoltage is a fault (kept armed). */
 void protect_arm_uv(protect_t *p);
 
-/* ISR: no undervoltage check until the next protect_arm_uv (build levels
- * 1-2 run without the DC bus, level.h). */
+/* ISR (the start sequence; from flash): no undervoltage check until the
+ * next protect_arm_uv (build levels 1-2 run without the DC bus, level.h). */
 void protect_disarm_uv(protect_t *p);
 
 /* ISR: the checks above on this call's samples *s, the current offsets
