@@ -86,6 +86,11 @@ void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
     c->ref = *ref;
 }
 
+void ctrl_set_speed_ref(ctrl_t *c, float speed_ref_rad_s)
+{
+    c->ref.speed_ref_rad_s = speed_ref_rad_s;
+}
+
 /*
  * The model stage: the parameters in use (c->db.par) and the state at
  * k+1 that compensates the one-period delay; the one place the methods

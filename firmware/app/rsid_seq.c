@@ -43,17 +43,16 @@ RAMFUNC static bool ramp_speed(rsid_seq_t *q, float target)
     return (dmax > 0.0f) && (mathx_fabsf(err) > dmax);
 }
 
-/* ctrl_step at the sequence's speed reference; ctrl.ref, the outside's,
- * is put back after it. */
+/* ctrl_step at the sequence's speed reference; the outside's (ctrl.ref's)
+ * is put back after it. Only the speed is kept aside: the ISR's deepest
+ * chain runs through here (ram_budget's stack). */
 RAMFUNC static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
-    const ctrl_ref_t outside = *ctrl_ref(c);
-    ctrl_ref_t ref = outside;
+    const float outside_rad_s = ctrl_ref(c)->speed_ref_rad_s;
 
-    ref.speed_ref_rad_s = q->speed_ref_rad_s;
-    ctrl_set_ref(c, &ref);
+    ctrl_set_speed_ref(c, q->speed_ref_rad_s);
     ctrl_step(c, in, out);
-    ctrl_set_ref(c, &outside);
+    ctrl_set_speed_ref(c, outside_rad_s);
 }
 
 /* The fault naming why step 1 refused R^, with the quantity and its limit. */
