@@ -144,7 +144,7 @@ RAMFUNC void encoder_set_offset(encoder_t *enc, float offset_el_rad)
     }
 }
 
-RAMFUNC void encoder_align(encoder_t *enc, uint32_t count)
+FLASHFUNC void encoder_align(encoder_t *enc, uint32_t count)
 {
     if (!enc->valid) {
         return;

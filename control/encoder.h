@@ -82,7 +82,8 @@ void encoder_step(encoder_t *enc, uint32_t count);
 void encoder_set_offset(encoder_t *enc, float offset_el_rad);
 
 /* Rotor alignment: sets the offset so that count reads as electrical angle 0
- * (the d axis was locked on phase a). Background. */
+ * (the d axis was locked on phase a). Background, or ISR in ALIGN (from
+ * flash). */
 void encoder_align(encoder_t *enc, uint32_t count);
 
 #endif /* ENCODER_H */

@@ -13,7 +13,7 @@ void oplim_init(oplim_t *o, float Ts_s, float rate_Wb_s, float hyst)
     oplim_reset(o);
 }
 
-void oplim_reset(oplim_t *o)
+RAMFUNC void oplim_reset(oplim_t *o)
 {
     o->dpsi_Wb = 0.0f;
     o->dpsi_max_Wb = 0.0f;

@@ -9,7 +9,7 @@
 
 #include "mathx.h"
 
-static bool pi_cfg_valid(const pi_cfg_t *cfg)
+FLASHFUNC static bool pi_cfg_valid(const pi_cfg_t *cfg)
 {
     if (!mathx_isfinitef(cfg->Kp) || !mathx_isfinitef(cfg->Ki) || !mathx_isfinitef(cfg->Ts_s)
         || !mathx_isfinitef(cfg->u_min) || !mathx_isfinitef(cfg->u_max)) {
@@ -23,7 +23,7 @@ static bool pi_cfg_valid(const pi_cfg_t *cfg)
     return (cfg->Ts_s * cfg->Ki) <= cfg->Kp;
 }
 
-bool pi_init(pi_t *pi, const pi_cfg_t *cfg)
+FLASHFUNC bool pi_init(pi_t *pi, const pi_cfg_t *cfg)
 {
     const bool ok = pi_cfg_valid(cfg);
     if (ok) {
@@ -42,13 +42,13 @@ bool pi_init(pi_t *pi, const pi_cfg_t *cfg)
     return ok;
 }
 
-void pi_reset(pi_t *pi, float xi_init)
+RAMFUNC void pi_reset(pi_t *pi, float xi_init)
 {
     pi->xi = mathx_clampf(xi_init, pi->cfg.u_min, pi->cfg.u_max);
     pi->xi_old = pi->xi;
 }
 
-void pi_set_limits(pi_t *pi, float u_min_out, float u_max_out)
+RAMFUNC void pi_set_limits(pi_t *pi, float u_min_out, float u_max_out)
 {
     if (!(pi->cfg.Kp > 0.0f) || !mathx_isfinitef(u_min_out) || !mathx_isfinitef(u_max_out) ||
         !(u_min_out <= u_max_out)) {

@@ -37,7 +37,7 @@ typedef struct {
  * Copies cfg and resets. Needs finite values, Kp > 0, Ki >= 0, Ts_s > 0,
  * u_min <= u_max and Ts*Ki/Kp <= 1 (integral time not below one period).
  * Returns false otherwise and leaves a PI whose output is always 0.
- * Background.
+ * Background, or ISR in commissioning (from flash).
  */
 bool pi_init(pi_t *pi, const pi_cfg_t *cfg);
 

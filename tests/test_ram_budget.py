@@ -68,9 +68,9 @@ class CmdFile(unittest.TestCase):
     def test_the_real_file(self):
         with open(os.path.join(ROOT, "firmware", "f28335", "f28335_flash.cmd")) as f:
             ranges, place = ram_budget.parse_cmd(f.read(), ["m0data"])
-        self.assertEqual(ranges["RAML0L5"][1:], (0x8000, 0x6000))
+        self.assertEqual(ranges["RAML0L5"][1:], (0x8000, 0x5F80))
         self.assertEqual(place["ramfuncs"], "RAML0L5")
-        self.assertEqual(place[".ebss"], "RAML6L7")
+        self.assertEqual(place[".ebss"], "RAML5L7")
         self.assertEqual(place[".stack"], "RAMM1")
         self.assertEqual(place["m0data"], "RAMM0")   # main.c's DATA_SECTION objects
 

@@ -8,7 +8,8 @@
  * gain on L^'s turns (proposed); dbdtc_set_params only when the model
  * moved by more than CTRL_MODEL_UPDATE_REL; 3 more only in the periods
  * the hexagon limit acts. One sin/cos (the advanced angle is a rotation
- * by a short series). The start-up (ctrl_init, ctrl_cfg_told) is in
+ * by a short series). The start-up (ctrl_init, ctrl_cfg_told), the
+ * reset and the current limit's and the alignment's setters are in
  * ctrl_cfg.c (flash).
  */
 #include "ctrl.h"
@@ -66,16 +67,6 @@ rs_ident_result_t ctrl_rsid_finish(ctrl_t *c, rs_ident_result_t r_solved)
     return r;
 }
 
-void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
-{
-    encoder_align(&c->enc, enc_count);
-}
-
-void ctrl_set_i_lim(ctrl_t *c, float i_lim_A)
-{
-    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= c->cfg.i_max_A)) ? i_lim_A : c->cfg.i_max_A;
-}
-
 void ctrl_set_mode(ctrl_t *c, ctrl_mode_t mode)
 {
     c->mode_req = mode;
@@ -90,16 +81,14 @@ bool ctrl_set_method(ctrl_t *c, ctrl_method_t method)
     return true;
 }
 
-void ctrl_set_i_limit(ctrl_t *c, float i_lim_A)
-{
-    const float cfg_A = ((c->cfg.i_lim_A > 0.0f) && (c->cfg.i_lim_A <= c->cfg.i_max_A)) ? c->cfg.i_lim_A
-                                                                                         : c->cfg.i_max_A;
-    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= cfg_A)) ? i_lim_A : cfg_A;
-}
-
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref)
 {
     c->ref = *ref;
+}
+
+void ctrl_set_speed_ref(ctrl_t *c, float speed_ref_rad_s)
+{
+    c->ref.speed_ref_rad_s = speed_ref_rad_s;
 }
 
 /*

@@ -257,6 +257,10 @@ bool ctrl_set_method(ctrl_t *c, ctrl_method_t method);
  * the ISR must not be interrupted in by another writer. */
 void ctrl_set_ref(ctrl_t *c, const ctrl_ref_t *ref);
 
+/* The speed reference alone [rad/s mech], the others kept: one 32-bit
+ * store. ISR (step 1's speeds), or background. */
+void ctrl_set_speed_ref(ctrl_t *c, float speed_ref_rad_s);
+
 /* The targets' current limit [A] from now on, i_lim_A in (0, cfg.i_lim_A]
  * (else cfg's). Background: one 32-bit store, the ISR reads the old
  * value or the new one. */

@@ -1,7 +1,9 @@
 /* ctrl_cfg.c - the controller's start-up: its blocks from ctrl_cfg_t,
- * the told model for the estimation, the reset; see ctrl.h. Background
- * only, and ctrl_reset in the start sequence's transitions (runs from
- * flash on the target: target.mk FLASH_ISR_SRCS). */
+ * the told model for the estimation, the reset, the current limits and
+ * the alignment; see ctrl.h. Background only, and (FLASHFUNC) ctrl_reset,
+ * ctrl_set_i_lim and ctrl_encoder_align in the start sequence's
+ * transitions and ALIGN (runs from flash on the target: target.mk
+ * RAMFUNC_ALL_EXCEPT). */
 #include "ctrl.h"
 
 #include "mathx.h"
@@ -172,4 +174,21 @@ FLASHFUNC void ctrl_reset(ctrl_t *c)
     c->mon.psi_ref_Wb = 0.0f;
     c->mon.psi_est_Wb = 0.0f;
     c->mon.model_from_observer = 0u;
+}
+
+FLASHFUNC void ctrl_set_i_lim(ctrl_t *c, float i_lim_A)
+{
+    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= c->cfg.i_max_A)) ? i_lim_A : c->cfg.i_max_A;
+}
+
+void ctrl_set_i_limit(ctrl_t *c, float i_lim_A)
+{
+    const float cfg_A = ((c->cfg.i_lim_A > 0.0f) && (c->cfg.i_lim_A <= c->cfg.i_max_A)) ? c->cfg.i_lim_A
+                                                                                         : c->cfg.i_max_A;
+    c->i_lim_A = ((i_lim_A > 0.0f) && (i_lim_A <= cfg_A)) ? i_lim_A : cfg_A;
+}
+
+FLASHFUNC void ctrl_encoder_align(ctrl_t *c, uint32_t enc_count)
+{
+    encoder_align(&c->enc, enc_count);
 }

@@ -18,7 +18,7 @@ typedef char est_hold_is_gate[((EST_HOLD_ACCEL == EST_GATE_ACCEL) && (EST_HOLD_C
 
 /* The output while step 2 is not running: the told model, the
  * conventional path, the observer's disturbances as they are. */
-static void out_told(est_t *e)
+RAMFUNC static void out_told(est_t *e)
 {
     est_out_t *o = &e->out;
     o->R_Ohm = e->cfg.R_Ohm;
@@ -33,7 +33,7 @@ static void out_told(est_t *e)
     o->phase = e->phase;
 }
 
-void est_reset(est_t *e)
+FLASHFUNC void est_reset(est_t *e)
 {
     smo_reset(&e->smo);
     param_est_reset(&e->pe);
@@ -55,7 +55,7 @@ void est_reset(est_t *e)
     out_told(e);
 }
 
-bool est_rsid_begin(est_t *e)
+FLASHFUNC bool est_rsid_begin(est_t *e)
 {
     if (e->status != EST_CFG_OK) {
         return false;
@@ -78,7 +78,7 @@ bool est_rsid_begin(est_t *e)
     return true;
 }
 
-void est_rsid_window(est_t *e, rs_ident_window_t win)
+RAMFUNC void est_rsid_window(est_t *e, rs_ident_window_t win)
 {
     e->win = win;
 }
@@ -86,7 +86,7 @@ void est_rsid_window(est_t *e, rs_ident_window_t win)
 /* R^ tracked from now on when configured; psi^ learns only where w psi_f
  * dominates what the identification may have left (the speed floor of
  * the transfer law, an input of param_est_step). */
-static void start_tracking(est_t *e)
+RAMFUNC static void start_tracking(est_t *e)
 {
     const float w_min = r_track_w_psi_min(&e->rt, e->cfg.psi_f_Wb);
     e->w_psi_min_rad_s = (w_min > e->cfg.w_min_rad_s) ? w_min : e->cfg.w_min_rad_s;
@@ -97,7 +97,7 @@ static void start_tracking(est_t *e)
 }
 
 /* Step 2 starts: estimator running, the model re-based on the observer's values. */
-static void start_step2(est_t *e)
+RAMFUNC static void start_step2(est_t *e)
 {
     param_est_run(&e->pe, true);
     est_gate_reset(&e->gate, &e->smo);
@@ -117,7 +117,7 @@ static void start_step2(est_t *e)
 /* Per-leg voltage error dv_V [V] of the dead time's shape added to the
  * compensation, bumplessly: f^ gives up the fundamental -(4/pi) dv i/|i|
  * it no longer has to explain (inverter_error_design.md sec. 5). 1 square root, 1 division, once. */
-static void add_inverter_error(est_t *e, float dv_V, dq_t i_dq_A)
+RAMFUNC static void add_inverter_error(est_t *e, float dv_V, dq_t i_dq_A)
 {
     const float i_abs = mathx_sqrtf(i_dq_A.d * i_dq_A.d + i_dq_A.q * i_dq_A.q);
     float dfq = 0.0f;
@@ -133,13 +133,13 @@ static void add_inverter_error(est_t *e, float dv_V, dq_t i_dq_A)
 
 /* The told compensation's fundamental with the identified error on top
  * [V] at the bus vdc_V [V] (inverter_error_design.md sec. 2). */
-static float compensated_fundamental_V(const est_t *e, float vdc_V)
+RAMFUNC static float compensated_fundamental_V(const est_t *e, float vdc_V)
 {
     return EST_FUNDAMENTAL_OF_SQUARE *
            (e->cfg.deadtime_frac * mathx_fabsf(vdc_V) + e->cfg.device_drop_V + mathx_fabsf(e->inv_dv_V));
 }
 
-void est_r_track_event(est_t *e, r_track_event_t ev, const est_in_t *in)
+RAMFUNC void est_r_track_event(est_t *e, r_track_event_t ev, const est_in_t *in)
 {
     const dq_t i_dq_A = in->i_dq_A;
     if (ev == R_TRACK_IDENT_DONE) {
@@ -184,7 +184,7 @@ void est_r_track_event(est_t *e, r_track_event_t ev, const est_in_t *in)
  * (delta_1 w2 - delta_2 w1)/den: at most |e0 Ve (w2 - w1)| +
  * c r Ve (|w2|/|i1| + |w1|/|i2|) over |den|. True when that is within
  * R_res_max R^ (into o->R_inverter_Ohm, o->R_inverter_max_Ohm). */
-static bool rsid_inverter_ok(const est_t *e, rs_ident_out_t *o, float den)
+RAMFUNC static bool rsid_inverter_ok(const est_t *e, rs_ident_out_t *o, float den)
 {
     const r_track_cfg_t *rc = &e->rt.cfg;
     const float vdc = mathx_fabsf(e->step1_vdc_V);
@@ -210,7 +210,7 @@ static bool rsid_inverter_ok(const est_t *e, rs_ident_out_t *o, float den)
  * windows' own dL_j = (fd_j + dR id_j)/(w_j iq_j) must agree within it
  * too, |k (dL1 - dL2)|; else the model does not hold on the d axis and R^
  * hangs on it: refused (RS_IDENT_D_AXIS). */
-static rs_ident_result_t rsid_checks(const est_t *e, rs_ident_result_t r_solved, rs_ident_out_t *o)
+RAMFUNC static rs_ident_result_t rsid_checks(const est_t *e, rs_ident_result_t r_solved, rs_ident_out_t *o)
 {
     rs_ident_result_t r = r_solved;
     o->R_d_axis_Ohm = 0.0f;
@@ -258,7 +258,7 @@ static rs_ident_result_t rsid_solve(const est_t *e, rs_ident_out_t *o)
     return rsid_checks(e, rs_ident_solve(&e->ri, o), o);
 }
 
-bool est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_head_t *win2_copy)
+RAMFUNC bool est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_head_t *win2_copy)
 {
     if (!rs_ident_batch_closed(&e->ri, RS_IDENT_WINDOW_2)) {
         return false;
@@ -268,7 +268,7 @@ bool est_rsid_stage_begin(est_t *e, rs_ident_solver_t *s, rs_ident_head_t *win2_
     return true;
 }
 
-bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s)
+RAMFUNC bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s)
 {
     if (s->stage >= RS_IDENT_SOLVE_STAGES) {
         return true; /* over: nothing more */
@@ -285,7 +285,7 @@ bool est_rsid_stage_step(est_t *e, rs_ident_solver_t *s)
  * leave before its identification (the coarse bound on the told error
  * and the prior of an untold one, psi_band.h): else 0 (holds_design.md
  * sec. 8: 1 us untold read 0.4-0.5 V of angle at 50-100 r/min). */
-static float correctable_angle_el_rad(const est_t *e)
+RAMFUNC static float correctable_angle_el_rad(const est_t *e)
 {
     const psi_band_cfg_t *bc = &e->pb.cfg;
     const rs_ident_out_t *o = &e->rsid_out;
@@ -303,7 +303,7 @@ rs_ident_result_t est_rsid_finish(est_t *e)
     return est_rsid_finish_with(e, rsid_solve(e, &e->rsid_out));
 }
 
-rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
+RAMFUNC rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
 {
     rs_ident_result_t r = r_solved;
 
@@ -338,12 +338,12 @@ rs_ident_result_t est_rsid_finish_with(est_t *e, rs_ident_result_t r_solved)
     return r;
 }
 
-float est_angle_error_el_rad(const est_t *e)
+RAMFUNC float est_angle_error_el_rad(const est_t *e)
 {
     return ((e->hold_fixed & EST_HOLD_ANGLE) != 0u) ? e->angle_fix_el_rad : 0.0f;
 }
 
-void est_angle_corrected(est_t *e)
+RAMFUNC void est_angle_corrected(est_t *e)
 {
     if ((e->phase != EST_STEP2) || ((e->hold_fixed & EST_HOLD_ANGLE) == 0u)) {
         return;
@@ -359,7 +359,7 @@ void est_angle_corrected(est_t *e)
     r_track_start(&e->rt, R_TRACK_IDENT); /* as after an unsuspected step 1 */
 }
 
-bool est_start_trusted(est_t *e, float R_Ohm)
+FLASHFUNC bool est_start_trusted(est_t *e, float R_Ohm)
 {
     /* ! (in band): NaN fails too */
     if ((e->status != EST_CFG_OK) || !((R_Ohm >= e->cfg.R_min_Ohm) && (R_Ohm <= e->cfg.R_max_Ohm))) {
@@ -376,7 +376,7 @@ bool est_start_trusted(est_t *e, float R_Ohm)
     return true;
 }
 
-void est_hold_oscillation(est_t *e, float L_scale, float omega_el_rad_s, float iq_A)
+RAMFUNC void est_hold_oscillation(est_t *e, float L_scale, float omega_el_rad_s, float iq_A)
 {
     if ((e->phase != EST_STEP2) || !(L_scale > 0.0f) || !(L_scale < 1.0f)) {
         return;
@@ -388,7 +388,7 @@ void est_hold_oscillation(est_t *e, float L_scale, float omega_el_rad_s, float i
     e->hold_fixed = (uint16_t)(e->hold_fixed | EST_HOLD_OSCILLATION);
 }
 
-bool est_start_told(est_t *e)
+RAMFUNC bool est_start_told(est_t *e)
 {
     if (e->status != EST_CFG_OK) {
         return false;

@@ -230,11 +230,12 @@ void est_cfg_defaults(est_cfg_t *cfg, const est_told_t *told, const smo_gains_t 
 est_status_t est_init(est_t *e, const est_cfg_t *cfg, const est_told_t *told);
 
 /* Observer stopped, estimates back to the told values, windows emptied.
- * Background, or ISR before PWM is enabled. */
+ * Background, or ISR before PWM is enabled (ctrl_reset; from flash). */
 void est_reset(est_t *e);
 
 /* Step 1 begins: observer restarted from the told values, step 2 and the
- * injection stopped, windows emptied. False when init refused. ISR or background. */
+ * injection stopped, windows emptied. False when init refused. ISR (the
+ * start sequence's transition into step 1; from flash) or background. */
 bool est_rsid_begin(est_t *e);
 
 /* Window the following periods are averaged into. ISR or background. */
@@ -242,7 +243,8 @@ void est_rsid_window(est_t *e, rs_ident_window_t win);
 
 /* Step 1 ends: solves; on RS_IDENT_OK R^ into the observer (bumpless) and
  * step 2 starts with the inverter-error identification; otherwise the
- * observer stops. ISR once or background. */
+ * observer stops. Background (from flash; the ISR's step 1 solves in
+ * stages: est_rsid_stage_step, then est_rsid_finish_with). */
 rs_ident_result_t est_rsid_finish(est_t *e);
 
 /* A staged check of step 1's windows so far (rs_ident_solve_begin/_step, for an
@@ -275,7 +277,8 @@ float est_angle_error_el_rad(const est_t *e);
 void est_angle_corrected(est_t *e);
 
 /* Step 2 without step 1 for a trusted R_Ohm in the band: false otherwise
- * or when init refused. ISR or background. */
+ * or when init refused. ISR (the start sequence's transition; from
+ * flash) or background. */
 bool est_start_trusted(est_t *e, float R_Ohm);
 
 /* Step 2 from the told R when step 1 could not measure it: the inverter

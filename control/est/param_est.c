@@ -73,7 +73,7 @@ RAMFUNC static void restart_fast_L(param_est_t *pe)
     param_est_set_gain_L(pe);
 }
 
-RAMFUNC void param_est_reset(param_est_t *pe)
+FLASHFUNC void param_est_reset(param_est_t *pe)
 {
     pe->running = false;
     pe->phase_psi = true; /* the first update is L^'s */

@@ -98,7 +98,7 @@ void param_est_cfg_defaults(param_est_cfg_t *cfg, float Ts_s, float L_H, float p
  * param_est_step() never moves anything. Background. */
 bool param_est_init(param_est_t *pe, const param_est_cfg_t *cfg, const smo_t *smo);
 
-/* Frozen. Background or ISR. */
+/* Frozen. Background, or ISR before PWM is enabled (est_reset; from flash). */
 void param_est_reset(param_est_t *pe);
 
 /* Run/freeze switch: run = true starts step 2 (after smo_set_R()). Background or ISR. */

@@ -92,7 +92,7 @@ RAMFUNC void psi_band_hold(psi_band_t *pb, bool hold)
     pb->low = hold ? (uint16_t)(pb->low | PSI_BAND_LOW_HELD) : (uint16_t)(pb->low & (uint16_t)~PSI_BAND_LOW_HELD);
 }
 
-RAMFUNC void psi_band_bound_measured(psi_band_t *pb)
+FLASHFUNC void psi_band_bound_measured(psi_band_t *pb)
 {
     pb->k_per_vdc = pb->cfg.unc_ident_frac * pb->cfg.ve_told_per_vdc + pb->cfg.ve_prior_per_vdc;
     pb->k_V = pb->cfg.unc_ident_frac * pb->cfg.ve_told_drop_V;

@@ -146,7 +146,8 @@ void psi_band_r_moved(psi_band_t *pb, float dfq_V);
  * inverter, no identification due): the fine bound on the told
  * fundamental and the prior of what nobody told on top (what the
  * measurement leaves, ve_prior_per_vdc x Vdc), final: the speed floor
- * decides from now on (holds_design.md sec. 6). ISR. */
+ * decides from now on (holds_design.md sec. 6). ISR (the start
+ * sequence's transition: est_start_trusted; from flash). */
 void psi_band_bound_measured(psi_band_t *pb);
 
 /* The inverter error's identification was refused: no bound on what the

@@ -48,7 +48,7 @@ bool rs_ident_init(rs_ident_t *ri, const rs_ident_cfg_t *cfg)
     return ri->valid;
 }
 
-void rs_ident_reset(rs_ident_t *ri)
+RAMFUNC void rs_ident_reset(rs_ident_t *ri)
 {
     int16_t j;
     int16_t ch;
@@ -89,7 +89,7 @@ void rs_ident_reset(rs_ident_t *ri)
     }
 }
 
-void rs_ident_copy_head(rs_ident_head_t *dst, const rs_ident_t *src, rs_ident_window_t win)
+RAMFUNC void rs_ident_copy_head(rs_ident_head_t *dst, const rs_ident_t *src, rs_ident_window_t win)
 {
     const rs_ident_head_t *h = &src->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1].h;
 
@@ -110,7 +110,7 @@ void rs_ident_copy_head(rs_ident_head_t *dst, const rs_ident_t *src, rs_ident_wi
     dst->s2_iq = h->s2_iq;
 }
 
-bool rs_ident_batch_closed(const rs_ident_t *ri, rs_ident_window_t win)
+RAMFUNC bool rs_ident_batch_closed(const rs_ident_t *ri, rs_ident_window_t win)
 {
     return ri->win[(win == RS_IDENT_WINDOW_1) ? 0 : 1].bn == 0u;
 }
@@ -133,14 +133,14 @@ bool rs_ident_batch_closed(const rs_ident_t *ri, rs_ident_window_t win)
 #define G6_S_S  8  /* S S6 */
 
 /* Index of the pair (a, b), a <= b, in rs_ident_win_t.m2 (ff, fi, fw, ii, iw, ww). */
-static int16_t pair_index(int16_t a, int16_t b)
+RAMFUNC static int16_t pair_index(int16_t a, int16_t b)
 {
     static const int16_t idx[RS_ST_COUNT][RS_ST_COUNT] = { { 0, 1, 2 }, { 1, 3, 4 }, { 2, 4, 5 } };
     return idx[a][b];
 }
 
 /* Channel a's batch mean m (relative to x0) into its sums, its batch sum emptied. */
-static inline void close_channel(rs_ident_win_t *w, int16_t a, float m, float C, float S, float C6, float S6)
+RAMFUNC static inline void close_channel(rs_ident_win_t *w, int16_t a, float m, float C, float S, float C6, float S6)
 {
     w->m1[a] += m;
     w->mcs[a][0] += m * C;
@@ -153,7 +153,7 @@ static inline void close_channel(rs_ident_win_t *w, int16_t a, float m, float C,
 /* A batch is complete: its mean (relative to x0) into the batch sums. The
  * channels and pairs written out: a period that closes a batch is one of
  * the ISR's longest (loops and pair_index's table cost more than the sums). */
-static void close_batch(rs_ident_win_t *w, float inv_n_batch)
+RAMFUNC static void close_batch(rs_ident_win_t *w, float inv_n_batch)
 {
     const float C = w->bcs[0] * inv_n_batch;
     const float S = w->bcs[1] * inv_n_batch;
@@ -203,7 +203,7 @@ void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V
     rs_ident_step_el(ri, win, fd_V, fq_V, id_A, iq_A, omega_el_rad_s, 0.0f, 0.0f);
 }
 
-void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A, float iq_A,
+RAMFUNC void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A, float iq_A,
                       float omega_el_rad_s, float cos_el, float sin_el)
 {
     const float x[RS_CH_COUNT] = { fd_V, fq_V, id_A, iq_A, omega_el_rad_s };
@@ -251,7 +251,7 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
 /* The ripple fit of a window (step1_design.md sec. 4): inverse of G = Z'Z, Z the
  * rows (1, C_i, S_i); false (plain means) when there are too few batches
  * or det(G / nb) is below RS_IDENT_RIPPLE_DET_MIN. 1 division. */
-static bool ripple_fit(const rs_ident_win_t *w, float Gi[3][3])
+RAMFUNC static bool ripple_fit(const rs_ident_win_t *w, float Gi[3][3])
 {
     const float nb = (float)w->nb;
     const float G[3][3] = { { nb, w->g[G_C], w->g[G_S] },
@@ -287,7 +287,7 @@ static bool ripple_fit(const rs_ident_win_t *w, float Gi[3][3])
 }
 
 /* Z'x for channel a of the batch stats: (sum m_a, sum m_a C, sum m_a S). */
-static void zt_channel(const rs_ident_win_t *w, int16_t a, float h[3])
+RAMFUNC static void zt_channel(const rs_ident_win_t *w, int16_t a, float h[3])
 {
     h[0] = w->m1[a];
     h[1] = w->mcs[a][0];
@@ -301,7 +301,7 @@ static void zt_channel(const rs_ident_win_t *w, int16_t a, float h[3])
  * batches or det(Sc / nb) below RS_IDENT_RIPPLE_DET_MIN (batches of whole
  * ripple periods, the 6th aliased onto the 1st). Else f gets P and Sc^-1;
  * the intercepts move by -u' Sc^-1 q_a (u = P's row 0, ripple6_q). 1 division. */
-static bool ripple6_fit(const rs_ident_win_t *w, rs_ident_ripple_t *f)
+RAMFUNC static bool ripple6_fit(const rs_ident_win_t *w, rs_ident_ripple_t *f)
 {
     const float(*Gi)[3] = f->Gi;
     const float nb = (float)w->nb;
@@ -336,7 +336,7 @@ static bool ripple6_fit(const rs_ident_win_t *w, rs_ident_ripple_t *f)
 
 /* Channel a's q_a = Z6'm_a - P' Z'm_a (the 6th harmonic's part of its
  * batch means the 3 terms do not explain). */
-static void ripple6_q(const rs_ident_win_t *w, const rs_ident_ripple_t *f, int16_t a, float q[2])
+RAMFUNC static void ripple6_q(const rs_ident_win_t *w, const rs_ident_ripple_t *f, int16_t a, float q[2])
 {
     float h[3];
     int16_t k;
@@ -348,7 +348,7 @@ static void ripple6_q(const rs_ident_win_t *w, const rs_ident_ripple_t *f, int16
 }
 
 /* x' Sc^-1 y for a 6th-harmonic fit (Si6 symmetric). */
-static float si6_form(const rs_ident_ripple_t *f, const float x[2], const float y[2])
+RAMFUNC static float si6_form(const rs_ident_ripple_t *f, const float x[2], const float y[2])
 {
     const float *si = f->Si6;
     return x[0] * (si[0] * y[0] + si[1] * y[1]) + x[1] * (si[1] * y[0] + si[2] * y[1]);
@@ -357,7 +357,7 @@ static float si6_form(const rs_ident_ripple_t *f, const float x[2], const float 
 /* The sums of the residual r = fq + dR iq + dpsi w over window w's batch
  * means into sums: r'r, Z'r (3), Z6'r (2) (Z the rows (1, C_i, S_i), Z6
  * (C6_i, S6_i)). */
-static void residual_sums(const rs_ident_win_t *w, float dR, float dpsi, float sums[6])
+RAMFUNC static void residual_sums(const rs_ident_win_t *w, float dR, float dpsi, float sums[6])
 {
     const float c[RS_ST_COUNT] = { 1.0f, dR, dpsi };
     int16_t a;
@@ -387,7 +387,7 @@ static void residual_sums(const rs_ident_win_t *w, float dR, float dpsi, float s
  * sigma^2 (G^-1)_00 with sigma^2 = SSR / (nb - 3); with the 6th harmonic
  * too, SSR less q_r' Sc^-1 q_r (q_r = Z6'r - P' Z'r) over nb - 5,
  * (G^-1)_00 plus u' Sc^-1 u. */
-static float residual_se2(const rs_ident_win_t *w, const rs_ident_ripple_t *f, const float sums[6])
+RAMFUNC static float residual_se2(const rs_ident_win_t *w, const rs_ident_ripple_t *f, const float sums[6])
 {
     const float(*Gi)[3] = f->Gi;
     const float *h = &sums[1];
@@ -418,7 +418,7 @@ static float residual_se2(const rs_ident_win_t *w, const rs_ident_ripple_t *f, c
     return ssr / (nb - 5.0f) * (Gi[0][0] + si6_form(f, f->P[0], f->P[0]));
 }
 
-static void zero_out(rs_ident_out_t *out, float R_nom)
+RAMFUNC static void zero_out(rs_ident_out_t *out, float R_nom)
 {
     int16_t j;
     out->R_est_Ohm = R_nom;
@@ -467,7 +467,7 @@ static const uint16_t STAGES[RS_IDENT_SOLVE_STAGES] = {
 
 /* The ripple fit's intercept of channel a in window j (relative to x0):
  * the mean over whole turns (and whole ripple periods with the 6th). */
-static float intercept(const rs_ident_win_t *w, const rs_ident_ripple_t *f, int16_t a)
+RAMFUNC static float intercept(const rs_ident_win_t *w, const rs_ident_ripple_t *f, int16_t a)
 {
     const float(*Gi)[3] = f->Gi;
     float h[3];
@@ -483,7 +483,7 @@ static float intercept(const rs_ident_win_t *w, const rs_ident_ripple_t *f, int1
 
 /* Window j's means and iq's slope into *out (the points the later stages
  * read there; step1_design.md sec. 5); RS_IDENT_OK or why the window is refused. */
-static rs_ident_result_t solve_means(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+RAMFUNC static rs_ident_result_t solve_means(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
     const rs_ident_win_t *wn = s->win[j];
@@ -519,7 +519,7 @@ static rs_ident_result_t solve_means(const rs_ident_solver_t *s, int16_t j, rs_i
 
 /* step1_design.md sec. 4: window j's means of fq, iq, w over whole turns (and whole
  * ripple periods with the 6th) where its ripple fit s->fit holds. */
-static void solve_intercepts(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+RAMFUNC static void solve_intercepts(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
     const rs_ident_win_t *wn = s->win[j];
     const float *x0 = s->head[j]->x0;
@@ -536,7 +536,7 @@ static void solve_intercepts(const rs_ident_solver_t *s, int16_t j, rs_ident_out
 
 /* dR, dpsi, dL from both windows' points (step1_design.md sec. 1; (41), (42)
  * with the signs corrected) into *s and *out; RS_IDENT_OK or why not. */
-static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
+RAMFUNC static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 {
     const rs_ident_cfg_t *c = &s->ri->cfg;
     const float *fd = out->mean_fd_V;
@@ -603,14 +603,14 @@ static rs_ident_result_t solve_points(rs_ident_solver_t *s, rs_ident_out_t *out)
 }
 
 /* step1_design.md sec. 3: window j's share of se(R^), delta dR = -(w1 delta r2 - w2 delta r1) / den */
-static void solve_se(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
+RAMFUNC static void solve_se(const rs_ident_solver_t *s, int16_t j, rs_ident_out_t *out)
 {
     out->r_se_V[j] = mathx_sqrtf(residual_se2(s->win[j], &s->fit, s->se_sums));
     out->R_se_part_Ohm[j] = mathx_fabsf(out->mean_w_rad_s[1 - j]) * out->r_se_V[j] * s->abs_inv_den;
 }
 
 /* se(R^) against its limit, then the band. */
-static rs_ident_result_t solve_verdict(const rs_ident_cfg_t *c, rs_ident_out_t *out)
+RAMFUNC static rs_ident_result_t solve_verdict(const rs_ident_cfg_t *c, rs_ident_out_t *out)
 {
     const float R_est = out->R_raw_Ohm;
 
@@ -629,7 +629,7 @@ static rs_ident_result_t solve_verdict(const rs_ident_cfg_t *c, rs_ident_out_t *
     return RS_IDENT_OK;
 }
 
-void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_head_t *head_2)
+RAMFUNC void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_ident_head_t *head_2)
 {
     s->ri = ri;
     s->win[0] = &ri->win[0];
@@ -643,7 +643,7 @@ void rs_ident_solve_begin(rs_ident_solver_t *s, const rs_ident_t *ri, const rs_i
     s->fit.fit6 = false;
 }
 
-bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out)
+RAMFUNC bool rs_ident_solve_step(rs_ident_solver_t *s, rs_ident_out_t *out)
 {
     rs_ident_result_t r = s->result;
 

@@ -178,7 +178,8 @@ bool rs_ident_batch_closed(const rs_ident_t *ri, rs_ident_window_t win);
 
 /* One period, after smo_step(): the observer's fd_V, fq_V [V] and the
  * measured id_A, iq_A [A], omega_el_rad_s [rad/s] into window win
- * (RS_IDENT_WINDOW_NONE: ignored). No division. ISR. */
+ * (RS_IDENT_WINDOW_NONE: ignored). No division. Host (the target's ISR
+ * calls rs_ident_step_el; this one runs from flash there). */
 void rs_ident_step(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float fq_V, float id_A,
                    float iq_A, float omega_el_rad_s);
 
@@ -189,8 +190,8 @@ void rs_ident_step_el(rs_ident_t *ri, rs_ident_window_t win, float fd_V, float f
 
 /* Checks the windows and solves (step1_design.md sec. 1, 3); *out is filled as far
  * as the checks got (R_est_Ohm = R_nom unless OK); the windows are left as
- * they are. Background, or ISR (about 25 divisions, 4 square roots: an
- * ISR with a budget uses the stages below). */
+ * they are. Background (about 25 divisions, 4 square roots: the ISR uses
+ * the stages below; this one runs from flash on the target). */
 rs_ident_result_t rs_ident_solve(const rs_ident_t *ri, rs_ident_out_t *out);
 
 /* rs_ident_solve in RS_IDENT_SOLVE_STAGES bounded stages, one per call

@@ -3,13 +3,13 @@
 
 #include "mathx.h"
 
-static bool in_range(float x, float lo, float hi)
+RAMFUNC static bool in_range(float x, float lo, float hi)
 {
     return (x >= lo) && (x <= hi);
 }
 
 /* Phi, g_u, g_c follow at the next step. */
-void smo_update_model(smo_t *smo)
+RAMFUNC void smo_update_model(smo_t *smo)
 {
     smo->zm_stale = false;
     smo->z_turn = 0u; /* no turn's number: taken again at the next step */
@@ -25,14 +25,14 @@ void smo_update_model(smo_t *smo)
     }
 }
 
-void smo_take_model(smo_t *smo)
+RAMFUNC void smo_take_model(smo_t *smo)
 {
     smo->zm_stale = false;
     smo->z_turn = 0u; /* no turn's number: taken again at the next step */
     zoh_model_of(smo->R_Ohm, smo->L_H, smo->cfg.Ts_s, &smo->zm);
 }
 
-void smo_reset(smo_t *smo)
+RAMFUNC void smo_reset(smo_t *smo)
 {
     zoh_turn_t still;
 
@@ -55,7 +55,7 @@ void smo_reset(smo_t *smo)
     smo->U_V.q = 0.0f;
 }
 
-void smo_take_period(smo_t *smo, const zoh_turn_t *turn)
+RAMFUNC void smo_take_period(smo_t *smo, const zoh_turn_t *turn)
 {
     if (smo->zm_stale) {
         smo_update_model(smo); /* L^ moved since: 2 divisions */
@@ -71,13 +71,13 @@ void smo_take_period(smo_t *smo, const zoh_turn_t *turn)
     }
 }
 
-void smo_shift_f(smo_t *smo, float dfd_V, float dfq_V)
+RAMFUNC void smo_shift_f(smo_t *smo, float dfd_V, float dfq_V)
 {
     smo->fd_V += dfd_V;
     smo->fq_V += dfq_V;
 }
 
-bool smo_set_R(smo_t *smo, float R_Ohm)
+RAMFUNC bool smo_set_R(smo_t *smo, float R_Ohm)
 {
     const smo_cfg_t *c = &smo->cfg;
     if ((smo->status != SMO_CFG_OK) || !mathx_isfinitef(R_Ohm) ||
@@ -93,7 +93,7 @@ bool smo_set_R(smo_t *smo, float R_Ohm)
     return true;
 }
 
-float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
+RAMFUNC float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
 {
     const float L_new = smo_set_L_deferred(smo, L_H, omega_el_rad_s, iq_A);
     if (smo->zm_stale) {
@@ -102,7 +102,7 @@ float smo_set_L(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
     return L_new;
 }
 
-float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
+RAMFUNC float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
 {
     const smo_cfg_t *c = &smo->cfg;
     if (smo->status != SMO_CFG_OK) {
@@ -117,7 +117,7 @@ float smo_set_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A
     return L_new;
 }
 
-float smo_set_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s)
+RAMFUNC float smo_set_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s)
 {
     const smo_cfg_t *c = &smo->cfg;
     if (smo->status != SMO_CFG_OK) {

@@ -3,7 +3,7 @@
 
 #include "mathx.h"
 
-RAMFUNC void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
+void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
 {
     q->cfg = *cfg;
     q->window_ticks = app_periods_of(cfg->window_s, Ts_s);
@@ -23,7 +23,7 @@ RAMFUNC void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s)
     q->check_tick = 0u;
 }
 
-RAMFUNC void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
+FLASHFUNC void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s)
 {
     q->ticks = 0u;
     q->repeats = 0u;
@@ -43,19 +43,16 @@ RAMFUNC static bool ramp_speed(rsid_seq_t *q, float target)
     return (dmax > 0.0f) && (mathx_fabsf(err) > dmax);
 }
 
-/* ctrl_step at the sequence's speed reference; ctrl.ref, the outside's,
- * is put back after it (one copy and the outside speed: the ISR's deepest
- * stack runs through here). */
+/* ctrl_step at the sequence's speed reference; the outside's (ctrl.ref's)
+ * is put back after it. Only the speed is kept aside: the ISR's deepest
+ * chain runs through here (ram_budget's stack). */
 RAMFUNC static void step_at_speed(const rsid_seq_t *q, ctrl_t *c, const ctrl_in_t *in, ctrl_out_t *out)
 {
-    ctrl_ref_t ref = *ctrl_ref(c);
-    const float outside_speed_rad_s = ref.speed_ref_rad_s;
+    const float outside_rad_s = ctrl_ref(c)->speed_ref_rad_s;
 
-    ref.speed_ref_rad_s = q->speed_ref_rad_s;
-    ctrl_set_ref(c, &ref);
+    ctrl_set_speed_ref(c, q->speed_ref_rad_s);
     ctrl_step(c, in, out);
-    ref.speed_ref_rad_s = outside_speed_rad_s;
-    ctrl_set_ref(c, &ref);
+    ctrl_set_speed_ref(c, outside_rad_s);
 }
 
 /* The fault naming why step 1 refused R^, with the quantity and its limit. */

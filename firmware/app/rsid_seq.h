@@ -112,8 +112,9 @@ typedef struct {
 /* Start-up: copy *cfg, derive the periods at Ts_s [s]. */
 void rsid_seq_init(rsid_seq_t *q, const rsid_seq_cfg_t *cfg, float Ts_s);
 
-/* ISR, on entering IDENTIFY_R after est_rsid_begin(): SPEEDS ramps from
- * speed_now_rad_s [rad/s, mechanical]. */
+/* ISR, on entering IDENTIFY_R after est_rsid_begin() (the start
+ * sequence's transition; from flash): SPEEDS ramps from speed_now_rad_s
+ * [rad/s, mechanical]. */
 void rsid_seq_start(rsid_seq_t *q, float speed_now_rad_s);
 
 /* ISR, once per IDENTIFY_R period: the window, the commanded speed and

@@ -14,10 +14,16 @@
 MEMORY
 {
 PAGE 0 :
-   /* L0-L5 for ramfuncs. What each RAM range holds and its margin: `make
-    * check` (tools/check/ram_budget.py, from drive.map once there is one),
-    * which fails under 10 % free; it reads the lengths below. */
-   RAML0L5    : origin = 0x008000, length = 0x006000   /* L0-L5 SARAM (24K words): run address of ramfuncs */
+   /* L0-L5 for ramfuncs but L5's last 0x80 words, which .ebss takes
+    * (RAML5L7): the RAM code left L0-L5 about 3K words free once the blocks'
+    * set-up ran from flash, .ebss had under 10 % of L6-L7 (the current
+    * offsets' state, control/observer_log.md 2026-12-02). The L-blocks are
+    * alike (zero-wait SARAM, L4-L7 outside the CSM's secure zone), so the
+    * boundary is the map's; .ebss stays 64-word aligned (its pages). What
+    * each RAM range holds and its margin: `make check`
+    * (tools/check/ram_budget.py, from drive.map once there is one), which
+    * fails under 10 % free; it reads the lengths below. */
+   RAML0L5    : origin = 0x008000, length = 0x005F80   /* L0-L5 SARAM less L5's last 0x80 words: run address of ramfuncs */
    FLASHHC    : origin = 0x300000, length = 0x030000   /* flash sectors H..C, 32K words each: the image */
    /* Flash sector B, the parameter store's (hal/f28335/hal_f28335_nv.c,
     * hal_f28335_cfg.h F28335_NV_SECTOR_*): nothing is placed here, so no
@@ -35,7 +41,7 @@ PAGE 1 :
    BOOT_RSVD  : origin = 0x000000, length = 0x000050   /* M0 part used by the boot ROM stack */
    RAMM0      : origin = 0x000050, length = 0x0003B0   /* M0 SARAM */
    RAMM1      : origin = 0x000400, length = 0x000400   /* M1 SARAM: the stack */
-   RAML6L7    : origin = 0x00E000, length = 0x002000   /* L6-L7 SARAM (8K words): .ebss */
+   RAML5L7    : origin = 0x00DF80, length = 0x002080   /* L5's last 0x80 words and L6-L7 SARAM: .ebss */
 }
 
 SECTIONS
@@ -103,7 +109,7 @@ SECTIONS
    /* Data. */
    .stack        : > RAMM1,     PAGE = 1
    /* .ebss: zeroed by f28335_codestart.asm before _c_int00 (COFF zeroes nothing). */
-   .ebss         : > RAML6L7,   PAGE = 1,
+   .ebss         : > RAML5L7,   PAGE = 1,
                    RUN_START(_EbssRunStart),
                    RUN_SIZE(_EbssRunSize)
    .esysmem      : > RAMM0,     PAGE = 1

@@ -60,7 +60,7 @@ static drive_params_t g_params; /* the drive's parameter set, its derived values
                                  * parameters live in it (link_params.h), the configuration follows it */
 static volatile cmd_comm_t g_comm; /* the commissioning: g_comm.start = 1 while stopped; its report */
 static comm_t g_commission;  /* the commissioning's state (app_attach_comm) */
-/* In M0 (section m0data, f28335_flash.cmd), as .ebss in L6-L7 keeps its
+/* In M0 (section m0data, f28335_flash.cmd), as .ebss (RAML5L7) keeps its
  * margin only without them: objects whose init functions write every
  * field (app_attach_comm, cmd_init, cmd_comm_init; the pattern-fill test
  * proves it; g_params: drive_params_board; g_lim: its three fields set in

@@ -65,9 +65,12 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # start-up and naming files (smo_cfg.c, est_cfg.c, est_names.c,
 # ctrl_cfg.c, dbdtc_cfg.c), which the background loop and the start
 # sequence's transitions use; and the blocks whose set-up (init, cfg
-# defaults) is large beside their per-period code (encoder.c,
-# param_est.c, est_gate.c, psi_band.c, r_track.c): their ISR functions
-# marked RAMFUNC, the set-up in flash. Elsewhere, and in those files,
+# defaults, the start sequence's resets and starts, host-only entries)
+# is large beside their per-period code (encoder.c, param_est.c,
+# est_gate.c, psi_band.c, r_track.c, smo.c, rs_ident.c, est.c, pi.c,
+# oplim.c): their ISR functions marked RAMFUNC, the set-up in flash
+# (step 1's solve and its end stay in RAM: they share a period with
+# ctrl_step). Elsewhere, and in those files,
 # each function's definition says where it runs (control/c28x_portable.h):
 # RAMFUNC in .TI.ramfunc (RAM), FLASHFUNC in flash on the ISR path on
 # purpose (the start-up steps, commissioning and build levels: states that
@@ -76,7 +79,7 @@ CFLAGS := $(CPU_FLAGS) --c99 --opt_level=2 --float_operations_allowed=32 \
 # (make check) fails if a function the ISR reaches carries neither.
 # (one line each: tools/check/placement.py reads them)
 RAMFUNC_ALL := control
-RAMFUNC_ALL_EXCEPT := control/ident.c control/encoder.c control/est/param_est.c control/est/est_gate.c control/est/psi_band.c control/est/r_track.c control/est/smo_cfg.c control/est/est_cfg.c control/est/est_names.c control/ctrl/ctrl_cfg.c control/dbdtc_cfg.c
+RAMFUNC_ALL_EXCEPT := control/ident.c control/encoder.c control/est/param_est.c control/est/est_gate.c control/est/psi_band.c control/est/r_track.c control/est/smo.c control/est/rs_ident.c control/est/est.c control/pi.c control/oplim.c control/est/smo_cfg.c control/est/est_cfg.c control/est/est_names.c control/ctrl/ctrl_cfg.c control/dbdtc_cfg.c
 
 APP_SRCS  := $(foreach d,$(CONTROL_ROOMS),$(wildcard $d/*.c)) $(wildcard firmware/*/*.c) $(wildcard hal/f28335/*.c)
 TI_C_SRCS := $(F2833X_HEADERS)/source/DSP2833x_GlobalVariableDefs.c

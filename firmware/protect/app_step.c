@@ -4,7 +4,7 @@
 /* Longest time converted to periods: keeps the float-to-integer cast defined. */
 #define PERIODS_MAX 1.0e9f
 
-RAMFUNC uint32_t app_periods_of(float t_s, float Ts_s)
+FLASHFUNC uint32_t app_periods_of(float t_s, float Ts_s)
 {
     float n = t_s / Ts_s;
     if (!(n > 0.0f)) {

@@ -102,7 +102,8 @@ static inline app_step_t app_step_fault(app_fault_t fault, float value, float li
 #define APP_ENC_COUNTS_PER_LINE 4u
 
 /* Whole periods of Ts_s in t_s, rounded; 0 for a non-positive time, at
- * most 1e9 (28 h at 10 kHz: the float-to-integer cast stays defined). */
+ * most 1e9 (28 h at 10 kHz: the float-to-integer cast stays defined).
+ * Start-up, or ISR in commissioning (from flash). */
 uint32_t app_periods_of(float t_s, float Ts_s);
 
 #endif /* APP_STEP_H */

@@ -16,12 +16,12 @@
 #define OP_CONE_SHARE_INV 2u
 #define OP_CONE_SHARE (1.0f / (float)OP_CONE_SHARE_INV)
 
-RAMFUNC void protect_arm_uv(protect_t *p)
+FLASHFUNC void protect_arm_uv(protect_t *p)
 {
     p->uv_armed = true;
 }
 
-RAMFUNC void protect_disarm_uv(protect_t *p)
+FLASHFUNC void protect_disarm_uv(protect_t *p)
 {
     p->uv_armed = false;
 }

@@ -246,11 +246,12 @@ static inline void protect_track(protect_t *p, uint32_t enc_count, uint32_t t_en
     p->seeded = true;
 }
 
-/* ISR: from now on an undervoltage is a fault (kept armed). */
+/* ISR (the start sequence's transitions; from flash): from now on an
+ * undervoltage is a fault (kept armed). */
 void protect_arm_uv(protect_t *p);
 
-/* ISR: no undervoltage check until the next protect_arm_uv (build levels
- * 1-2 run without the DC bus, level.h). */
+/* ISR (the start sequence; from flash): no undervoltage check until the
+ * next protect_arm_uv (build levels 1-2 run without the DC bus, level.h). */
 void protect_disarm_uv(protect_t *p);
 
 /* ISR: the checks above on this call's samples *s, the current offsets

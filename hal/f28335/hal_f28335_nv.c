@@ -50,7 +50,7 @@ extern Uint16 RamfuncsRunStart;
 F28335_STATIC_ASSERT(nv_sector_is_the_fakes, F28335_NV_SECTOR_WORDS == 0x8000UL);
 
 /* The API's globals, defined by its caller (Flash2833x_API_Library.h); in
- * M0 with the other objects .ebss (L6-L7) keeps its margin without, set
+ * M0 with the other objects .ebss (RAML5L7) keeps its margin without, set
  * before every use (nothing zeroes M0). */
 #if defined(__TMS320C28XX__)
 #pragma DATA_SECTION(Flash_CPUScaleFactor, "m0data")
