@@ -122,6 +122,9 @@ typedef struct {           /* the model in this period's turn (dbdtc_period) */
 
 typedef struct {
     dbdtc_cfg_t cfg;
+    float u_lo_V;          /* -cfg.u_max_V, -cfg.i_max_A, -cfg.te_max_Nm: the clamps' lower */
+    float i_lo_A;          /* bounds, negated once (dbdtc_init) */
+    float te_lo_Nm;
     dbdtc_par_t par;
     dbdtc_step_t st;
 } dbdtc_t;
@@ -219,8 +222,8 @@ static inline float dbdtc_torque_after(const dbdtc_t *db, dq_t u_dq_V)
 {
     const dbdtc_cfg_t *cfg = &db->cfg;
     const dbdtc_step_t *st = &db->st;
-    const float ud = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
-    const float uq = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
+    const float ud = mathx_clampf(u_dq_V.d, db->u_lo_V, cfg->u_max_V);
+    const float uq = mathx_clampf(u_dq_V.q, db->u_lo_V, cfg->u_max_V);
 
     /* eq. (5) on psi_q(k+2) */
     return db->par.te_per_Wb * (st->free_Wb.q + st->gu_Wb_V.d * uq + st->gu_Wb_V.q * ud);
@@ -234,8 +237,8 @@ static inline dbdtc_state_t dbdtc_state_from_currents(const dbdtc_t *db, dq_t i_
     const float i_max = db->cfg.i_max_A;
     dbdtc_state_t x;
 
-    x.i_dq_A.d = mathx_clampf(i_dq_A.d, -i_max, i_max);
-    x.i_dq_A.q = mathx_clampf(i_dq_A.q, -i_max, i_max);
+    x.i_dq_A.d = mathx_clampf(i_dq_A.d, db->i_lo_A, i_max);
+    x.i_dq_A.q = mathx_clampf(i_dq_A.q, db->i_lo_A, i_max);
     x.psi_dq_Wb.d = p->L_H * x.i_dq_A.d + p->psi_f_Wb;   /* eq. (11) */
     x.psi_dq_Wb.q = p->L_H * x.i_dq_A.q;                 /* eq. (11) */
     x.te_Nm = p->kt_Nm_per_A * x.i_dq_A.q;                /* eq. (12) */
@@ -277,10 +280,10 @@ static inline dbdtc_state_t dbdtc_predict(const dbdtc_t *db, dq_t i_dq_A, dq_t u
     dq_t psi;
     dq_t i1;
 
-    u.d = mathx_clampf(u_dq_V.d, -cfg->u_max_V, cfg->u_max_V);
-    u.q = mathx_clampf(u_dq_V.q, -cfg->u_max_V, cfg->u_max_V);
-    psi.d = p->L_H * mathx_clampf(i_dq_A.d, -cfg->i_max_A, cfg->i_max_A) + p->psi_f_Wb;
-    psi.q = p->L_H * mathx_clampf(i_dq_A.q, -cfg->i_max_A, cfg->i_max_A);
+    u.d = mathx_clampf(u_dq_V.d, db->u_lo_V, cfg->u_max_V);
+    u.q = mathx_clampf(u_dq_V.q, db->u_lo_V, cfg->u_max_V);
+    psi.d = p->L_H * mathx_clampf(i_dq_A.d, db->i_lo_A, cfg->i_max_A) + p->psi_f_Wb;
+    psi.q = p->L_H * mathx_clampf(i_dq_A.q, db->i_lo_A, cfg->i_max_A);
     /* eq. (10) exact: psi(k+1) = Phi psi + psi_f R g_c + L g_u u */
     const dq_t f = dbdtc_free_flux(&db->st, psi);
     const dq_t v = zoh_mul(db->st.gu_Wb_V, u);
@@ -299,7 +302,7 @@ static inline uint16_t dbdtc_solve(dbdtc_t *db, const dbdtc_state_t *x, float te
 {
     const dbdtc_cfg_t *cfg = &db->cfg;
     const dbdtc_par_t *p = &db->par;
-    const float te_ref = mathx_clampf(te_ref_Nm, -cfg->te_max_Nm, cfg->te_max_Nm);
+    const float te_ref = mathx_clampf(te_ref_Nm, db->te_lo_Nm, cfg->te_max_Nm);
     const float psi_ref = mathx_clampf(psi_ref_Wb, 0.0f, cfg->psi_max_Wb);
     uint16_t flags = 0u;
 
@@ -330,8 +333,8 @@ static inline uint16_t dbdtc_solve(dbdtc_t *db, const dbdtc_state_t *x, float te
     dpsi.d = psid_tgt - f.d;
     dpsi.q = psiq_tgt - f.q;
     const dq_t u = zoh_mul(db->st.ku_V_Wb, dpsi);
-    u_dq_V->d = mathx_clampf(u.d, -cfg->u_max_V, cfg->u_max_V);
-    u_dq_V->q = mathx_clampf(u.q, -cfg->u_max_V, cfg->u_max_V);
+    u_dq_V->d = mathx_clampf(u.d, db->u_lo_V, cfg->u_max_V);
+    u_dq_V->q = mathx_clampf(u.q, db->u_lo_V, cfg->u_max_V);
     return flags;
 }
 

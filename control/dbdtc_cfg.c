@@ -18,6 +18,9 @@ bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg)
     zoh_turn_t still;
 
     db->cfg = *cfg;
+    db->u_lo_V = -cfg->u_max_V;
+    db->i_lo_A = -cfg->i_max_A;
+    db->te_lo_Nm = -cfg->te_max_Nm;
     dbdtc_reset(db);
     db->st.free_Wb.d = 0.0f;
     db->st.free_Wb.q = 0.0f;

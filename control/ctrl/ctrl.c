@@ -246,7 +246,7 @@ static void stage_sample(ctrl_t *c, const ctrl_in_t *in, ctrl_period_t *p)
     }
     c->tracked = false;
     /* w(k) within the model's bound (every user's) */
-    p->omega = mathx_clampf(c->enc.omega_e_rad_s, -c->cfg.omega_max_el_rad_s, c->cfg.omega_max_el_rad_s);
+    p->omega = mathx_clampf(c->enc.omega_e_rad_s, c->omega_lo_rad_s, c->cfg.omega_max_el_rad_s);
     if (!(mathx_fabsf(p->omega - c->turn.w_rad_s) <= c->turn_tol_rad_s)) {
         zoh_turn(p->omega * c->cfg.Ts_s, p->omega, &c->turn); /* the turn moved: taken anew (zoh.h) */
     }

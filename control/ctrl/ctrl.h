@@ -197,6 +197,7 @@ typedef struct {
     float ripple_A;             /* the largest current ripple at a leg's edge in the last period (inverr.h) [A] */
     zoh_turn_t turn;            /* the rotor's turn over a period, taken at w within turn_tol of w(k) (zoh.h) */
     float turn_tol_rad_s;       /* ZOH_THETA_TOL_RAD / Ts [rad/s el] */
+    float omega_lo_rad_s;       /* -cfg.omega_max_el_rad_s: w(k)'s lower bound, negated once [rad/s el] */
     float i_lim_A;              /* current limit in use (cfg.i_lim_A or i_max_A) [A] */
     float te_lim_Nm;            /* |Te*| limit in use: te_max_Nm, times kt(model)/kt(told) when it follows kt [N m] */
     float te_per_psi_Nm_Wb;     /* te_max_Nm / told psi_f when the limit follows kt, else 0 [N m/Wb] */

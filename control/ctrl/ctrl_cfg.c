@@ -107,6 +107,7 @@ static ctrl_status_t init_limits(ctrl_t *c, const ctrl_cfg_t *cfg)
                                                 ? cfg->u_margin : CTRL_U_MARGIN_DEFAULT);
     oplim_init(&c->lim, cfg->Ts_s, OPLIM_FW_RATE_DEFAULT_WB_S, OPLIM_FW_HYST_DEFAULT);
     c->turn_tol_rad_s = ZOH_THETA_TOL_RAD / cfg->Ts_s;
+    c->omega_lo_rad_s = -cfg->omega_max_el_rad_s;
     /* te_max / psi_f(told): the limit of a model's psi_f when it follows kt (0: a fixed cap) */
     c->te_per_psi_Nm_Wb = ((cfg->te_max_follows_kt != 0u) && (cfg->psi_f_Wb > 0.0f)) ? (cfg->te_max_Nm / cfg->psi_f_Wb)
                                                                                     : 0.0f;

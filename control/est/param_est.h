@@ -128,8 +128,8 @@ static inline uint16_t param_est_step(param_est_t *pe, smo_t *smo, float omega_e
     }
     /* the observer's own input bounds, so the invariant smo_take_L/psi keep is this one (and
      * running: the clamps inside the observer's ranges, param_est_init) */
-    const float w = mathx_clampf(omega_el_rad_s, -smo->cfg.omega_max_rad_s, smo->cfg.omega_max_rad_s);
-    const float iq = mathx_clampf(iq_A, -smo->cfg.i_max_A, smo->cfg.i_max_A);
+    const float w = mathx_clampf(omega_el_rad_s, smo->omega_lo_rad_s, smo->cfg.omega_max_rad_s);
+    const float iq = mathx_clampf(iq_A, smo->i_lo_A, smo->cfg.i_max_A);
     const float wiq = w * iq;
 
     /* The laws take turns, each every second period at twice the gain

@@ -114,6 +114,9 @@ typedef struct {
     smo_cfg_t cfg;
     smo_status_t status;      /* from smo_init(); not OK: smo_step() passes i(k) through */
     bool seeded;              /* false until the first smo_step() after reset */
+    float i_lo_A;             /* -cfg.i_max_A, -cfg.f_max_V, -cfg.omega_max_rad_s: the clamps' lower */
+    float f_lo_V;             /* bounds, negated once (smo_init) */
+    float omega_lo_rad_s;
     float G_V_per_A;          /* Ks/phi: gain inside the boundary layer */
     float inv_phi_1_A;        /* 1/phi */
     float mu_d_Ts;            /* mu*Ts [1] */
@@ -195,8 +198,8 @@ static inline dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_
     dq_t v;
     dq_t next;
 
-    i.d = mathx_clampf(i_A.d, -c->i_max_A, c->i_max_A);
-    i.q = mathx_clampf(i_A.q, -c->i_max_A, c->i_max_A);
+    i.d = mathx_clampf(i_A.d, smo->i_lo_A, c->i_max_A);
+    i.q = mathx_clampf(i_A.q, smo->i_lo_A, c->i_max_A);
     /* u as applied: the inverter bounds it (a non-finite u is the caller's
      * NONFINITE fault; smo_reset at the next start clears what it left) */
     u = u_V;
@@ -232,11 +235,11 @@ static inline dq_t smo_step_turn(smo_t *smo, dq_t i_A, dq_t u_V, float omega_el_
     next.d = rho * smo->i_hat_A.d + rc * i.d + rs * i.q + gu.d + gv.d;
     next.q = rho * smo->i_hat_A.q + rc * i.q - rs * i.d + gu.q + gv.q;
     /* (51b), (55): f^ += mu Ts U, the sign that makes (37) converge */
-    smo->fd_V = mathx_clampf(smo->fd_V + smo->mu_d_Ts * Ud, -c->f_max_V, c->f_max_V);
-    smo->fq_V = mathx_clampf(smo->fq_V + smo->mu_q_Ts * Uq, -c->f_max_V, c->f_max_V);
+    smo->fd_V = mathx_clampf(smo->fd_V + smo->mu_d_Ts * Ud, smo->f_lo_V, c->f_max_V);
+    smo->fq_V = mathx_clampf(smo->fq_V + smo->mu_q_Ts * Uq, smo->f_lo_V, c->f_max_V);
 
-    smo->i_hat_A.d = mathx_clampf(next.d, -c->i_max_A, c->i_max_A);
-    smo->i_hat_A.q = mathx_clampf(next.q, -c->i_max_A, c->i_max_A);
+    smo->i_hat_A.d = mathx_clampf(next.d, smo->i_lo_A, c->i_max_A);
+    smo->i_hat_A.q = mathx_clampf(next.q, smo->i_lo_A, c->i_max_A);
     smo->U_V.d = Ud;
     smo->U_V.q = Uq;
     return smo->i_hat_A;
@@ -279,8 +282,7 @@ void smo_update_model(smo_t *smo);
 static inline void smo_take_L_deferred(smo_t *smo, float L_H, float omega_el_rad_s, float iq_A)
 {
     /* step2_design.md sec. 1: w L^ iq - fd^ unchanged */
-    smo->fd_V = mathx_clampf(smo->fd_V + (L_H - smo->L_H) * omega_el_rad_s * iq_A, -smo->cfg.f_max_V,
-                             smo->cfg.f_max_V);
+    smo->fd_V = mathx_clampf(smo->fd_V + (L_H - smo->L_H) * omega_el_rad_s * iq_A, smo->f_lo_V, smo->cfg.f_max_V);
     smo->L_H = L_H;
     if (mathx_fabsf(L_H - smo->zm.L_H) > SMO_MODEL_UPDATE_REL * smo->zm.L_H) {
         smo->zm_stale = true; /* the decay at the L^ in use at the next step (2 divisions there) */
@@ -307,8 +309,7 @@ static inline void smo_take_L(smo_t *smo, float L_H, float omega_el_rad_s, float
 static inline void smo_take_psi(smo_t *smo, float psi_f_Wb, float omega_el_rad_s)
 {
     /* step2_design.md sec. 2: w psi^ + fq^ unchanged */
-    smo->fq_V = mathx_clampf(smo->fq_V - (psi_f_Wb - smo->psi_f_Wb) * omega_el_rad_s, -smo->cfg.f_max_V,
-                             smo->cfg.f_max_V);
+    smo->fq_V = mathx_clampf(smo->fq_V - (psi_f_Wb - smo->psi_f_Wb) * omega_el_rad_s, smo->f_lo_V, smo->cfg.f_max_V);
     smo->psi_f_Wb = psi_f_Wb;
 }
 

@@ -137,6 +137,9 @@ static smo_status_t smo_check(const smo_cfg_t *c)
 smo_status_t smo_init(smo_t *smo, const smo_cfg_t *cfg)
 {
     smo->cfg = *cfg;
+    smo->i_lo_A = -cfg->i_max_A;
+    smo->f_lo_V = -cfg->f_max_V;
+    smo->omega_lo_rad_s = -cfg->omega_max_rad_s;
     smo->status = smo_check(cfg);
     if (smo->status == SMO_CFG_OK) {
         smo->G_V_per_A = cfg->Ks_V / cfg->phi_A;
