@@ -31,10 +31,9 @@ void dbdtc_set_params_zm(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb, co
     const dbdtc_cfg_t *cfg = &db->cfg;
     dbdtc_par_t *p = &db->par;
 
-    p->R_Ohm = mathx_clampf(R_Ohm, DBDTC_PARAM_FACTOR_MIN * cfg->R_Ohm, DBDTC_PARAM_FACTOR_MAX * cfg->R_Ohm);
-    p->L_H = mathx_clampf(L_H, DBDTC_PARAM_FACTOR_MIN * cfg->L_H, DBDTC_PARAM_FACTOR_MAX * cfg->L_H);
-    p->psi_f_Wb = mathx_clampf(psi_f_Wb, DBDTC_PARAM_FACTOR_MIN * cfg->psi_f_Wb,
-                               DBDTC_PARAM_FACTOR_MAX * cfg->psi_f_Wb);
+    p->R_Ohm = mathx_clampf(R_Ohm, db->R_lo_Ohm, db->R_hi_Ohm);
+    p->L_H = mathx_clampf(L_H, db->L_lo_H, db->L_hi_H);
+    p->psi_f_Wb = mathx_clampf(psi_f_Wb, db->psi_lo_Wb, db->psi_hi_Wb);
 
     const float inv_L = 1.0f / p->L_H;                                  /* division 1 */
     if ((zm != NULL) && (zm->R_Ohm == p->R_Ohm) && (zm->tau_s > 0.0f)) {
@@ -52,10 +51,10 @@ void dbdtc_set_params_zm(dbdtc_t *db, float R_Ohm, float L_H, float psi_f_Wb, co
     p->inv_L_1_H = inv_L;
     p->psiR_Wb_Ohm = p->psi_f_Wb * p->R_Ohm;
     p->L_gamma_Wb_V = p->L_H * p->zm.gamma_A_V;
-    p->kt_Nm_per_A = spmsm_kt_Nm_A(cfg->pole_pairs, p->psi_f_Wb);
+    p->kt_Nm_per_A = db->kt_per_Wb_Nm_A * p->psi_f_Wb; /* spmsm_kt_Nm_A: (1.5 p) psi_f, the same product */
     p->te_per_Wb = p->kt_Nm_per_A * inv_L;
     p->psiq_per_Nm = p->L_H / p->kt_Nm_per_A;                           /* division 4 */
-    p->inv_psi_f_1_Wb = spmsm_kt_Nm_A(cfg->pole_pairs, 1.0f) * p->psiq_per_Nm * inv_L; /* 1.5 p / kt */
+    p->inv_psi_f_1_Wb = db->kt_per_Wb_Nm_A * p->psiq_per_Nm * inv_L; /* 1.5 p / kt */
     db->st.taken = DBDTC_TAKEN_NONE; /* the period is taken again */
 }
 

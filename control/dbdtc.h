@@ -125,6 +125,10 @@ typedef struct {
     float u_lo_V;          /* -cfg.u_max_V, -cfg.i_max_A, -cfg.te_max_Nm: the clamps' lower */
     float i_lo_A;          /* bounds, negated once (dbdtc_init) */
     float te_lo_Nm;
+    float R_lo_Ohm, R_hi_Ohm;     /* the model's bands (DBDTC_PARAM_FACTOR_* x cfg), */
+    float L_lo_H, L_hi_H;         /* taken once (dbdtc_init): a model update's */
+    float psi_lo_Wb, psi_hi_Wb;   /* clamps without their products */
+    float kt_per_Wb_Nm_A;         /* 1.5 p: kt per Wb of psi_f (spmsm.h) [N m/(A Wb)] */
     dbdtc_par_t par;
     dbdtc_step_t st;
 } dbdtc_t;

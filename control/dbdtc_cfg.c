@@ -3,6 +3,7 @@
 #include "dbdtc.h"
 
 #include "mathx.h"
+#include "spmsm.h"
 
 static bool positive(float x)
 {
@@ -21,6 +22,13 @@ bool dbdtc_init(dbdtc_t *db, const dbdtc_cfg_t *cfg)
     db->u_lo_V = -cfg->u_max_V;
     db->i_lo_A = -cfg->i_max_A;
     db->te_lo_Nm = -cfg->te_max_Nm;
+    db->R_lo_Ohm = DBDTC_PARAM_FACTOR_MIN * cfg->R_Ohm;
+    db->R_hi_Ohm = DBDTC_PARAM_FACTOR_MAX * cfg->R_Ohm;
+    db->L_lo_H = DBDTC_PARAM_FACTOR_MIN * cfg->L_H;
+    db->L_hi_H = DBDTC_PARAM_FACTOR_MAX * cfg->L_H;
+    db->psi_lo_Wb = DBDTC_PARAM_FACTOR_MIN * cfg->psi_f_Wb;
+    db->psi_hi_Wb = DBDTC_PARAM_FACTOR_MAX * cfg->psi_f_Wb;
+    db->kt_per_Wb_Nm_A = spmsm_kt_Nm_A(cfg->pole_pairs, 1.0f);
     dbdtc_reset(db);
     db->st.free_Wb.d = 0.0f;
     db->st.free_Wb.q = 0.0f;
